@@ -1,0 +1,91 @@
+"""Cell states and the occupancy grid with its world <-> cell transforms.
+
+Conventions follow ``nav_msgs/OccupancyGrid``: ``int8`` data, row-major, cell ``(0, 0)`` at the
+map origin (the lower-left corner), ``x`` grows with the column and ``y`` with the row.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from enum import IntEnum
+
+import numpy as np
+from numpy.typing import NDArray
+
+from frontier_rl.errors import MapError
+
+
+class CellState(IntEnum):
+    """The three cell values of a ``nav_msgs/OccupancyGrid``."""
+
+    UNKNOWN = -1
+    FREE = 0
+    OCCUPIED = 100
+
+
+@dataclass(frozen=True)
+class OccupancyGrid:
+    """A 2D grid of :class:`CellState` values placed in the world.
+
+    Attributes:
+        data: ``int8`` array of shape (rows, cols) holding :class:`CellState` values.
+        resolution: cell edge length (m).
+        origin: world coordinates (m) of the lower-left corner of cell (0, 0).
+    """
+
+    data: NDArray[np.int8]
+    resolution: float
+    origin: tuple[float, float] = (0.0, 0.0)
+
+    def __post_init__(self) -> None:
+        if not (np.isfinite(self.resolution) and self.resolution > 0):
+            raise MapError(f"resolution must be a positive number of metres, got {self.resolution!r}")
+        if self.data.ndim != 2 or self.data.shape[0] == 0 or self.data.shape[1] == 0:
+            raise MapError(f"grid data must be a non-empty 2D array, got shape {self.data.shape}")
+        if self.data.dtype != np.int8:
+            raise MapError(f"grid data must be int8, got {self.data.dtype}")
+
+    @property
+    def shape(self) -> tuple[int, int]:
+        """(rows, cols) of the grid."""
+        return (int(self.data.shape[0]), int(self.data.shape[1]))
+
+    @property
+    def height(self) -> int:
+        """Number of rows."""
+        return int(self.data.shape[0])
+
+    @property
+    def width(self) -> int:
+        """Number of columns."""
+        return int(self.data.shape[1])
+
+    @property
+    def size_m(self) -> tuple[float, float]:
+        """(width, height) of the grid in metres."""
+        return (self.width * self.resolution, self.height * self.resolution)
+
+    def world_to_cell(self, x: float, y: float) -> tuple[int, int]:
+        """(row, col) of the cell holding world point (x, y) in metres; may lie outside the grid."""
+        col = int(np.floor((x - self.origin[0]) / self.resolution))
+        row = int(np.floor((y - self.origin[1]) / self.resolution))
+        return row, col
+
+    def cell_to_world(self, row: float, col: float) -> tuple[float, float]:
+        """World coordinates (m) of the centre of cell (row, col)."""
+        return (
+            self.origin[0] + (col + 0.5) * self.resolution,
+            self.origin[1] + (row + 0.5) * self.resolution,
+        )
+
+    def in_bounds(self, row: int, col: int) -> bool:
+        """Whether (row, col) is a cell of the grid."""
+        return 0 <= row < self.height and 0 <= col < self.width
+
+    def mask(self, state: CellState) -> NDArray[np.bool_]:
+        """Boolean mask of the cells in ``state``."""
+        return np.asarray(self.data == state.value)
+
+    def count(self, state: CellState) -> int:
+        """Number of cells in ``state``."""
+        return int(np.count_nonzero(self.data == state.value))
