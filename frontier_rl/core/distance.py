@@ -1,0 +1,133 @@
+"""Compiled grid distance kernels: exact Euclidean distance transform and flood fill.
+
+scipy.ndimage's transforms are general (n-D, feature indices) and cost milliseconds on a 250 × 250
+map; the planner needs them at every decision, so these 2D versions are compiled with numba.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numba as nb
+import numpy as np
+from numpy.typing import NDArray
+
+_BIG = 1e20
+
+
+@nb.njit(cache=True)
+def _dt_1d(f: NDArray[np.float64], d: NDArray[np.float64], v: NDArray[np.int64], z: NDArray[np.float64]) -> None:
+    """Squared distance transform of the sampled function ``f`` (Felzenszwalb & Huttenlocher 2012)."""
+    n = f.shape[0]
+    k = 0
+    v[0] = 0
+    z[0] = -np.inf
+    z[1] = np.inf
+    for q in range(1, n):
+        s = ((f[q] + q * q) - (f[v[k]] + v[k] * v[k])) / (2.0 * q - 2.0 * v[k])
+        while s <= z[k]:
+            k -= 1
+            s = ((f[q] + q * q) - (f[v[k]] + v[k] * v[k])) / (2.0 * q - 2.0 * v[k])
+        k += 1
+        v[k] = q
+        z[k] = s
+        z[k + 1] = np.inf
+    k = 0
+    for q in range(n):
+        while z[k + 1] < q:
+            k += 1
+        d[q] = (q - v[k]) * (q - v[k]) + f[v[k]]
+
+
+@nb.njit(cache=True)
+def squared_edt(seeds: NDArray[np.bool_]) -> NDArray[np.float64]:
+    """Squared Euclidean distance (cells²) from every cell centre to the nearest seed cell centre;
+    a value >= 1e20 where there is no seed at all."""
+    rows, cols = seeds.shape
+    n = max(rows, cols)
+    f = np.empty(n)
+    d = np.empty(n)
+    v = np.empty(n, np.int64)
+    z = np.empty(n + 1)
+    out = np.empty((rows, cols))
+    for c in range(cols):
+        for r in range(rows):
+            f[r] = 0.0 if seeds[r, c] else _BIG
+        _dt_1d(f[:rows], d[:rows], v, z)
+        for r in range(rows):
+            out[r, c] = d[r]
+    for r in range(rows):
+        for c in range(cols):
+            f[c] = out[r, c]
+        _dt_1d(f[:cols], d[:cols], v, z)
+        for c in range(cols):
+            out[r, c] = d[c]
+    return out
+
+
+@nb.njit(cache=True)
+def chamfer_distance(seeds: NDArray[np.bool_], cap: float) -> NDArray[np.float64]:
+    """Distance (cells) from each cell centre to the nearest seed, by the two-pass 3 × 3 chamfer
+    transform (steps 1 and sqrt 2), capped at ``cap``.
+
+    It never underestimates and overestimates the Euclidean distance by at most about 8 % (at
+    22.5 degrees); up to 3 cells it is exact but for offsets (2, 1) and (3, 1). That is
+    accurate enough for costmap inflation and runs in a fraction of a millisecond on 250 × 250.
+    """
+    rows, cols = seeds.shape
+    diag = math.sqrt(2.0)
+    d = np.full((rows + 2, cols + 2), cap)  # a border of `cap` spares the bounds checks
+    for r in range(1, rows + 1):
+        for c in range(1, cols + 1):
+            if seeds[r - 1, c - 1]:
+                d[r, c] = 0.0
+            else:
+                d[r, c] = min(
+                    cap,
+                    d[r - 1, c] + 1.0,
+                    d[r, c - 1] + 1.0,
+                    d[r - 1, c - 1] + diag,
+                    d[r - 1, c + 1] + diag,
+                )
+    for r in range(rows, 0, -1):
+        for c in range(cols, 0, -1):
+            d[r, c] = min(
+                d[r, c],
+                d[r + 1, c] + 1.0,
+                d[r, c + 1] + 1.0,
+                d[r + 1, c + 1] + diag,
+                d[r + 1, c - 1] + diag,
+            )
+    return d[1:-1, 1:-1].copy()
+
+
+@nb.njit(cache=True)
+def flood_fill(mask: NDArray[np.bool_], start_row: int, start_col: int) -> NDArray[np.bool_]:
+    """Cells of ``mask`` 8-connected to (start_row, start_col); all False if the start is not in it."""
+    rows, cols = mask.shape
+    if not (0 <= start_row < rows and 0 <= start_col < cols) or not mask[start_row, start_col]:
+        return np.zeros((rows, cols), np.bool_)
+    # Work on flat copies with a False border: neighbours need no bounds checks and no division.
+    pcols = cols + 2
+    open_ = np.zeros((rows + 2) * pcols, np.bool_)
+    for r in range(rows):
+        for c in range(cols):
+            open_[(r + 1) * pcols + c + 1] = mask[r, c]
+    reached = np.zeros((rows + 2) * pcols, np.bool_)
+    offsets = np.array([-pcols - 1, -pcols, -pcols + 1, -1, 1, pcols - 1, pcols, pcols + 1])
+    stack = np.empty(rows * cols, np.int64)
+    start = (start_row + 1) * pcols + start_col + 1
+    open_[start] = False
+    stack[0] = start
+    top = 1
+    while top > 0:
+        top -= 1
+        cur = stack[top]
+        reached[cur] = True
+        for k in range(8):
+            nxt = cur + offsets[k]
+            if open_[nxt]:
+                open_[nxt] = False
+                stack[top] = nxt
+                top += 1
+    return reached.reshape(rows + 2, pcols)[1:-1, 1:-1].copy()

@@ -1,0 +1,92 @@
+"""Per-episode metrics: time, distance, coverage curve, decisions."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+from typing import Any
+
+import numpy as np
+from numpy.typing import NDArray
+
+
+@dataclass(frozen=True)
+class DecisionRecord:
+    """One decision: when, where the robot was, the goal it chose and the weight (if any).
+
+    Attributes:
+        time_s: sim time of the decision (s).
+        x, y: robot position (m).
+        goal_x, goal_y: chosen goal (m); NaN when no goal could be planned.
+        weight: the ranking weight in use, None for policies without one.
+        outcome: how the leg ended ("reached", "explored", "aborted", "timeout", "none").
+    """
+
+    time_s: float
+    x: float
+    y: float
+    goal_x: float
+    goal_y: float
+    weight: float | None
+    outcome: str
+
+
+@dataclass(frozen=True)
+class EpisodeResult:
+    """What one exploration episode did.
+
+    Attributes:
+        sim_time_s: simulated time until exploration ended or was cut off (s).
+        path_length_m: distance driven (m).
+        coverage: final fraction of the explorable free space that is mapped.
+        t90_s, t99_s: sim time at which coverage first reached 90 % / 99 % (s); None if never.
+        decisions: number of decisions taken.
+        aborts: goals given up (no progress, unreachable) and blacklisted.
+        done: exploration ended by itself (no reachable frontier left).
+        truncated: the sim-time cap ended the episode.
+        wall_time_s: wall-clock time of the episode loop (s), without set-up and compilation.
+        coverage_times_s, coverage_curve: coverage after every map update, and when (s).
+        trajectory: (n, 3) robot pose (x, y, theta) at every LiDAR tick.
+        decision_log: every decision, in order.
+    """
+
+    sim_time_s: float
+    path_length_m: float
+    coverage: float
+    t90_s: float | None
+    t99_s: float | None
+    decisions: int
+    aborts: int
+    done: bool
+    truncated: bool
+    wall_time_s: float
+    coverage_times_s: NDArray[np.float64] = field(repr=False)
+    coverage_curve: NDArray[np.float64] = field(repr=False)
+    trajectory: NDArray[np.float64] = field(repr=False)
+    decision_log: tuple[DecisionRecord, ...] = field(repr=False, default=())
+
+    @property
+    def real_time_factor(self) -> float:
+        """Simulated seconds per wall-clock second."""
+        return self.sim_time_s / self.wall_time_s if self.wall_time_s > 0 else float("inf")
+
+    def summary(self) -> dict[str, Any]:
+        """The scalar metrics as a JSON-ready dict."""
+        return {
+            "sim_time_s": round(self.sim_time_s, 3),
+            "path_length_m": round(self.path_length_m, 3),
+            "coverage": round(self.coverage, 5),
+            "t90_s": None if self.t90_s is None else round(self.t90_s, 3),
+            "t99_s": None if self.t99_s is None else round(self.t99_s, 3),
+            "decisions": self.decisions,
+            "aborts": self.aborts,
+            "done": self.done,
+            "truncated": self.truncated,
+            "wall_time_s": round(self.wall_time_s, 4),
+            "real_time_factor": round(self.real_time_factor, 1),
+        }
+
+
+def time_to_coverage(times: NDArray[np.float64], curve: NDArray[np.float64], level: float) -> float | None:
+    """First time (s) at which ``curve`` reaches ``level``; None if it never does."""
+    reached = np.flatnonzero(curve >= level - 1e-12)
+    return float(times[reached[0]]) if reached.size else None

@@ -1,0 +1,421 @@
+"""The exploration episode: decide -> drive -> sense -> map, on a simulated clock.
+
+:class:`ExplorationSimulator` is a state machine with one entry point per decision, so that an
+episode runner and a Gymnasium env drive it the same way: :meth:`candidates` gives the current
+frontiers, :meth:`execute` drives to the first of a ranked list that can be planned to (or
+:meth:`go_to` to any point), simulating LiDAR, mapping and navigation until the leg ends.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Sequence
+from dataclasses import dataclass, field
+from enum import Enum
+
+import numpy as np
+from numpy.typing import NDArray
+
+from frontier_rl.core.frontiers import Frontiers, count_fringe, detect_frontiers
+from frontier_rl.core.grid import CellState, OccupancyGrid
+from frontier_rl.core.lidar import Lidar, LidarConfig
+from frontier_rl.core.mapping import LogOddsMapper, MapperConfig
+from frontier_rl.core.metrics import DecisionRecord, EpisodeResult, time_to_coverage
+from frontier_rl.core.navigation import (
+    Costmap,
+    NavigationConfig,
+    follow_path,
+    footprint_offsets,
+    nearest_cell,
+    obstacle_distance,
+    path_blocked,
+)
+from frontier_rl.core.robot import Pose, RobotConfig
+from frontier_rl.core.worlds import World
+from frontier_rl.errors import ConfigError
+
+
+@dataclass(frozen=True)
+class SimConfig:
+    """Everything that defines a simulated episode besides the world and the seed.
+
+    Attributes:
+        robot: robot footprint and speed limits.
+        lidar: the range sensor.
+        mapper: the log-odds map update.
+        navigation: costmap, planner and controller.
+        min_frontier_cells: frontier clusters of this many cells or fewer are dropped.
+        max_sim_time: sim-time cap of an episode (s); the episode is truncated there.
+        sensor_noise: whether LiDAR ranges get noise.
+    """
+
+    robot: RobotConfig = field(default_factory=RobotConfig)
+    lidar: LidarConfig = field(default_factory=LidarConfig)
+    mapper: MapperConfig = field(default_factory=MapperConfig)
+    navigation: NavigationConfig = field(default_factory=NavigationConfig)
+    min_frontier_cells: int = 4
+    max_sim_time: float = 3600.0
+    sensor_noise: bool = True
+
+    def __post_init__(self) -> None:
+        if self.min_frontier_cells < 0:
+            raise ConfigError(f"min_frontier_cells must be >= 0, got {self.min_frontier_cells!r}")
+        if not (self.max_sim_time > 0 and math.isfinite(self.max_sim_time)):
+            raise ConfigError(f"max_sim_time must be a positive number of seconds, got {self.max_sim_time!r}")
+
+
+class LegOutcome(Enum):
+    """How a drive toward a goal ended."""
+
+    REACHED = "reached"
+    EXPLORED = "explored"  # the goal's frontier was seen before the robot got there
+    ABORTED = "aborted"  # no progress, no path, or stuck: the goal is blacklisted
+    TIMEOUT = "timeout"  # the episode's sim-time cap
+    NONE = "none"  # no candidate could be planned to
+
+
+@dataclass(frozen=True)
+class LegResult:
+    """One decision's drive.
+
+    Attributes:
+        outcome: how it ended.
+        frontier: index of the frontier driven to (in the candidates), -1 for a point goal or none.
+        goal: the goal (m).
+        duration_s: sim time the leg took (s).
+        distance_m: distance driven (m).
+        new_free, new_occupied: cells first mapped free / occupied during the leg.
+    """
+
+    outcome: LegOutcome
+    frontier: int
+    goal: tuple[float, float]
+    duration_s: float
+    distance_m: float
+    new_free: int
+    new_occupied: int
+
+
+@dataclass
+class _Candidates:
+    grid: OccupancyGrid
+    costmap: Costmap
+    reachable: NDArray[np.bool_]
+    frontiers: Frontiers
+
+
+class ExplorationSimulator:
+    """One robot exploring one world.
+
+    Args:
+        world: the ground truth and start pose.
+        config: simulation settings.
+        rng: the only source of randomness (sensor noise); the same seed gives the same episode.
+    """
+
+    def __init__(self, world: World, config: SimConfig | None = None, rng: np.random.Generator | None = None):
+        self.world = world
+        self.config = config or SimConfig()
+        self.rng = rng if rng is not None else np.random.default_rng(0)
+        grid = world.grid
+        self._lidar = Lidar(grid, self.config.lidar)
+        self._true_clearance = obstacle_distance(grid.data == CellState.OCCUPIED, grid.resolution)
+        self._footprint = footprint_offsets(self.config.robot.radius, grid.resolution)
+        r = self.config.robot
+        n = self.config.navigation
+        self._follow_params = np.array(
+            [r.max_linear_speed, r.max_angular_speed, r.turn_in_place_angle, n.heading_gain, n.lookahead,
+             n.goal_tolerance, n.control_dt, r.radius],
+            dtype=np.float64,
+        )  # fmt: skip
+        self.reset()
+
+    # ------------------------------------------------------------------ state
+    def reset(self) -> None:
+        """Put the robot back at the start with an empty map and take the first scan."""
+        self.pose = self.world.start
+        self.mapper = LogOddsMapper(self.world.grid, self.config.mapper, self.world.explorable)
+        self.sim_time = 0.0
+        self.path_length = 0.0
+        self.aborts = 0
+        self.blacklist: list[tuple[float, float]] = []
+        self.decisions: list[DecisionRecord] = []
+        self._times: list[float] = []
+        self._explored: list[int] = []
+        self._poses: list[tuple[float, float, float]] = []
+        self._candidates: _Candidates | None = None
+        self._finished = False
+        self._scan()
+
+    @property
+    def coverage(self) -> float:
+        """Fraction of the explorable region mapped so far."""
+        return self.mapper.explored_cells / max(self.world.explorable_count, 1)
+
+    @property
+    def truncated(self) -> bool:
+        """Whether the sim-time cap has been reached."""
+        return self.sim_time >= self.config.max_sim_time - 1e-9
+
+    @property
+    def done(self) -> bool:
+        """Whether exploration has ended by itself (no reachable, non-blacklisted frontier)."""
+        return self._finished or len(self.candidates().frontiers) == 0
+
+    def trajectory(self) -> NDArray[np.float64]:
+        """(n, 3) robot poses (x, y, theta) after every scan so far."""
+        return np.asarray(self._poses, dtype=np.float64).reshape(-1, 3)
+
+    def map(self) -> OccupancyGrid:
+        """The robot's current map (grown to the seen area)."""
+        return self.candidates().grid
+
+    # ---------------------------------------------------------------- sensing
+    def _scan(self) -> tuple[int, int]:
+        """A LiDAR tick: the mapper folds the scan in when Gmapping would process it."""
+        self._poses.append((self.pose.x, self.pose.y, self.pose.theta))
+        if not self.mapper.wants_scan(self.pose, self.sim_time):
+            return 0, 0
+        noise = self.rng if self.config.sensor_noise else None
+        update = self.mapper.integrate_simulated(self._lidar, self.pose, noise, self.sim_time)
+        self._times.append(self.sim_time)
+        self._explored.append(self.mapper.explored_cells)
+        self._candidates = None
+        return update.new_free, update.new_occupied
+
+    # -------------------------------------------------------------- decisions
+    def candidates(self) -> _Candidates:
+        """The current map, its costmap and the reachable, non-blacklisted frontiers (cached)."""
+        if self._candidates is None:
+            grid = self.mapper.occupancy_grid(margin=2)
+            costmap = Costmap.build(grid, self.config.robot, self.config.navigation)
+            reachable = costmap.reachable_known(grid.world_to_cell(self.pose.x, self.pose.y))
+            frontiers = detect_frontiers(grid, self.pose, reachable, self.config.min_frontier_cells)
+            if self.blacklist and len(frontiers):
+                black = np.asarray(self.blacklist)
+                d = np.hypot(
+                    frontiers.centers[:, None, 0] - black[None, :, 0],
+                    frontiers.centers[:, None, 1] - black[None, :, 1],
+                )
+                frontiers = frontiers.subset(d.min(axis=1) > self.config.navigation.blacklist_radius)
+            self._candidates = _Candidates(grid, costmap, reachable, frontiers)
+        return self._candidates
+
+    def frontiers(self) -> Frontiers:
+        """The current candidate frontiers."""
+        return self.candidates().frontiers
+
+    def execute(self, order: Sequence[int] | NDArray[np.int64], weight: float | None = None) -> LegResult:
+        """Drive to the first frontier of ``order`` (indices into :meth:`frontiers`) that a path
+        can be planned to; frontiers that cannot be planned to are blacklisted on the way."""
+        cand = self.candidates()
+        start_time, start_len = self.sim_time, self.path_length
+        for index in order:
+            index = int(index)
+            if not 0 <= index < len(cand.frontiers):
+                raise IndexError(f"frontier index {index} out of range 0..{len(cand.frontiers) - 1}")
+            center = (float(cand.frontiers.centers[index, 0]), float(cand.frontiers.centers[index, 1]))
+            goal_cell = nearest_cell(
+                cand.reachable, cand.grid.world_to_cell(*center), max_radius=max(cand.grid.shape)
+            )
+            path = None if goal_cell is None else self._plan(cand, goal_cell)
+            if path is None:
+                self.blacklist.append(center)
+                self.aborts += 1
+                continue
+            goal = cand.grid.cell_to_world(*goal_cell)
+            cells = cand.frontiers.cells[index]
+            frontier_xy = np.column_stack(
+                [cand.grid.origin[0] + (cells[:, 1] + 0.5) * cand.grid.resolution,
+                 cand.grid.origin[1] + (cells[:, 0] + 0.5) * cand.grid.resolution]
+            )  # fmt: skip
+            result = self._drive(path, goal, frontier_xy, center, index, weight)
+            return result
+        self._candidates = None  # the blacklist changed
+        self._finished = len(self.frontiers()) == 0
+        self._log(weight, (math.nan, math.nan), LegOutcome.NONE)
+        return LegResult(LegOutcome.NONE, -1, (math.nan, math.nan), self.sim_time - start_time,
+                         self.path_length - start_len, 0, 0)  # fmt: skip
+
+    def go_to(self, x: float, y: float, weight: float | None = None) -> LegResult:
+        """Drive to the reachable cell nearest to world point (x, y) (m): the point-goal action."""
+        cand = self.candidates()
+        row, col = cand.grid.world_to_cell(x, y)
+        row = min(max(row, 0), cand.grid.height - 1)
+        col = min(max(col, 0), cand.grid.width - 1)
+        goal_cell = nearest_cell(cand.reachable, (row, col), max_radius=max(cand.grid.shape))
+        path = None if goal_cell is None else self._plan(cand, goal_cell)
+        if path is None:
+            self.aborts += 1
+            self._log(weight, (x, y), LegOutcome.ABORTED)
+            return LegResult(LegOutcome.ABORTED, -1, (x, y), 0.0, 0.0, 0, 0)
+        goal = cand.grid.cell_to_world(*goal_cell)
+        return self._drive(path, goal, None, None, -1, weight)
+
+    # ------------------------------------------------------------- navigation
+    def _plan(self, cand: _Candidates, goal_cell: tuple[int, int]) -> NDArray[np.float64] | None:
+        """A world-frame path (n, 2) from the robot to ``goal_cell`` of ``cand.grid``, or None."""
+        start = cand.grid.world_to_cell(self.pose.x, self.pose.y)
+        cells = cand.costmap.plan(start, goal_cell)
+        if len(cells) == 0:
+            return None
+        g = cand.grid
+        xy = np.column_stack(
+            (g.origin[0] + (cells[:, 1] + 0.5) * g.resolution, g.origin[1] + (cells[:, 0] + 0.5) * g.resolution)
+        )
+        xy[-1] = g.cell_to_world(*goal_cell)
+        return xy
+
+    def _replan(self, goal: tuple[float, float]) -> NDArray[np.float64] | None:
+        cand = self.candidates()
+        g = cand.grid
+        row, col = g.world_to_cell(*goal)
+        passable = cand.costmap.traversable
+        if not (g.in_bounds(row, col) and passable[row, col]):
+            nearest = nearest_cell(passable, (row, col), max_radius=int(round(0.5 / g.resolution)))
+            if nearest is None:
+                return None
+            row, col = nearest
+        return self._plan(cand, (row, col))
+
+    def _drive(
+        self,
+        path: NDArray[np.float64],
+        goal: tuple[float, float],
+        frontier_xy: NDArray[np.float64] | None,
+        center: tuple[float, float] | None,
+        index: int,
+        weight: float | None,
+    ) -> LegResult:
+        cfg = self.config
+        nav = cfg.navigation
+        truth = self.world.grid
+        start_time, start_len = self.sim_time, self.path_length
+        new_free = new_occ = 0
+        period = cfg.lidar.period
+        path_cells = self._to_truth_cells(path)
+        tail = _tail_lengths(path)
+        frontier_cells = None if frontier_xy is None else self._to_truth_cells(frontier_xy)
+        index_on_path = 0
+        best_remaining = math.inf
+        last_progress = self.sim_time
+        next_frontier_check = self.sim_time + nav.frontier_check_period
+        recoveries = 0
+        outcome = LegOutcome.TIMEOUT
+        while not self.truncated:
+            duration = min(period, cfg.max_sim_time - self.sim_time)
+            x, y, theta, index_on_path, driven, used, status = follow_path(
+                path[:, 0], path[:, 1], index_on_path, self.pose.x, self.pose.y, self.pose.theta, duration,
+                self._follow_params, self._true_clearance, truth.origin[0], truth.origin[1], truth.resolution,
+            )  # fmt: skip
+            self.pose = Pose(x, y, theta)
+            self.path_length += driven
+            self.sim_time += used if status != 0 else duration
+            f, o = self._scan()
+            new_free += f
+            new_occ += o
+            if status == 1:
+                outcome = LegOutcome.REACHED
+                break
+            if frontier_cells is not None and self.sim_time >= next_frontier_check:
+                next_frontier_check = self.sim_time + nav.frontier_check_period
+                alive = count_fringe(self.mapper.state, frontier_cells[:, 0], frontier_cells[:, 1])
+                if alive <= cfg.min_frontier_cells:
+                    outcome = LegOutcome.EXPLORED
+                    break
+            remaining = math.hypot(path[index_on_path, 0] - x, path[index_on_path, 1] - y) + tail[index_on_path]
+            if remaining < best_remaining - nav.progress_distance:
+                best_remaining = remaining
+                last_progress = self.sim_time
+            elif self.sim_time - last_progress > nav.progress_timeout:
+                outcome = LegOutcome.ABORTED
+                break
+            blocked = status == 2 or path_blocked(
+                self.mapper.state, path_cells[:, 0], path_cells[:, 1], index_on_path, self._footprint
+            )
+            if blocked:
+                new_path = self._replan(goal)
+                while new_path is None and recoveries < nav.max_recoveries and not self.truncated:
+                    recoveries += 1
+                    f, o = self._rotate_in_place()
+                    new_free += f
+                    new_occ += o
+                    new_path = self._replan(goal)
+                if new_path is None:
+                    outcome = LegOutcome.TIMEOUT if self.truncated else LegOutcome.ABORTED
+                    break
+                path = new_path
+                path_cells = self._to_truth_cells(path)
+                tail = _tail_lengths(path)
+                index_on_path = 0
+                best_remaining = math.inf  # a new path is measured afresh
+        if outcome is LegOutcome.ABORTED:
+            self.aborts += 1
+            self.blacklist.append(center if center is not None else goal)
+            self._candidates = None
+        self._log(weight, goal, outcome, start=(start_time, path[0]))
+        return LegResult(
+            outcome, index, goal, self.sim_time - start_time, self.path_length - start_len, new_free, new_occ
+        )
+
+    def _rotate_in_place(self) -> tuple[int, int]:
+        """A recovery behaviour: one full turn at max angular speed, scanning as it goes."""
+        period = self.config.lidar.period
+        omega = self.config.robot.max_angular_speed
+        steps = int(math.ceil(2.0 * math.pi / (omega * period)))
+        new_free = new_occ = 0
+        for _ in range(steps):
+            if self.truncated:
+                break
+            self.pose = Pose(self.pose.x, self.pose.y, (self.pose.theta + omega * period) % (2 * math.pi))
+            self.sim_time += period
+            f, o = self._scan()
+            new_free += f
+            new_occ += o
+        return new_free, new_occ
+
+    def _to_truth_cells(self, xy: NDArray[np.float64]) -> NDArray[np.int64]:
+        g = self.world.grid
+        cols = np.floor((xy[:, 0] - g.origin[0]) / g.resolution).astype(np.int64)
+        rows = np.floor((xy[:, 1] - g.origin[1]) / g.resolution).astype(np.int64)
+        return np.column_stack((rows, cols))
+
+    def _log(
+        self,
+        weight: float | None,
+        goal: tuple[float, float],
+        outcome: LegOutcome,
+        start: tuple[float, NDArray[np.float64]] | None = None,
+    ) -> None:
+        time_s, (x, y) = start if start is not None else (self.sim_time, (self.pose.x, self.pose.y))
+        self.decisions.append(
+            DecisionRecord(float(time_s), float(x), float(y), float(goal[0]), float(goal[1]), weight, outcome.value)
+        )
+
+    # ---------------------------------------------------------------- results
+    def result(self, wall_time_s: float) -> EpisodeResult:
+        """The episode's metrics so far."""
+        times = np.asarray(self._times, dtype=np.float64)
+        curve = np.asarray(self._explored, dtype=np.float64) / max(self.world.explorable_count, 1)
+        return EpisodeResult(
+            sim_time_s=self.sim_time,
+            path_length_m=self.path_length,
+            coverage=self.coverage,
+            t90_s=time_to_coverage(times, curve, 0.90),
+            t99_s=time_to_coverage(times, curve, 0.99),
+            decisions=len(self.decisions),
+            aborts=self.aborts,
+            done=self._finished or (not self.truncated and len(self.candidates().frontiers) == 0),
+            truncated=self.truncated,
+            wall_time_s=wall_time_s,
+            coverage_times_s=times,
+            coverage_curve=curve,
+            trajectory=self.trajectory(),
+            decision_log=tuple(self.decisions),
+        )
+
+
+def _tail_lengths(path: NDArray[np.float64]) -> NDArray[np.float64]:
+    """For each waypoint, the length (m) of the path from it to the end."""
+    seg = np.hypot(*np.diff(path, axis=0).T)
+    return np.concatenate((np.cumsum(seg[::-1])[::-1], [0.0]))

@@ -1,0 +1,37 @@
+"""The result of loading a map file: the grid, the start pose if the file has one, and the file."""
+
+from __future__ import annotations
+
+import math
+import numbers
+from dataclasses import dataclass
+from pathlib import Path
+
+from frontier_rl.core.grid import OccupancyGrid
+from frontier_rl.core.robot import Pose
+from frontier_rl.errors import MapError
+
+
+@dataclass(frozen=True)
+class LoadedMap:
+    """A map read from a file.
+
+    Attributes:
+        grid: the ground-truth occupancy grid (world coordinates in m).
+        start: the robot's start pose (m, rad) if the file defines one, else None.
+        source: the file the map was read from.
+    """
+
+    grid: OccupancyGrid
+    start: Pose | None
+    source: Path
+
+
+def positive_metres(value: object, name: str, source: object) -> float:
+    """``value`` as a finite float > 0 (m); raises :class:`MapError` naming ``name`` and ``source``."""
+    if isinstance(value, bool) or not isinstance(value, numbers.Real):
+        raise MapError(f"{source}: {name} must be a positive number of metres, got {value!r}")
+    number = float(value)
+    if not (math.isfinite(number) and number > 0):
+        raise MapError(f"{source}: {name} must be a positive number of metres, got {value!r}")
+    return number

@@ -1,0 +1,251 @@
+"""ROS ``map_server`` maps: a YAML file plus a PGM/PNG image, read and written.
+
+Reading follows ROS 1 ``map_server`` (``image_loader.cpp``): a pixel's brightness is the mean of its
+colour channels, ``p = (255 - brightness) / 255`` (``brightness / 255`` with ``negate``), and
+
+* ``trinary`` (default): ``p > occupied_thresh`` is occupied, ``p < free_thresh`` free, else unknown;
+* ``scale``: as trinary, but values in between become ``1 + floor(98 * ratio)`` (1..99);
+* ``raw``: the (negated) brightness is the cell value; values above 100 become unknown (as Nav2).
+
+A fully transparent pixel is unknown in trinary and scale mode. The image's top row is the map's
+highest y, so rows are flipped: row 0 of the grid is the lower-left corner (the grid convention).
+Writing follows ``map_saver``: free 254, occupied 0, unknown 205, thresholds 0.65 / 0.196.
+"""
+
+from __future__ import annotations
+
+import json
+import math
+import numbers
+from dataclasses import dataclass
+from enum import StrEnum
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+import yaml
+from numpy.typing import NDArray
+from PIL import Image
+
+from frontier_rl.core.grid import CellState, OccupancyGrid
+from frontier_rl.errors import MapError
+from frontier_rl.io._image import read_image
+
+#: Pixel values that ``map_saver`` writes for each cell state.
+FREE_PIXEL = 254
+OCCUPIED_PIXEL = 0
+UNKNOWN_PIXEL = 205
+#: ``map_saver`` thresholds on cell values (occupancy %): <= 25 is saved free, >= 65 occupied.
+SAVE_FREE_MAX = 25
+SAVE_OCCUPIED_MIN = 65
+#: Thresholds written into every saved YAML (those of ``map_saver``).
+SAVE_OCCUPIED_THRESH = 0.65
+SAVE_FREE_THRESH = 0.196
+_IMAGE_FORMATS = {"pgm": "PPM", "png": "PNG"}
+_MAX_PIXEL = 255.0
+_SCALE_SPAN = 98  # scale mode maps the in-between ratio onto 1 .. 1 + 98
+
+
+class MapMode(StrEnum):
+    """How ``map_server`` turns a pixel into a cell value."""
+
+    TRINARY = "trinary"
+    SCALE = "scale"
+    RAW = "raw"
+
+
+@dataclass(frozen=True)
+class MapImageParams:
+    """The pixel-interpretation fields of a ``map_server`` YAML.
+
+    Attributes:
+        occupied_thresh: occupancy probability above which a cell is occupied (0..1).
+        free_thresh: occupancy probability below which a cell is free (0..1).
+        negate: whether white means occupied and black free.
+        mode: trinary, scale or raw.
+    """
+
+    occupied_thresh: float = 0.65
+    free_thresh: float = 0.196
+    negate: bool = False
+    mode: MapMode = MapMode.TRINARY
+
+    def __post_init__(self) -> None:
+        for name in ("occupied_thresh", "free_thresh"):
+            value = getattr(self, name)
+            if not 0.0 <= value <= 1.0:
+                raise MapError(f"{name} must lie in [0, 1], got {value!r}")
+        if self.free_thresh > self.occupied_thresh:
+            raise MapError(
+                f"free_thresh {self.free_thresh!r} must not exceed occupied_thresh {self.occupied_thresh!r}"
+            )
+
+
+def pixels_to_cells(
+    shade: NDArray[np.float64], transparent: NDArray[np.bool_], params: MapImageParams
+) -> NDArray[np.int8]:
+    """Cell values (image row order) of pixels with brightness ``shade`` (0..255), as ``map_server``."""
+    value = _MAX_PIXEL - shade if params.negate else shade
+    if params.mode is MapMode.RAW:
+        raw = np.trunc(value)
+        return np.where(raw <= CellState.OCCUPIED, raw, CellState.UNKNOWN).astype(np.int8)
+    occ = (_MAX_PIXEL - value) / _MAX_PIXEL
+    cells = np.full(shade.shape, CellState.UNKNOWN, dtype=np.int8)
+    if params.mode is MapMode.SCALE:
+        span = max(params.occupied_thresh - params.free_thresh, np.finfo(np.float64).tiny)
+        ratio = np.clip((occ - params.free_thresh) / span, 0.0, 1.0)
+        cells[:] = 1 + np.floor(_SCALE_SPAN * ratio)
+    cells[occ > params.occupied_thresh] = CellState.OCCUPIED
+    cells[occ < params.free_thresh] = CellState.FREE
+    cells[transparent] = CellState.UNKNOWN
+    return cells
+
+
+def load_map_image(
+    image_path: str | Path,
+    resolution: float,
+    origin: tuple[float, float] = (0.0, 0.0),
+    params: MapImageParams | None = None,
+) -> OccupancyGrid:
+    """An image read as ``map_server`` would with the given fields (resolution m/cell, origin m)."""
+    image = read_image(Path(image_path))
+    cells = pixels_to_cells(image.shade, image.transparent, params or MapImageParams())
+    return OccupancyGrid(np.ascontiguousarray(np.flipud(cells)), resolution, origin)
+
+
+def _read_yaml(path: Path) -> dict[str, Any]:
+    if not path.is_file():
+        raise MapError(f"map file not found: {path}")
+    try:
+        doc = yaml.safe_load(path.read_text(encoding="utf-8"))
+    except (OSError, UnicodeDecodeError, yaml.YAMLError) as exc:
+        reason = str(exc).replace("\n", " ")
+        raise MapError(f"cannot parse map YAML {path}: {reason}") from exc
+    if not isinstance(doc, dict):
+        raise MapError(f"{path}: a map YAML must be a mapping of fields, got {type(doc).__name__}")
+    return doc
+
+
+def _field(doc: dict[str, Any], key: str, path: Path) -> Any:
+    if key not in doc:
+        raise MapError(f"{path}: missing field '{key}'")
+    return doc[key]
+
+
+def _number(value: Any, key: str, path: Path) -> float:
+    """A finite number; numeric strings are accepted as yaml-cpp does."""
+    number: float | None = None
+    if isinstance(value, numbers.Real) and not isinstance(value, bool):
+        number = float(value)
+    elif isinstance(value, str):
+        try:
+            number = float(value)
+        except ValueError:
+            number = None
+    if number is None or not math.isfinite(number):
+        raise MapError(f"{path}: field '{key}' must be a finite number, got {value!r}")
+    return number
+
+
+def _params(doc: dict[str, Any], path: Path) -> MapImageParams:
+    negate = _field(doc, "negate", path)
+    if negate not in (0, 1) or not isinstance(negate, int):
+        raise MapError(f"{path}: field 'negate' must be 0 or 1, got {negate!r}")
+    mode_name = doc.get("mode", MapMode.TRINARY.value)
+    if not isinstance(mode_name, str) or mode_name.lower() not in {m.value for m in MapMode}:
+        raise MapError(f"{path}: field 'mode' must be trinary, scale or raw, got {mode_name!r}")
+    try:
+        return MapImageParams(
+            occupied_thresh=_number(_field(doc, "occupied_thresh", path), "occupied_thresh", path),
+            free_thresh=_number(_field(doc, "free_thresh", path), "free_thresh", path),
+            negate=bool(negate),
+            mode=MapMode(mode_name.lower()),
+        )
+    except MapError as exc:
+        raise MapError(f"{path}: {exc}") from exc
+
+
+def _image_path(doc: dict[str, Any], path: Path) -> Path:
+    image = _field(doc, "image", path)
+    if not isinstance(image, str) or not image.strip():
+        raise MapError(f"{path}: field 'image' must be a file name, got {image!r}")
+    image_path = Path(image)
+    return image_path if image_path.is_absolute() else path.parent / image_path
+
+
+def ros_map_image(yaml_path: str | Path) -> Path:
+    """The image file that a ``map_server`` YAML refers to (resolved against the YAML's folder)."""
+    path = Path(yaml_path)
+    return _image_path(_read_yaml(path), path)
+
+
+def load_ros_map(yaml_path: str | Path) -> OccupancyGrid:
+    """Read a ``map_server`` map (YAML + image) into an :class:`OccupancyGrid`.
+
+    Args:
+        yaml_path: the YAML file; its ``image`` is resolved relative to the YAML's folder.
+
+    Raises:
+        MapError: a missing or malformed file or field, a rotated origin (yaw != 0) or a bad image.
+    """
+    path = Path(yaml_path)
+    doc = _read_yaml(path)
+    image_path = _image_path(doc, path)
+    resolution = _number(_field(doc, "resolution", path), "resolution", path)
+    if resolution <= 0:
+        raise MapError(f"{path}: field 'resolution' must be positive (m/cell), got {resolution!r}")
+    origin = _field(doc, "origin", path)
+    if not isinstance(origin, list | tuple) or len(origin) != 3:
+        raise MapError(f"{path}: field 'origin' must be [x, y, yaw], got {origin!r}")
+    x, y, yaw = (_number(v, "origin", path) for v in origin)
+    if yaw != 0.0:
+        raise MapError(f"{path}: rotated maps are not supported, origin yaw is {yaw!r} rad")
+    params = _params(doc, path)
+    if not image_path.is_file():
+        raise MapError(f"{path}: image file not found: {image_path}")
+    return load_map_image(image_path, resolution, (x, y), params)
+
+
+def _yaml_string(text: str) -> str:
+    """``text`` as a YAML scalar: bare like ``map_saver`` writes it, quoted where YAML would misread it."""
+    try:
+        bare_ok = yaml.safe_load(text) == text
+    except yaml.YAMLError:
+        bare_ok = False
+    return text if bare_ok else json.dumps(text)
+
+
+def save_ros_map(grid: OccupancyGrid, yaml_path: str | Path, image_format: str = "pgm") -> Path:
+    """Write ``grid`` as ``map_saver`` does: a trinary image beside a YAML; returns the YAML's path.
+
+    The image takes the YAML's name with the suffix ``image_format`` ("pgm" or "png"). Cell values
+    0..25 are saved free, 65..100 occupied, anything else unknown, so a grid of :class:`CellState`
+    values reads back exactly: ``load_ros_map(save_ros_map(g, p)) == g``.
+    """
+    path = Path(yaml_path)
+    if path.suffix.lower() not in (".yaml", ".yml"):
+        raise MapError(f"map YAML path must end in .yaml or .yml, got {path}")
+    fmt = image_format.lower().lstrip(".")
+    if fmt not in _IMAGE_FORMATS:
+        raise MapError(f"image_format must be 'pgm' or 'png', got {image_format!r}")
+    image_path = path.with_suffix(f".{fmt}")
+    data = grid.data
+    pixels = np.full(grid.shape, UNKNOWN_PIXEL, dtype=np.uint8)
+    pixels[(data >= CellState.FREE) & (data <= SAVE_FREE_MAX)] = FREE_PIXEL
+    pixels[data >= SAVE_OCCUPIED_MIN] = OCCUPIED_PIXEL
+    text = (
+        f"image: {_yaml_string(image_path.name)}\n"
+        f"mode: {MapMode.TRINARY.value}\n"
+        f"resolution: {float(grid.resolution)!r}\n"
+        f"origin: [{float(grid.origin[0])!r}, {float(grid.origin[1])!r}, 0.0]\n"
+        f"negate: 0\n"
+        f"occupied_thresh: {SAVE_OCCUPIED_THRESH}\n"
+        f"free_thresh: {SAVE_FREE_THRESH}\n"
+    )
+    try:
+        path.parent.mkdir(parents=True, exist_ok=True)
+        Image.fromarray(np.ascontiguousarray(np.flipud(pixels))).save(image_path, format=_IMAGE_FORMATS[fmt])
+        path.write_text(text, encoding="utf-8")
+    except OSError as exc:
+        raise MapError(f"cannot write map {path}: {exc}") from exc
+    return path

@@ -1,0 +1,22 @@
+"""Exploration policies: classic baselines (and, later, learned ones) behind one interface."""
+
+from frontier_rl.policies.baselines import (
+    ExploreLite,
+    FixedWeight,
+    InformationGain,
+    LargestFrontier,
+    NearestFrontier,
+    RandomFrontier,
+)
+from frontier_rl.policies.registry import POLICY_NAMES, make_policy
+
+__all__ = [
+    "POLICY_NAMES",
+    "ExploreLite",
+    "FixedWeight",
+    "InformationGain",
+    "LargestFrontier",
+    "NearestFrontier",
+    "RandomFrontier",
+    "make_policy",
+]

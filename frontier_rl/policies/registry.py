@@ -1,0 +1,40 @@
+"""Policy names as used on the command line: ``nearest``, ``fixed:0.75``, ``explore-lite``, ..."""
+
+from __future__ import annotations
+
+from collections.abc import Callable
+
+from frontier_rl.core.episode import ExplorationPolicy
+from frontier_rl.errors import ConfigError, UnknownNameError
+from frontier_rl.policies.baselines import (
+    ExploreLite,
+    FixedWeight,
+    InformationGain,
+    LargestFrontier,
+    NearestFrontier,
+    RandomFrontier,
+)
+
+_SIMPLE: dict[str, Callable[[], ExplorationPolicy]] = {
+    "nearest": NearestFrontier,
+    "largest": LargestFrontier,
+    "explore-lite": ExploreLite,
+    "info-gain": InformationGain,
+    "random": RandomFrontier,
+}
+
+POLICY_NAMES: tuple[str, ...] = (*_SIMPLE, "fixed:W")
+
+
+def make_policy(spec: str) -> ExplorationPolicy:
+    """The policy named by ``spec`` (one of :data:`POLICY_NAMES`, ``fixed:W`` with W in [0, 1])."""
+    name, _, arg = spec.strip().partition(":")
+    if name == "fixed":
+        try:
+            weight = float(arg)
+        except ValueError:
+            raise ConfigError(f"fixed:W needs a weight in [0, 1], got {spec!r}") from None
+        return FixedWeight(weight)
+    if name in _SIMPLE and not arg:
+        return _SIMPLE[name]()
+    raise UnknownNameError(f"unknown policy {spec!r}; choose one of {', '.join(POLICY_NAMES)}")
