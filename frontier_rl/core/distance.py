@@ -12,11 +12,15 @@ import numba as nb
 import numpy as np
 from numpy.typing import NDArray
 
+from frontier_rl.core.raycast import FASTMATH
+
 _BIG = 1e20
 
 
 @nb.njit(cache=True)
-def _dt_1d(f: NDArray[np.float64], d: NDArray[np.float64], v: NDArray[np.int64], z: NDArray[np.float64]) -> None:
+def _dt_1d(
+    f: NDArray[np.float64], d: NDArray[np.float64], v: NDArray[np.int64], z: NDArray[np.float64]
+) -> None:
     """Squared distance transform of the sampled function ``f`` (Felzenszwalb & Huttenlocher 2012)."""
     n = f.shape[0]
     k = 0
@@ -65,7 +69,7 @@ def squared_edt(seeds: NDArray[np.bool_]) -> NDArray[np.float64]:
     return out
 
 
-@nb.njit(cache=True)
+@nb.njit(cache=True, fastmath=FASTMATH)
 def chamfer_distance(seeds: NDArray[np.bool_], cap: float) -> NDArray[np.float64]:
     """Distance (cells) from each cell centre to the nearest seed, by the two-pass 3 × 3 chamfer
     transform (steps 1 and sqrt 2), capped at ``cap``.
@@ -77,27 +81,19 @@ def chamfer_distance(seeds: NDArray[np.bool_], cap: float) -> NDArray[np.float64
     rows, cols = seeds.shape
     diag = math.sqrt(2.0)
     d = np.full((rows + 2, cols + 2), cap)  # a border of `cap` spares the bounds checks
+    # Each sweep takes the three neighbours of the previous row first (no dependency along the
+    # row, so it vectorises), then runs along the row: the same result as the classic mask order.
     for r in range(1, rows + 1):
         for c in range(1, cols + 1):
-            if seeds[r - 1, c - 1]:
-                d[r, c] = 0.0
-            else:
-                d[r, c] = min(
-                    cap,
-                    d[r - 1, c] + 1.0,
-                    d[r, c - 1] + 1.0,
-                    d[r - 1, c - 1] + diag,
-                    d[r - 1, c + 1] + diag,
-                )
+            up = min(d[r - 1, c] + 1.0, min(d[r - 1, c - 1], d[r - 1, c + 1]) + diag)
+            d[r, c] = 0.0 if seeds[r - 1, c - 1] else min(up, cap)
+        for c in range(2, cols + 1):
+            d[r, c] = min(d[r, c], d[r, c - 1] + 1.0)
     for r in range(rows, 0, -1):
-        for c in range(cols, 0, -1):
-            d[r, c] = min(
-                d[r, c],
-                d[r + 1, c] + 1.0,
-                d[r, c + 1] + 1.0,
-                d[r + 1, c + 1] + diag,
-                d[r + 1, c - 1] + diag,
-            )
+        for c in range(1, cols + 1):
+            d[r, c] = min(d[r, c], min(d[r + 1, c] + 1.0, min(d[r + 1, c - 1], d[r + 1, c + 1]) + diag))
+        for c in range(cols - 1, 0, -1):
+            d[r, c] = min(d[r, c], d[r, c + 1] + 1.0)
     return d[1:-1, 1:-1].copy()
 
 

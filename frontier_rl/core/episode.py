@@ -48,7 +48,10 @@ class Ranking:
 class ExplorationPolicy(Protocol):
     """Anything that ranks the candidate frontiers of a decision."""
 
-    name: str
+    @property
+    def name(self) -> str:
+        """The policy's name, as given on the command line."""
+        ...
 
     def rank(self, context: DecisionContext, rng: np.random.Generator) -> Ranking:
         """Order the candidates of ``context``, best first."""

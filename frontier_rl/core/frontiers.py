@@ -30,7 +30,7 @@ def _is_fringe(state: NDArray[np.int8], row: int, col: int) -> bool:
     rows, cols = state.shape
     if state[row, col] != _FREE:
         return False
-    return (
+    return bool(
         (row > 0 and state[row - 1, col] == _UNKNOWN)
         or (row + 1 < rows and state[row + 1, col] == _UNKNOWN)
         or (col > 0 and state[row, col - 1] == _UNKNOWN)

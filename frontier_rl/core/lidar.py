@@ -49,7 +49,8 @@ class LidarConfig:
             raise ConfigError(f"LidarConfig.rate_hz must be positive, got {self.rate_hz!r}")
         if not (self.noise_abs >= 0 and self.noise_rel >= 0):
             raise ConfigError(
-                f"LidarConfig noise must be >= 0, got noise_abs={self.noise_abs!r}, noise_rel={self.noise_rel!r}"
+                "LidarConfig noise must be >= 0, got "
+                f"noise_abs={self.noise_abs!r}, noise_rel={self.noise_rel!r}"
             )
 
     @property
@@ -89,7 +90,14 @@ def _add_noise(
 
     ``params`` = (resolution, min_range, max_range, sigma_abs, sigma_rel, rel_from), lengths in m.
     """
-    res, min_r, max_r, sigma_abs, sigma_rel, rel_from = params[0], params[1], params[2], params[3], params[4], params[5]
+    res, min_r, max_r, sigma_abs, sigma_rel, rel_from = (
+        params[0],
+        params[1],
+        params[2],
+        params[3],
+        params[4],
+        params[5],
+    )
     for i in range(ranges.shape[0]):
         r = ranges[i] * res
         if not math.isfinite(r):
@@ -121,7 +129,14 @@ class Lidar:
         self.sin_offsets = np.sin(offsets)
         self._zeros = np.zeros(c.num_beams)
         self.noise_params = np.array(
-            [world.resolution, c.min_range, c.max_range, 0.5 * c.noise_abs, 0.5 * c.noise_rel, c.noise_rel_from]
+            [
+                world.resolution,
+                c.min_range,
+                c.max_range,
+                0.5 * c.noise_abs,
+                0.5 * c.noise_rel,
+                c.noise_rel_from,
+            ]
         )
 
     def normals(self, rng: np.random.Generator | None) -> NDArray[np.float64]:

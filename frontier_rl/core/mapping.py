@@ -15,8 +15,8 @@ import numpy as np
 from numpy.typing import NDArray
 
 from frontier_rl.core.grid import CellState, OccupancyGrid
-from frontier_rl.core.raycast import FASTMATH, ray_start
 from frontier_rl.core.lidar import Lidar, Scan
+from frontier_rl.core.raycast import FASTMATH, ray_start
 from frontier_rl.core.robot import Pose, wrap_angle
 from frontier_rl.errors import ConfigError
 
@@ -219,7 +219,8 @@ def simulate_scan(
     ``scan`` followed by :func:`integrate_scan`, at about half the cost.
 
     ``noise`` = (resolution, min_range, max_range, sigma_abs, sigma_rel, rel_from), lengths in m;
-    (cx, cy) and ``usable`` (the range where beams are cropped for mapping) in cells. Writes the measured ranges (m) into ``ranges`` and the touched cells into
+    (cx, cy) and ``usable`` (the range where beams are cropped for mapping) in cells. Writes the
+    measured ranges (m) into ``ranges`` and the touched cells into
     ``touched``; returns (number touched, number of hits among them, which come first).
     """
     res, min_r, max_r = noise[0], noise[1], noise[2]
@@ -299,10 +300,12 @@ def simulate_scan(
                 if trav_exit[k] > limit:
                     break
                 cell = trav_cells[k]
-                if flat_stamp[cell] != scan_id:
-                    flat_stamp[cell] = scan_id
-                    touched[n_touched] = cell
-                    n_touched += 1
+                # Branch-free: always write, count only a cell not stamped yet (near the robot
+                # many beams cross the same cells, and that branch would be a coin toss).
+                fresh = flat_stamp[cell] != scan_id
+                flat_stamp[cell] = scan_id
+                touched[n_touched] = cell
+                n_touched += fresh
         start = beam_end[i]
     return n_touched, n_hits
 
@@ -400,7 +403,9 @@ class LogOddsMapper:
         bit for bit, as ``integrate(lidar.scan(pose, rng), lidar.config.max_range, time_s)``, in a
         single traversal per beam. The lidar must cast on a world of this mapper's shape."""
         if lidar.grid.shape != self.state.shape:
-            raise ValueError(f"lidar world shape {lidar.grid.shape} differs from the map's {self.state.shape}")
+            raise ValueError(
+                f"lidar world shape {lidar.grid.shape} differs from the map's {self.state.shape}"
+            )
         res = self.resolution
         cfg = lidar.config
         n = cfg.num_beams
@@ -434,6 +439,29 @@ class LogOddsMapper:
         apply_updates(touched, n_touched, n_hits, self.logodds, self.state, self.seen, self.explorable,
                       self._params, self._bbox, self._counters)  # fmt: skip
         return self._finish(pose, time_s)
+
+    def mark_occupied(self, rows: NDArray[np.int64], cols: NDArray[np.int64]) -> None:
+        """Set cells to certainly occupied (from contact, not from the LiDAR)."""
+        if len(rows) == 0:
+            return
+        self._begin_scan()
+        touched = (np.asarray(rows, np.int64) * self.state.shape[1] + np.asarray(cols, np.int64)).copy()
+        params = self._params.copy()
+        params[4] = self.config.clamp_max  # a hit that saturates
+        n = len(touched)
+        apply_updates(
+            touched,
+            n,
+            n,
+            self.logodds,
+            self.state,
+            self.seen,
+            self.explorable,
+            params,
+            self._bbox,
+            self._counters,
+        )
+        self.explored_cells += int(self._counters[2])
 
     def _begin_scan(self) -> None:
         self._scan_id += 1

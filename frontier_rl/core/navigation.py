@@ -7,7 +7,6 @@ its speed limits, turning in place when the heading error is large, so turning c
 
 from __future__ import annotations
 
-import heapq
 import math
 from dataclasses import dataclass
 
@@ -25,11 +24,6 @@ from frontier_rl.errors import ConfigError
 _SQRT2 = math.sqrt(2.0)
 _OCCUPIED = np.int8(CellState.OCCUPIED)
 _UNKNOWN = np.int8(CellState.UNKNOWN)
-_STEPS = np.array(
-    [(-1, 0, 1.0), (1, 0, 1.0), (0, -1, 1.0), (0, 1, 1.0), (-1, -1, _SQRT2), (-1, 1, _SQRT2), (1, -1, _SQRT2),
-     (1, 1, _SQRT2)],
-    dtype=np.float64,
-)  # fmt: skip
 
 
 @dataclass(frozen=True)
@@ -46,7 +40,8 @@ class NavigationConfig:
         heading_gain: angular speed per rad of heading error (1/s) while driving.
         control_dt: integration step of the robot motion (s).
         progress_timeout: a goal without progress for this long (s) is aborted and blacklisted.
-        progress_distance: the remaining path must shrink by this much (m) to count as progress.
+        progress_distance: the remaining path must shrink by this much (m) to count as progress...
+        oscillation_distance: ... or the robot must move this far (m) (move_base's setting).
         max_recoveries: in-place rotations tried when stuck before the goal is aborted.
         blacklist_radius: frontiers whose centre lies this close (m) to a blacklisted goal are ignored.
         frontier_check_period: how often (s) the goal's frontier is checked for being explored.
@@ -62,6 +57,7 @@ class NavigationConfig:
     control_dt: float = 0.05
     progress_timeout: float = 30.0
     progress_distance: float = 0.1
+    oscillation_distance: float = 0.5
     max_recoveries: int = 2
     blacklist_radius: float = 0.25
     frontier_check_period: float = 1.0
@@ -117,7 +113,7 @@ class Costmap:
     def reachable_known(self, start: tuple[int, int]) -> NDArray[np.bool_]:
         """Known-free traversable cells connected (8-way) to ``start`` (row, col)."""
         mask = self.traversable & (self.grid.data == CellState.FREE)
-        out = np.zeros_like(mask)
+        out: NDArray[np.bool_] = np.zeros(mask.shape, np.bool_)
         r, c = start
         if not self.grid.in_bounds(r, c):
             return out
@@ -128,7 +124,9 @@ class Costmap:
             r, c = nearest
         return flood_fill(mask, r, c)
 
-    def plan(self, start: tuple[int, int], goal: tuple[int, int], escape_radius: float = 0.25) -> NDArray[np.int64]:
+    def plan(
+        self, start: tuple[int, int], goal: tuple[int, int], escape_radius: float = 0.25
+    ) -> NDArray[np.int64]:
         """A* path (cells, (n, 2) rows and columns) from ``start`` to ``goal``; empty if none.
 
         Cells within ``escape_radius`` (m) of the start may be crossed even if inflated (not if
@@ -137,11 +135,18 @@ class Costmap:
         escape = int(math.ceil(escape_radius / self.grid.resolution))
         passable = self.traversable.copy()
         r0, c0 = max(start[0] - escape, 0), max(start[1] - escape, 0)
-        window = passable[r0 : start[0] + escape + 1, c0 : start[1] + escape + 1]
-        rows, cols = np.ogrid[r0 : r0 + window.shape[0], c0 : c0 + window.shape[1]]
+        rows, cols = np.ogrid[r0 : start[0] + escape + 1, c0 : start[1] + escape + 1]
+        rows, cols = rows[: passable.shape[0] - r0], cols[:, : passable.shape[1] - c0]
+        window = passable[r0 : r0 + rows.shape[0], c0 : c0 + cols.shape[1]]
         near = (rows - start[0]) ** 2 + (cols - start[1]) ** 2 <= escape * escape
-        occupied = self.grid.data[r0 : r0 + window.shape[0], c0 : c0 + window.shape[1]] == CellState.OCCUPIED
-        window |= near & ~occupied
+        # Near the start, inflated cells may be crossed on the way out, but only those no closer
+        # to a wall than the start itself: the robot may back away from a wall, not squeeze on.
+        start_clearance = self.clearance[start] if self.grid.in_bounds(*start) else 0.0
+        wider = self.clearance[r0 : r0 + rows.shape[0], c0 : c0 + cols.shape[1]] >= start_clearance
+        occupied = self.grid.data[r0 : r0 + rows.shape[0], c0 : c0 + cols.shape[1]] == CellState.OCCUPIED
+        window |= near & wider & ~occupied
+        if self.grid.in_bounds(*start):
+            passable[start] = True
         if not (self.grid.in_bounds(*goal) and passable[goal]):
             return np.zeros((0, 2), np.int64)
         return astar(passable, self.penalty, start[0], start[1], goal[0], goal[1])
@@ -207,43 +212,77 @@ def astar(
     """8-connected A* with octile heuristic; a step costs its length × (1 + penalty of the cell
     entered); diagonal steps may not cut a corner. Returns the (n, 2) cell path, empty if none."""
     rows, cols = passable.shape
-    n = rows * cols
+    pcols = cols + 2
+    n = (rows + 2) * pcols
+    # Flat arrays with a blocked border: neighbours are index offsets, with no bounds checks.
+    open_ok = np.zeros(n, np.bool_)
+    cost = np.zeros(n)
+    for r in range(rows):
+        for c in range(cols):
+            open_ok[(r + 1) * pcols + c + 1] = passable[r, c]
+            cost[(r + 1) * pcols + c + 1] = 1.0 + penalty[r, c]
+    offsets = np.array([-pcols, pcols, -1, 1, -pcols - 1, -pcols + 1, pcols - 1, pcols + 1])
+    side_row = np.array([0, 0, 0, 0, -pcols, -pcols, pcols, pcols])
+    side_col = np.array([0, 0, 0, 0, -1, 1, -1, 1])
     g = np.full(n, np.inf)
     parent = np.full(n, -1, np.int64)
     closed = np.zeros(n, np.bool_)
-    start = start_r * cols + start_c
-    goal = goal_r * cols + goal_c
+    start = (start_r + 1) * pcols + start_c + 1
+    goal = (goal_r + 1) * pcols + goal_c + 1
+    open_ok[start] = True
+    heap_f = np.empty(8 * rows * cols + 8)
+    heap_i = np.empty(8 * rows * cols + 8, np.int64)
+    size = 1
+    heap_f[0] = 0.0
+    heap_i[0] = start
     g[start] = 0.0
-    heap = [(0.0, start)]
-    while heap:
-        _, cur = heapq.heappop(heap)
+    while size > 0:
+        cur = heap_i[0]
+        size -= 1  # pop: move the last entry to the root and sift it down
+        last_f, last_i = heap_f[size], heap_i[size]
+        pos = 0
+        while True:
+            child = 2 * pos + 1
+            if child >= size:
+                break
+            if child + 1 < size and heap_f[child + 1] < heap_f[child]:
+                child += 1
+            if heap_f[child] >= last_f:
+                break
+            heap_f[pos], heap_i[pos] = heap_f[child], heap_i[child]
+            pos = child
+        heap_f[pos], heap_i[pos] = last_f, last_i
         if closed[cur]:
             continue
         closed[cur] = True
         if cur == goal:
             break
-        r = cur // cols
-        c = cur % cols
         for k in range(8):
-            dr = int(_STEPS[k, 0])
-            dc = int(_STEPS[k, 1])
-            rr = r + dr
-            cc = c + dc
-            if rr < 0 or rr >= rows or cc < 0 or cc >= cols or not passable[rr, cc]:
+            nxt = cur + offsets[k]
+            if not open_ok[nxt] or closed[nxt]:
                 continue
-            if dr != 0 and dc != 0 and not (passable[r, cc] and passable[rr, c]):
-                continue
-            nxt = rr * cols + cc
-            if closed[nxt]:
-                continue
-            cost = g[cur] + _STEPS[k, 2] * (1.0 + penalty[rr, cc])
-            if cost < g[nxt]:
-                g[nxt] = cost
+            if k >= 4:  # a diagonal step needs both side cells free (no corner cutting)
+                if not (open_ok[cur + side_row[k]] and open_ok[cur + side_col[k]]):
+                    continue
+                step = _SQRT2
+            else:
+                step = 1.0
+            new_g = g[cur] + step * cost[nxt]
+            if new_g < g[nxt]:
+                g[nxt] = new_g
                 parent[nxt] = cur
-                ddr = abs(rr - goal_r)
-                ddc = abs(cc - goal_c)
-                h = (_SQRT2 - 1.0) * min(ddr, ddc) + max(ddr, ddc)
-                heapq.heappush(heap, (cost + h, nxt))
+                dr = abs(nxt // pcols - goal_r - 1)
+                dc = abs(nxt % pcols - goal_c - 1)
+                f = new_g + (_SQRT2 - 1.0) * min(dr, dc) + max(dr, dc)
+                pos = size  # push: sift up
+                size += 1
+                while pos > 0:
+                    up = (pos - 1) // 2
+                    if heap_f[up] <= f:
+                        break
+                    heap_f[pos], heap_i[pos] = heap_f[up], heap_i[up]
+                    pos = up
+                heap_f[pos], heap_i[pos] = f, nxt
     if not closed[goal]:
         return np.zeros((0, 2), np.int64)
     length = 1
@@ -254,8 +293,8 @@ def astar(
     path = np.empty((length, 2), np.int64)
     cur = goal
     for i in range(length - 1, -1, -1):
-        path[i, 0] = cur // cols
-        path[i, 1] = cur % cols
+        path[i, 0] = cur // pcols - 1
+        path[i, 1] = cur % pcols - 1
         cur = parent[cur]
     return path
 
@@ -289,6 +328,43 @@ def footprint_offsets(radius: float, resolution: float) -> NDArray[np.int64]:
     return np.column_stack((dr[keep], dc[keep])).astype(np.int64)
 
 
+@nb.njit(cache=True, inline="always")
+def _drive_step(
+    x: float,
+    y: float,
+    theta: float,
+    err: float,
+    step: float,
+    to_goal: float,
+    v_max: float,
+    w_max: float,
+    k_w: float,
+) -> tuple[float, float, float]:
+    """Pose after ``step`` (s) of driving with heading error ``err`` (rad): unicycle, midpoint rule."""
+    omega = max(-w_max, min(w_max, k_w * err))
+    v = min(v_max, to_goal / step)
+    mid = theta + 0.5 * omega * step
+    new_theta = (theta + omega * step + math.pi) % (2.0 * math.pi) - math.pi
+    return x + v * step * math.cos(mid), y + v * step * math.sin(mid), new_theta
+
+
+@nb.njit(cache=True, inline="always")
+def _clear(
+    x: float,
+    y: float,
+    clearance: NDArray[np.float64],
+    origin_x: float,
+    origin_y: float,
+    resolution: float,
+    radius: float,
+) -> bool:
+    """Whether the robot centre may stand at (x, y) (m): inside the grid, clearance >= radius."""
+    col = int(math.floor((x - origin_x) / resolution))
+    row = int(math.floor((y - origin_y) / resolution))
+    rows, cols = clearance.shape
+    return bool(0 <= row < rows and 0 <= col < cols and clearance[row, col] >= radius)
+
+
 @nb.njit(cache=True, fastmath=FASTMATH)
 def follow_path(
     path_x: NDArray[np.float64],
@@ -317,7 +393,6 @@ def follow_path(
         params[0], params[1], params[2], params[3], params[4], params[5], params[6], params[7],
     )  # fmt: skip
     n = path_x.shape[0]
-    rows, cols = clearance.shape
     elapsed = 0.0
     driven = 0.0
     while elapsed < duration - 1e-9:
@@ -334,17 +409,27 @@ def follow_path(
             theta += turn if err > 0 else -turn
             elapsed += turn / w_max if turn < w_max * step else step
             continue
-        omega = max(-w_max, min(w_max, k_w * err))
-        v = min(v_max, to_goal / step)
-        mid = theta + 0.5 * omega * step
-        nx = x + v * step * math.cos(mid)
-        ny = y + v * step * math.sin(mid)
-        col = int(math.floor((nx - origin_x) / resolution))
-        row = int(math.floor((ny - origin_y) / resolution))
-        if row < 0 or row >= rows or col < 0 or col >= cols or clearance[row, col] < radius:
-            return x, y, theta, index, driven, elapsed, 2
+        nx, ny, new_theta = _drive_step(x, y, theta, err, step, to_goal, v_max, w_max, k_w)
+        if not _clear(nx, ny, clearance, origin_x, origin_y, resolution, radius):
+            # Steering at the lookahead point cuts corners; in a tight spot fall back to the
+            # waypoint right after the nearest one, which keeps the robot on the planned cells.
+            near = index
+            while near > 0 and math.hypot(path_x[near - 1] - x, path_y[near - 1] - y) <= math.hypot(
+                path_x[near] - x, path_y[near] - y
+            ):
+                near -= 1
+            near = min(near + 1, n - 1)
+            err = math.atan2(path_y[near] - y, path_x[near] - x) - theta
+            err = (err + math.pi) % (2.0 * math.pi) - math.pi
+            if abs(err) > turn_angle:
+                turn = min(abs(err), w_max * step)
+                theta += turn if err > 0 else -turn
+                elapsed += turn / w_max if turn < w_max * step else step
+                continue
+            nx, ny, new_theta = _drive_step(x, y, theta, err, step, to_goal, v_max, w_max, k_w)
+            if not _clear(nx, ny, clearance, origin_x, origin_y, resolution, radius):
+                return x, y, theta, index, driven, elapsed, 2
         driven += math.hypot(nx - x, ny - y)
-        x, y = nx, ny
-        theta = (theta + omega * step + math.pi) % (2.0 * math.pi) - math.pi
+        x, y, theta = nx, ny, new_theta
         elapsed += step
     return x, y, theta, index, driven, elapsed, 0

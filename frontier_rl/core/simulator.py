@@ -219,7 +219,7 @@ class ExplorationSimulator:
                 cand.reachable, cand.grid.world_to_cell(*center), max_radius=max(cand.grid.shape)
             )
             path = None if goal_cell is None else self._plan(cand, goal_cell)
-            if path is None:
+            if path is None or goal_cell is None:
                 self.blacklist.append(center)
                 self.aborts += 1
                 continue
@@ -245,7 +245,7 @@ class ExplorationSimulator:
         col = min(max(col, 0), cand.grid.width - 1)
         goal_cell = nearest_cell(cand.reachable, (row, col), max_radius=max(cand.grid.shape))
         path = None if goal_cell is None else self._plan(cand, goal_cell)
-        if path is None:
+        if path is None or goal_cell is None:
             self.aborts += 1
             self._log(weight, (x, y), LegOutcome.ABORTED)
             return LegResult(LegOutcome.ABORTED, -1, (x, y), 0.0, 0.0, 0, 0)
@@ -261,7 +261,10 @@ class ExplorationSimulator:
             return None
         g = cand.grid
         xy = np.column_stack(
-            (g.origin[0] + (cells[:, 1] + 0.5) * g.resolution, g.origin[1] + (cells[:, 0] + 0.5) * g.resolution)
+            (
+                g.origin[0] + (cells[:, 1] + 0.5) * g.resolution,
+                g.origin[1] + (cells[:, 0] + 0.5) * g.resolution,
+            )
         )
         xy[-1] = g.cell_to_world(*goal_cell)
         return xy
@@ -299,6 +302,7 @@ class ExplorationSimulator:
         index_on_path = 0
         best_remaining = math.inf
         last_progress = self.sim_time
+        progress_at = (self.pose.x, self.pose.y)
         next_frontier_check = self.sim_time + nav.frontier_check_period
         recoveries = 0
         outcome = LegOutcome.TIMEOUT
@@ -310,7 +314,8 @@ class ExplorationSimulator:
             )  # fmt: skip
             self.pose = Pose(x, y, theta)
             self.path_length += driven
-            self.sim_time += used if status != 0 else duration
+            # Only a reached goal ends a tick early; a robot stopped by a wall waits out the tick.
+            self.sim_time += used if status == 1 else duration
             f, o = self._scan()
             new_free += f
             new_occ += o
@@ -323,13 +328,21 @@ class ExplorationSimulator:
                 if alive <= cfg.min_frontier_cells:
                     outcome = LegOutcome.EXPLORED
                     break
-            remaining = math.hypot(path[index_on_path, 0] - x, path[index_on_path, 1] - y) + tail[index_on_path]
-            if remaining < best_remaining - nav.progress_distance:
-                best_remaining = remaining
+            remaining = (
+                math.hypot(path[index_on_path, 0] - x, path[index_on_path, 1] - y) + tail[index_on_path]
+            )
+            # Progress: the way left got shorter, or the robot got somewhere (a replanned detour
+            # can make the way longer while the robot is doing fine).
+            moved = math.hypot(x - progress_at[0], y - progress_at[1]) >= nav.oscillation_distance
+            if remaining < best_remaining - nav.progress_distance or moved:
+                best_remaining = min(best_remaining, remaining)
                 last_progress = self.sim_time
+                progress_at = (x, y)
             elif self.sim_time - last_progress > nav.progress_timeout:
                 outcome = LegOutcome.ABORTED
                 break
+            if status == 2:
+                self._bump()
             blocked = status == 2 or path_blocked(
                 self.mapper.state, path_cells[:, 0], path_cells[:, 1], index_on_path, self._footprint
             )
@@ -348,7 +361,6 @@ class ExplorationSimulator:
                 path_cells = self._to_truth_cells(path)
                 tail = _tail_lengths(path)
                 index_on_path = 0
-                best_remaining = math.inf  # a new path is measured afresh
         if outcome is LegOutcome.ABORTED:
             self.aborts += 1
             self.blacklist.append(center if center is not None else goal)
@@ -357,6 +369,22 @@ class ExplorationSimulator:
         return LegResult(
             outcome, index, goal, self.sim_time - start_time, self.path_length - start_len, new_free, new_occ
         )
+
+    def _bump(self) -> None:
+        """The robot ran into a wall its map did not show (the LiDAR is blind closer than its
+        minimum range): the wall cells it touches are marked occupied, as a bumper would."""
+        g = self.world.grid
+        reach = self.config.robot.radius + 1.5 * g.resolution
+        row, col = g.world_to_cell(self.pose.x, self.pose.y)
+        n = int(math.ceil(reach / g.resolution))
+        r0, c0 = max(row - n, 0), max(col - n, 0)
+        window = g.data[r0 : row + n + 1, c0 : col + n + 1] == CellState.OCCUPIED
+        rows, cols = np.nonzero(window)
+        centres_x = g.origin[0] + (cols + c0 + 0.5) * g.resolution
+        centres_y = g.origin[1] + (rows + r0 + 0.5) * g.resolution
+        near = np.hypot(centres_x - self.pose.x, centres_y - self.pose.y) <= reach
+        self.mapper.mark_occupied(rows[near] + r0, cols[near] + c0)
+        self._candidates = None
 
     def _rotate_in_place(self) -> tuple[int, int]:
         """A recovery behaviour: one full turn at max angular speed, scanning as it goes."""
@@ -389,7 +417,9 @@ class ExplorationSimulator:
     ) -> None:
         time_s, (x, y) = start if start is not None else (self.sim_time, (self.pose.x, self.pose.y))
         self.decisions.append(
-            DecisionRecord(float(time_s), float(x), float(y), float(goal[0]), float(goal[1]), weight, outcome.value)
+            DecisionRecord(
+                float(time_s), float(x), float(y), float(goal[0]), float(goal[1]), weight, outcome.value
+            )
         )
 
     # ---------------------------------------------------------------- results
