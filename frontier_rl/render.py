@@ -78,9 +78,7 @@ class FrameCanvas:
         """The robot's path and its last pose."""
         draw = ImageDraw.Draw(image)
         if len(trajectory) >= 2:
-            draw.line(
-                [tuple(p) for p in self._to_px(trajectory[:, :2])], fill=_PATH, width=max(self.scale, 1)
-            )
+            draw.line([tuple(p) for p in self._to_px(trajectory[:, :2])], fill=_PATH, width=max(self.scale, 1))
         if len(trajectory):
             x, y = self._to_px(trajectory[-1:, :2])[0]
             r = 3 * self.scale
@@ -124,7 +122,5 @@ def save_gif(frames: Sequence[Image.Image], path: str | Path, frame_ms: int = 12
         raise ValueError("no frames to write")
     path = Path(path)
     durations = [frame_ms] * (len(frames) - 1) + [1000]
-    frames[0].save(
-        path, save_all=True, append_images=list(frames[1:]), duration=durations, loop=0, optimize=False
-    )
+    frames[0].save(path, save_all=True, append_images=list(frames[1:]), duration=durations, loop=0, optimize=False)
     return path

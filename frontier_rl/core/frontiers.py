@@ -8,7 +8,8 @@ clusters that touch the region the robot can reach through known free space are 
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
+from dataclasses import dataclass, field
+from functools import cached_property
 
 import numba as nb
 import numpy as np
@@ -188,7 +189,8 @@ class Frontiers:
         sizes: (n,) number of fringe cells.
         distances: (n,) straight-line distance from the robot to the centre (m).
         min_distances: (n,) straight-line distance from the robot to the nearest cell centre (m).
-        cells: per frontier, the (row, col) indices of its cells in ``grid``, shape (size, 2).
+        flat_cells: flat indices into ``grid`` of the cells of all clusters, grouped by cluster.
+        spans: (n, 2) start and end of each frontier's cells in ``flat_cells``.
     """
 
     grid: OccupancyGrid
@@ -196,10 +198,22 @@ class Frontiers:
     sizes: NDArray[np.int64]
     distances: NDArray[np.float64]
     min_distances: NDArray[np.float64]
-    cells: tuple[NDArray[np.int64], ...]
+    flat_cells: NDArray[np.int64] = field(repr=False)
+    spans: NDArray[np.int64] = field(repr=False)
 
     def __len__(self) -> int:
         return int(self.sizes.shape[0])
+
+    def cells_of(self, index: int) -> NDArray[np.int64]:
+        """(size, 2) row and column indices in ``grid`` of frontier ``index``'s cells."""
+        start, end = self.spans[index]
+        rows, cols = np.divmod(self.flat_cells[start:end], self.grid.width)
+        return np.column_stack((rows, cols)).astype(np.int64)
+
+    @cached_property
+    def cells(self) -> tuple[NDArray[np.int64], ...]:
+        """Per frontier, the (row, col) indices of its cells in ``grid``, shape (size, 2)."""
+        return tuple(self.cells_of(i) for i in range(len(self)))
 
     def subset(self, keep: NDArray[np.bool_]) -> Frontiers:
         """The frontiers where ``keep`` is True, in the same order."""
@@ -210,7 +224,8 @@ class Frontiers:
             self.sizes[idx],
             self.distances[idx],
             self.min_distances[idx],
-            tuple(self.cells[i] for i in idx),
+            self.flat_cells,
+            self.spans[idx],
         )
 
     def information_gain(self, sensor_range: float, n_rays: int = 180) -> NDArray[np.int64]:
@@ -259,15 +274,12 @@ def detect_frontiers(
     mean_c = stats[keep, 1] / sizes[keep] + 0.5
     centers = np.column_stack((grid.origin[0] + mean_c * res, grid.origin[1] + mean_r * res))
     distances = np.hypot(centers[:, 0] - robot.x, centers[:, 1] - robot.y)
-    cols = grid.width
-    cells = tuple(
-        np.column_stack(np.divmod(flat[offsets[k] : offsets[k + 1]], cols)).astype(np.int64) for k in keep
-    )
     return Frontiers(
         grid=grid,
         centers=centers.reshape(-1, 2),
         sizes=sizes[keep].astype(np.int64),
         distances=distances,
         min_distances=np.sqrt(stats[keep, 2]) * res,
-        cells=cells,
+        flat_cells=flat,
+        spans=np.column_stack((offsets[keep], offsets[keep + 1])).astype(np.int64).reshape(-1, 2),
     )

@@ -41,12 +41,7 @@ class Rect(NamedTuple):
     def overlaps(self, other: Rect, margin: int = 0) -> bool:
         """Whether the two rectangles, this one grown by ``margin`` cells, share a cell."""
         m = margin
-        return (
-            self.r0 - m < other.r1
-            and other.r0 < self.r1 + m
-            and self.c0 - m < other.c1
-            and other.c0 < self.c1 + m
-        )
+        return self.r0 - m < other.r1 and other.r0 < self.r1 + m and self.c0 - m < other.c1 and other.c0 < self.c1 + m
 
 
 def cells(length_m: float, resolution: float) -> int:
@@ -92,9 +87,7 @@ def _band_edges(rng: np.random.Generator, lo: int, hi: int, t: int, res: float) 
     plus a wall); band k > 0 starts with its wall, cells [e_k, e_k + t)."""
     span, band_min = hi - lo, cells(OFFICE_CELL_M, res) + t
     if span < band_min:
-        raise ConfigError(
-            f"office floor of {span * res:.2f} m is narrower than one {OFFICE_CELL_M} m hallway"
-        )
+        raise ConfigError(f"office floor of {span * res:.2f} m is narrower than one {OFFICE_CELL_M} m hallway")
     n0, n_max = max(1, round(span * res / 2.0)), span // band_min
     n = int(rng.integers(min(max(1, n0 - 1), n_max), min(n0 + 1, n_max) + 1))
     spare = span - n * band_min
@@ -103,9 +96,7 @@ def _band_edges(rng: np.random.Generator, lo: int, hi: int, t: int, res: float) 
     return [lo, *(lo + np.cumsum(band_min + extra)).tolist()]
 
 
-def _maze_regions(
-    rng: np.random.Generator, n_rows: int, n_cols: int
-) -> tuple[NDArray[np.int64], set[int], BoolGrid]:
+def _maze_regions(rng: np.random.Generator, n_rows: int, n_cols: int) -> tuple[NDArray[np.int64], set[int], BoolGrid]:
     """Group the maze cells into regions: rooms of 1x1 to 2x2 cells, solid cores and hallway cells.
 
     Returns (region id per cell, ids of the rooms, solid mask)."""
@@ -120,9 +111,7 @@ def _maze_regions(
         h, w = shapes[int(rng.choice(4, p=[0.3, 0.25, 0.25, 0.2]))]
         if u < 0.08:
             solid[i, j] = True
-        elif (
-            u < 0.55 and taken[i : i + h, j : j + w].shape == (h, w) and not taken[i : i + h, j : j + w].any()
-        ):
+        elif u < 0.55 and taken[i : i + h, j : j + w].shape == (h, w) and not taken[i : i + h, j : j + w].any():
             region[i : i + h, j : j + w] = region[i, j]
             taken[i : i + h, j : j + w] = True
             rooms.add(int(region[i, j]))
@@ -164,9 +153,7 @@ def _maze_links(
                 links[pair] = "door" if room else "open"
             else:
                 links[pair] = (
-                    ("door" if rng.random() < 0.1 else "wall")
-                    if room
-                    else ("open" if rng.random() < 0.1 else "wall")
+                    ("door" if rng.random() < 0.1 else "wall") if room else ("open" if rng.random() < 0.1 else "wall")
                 )
     return links
 
@@ -233,9 +220,7 @@ def office_layout(rng: np.random.Generator, n_rows: int, n_cols: int, resolution
                 occ[ye[k] : ye[k] + t, xe[n] : xe[n] + t] = True
                 size = max(t + 2, cells(rng.uniform(*PILLAR_M), resolution))  # a column in the wall
                 r, c = ye[k] + t // 2 - size // 2, xe[n] + t // 2 - size // 2
-                if rng.random() < 0.6 and not any(
-                    d.overlaps(Rect(r, r + size, c, c + size), 2) for d in doors
-                ):
+                if rng.random() < 0.6 and not any(d.overlaps(Rect(r, r + size, c, c + size), 2) for d in doors):
                     occ[r : r + size, c : c + size] = True
             else:
                 centres.append((ye[k] + t // 2, xe[n] + t // 2))
@@ -244,9 +229,7 @@ def office_layout(rng: np.random.Generator, n_rows: int, n_cols: int, resolution
 
 
 # ---------------------------------------------------------------------------------------- rooms
-def _cut_door(
-    rng: np.random.Generator, occ: BoolGrid, wall: Rect, axis: int, res: float, doors: list[Rect]
-) -> None:
+def _cut_door(rng: np.random.Generator, occ: BoolGrid, wall: Rect, axis: int, res: float, doors: list[Rect]) -> None:
     """Cut a 0.8-1.2 m door through ``wall`` (runs along columns if axis == 0, else along rows)."""
     dw, m = cells(rng.uniform(*ROOM_DOOR_M), res), cells(0.1, res)
     lo, hi = (wall.c0, wall.c1) if axis == 0 else (wall.r0, wall.r1)

@@ -49,8 +49,7 @@ class LidarConfig:
             raise ConfigError(f"LidarConfig.rate_hz must be positive, got {self.rate_hz!r}")
         if not (self.noise_abs >= 0 and self.noise_rel >= 0):
             raise ConfigError(
-                "LidarConfig noise must be >= 0, got "
-                f"noise_abs={self.noise_abs!r}, noise_rel={self.noise_rel!r}"
+                f"LidarConfig noise must be >= 0, got noise_abs={self.noise_abs!r}, noise_rel={self.noise_rel!r}"
             )
 
     @property

@@ -10,19 +10,14 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass
 
-import numba as nb
 import numpy as np
 from numpy.typing import NDArray
 
 from frontier_rl.core.grid import CellState, OccupancyGrid
 from frontier_rl.core.lidar import Lidar, Scan
-from frontier_rl.core.raycast import FASTMATH, ray_start
+from frontier_rl.core.log_odds import HIT, apply_pending, mark_beams, simulate_beams
 from frontier_rl.core.robot import Pose, wrap_angle
 from frontier_rl.errors import ConfigError
-
-_UNKNOWN = np.int8(CellState.UNKNOWN)
-_FREE = np.int8(CellState.FREE)
-_OCCUPIED = np.int8(CellState.OCCUPIED)
 
 
 @dataclass(frozen=True)
@@ -88,228 +83,6 @@ class ScanUpdate:
     new_explorable: int
 
 
-@nb.njit(cache=True, fastmath=FASTMATH)
-def integrate_scan(
-    logodds: NDArray[np.float32],
-    state: NDArray[np.int8],
-    stamp: NDArray[np.int32],
-    scan_id: int,
-    seen: NDArray[np.bool_],
-    explorable: NDArray[np.bool_],
-    cx: float,
-    cy: float,
-    dirs_x: NDArray[np.float64],
-    dirs_y: NDArray[np.float64],
-    ranges: NDArray[np.float64],
-    resolution: float,
-    usable_range: float,
-    params: NDArray[np.float64],
-    bbox: NDArray[np.int64],
-    counters: NDArray[np.int64],
-    touched: NDArray[np.int64],
-) -> None:
-    """Fold one scan into the map: ``ranges`` in m, (cx, cy) and ``usable_range`` in cells.
-
-    Each cell is updated at most once per scan, and a hit wins over a pass, so beams that graze
-    a wall do not erase it. ``ranges`` holds ``inf`` for "free up to max range" and ``nan`` for
-    invalid beams. Beams are cropped at ``usable_range`` (Gmapping's maxUrange): free up to it,
-    no hit beyond it. ``params`` = (clamp_min, clamp_max, free_below, occupied_above, hit, miss).
-    ``counters`` receives the cells first classified free, occupied, and explorable.
-    ``touched`` is scratch space for at least one entry per cell a beam can visit.
-    """
-    rows, cols = logodds.shape
-    n_touched = 0  # touched[:n_touched] are flat cell indices, the first n_hits of them hits
-    for i in range(ranges.shape[0]):
-        r = ranges[i] / resolution
-        if math.isfinite(r) and r <= usable_range:
-            row = int(math.floor(cy + (r + 1e-4) * dirs_y[i]))
-            col = int(math.floor(cx + (r + 1e-4) * dirs_x[i]))
-            if 0 <= row < rows and 0 <= col < cols and stamp[row, col] != scan_id:
-                stamp[row, col] = scan_id
-                touched[n_touched] = row * cols + col
-                n_touched += 1
-    n_hits = n_touched
-    for i in range(ranges.shape[0]):
-        r = ranges[i] / resolution
-        if math.isnan(r):
-            continue
-        limit = min(r, usable_range)
-        row, col, s_r, s_c, tm_r, tm_c, td_r, td_c = ray_start(cx, cy, dirs_x[i], dirs_y[i])
-        while min(tm_r, tm_c) <= limit and 0 <= row < rows and 0 <= col < cols:
-            if stamp[row, col] != scan_id:
-                stamp[row, col] = scan_id
-                touched[n_touched] = row * cols + col
-                n_touched += 1
-            if tm_c < tm_r:
-                col += s_c
-                tm_c += td_c
-            else:
-                row += s_r
-                tm_r += td_r
-    apply_updates(touched, n_touched, n_hits, logodds, state, seen, explorable, params, bbox, counters)
-
-
-@nb.njit(cache=True)
-def apply_updates(
-    touched: NDArray[np.int64],
-    n_touched: int,
-    n_hits: int,
-    logodds: NDArray[np.float32],
-    state: NDArray[np.int8],
-    seen: NDArray[np.bool_],
-    explorable: NDArray[np.bool_],
-    params: NDArray[np.float64],
-    bbox: NDArray[np.int64],
-    counters: NDArray[np.int64],
-) -> None:
-    """Add ``hit`` to the first ``n_hits`` cells of ``touched[:n_touched]`` (flat indices) and
-    ``miss`` to the rest, then reclassify them and count the cells seen for the first time."""
-    cols = logodds.shape[1]
-    low, high, free_below, occupied_above = params[0], params[1], params[2], params[3]
-    flat_logodds = logodds.reshape(-1)
-    flat_state = state.reshape(-1)
-    flat_seen = seen.reshape(-1)
-    flat_explorable = explorable.reshape(-1)
-    for k in range(n_touched):
-        cell = touched[k]
-        delta = params[4] if k < n_hits else params[5]
-        value = min(max(flat_logodds[cell] + delta, low), high)
-        flat_logodds[cell] = value
-        if value > occupied_above:
-            new_state = _OCCUPIED
-        elif value < free_below:
-            new_state = _FREE
-        else:
-            new_state = flat_state[cell]  # in between: a seen cell keeps its class (as Gmapping's do)
-        flat_state[cell] = new_state
-        if new_state != _UNKNOWN and not flat_seen[cell]:
-            flat_seen[cell] = True
-            counters[0 if new_state == _FREE else 1] += 1
-            if flat_explorable[cell]:
-                counters[2] += 1
-            row = cell // cols
-            col = cell % cols
-            bbox[0] = min(bbox[0], row)
-            bbox[1] = max(bbox[1], row)
-            bbox[2] = min(bbox[2], col)
-            bbox[3] = max(bbox[3], col)
-
-
-@nb.njit(cache=True, fastmath=FASTMATH)
-def simulate_scan(
-    blocked_padded: NDArray[np.bool_],
-    cx: float,
-    cy: float,
-    cos_t: float,
-    sin_t: float,
-    cos_offsets: NDArray[np.float64],
-    sin_offsets: NDArray[np.float64],
-    normals: NDArray[np.float64],
-    noise: NDArray[np.float64],
-    ranges: NDArray[np.float64],
-    trav_cells: NDArray[np.int64],
-    trav_exit: NDArray[np.float64],
-    touched: NDArray[np.int64],
-    stamp: NDArray[np.int32],
-    scan_id: int,
-    usable: float,
-) -> tuple[int, int]:
-    """Cast a noisy scan on the ground truth and collect the map cells it updates, in one
-    traversal per beam: the same cells, ranges and order as :class:`~frontier_rl.core.lidar.Lidar`'s
-    ``scan`` followed by :func:`integrate_scan`, at about half the cost.
-
-    ``noise`` = (resolution, min_range, max_range, sigma_abs, sigma_rel, rel_from), lengths in m;
-    (cx, cy) and ``usable`` (the range where beams are cropped for mapping) in cells. Writes the
-    measured ranges (m) into ``ranges`` and the touched cells into
-    ``touched``; returns (number touched, number of hits among them, which come first).
-    """
-    res, min_r, max_r = noise[0], noise[1], noise[2]
-    max_cells = max_r / res
-    rows = blocked_padded.shape[0] - 2
-    cols = blocked_padded.shape[1] - 2
-    n_beams = cos_offsets.shape[0]
-    beam_end = np.empty(n_beams, np.int64)
-    beam_limit = np.empty(n_beams)
-    flat_blocked = blocked_padded.reshape(-1)
-    pcols = cols + 2
-    n_trav = 0
-    n_touched = 0
-    for i in range(n_beams):
-        dx = cos_t * cos_offsets[i] - sin_t * sin_offsets[i]
-        dy = sin_t * cos_offsets[i] + cos_t * sin_offsets[i]
-        row, col, s_r, s_c, tm_r, tm_c, td_r, td_c = ray_start(cx, cy, dx, dy)
-        # Walk on flat indices with selects instead of branches: the step direction of a DDA is
-        # unpredictable, and a mispredicted branch per cell would double the cost.
-        padded = (row + 1) * pcols + (col + 1)
-        cell = row * cols + col
-        row_step_p, row_step = s_r * pcols, s_r * cols
-        t = 0.0
-        t_hit = np.inf
-        while t <= max_cells:
-            if flat_blocked[padded]:
-                t_hit = t
-                break
-            along_col = tm_c < tm_r
-            t = tm_c if along_col else tm_r
-            trav_cells[n_trav] = cell
-            trav_exit[n_trav] = t
-            n_trav += 1
-            padded += s_c if along_col else row_step_p
-            cell += s_c if along_col else row_step
-            col += s_c if along_col else 0
-            row += 0 if along_col else s_r
-            tm_c = tm_c + td_c if along_col else tm_c
-            tm_r = tm_r if along_col else tm_r + td_r
-        r = t_hit * res
-        if math.isfinite(r):
-            sigma = noise[3] if r < noise[5] else noise[4] * r
-            r += normals[i] * sigma
-            if r > max_r:
-                r = np.inf
-            elif r < min_r:
-                r = np.nan
-        ranges[i] = r
-        limit = np.nan if math.isnan(r) else min(r / res, usable)
-        if math.isfinite(t_hit) and limit > t_hit:  # the reading overshoots: trace on through the wall
-            while 0 <= row < rows and 0 <= col < cols and min(tm_r, tm_c) <= limit:
-                trav_cells[n_trav] = row * cols + col
-                trav_exit[n_trav] = min(tm_r, tm_c)
-                n_trav += 1
-                if tm_c < tm_r:
-                    col += s_c
-                    tm_c += td_c
-                else:
-                    row += s_r
-                    tm_r += td_r
-        beam_end[i] = n_trav
-        beam_limit[i] = limit
-        if math.isfinite(r) and r / res <= usable:
-            hit_row = int(math.floor(cy + (r / res + 1e-4) * dy))
-            hit_col = int(math.floor(cx + (r / res + 1e-4) * dx))
-            if 0 <= hit_row < rows and 0 <= hit_col < cols and stamp[hit_row, hit_col] != scan_id:
-                stamp[hit_row, hit_col] = scan_id
-                touched[n_touched] = hit_row * cols + hit_col
-                n_touched += 1
-    n_hits = n_touched
-    flat_stamp = stamp.reshape(-1)
-    start = 0
-    for i in range(n_beams):
-        limit = beam_limit[i]
-        if not math.isnan(limit):
-            for k in range(start, beam_end[i]):
-                if trav_exit[k] > limit:
-                    break
-                cell = trav_cells[k]
-                # Branch-free: always write, count only a cell not stamped yet (near the robot
-                # many beams cross the same cells, and that branch would be a coin toss).
-                fresh = flat_stamp[cell] != scan_id
-                flat_stamp[cell] = scan_id
-                touched[n_touched] = cell
-                n_touched += fresh
-        start = beam_end[i]
-    return n_touched, n_hits
-
-
 class LogOddsMapper:
     """Builds an occupancy grid from scans taken at known poses.
 
@@ -335,14 +108,10 @@ class LogOddsMapper:
         self.state = np.full(shape, CellState.UNKNOWN, dtype=np.int8)
         self.seen = np.zeros(shape, dtype=np.bool_)
         self.explorable = np.ones(shape, np.bool_) if explorable is None else explorable.astype(np.bool_)
-        self._stamp = np.zeros(shape, dtype=np.int32)
-        self._scan_id = 0
+        self._pending = np.zeros(shape, dtype=np.int8)
         self._bbox = np.array([shape[0], -1, shape[1], -1], dtype=np.int64)
         self._counters = np.zeros(3, dtype=np.int64)
-        self._touched = np.empty(0, dtype=np.int64)
-        self._trav_cells = np.empty(0, dtype=np.int64)
-        self._trav_exit = np.empty(0, dtype=np.float64)
-        self.last_ranges = np.empty(0, dtype=np.float64)
+        self._beams = np.empty((3, 0))  # scratch: ranges (cells), beam directions x and y
         c = self.config
         self._params = np.array(
             [c.clamp_min, c.clamp_max, c.free_below, c.occupied_above, c.hit, c.miss], dtype=np.float64
@@ -373,112 +142,74 @@ class LogOddsMapper:
             time_s: when the scan was taken (s), for :meth:`wants_scan`.
         """
         res = self.resolution
-        usable = min(max_range, self.config.usable_range)
-        self._begin_scan()
-        integrate_scan(
-            self.logodds,
-            self.state,
-            self._stamp,
-            self._scan_id,
-            self.seen,
-            self.explorable,
+        mark_beams(
+            self._pending,
             (scan.pose.x - self.origin[0]) / res,
             (scan.pose.y - self.origin[1]) / res,
             scan.dir_x,
             scan.dir_y,
-            scan.ranges,
-            res,
-            usable / res,
-            self._params,
-            self._bbox,
-            self._counters,
-            self._touched_buffer(scan.ranges.shape[0], max_range / res),
+            scan.ranges / res,
+            min(max_range, self.config.usable_range) / res,
         )
-        return self._finish(scan.pose, time_s)
+        return self._apply(scan.pose, time_s)
 
     def integrate_simulated(
         self, lidar: Lidar, pose: Pose, rng: np.random.Generator | None, time_s: float = 0.0
     ) -> ScanUpdate:
         """Simulate a scan of ``lidar`` at ``pose`` (at ``time_s``) and fold it in: the same result,
-        bit for bit, as ``integrate(lidar.scan(pose, rng), lidar.config.max_range, time_s)``, in a
-        single traversal per beam. The lidar must cast on a world of this mapper's shape."""
+        bit for bit, as ``integrate(lidar.scan(pose, rng), lidar.config.max_range, time_s)``,
+        without the Python-side arrays. The lidar must cast on a world of this mapper's shape."""
         if lidar.grid.shape != self.state.shape:
-            raise ValueError(
-                f"lidar world shape {lidar.grid.shape} differs from the map's {self.state.shape}"
-            )
+            raise ValueError(f"lidar world shape {lidar.grid.shape} differs from the map's {self.state.shape}")
         res = self.resolution
-        cfg = lidar.config
-        n = cfg.num_beams
-        max_cells = cfg.max_range / res
-        per_beam = 2 * int(math.ceil(max_cells)) + 4
-        if self._trav_cells.shape[0] < n * per_beam:
-            self._trav_cells = np.empty(n * per_beam, np.int64)
-            self._trav_exit = np.empty(n * per_beam)
-        if self.last_ranges.shape[0] != n:
-            self.last_ranges = np.empty(n)
-        self._begin_scan()
-        touched = self._touched_buffer(n, max_cells)
-        n_touched, n_hits = simulate_scan(
-            lidar.blocked_padded,
-            (pose.x - self.origin[0]) / res,
-            (pose.y - self.origin[1]) / res,
-            math.cos(pose.theta),
-            math.sin(pose.theta),
-            lidar.cos_offsets,
-            lidar.sin_offsets,
-            lidar.normals(rng),
-            lidar.noise_params,
-            self.last_ranges,
-            self._trav_cells,
-            self._trav_exit,
-            touched,
-            self._stamp,
-            self._scan_id,
-            min(cfg.max_range, self.config.usable_range) / res,
+        n = lidar.config.num_beams
+        if self._beams.shape[1] != n:
+            self._beams = np.empty((3, n))
+        ranges, dir_x, dir_y = self._beams
+        cx, cy = (pose.x - self.origin[0]) / res, (pose.y - self.origin[1]) / res
+        simulate_beams(
+            lidar.blocked_padded, cx, cy, math.cos(pose.theta), math.sin(pose.theta), lidar.cos_offsets,
+            lidar.sin_offsets, lidar.normals(rng), lidar.noise_params, ranges, dir_x, dir_y,
+        )  # fmt: skip
+        mark_beams(
+            self._pending,
+            cx,
+            cy,
+            dir_x,
+            dir_y,
+            ranges,
+            min(lidar.config.max_range, self.config.usable_range) / res,
         )
-        apply_updates(touched, n_touched, n_hits, self.logodds, self.state, self.seen, self.explorable,
-                      self._params, self._bbox, self._counters)  # fmt: skip
-        return self._finish(pose, time_s)
+        return self._apply(pose, time_s)
 
     def mark_occupied(self, rows: NDArray[np.int64], cols: NDArray[np.int64]) -> None:
         """Set cells to certainly occupied (from contact, not from the LiDAR)."""
         if len(rows) == 0:
             return
-        self._begin_scan()
-        touched = (np.asarray(rows, np.int64) * self.state.shape[1] + np.asarray(cols, np.int64)).copy()
+        self._pending[rows, cols] = HIT
         params = self._params.copy()
         params[4] = self.config.clamp_max  # a hit that saturates
-        n = len(touched)
-        apply_updates(
-            touched,
-            n,
-            n,
-            self.logodds,
-            self.state,
-            self.seen,
-            self.explorable,
-            params,
-            self._bbox,
-            self._counters,
-        )
+        self._counters[:] = 0
+        window = (int(np.min(rows)), int(np.max(rows)) + 1, int(np.min(cols)), int(np.max(cols)) + 1)
+        apply_pending(self._pending, window, self.logodds, self.state, self.seen, self.explorable, params,
+                      self._bbox, self._counters)  # fmt: skip
         self.explored_cells += int(self._counters[2])
 
-    def _begin_scan(self) -> None:
-        self._scan_id += 1
+    def _apply(self, pose: Pose, time_s: float) -> ScanUpdate:
+        """Apply the marks of the scan taken at ``pose`` and record it as the last processed one."""
+        reach = int(math.ceil(self.config.usable_range / self.resolution)) + 2
+        row = int(math.floor((pose.y - self.origin[1]) / self.resolution))
+        col = int(math.floor((pose.x - self.origin[0]) / self.resolution))
         self._counters[:] = 0
-
-    def _finish(self, pose: Pose, time_s: float) -> ScanUpdate:
+        window = (row - reach, row + reach + 1, col - reach, col + reach + 1)
+        apply_pending(
+            self._pending, window, self.logodds, self.state, self.seen, self.explorable, self._params, self._bbox,
+            self._counters,
+        )  # fmt: skip
         self._last_update = (pose, time_s)
         update = ScanUpdate(int(self._counters[0]), int(self._counters[1]), int(self._counters[2]))
         self.explored_cells += update.new_explorable
         return update
-
-    def _touched_buffer(self, n_beams: int, max_range_cells: float) -> NDArray[np.int64]:
-        # a beam of length L cells crosses at most 2L + 2 cell boundaries
-        needed = n_beams * (2 * int(math.ceil(max_range_cells)) + 4)
-        if self._touched.shape[0] < needed:
-            self._touched = np.empty(needed, np.int64)
-        return self._touched
 
     @property
     def known_bounds(self) -> tuple[int, int, int, int] | None:

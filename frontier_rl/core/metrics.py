@@ -8,6 +8,8 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
+from frontier_rl.core.grid import OccupancyGrid
+
 
 @dataclass(frozen=True)
 class DecisionRecord:
@@ -47,6 +49,7 @@ class EpisodeResult:
         coverage_times_s, coverage_curve: coverage after every map update, and when (s).
         trajectory: (n, 3) robot pose (x, y, theta) at every LiDAR tick.
         decision_log: every decision, in order.
+        final_map: the robot's map at the end.
     """
 
     sim_time_s: float
@@ -63,6 +66,7 @@ class EpisodeResult:
     coverage_curve: NDArray[np.float64] = field(repr=False)
     trajectory: NDArray[np.float64] = field(repr=False)
     decision_log: tuple[DecisionRecord, ...] = field(repr=False, default=())
+    final_map: OccupancyGrid | None = field(repr=False, default=None)
 
     @property
     def real_time_factor(self) -> float:

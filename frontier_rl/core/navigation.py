@@ -8,14 +8,14 @@ its speed limits, turning in place when the heading error is large, so turning c
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 
 import numba as nb
 import numpy as np
 from numpy.typing import NDArray
 from scipy import ndimage
 
-from frontier_rl.core.distance import chamfer_distance, flood_fill
+from frontier_rl.core.distance import chamfer_distance_padded, flood_fill
 from frontier_rl.core.grid import CellState, OccupancyGrid
 from frontier_rl.core.raycast import FASTMATH
 from frontier_rl.core.robot import RobotConfig
@@ -94,12 +94,15 @@ class Costmap:
     traversable: NDArray[np.bool_]
     penalty: NDArray[np.float64]
     clearance: NDArray[np.float64]
+    _open_padded: NDArray[np.bool_] = field(repr=False)
+    _cost_padded: NDArray[np.float64] = field(repr=False)
+    _clearance_padded: NDArray[np.float64] = field(repr=False)
 
     @classmethod
     def build(cls, grid: OccupancyGrid, robot: RobotConfig, config: NavigationConfig) -> Costmap:
         """Inflate the obstacles of ``grid`` for a robot of ``robot.radius``."""
         res = grid.resolution
-        clearance, traversable, penalty = _inflate(
+        clearance_p, open_p, cost_p = _inflate(
             grid.data,
             (robot.radius + 0.5 * res) / res,  # lethal below: cell centre to wall surface, in cells
             config.inflation_radius / res,
@@ -107,8 +110,8 @@ class Costmap:
             config.inflation_cost,
             config.unknown_cost,
         )
-        clearance *= res
-        return cls(grid, traversable, penalty, clearance)
+        inner = (slice(1, -1), slice(1, -1))
+        return cls(grid, open_p[inner], cost_p[inner] - 1.0, clearance_p[inner] * res, open_p, cost_p, clearance_p)
 
     def reachable_known(self, start: tuple[int, int]) -> NDArray[np.bool_]:
         """Known-free traversable cells connected (8-way) to ``start`` (row, col)."""
@@ -124,32 +127,17 @@ class Costmap:
             r, c = nearest
         return flood_fill(mask, r, c)
 
-    def plan(
-        self, start: tuple[int, int], goal: tuple[int, int], escape_radius: float = 0.25
-    ) -> NDArray[np.int64]:
+    def plan(self, start: tuple[int, int], goal: tuple[int, int], escape_radius: float = 0.25) -> NDArray[np.int64]:
         """A* path (cells, (n, 2) rows and columns) from ``start`` to ``goal``; empty if none.
 
         Cells within ``escape_radius`` (m) of the start may be crossed even if inflated (not if
         occupied), so that a robot that ended up too close to a wall can still leave.
         """
-        escape = int(math.ceil(escape_radius / self.grid.resolution))
-        passable = self.traversable.copy()
-        r0, c0 = max(start[0] - escape, 0), max(start[1] - escape, 0)
-        rows, cols = np.ogrid[r0 : start[0] + escape + 1, c0 : start[1] + escape + 1]
-        rows, cols = rows[: passable.shape[0] - r0], cols[:, : passable.shape[1] - c0]
-        window = passable[r0 : r0 + rows.shape[0], c0 : c0 + cols.shape[1]]
-        near = (rows - start[0]) ** 2 + (cols - start[1]) ** 2 <= escape * escape
-        # Near the start, inflated cells may be crossed on the way out, but only those no closer
-        # to a wall than the start itself: the robot may back away from a wall, not squeeze on.
-        start_clearance = self.clearance[start] if self.grid.in_bounds(*start) else 0.0
-        wider = self.clearance[r0 : r0 + rows.shape[0], c0 : c0 + cols.shape[1]] >= start_clearance
-        occupied = self.grid.data[r0 : r0 + rows.shape[0], c0 : c0 + cols.shape[1]] == CellState.OCCUPIED
-        window |= near & wider & ~occupied
-        if self.grid.in_bounds(*start):
-            passable[start] = True
-        if not (self.grid.in_bounds(*goal) and passable[goal]):
+        if not (self.grid.in_bounds(*start) and self.grid.in_bounds(*goal)):
             return np.zeros((0, 2), np.int64)
-        return astar(passable, self.penalty, start[0], start[1], goal[0], goal[1])
+        escape = escape_radius / self.grid.resolution
+        return astar_padded(self._open_padded, self._cost_padded, self._clearance_padded, start[0], start[1],
+                            goal[0], goal[1], escape)  # fmt: skip
 
 
 @nb.njit(cache=True)
@@ -161,24 +149,32 @@ def _inflate(
     inflation_cost: float,
     unknown_cost: float,
 ) -> tuple[NDArray[np.float64], NDArray[np.bool_], NDArray[np.float64]]:
-    """Clearance (cells), traversable mask and penalty of a map; lengths in cells, scaling per cell."""
+    """Clearance (cells), traversable mask and step cost factor (1 + penalty) of a map, each with a
+    one-cell border (not traversable) so that the planner needs no bounds checks; lengths in
+    cells, ``cost_scaling`` per cell."""
     rows, cols = state.shape
     occupied = np.empty((rows, cols), np.bool_)
     for r in range(rows):
         for c in range(cols):
             occupied[r, c] = state[r, c] == _OCCUPIED
-    clearance = chamfer_distance(occupied, inflation_radius + 1.0)
-    traversable = np.empty((rows, cols), np.bool_)
-    penalty = np.zeros((rows, cols))
-    for r in range(rows):
-        for c in range(cols):
+    clearance = chamfer_distance_padded(occupied, inflation_radius + 1.0)
+    # The inflation cost by table lookup: exp() per cell near a wall would cost more than the
+    # distance transform; 64 steps per cell of distance is far finer than the costmap needs.
+    steps = 64
+    table = np.empty(int(math.ceil(inflation_radius * steps)) + 2)
+    for k in range(table.shape[0]):
+        table[k] = inflation_cost * math.exp(-cost_scaling * max(k / steps - lethal_below, 0.0))
+    traversable = np.zeros((rows + 2, cols + 2), np.bool_)
+    cost = np.ones((rows + 2, cols + 2))
+    for r in range(1, rows + 1):
+        for c in range(1, cols + 1):
             d = clearance[r, c]
             traversable[r, c] = d >= lethal_below
-            if d < inflation_radius:
-                penalty[r, c] = inflation_cost * math.exp(-cost_scaling * max(d - lethal_below, 0.0))
-            if state[r, c] == _UNKNOWN:
-                penalty[r, c] += unknown_cost
-    return clearance, traversable, penalty
+            extra = table[int(d * steps)] if d < inflation_radius else 0.0
+            if state[r - 1, c - 1] == _UNKNOWN:
+                extra += unknown_cost
+            cost[r, c] = 1.0 + extra
+    return clearance, traversable, cost
 
 
 def nearest_cell(mask: NDArray[np.bool_], target: tuple[int, int], max_radius: int) -> tuple[int, int] | None:
@@ -200,7 +196,6 @@ def nearest_cell(mask: NDArray[np.bool_], target: tuple[int, int], max_radius: i
         radius = min(radius * 2, max_radius)
 
 
-@nb.njit(cache=True)
 def astar(
     passable: NDArray[np.bool_],
     penalty: NDArray[np.float64],
@@ -209,29 +204,60 @@ def astar(
     goal_r: int,
     goal_c: int,
 ) -> NDArray[np.int64]:
-    """8-connected A* with octile heuristic; a step costs its length × (1 + penalty of the cell
-    entered); diagonal steps may not cut a corner. Returns the (n, 2) cell path, empty if none."""
-    rows, cols = passable.shape
-    pcols = cols + 2
-    n = (rows + 2) * pcols
-    # Flat arrays with a blocked border: neighbours are index offsets, with no bounds checks.
-    open_ok = np.zeros(n, np.bool_)
-    cost = np.zeros(n)
-    for r in range(rows):
-        for c in range(cols):
-            open_ok[(r + 1) * pcols + c + 1] = passable[r, c]
-            cost[(r + 1) * pcols + c + 1] = 1.0 + penalty[r, c]
+    """8-connected A* on plain arrays: ``passable`` cells, step cost = length × (1 + ``penalty``
+    of the cell entered), no corner cutting. Returns the (n, 2) cell path, empty if none."""
+    open_padded = np.pad(np.asarray(passable, np.bool_), 1, constant_values=False)
+    cost_padded = np.pad(1.0 + np.asarray(penalty, np.float64), 1, constant_values=1.0)
+    no_escape = np.zeros(open_padded.shape)
+    return astar_padded(open_padded, cost_padded, no_escape, start_r, start_c, goal_r, goal_c, 0.0)
+
+
+@nb.njit(cache=True)
+def astar_padded(
+    open_padded: NDArray[np.bool_],
+    cost_padded: NDArray[np.float64],
+    clearance_padded: NDArray[np.float64],
+    start_r: int,
+    start_c: int,
+    goal_r: int,
+    goal_c: int,
+    escape: float,
+) -> NDArray[np.int64]:
+    """8-connected A* with octile heuristic on padded costmap arrays (a border of blocked cells).
+
+    A step costs its length × the cost factor of the cell entered; diagonal steps may not cut a
+    corner. Within ``escape`` cells of the start, cells that are not traversable may still be
+    crossed if they are no closer to a wall than the start (and not occupied): a robot that ended
+    up too close to a wall may back away from it, not squeeze on. Returns the (n, 2) cell path
+    (unpadded rows and columns), empty if there is none.
+    """
+    pcols = open_padded.shape[1]
+    n = open_padded.size
+    start = (start_r + 1) * pcols + start_c + 1
+    goal = (goal_r + 1) * pcols + goal_c + 1
+    open_ok = open_padded.copy().reshape(-1)
+    cost = cost_padded.reshape(-1)
+    clear = clearance_padded.reshape(-1)
+    reach = int(math.ceil(escape))
+    floor_clear = max(clear[start], 0.5)  # >= 0.5: occupied cells (clearance 0) never open
+    for dr in range(-reach, reach + 1):
+        for dc in range(-reach, reach + 1):
+            r, c = start_r + 1 + dr, start_c + 1 + dc
+            if dr * dr + dc * dc <= escape * escape and 1 <= r < open_padded.shape[0] - 1 and 1 <= c < pcols - 1:
+                cell = r * pcols + c
+                if clear[cell] >= floor_clear:
+                    open_ok[cell] = True
+    open_ok[start] = True
+    if not open_ok[goal]:
+        return np.zeros((0, 2), np.int64)
     offsets = np.array([-pcols, pcols, -1, 1, -pcols - 1, -pcols + 1, pcols - 1, pcols + 1])
     side_row = np.array([0, 0, 0, 0, -pcols, -pcols, pcols, pcols])
     side_col = np.array([0, 0, 0, 0, -1, 1, -1, 1])
     g = np.full(n, np.inf)
     parent = np.full(n, -1, np.int64)
     closed = np.zeros(n, np.bool_)
-    start = (start_r + 1) * pcols + start_c + 1
-    goal = (goal_r + 1) * pcols + goal_c + 1
-    open_ok[start] = True
-    heap_f = np.empty(8 * rows * cols + 8)
-    heap_i = np.empty(8 * rows * cols + 8, np.int64)
+    heap_f = np.empty(8 * n + 8)
+    heap_i = np.empty(8 * n + 8, np.int64)
     size = 1
     heap_f[0] = 0.0
     heap_i[0] = start

@@ -19,9 +19,7 @@ FASTMATH = {"nsz", "arcp", "contract", "afn", "reassoc"}
 
 
 @nb.njit(cache=True, inline="always")
-def ray_start(
-    cx: float, cy: float, dx: float, dy: float
-) -> tuple[int, int, int, int, float, float, float, float]:
+def ray_start(cx: float, cy: float, dx: float, dy: float) -> tuple[int, int, int, int, float, float, float, float]:
     """DDA state of a ray from (cx, cy) along unit direction (dx, dy), all in cell units.
 
     Returns (row, col, step_row, step_col, t_max_row, t_max_col, t_delta_row, t_delta_col): the

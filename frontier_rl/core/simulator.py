@@ -171,11 +171,12 @@ class ExplorationSimulator:
         return self.candidates().grid
 
     # ---------------------------------------------------------------- sensing
-    def _scan(self) -> tuple[int, int]:
-        """A LiDAR tick: the mapper folds the scan in when Gmapping would process it."""
+    def _scan(self) -> tuple[int, int] | None:
+        """A LiDAR tick: the mapper folds the scan in when Gmapping would process it. Returns the
+        cells first seen free and occupied, or None when the map did not change."""
         self._poses.append((self.pose.x, self.pose.y, self.pose.theta))
         if not self.mapper.wants_scan(self.pose, self.sim_time):
-            return 0, 0
+            return None
         noise = self.rng if self.config.sensor_noise else None
         update = self.mapper.integrate_simulated(self._lidar, self.pose, noise, self.sim_time)
         self._times.append(self.sim_time)
@@ -215,16 +216,14 @@ class ExplorationSimulator:
             if not 0 <= index < len(cand.frontiers):
                 raise IndexError(f"frontier index {index} out of range 0..{len(cand.frontiers) - 1}")
             center = (float(cand.frontiers.centers[index, 0]), float(cand.frontiers.centers[index, 1]))
-            goal_cell = nearest_cell(
-                cand.reachable, cand.grid.world_to_cell(*center), max_radius=max(cand.grid.shape)
-            )
+            goal_cell = nearest_cell(cand.reachable, cand.grid.world_to_cell(*center), max_radius=max(cand.grid.shape))
             path = None if goal_cell is None else self._plan(cand, goal_cell)
             if path is None or goal_cell is None:
                 self.blacklist.append(center)
                 self.aborts += 1
                 continue
             goal = cand.grid.cell_to_world(*goal_cell)
-            cells = cand.frontiers.cells[index]
+            cells = cand.frontiers.cells_of(index)
             frontier_xy = np.column_stack(
                 [cand.grid.origin[0] + (cells[:, 1] + 0.5) * cand.grid.resolution,
                  cand.grid.origin[1] + (cells[:, 0] + 0.5) * cand.grid.resolution]
@@ -316,9 +315,10 @@ class ExplorationSimulator:
             self.path_length += driven
             # Only a reached goal ends a tick early; a robot stopped by a wall waits out the tick.
             self.sim_time += used if status == 1 else duration
-            f, o = self._scan()
-            new_free += f
-            new_occ += o
+            seen = self._scan()
+            if seen is not None:
+                new_free += seen[0]
+                new_occ += seen[1]
             if status == 1:
                 outcome = LegOutcome.REACHED
                 break
@@ -328,9 +328,7 @@ class ExplorationSimulator:
                 if alive <= cfg.min_frontier_cells:
                     outcome = LegOutcome.EXPLORED
                     break
-            remaining = (
-                math.hypot(path[index_on_path, 0] - x, path[index_on_path, 1] - y) + tail[index_on_path]
-            )
+            remaining = math.hypot(path[index_on_path, 0] - x, path[index_on_path, 1] - y) + tail[index_on_path]
             # Progress: the way left got shorter, or the robot got somewhere (a replanned detour
             # can make the way longer while the robot is doing fine).
             moved = math.hypot(x - progress_at[0], y - progress_at[1]) >= nav.oscillation_distance
@@ -343,8 +341,9 @@ class ExplorationSimulator:
                 break
             if status == 2:
                 self._bump()
-            blocked = status == 2 or path_blocked(
-                self.mapper.state, path_cells[:, 0], path_cells[:, 1], index_on_path, self._footprint
+            blocked = status == 2 or (
+                seen is not None  # only a map update can put a new obstacle on the path
+                and path_blocked(self.mapper.state, path_cells[:, 0], path_cells[:, 1], index_on_path, self._footprint)
             )
             if blocked:
                 new_path = self._replan(goal)
@@ -397,9 +396,10 @@ class ExplorationSimulator:
                 break
             self.pose = Pose(self.pose.x, self.pose.y, (self.pose.theta + omega * period) % (2 * math.pi))
             self.sim_time += period
-            f, o = self._scan()
-            new_free += f
-            new_occ += o
+            seen = self._scan()
+            if seen is not None:
+                new_free += seen[0]
+                new_occ += seen[1]
         return new_free, new_occ
 
     def _to_truth_cells(self, xy: NDArray[np.float64]) -> NDArray[np.int64]:
@@ -417,9 +417,7 @@ class ExplorationSimulator:
     ) -> None:
         time_s, (x, y) = start if start is not None else (self.sim_time, (self.pose.x, self.pose.y))
         self.decisions.append(
-            DecisionRecord(
-                float(time_s), float(x), float(y), float(goal[0]), float(goal[1]), weight, outcome.value
-            )
+            DecisionRecord(float(time_s), float(x), float(y), float(goal[0]), float(goal[1]), weight, outcome.value)
         )
 
     # ---------------------------------------------------------------- results
@@ -442,6 +440,7 @@ class ExplorationSimulator:
             coverage_curve=curve,
             trajectory=self.trajectory(),
             decision_log=tuple(self.decisions),
+            final_map=self.mapper.occupancy_grid(),
         )
 
 

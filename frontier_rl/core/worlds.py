@@ -100,8 +100,7 @@ def _check_start(grid: OccupancyGrid, start: Pose) -> tuple[int, int]:
     if not grid.in_bounds(row, col):
         (x0, y0), (w, h) = grid.origin, grid.size_m
         raise MapError(
-            f"{_start_name(start)} is outside the grid "
-            f"(x in [{x0:.2f}, {x0 + w:.2f}), y in [{y0:.2f}, {y0 + h:.2f}) m)"
+            f"{_start_name(start)} is outside the grid (x in [{x0:.2f}, {x0 + w:.2f}), y in [{y0:.2f}, {y0 + h:.2f}) m)"
         )
     if grid.data[row, col] != CellState.FREE:
         what = "inside a wall" if grid.data[row, col] == CellState.OCCUPIED else "on an unknown cell"
@@ -109,9 +108,7 @@ def _check_start(grid: OccupancyGrid, start: Pose) -> tuple[int, int]:
     return row, col
 
 
-def _random_cell(
-    rng: np.random.Generator, roomy: NDArray[np.bool_], parts: NDArray[np.int32]
-) -> tuple[int, int]:
+def _random_cell(rng: np.random.Generator, roomy: NDArray[np.bool_], parts: NDArray[np.int32]) -> tuple[int, int]:
     """Uniformly drawn ``roomy`` cell of the largest labelled part (of any part if that has none)."""
     sizes = np.bincount(parts.ravel())
     sizes[0] = 0
@@ -154,9 +151,7 @@ def make_world(
     if not (math.isfinite(robot_radius) and robot_radius > 0):
         raise ConfigError(f"robot_radius must be a positive number of metres, got {robot_radius!r}")
     if start is None and rng is None:
-        raise ConfigError(
-            f"world {name!r}: pass a start pose or an rng to draw one (got start=None, rng=None)"
-        )
+        raise ConfigError(f"world {name!r}: pass a start pose or an rng to draw one (got start=None, rng=None)")
     res = grid.resolution
     free_all = grid.data == CellState.FREE
     rows, cols = np.flatnonzero(free_all.any(axis=1)), np.flatnonzero(free_all.any(axis=0))
@@ -237,9 +232,7 @@ def rooms_world(
     _check_size("rooms height", size_m[1])
     _check_size("rooms resolution", resolution)
     rows, cols = gen.cells(size_m[1], resolution), gen.cells(size_m[0], resolution)
-    return make_world(
-        _layout_grid(gen.rooms_layout(rng, rows, cols, resolution), resolution), "rooms", rng=rng
-    )
+    return make_world(_layout_grid(gen.rooms_layout(rng, rows, cols, resolution), resolution), "rooms", rng=rng)
 
 
 def close_diagonal_contacts(occ: NDArray[np.bool_]) -> NDArray[np.bool_]:
@@ -267,9 +260,7 @@ def _piece(rng: np.random.Generator, res: float, yx: NDArray[np.float64]) -> NDA
     lo, hi = RUBBLE_M
     kind = rng.random()
     if kind < 0.3:
-        return np.ones(
-            (gen.cells(rng.uniform(lo, hi), res), gen.cells(rng.uniform(lo, hi), res)), dtype=np.bool_
-        )
+        return np.ones((gen.cells(rng.uniform(lo, hi), res), gen.cells(rng.uniform(lo, hi), res)), dtype=np.bool_)
     y, x = yx
     if kind < 0.65:
         length, width, angle = rng.uniform(0.3, hi) / res, rng.uniform(lo, 0.4) / res, rng.uniform(0, math.pi)
@@ -345,9 +336,7 @@ def cluttered_world(rng: np.random.Generator, size_m: float = 12.0, resolution: 
     for _ in range(5):
         raw = rubble_layout(rng, n, n, block * resolution)
         coarse = close_diagonal_contacts(np.asarray(~dilate(~dilate(raw, radius), radius)))  # closing
-        world = make_world(
-            _layout_grid(upsample(coarse, block), resolution), "cluttered", rng=rng, robot_radius=wide
-        )
+        world = make_world(_layout_grid(upsample(coarse, block), resolution), "cluttered", rng=rng, robot_radius=wide)
         if world.explorable_count >= 0.9 * block * block * np.count_nonzero(~coarse):
             break
     kept = world.explorable.reshape(n, block, n, block).all(axis=(1, 3))

@@ -76,9 +76,7 @@ class MapImageParams:
             if not 0.0 <= value <= 1.0:
                 raise MapError(f"{name} must lie in [0, 1], got {value!r}")
         if self.free_thresh > self.occupied_thresh:
-            raise MapError(
-                f"free_thresh {self.free_thresh!r} must not exceed occupied_thresh {self.occupied_thresh!r}"
-            )
+            raise MapError(f"free_thresh {self.free_thresh!r} must not exceed occupied_thresh {self.occupied_thresh!r}")
 
 
 def pixels_to_cells(

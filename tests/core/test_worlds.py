@@ -38,9 +38,7 @@ def world(name: str, seed: int) -> World:
     return generate_world(name, seed)
 
 
-def grid_of(
-    rows: list[str], resolution: float = 0.05, origin: tuple[float, float] = (0.0, 0.0)
-) -> OccupancyGrid:
+def grid_of(rows: list[str], resolution: float = 0.05, origin: tuple[float, float] = (0.0, 0.0)) -> OccupancyGrid:
     """Grid from text rows, top row first: '.' free, '#' occupied, '?' unknown."""
     value = {".": FREE, "#": OCC, "?": UNKNOWN}
     data = np.array([[value[ch] for ch in row] for row in reversed(rows)], dtype=np.int8)
@@ -53,9 +51,7 @@ def open_room(rows: int, cols: int, resolution: float = 0.05) -> OccupancyGrid:
     return OccupancyGrid(data, resolution)
 
 
-def reference(
-    grid: OccupancyGrid, start_cell: tuple[int, int], radius: float
-) -> tuple[NDArray[np.bool_], ...]:
+def reference(grid: OccupancyGrid, start_cell: tuple[int, int], radius: float) -> tuple[NDArray[np.bool_], ...]:
     """(free component, reachable, explorable) straight from the definitions, with distance transforms."""
     res = grid.resolution
     free = grid.data == FREE

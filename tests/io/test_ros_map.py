@@ -223,9 +223,7 @@ def test_yaml_that_is_not_a_mapping(tmp_path: Path, text: str, match: str) -> No
     raises_map_error(tmp_path / "m.yaml", match)
 
 
-@pytest.mark.parametrize(
-    "field", ["image", "resolution", "origin", "negate", "occupied_thresh", "free_thresh"]
-)
+@pytest.mark.parametrize("field", ["image", "resolution", "origin", "negate", "occupied_thresh", "free_thresh"])
 def test_missing_field(tmp_path: Path, field: str) -> None:
     raises_map_error(write_map(tmp_path, PATTERN, drop=(field,)), f"missing field '{field}'")
 

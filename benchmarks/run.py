@@ -1,0 +1,244 @@
+"""Speed benchmarks of the simulator against the speed budget of DESIGN.md.
+
+Run as ``python benchmarks/run.py [--quick] [--json PATH]`` (``make bench``). Everything runs in one
+process pinned to one core, with numba/OpenMP/BLAS limited to one thread. Each benchmark is warmed up
+first, so numba compilation is never timed, and reports the median over repeats. The Markdown table
+it prints is the one kept in the README; missed targets are marked but do not change the exit code.
+"""
+
+from __future__ import annotations
+
+import os
+import sys
+from pathlib import Path
+
+os.environ.update(dict.fromkeys(("NUMBA_NUM_THREADS", "OMP_NUM_THREADS", "OPENBLAS_NUM_THREADS"), "1"))
+sys.path.insert(0, str(Path(__file__).resolve().parents[1]))  # bench this checkout, not an install
+
+import argparse
+import gc
+import json
+import platform
+import statistics
+import time
+from collections.abc import Callable
+from dataclasses import asdict, dataclass
+
+import numba
+import numpy as np
+
+from frontier_rl.core.episode import decision_context, run_episode
+from frontier_rl.core.frontiers import detect_frontiers
+from frontier_rl.core.grid import OccupancyGrid
+from frontier_rl.core.lidar import Lidar
+from frontier_rl.core.mapping import LogOddsMapper
+from frontier_rl.core.navigation import Costmap
+from frontier_rl.core.ranking import rank, weighted_cost
+from frontier_rl.core.robot import Pose
+from frontier_rl.core.simulator import ExplorationSimulator, SimConfig
+from frontier_rl.core.worlds import World, generate_world
+from frontier_rl.policies import make_policy
+
+POLICY = "fixed:0.75"
+WARMUP_SEED = 10_000  # office world used only to trigger compilation, never timed
+
+
+@dataclass(frozen=True)
+class Row:
+    """One line of the results table; ``target`` is None for rows reported without a target."""
+
+    metric: str
+    value: float
+    unit: str
+    target: float | None = None
+    higher_is_better: bool = True
+    detail: str = ""  # appended to the value (e.g. " / max")
+
+    @property
+    def ok(self) -> bool | None:
+        """Whether the target is met (None without a target)."""
+        if self.target is None:
+            return None
+        return self.value >= self.target if self.higher_is_better else self.value <= self.target
+
+
+def fmt(value: float, unit: str) -> str:
+    """A value with its unit, with as many digits as its size deserves."""
+    text = f"{value:,.0f}" if abs(value) >= 100 else f"{value:.3g}" if abs(value) >= 1 else f"{value:.3f}"
+    return f"{text}×" if unit == "×" else f"{text} {unit}"
+
+
+def timed(fn: Callable[[], object], repeats: int) -> list[float]:
+    """Wall time (s) of ``repeats`` calls of ``fn``, after one untimed warm-up call."""
+    fn()
+    gc.collect()
+    times = []
+    for _ in range(repeats):
+        start = time.perf_counter()
+        fn()
+        times.append(time.perf_counter() - start)
+    return times
+
+
+def random_poses(world: World, n: int, rng: np.random.Generator) -> list[Pose]:
+    """``n`` poses on random explorable cells with random headings."""
+    rows, cols = np.nonzero(world.explorable)
+    pick = rng.integers(0, rows.size, n)
+    poses = []
+    for r, c in zip(rows[pick], cols[pick], strict=True):
+        x, y = world.grid.cell_to_world(float(r), float(c))
+        poses.append(Pose(x, y, float(rng.uniform(-np.pi, np.pi))))
+    return poses
+
+
+def bench_lidar(n_poses: int, repeats: int) -> list[Row]:
+    """Scans per second, alone and fused with the log-odds map update, on the office world."""
+    world = generate_world("office", 0)
+    lidar = Lidar(world.grid)
+    rng = np.random.default_rng(1)
+    poses = random_poses(world, n_poses, rng)
+
+    def scans() -> None:
+        for pose in poses:
+            lidar.scan(pose, rng)
+
+    def scans_mapped() -> None:
+        mapper = LogOddsMapper(world.grid, explorable=world.explorable)
+        for pose in poses:
+            mapper.integrate_simulated(lidar, pose, rng)
+
+    return [
+        Row("LiDAR scans per second (office)", n_poses / statistics.median(timed(scans, repeats)), "scans/s",
+            10_000),
+        Row("Scan + map update per second (office)",
+            n_poses / statistics.median(timed(scans_mapped, repeats)), "scans/s"),
+    ]  # fmt: skip
+
+
+def partial_map(coverage: float) -> tuple[OccupancyGrid, Pose]:
+    """The full-size map (250 × 250) of an office episode stopped at ``coverage``, and the pose."""
+    world = generate_world("office", 0)
+    policy = make_policy(POLICY)
+    sim = ExplorationSimulator(world, rng=np.random.default_rng(0))
+    rng = np.random.default_rng(0)
+    while sim.coverage < coverage and not sim.done:
+        sim.execute(policy.rank(decision_context(sim), rng).order)
+    return OccupancyGrid(sim.mapper.state.copy(), world.grid.resolution, world.grid.origin), sim.pose
+
+
+def bench_frontiers(repeats: int) -> list[Row]:
+    """Frontier detection + ranking on a half-explored 250² office map and on a 4 × 4 tiling of it
+    (1000²), alone (every cluster accepted) and with the costmap and reachability in front."""
+    small, pose = partial_map(0.5)
+    width_m, height_m = small.size_m
+    big = OccupancyGrid(np.tile(small.data, (4, 4)), small.resolution, small.origin)
+    big_pose = Pose(pose.x + width_m, pose.y + height_m, pose.theta)  # same spot in an inner tile
+    config = SimConfig()
+
+    rows: list[Row] = []
+    for grid, robot, target, n_rep in (
+        (small, pose, 1.0, repeats),
+        (big, big_pose, 10.0, max(repeats // 8, 5)),
+    ):
+        label = f"{grid.height}×{grid.width}"
+
+        def detect_rank(grid: OccupancyGrid = grid, robot: Pose = robot) -> int:
+            frontiers = detect_frontiers(grid, robot, reachable=None)
+            rank(weighted_cost(frontiers, 0.75))
+            return len(frontiers)
+
+        def with_reach(grid: OccupancyGrid = grid, robot: Pose = robot) -> None:
+            costmap = Costmap.build(grid, config.robot, config.navigation)
+            reachable = costmap.reachable_known(grid.world_to_cell(robot.x, robot.y))
+            rank(weighted_cost(detect_frontiers(grid, robot, reachable), 0.75))
+
+        n_frontiers = detect_rank()
+        ms = 1e3 * statistics.median(timed(detect_rank, n_rep))
+        metric = f"Frontier detection + ranking, {label} (half explored, {n_frontiers} frontiers)"
+        rows.append(Row(metric, ms, "ms", target, higher_is_better=False))
+        ms = 1e3 * statistics.median(timed(with_reach, n_rep))
+        rows.append(Row(f"… with costmap + reachability, {label}", ms, "ms", higher_is_better=False))
+    return rows
+
+
+def bench_episodes(n_seeds: int) -> list[Row]:
+    """Full office episodes with the fixed-weight policy, one per seed (world and noise)."""
+    run_episode(generate_world("office", WARMUP_SEED), make_policy(POLICY), seed=WARMUP_SEED)
+    gc.collect()
+    results = [run_episode(generate_world("office", s), make_policy(POLICY), seed=s) for s in range(n_seeds)]
+    walls = [r.wall_time_s for r in results]
+    rtfs = [r.real_time_factor for r in results]
+    per_s = [r.decisions / r.wall_time_s for r in results]
+    n = f"{n_seeds} office seeds"
+    return [
+        Row(f"Decisions per second (median, {n})", statistics.median(per_s), "decisions/s", 100),
+        Row(f"Episode wall time (median, {n})", statistics.median(walls), "s", 0.5, higher_is_better=False),
+        Row("Episode wall time (min / max)", min(walls), "s", detail=f" / {fmt(max(walls), 's')}"),
+        Row(f"Real-time factor (median, {n}; aim 2,000×)", statistics.median(rtfs), "×", 1_000),
+        Row("Real-time factor (min / max)", min(rtfs), "×", detail=f" / {fmt(max(rtfs), '×')}"),
+        Row("Episode sim time (median)", statistics.median(r.sim_time_s for r in results), "s"),
+        Row("Episode decisions (median)", statistics.median(r.decisions for r in results), "decisions"),
+    ]
+
+
+def machine_info() -> dict[str, str]:
+    """CPU model, core pinning and library versions."""
+    cpu = platform.processor() or "unknown"
+    cpuinfo = Path("/proc/cpuinfo")
+    if cpuinfo.exists():
+        models = [ln.split(":", 1)[1].strip() for ln in cpuinfo.read_text().splitlines() if "model name" in ln]
+        cpu = models[0] if models else cpu
+    cores = sorted(os.sched_getaffinity(0)) if hasattr(os, "sched_getaffinity") else []
+    return {
+        "cpu": cpu,
+        "pinned_to_core": str(cores[0]) if len(cores) == 1 else "not pinned",
+        "python": platform.python_version(),
+        "numpy": np.__version__,
+        "numba": numba.__version__,
+        "platform": platform.platform(),
+    }
+
+
+def table(rows: list[Row]) -> str:
+    """The results as a Markdown table."""
+    lines = ["| metric | value | target | ok? |", "|---|---|---|---|"]
+    for row in rows:
+        target = "—" if row.target is None else f"{'≥' if row.higher_is_better else '≤'} {fmt(row.target, row.unit)}"
+        ok = {None: "—", True: "✅", False: "❌ **MISSED**"}[row.ok]
+        lines.append(f"| {row.metric} | {fmt(row.value, row.unit)}{row.detail} | {target} | {ok} |")
+    return "\n".join(lines)
+
+
+def main(argv: list[str] | None = None) -> int:
+    """Run every benchmark, print the machine info and the table; always returns 0."""
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0] if __doc__ else None)
+    parser.add_argument("--quick", action="store_true", help="fewer repeats and seeds (a smoke run)")
+    parser.add_argument("--json", type=Path, metavar="PATH", help="also write the results as JSON")
+    args = parser.parse_args(argv)
+    if hasattr(os, "sched_setaffinity"):
+        os.sched_setaffinity(0, {min(os.sched_getaffinity(0))})
+
+    started = time.perf_counter()
+    info = machine_info()
+    rows = bench_episodes(5 if args.quick else 20)  # first: its warm-up episode compiles everything
+    rows = (
+        bench_lidar(500 if args.quick else 2_000, 3 if args.quick else 15)
+        + bench_frontiers(20 if args.quick else 200)
+        + rows
+    )
+    total = time.perf_counter() - started
+
+    print("\n".join(f"- {key}: {value}" for key, value in info.items()))
+    print(f"- benchmark run: {total:.1f} s{' (--quick)' if args.quick else ''}\n")
+    print(table(rows))
+    missed = [row.metric for row in rows if row.ok is False]
+    print(f"\n{len(missed)} target(s) missed" + (": " + "; ".join(missed) if missed else ""))
+    if args.json:
+        payload = {"machine": info, "quick": args.quick, "runtime_s": total,
+                   "results": [asdict(row) | {"ok": row.ok} for row in rows]}  # fmt: skip
+        args.json.write_text(json.dumps(payload, indent=2) + "\n")
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())

@@ -1,0 +1,141 @@
+"""The ``frontier-rl`` command line: ``explore`` one episode, ``demo`` the built-in worlds."""
+
+from __future__ import annotations
+
+import json
+from collections.abc import Callable
+from functools import wraps
+from pathlib import Path
+from typing import Annotated, Any, TypeVar
+
+import typer
+from rich.console import Console
+from rich.table import Table
+
+from frontier_rl.config import dump_config, load_sim_config
+from frontier_rl.core.episode import run_episode, warm_up
+from frontier_rl.core.simulator import SimConfig
+from frontier_rl.errors import ConfigError, FrontierRLError
+from frontier_rl.policies import POLICY_NAMES, make_policy
+from frontier_rl.recording import EpisodeRecorder
+from frontier_rl.world_spec import parse_pose, resolve_world
+
+app = typer.Typer(add_completion=False, no_args_is_help=True, help="Frontier exploration for search and rescue.")
+err_console = Console(stderr=True, soft_wrap=True)
+F = TypeVar("F", bound=Callable[..., Any])
+
+DEMO_POLICIES = ("nearest", "largest", "fixed:0.75", "explore-lite", "info-gain", "random")
+DEMO_WORLDS = ("office", "rooms", "cluttered")
+
+
+def _friendly_errors(func: F) -> F:
+    """Bad input ends the command with a one-line message and exit code 2, never a traceback."""
+
+    @wraps(func)
+    def wrapper(*args: Any, **kwargs: Any) -> Any:
+        try:
+            return func(*args, **kwargs)
+        except FrontierRLError as exc:
+            err_console.print(f"[red]error:[/red] {exc}", highlight=False)
+            raise typer.Exit(2) from None
+        except OSError as exc:
+            err_console.print(f"[red]error:[/red] {exc.strerror or exc}: {exc.filename or ''}", highlight=False)
+            raise typer.Exit(2) from None
+
+    return wrapper  # type: ignore[return-value]
+
+
+def _sim_config(config: Path | None, max_time: float | None) -> SimConfig:
+    cfg = load_sim_config(config) if config is not None else SimConfig()
+    if max_time is not None:
+        if not max_time > 0:
+            raise ConfigError(f"--max-time must be a positive number of seconds, got {max_time!r}")
+        cfg = SimConfig(cfg.robot, cfg.lidar, cfg.mapper, cfg.navigation, cfg.min_frontier_cells, max_time,
+                        cfg.sensor_noise)  # fmt: skip
+    return cfg
+
+
+@app.command()
+@_friendly_errors
+def explore(
+    world: Annotated[
+        str, typer.Option(help="office | rooms | cluttered | a map file (ROS .yaml, Dungeon .png, HouseExpo .json)")
+    ] = "office",
+    seed: Annotated[int, typer.Option(help="Seeds the world generator, the start and the sensor noise.")] = 0,
+    policy: Annotated[str, typer.Option(help=f"One of: {', '.join(POLICY_NAMES)} (W in [0, 1]).")] = "fixed:0.75",
+    png: Annotated[Path | None, typer.Option(help="Write a picture of the episode here.")] = None,
+    gif: Annotated[Path | None, typer.Option(help="Write an animation, one frame per decision, here.")] = None,
+    as_json: Annotated[bool, typer.Option("--json", help="Print the metrics as one JSON object.")] = False,
+    start: Annotated[str | None, typer.Option(help="Start pose 'x,y[,theta]' (m, rad).")] = None,
+    resolution: Annotated[float | None, typer.Option(help="Cell size (m) for map files without one.")] = None,
+    config: Annotated[Path | None, typer.Option(help="SimConfig YAML (any subset of its fields).")] = None,
+    max_time: Annotated[float | None, typer.Option(help="Sim-time cap of the episode (s).")] = None,
+) -> None:
+    """Explore one world with one policy and report time, distance and coverage."""
+    sim_config = _sim_config(config, max_time)
+    chosen = make_policy(policy)
+    the_world = resolve_world(world, seed, parse_pose(start) if start else None, resolution)
+    for out in (png, gif):
+        if out is not None and not out.parent.exists():
+            raise ConfigError(f"output folder {str(out.parent)!r} does not exist")
+    warm_up()
+    recorder = EpisodeRecorder(the_world, frames=gif is not None) if (png or gif) else None
+    result = run_episode(the_world, chosen, sim_config, seed, on_decision=recorder)
+    if recorder is not None and png is not None:
+        recorder.save_png(png, result, f"{the_world.name} / {chosen.name}")
+    if recorder is not None and gif is not None:
+        recorder.save_gif(gif)
+    summary = {"world": the_world.name, "seed": seed, "policy": chosen.name, **result.summary()}
+    if as_json:
+        typer.echo(json.dumps(summary))
+        return
+    table = Table(title=f"{the_world.name}, seed {seed}, {chosen.name}")
+    table.add_column("metric")
+    table.add_column("value", justify="right")
+    for key, value in summary.items():
+        table.add_row(key, str(value))
+    Console().print(table)
+
+
+@app.command()
+@_friendly_errors
+def demo(
+    out: Annotated[Path, typer.Option(help="Folder for the pictures and the results.")] = Path("demo_output"),
+    seed: Annotated[int, typer.Option(help="World and noise seed.")] = 0,
+) -> None:
+    """Every baseline on every built-in world: a table, a picture per run, an animation of one."""
+    out.mkdir(parents=True, exist_ok=True)
+    dump_config(SimConfig(), out / "config.yaml")
+    warm_up()
+    table = Table(title=f"Baselines on the built-in worlds (seed {seed})")
+    for column in ("world", "policy", "time (s)", "t90 (s)", "path (m)", "coverage", "wall (s)"):
+        table.add_column(column, justify="right" if column != "policy" else "left")
+    rows = []
+    for world_name in DEMO_WORLDS:
+        world = resolve_world(world_name, seed)
+        for policy_name in DEMO_POLICIES:
+            policy = make_policy(policy_name)
+            animate = world_name == "office" and policy_name == "fixed:0.75"
+            recorder = EpisodeRecorder(world, frames=animate)
+            result = run_episode(world, policy, seed=seed, on_decision=recorder)
+            stem = f"{world_name}_{policy_name.replace(':', '')}"
+            recorder.save_png(out / f"{stem}.png", result, f"{world_name} / {policy_name}")
+            if animate:
+                recorder.save_gif(out / f"{stem}.gif")
+            s = result.summary()
+            rows.append({"world": world_name, "policy": policy_name, **s})
+            t90 = "-" if s["t90_s"] is None else f"{s['t90_s']:.1f}"
+            table.add_row(world_name, policy_name, f"{s['sim_time_s']:.1f}", t90,
+                          f"{s['path_length_m']:.1f}", f"{s['coverage']:.4f}", f"{s['wall_time_s']:.2f}")  # fmt: skip
+    (out / "results.json").write_text(json.dumps(rows, indent=1))
+    Console().print(table)
+    Console().print(f"pictures and results.json in {out}/")
+
+
+def main() -> None:
+    """Entry point of the ``frontier-rl`` script."""
+    app()
+
+
+if __name__ == "__main__":
+    main()

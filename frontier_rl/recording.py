@@ -1,0 +1,78 @@
+"""Record an episode as pictures: a final PNG and a GIF with one frame per decision."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+from pathlib import Path
+
+import numpy as np
+from numpy.typing import NDArray
+from PIL import Image, ImageDraw
+
+from frontier_rl.core.episode import DecisionContext, Ranking
+from frontier_rl.core.grid import OccupancyGrid
+from frontier_rl.core.metrics import EpisodeResult
+from frontier_rl.core.simulator import ExplorationSimulator
+from frontier_rl.core.worlds import World
+from frontier_rl.render import FrameCanvas, save_gif, side_by_side
+
+
+@dataclass
+class EpisodeRecorder:
+    """An ``on_decision`` hook for :func:`~frontier_rl.core.episode.run_episode` that keeps the
+    last ranking (for the PNG) and, if ``frames`` is on, a GIF frame per decision.
+
+    Attributes:
+        world: the episode's world.
+        frames: whether to keep a frame at every decision.
+        scale: pixels per cell.
+    """
+
+    world: World
+    frames: bool = False
+    scale: int = 2
+    _frames: list[Image.Image] = field(default_factory=list, init=False)
+    _last_centers: NDArray[np.float64] = field(default_factory=lambda: np.zeros((0, 2)), init=False)
+
+    def __post_init__(self) -> None:
+        self._canvas = FrameCanvas(self.world.grid, self.scale)
+        self._truth = self._canvas.truth()
+
+    def __call__(self, sim: ExplorationSimulator, context: DecisionContext, ranking: Ranking) -> None:
+        """Store the ranked frontiers (best first) and, if asked, a frame."""
+        self._last_centers = context.frontiers.centers[ranking.order]
+        if self.frames:
+            caption = f"t = {sim.sim_time:6.1f} s   coverage {100 * sim.coverage:5.1f} %"
+            if ranking.weight is not None:
+                caption += f"   w = {ranking.weight:.2f}"
+            self._frames.append(self._picture(context.grid, sim.trajectory(), self._last_centers, caption))
+
+    def _picture(
+        self, grid: OccupancyGrid | None, trajectory: NDArray[np.float64], centers: NDArray[np.float64], caption: str
+    ) -> Image.Image:
+        truth = self._truth.copy()
+        self._canvas.draw_path(truth, trajectory)
+        built = self._canvas.frame(grid, trajectory, centers)
+        image = side_by_side(truth, built)
+        banner = Image.new("RGB", (image.width, 18), (255, 255, 255))
+        ImageDraw.Draw(banner).text((4, 3), caption, fill=(0, 0, 0))
+        out = Image.new("RGB", (image.width, image.height + banner.height), (255, 255, 255))
+        out.paste(banner, (0, 0))
+        out.paste(image, (0, banner.height))
+        return out
+
+    def save_png(self, path: str | Path, result: EpisodeResult, title: str) -> Path:
+        """The final picture: true map with the path | built map with the path and the last
+        ranked frontiers (green = best)."""
+        caption = (
+            f"{title}   t = {result.sim_time_s:.1f} s   coverage {100 * result.coverage:.1f} %   "
+            f"path {result.path_length_m:.1f} m   decisions {result.decisions}"
+        )
+        image = self._picture(result.final_map, result.trajectory, self._last_centers, caption)
+        path = Path(path)
+        image.save(path)
+        return path
+
+    def save_gif(self, path: str | Path) -> Path:
+        """All recorded frames as a looping GIF."""
+        return save_gif(self._frames, path)

@@ -1,0 +1,125 @@
+"""Tests of frontier_rl.core.distance against scipy.ndimage: chamfer, exact EDT, flood fill."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+from numpy.typing import NDArray
+from scipy import ndimage
+
+from frontier_rl.core.distance import chamfer_distance, flood_fill, squared_edt
+
+#: Worst overestimate of the 3 x 3 chamfer (steps 1, sqrt 2) over the Euclidean distance, at 22.5 deg.
+CHAMFER_MAX_RATIO = math.sqrt(4.0 - 2.0 * math.sqrt(2.0))  # 1.0824
+EIGHT = np.ones((3, 3), dtype=bool)
+
+
+def random_seeds(shape: tuple[int, int], density: float, seed: int) -> NDArray[np.bool_]:
+    return np.random.default_rng(seed).random(shape) < density
+
+
+CASES = [((40, 60), 0.01, 0), ((73, 31), 0.002, 1), ((100, 100), 0.0005, 2), ((25, 25), 0.2, 3), ((1, 50), 0.05, 4)]
+
+
+# ------------------------------------------------------------------------------------- chamfer
+@pytest.mark.parametrize(("shape", "density", "seed"), CASES)
+def test_chamfer_is_within_the_octagonal_bound_of_the_exact_distance(
+    shape: tuple[int, int], density: float, seed: int
+) -> None:
+    seeds = random_seeds(shape, density, seed)
+    seeds[seed % shape[0], 0] = True  # at least one seed
+    exact = ndimage.distance_transform_edt(~seeds)
+    d = chamfer_distance(seeds, 1e9)
+    assert d.shape == shape
+    assert np.all(d >= exact - 1e-9)  # never underestimates
+    assert np.all(d <= exact * CHAMFER_MAX_RATIO + 1e-9)  # at most ~8.3 % over
+    assert np.all(d[seeds] == 0.0)
+
+
+def test_chamfer_is_exact_along_axes_and_diagonals_and_worst_at_22_5_degrees() -> None:
+    seeds = np.zeros((61, 61), bool)
+    seeds[30, 30] = True
+    d = chamfer_distance(seeds, 1e9)
+    for k in range(1, 30):
+        assert d[30, 30 + k] == pytest.approx(k)
+        assert d[30 - k, 30] == pytest.approx(k)
+        assert d[30 + k, 30 + k] == pytest.approx(k * math.sqrt(2))
+    # offset (2, 1): 1 + sqrt 2 instead of sqrt 5; the ratio approaches 1.0824 near 22.5 degrees
+    assert d[32, 31] == pytest.approx(1 + math.sqrt(2))
+    ratio = d[30 + 12, 30 + 29] / math.hypot(12, 29)  # 22.48 degrees
+    assert ratio == pytest.approx(CHAMFER_MAX_RATIO, abs=2e-3)
+
+
+@pytest.mark.parametrize("cap", [0.5, 2.0, 7.3, 30.0])
+def test_chamfer_is_capped(cap: float) -> None:
+    seeds = random_seeds((50, 70), 0.003, 5)
+    seeds[10, 10] = True
+    d = chamfer_distance(seeds, cap)
+    uncapped = chamfer_distance(seeds, 1e9)
+    assert d.max() <= cap
+    np.testing.assert_allclose(d, np.minimum(uncapped, cap), rtol=0, atol=1e-12)
+    exact = ndimage.distance_transform_edt(~seeds)
+    assert np.all(d[exact >= cap] == cap)
+
+
+def test_chamfer_without_seeds_is_the_cap_everywhere() -> None:
+    d = chamfer_distance(np.zeros((20, 30), bool), 4.5)
+    assert np.all(d == 4.5)
+
+
+# --------------------------------------------------------------------------------- squared EDT
+@pytest.mark.parametrize(("shape", "density", "seed"), CASES)
+def test_squared_edt_equals_scipy_edt_squared(shape: tuple[int, int], density: float, seed: int) -> None:
+    seeds = random_seeds(shape, density, seed)
+    seeds[0, shape[1] - 1] = True
+    out = squared_edt(seeds)
+    exact = ndimage.distance_transform_edt(~seeds)
+    np.testing.assert_allclose(out, exact**2, rtol=0, atol=1e-9)
+    # squared distances between cell centres are integers
+    np.testing.assert_array_equal(out, np.round(out))
+
+
+def test_squared_edt_without_seeds_is_huge() -> None:
+    assert np.all(squared_edt(np.zeros((7, 9), bool)) >= 1e20)
+
+
+def test_squared_edt_single_seed_by_hand() -> None:
+    seeds = np.zeros((4, 5), bool)
+    seeds[1, 2] = True
+    rows, cols = np.mgrid[0:4, 0:5]
+    np.testing.assert_array_equal(squared_edt(seeds), (rows - 1) ** 2 + (cols - 2) ** 2)
+
+
+# ---------------------------------------------------------------------------------- flood fill
+@pytest.mark.parametrize("seed", range(8))
+@pytest.mark.parametrize("density", [0.45, 0.6, 0.75])
+def test_flood_fill_equals_the_8_connected_scipy_component(seed: int, density: float) -> None:
+    rng = np.random.default_rng(seed)
+    mask = rng.random((37, 53)) < density
+    labels, n = ndimage.label(mask, structure=EIGHT)
+    assert n > 0
+    for r, c in np.argwhere(mask)[rng.integers(np.count_nonzero(mask), size=5)]:
+        out = flood_fill(mask, int(r), int(c))
+        assert out.dtype == np.bool_ and out.shape == mask.shape
+        np.testing.assert_array_equal(out, labels == labels[r, c])
+
+
+def test_flood_fill_crosses_diagonal_contacts() -> None:
+    mask = np.eye(6, dtype=bool)
+    np.testing.assert_array_equal(flood_fill(mask, 0, 0), mask)
+
+
+@pytest.mark.parametrize(("row", "col"), [(0, 1), (-1, 0), (0, -1), (6, 0), (0, 6), (100, 100)])
+def test_flood_fill_from_outside_the_mask_is_empty(row: int, col: int) -> None:
+    mask = np.eye(6, dtype=bool)
+    out = flood_fill(mask, row, col)
+    assert out.shape == mask.shape and not out.any()
+
+
+def test_flood_fill_does_not_modify_its_input() -> None:
+    mask = np.ones((5, 5), bool)
+    before = mask.copy()
+    assert flood_fill(mask, 2, 2).all()
+    np.testing.assert_array_equal(mask, before)

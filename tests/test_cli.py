@@ -1,0 +1,98 @@
+"""The command line: JSON output, pictures, and one-line errors with exit code 2 for bad input."""
+
+from __future__ import annotations
+
+import json
+from pathlib import Path
+
+import pytest
+from typer.testing import CliRunner
+
+from frontier_rl.cli import app
+
+runner = CliRunner()
+
+
+def test_explore_json_has_the_documented_fields(tmp_path: Path) -> None:
+    result = runner.invoke(app, ["explore", "--world", "office", "--seed", "2", "--policy", "nearest", "--json"])
+    assert result.exit_code == 0, result.output
+    data = json.loads(result.stdout.strip().splitlines()[-1])
+    for key in ("sim_time_s", "path_length_m", "coverage", "t90_s", "t99_s", "decisions", "aborts", "done",
+                "wall_time_s"):  # fmt: skip
+        assert key in data
+    assert data["done"] is True
+    assert data["coverage"] >= 0.99
+    assert 0 < data["t90_s"] <= data["t99_s"] <= data["sim_time_s"]
+
+
+def test_explore_writes_png_and_gif(tmp_path: Path, shared_maps: Path) -> None:
+    png, gif = tmp_path / "run.png", tmp_path / "run.gif"
+    world = shared_maps / "lse_arena" / "lse_arena.yaml"
+    result = runner.invoke(app, ["explore", "--world", str(world), "--png", str(png), "--gif", str(gif)])
+    assert result.exit_code == 0, result.output
+    from PIL import Image
+
+    with Image.open(png) as image:
+        assert image.width > 2 * 80 and image.height > 60  # two panels of the 80 x 60 map
+    with Image.open(gif) as image:
+        assert image.n_frames >= 2
+
+
+@pytest.mark.parametrize(
+    ("args", "needle"),
+    [
+        (["--world", "atlantis"], "atlantis"),
+        (["--policy", "fixed:1.5"], "1.5"),
+        (["--policy", "fixed:-0.1"], "-0.1"),
+        (["--policy", "bogus"], "bogus"),
+        (["--start", "1,abc"], "1,abc"),
+        (["--max-time", "-3"], "-3"),
+        (["--png", "/no/such/folder/x.png"], "/no/such/folder"),
+    ],
+)
+def test_bad_input_is_one_line_and_exit_2(args: list[str], needle: str) -> None:
+    result = runner.invoke(app, ["explore", *args])
+    assert result.exit_code == 2
+    assert "Traceback" not in result.output
+    lines = [line for line in result.output.splitlines() if line.strip()]
+    assert len(lines) == 1 and needle in lines[0], result.output
+
+
+@pytest.mark.parametrize(
+    ("yaml_text", "needle"),
+    [
+        ("resolution: 0\nimage: map.pgm\norigin: [0, 0, 0]\nnegate: 0\noccupied_thresh: 0.65\nfree_thresh: 0.2\n", "0"),
+        ("image: map.pgm\n", "resolution"),
+        ("- not a mapping\n", "mapping"),
+    ],
+)
+def test_bad_map_file_is_one_line_and_exit_2(tmp_path: Path, yaml_text: str, needle: str) -> None:
+    path = tmp_path / "map.yaml"
+    path.write_text(yaml_text)
+    result = runner.invoke(app, ["explore", "--world", str(path)])
+    assert result.exit_code == 2
+    lines = [line for line in result.output.splitlines() if line.strip()]
+    assert len(lines) == 1 and needle in lines[0], result.output
+
+
+def test_start_inside_a_wall_is_rejected(shared_maps: Path) -> None:
+    world = shared_maps / "lse_arena" / "lse_arena.yaml"
+    result = runner.invoke(app, ["explore", "--world", str(world), "--start", "0,0"])
+    assert result.exit_code == 2
+    assert "(0.00, 0.00)" in result.output
+
+
+def test_bad_config_key_is_rejected(tmp_path: Path) -> None:
+    config = tmp_path / "sim.yaml"
+    config.write_text("lidar:\n  num_beams: 0\n")
+    result = runner.invoke(app, ["explore", "--config", str(config)])
+    assert result.exit_code == 2
+    assert "num_beams" in result.output
+
+
+def test_max_time_truncates(shared_maps: Path) -> None:
+    world = shared_maps / "lse_arena" / "lse_arena.yaml"
+    result = runner.invoke(app, ["explore", "--world", str(world), "--max-time", "4", "--json"])
+    data = json.loads(result.stdout.strip().splitlines()[-1])
+    assert data["truncated"] is True and data["done"] is False
+    assert data["sim_time_s"] == pytest.approx(4.0)
