@@ -47,6 +47,10 @@ class LidarConfig:
             )
         if not self.rate_hz > 0:
             raise ConfigError(f"LidarConfig.rate_hz must be positive, got {self.rate_hz!r}")
+        if not (isinstance(self.num_beams, int) and not isinstance(self.num_beams, bool)):
+            raise ConfigError(f"LidarConfig.num_beams must be an integer, got {self.num_beams!r}")
+        if not (self.noise_rel_from >= 0 and math.isfinite(self.noise_rel_from)):
+            raise ConfigError(f"LidarConfig.noise_rel_from must be >= 0, got {self.noise_rel_from!r}")
         if not (self.noise_abs >= 0 and self.noise_rel >= 0):
             raise ConfigError(
                 f"LidarConfig noise must be >= 0, got noise_abs={self.noise_abs!r}, noise_rel={self.noise_rel!r}"
@@ -80,7 +84,7 @@ class Scan(NamedTuple):
 
 
 @nb.njit(cache=True)
-def _add_noise(
+def add_range_noise(
     ranges: NDArray[np.float64],
     normals: NDArray[np.float64],
     params: NDArray[np.float64],
@@ -163,5 +167,5 @@ class Lidar:
             dir_x,
             dir_y,
         )
-        _add_noise(ranges, self.normals(rng), self.noise_params)
+        add_range_noise(ranges, self.normals(rng), self.noise_params)
         return Scan(pose, ranges, dir_x, dir_y)

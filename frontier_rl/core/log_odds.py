@@ -16,6 +16,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from frontier_rl.core.grid import CellState
+from frontier_rl.core.lidar import add_range_noise
 from frontier_rl.core.raycast import FASTMATH, cast_rays, ray_start
 
 PASS = np.int8(1)  # a beam crossed the cell: evidence of free space
@@ -47,7 +48,10 @@ def mark_beams(
         r = ranges[i]
         if math.isnan(r):
             continue
-        limit = min(r, usable)
+        # A cell counts as crossed if the beam leaves it before its end; the 1e-9 cells of slack
+        # keep a noise-free beam that ends exactly on a cell boundary from losing that last cell
+        # to the rounding of metres <-> cells.
+        limit = min(r, usable) + 1e-9
         row, col, s_r, s_c, tm_r, tm_c, td_r, td_c = ray_start(cx, cy, dir_x[i], dir_y[i])
         cell = row * cols + col
         row_step = s_r * cols
@@ -140,16 +144,8 @@ def simulate_beams(
     ``noise`` = (resolution, min_range, max_range, sigma_abs, sigma_rel, rel_from), lengths in m.
     Writes ranges (cells; ``inf`` = no return, ``nan`` = invalid) and beam directions.
     """
-    res, min_r, max_r = noise[0], noise[1], noise[2]
-    cast_rays(blocked_padded, cx, cy, cos_t, sin_t, cos_offsets, sin_offsets, max_r / res, ranges, dir_x, dir_y)
+    res = noise[0]
+    cast_rays(blocked_padded, cx, cy, cos_t, sin_t, cos_offsets, sin_offsets, noise[2] / res, ranges, dir_x, dir_y)
+    add_range_noise(ranges, normals, noise)
     for i in range(ranges.shape[0]):
-        r = ranges[i] * res
-        if not math.isfinite(r):
-            continue
-        sigma = noise[3] if r < noise[5] else noise[4] * r
-        r += normals[i] * sigma
-        if r > max_r:
-            r = np.inf
-        elif r < min_r:
-            r = np.nan
-        ranges[i] = r / res
+        ranges[i] /= res

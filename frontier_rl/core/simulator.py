@@ -216,7 +216,9 @@ class ExplorationSimulator:
             if not 0 <= index < len(cand.frontiers):
                 raise IndexError(f"frontier index {index} out of range 0..{len(cand.frontiers) - 1}")
             center = (float(cand.frontiers.centers[index, 0]), float(cand.frontiers.centers[index, 1]))
-            goal_cell = nearest_cell(cand.reachable, cand.grid.world_to_cell(*center), max_radius=max(cand.grid.shape))
+            goal_cell = nearest_cell(
+                cand.reachable, cand.grid.world_to_cell(*center), max_radius=_grid_diagonal(cand.grid)
+            )
             path = None if goal_cell is None else self._plan(cand, goal_cell)
             if path is None or goal_cell is None:
                 self.blacklist.append(center)
@@ -242,7 +244,7 @@ class ExplorationSimulator:
         row, col = cand.grid.world_to_cell(x, y)
         row = min(max(row, 0), cand.grid.height - 1)
         col = min(max(col, 0), cand.grid.width - 1)
-        goal_cell = nearest_cell(cand.reachable, (row, col), max_radius=max(cand.grid.shape))
+        goal_cell = nearest_cell(cand.reachable, (row, col), max_radius=_grid_diagonal(cand.grid))
         path = None if goal_cell is None else self._plan(cand, goal_cell)
         if path is None or goal_cell is None:
             self.aborts += 1
@@ -394,8 +396,9 @@ class ExplorationSimulator:
         for _ in range(steps):
             if self.truncated:
                 break
-            self.pose = Pose(self.pose.x, self.pose.y, (self.pose.theta + omega * period) % (2 * math.pi))
-            self.sim_time += period
+            step = min(period, self.config.max_sim_time - self.sim_time)
+            self.pose = Pose(self.pose.x, self.pose.y, (self.pose.theta + omega * step) % (2 * math.pi))
+            self.sim_time += step
             seen = self._scan()
             if seen is not None:
                 new_free += seen[0]
@@ -442,6 +445,11 @@ class ExplorationSimulator:
             decision_log=tuple(self.decisions),
             final_map=self.mapper.occupancy_grid(),
         )
+
+
+def _grid_diagonal(grid: OccupancyGrid) -> int:
+    """The longest distance (cells) between two cells of ``grid``, rounded up."""
+    return int(math.ceil(math.hypot(*grid.shape)))
 
 
 def _tail_lengths(path: NDArray[np.float64]) -> NDArray[np.float64]:

@@ -34,7 +34,10 @@ def make_policy(spec: str) -> ExplorationPolicy:
             weight = float(arg)
         except ValueError:
             raise ConfigError(f"fixed:W needs a weight in [0, 1], got {spec!r}") from None
-        return FixedWeight(weight)
-    if name in _SIMPLE and not arg:
+        try:
+            return FixedWeight(weight)
+        except ConfigError as exc:
+            raise ConfigError(f"{spec!r}: {exc}") from None
+    if name in _SIMPLE and ":" not in spec:
         return _SIMPLE[name]()
     raise UnknownNameError(f"unknown policy {spec!r}; choose one of {', '.join(POLICY_NAMES)}")

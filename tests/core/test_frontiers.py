@@ -275,16 +275,17 @@ def test_information_gain_counts_unknown_cells_and_stops_at_walls(
     walled = grid_from_text(["###########", "#.????#???#", "###########"], resolution=0.1, origin=(2.0, -1.0))
     # from cell (1, 1), a corridor one cell high: only cells (1, 2..5) can be seen, (1, 7..9)
     # lie behind the wall at (1, 6); every other ray ends in the corridor's walls
-    assert single_frontier(walled, 1, 1, frontiers_from).information_gain(10.0).tolist() == [4, 4]  # each centre counts alone
+    assert single_frontier(walled, 1, 1, frontiers_from).information_gain(10.0).tolist() == [
+        4,
+        4,
+    ]  # each centre counts alone
     opened = grid_from_text(["###########", "#.???????##", "###########"], resolution=0.1, origin=(2.0, -1.0))
     assert single_frontier(opened, 1, 1, frontiers_from).information_gain(10.0).tolist() == [7, 7]
     # range 0.22 m = 2.2 cells: the ray enters (1, 2) at 0.5 cells, (1, 3) at 1.5, (1, 4) at 2.5
     assert single_frontier(opened, 1, 1, frontiers_from).information_gain(0.22).tolist() == [2, 2]
 
 
-def test_information_gain_in_a_small_room(
-    grid_from_text: TextGrid, frontiers_from: Callable[..., Frontiers]
-) -> None:
+def test_information_gain_in_a_small_room(grid_from_text: TextGrid, frontiers_from: Callable[..., Frontiers]) -> None:
     rows = [
         "#######",
         "#?????#",

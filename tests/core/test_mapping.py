@@ -188,13 +188,6 @@ def _assert_same_map(a: LogOddsMapper, b: LogOddsMapper) -> None:
     assert a.known_bounds == b.known_bounds
 
 
-NOISE_FREE_MISMATCH = (
-    "integrate_simulated and integrate(lidar.scan(...)) round the beam length differently "
-    "((t*res)/res in numpy vs r/res in the fused kernel): on noise-free scans, where a beam ends "
-    "exactly on a cell boundary, the two paths disagree about the last free cell before the wall"
-)
-
-
 @pytest.mark.parametrize(
     ("lidar_config", "mapper_config", "noisy"),
     [
@@ -202,12 +195,7 @@ NOISE_FREE_MISMATCH = (
         (LidarConfig(num_beams=90, max_range=2.0, noise_abs=0.05, noise_rel=0.2), MapperConfig(), True),
         (LidarConfig(max_range=6.0, min_range=0.3), MapperConfig(usable_range=4.5), True),
         (LidarConfig(), MapperConfig(usable_range=1.2, hit=1.5, miss=-0.2), True),
-        pytest.param(
-            LidarConfig(),
-            MapperConfig(),
-            False,
-            marks=pytest.mark.xfail(strict=True, reason=NOISE_FREE_MISMATCH),
-        ),
+        (LidarConfig(), MapperConfig(), False),
     ],
     ids=["default", "coarse-noisy", "long-range", "short-usable", "noise-free"],
 )
@@ -230,13 +218,7 @@ def test_integrate_simulated_is_bit_identical_to_scan_then_integrate(
     assert rng_fused.random() == rng_plain.random()
 
 
-@pytest.mark.parametrize(
-    "path",
-    [
-        "integrate_simulated",
-        pytest.param("integrate", marks=pytest.mark.xfail(strict=True, reason=NOISE_FREE_MISMATCH)),
-    ],
-)
+@pytest.mark.parametrize("path", ["integrate_simulated", "integrate"])
 def test_a_noise_free_beam_marks_every_cell_it_crosses_before_the_wall_free(path: str) -> None:
     """Sweep the robot along a corridor toward a wall at x = 3.0 m: every cell between the robot
     and the wall is crossed by the +x beam and must be mapped FREE, the wall cell OCCUPIED."""
