@@ -119,6 +119,11 @@ class LogOddsMapper:
         self.explored_cells = 0
         self._last_update: tuple[Pose, float] | None = None
 
+    @property
+    def last_update(self) -> tuple[Pose, float] | None:
+        """Pose and time (s) of the last scan folded in; None before the first."""
+        return self._last_update
+
     def wants_scan(self, pose: Pose, time_s: float) -> bool:
         """Whether Gmapping would process a scan taken now: the first one, and then each after the
         robot moved ``linear_update`` or turned ``angular_update`` since the last processed scan,

@@ -164,28 +164,26 @@ def _inflate(
     table = np.empty(int(math.ceil(inflation_radius * steps)) + 2)
     for k in range(table.shape[0]):
         table[k] = inflation_cost * math.exp(-cost_scaling * max(k / steps - lethal_below, 0.0))
-    # Traversability must be exact (the chamfer distance runs up to 8 % long): clear a disc of
-    # the lethal radius around every occupied cell on the boundary of an obstacle, which is where
-    # the nearest wall of any free cell lies.
+    # Traversability must be exact, and the chamfer distance runs up to 8.24 % long: below the
+    # lethal distance it is surely lethal, 8.24 % above it surely clear, and the cells in between
+    # get an exact look at the walls around them.
     traversable = np.zeros((rows + 2, cols + 2), np.bool_)
-    traversable[1:-1, 1:-1] = True
     reach = int(math.ceil(lethal_below))
-    for r in range(rows):
-        for c in range(cols):
-            if not occupied[r, c]:
+    lethal2 = lethal_below * lethal_below
+    for r in range(1, rows + 1):
+        for c in range(1, cols + 1):
+            d = clearance[r, c]
+            if d < lethal_below:
                 continue
-            if 0 < r < rows - 1 and 0 < c < cols - 1 and occupied[r - 1, c] and occupied[r + 1, c] \
-                    and occupied[r, c - 1] and occupied[r, c + 1]:  # fmt: skip
-                traversable[r + 1, c + 1] = False
+            if d >= lethal_below * 1.0825:
+                traversable[r, c] = True
                 continue
-            for rr in range(max(r - reach, 0), min(r + reach + 1, rows)):
-                for cc in range(max(c - reach, 0), min(c + reach + 1, cols)):
-                    if (rr - r) ** 2 + (cc - c) ** 2 < lethal_below * lethal_below:
-                        traversable[rr + 1, cc + 1] = False
-    traversable[0, :] = False
-    traversable[-1, :] = False
-    traversable[:, 0] = False
-    traversable[:, -1] = False
+            clear = True
+            for rr in range(max(r - 1 - reach, 0), min(r + reach, rows)):
+                for cc in range(max(c - 1 - reach, 0), min(c + reach, cols)):
+                    if occupied[rr, cc] and (rr - r + 1) ** 2 + (cc - c + 1) ** 2 < lethal2:
+                        clear = False
+            traversable[r, c] = clear
     cost = np.ones((rows + 2, cols + 2))
     for r in range(1, rows + 1):
         for c in range(1, cols + 1):
@@ -395,6 +393,17 @@ def _drive_step(
 
 
 @nb.njit(cache=True, inline="always")
+def _next_waypoint(path_x: NDArray[np.float64], path_y: NDArray[np.float64], index: int, x: float, y: float) -> int:
+    """The waypoint right after the one nearest to (x, y), searching back from ``index``."""
+    near = index
+    while near > 0 and math.hypot(path_x[near - 1] - x, path_y[near - 1] - y) <= math.hypot(
+        path_x[near] - x, path_y[near] - y
+    ):
+        near -= 1
+    return min(near + 1, path_x.shape[0] - 1)
+
+
+@nb.njit(cache=True, inline="always")
 def _turn(theta: float, err: float, step: float, w_max: float) -> tuple[float, float]:
     """Turn in place toward heading error ``err`` (rad) for at most ``step`` (s): new heading and
     the time used (less than ``step`` when the turn completes)."""
@@ -433,54 +442,60 @@ def follow_path(
     origin_x: float,
     origin_y: float,
     resolution: float,
+    gate: NDArray[np.float64],
+    careful: NDArray[np.bool_],
 ) -> tuple[float, float, float, int, float, float, int]:
-    """Drive along the path for up to ``duration`` (s).
+    """Drive along the path for up to ``duration`` (s), in LiDAR ticks.
 
     ``params`` = (v_max, omega_max, turn_in_place_angle, heading_gain, lookahead, goal_tolerance,
     control_dt, robot_radius). ``clearance`` is the true distance (m) from each cell to the nearest
     wall: a move that would put the robot centre closer than its radius is refused (collision).
+    ``gate`` = (tick, x0, y0, theta0, linear, angular): the drive also stops at the first tick
+    boundary (every ``tick`` s) where the robot is ``linear`` m from (x0, y0) or has turned
+    ``angular`` rad from theta0, the moment the mapper wants a new scan. ``careful`` (one flag,
+    kept by the caller for the whole path) switches from steering at the lookahead point to
+    following the waypoints one by one; it is set the first time the lookahead cuts a corner into
+    a wall.
 
     Returns (x, y, theta, index, distance driven (m), time used (s), status) with status 0 =
-    still driving, 1 = goal reached, 2 = blocked by a wall.
+    still driving (duration over, or the gate opened), 1 = goal reached (time used exactly),
+    2 = blocked by a wall (the robot waits out the tick).
     """
     v_max, w_max, turn_angle, k_w, lookahead, tol, h, radius = (
         params[0], params[1], params[2], params[3], params[4], params[5], params[6], params[7],
     )  # fmt: skip
+    tick, gate_x, gate_y, gate_theta, linear, angular = gate[0], gate[1], gate[2], gate[3], gate[4], gate[5]
     n = path_x.shape[0]
     elapsed = 0.0
     driven = 0.0
+    next_tick = tick
     while elapsed < duration - 1e-9:
+        if elapsed >= next_tick - 1e-9:
+            turned = abs((theta - gate_theta + math.pi) % (2.0 * math.pi) - math.pi)
+            if math.hypot(x - gate_x, y - gate_y) >= linear or turned >= angular:
+                return x, y, theta, index, driven, elapsed, 0
+            next_tick += tick
         to_goal = math.hypot(path_x[n - 1] - x, path_y[n - 1] - y)
         if to_goal <= tol:
             return x, y, theta, n - 1, driven, elapsed, 1
         while index < n - 1 and math.hypot(path_x[index] - x, path_y[index] - y) < lookahead:
             index += 1
-        err = math.atan2(path_y[index] - y, path_x[index] - x) - theta
+        target = _next_waypoint(path_x, path_y, index, x, y) if careful[0] else index
+        err = math.atan2(path_y[target] - y, path_x[target] - x) - theta
         err = (err + math.pi) % (2.0 * math.pi) - math.pi
-        step = min(h, duration - elapsed)
+        step = min(h, next_tick - elapsed, duration - elapsed)
         if abs(err) > turn_angle:
             theta, used = _turn(theta, err, step, w_max)
             elapsed += used
             continue
         nx, ny, new_theta = _drive_step(x, y, theta, err, step, to_goal, v_max, w_max, k_w)
         if not _clear(nx, ny, clearance, origin_x, origin_y, resolution, radius):
-            # Steering at the lookahead point cuts corners; in a tight spot fall back to the
-            # waypoint right after the nearest one, which keeps the robot on the planned cells.
-            near = index
-            while near > 0 and math.hypot(path_x[near - 1] - x, path_y[near - 1] - y) <= math.hypot(
-                path_x[near] - x, path_y[near] - y
-            ):
-                near -= 1
-            near = min(near + 1, n - 1)
-            err = math.atan2(path_y[near] - y, path_x[near] - x) - theta
-            err = (err + math.pi) % (2.0 * math.pi) - math.pi
-            if abs(err) > turn_angle:
-                theta, used = _turn(theta, err, step, w_max)
-                elapsed += used
-                continue
-            nx, ny, new_theta = _drive_step(x, y, theta, err, step, to_goal, v_max, w_max, k_w)
-            if not _clear(nx, ny, clearance, origin_x, origin_y, resolution, radius):
-                return x, y, theta, index, driven, elapsed, 2
+            if careful[0]:
+                return x, y, theta, index, driven, min(next_tick, duration), 2
+            # Steering at the lookahead point cuts corners; in a tight spot follow the waypoints
+            # one by one from now on, which keeps the robot on the planned cells.
+            careful[0] = True
+            continue
         driven += math.hypot(nx - x, ny - y)
         x, y, theta = nx, ny, new_theta
         elapsed += step

@@ -296,9 +296,9 @@ class ExplorationSimulator:
         truth = self.world.grid
         start_time, start_len = self.sim_time, self.path_length
         new_free = new_occ = 0
-        period = cfg.lidar.period
         path_cells = self._to_truth_cells(path)
         tail = _tail_lengths(path)
+        careful = np.zeros(1, np.bool_)  # the follower's waypoint-by-waypoint mode, per path
         frontier_cells = None if frontier_xy is None else self._to_truth_cells(frontier_xy)
         index_on_path = 0
         best_remaining = math.inf
@@ -308,15 +308,16 @@ class ExplorationSimulator:
         recoveries = 0
         outcome = LegOutcome.TIMEOUT
         while not self.truncated:
-            duration = min(period, cfg.max_sim_time - self.sim_time)
+            # Drive tick by tick until the mapper wants the next scan (nothing else changes before).
+            duration, gate = self._until_next_scan()
             x, y, theta, index_on_path, driven, used, status = follow_path(
                 path[:, 0], path[:, 1], index_on_path, self.pose.x, self.pose.y, self.pose.theta, duration,
-                self._follow_params, self._true_clearance, truth.origin[0], truth.origin[1], truth.resolution,
+                self._follow_params, self._true_clearance, truth.origin[0], truth.origin[1], truth.resolution, gate,
+                careful,
             )  # fmt: skip
             self.pose = Pose(x, y, theta)
             self.path_length += driven
-            # Only a reached goal ends a tick early; a robot stopped by a wall waits out the tick.
-            self.sim_time += used if status == 1 else duration
+            self.sim_time += used
             seen = self._scan()
             if seen is not None:
                 new_free += seen[0]
@@ -324,6 +325,8 @@ class ExplorationSimulator:
             if status == 1:
                 outcome = LegOutcome.REACHED
                 break
+            if self.truncated:
+                break  # the sim-time cap: the leg ends as a timeout
             if frontier_cells is not None and self.sim_time >= next_frontier_check:
                 next_frontier_check = self.sim_time + nav.frontier_check_period
                 alive = count_fringe(self.mapper.state, frontier_cells[:, 0], frontier_cells[:, 1])
@@ -361,6 +364,7 @@ class ExplorationSimulator:
                 path = new_path
                 path_cells = self._to_truth_cells(path)
                 tail = _tail_lengths(path)
+                careful[0] = False
                 index_on_path = 0
         if outcome is LegOutcome.ABORTED:
             self.aborts += 1
@@ -370,6 +374,27 @@ class ExplorationSimulator:
         return LegResult(
             outcome, index, goal, self.sim_time - start_time, self.path_length - start_len, new_free, new_occ
         )
+
+    def _until_next_scan(self) -> tuple[float, NDArray[np.float64]]:
+        """How long (s) to drive before the mapper's time trigger, in whole LiDAR ticks (at most
+        to the sim-time cap), and the ``gate`` of :func:`follow_path` for its motion triggers."""
+        period = self.config.lidar.period
+        mapper_cfg = self.config.mapper
+        left = self.config.max_sim_time - self.sim_time
+        last = self.mapper.last_update
+        if last is None:
+            return min(period, left), np.array([period, self.pose.x, self.pose.y, self.pose.theta, 0.0, 0.0])
+        last_pose, last_time = last
+        if mapper_cfg.temporal_update > 0:
+            wait = mapper_cfg.temporal_update - 1e-9 - (self.sim_time - last_time)
+            ticks = max(1, math.ceil(wait / period))
+            duration = min(ticks * period, left)
+        else:
+            duration = left
+        gate = np.array(
+            [period, last_pose.x, last_pose.y, last_pose.theta, mapper_cfg.linear_update, mapper_cfg.angular_update]
+        )
+        return duration, gate
 
     def _bump(self) -> None:
         """The robot ran into a wall its map did not show (the LiDAR is blind closer than its

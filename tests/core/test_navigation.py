@@ -369,12 +369,16 @@ OPEN = np.full((100, 200), 10.0)  # clearance (m) everywhere: no walls
 OPEN_ORIGIN = (-1.0, -1.0)
 
 
+NO_GATE = np.array([1e9, 0.0, 0.0, 0.0, np.inf, np.inf])  # one endless tick, no scan trigger
+
+
 def drive(path_xy: NDArray[np.float64], x: float, y: float, theta: float, duration: float,
           p: NDArray[np.float64], clearance: NDArray[np.float64] = OPEN,
-          origin: tuple[float, float] = OPEN_ORIGIN, res: float = 0.05) -> tuple[float, ...]:  # fmt: skip
+          origin: tuple[float, float] = OPEN_ORIGIN, res: float = 0.05,
+          gate: NDArray[np.float64] = NO_GATE) -> tuple[float, ...]:  # fmt: skip
     return tuple(
         follow_path(path_xy[:, 0].copy(), path_xy[:, 1].copy(), 0, x, y, theta, duration, p, clearance,
-                    origin[0], origin[1], res)
+                    origin[0], origin[1], res, gate, np.zeros(1, np.bool_))
     )  # fmt: skip
 
 
@@ -439,10 +443,24 @@ def test_follow_path_refuses_to_enter_cells_closer_than_the_radius_to_a_wall() -
     clearance, grid = wall_world()
     path = np.column_stack((np.linspace(0.525, 2.8, 50), np.full(50, 0.525)))
     x, y, theta, pose_index = 0.525, 0.525, 0.0, 0
+    careful = np.zeros(1, np.bool_)
     status = 0
     for _ in range(400):  # tick by tick, checking every pose on the way
         x, y, theta, pose_index, _, _, status = follow_path(
-            path[:, 0], path[:, 1], pose_index, x, y, theta, 0.2, params(), clearance, 0.0, 0.0, 0.05
+            path[:, 0],
+            path[:, 1],
+            pose_index,
+            x,
+            y,
+            theta,
+            0.2,
+            params(),
+            clearance,
+            0.0,
+            0.0,
+            0.05,
+            NO_GATE,
+            careful,
         )
         row, col = grid.world_to_cell(x, y)
         assert clearance[row, col] >= ROBOT.radius
@@ -458,6 +476,23 @@ def test_follow_path_with_no_clearance_at_all_is_blocked_at_once() -> None:
     out = drive(straight(2.0), 0.0, 0.0, 0.0, 5.0, params(), clearance=clearance)
     assert out[6] == 2
     assert out[0] == 0.0 and out[4] == 0.0
+    assert out[5] == 5.0  # blocked, the robot waits out its (single, endless) tick up to the duration
+
+
+def test_follow_path_stops_at_the_first_tick_where_the_scan_gate_opens() -> None:
+    gate = np.array([0.2, 0.0, 0.0, 0.0, 0.5, 10.0])  # ticks of 0.2 s, a scan after 0.5 m
+    x, _, _, _, _, elapsed, status = drive(straight(3.0), 0.0, 0.0, 0.0, 100.0, params(), gate=gate)
+    assert status == 0
+    # at 0.22 m/s the robot passes 0.5 m after 2.27 s: the gate opens at the next tick, 2.4 s
+    assert elapsed == pytest.approx(2.4)
+    assert x == pytest.approx(0.22 * 2.4)
+
+
+def test_follow_path_blocked_mid_tick_waits_until_the_tick_ends() -> None:
+    clearance = np.zeros((100, 200))
+    gate = np.array([0.2, 0.0, 0.0, 0.0, np.inf, np.inf])
+    out = drive(straight(2.0), 0.0, 0.0, 0.0, 5.0, params(), clearance=clearance, gate=gate)
+    assert out[6] == 2 and out[5] == pytest.approx(0.2)
 
 
 # ---------------------------------------------------------------------------------------- config
