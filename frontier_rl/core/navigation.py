@@ -400,7 +400,7 @@ def _next_waypoint(path_x: NDArray[np.float64], path_y: NDArray[np.float64], ind
         path_x[near] - x, path_y[near] - y
     ):
         near -= 1
-    return min(near + 1, path_x.shape[0] - 1)
+    return int(min(near + 1, path_x.shape[0] - 1))
 
 
 @nb.njit(cache=True, inline="always")
