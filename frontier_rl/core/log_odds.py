@@ -1,10 +1,11 @@
 """Compiled log-odds update of an occupancy grid from LiDAR beams.
 
-A scan is folded in two steps. First its beams *mark* cells in a ``pending`` byte grid: the cells
-a beam crosses get :data:`PASS`, the cell it ends in gets :data:`HIT`, and a hit overwrites a
-pass, so beams that graze a wall do not erase it. Marking only writes, it never reads, so the
-beam loops run at the speed of the grid traversal. Then :func:`apply_pending` sweeps the window
-the scan could reach, applies one update per marked cell and clears the marks.
+A scan is folded in two steps. First its beams *mark* cells in a ``pending`` grid (``int16``): a
+beam adds one to each cell it crosses, and sets the :data:`HIT` bit of the cell it ends in, so a
+hit wins over any number of passes and beams that graze a wall do not erase it. Then
+:func:`apply_pending` sweeps the window the scan could reach, applies one update per marked cell
+and clears the marks. :func:`cast_and_mark` does the first step for a simulated scan in a single
+traversal per beam: it casts on the ground truth and marks the map as it goes.
 """
 
 from __future__ import annotations
@@ -16,11 +17,10 @@ import numpy as np
 from numpy.typing import NDArray
 
 from frontier_rl.core.grid import CellState
-from frontier_rl.core.lidar import add_range_noise
-from frontier_rl.core.raycast import FASTMATH, cast_rays, ray_start
+from frontier_rl.core.raycast import FASTMATH, ray_start
 
-PASS = np.int8(1)  # a beam crossed the cell: evidence of free space
-HIT = np.int8(2)  # a beam ended in the cell: evidence of an obstacle
+HIT = np.int16(0x4000)  # bit set when a beam ended in the cell; the bits below count passes
+_RING = 32  # the last cells of a beam kept to undo when the noisy reading falls short
 _UNKNOWN = np.int8(CellState.UNKNOWN)
 _FREE = np.int8(CellState.FREE)
 _OCCUPIED = np.int8(CellState.OCCUPIED)
@@ -28,7 +28,7 @@ _OCCUPIED = np.int8(CellState.OCCUPIED)
 
 @nb.njit(cache=True, fastmath=FASTMATH)
 def mark_beams(
-    pending: NDArray[np.int8],
+    pending: NDArray[np.int16],
     cx: float,
     cy: float,
     dir_x: NDArray[np.float64],
@@ -58,7 +58,7 @@ def mark_beams(
         # Selects instead of branches: the DDA's next step is unpredictable, and a mispredicted
         # branch per cell would cost more than the step itself.
         while min(tm_r, tm_c) <= limit and 0 <= row < rows and 0 <= col < cols:
-            flat[cell] = PASS  # write-only: hits are marked after all passes, and win
+            flat[cell] += 1
             along_col = tm_c < tm_r
             cell += s_c if along_col else row_step
             col += s_c if along_col else 0
@@ -71,12 +71,12 @@ def mark_beams(
             row = int(math.floor(cy + (r + 1e-4) * dir_y[i]))
             col = int(math.floor(cx + (r + 1e-4) * dir_x[i]))
             if 0 <= row < rows and 0 <= col < cols:
-                pending[row, col] = HIT
+                pending[row, col] |= HIT
 
 
 @nb.njit(cache=True)
 def apply_pending(
-    pending: NDArray[np.int8],
+    pending: NDArray[np.int16],
     window: tuple[int, int, int, int],
     logodds: NDArray[np.float32],
     state: NDArray[np.int8],
@@ -103,7 +103,7 @@ def apply_pending(
             if mark == 0:
                 continue
             pending[row, col] = 0
-            value = min(max(logodds[row, col] + (hit if mark == HIT else miss), low), high)
+            value = min(max(logodds[row, col] + (hit if mark & HIT else miss), low), high)
             logodds[row, col] = value
             if value > occupied_above:
                 new_state = _OCCUPIED
@@ -124,8 +124,9 @@ def apply_pending(
 
 
 @nb.njit(cache=True, fastmath=FASTMATH)
-def simulate_beams(
+def cast_and_mark(
     blocked_padded: NDArray[np.bool_],
+    pending: NDArray[np.int16],
     cx: float,
     cy: float,
     cos_t: float,
@@ -134,18 +135,112 @@ def simulate_beams(
     sin_offsets: NDArray[np.float64],
     normals: NDArray[np.float64],
     noise: NDArray[np.float64],
+    usable: float,
     ranges: NDArray[np.float64],
-    dir_x: NDArray[np.float64],
-    dir_y: NDArray[np.float64],
 ) -> None:
-    """A noisy scan on the ground truth, in cells: the same ranges, bit for bit, as
-    :class:`~frontier_rl.core.lidar.Lidar`'s ``scan`` divided by the resolution.
+    """A noisy scan cast on the ground truth and marked: the same ranges and marks, bit for bit, as
+    :class:`~frontier_rl.core.lidar.Lidar`'s ``scan`` then :func:`mark_beams`, in one traversal per
+    beam. Lengths in cells; ``noise`` = (resolution, min_range, max_range, sigma_abs, sigma_rel,
+    rel_from) in m, ``usable`` the range where beams are cropped. Writes the ranges (cells; ``inf``
+    = no return, ``nan`` = invalid) into ``ranges``.
 
-    ``noise`` = (resolution, min_range, max_range, sigma_abs, sigma_rel, rel_from), lengths in m.
-    Writes ranges (cells; ``inf`` = no return, ``nan`` = invalid) and beam directions.
+    Each cell is marked as the beam crosses it on the ground truth, before the noisy reading is
+    known; a reading that falls short of the wall then takes back the marks beyond it (kept in
+    a small ring, or found again by a second traversal when it falls far short), and one that
+    overshoots goes on through the wall.
     """
-    res = noise[0]
-    cast_rays(blocked_padded, cx, cy, cos_t, sin_t, cos_offsets, sin_offsets, noise[2] / res, ranges, dir_x, dir_y)
-    add_range_noise(ranges, normals, noise)
-    for i in range(ranges.shape[0]):
-        ranges[i] /= res
+    res, max_r = noise[0], noise[2]
+    max_cells = max_r / res
+    rows, cols = pending.shape
+    pcols = cols + 2
+    blocked = blocked_padded.reshape(-1)
+    flat = pending.reshape(-1)
+    ring_cell = np.empty(_RING, np.int64)
+    ring_exit = np.empty(_RING)
+    dirs = np.empty((cos_offsets.shape[0], 2))
+    for i in range(cos_offsets.shape[0]):
+        dx = cos_t * cos_offsets[i] - sin_t * sin_offsets[i]
+        dy = sin_t * cos_offsets[i] + cos_t * sin_offsets[i]
+        dirs[i, 0], dirs[i, 1] = dx, dy
+        row, col, s_r, s_c, tm_r, tm_c, td_r, td_c = ray_start(cx, cy, dx, dy)
+        padded = (row + 1) * pcols + col + 1
+        cell = row * cols + col
+        t = 0.0
+        t_hit = np.inf
+        n_marked = 0
+        while t <= max_cells:
+            if blocked[padded]:
+                t_hit = t
+                break
+            along_col = tm_c < tm_r
+            t_exit = tm_c if along_col else tm_r
+            if t_exit <= usable + 1e-9:
+                flat[cell] += 1
+                ring_cell[n_marked % _RING] = cell
+                ring_exit[n_marked % _RING] = t_exit
+                n_marked += 1
+            padded += s_c if along_col else s_r * pcols
+            cell += s_c if along_col else s_r * cols
+            col += s_c if along_col else 0
+            row += 0 if along_col else s_r
+            tm_c = tm_c + td_c if along_col else tm_c
+            tm_r = tm_r if along_col else tm_r + td_r
+            t = t_exit
+        r = t_hit * res  # the LiDAR's noise model, as in add_range_noise
+        if math.isfinite(r):
+            sigma = noise[3] if r < noise[5] else noise[4] * r
+            r += normals[i] * sigma
+            if r > max_r:
+                r = np.inf
+            elif r < noise[1]:
+                r = np.nan
+        r_cells = r / res
+        ranges[i] = r_cells
+        limit = -1.0 if math.isnan(r_cells) else min(r_cells, usable) + 1e-9
+        if n_marked > 0 and ring_exit[(n_marked - 1) % _RING] > limit:  # short: take back marks
+            oldest = max(n_marked - _RING, 0)
+            if ring_exit[oldest % _RING] > limit and oldest > 0:
+                _unmark_beyond(flat, cols, cx, cy, dx, dy, limit, usable, n_marked)
+            else:
+                k = n_marked - 1
+                while k >= oldest and ring_exit[k % _RING] > limit:
+                    flat[ring_cell[k % _RING]] -= 1
+                    k -= 1
+        elif math.isfinite(t_hit) and limit > t_hit:  # long: on through the wall
+            while min(tm_r, tm_c) <= limit and 0 <= row < rows and 0 <= col < cols:
+                flat[cell] += 1
+                along_col = tm_c < tm_r
+                cell += s_c if along_col else s_r * cols
+                col += s_c if along_col else 0
+                row += 0 if along_col else s_r
+                tm_c = tm_c + td_c if along_col else tm_c
+                tm_r = tm_r if along_col else tm_r + td_r
+    for i in range(cos_offsets.shape[0]):
+        r = ranges[i]
+        if math.isfinite(r) and r <= usable:
+            row = int(math.floor(cy + (r + 1e-4) * dirs[i, 1]))
+            col = int(math.floor(cx + (r + 1e-4) * dirs[i, 0]))
+            if 0 <= row < rows and 0 <= col < cols:
+                pending[row, col] |= HIT
+
+
+@nb.njit(cache=True)
+def _unmark_beyond(
+    flat: NDArray[np.int16], cols: int, cx: float, cy: float, dx: float, dy: float, limit: float, usable: float,
+    n_marked: int,
+) -> None:  # fmt: skip
+    """Take back the marks of the first ``n_marked`` cells of a beam that lie beyond ``limit``."""
+    row, col, s_r, s_c, tm_r, tm_c, td_r, td_c = ray_start(cx, cy, dx, dy)
+    seen = 0
+    while seen < n_marked:
+        t_exit = min(tm_r, tm_c)
+        if t_exit <= usable + 1e-9:
+            if t_exit > limit:
+                flat[row * cols + col] -= 1
+            seen += 1
+        if tm_c < tm_r:
+            col += s_c
+            tm_c += td_c
+        else:
+            row += s_r
+            tm_r += td_r

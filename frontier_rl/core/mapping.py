@@ -15,7 +15,7 @@ from numpy.typing import NDArray
 
 from frontier_rl.core.grid import CellState, OccupancyGrid
 from frontier_rl.core.lidar import Lidar, Scan
-from frontier_rl.core.log_odds import HIT, apply_pending, mark_beams, simulate_beams
+from frontier_rl.core.log_odds import HIT, apply_pending, cast_and_mark, mark_beams
 from frontier_rl.core.robot import Pose, wrap_angle
 from frontier_rl.errors import ConfigError
 
@@ -108,10 +108,10 @@ class LogOddsMapper:
         self.state = np.full(shape, CellState.UNKNOWN, dtype=np.int8)
         self.seen = np.zeros(shape, dtype=np.bool_)
         self.explorable = np.ones(shape, np.bool_) if explorable is None else explorable.astype(np.bool_)
-        self._pending = np.zeros(shape, dtype=np.int8)
+        self._pending = np.zeros(shape, dtype=np.int16)
         self._bbox = np.array([shape[0], -1, shape[1], -1], dtype=np.int64)
         self._counters = np.zeros(3, dtype=np.int64)
-        self._beams = np.empty((3, 0))  # scratch: ranges (cells), beam directions x and y
+        self._ranges = np.empty(0)  # scratch: the simulated scan's ranges (cells)
         c = self.config
         self._params = np.array(
             [c.clamp_min, c.clamp_max, c.free_below, c.occupied_above, c.hit, c.miss], dtype=np.float64
@@ -168,30 +168,21 @@ class LogOddsMapper:
             raise ValueError(f"lidar world shape {lidar.grid.shape} differs from the map's {self.state.shape}")
         res = self.resolution
         n = lidar.config.num_beams
-        if self._beams.shape[1] != n:
-            self._beams = np.empty((3, n))
-        ranges, dir_x, dir_y = self._beams
+        if self._ranges.shape[0] != n:
+            self._ranges = np.empty(n)
         cx, cy = (pose.x - self.origin[0]) / res, (pose.y - self.origin[1]) / res
-        simulate_beams(
-            lidar.blocked_padded, cx, cy, math.cos(pose.theta), math.sin(pose.theta), lidar.cos_offsets,
-            lidar.sin_offsets, lidar.normals(rng), lidar.noise_params, ranges, dir_x, dir_y,
+        cast_and_mark(
+            lidar.blocked_padded, self._pending, cx, cy, math.cos(pose.theta), math.sin(pose.theta),
+            lidar.cos_offsets, lidar.sin_offsets, lidar.normals(rng), lidar.noise_params,
+            min(lidar.config.max_range, self.config.usable_range) / res, self._ranges,
         )  # fmt: skip
-        mark_beams(
-            self._pending,
-            cx,
-            cy,
-            dir_x,
-            dir_y,
-            ranges,
-            min(lidar.config.max_range, self.config.usable_range) / res,
-        )
         return self._apply(pose, time_s)
 
     def mark_occupied(self, rows: NDArray[np.int64], cols: NDArray[np.int64]) -> None:
         """Set cells to certainly occupied (from contact, not from the LiDAR)."""
         if len(rows) == 0:
             return
-        self._pending[rows, cols] = HIT
+        self._pending[rows, cols] |= HIT
         params = self._params.copy()
         params[4] = self.config.clamp_max  # a hit that saturates
         self._counters[:] = 0

@@ -77,10 +77,12 @@ def cast_rays(
         dy = sin_t * cos_offsets[i] + cos_t * sin_offsets[i]
         out_dx[i] = dx
         out_dy[i] = dy
-        row, col, s_r, s_c, tm_r, tm_c, td_r, td_c = ray_start(cx + 1.0, cy + 1.0, dx, dy)
+        # The DDA runs in unpadded coordinates (so that every kernel steps through the same
+        # sequence of crossings) and indexes the padded grid.
+        row, col, s_r, s_c, tm_r, tm_c, td_r, td_c = ray_start(cx, cy, dx, dy)
         # Selects instead of branches: a DDA's next step is unpredictable, and a mispredicted
         # branch per cell costs more than the step itself.
-        idx = row * cols + col
+        idx = (row + 1) * cols + col + 1
         row_step = s_r * cols
         t = 0.0
         hit = np.inf
