@@ -12,7 +12,10 @@ import numba as nb
 import numpy as np
 from numpy.typing import NDArray
 
+from frontier_rl.core.grid import CellState
 from frontier_rl.core.raycast import FASTMATH
+
+_FREE = np.int8(CellState.FREE)
 
 _BIG = 1e20
 
@@ -129,6 +132,38 @@ def flood_fill(mask: NDArray[np.bool_], start_row: int, start_col: int) -> NDArr
             nxt = cur + offsets[k]
             if open_[nxt]:
                 open_[nxt] = False
+                stack[top] = nxt
+                top += 1
+    return reached.reshape(rows + 2, pcols)[1:-1, 1:-1].copy()
+
+
+@nb.njit(cache=True)
+def flood_known(
+    open_padded: NDArray[np.bool_], state: NDArray[np.int8], start_row: int, start_col: int
+) -> NDArray[np.bool_]:
+    """Cells that are open in ``open_padded`` (a mask with a one-cell False border) and FREE in
+    ``state``, 8-connected to (start_row, start_col); all False if the start is not one of them."""
+    rows, cols = state.shape
+    pcols = cols + 2
+    reached = np.zeros((rows + 2) * pcols, np.bool_)
+    open_flat = open_padded.reshape(-1)
+    state_flat = state.reshape(-1)
+    start = (start_row + 1) * pcols + start_col + 1
+    if not (open_flat[start] and state_flat[start_row * cols + start_col] == _FREE):
+        return np.zeros((rows, cols), np.bool_)
+    offsets = np.array([-pcols - 1, -pcols, -pcols + 1, -1, 1, pcols - 1, pcols, pcols + 1])
+    stack = np.empty(rows * cols, np.int64)
+    stack[0] = start
+    reached[start] = True
+    top = 1
+    while top > 0:
+        top -= 1
+        cur = stack[top]
+        for k in range(8):
+            nxt = cur + offsets[k]
+            # open cells are inside the border, so nxt // pcols - 1 and nxt % pcols - 1 are cells
+            if open_flat[nxt] and not reached[nxt] and state_flat[nxt - pcols - 1 - 2 * (nxt // pcols - 1)] == _FREE:
+                reached[nxt] = True
                 stack[top] = nxt
                 top += 1
     return reached.reshape(rows + 2, pcols)[1:-1, 1:-1].copy()

@@ -15,7 +15,7 @@ import numpy as np
 from numpy.typing import NDArray
 from scipy import ndimage
 
-from frontier_rl.core.distance import chamfer_distance_padded, flood_fill
+from frontier_rl.core.distance import chamfer_distance_padded, flood_known
 from frontier_rl.core.grid import CellState, OccupancyGrid
 from frontier_rl.core.raycast import FASTMATH
 from frontier_rl.core.robot import RobotConfig
@@ -80,23 +80,22 @@ def obstacle_distance(occupied: NDArray[np.bool_], resolution: float) -> NDArray
 
 @dataclass(frozen=True)
 class Costmap:
-    """Planning costs on one map.
+    """Planning costs on one map, kept with a one-cell blocked border (so the compiled planner
+    needs no bounds checks); the properties give the unpadded views.
 
     Attributes:
         grid: the map.
-        traversable: cells the robot centre may occupy (not within the robot radius of a wall).
-        penalty: extra cost factor per cell (inflation + unknown), >= 0.
-        clearance: distance (m) from each cell centre to the nearest occupied cell centre, by a
-            chamfer transform (exact or up to 8 % over), capped just above the inflation radius.
+        open_padded: traversable cells (not within the robot radius of a wall), padded.
+        cost_padded: step cost factor per cell, 1 + inflation and unknown penalties, padded.
+        clearance_padded: distance (cells) from each cell centre to the nearest occupied cell
+            centre, by a chamfer transform (exact or up to 8 % over), capped just above the
+            inflation radius, padded.
     """
 
     grid: OccupancyGrid
-    traversable: NDArray[np.bool_]
-    penalty: NDArray[np.float64]
-    clearance: NDArray[np.float64]
-    _open_padded: NDArray[np.bool_] = field(repr=False)
-    _cost_padded: NDArray[np.float64] = field(repr=False)
-    _clearance_padded: NDArray[np.float64] = field(repr=False)
+    open_padded: NDArray[np.bool_] = field(repr=False)
+    cost_padded: NDArray[np.float64] = field(repr=False)
+    clearance_padded: NDArray[np.float64] = field(repr=False)
 
     @classmethod
     def build(cls, grid: OccupancyGrid, robot: RobotConfig, config: NavigationConfig) -> Costmap:
@@ -110,22 +109,36 @@ class Costmap:
             config.inflation_cost,
             config.unknown_cost,
         )
-        inner = (slice(1, -1), slice(1, -1))
-        return cls(grid, open_p[inner], cost_p[inner] - 1.0, clearance_p[inner] * res, open_p, cost_p, clearance_p)
+        return cls(grid, open_p, cost_p, clearance_p)
+
+    @property
+    def traversable(self) -> NDArray[np.bool_]:
+        """Cells the robot centre may occupy (a view)."""
+        return self.open_padded[1:-1, 1:-1]
+
+    @property
+    def penalty(self) -> NDArray[np.float64]:
+        """Extra cost factor per cell (inflation + unknown), >= 0."""
+        return self.cost_padded[1:-1, 1:-1] - 1.0
+
+    @property
+    def clearance(self) -> NDArray[np.float64]:
+        """Distance (m) from each cell centre to the nearest occupied cell centre (chamfer, capped)."""
+        return self.clearance_padded[1:-1, 1:-1] * self.grid.resolution
 
     def reachable_known(self, start: tuple[int, int]) -> NDArray[np.bool_]:
-        """Known-free traversable cells connected (8-way) to ``start`` (row, col)."""
-        mask = self.traversable & (self.grid.data == CellState.FREE)
-        out: NDArray[np.bool_] = np.zeros(mask.shape, np.bool_)
+        """Known-free traversable cells connected (8-way) to ``start`` (row, col), or to the nearest
+        such cell within 0.5 m when the start itself is not one."""
         r, c = start
         if not self.grid.in_bounds(r, c):
-            return out
-        if not mask[r, c]:
+            return np.zeros(self.grid.shape, np.bool_)
+        reach = flood_known(self.open_padded, self.grid.data, r, c)
+        if not reach[r, c]:
+            mask = self.traversable & (self.grid.data == CellState.FREE)
             nearest = nearest_cell(mask, start, max_radius=int(round(0.5 / self.grid.resolution)))
-            if nearest is None:
-                return out
-            r, c = nearest
-        return flood_fill(mask, r, c)
+            if nearest is not None:
+                reach = flood_known(self.open_padded, self.grid.data, *nearest)
+        return reach
 
     def plan(self, start: tuple[int, int], goal: tuple[int, int], escape_radius: float = 0.25) -> NDArray[np.int64]:
         """A* path (cells, (n, 2) rows and columns) from ``start`` to ``goal``; empty if none.
@@ -136,7 +149,7 @@ class Costmap:
         if not (self.grid.in_bounds(*start) and self.grid.in_bounds(*goal)):
             return np.zeros((0, 2), np.int64)
         escape = escape_radius / self.grid.resolution
-        return astar_padded(self._open_padded, self._cost_padded, self._clearance_padded, start[0], start[1],
+        return astar_padded(self.open_padded, self.cost_padded, self.clearance_padded, start[0], start[1],
                             goal[0], goal[1], escape)  # fmt: skip
 
 

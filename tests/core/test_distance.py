@@ -123,3 +123,22 @@ def test_flood_fill_does_not_modify_its_input() -> None:
     before = mask.copy()
     assert flood_fill(mask, 2, 2).all()
     np.testing.assert_array_equal(mask, before)
+
+
+@pytest.mark.parametrize("seed", range(5))
+def test_flood_known_is_the_free_open_component_of_the_start(seed: int) -> None:
+    from frontier_rl.core.distance import flood_known
+    from frontier_rl.core.grid import CellState
+
+    rng = np.random.default_rng(seed)
+    state = rng.choice(
+        np.array([CellState.FREE, CellState.UNKNOWN, CellState.OCCUPIED], np.int8), size=(40, 50), p=[0.7, 0.2, 0.1]
+    )
+    open_ = rng.random((40, 50)) < 0.9
+    open_padded = np.pad(open_, 1, constant_values=False)
+    mask = open_ & (state == CellState.FREE)
+    start = tuple(np.argwhere(mask)[0])
+    labels, _ = ndimage.label(mask, structure=np.ones((3, 3), bool))
+    np.testing.assert_array_equal(flood_known(open_padded, state, *start), labels == labels[start])
+    blocked = tuple(np.argwhere(~mask)[0])
+    assert not flood_known(open_padded, state, *blocked).any()
