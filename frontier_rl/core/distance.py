@@ -1,7 +1,8 @@
-"""Compiled grid distance kernels: exact Euclidean distance transform and flood fill.
+"""Compiled grid kernels for the costmap: a chamfer distance transform and a flood fill.
 
-scipy.ndimage's transforms are general (n-D, feature indices) and cost milliseconds on a 250 × 250
-map; the planner needs them at every decision, so these 2D versions are compiled with numba.
+scipy.ndimage's transforms and labelling are general (n-D, feature indices, all components) and
+cost milliseconds on a 250 × 250 map; the planner needs both at every decision, so these 2D
+versions are compiled with numba.
 """
 
 from __future__ import annotations
@@ -16,58 +17,6 @@ from frontier_rl.core.grid import CellState
 from frontier_rl.core.raycast import FASTMATH
 
 _FREE = np.int8(CellState.FREE)
-
-_BIG = 1e20
-
-
-@nb.njit(cache=True)
-def _dt_1d(f: NDArray[np.float64], d: NDArray[np.float64], v: NDArray[np.int64], z: NDArray[np.float64]) -> None:
-    """Squared distance transform of the sampled function ``f`` (Felzenszwalb & Huttenlocher 2012)."""
-    n = f.shape[0]
-    k = 0
-    v[0] = 0
-    z[0] = -np.inf
-    z[1] = np.inf
-    for q in range(1, n):
-        s = ((f[q] + q * q) - (f[v[k]] + v[k] * v[k])) / (2.0 * q - 2.0 * v[k])
-        while s <= z[k]:
-            k -= 1
-            s = ((f[q] + q * q) - (f[v[k]] + v[k] * v[k])) / (2.0 * q - 2.0 * v[k])
-        k += 1
-        v[k] = q
-        z[k] = s
-        z[k + 1] = np.inf
-    k = 0
-    for q in range(n):
-        while z[k + 1] < q:
-            k += 1
-        d[q] = (q - v[k]) * (q - v[k]) + f[v[k]]
-
-
-@nb.njit(cache=True)
-def squared_edt(seeds: NDArray[np.bool_]) -> NDArray[np.float64]:
-    """Squared Euclidean distance (cells²) from every cell centre to the nearest seed cell centre;
-    a value >= 1e20 where there is no seed at all."""
-    rows, cols = seeds.shape
-    n = max(rows, cols)
-    f = np.empty(n)
-    d = np.empty(n)
-    v = np.empty(n, np.int64)
-    z = np.empty(n + 1)
-    out = np.empty((rows, cols))
-    for c in range(cols):
-        for r in range(rows):
-            f[r] = 0.0 if seeds[r, c] else _BIG
-        _dt_1d(f[:rows], d[:rows], v, z)
-        for r in range(rows):
-            out[r, c] = d[r]
-    for r in range(rows):
-        for c in range(cols):
-            f[c] = out[r, c]
-        _dt_1d(f[:cols], d[:cols], v, z)
-        for c in range(cols):
-            out[r, c] = d[c]
-    return out
 
 
 @nb.njit(cache=True)
@@ -106,38 +55,6 @@ def chamfer_distance_padded(seeds: NDArray[np.bool_], cap: float) -> NDArray[np.
 
 
 @nb.njit(cache=True)
-def flood_fill(mask: NDArray[np.bool_], start_row: int, start_col: int) -> NDArray[np.bool_]:
-    """Cells of ``mask`` 8-connected to (start_row, start_col); all False if the start is not in it."""
-    rows, cols = mask.shape
-    if not (0 <= start_row < rows and 0 <= start_col < cols) or not mask[start_row, start_col]:
-        return np.zeros((rows, cols), np.bool_)
-    # Work on flat copies with a False border: neighbours need no bounds checks and no division.
-    pcols = cols + 2
-    open_ = np.zeros((rows + 2) * pcols, np.bool_)
-    for r in range(rows):
-        for c in range(cols):
-            open_[(r + 1) * pcols + c + 1] = mask[r, c]
-    reached = np.zeros((rows + 2) * pcols, np.bool_)
-    offsets = np.array([-pcols - 1, -pcols, -pcols + 1, -1, 1, pcols - 1, pcols, pcols + 1])
-    stack = np.empty(rows * cols, np.int64)
-    start = (start_row + 1) * pcols + start_col + 1
-    open_[start] = False
-    stack[0] = start
-    top = 1
-    while top > 0:
-        top -= 1
-        cur = stack[top]
-        reached[cur] = True
-        for k in range(8):
-            nxt = cur + offsets[k]
-            if open_[nxt]:
-                open_[nxt] = False
-                stack[top] = nxt
-                top += 1
-    return reached.reshape(rows + 2, pcols)[1:-1, 1:-1].copy()
-
-
-@nb.njit(cache=True)
 def flood_known(
     open_padded: NDArray[np.bool_], state: NDArray[np.int8], start_row: int, start_col: int
 ) -> NDArray[np.bool_]:
@@ -148,6 +65,8 @@ def flood_known(
     reached = np.zeros((rows + 2) * pcols, np.bool_)
     open_flat = open_padded.reshape(-1)
     state_flat = state.reshape(-1)
+    if not (0 <= start_row < rows and 0 <= start_col < cols):
+        return np.zeros((rows, cols), np.bool_)
     start = (start_row + 1) * pcols + start_col + 1
     if not (open_flat[start] and state_flat[start_row * cols + start_col] == _FREE):
         return np.zeros((rows, cols), np.bool_)

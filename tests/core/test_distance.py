@@ -9,7 +9,8 @@ import pytest
 from numpy.typing import NDArray
 from scipy import ndimage
 
-from frontier_rl.core.distance import chamfer_distance, flood_fill, squared_edt
+from frontier_rl.core.distance import chamfer_distance, flood_known
+from frontier_rl.core.grid import CellState
 
 #: Worst overestimate of the 3 x 3 chamfer (steps 1, sqrt 2) over the Euclidean distance, at 22.5 deg.
 CHAMFER_MAX_RATIO = math.sqrt(4.0 - 2.0 * math.sqrt(2.0))  # 1.0824
@@ -70,29 +71,12 @@ def test_chamfer_without_seeds_is_the_cap_everywhere() -> None:
 
 
 # --------------------------------------------------------------------------------- squared EDT
-@pytest.mark.parametrize(("shape", "density", "seed"), CASES)
-def test_squared_edt_equals_scipy_edt_squared(shape: tuple[int, int], density: float, seed: int) -> None:
-    seeds = random_seeds(shape, density, seed)
-    seeds[0, shape[1] - 1] = True
-    out = squared_edt(seeds)
-    exact = ndimage.distance_transform_edt(~seeds)
-    np.testing.assert_allclose(out, exact**2, rtol=0, atol=1e-9)
-    # squared distances between cell centres are integers
-    np.testing.assert_array_equal(out, np.round(out))
+def flood_fill(mask: NDArray[np.bool_], row: int, col: int) -> NDArray[np.bool_]:
+    """flood_known on a plain mask: every cell open, FREE where the mask is True."""
+    state = np.where(mask, CellState.FREE, CellState.OCCUPIED).astype(np.int8)
+    return flood_known(np.pad(np.ones(mask.shape, bool), 1, constant_values=False), state, row, col)
 
 
-def test_squared_edt_without_seeds_is_huge() -> None:
-    assert np.all(squared_edt(np.zeros((7, 9), bool)) >= 1e20)
-
-
-def test_squared_edt_single_seed_by_hand() -> None:
-    seeds = np.zeros((4, 5), bool)
-    seeds[1, 2] = True
-    rows, cols = np.mgrid[0:4, 0:5]
-    np.testing.assert_array_equal(squared_edt(seeds), (rows - 1) ** 2 + (cols - 2) ** 2)
-
-
-# ---------------------------------------------------------------------------------- flood fill
 @pytest.mark.parametrize("seed", range(8))
 @pytest.mark.parametrize("density", [0.45, 0.6, 0.75])
 def test_flood_fill_equals_the_8_connected_scipy_component(seed: int, density: float) -> None:
@@ -127,9 +111,6 @@ def test_flood_fill_does_not_modify_its_input() -> None:
 
 @pytest.mark.parametrize("seed", range(5))
 def test_flood_known_is_the_free_open_component_of_the_start(seed: int) -> None:
-    from frontier_rl.core.distance import flood_known
-    from frontier_rl.core.grid import CellState
-
     rng = np.random.default_rng(seed)
     state = rng.choice(
         np.array([CellState.FREE, CellState.UNKNOWN, CellState.OCCUPIED], np.int8), size=(40, 50), p=[0.7, 0.2, 0.1]
