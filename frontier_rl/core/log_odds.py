@@ -26,6 +26,42 @@ _FREE = np.int8(CellState.FREE)
 _OCCUPIED = np.int8(CellState.OCCUPIED)
 
 
+@nb.njit(cache=True, fastmath=FASTMATH, inline="always")
+def _mark_crossed(
+    flat: NDArray[np.int16], rows: int, cols: int, row: int, col: int, s_r: int, s_c: int, tm_r: float,
+    tm_c: float, td_r: float, td_c: float, limit: float,
+) -> None:  # fmt: skip
+    """Count a pass in every cell the DDA state leaves before ``limit`` (cells), inside the grid."""
+    cell = row * cols + col
+    row_step = s_r * cols
+    # Selects instead of branches: the DDA's next step is unpredictable, and a mispredicted
+    # branch per cell would cost more than the step itself.
+    while min(tm_r, tm_c) <= limit and 0 <= row < rows and 0 <= col < cols:
+        flat[cell] += 1
+        along_col = tm_c < tm_r
+        cell += s_c if along_col else row_step
+        col += s_c if along_col else 0
+        row += 0 if along_col else s_r
+        tm_c = tm_c + td_c if along_col else tm_c
+        tm_r = tm_r if along_col else tm_r + td_r
+
+
+@nb.njit(cache=True)
+def _mark_hits(
+    pending: NDArray[np.int16], cx: float, cy: float, dir_x: NDArray[np.float64], dir_y: NDArray[np.float64],
+    ranges: NDArray[np.float64], usable: float,
+) -> None:  # fmt: skip
+    """Set the HIT bit of the cell each beam ends in (beams with a return within ``usable``)."""
+    rows, cols = pending.shape
+    for i in range(ranges.shape[0]):
+        r = ranges[i]
+        if math.isfinite(r) and r <= usable:
+            row = int(math.floor(cy + (r + 1e-4) * dir_y[i]))
+            col = int(math.floor(cx + (r + 1e-4) * dir_x[i]))
+            if 0 <= row < rows and 0 <= col < cols:
+                pending[row, col] |= HIT
+
+
 @nb.njit(cache=True, fastmath=FASTMATH)
 def mark_beams(
     pending: NDArray[np.int16],
@@ -53,25 +89,8 @@ def mark_beams(
         # to the rounding of metres <-> cells.
         limit = min(r, usable) + 1e-9
         row, col, s_r, s_c, tm_r, tm_c, td_r, td_c = ray_start(cx, cy, dir_x[i], dir_y[i])
-        cell = row * cols + col
-        row_step = s_r * cols
-        # Selects instead of branches: the DDA's next step is unpredictable, and a mispredicted
-        # branch per cell would cost more than the step itself.
-        while min(tm_r, tm_c) <= limit and 0 <= row < rows and 0 <= col < cols:
-            flat[cell] += 1
-            along_col = tm_c < tm_r
-            cell += s_c if along_col else row_step
-            col += s_c if along_col else 0
-            row += 0 if along_col else s_r
-            tm_c = tm_c + td_c if along_col else tm_c
-            tm_r = tm_r if along_col else tm_r + td_r
-    for i in range(ranges.shape[0]):
-        r = ranges[i]
-        if math.isfinite(r) and r <= usable:
-            row = int(math.floor(cy + (r + 1e-4) * dir_y[i]))
-            col = int(math.floor(cx + (r + 1e-4) * dir_x[i]))
-            if 0 <= row < rows and 0 <= col < cols:
-                pending[row, col] |= HIT
+        _mark_crossed(flat, rows, cols, row, col, s_r, s_c, tm_r, tm_c, td_r, td_c, limit)
+    _mark_hits(pending, cx, cy, dir_x, dir_y, ranges, usable)
 
 
 @nb.njit(cache=True)
@@ -207,21 +226,8 @@ def cast_and_mark(
                     flat[ring_cell[k % _RING]] -= 1
                     k -= 1
         elif math.isfinite(t_hit) and limit > t_hit:  # long: on through the wall
-            while min(tm_r, tm_c) <= limit and 0 <= row < rows and 0 <= col < cols:
-                flat[cell] += 1
-                along_col = tm_c < tm_r
-                cell += s_c if along_col else s_r * cols
-                col += s_c if along_col else 0
-                row += 0 if along_col else s_r
-                tm_c = tm_c + td_c if along_col else tm_c
-                tm_r = tm_r if along_col else tm_r + td_r
-    for i in range(cos_offsets.shape[0]):
-        r = ranges[i]
-        if math.isfinite(r) and r <= usable:
-            row = int(math.floor(cy + (r + 1e-4) * dirs[i, 1]))
-            col = int(math.floor(cx + (r + 1e-4) * dirs[i, 0]))
-            if 0 <= row < rows and 0 <= col < cols:
-                pending[row, col] |= HIT
+            _mark_crossed(flat, rows, cols, row, col, s_r, s_c, tm_r, tm_c, td_r, td_c, limit)
+    _mark_hits(pending, cx, cy, dirs[:, 0], dirs[:, 1], ranges, usable)
 
 
 @nb.njit(cache=True)
