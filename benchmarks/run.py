@@ -32,7 +32,7 @@ from frontier_rl.core.frontiers import detect_frontiers
 from frontier_rl.core.grid import OccupancyGrid
 from frontier_rl.core.lidar import Lidar
 from frontier_rl.core.mapping import LogOddsMapper
-from frontier_rl.core.navigation import Costmap
+from frontier_rl.core.planner import Costmap
 from frontier_rl.core.ranking import rank, weighted_cost
 from frontier_rl.core.robot import Pose
 from frontier_rl.core.simulator import ExplorationSimulator, SimConfig

@@ -22,14 +22,13 @@ from frontier_rl.core.lidar import Lidar, LidarConfig
 from frontier_rl.core.mapping import LogOddsMapper, MapperConfig
 from frontier_rl.core.metrics import DecisionRecord, EpisodeResult, time_to_coverage
 from frontier_rl.core.navigation import (
-    Costmap,
     NavigationConfig,
     follow_path,
     footprint_offsets,
-    nearest_cell,
     obstacle_distance,
     path_blocked,
 )
+from frontier_rl.core.planner import Costmap, nearest_cell
 from frontier_rl.core.robot import Pose, RobotConfig
 from frontier_rl.core.worlds import World
 from frontier_rl.errors import ConfigError

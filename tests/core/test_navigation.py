@@ -14,15 +14,8 @@ from scipy.sparse import csr_matrix
 from scipy.sparse.csgraph import dijkstra
 
 from frontier_rl.core.grid import CellState, OccupancyGrid
-from frontier_rl.core.navigation import (
-    Costmap,
-    NavigationConfig,
-    astar,
-    follow_path,
-    footprint_offsets,
-    nearest_cell,
-    obstacle_distance,
-)
+from frontier_rl.core.navigation import NavigationConfig, follow_path, footprint_offsets, obstacle_distance
+from frontier_rl.core.planner import Costmap, astar, nearest_cell
 from frontier_rl.core.robot import RobotConfig
 from frontier_rl.errors import ConfigError
 

@@ -1,0 +1,302 @@
+"""The costmap and the global planner: inflated obstacles and 8-connected A* on the current map.
+
+Unknown cells are passable at an extra cost (as move_base's ``allow_unknown``); cells closer to a
+wall than the robot radius are not, and the cost decays away from walls so that paths keep clear
+of them when there is room.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+
+import numba as nb
+import numpy as np
+from numpy.typing import NDArray
+
+from frontier_rl.core.distance import chamfer_distance_padded, flood_known
+from frontier_rl.core.grid import CellState, OccupancyGrid
+from frontier_rl.core.navigation import NavigationConfig
+from frontier_rl.core.robot import RobotConfig
+
+_SQRT2 = math.sqrt(2.0)
+_OCCUPIED = np.int8(CellState.OCCUPIED)
+_UNKNOWN = np.int8(CellState.UNKNOWN)
+
+
+@dataclass(frozen=True)
+class Costmap:
+    """Planning costs on one map, kept with a one-cell blocked border (so the compiled planner
+    needs no bounds checks); the properties give the unpadded views.
+
+    Attributes:
+        grid: the map.
+        open_padded: traversable cells (not within the robot radius of a wall), padded.
+        cost_padded: step cost factor per cell, 1 + inflation and unknown penalties, padded.
+        clearance_padded: distance (cells) from each cell centre to the nearest occupied cell
+            centre, by a chamfer transform (exact or up to 8 % over), capped just above the
+            inflation radius, padded.
+    """
+
+    grid: OccupancyGrid
+    open_padded: NDArray[np.bool_] = field(repr=False)
+    cost_padded: NDArray[np.float64] = field(repr=False)
+    clearance_padded: NDArray[np.float64] = field(repr=False)
+
+    @classmethod
+    def build(cls, grid: OccupancyGrid, robot: RobotConfig, config: NavigationConfig) -> Costmap:
+        """Inflate the obstacles of ``grid`` for a robot of ``robot.radius``."""
+        res = grid.resolution
+        clearance_p, open_p, cost_p = _inflate(
+            grid.data,
+            (robot.radius + 0.5 * res) / res,  # lethal below: cell centre to wall surface, in cells
+            config.inflation_radius / res,
+            config.cost_scaling * res,
+            config.inflation_cost,
+            config.unknown_cost,
+        )
+        return cls(grid, open_p, cost_p, clearance_p)
+
+    @property
+    def traversable(self) -> NDArray[np.bool_]:
+        """Cells the robot centre may occupy (a view)."""
+        return self.open_padded[1:-1, 1:-1]
+
+    @property
+    def penalty(self) -> NDArray[np.float64]:
+        """Extra cost factor per cell (inflation + unknown), >= 0."""
+        return self.cost_padded[1:-1, 1:-1] - 1.0
+
+    @property
+    def clearance(self) -> NDArray[np.float64]:
+        """Distance (m) from each cell centre to the nearest occupied cell centre (chamfer, capped)."""
+        return self.clearance_padded[1:-1, 1:-1] * self.grid.resolution
+
+    def reachable_known(self, start: tuple[int, int]) -> NDArray[np.bool_]:
+        """Known-free traversable cells connected (8-way) to ``start`` (row, col), or to the nearest
+        such cell within 0.5 m when the start itself is not one."""
+        r, c = start
+        if not self.grid.in_bounds(r, c):
+            return np.zeros(self.grid.shape, np.bool_)
+        reach = flood_known(self.open_padded, self.grid.data, r, c)
+        if not reach[r, c]:
+            mask = self.traversable & (self.grid.data == CellState.FREE)
+            nearest = nearest_cell(mask, start, max_radius=int(round(0.5 / self.grid.resolution)))
+            if nearest is not None:
+                reach = flood_known(self.open_padded, self.grid.data, *nearest)
+        return reach
+
+    def plan(self, start: tuple[int, int], goal: tuple[int, int], escape_radius: float = 0.25) -> NDArray[np.int64]:
+        """A* path (cells, (n, 2) rows and columns) from ``start`` to ``goal``; empty if none.
+
+        Cells within ``escape_radius`` (m) of the start may be crossed even if inflated (not if
+        occupied), so that a robot that ended up too close to a wall can still leave.
+        """
+        if not (self.grid.in_bounds(*start) and self.grid.in_bounds(*goal)):
+            return np.zeros((0, 2), np.int64)
+        escape = escape_radius / self.grid.resolution
+        return astar_padded(self.open_padded, self.cost_padded, self.clearance_padded, start[0], start[1],
+                            goal[0], goal[1], escape)  # fmt: skip
+
+
+@nb.njit(cache=True)
+def _inflate(
+    state: NDArray[np.int8],
+    lethal_below: float,
+    inflation_radius: float,
+    cost_scaling: float,
+    inflation_cost: float,
+    unknown_cost: float,
+) -> tuple[NDArray[np.float64], NDArray[np.bool_], NDArray[np.float64]]:
+    """Clearance (cells), traversable mask and step cost factor (1 + penalty) of a map, each with a
+    one-cell border (not traversable) so that the planner needs no bounds checks; lengths in
+    cells, ``cost_scaling`` per cell."""
+    rows, cols = state.shape
+    occupied = np.empty((rows, cols), np.bool_)
+    for r in range(rows):
+        for c in range(cols):
+            occupied[r, c] = state[r, c] == _OCCUPIED
+    clearance = chamfer_distance_padded(occupied, inflation_radius + 1.0)
+    # The inflation cost by table lookup: exp() per cell near a wall would cost more than the
+    # distance transform; 64 steps per cell of distance is far finer than the costmap needs.
+    steps = 64
+    table = np.empty(int(math.ceil(inflation_radius * steps)) + 2)
+    for k in range(table.shape[0]):
+        table[k] = inflation_cost * math.exp(-cost_scaling * max(k / steps - lethal_below, 0.0))
+    # Traversability must be exact, and the chamfer distance runs up to 8.24 % long: below the
+    # lethal distance it is surely lethal, 8.24 % above it surely clear, and the cells in between
+    # get an exact look at the walls around them.
+    traversable = np.zeros((rows + 2, cols + 2), np.bool_)
+    reach = int(math.ceil(lethal_below))
+    lethal2 = lethal_below * lethal_below
+    for r in range(1, rows + 1):
+        for c in range(1, cols + 1):
+            d = clearance[r, c]
+            if d < lethal_below:
+                continue
+            if d >= lethal_below * 1.0825:
+                traversable[r, c] = True
+                continue
+            clear = True
+            for rr in range(max(r - 1 - reach, 0), min(r + reach, rows)):
+                for cc in range(max(c - 1 - reach, 0), min(c + reach, cols)):
+                    if occupied[rr, cc] and (rr - r + 1) ** 2 + (cc - c + 1) ** 2 < lethal2:
+                        clear = False
+            traversable[r, c] = clear
+    cost = np.ones((rows + 2, cols + 2))
+    for r in range(1, rows + 1):
+        for c in range(1, cols + 1):
+            d = clearance[r, c]
+            extra = table[int(d * steps)] if d < inflation_radius else 0.0
+            if state[r - 1, c - 1] == _UNKNOWN:
+                extra += unknown_cost
+            cost[r, c] = 1.0 + extra
+    return clearance, traversable, cost
+
+
+def nearest_cell(mask: NDArray[np.bool_], target: tuple[int, int], max_radius: int) -> tuple[int, int] | None:
+    """The True cell of ``mask`` nearest to ``target`` (row, col), searched in growing windows
+    up to ``max_radius`` cells; None if there is none that close."""
+    r, c = target
+    radius = min(2, max_radius)
+    while True:
+        r0, c0 = max(r - radius, 0), max(c - radius, 0)
+        window = mask[r0 : r + radius + 1, c0 : c + radius + 1]
+        hits = np.argwhere(window)
+        if hits.size:
+            d2 = (hits[:, 0] + r0 - r) ** 2 + (hits[:, 1] + c0 - c) ** 2
+            best = int(np.argmin(d2))
+            if d2[best] <= radius * radius:
+                return int(hits[best, 0] + r0), int(hits[best, 1] + c0)
+        if radius >= max_radius:
+            return None
+        radius = min(radius * 2, max_radius)
+
+
+def astar(
+    passable: NDArray[np.bool_],
+    penalty: NDArray[np.float64],
+    start_r: int,
+    start_c: int,
+    goal_r: int,
+    goal_c: int,
+) -> NDArray[np.int64]:
+    """8-connected A* on plain arrays: ``passable`` cells, step cost = length × (1 + ``penalty``
+    of the cell entered), no corner cutting. Returns the (n, 2) cell path, empty if none."""
+    open_padded = np.pad(np.asarray(passable, np.bool_), 1, constant_values=False)
+    cost_padded = np.pad(1.0 + np.asarray(penalty, np.float64), 1, constant_values=1.0)
+    no_escape = np.zeros(open_padded.shape)
+    return astar_padded(open_padded, cost_padded, no_escape, start_r, start_c, goal_r, goal_c, 0.0)
+
+
+@nb.njit(cache=True)
+def astar_padded(
+    open_padded: NDArray[np.bool_],
+    cost_padded: NDArray[np.float64],
+    clearance_padded: NDArray[np.float64],
+    start_r: int,
+    start_c: int,
+    goal_r: int,
+    goal_c: int,
+    escape: float,
+) -> NDArray[np.int64]:
+    """8-connected A* with octile heuristic on padded costmap arrays (a border of blocked cells).
+
+    A step costs its length × the cost factor of the cell entered; diagonal steps may not cut a
+    corner. Within ``escape`` cells of the start, cells that are not traversable may still be
+    crossed if they are no closer to a wall than the start (and not occupied): a robot that ended
+    up too close to a wall may back away from it, not squeeze on. Returns the (n, 2) cell path
+    (unpadded rows and columns), empty if there is none.
+    """
+    pcols = open_padded.shape[1]
+    n = open_padded.size
+    start = (start_r + 1) * pcols + start_c + 1
+    goal = (goal_r + 1) * pcols + goal_c + 1
+    open_ok = open_padded.copy().reshape(-1)
+    cost = cost_padded.reshape(-1)
+    clear = clearance_padded.reshape(-1)
+    reach = int(math.ceil(escape))
+    floor_clear = max(clear[start], 0.5)  # >= 0.5: occupied cells (clearance 0) never open
+    for dr in range(-reach, reach + 1):
+        for dc in range(-reach, reach + 1):
+            r, c = start_r + 1 + dr, start_c + 1 + dc
+            if dr * dr + dc * dc <= escape * escape and 1 <= r < open_padded.shape[0] - 1 and 1 <= c < pcols - 1:
+                cell = r * pcols + c
+                if clear[cell] >= floor_clear:
+                    open_ok[cell] = True
+    open_ok[start] = True
+    if not open_ok[goal]:
+        return np.zeros((0, 2), np.int64)
+    offsets = np.array([-pcols, pcols, -1, 1, -pcols - 1, -pcols + 1, pcols - 1, pcols + 1])
+    side_row = np.array([0, 0, 0, 0, -pcols, -pcols, pcols, pcols])
+    side_col = np.array([0, 0, 0, 0, -1, 1, -1, 1])
+    g = np.full(n, np.inf)
+    parent = np.full(n, -1, np.int64)
+    closed = np.zeros(n, np.bool_)
+    heap_f = np.empty(8 * n + 8)
+    heap_i = np.empty(8 * n + 8, np.int64)
+    size = 1
+    heap_f[0] = 0.0
+    heap_i[0] = start
+    g[start] = 0.0
+    while size > 0:
+        cur = heap_i[0]
+        size -= 1  # pop: move the last entry to the root and sift it down
+        last_f, last_i = heap_f[size], heap_i[size]
+        pos = 0
+        while True:
+            child = 2 * pos + 1
+            if child >= size:
+                break
+            if child + 1 < size and heap_f[child + 1] < heap_f[child]:
+                child += 1
+            if heap_f[child] >= last_f:
+                break
+            heap_f[pos], heap_i[pos] = heap_f[child], heap_i[child]
+            pos = child
+        heap_f[pos], heap_i[pos] = last_f, last_i
+        if closed[cur]:
+            continue
+        closed[cur] = True
+        if cur == goal:
+            break
+        for k in range(8):
+            nxt = cur + offsets[k]
+            if not open_ok[nxt] or closed[nxt]:
+                continue
+            if k >= 4:  # a diagonal step needs both side cells free (no corner cutting)
+                if not (open_ok[cur + side_row[k]] and open_ok[cur + side_col[k]]):
+                    continue
+                step = _SQRT2
+            else:
+                step = 1.0
+            new_g = g[cur] + step * cost[nxt]
+            if new_g < g[nxt]:
+                g[nxt] = new_g
+                parent[nxt] = cur
+                dr = abs(nxt // pcols - goal_r - 1)
+                dc = abs(nxt % pcols - goal_c - 1)
+                f = new_g + (_SQRT2 - 1.0) * min(dr, dc) + max(dr, dc)
+                pos = size  # push: sift up
+                size += 1
+                while pos > 0:
+                    up = (pos - 1) // 2
+                    if heap_f[up] <= f:
+                        break
+                    heap_f[pos], heap_i[pos] = heap_f[up], heap_i[up]
+                    pos = up
+                heap_f[pos], heap_i[pos] = f, nxt
+    if not closed[goal]:
+        return np.zeros((0, 2), np.int64)
+    length = 1
+    cur = goal
+    while cur != start:
+        cur = parent[cur]
+        length += 1
+    path = np.empty((length, 2), np.int64)
+    cur = goal
+    for i in range(length - 1, -1, -1):
+        path[i, 0] = cur // pcols - 1
+        path[i, 1] = cur % pcols - 1
+        cur = parent[cur]
+    return path
