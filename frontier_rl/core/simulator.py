@@ -293,7 +293,7 @@ class ExplorationSimulator:
         cfg = self.config
         nav = cfg.navigation
         truth = self.world.grid
-        start_time, start_len = self.sim_time, self.path_length
+        start_time, start_len, start_xy = self.sim_time, self.path_length, (self.pose.x, self.pose.y)
         new_free = new_occ = 0
         path_cells = self._to_truth_cells(path)
         tail = _tail_lengths(path)
@@ -369,7 +369,7 @@ class ExplorationSimulator:
             self.aborts += 1
             self.blacklist.append(center if center is not None else goal)
             self._candidates = None
-        self._log(weight, goal, outcome, start=(start_time, path[0]))
+        self._log(weight, goal, outcome, start=(start_time, start_xy))
         return LegResult(
             outcome, index, goal, self.sim_time - start_time, self.path_length - start_len, new_free, new_occ
         )
@@ -440,7 +440,7 @@ class ExplorationSimulator:
         weight: float | None,
         goal: tuple[float, float],
         outcome: LegOutcome,
-        start: tuple[float, NDArray[np.float64]] | None = None,
+        start: tuple[float, tuple[float, float]] | None = None,
     ) -> None:
         time_s, (x, y) = start if start is not None else (self.sim_time, (self.pose.x, self.pose.y))
         self.decisions.append(
