@@ -78,6 +78,23 @@ class OccupancyGrid:
             self.origin[1] + (row + 0.5) * self.resolution,
         )
 
+    def cells_to_world(self, cells: NDArray[np.int64]) -> NDArray[np.float64]:
+        """World coordinates (m), shape (n, 2) as (x, y), of the centres of (n, 2) (row, col) cells."""
+        cells = np.asarray(cells).reshape(-1, 2)
+        return np.column_stack(
+            (
+                self.origin[0] + (cells[:, 1] + 0.5) * self.resolution,
+                self.origin[1] + (cells[:, 0] + 0.5) * self.resolution,
+            )
+        )
+
+    def world_to_cells(self, xy: NDArray[np.float64]) -> NDArray[np.int64]:
+        """(row, col) cells, shape (n, 2), holding the (n, 2) world points (x, y) in metres."""
+        xy = np.asarray(xy, dtype=np.float64).reshape(-1, 2)
+        cols = np.floor((xy[:, 0] - self.origin[0]) / self.resolution).astype(np.int64)
+        rows = np.floor((xy[:, 1] - self.origin[1]) / self.resolution).astype(np.int64)
+        return np.column_stack((rows, cols))
+
     def in_bounds(self, row: int, col: int) -> bool:
         """Whether (row, col) is a cell of the grid."""
         return 0 <= row < self.height and 0 <= col < self.width

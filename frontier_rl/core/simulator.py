@@ -162,7 +162,7 @@ class ExplorationSimulator:
         return self._finished or len(self.candidates().frontiers) == 0
 
     def trajectory(self) -> NDArray[np.float64]:
-        """(n, 3) robot poses (x, y, theta) after every scan so far."""
+        """(n, 3) robot poses (x, y, theta) so far: after every drive step, at least at every map update."""
         return np.asarray(self._poses, dtype=np.float64).reshape(-1, 3)
 
     def map(self) -> OccupancyGrid:
@@ -224,13 +224,8 @@ class ExplorationSimulator:
                 self.aborts += 1
                 continue
             goal = cand.grid.cell_to_world(*goal_cell)
-            cells = cand.frontiers.cells_of(index)
-            frontier_xy = np.column_stack(
-                [cand.grid.origin[0] + (cells[:, 1] + 0.5) * cand.grid.resolution,
-                 cand.grid.origin[1] + (cells[:, 0] + 0.5) * cand.grid.resolution]
-            )  # fmt: skip
-            result = self._drive(path, goal, frontier_xy, center, index, weight)
-            return result
+            frontier_xy = cand.grid.cells_to_world(cand.frontiers.cells_of(index))
+            return self._drive(path, goal, frontier_xy, center, index, weight)
         self._candidates = None  # the blacklist changed
         self._finished = len(self.frontiers()) == 0
         self._log(weight, (math.nan, math.nan), LegOutcome.NONE)
@@ -259,14 +254,8 @@ class ExplorationSimulator:
         cells = cand.costmap.plan(start, goal_cell)
         if len(cells) == 0:
             return None
-        g = cand.grid
-        xy = np.column_stack(
-            (
-                g.origin[0] + (cells[:, 1] + 0.5) * g.resolution,
-                g.origin[1] + (cells[:, 0] + 0.5) * g.resolution,
-            )
-        )
-        xy[-1] = g.cell_to_world(*goal_cell)
+        xy = cand.grid.cells_to_world(cells)
+        xy[-1] = cand.grid.cell_to_world(*goal_cell)
         return xy
 
     def _replan(self, goal: tuple[float, float]) -> NDArray[np.float64] | None:
@@ -295,10 +284,10 @@ class ExplorationSimulator:
         truth = self.world.grid
         start_time, start_len, start_xy = self.sim_time, self.path_length, (self.pose.x, self.pose.y)
         new_free = new_occ = 0
-        path_cells = self._to_truth_cells(path)
+        path_cells = self.world.grid.world_to_cells(path)
         tail = _tail_lengths(path)
         careful = np.zeros(1, np.bool_)  # the follower's waypoint-by-waypoint mode, per path
-        frontier_cells = None if frontier_xy is None else self._to_truth_cells(frontier_xy)
+        frontier_cells = None if frontier_xy is None else self.world.grid.world_to_cells(frontier_xy)
         index_on_path = 0
         best_remaining = math.inf
         last_progress = self.sim_time
@@ -361,7 +350,7 @@ class ExplorationSimulator:
                     outcome = LegOutcome.TIMEOUT if self.truncated else LegOutcome.ABORTED
                     break
                 path = new_path
-                path_cells = self._to_truth_cells(path)
+                path_cells = self.world.grid.world_to_cells(path)
                 tail = _tail_lengths(path)
                 careful[0] = False
                 index_on_path = 0
@@ -428,12 +417,6 @@ class ExplorationSimulator:
                 new_free += seen[0]
                 new_occ += seen[1]
         return new_free, new_occ
-
-    def _to_truth_cells(self, xy: NDArray[np.float64]) -> NDArray[np.int64]:
-        g = self.world.grid
-        cols = np.floor((xy[:, 0] - g.origin[0]) / g.resolution).astype(np.int64)
-        rows = np.floor((xy[:, 1] - g.origin[1]) / g.resolution).astype(np.int64)
-        return np.column_stack((rows, cols))
 
     def _log(
         self,
