@@ -17,6 +17,8 @@ from frontier_rl.core.robot import Pose
 from frontier_rl.core.simulator import ExplorationSimulator, SimConfig
 from frontier_rl.core.worlds import World
 
+_MAX_STALLED_DECISIONS = 1000
+
 
 @dataclass(frozen=True)
 class DecisionContext:
@@ -83,7 +85,14 @@ def run_episode(
     started = time.perf_counter()
     hook_time = 0.0
     sim = ExplorationSimulator(world, config, sim_rng)
+    stalled = 0  # decisions in a row that took no simulated time: a bug guard, never a hang
     while not sim.truncated and not sim.done:
+        if stalled > _MAX_STALLED_DECISIONS:
+            raise RuntimeError(
+                f"episode on {world.name!r} stalled: {stalled} decisions in a row took no simulated time "
+                f"at t = {sim.sim_time:.1f} s"
+            )
+        before = sim.sim_time
         context = decision_context(sim)
         ranking = policy.rank(context, policy_rng)
         if on_decision is not None:
@@ -91,6 +100,7 @@ def run_episode(
             on_decision(sim, context, ranking)
             hook_time += time.perf_counter() - hook_started
         sim.execute(ranking.order, ranking.weight)
+        stalled = stalled + 1 if sim.sim_time == before else 0
     return sim.result(time.perf_counter() - started - hook_time)
 
 

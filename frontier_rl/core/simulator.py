@@ -317,8 +317,7 @@ class ExplorationSimulator:
                 break  # the sim-time cap: the leg ends as a timeout
             if frontier_cells is not None and self.sim_time >= next_frontier_check:
                 next_frontier_check = self.sim_time + nav.frontier_check_period
-                alive = count_fringe(self.mapper.state, frontier_cells[:, 0], frontier_cells[:, 1])
-                if alive <= cfg.min_frontier_cells:
+                if not self._frontier_alive(frontier_cells):
                     outcome = LegOutcome.EXPLORED
                     break
             remaining = math.hypot(path[index_on_path, 0] - x, path[index_on_path, 1] - y) + tail[index_on_path]
@@ -354,6 +353,18 @@ class ExplorationSimulator:
                 tail = _tail_lengths(path)
                 careful[0] = False
                 index_on_path = 0
+        # At the goal the frontier may still be there (seen edge-on, or hidden in the LiDAR's
+        # blind zone). Wait for the next map update; if it is still there, the robot cannot
+        # resolve it from here, so it is blacklisted: otherwise the same frontier would be chosen
+        # again and again, at no cost in time, for ever.
+        reached_alive = (
+            outcome is LegOutcome.REACHED and frontier_cells is not None and self._frontier_alive(frontier_cells)
+        )
+        if reached_alive and center is not None and frontier_cells is not None:
+            self._wait_for_map_update()
+            if self._frontier_alive(frontier_cells):
+                self.blacklist.append(center)
+                self._candidates = None
         if outcome is LegOutcome.ABORTED:
             self.aborts += 1
             self.blacklist.append(center if center is not None else goal)
@@ -362,6 +373,18 @@ class ExplorationSimulator:
         return LegResult(
             outcome, index, goal, self.sim_time - start_time, self.path_length - start_len, new_free, new_occ
         )
+
+    def _frontier_alive(self, cells: NDArray[np.int64]) -> bool:
+        """Whether more than ``min_frontier_cells`` of a frontier's cells are still fringe cells."""
+        return count_fringe(self.mapper.state, cells[:, 0], cells[:, 1]) > self.config.min_frontier_cells
+
+    def _wait_for_map_update(self) -> None:
+        """Stand still until the mapper has folded in the next scan (or the sim-time cap)."""
+        while not self.truncated:
+            duration, _ = self._until_next_scan()
+            self.sim_time += duration
+            if self._scan() is not None:
+                return
 
     def _until_next_scan(self) -> tuple[float, NDArray[np.float64]]:
         """How long (s) to drive before the mapper's time trigger, in whole LiDAR ticks (at most

@@ -72,6 +72,18 @@ def test_every_baseline_explores_the_real_maps(shared_maps: Path, map_name: str,
     check_episode(run_episode(real(shared_maps, map_name, k), make_policy(policy), seed=k))
 
 
+MORE_MAPS = ["nav2_depot/depot.yaml", "aws_small_house/map.yaml", "dungeon/easy/img_1.png", "stage/autolab.yaml"]
+
+
+@pytest.mark.parametrize("path", MORE_MAPS)
+def test_the_other_shared_maps_are_explored_without_stalling(shared_maps: Path, path: str) -> None:
+    """nav2_depot once left a frontier the robot could reach but never resolve: the same zero-time
+    decision repeated for ever. Reached-but-unresolved frontiers are now blacklisted."""
+    loaded = load_map(shared_maps / path)
+    world = make_world(loaded.grid, path, start=loaded.start, rng=np.random.default_rng(0))
+    check_episode(run_episode(world, make_policy("fixed:0.75"), seed=0))
+
+
 @pytest.mark.parametrize("world_name", GENERATED)
 def test_other_seeds_of_the_generated_worlds(world_name: str) -> None:
     for seed in (1, 2):
