@@ -83,35 +83,29 @@ class Scan(NamedTuple):
     dir_y: NDArray[np.float64]
 
 
-@nb.njit(cache=True)
-def add_range_noise(
-    ranges: NDArray[np.float64],
-    normals: NDArray[np.float64],
-    params: NDArray[np.float64],
-) -> None:
-    """Scale cell ranges to metres, add Gaussian noise, mark out-of-range beams (in place).
+@nb.njit(cache=True, inline="always")
+def noisy_range(cells: float, normal: float, params: NDArray[np.float64]) -> float:
+    """The reading (m) of a beam whose true range is ``cells`` (cells, ``inf`` for no return),
+    given one standard-normal draw: Gaussian noise, ``inf`` beyond max range, ``nan`` under min range.
 
     ``params`` = (resolution, min_range, max_range, sigma_abs, sigma_rel, rel_from), lengths in m.
     """
-    res, min_r, max_r, sigma_abs, sigma_rel, rel_from = (
-        params[0],
-        params[1],
-        params[2],
-        params[3],
-        params[4],
-        params[5],
-    )
+    r: float = cells * params[0]
+    if not math.isfinite(r):
+        return r
+    r += float(normal * (params[3] if r < params[5] else params[4] * r))
+    if r > params[2]:
+        return np.inf
+    if r < params[1]:
+        return np.nan
+    return r
+
+
+@nb.njit(cache=True)
+def add_range_noise(ranges: NDArray[np.float64], normals: NDArray[np.float64], params: NDArray[np.float64]) -> None:
+    """Turn cell ranges into noisy readings in metres, in place (see :func:`noisy_range`)."""
     for i in range(ranges.shape[0]):
-        r = ranges[i] * res
-        if not math.isfinite(r):
-            continue
-        sigma = sigma_abs if r < rel_from else sigma_rel * r
-        r += normals[i] * sigma
-        if r > max_r:
-            r = np.inf
-        elif r < min_r:
-            r = np.nan
-        ranges[i] = r
+        ranges[i] = noisy_range(ranges[i], normals[i], params)
 
 
 class Lidar:

@@ -17,6 +17,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from frontier_rl.core.grid import CellState
+from frontier_rl.core.lidar import noisy_range
 from frontier_rl.core.raycast import FASTMATH, ray_start
 
 HIT = np.int16(0x4000)  # bit set when a beam ended in the cell; the bits below count passes
@@ -205,14 +206,7 @@ def cast_and_mark(
             tm_c = tm_c + td_c if along_col else tm_c
             tm_r = tm_r if along_col else tm_r + td_r
             t = t_exit
-        r = t_hit * res  # the LiDAR's noise model, as in add_range_noise
-        if math.isfinite(r):
-            sigma = noise[3] if r < noise[5] else noise[4] * r
-            r += normals[i] * sigma
-            if r > max_r:
-                r = np.inf
-            elif r < noise[1]:
-                r = np.nan
+        r = noisy_range(t_hit, normals[i], noise)
         r_cells = r / res
         ranges[i] = r_cells
         limit = -1.0 if math.isnan(r_cells) else min(r_cells, usable) + 1e-9
