@@ -181,6 +181,34 @@ def bench_episodes(n_seeds: int) -> list[Row]:
     ]
 
 
+def bench_envs(n_episodes: int) -> list[Row]:
+    """Gymnasium env steps (decisions, with the observation encoding) per second on office worlds,
+    the action fixed at bin 75 (w = 0.75); episode resets are included."""
+    import gymnasium as gym
+
+    import frontier_rl
+
+    rows = []
+    for model, size, target in ((4, 64, 100.0), (4, 250, None), (3, 64, None), (5, 64, None)):
+        env = gym.make(frontier_rl.env_id(model, size))
+        env.reset(seed=0, options={"world_seed": WARMUP_SEED})
+        env.step(0)  # compile the path-cost kernel too
+        gc.collect()
+        steps = 0
+        started = time.perf_counter()
+        for k in range(n_episodes):
+            env.reset(seed=k, options={"world_seed": k})
+            done = False
+            while not done:
+                _, _, terminated, truncated, _ = env.step(75 if model != 5 else 0)
+                done = terminated or truncated
+                steps += 1
+        rate = steps / (time.perf_counter() - started)
+        label = f"Env steps per second per core, {frontier_rl.env_id(model, size)} ({n_episodes} office worlds)"
+        rows.append(Row(label, rate, "steps/s", target))
+    return rows
+
+
 def machine_info() -> dict[str, str]:
     """CPU model, core pinning and library versions."""
     cpu = platform.processor() or "unknown"
@@ -225,6 +253,7 @@ def main(argv: list[str] | None = None) -> int:
         bench_lidar(500 if args.quick else 2_000, 3 if args.quick else 15)
         + bench_frontiers(20 if args.quick else 200)
         + rows
+        + bench_envs(2 if args.quick else 10)
     )
     total = time.perf_counter() - started
 

@@ -1,7 +1,13 @@
 """frontier_rl: learn where a search-and-rescue robot should look next.
 
 A fast 2D frontier-exploration simulator (LiDAR, log-odds mapping, move_base-like navigation),
-the classic frontier-selection baselines, and the thesis's frontier-ranking models.
+the classic frontier-selection baselines, and the thesis's frontier-ranking models as Gymnasium
+environments (registered here under the ``FrontierRL/`` namespace).
 """
 
+from frontier_rl.registration import ENV_IDS, env_id, register_envs
+
 __version__ = "0.1.0"
+__all__ = ["ENV_IDS", "__version__", "env_id", "register_envs"]
+
+register_envs()

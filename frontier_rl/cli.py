@@ -1,4 +1,4 @@
-"""The ``frontier-rl`` command line: ``explore`` one episode, ``demo`` the built-in worlds."""
+"""The ``frontier-rl`` command line: ``explore`` one episode, ``demo`` the built-in worlds, ``train`` a model."""
 
 from __future__ import annotations
 
@@ -70,10 +70,13 @@ def explore(
     resolution: Annotated[float | None, typer.Option(help="Cell size (m) for map files without one.")] = None,
     config: Annotated[Path | None, typer.Option(help="SimConfig YAML (any subset of its fields).")] = None,
     max_time: Annotated[float | None, typer.Option(help="Sim-time cap of the episode (s).")] = None,
+    trust_model: Annotated[
+        bool, typer.Option(help="Allow learned:PATH to be an SB3 zip from elsewhere (unpickles it: runs its code).")
+    ] = False,
 ) -> None:
     """Explore one world with one policy and report time, distance and coverage."""
     sim_config = _sim_config(config, max_time)
-    chosen = make_policy(policy)
+    chosen = make_policy(policy, trust_model=trust_model)
     the_world = resolve_world(world, seed, parse_pose(start) if start else None, resolution)
     for out in (png, gif):
         if out is not None and not out.parent.exists():
@@ -86,6 +89,11 @@ def explore(
     if recorder is not None and gif is not None:
         recorder.save_gif(gif)
     summary = {"world": the_world.name, "seed": seed, "policy": chosen.name, **result.summary()}
+    weights = [d.weight for d in result.decision_log if d.weight is not None]
+    if weights and as_json:
+        summary["weights"] = weights  # the weight of every decision, in order
+    elif weights:
+        summary["mean_weight"] = round(float(sum(weights) / len(weights)), 3)
     if as_json:
         typer.echo(json.dumps(summary))
         return
@@ -130,6 +138,38 @@ def demo(
     (out / "results.json").write_text(json.dumps(rows, indent=1))
     Console().print(table)
     Console().print(f"pictures and results.json in {out}/")
+
+
+@app.command()
+@_friendly_errors
+def train(
+    out: Annotated[Path, typer.Option(help="Run directory: config, checkpoints, logs, model.zip, learning curve.")],
+    model: Annotated[int, typer.Option(help="Thesis model: 1, 2 (point), 3, 4 (weight), 5 (frontier choice).")] = 4,
+    worlds: Annotated[str, typer.Option(help="Comma-separated generators and map files or folders.")] = "office",
+    timesteps: Annotated[int, typer.Option(help="Decisions to train for.")] = 100_000,
+    n_envs: Annotated[int, typer.Option(help="Parallel environments (subprocesses).")] = 2,
+    algo: Annotated[str, typer.Option(help="a2c (the thesis) or ppo.")] = "a2c",
+    observation_size: Annotated[int, typer.Option(help="Map image edge: 64 or 250 pixels.")] = 64,
+    reward: Annotated[str, typer.Option(help="Reward preset: normalised or thesis.")] = "normalised",
+    learning_rate: Annotated[float, typer.Option(help="Optimizer step size.")] = 7e-4,
+    n_steps: Annotated[int, typer.Option(help="Decisions per env between updates.")] = 8,
+    seed: Annotated[int, typer.Option(help="Seeds the envs and the network.")] = 0,
+    eval_every: Annotated[int, typer.Option(help="Decisions between validations (0: none).")] = 10_000,
+    checkpoint_every: Annotated[int, typer.Option(help="Decisions between checkpoints (0: none).")] = 10_000,
+    resume: Annotated[bool, typer.Option(help="Continue the run in --out from its last checkpoint.")] = False,
+    progress: Annotated[bool, typer.Option(help="Show a progress bar.")] = True,
+) -> None:
+    """Train a thesis model with Stable-Baselines3 (A2C as in the thesis, or PPO)."""
+    from frontier_rl.rl.config import TrainConfig
+    from frontier_rl.rl.train import train as run_training
+
+    config = TrainConfig(
+        model=model, worlds=worlds, timesteps=timesteps, n_envs=n_envs, algo=algo,
+        observation_size=observation_size, reward=reward, learning_rate=learning_rate, n_steps=n_steps,
+        seed=seed, eval_every=eval_every, checkpoint_every=checkpoint_every,
+    )  # fmt: skip
+    final = run_training(config, out, resume=resume, progress=progress)
+    Console().print(f"model: {final}   learning curve: {out / 'learning_curve.png'}")
 
 
 def main() -> None:

@@ -96,3 +96,42 @@ def test_max_time_truncates(shared_maps: Path) -> None:
     data = json.loads(result.stdout.strip().splitlines()[-1])
     assert data["truncated"] is True and data["done"] is False
     assert data["sim_time_s"] == pytest.approx(4.0)
+
+
+def test_train_then_explore_with_the_learned_policy(tmp_path: Path) -> None:
+    run = tmp_path / "run"
+    args = ["train", "--out", str(run), "--model", "4", "--timesteps", "16", "--n-envs", "1", "--n-steps", "8",
+            "--eval-every", "0", "--checkpoint-every", "8", "--no-progress"]  # fmt: skip
+    result = runner.invoke(app, args)
+    assert result.exit_code == 0, result.output
+    assert (run / "model.zip").exists() and (run / "learning_curve.png").exists()
+    again = runner.invoke(app, args)
+    assert again.exit_code == 2 and "--resume" in again.output
+    model = str(run / "model.zip")
+    result = runner.invoke(app, ["explore", "--policy", f"learned:{model}", "--max-time", "60", "--json"])
+    assert result.exit_code == 0, result.output
+    data = json.loads(result.stdout.strip().splitlines()[-1])
+    assert data["policy"] == f"learned:{model}"
+    assert len(data["weights"]) == data["decisions"] and all(0 <= w < 1 for w in data["weights"])
+
+
+@pytest.mark.parametrize(
+    ("args", "needle"),
+    [(["--model", "9"], "unknown model 9"), (["--algo", "sac"], "sac"), (["--worlds", "moon"], "moon"),
+     (["--observation-size", "100"], "100"), (["--timesteps", "0"], "timesteps"), (["--resume"], "nothing to resume")],
+)  # fmt: skip
+def test_bad_training_input_is_one_line_and_exit_2(tmp_path: Path, args: list[str], needle: str) -> None:
+    result = runner.invoke(app, ["train", "--out", str(tmp_path / "run"), "--no-progress", *args])
+    assert result.exit_code == 2
+    assert needle in result.output and "Traceback" not in result.output
+    assert len(result.output.strip().splitlines()) == 1
+
+
+@pytest.mark.parametrize(
+    ("spec", "needle"),
+    [("learned:missing.zip", "not found"), ("learned:README.md", "not a frontier_rl model"), ("learned:", "needs")],
+)
+def test_bad_learned_policy_is_one_line_and_exit_2(spec: str, needle: str) -> None:
+    result = runner.invoke(app, ["explore", "--policy", spec])
+    assert result.exit_code == 2
+    assert needle in result.output and "Traceback" not in result.output

@@ -41,10 +41,12 @@ class DecisionContext:
 
 @dataclass(frozen=True)
 class Ranking:
-    """A policy's answer: frontier indices best first, and the weight it used (if any)."""
+    """A policy's answer: frontier indices best first, and the weight it used (if any); or, for
+    point-goal policies, a ``goal`` (x, y) in m to drive to instead (``order`` is then ignored)."""
 
     order: NDArray[np.int64]
     weight: float | None = None
+    goal: tuple[float, float] | None = None
 
 
 class ExplorationPolicy(Protocol):
@@ -99,7 +101,10 @@ def run_episode(
             hook_started = time.perf_counter()
             on_decision(sim, context, ranking)
             hook_time += time.perf_counter() - hook_started
-        sim.execute(ranking.order, ranking.weight)
+        if ranking.goal is not None:
+            sim.go_to(*ranking.goal, ranking.weight)
+        else:
+            sim.execute(ranking.order, ranking.weight)
         stalled = stalled + 1 if sim.sim_time == before else 0
     return sim.result(time.perf_counter() - started - hook_time)
 

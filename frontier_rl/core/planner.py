@@ -86,6 +86,13 @@ class Costmap:
                 reach = flood_known(self.open_padded, self.grid.data, *nearest)
         return reach
 
+    def cost_to_go(self, start: tuple[int, int]) -> NDArray[np.float64]:
+        """Planner path cost (m, weighted by the cell costs) from ``start`` (row, col) to every
+        traversable cell; inf where there is no path."""
+        if not self.grid.in_bounds(*start):
+            return np.full(self.grid.shape, np.inf)
+        return cost_to_go_padded(self.open_padded, self.cost_padded, start[0], start[1]) * self.grid.resolution
+
     def plan(self, start: tuple[int, int], goal: tuple[int, int], escape_radius: float = 0.25) -> NDArray[np.int64]:
         """A* path (cells, (n, 2) rows and columns) from ``start`` to ``goal``; empty if none.
 
@@ -189,6 +196,40 @@ def astar(
     return astar_padded(open_padded, cost_padded, no_escape, start_r, start_c, goal_r, goal_c, 0.0)
 
 
+@nb.njit(inline="always")
+def _heap_push(heap_f: NDArray[np.float64], heap_i: NDArray[np.int64], size: int, f: float, item: int) -> int:
+    """Push ``item`` with priority ``f`` onto the binary min-heap of ``size`` entries; returns the new size."""
+    pos = size
+    while pos > 0:
+        up = (pos - 1) // 2
+        if heap_f[up] <= f:
+            break
+        heap_f[pos], heap_i[pos] = heap_f[up], heap_i[up]
+        pos = up
+    heap_f[pos], heap_i[pos] = f, item
+    return size + 1
+
+
+@nb.njit(inline="always")
+def _heap_pop(heap_f: NDArray[np.float64], heap_i: NDArray[np.int64], size: int) -> int:
+    """Remove the root (read it first) of the min-heap of ``size`` entries; returns the new size."""
+    size -= 1  # move the last entry to the root and sift it down
+    last_f, last_i = heap_f[size], heap_i[size]
+    pos = 0
+    while True:
+        child = 2 * pos + 1
+        if child >= size:
+            break
+        if child + 1 < size and heap_f[child + 1] < heap_f[child]:
+            child += 1
+        if heap_f[child] >= last_f:
+            break
+        heap_f[pos], heap_i[pos] = heap_f[child], heap_i[child]
+        pos = child
+    heap_f[pos], heap_i[pos] = last_f, last_i
+    return size
+
+
 @nb.njit(cache=True)
 def astar_padded(
     open_padded: NDArray[np.bool_],
@@ -241,20 +282,7 @@ def astar_padded(
     g[start] = 0.0
     while size > 0:
         cur = heap_i[0]
-        size -= 1  # pop: move the last entry to the root and sift it down
-        last_f, last_i = heap_f[size], heap_i[size]
-        pos = 0
-        while True:
-            child = 2 * pos + 1
-            if child >= size:
-                break
-            if child + 1 < size and heap_f[child + 1] < heap_f[child]:
-                child += 1
-            if heap_f[child] >= last_f:
-                break
-            heap_f[pos], heap_i[pos] = heap_f[child], heap_i[child]
-            pos = child
-        heap_f[pos], heap_i[pos] = last_f, last_i
+        size = _heap_pop(heap_f, heap_i, size)
         if closed[cur]:
             continue
         closed[cur] = True
@@ -277,15 +305,7 @@ def astar_padded(
                 dr = abs(nxt // pcols - goal_r - 1)
                 dc = abs(nxt % pcols - goal_c - 1)
                 f = new_g + (_SQRT2 - 1.0) * min(dr, dc) + max(dr, dc)
-                pos = size  # push: sift up
-                size += 1
-                while pos > 0:
-                    up = (pos - 1) // 2
-                    if heap_f[up] <= f:
-                        break
-                    heap_f[pos], heap_i[pos] = heap_f[up], heap_i[up]
-                    pos = up
-                heap_f[pos], heap_i[pos] = f, nxt
+                size = _heap_push(heap_f, heap_i, size, f, nxt)
     if not closed[goal]:
         return np.zeros((0, 2), np.int64)
     length = 1
@@ -300,3 +320,47 @@ def astar_padded(
         path[i, 1] = cur % pcols - 1
         cur = parent[cur]
     return path
+
+
+@nb.njit(cache=True)
+def cost_to_go_padded(
+    open_padded: NDArray[np.bool_], cost_padded: NDArray[np.float64], start_r: int, start_c: int
+) -> NDArray[np.float64]:
+    """Dijkstra from (start_r, start_c) (unpadded) with the planner's step costs: the path cost (cells)
+    to every traversable cell, inf where unreachable. Unpadded shape."""
+    rows, pcols = open_padded.shape
+    n = open_padded.size
+    open_ok = open_padded.reshape(-1)
+    cost = cost_padded.reshape(-1)
+    start = (start_r + 1) * pcols + start_c + 1
+    offsets = np.array([-pcols, pcols, -1, 1, -pcols - 1, -pcols + 1, pcols - 1, pcols + 1])
+    side_row = np.array([0, 0, 0, 0, -pcols, -pcols, pcols, pcols])
+    side_col = np.array([0, 0, 0, 0, -1, 1, -1, 1])
+    g = np.full(n, np.inf)
+    closed = np.zeros(n, np.bool_)
+    heap_f = np.empty(8 * n + 8)
+    heap_i = np.empty(8 * n + 8, np.int64)
+    g[start] = 0.0
+    heap_f[0], heap_i[0] = 0.0, start
+    size = 1
+    while size > 0:
+        cur = heap_i[0]
+        size = _heap_pop(heap_f, heap_i, size)
+        if closed[cur]:
+            continue
+        closed[cur] = True
+        for k in range(8):
+            nxt = cur + offsets[k]
+            if not open_ok[nxt] or closed[nxt]:
+                continue
+            if k >= 4:
+                if not (open_ok[cur + side_row[k]] and open_ok[cur + side_col[k]]):
+                    continue
+                step = _SQRT2
+            else:
+                step = 1.0
+            new_g = g[cur] + step * cost[nxt]
+            if new_g < g[nxt]:
+                g[nxt] = new_g
+                size = _heap_push(heap_f, heap_i, size, new_g, nxt)
+    return g.reshape(rows, pcols)[1:-1, 1:-1].copy()

@@ -233,7 +233,9 @@ class ExplorationSimulator:
                          self.path_length - start_len, 0, 0)  # fmt: skip
 
     def go_to(self, x: float, y: float, weight: float | None = None) -> LegResult:
-        """Drive to the reachable cell nearest to world point (x, y) (m): the point-goal action."""
+        """Drive to the reachable cell nearest to world point (x, y) (m): the point-goal action. A
+        point no path leads to costs a recovery rotation and is given up; a point where the robot
+        already is costs one turn on the spot. Every call takes simulated time."""
         cand = self.candidates()
         row, col = cand.grid.world_to_cell(x, y)
         row = min(max(row, 0), cand.grid.height - 1)
@@ -241,10 +243,20 @@ class ExplorationSimulator:
         goal_cell = nearest_cell(cand.reachable, (row, col), max_radius=_grid_diagonal(cand.grid))
         path = None if goal_cell is None else self._plan(cand, goal_cell)
         if path is None or goal_cell is None:
+            # move_base's answer to a goal it cannot plan to: a recovery rotation, then give up.
+            # It costs time, so a point policy cannot pick unreachable cells for free.
+            start_time = self.sim_time
             self.aborts += 1
             self._log(weight, (x, y), LegOutcome.ABORTED)
-            return LegResult(LegOutcome.ABORTED, -1, (x, y), 0.0, 0.0, 0, 0)
+            new_free, new_occ = self._rotate_in_place()
+            return LegResult(LegOutcome.ABORTED, -1, (x, y), self.sim_time - start_time, 0.0, new_free, new_occ)
         goal = cand.grid.cell_to_world(*goal_cell)
+        if math.hypot(goal[0] - self.pose.x, goal[1] - self.pose.y) <= self.config.navigation.goal_tolerance:
+            # already there: the robot looks around once, so that no decision is free of time
+            start_time = self.sim_time
+            self._log(weight, goal, LegOutcome.REACHED)
+            new_free, new_occ = self._rotate_in_place()
+            return LegResult(LegOutcome.REACHED, -1, goal, self.sim_time - start_time, 0.0, new_free, new_occ)
         return self._drive(path, goal, None, None, -1, weight)
 
     # ------------------------------------------------------------- navigation

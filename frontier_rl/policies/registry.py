@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 from collections.abc import Callable
+from pathlib import Path
 
 from frontier_rl.core.episode import ExplorationPolicy
 from frontier_rl.errors import ConfigError, UnknownNameError
@@ -23,12 +24,20 @@ _SIMPLE: dict[str, Callable[[], ExplorationPolicy]] = {
     "random": RandomFrontier,
 }
 
-POLICY_NAMES: tuple[str, ...] = (*_SIMPLE, "fixed:W")
+POLICY_NAMES: tuple[str, ...] = (*_SIMPLE, "fixed:W", "learned:PATH.zip")
 
 
-def make_policy(spec: str) -> ExplorationPolicy:
-    """The policy named by ``spec`` (one of :data:`POLICY_NAMES`, ``fixed:W`` with W in [0, 1])."""
+def make_policy(spec: str, trust_model: bool = False) -> ExplorationPolicy:
+    """The policy named by ``spec`` (one of :data:`POLICY_NAMES`, ``fixed:W`` with W in [0, 1],
+    ``learned:PATH`` a model file of ``frontier-rl train``; ``trust_model`` also admits SB3 zips
+    from elsewhere, which unpickles them)."""
     name, _, arg = spec.strip().partition(":")
+    if name == "learned":
+        if not arg:
+            raise ConfigError(f"learned:PATH needs a model file, got {spec!r}")
+        from frontier_rl.policies.learned import LearnedPolicy  # torch only when asked for
+
+        return LearnedPolicy(Path(arg), trust=trust_model)
     if name == "fixed":
         try:
             weight = float(arg)

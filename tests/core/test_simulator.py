@@ -14,13 +14,13 @@ from frontier_rl.core.episode import run_episode
 from frontier_rl.core.grid import CellState, OccupancyGrid
 from frontier_rl.core.metrics import DecisionRecord, EpisodeResult
 from frontier_rl.core.robot import Pose
-from frontier_rl.core.simulator import ExplorationSimulator, SimConfig
+from frontier_rl.core.simulator import ExplorationSimulator, LegOutcome, SimConfig
 from frontier_rl.core.worlds import World, generate_world, make_world
 from frontier_rl.errors import ConfigError
 from frontier_rl.io import load_map
 from frontier_rl.policies import POLICY_NAMES, make_policy
 
-POLICIES = ["fixed:0.75" if name == "fixed:W" else name for name in POLICY_NAMES]
+POLICIES = ["fixed:0.75" if name == "fixed:W" else name for name in POLICY_NAMES if not name.startswith("learned")]
 GENERATED = ["office", "rooms", "cluttered"]
 REAL_MAPS = {"lse_arena": "lse_arena/lse_arena.yaml", "turtlebot3_world": "turtlebot3_world/map.yaml"}
 FREE, OCC = CellState.FREE.value, CellState.OCCUPIED.value
@@ -242,3 +242,15 @@ def test_reset_starts_over() -> None:
 def test_bad_sim_config_raises_config_error_naming_the_value(kwargs: dict[str, float], named: str) -> None:
     with pytest.raises(ConfigError, match=named.replace(".", r"\.")):
         SimConfig(**kwargs)  # type: ignore[arg-type]
+
+
+def test_go_to_always_takes_time() -> None:
+    """A point goal at the robot or beyond the map still costs time (no free decisions)."""
+    sim = ExplorationSimulator(generate_world("office", 0))
+    here = sim.go_to(sim.pose.x, sim.pose.y)
+    assert here.outcome is LegOutcome.REACHED and here.duration_s > 2.0 and here.distance_m == 0.0
+    far = sim.go_to(500.0, -500.0)
+    assert far.duration_s > 0
+    before = sim.sim_time
+    sim.go_to(sim.pose.x + 1.0, sim.pose.y)
+    assert sim.sim_time > before

@@ -31,7 +31,7 @@ SIMPLE = {
 
 
 def test_policy_names() -> None:
-    assert set(POLICY_NAMES) == {*SIMPLE, "fixed:W"}
+    assert set(POLICY_NAMES) == {*SIMPLE, "fixed:W", "learned:PATH.zip"}
 
 
 @pytest.mark.parametrize("name", sorted(SIMPLE))

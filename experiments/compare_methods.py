@@ -1,0 +1,137 @@
+"""Paired comparison of exploration methods on procedural worlds (the issue-3 experiment).
+
+Every method explores the same worlds: episode i uses generator seed ``first_seed + i`` for the
+world, its start pose and the sensor noise. Results are appended to ``OUT/episodes.jsonl`` as
+episodes finish (a rerun skips finished ones); ``OUT/summary.json`` and ``OUT/table.md`` hold the
+paired statistics of every method against the baseline.
+
+    .venv/bin/python experiments/compare_methods.py --methods fixed:0.75,learned:models/model4.zip \
+        --world office --episodes 100 --first-seed 0 --out results/model4_vs_fixed
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import os
+from concurrent.futures import ProcessPoolExecutor, as_completed
+from pathlib import Path
+
+import numpy as np
+from scipy import stats
+
+SWEEP = tuple(f"fixed:{0.05 * i:.2f}" for i in range(21))
+
+
+def _episode(method: str, world: str, seed: int) -> dict[str, object]:
+    from frontier_rl.core.episode import run_episode
+    from frontier_rl.policies.registry import make_policy
+    from frontier_rl.world_spec import resolve_world
+
+    result = run_episode(resolve_world(world, seed), make_policy(method), seed=seed)
+    row: dict[str, object] = {"method": method, "world": world, "seed": seed, **result.summary()}
+    weights = [d.weight for d in result.decision_log if d.weight is not None]
+    if weights:
+        row["mean_weight"] = float(np.mean(weights))
+    return row
+
+
+def _load(path: Path) -> dict[tuple[str, str, int], dict[str, object]]:
+    rows: dict[tuple[str, str, int], dict[str, object]] = {}
+    if path.exists():
+        for line in path.read_text().splitlines():
+            if line.strip():
+                row = json.loads(line)
+                rows[(row["method"], row["world"], row["seed"])] = row
+    return rows
+
+
+def summarise(
+    rows: dict[tuple[str, str, int], dict[str, object]], methods: list[str], world: str, seeds: list[int], baseline: str
+) -> dict[str, object]:
+    """Paired statistics of each method's exploration time against ``baseline``."""
+
+    def times(m: str) -> np.ndarray:
+        return np.array([float(rows[(m, world, s)]["sim_time_s"]) for s in seeds])
+
+    base = times(baseline)
+    out: dict[str, object] = {"baseline": baseline, "world": world, "episodes": len(seeds), "methods": {}}
+    for m in methods:
+        t = times(m)
+        diff = base - t
+        entry = {
+            "n": len(t),
+            "mean_time_s": float(t.mean()),
+            "var_time_s": float(t.var(ddof=1)),
+            "all_done": bool(all(rows[(m, world, s)]["done"] for s in seeds)),
+        }
+        if m != baseline:
+            half = stats.t.ppf(0.975, len(t) - 1) * diff.std(ddof=1) / np.sqrt(len(t))
+            entry |= {
+                "mean_diff_s": float(diff.mean()),
+                "ci95_s": [float(diff.mean() - half), float(diff.mean() + half)],
+                "p_one_tailed": float(stats.ttest_rel(t, base, alternative="less").pvalue),
+                "p_two_tailed": float(stats.ttest_rel(t, base).pvalue),
+                "reduction_pct": float(100 * diff.mean() / base.mean()),
+            }
+        weights = [rows[(m, world, s)].get("mean_weight") for s in seeds]
+        if all(w is not None for w in weights):
+            entry["mean_weight"] = float(np.mean(weights))
+        out["methods"][m] = entry  # type: ignore[index]
+    return out
+
+
+def main() -> None:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--methods", required=True, help="comma-separated policy specs; 'sweep' adds fixed:0.00..1.00")
+    parser.add_argument("--baseline", default="fixed:0.75")
+    parser.add_argument("--world", default="office")
+    parser.add_argument("--episodes", type=int, default=100)
+    parser.add_argument("--first-seed", type=int, default=0)
+    parser.add_argument("--workers", type=int, default=os.cpu_count() or 1)
+    parser.add_argument("--out", type=Path, required=True)
+    args = parser.parse_args()
+
+    methods: list[str] = []
+    for m in args.methods.split(","):
+        for name in SWEEP if m == "sweep" else (m,):
+            if name not in methods:
+                methods.append(name)
+    if args.baseline not in methods:
+        methods.insert(0, args.baseline)
+    seeds = list(range(args.first_seed, args.first_seed + args.episodes))
+    args.out.mkdir(parents=True, exist_ok=True)
+    log = args.out / "episodes.jsonl"
+    rows = _load(log)
+    todo = [(m, args.world, s) for m in methods for s in seeds if (m, args.world, s) not in rows]
+    print(f"{len(todo)} episodes to run ({len(rows)} already in {log})", flush=True)
+    with ProcessPoolExecutor(args.workers) as pool, log.open("a") as sink:
+        futures = [pool.submit(_episode, *job) for job in todo]
+        for i, future in enumerate(as_completed(futures), 1):
+            row = future.result()
+            sink.write(json.dumps(row) + "\n")
+            sink.flush()
+            rows[(row["method"], row["world"], row["seed"])] = row  # type: ignore[index]
+            if i % 50 == 0:
+                print(f"  {i}/{len(todo)}", flush=True)
+    summary = summarise(rows, methods, args.world, seeds, args.baseline)
+    (args.out / "summary.json").write_text(json.dumps(summary, indent=2) + "\n")
+    lines = [
+        "| method | mean time (s) | reduction vs baseline | 95 % CI of the difference (s) | p (one-tailed) |",
+        "|---|---:|---:|---:|---:|",
+    ]
+    for m, e in summary["methods"].items():  # type: ignore[union-attr]
+        if m == args.baseline:
+            lines.append(f"| {m} (baseline) | {e['mean_time_s']:.1f} | | | |")
+        else:
+            lo, hi = e["ci95_s"]
+            lines.append(
+                f"| {m} | {e['mean_time_s']:.1f} | {e['reduction_pct']:+.1f} % | {lo:.1f} … {hi:.1f} "
+                f"| {e['p_one_tailed']:.2g} |"
+            )
+    (args.out / "table.md").write_text("\n".join(lines) + "\n")
+    print("\n".join(lines))
+
+
+if __name__ == "__main__":
+    main()

@@ -1,0 +1,172 @@
+"""Observation encoders: the robot's map as a fixed-size image, and per-frontier features.
+
+The map image follows the thesis (§3.9): occupied → −1, unknown → 0, free → 1, padded with unknown
+to a fixed square. It is stored as ``uint8`` (occupied 0, unknown 128, free 255), an affine image of
+the thesis's values, so that Stable-Baselines3's ``CnnPolicy`` (which divides by 255) takes it as is.
+Optional channels mark the candidate frontiers' cells and the robot's position (thesis models 1 and 3).
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+from typing import TypeVar
+
+import numpy as np
+from numpy.typing import NDArray
+
+from frontier_rl.core.frontiers import Frontiers
+from frontier_rl.core.grid import CellState, OccupancyGrid
+from frontier_rl.core.mapping import downsample
+from frontier_rl.core.robot import Pose
+from frontier_rl.errors import ConfigError
+
+ScalarT = TypeVar("ScalarT", bound=np.generic)
+
+THESIS_INPUT_CELLS = 250
+"""Edge of the thesis's model input (cells): 12.5 m at 0.05 m, the whole office maze."""
+
+MAP_OCCUPIED, MAP_UNKNOWN, MAP_FREE = 0, 128, 255
+"""The uint8 pixel values of the map channel: the thesis's −1 / 0 / 1 mapped onto 0..255."""
+
+MARK = 255
+"""Pixel value of a frontier cell or the robot in the frontier and pose channels."""
+
+POSE_RADIUS_M = 0.2
+"""Radius (m) of the disc that marks the robot in the pose channel (visible after downsampling)."""
+
+FRONTIER_FEATURES = ("distance", "path_cost", "size", "information_gain", "dx", "dy")
+"""Per-frontier features of the frontier-choice observation, in column order."""
+
+
+@dataclass(frozen=True)
+class MapEncoder:
+    """Encodes a map (plus frontiers and pose) as a ``(channels, size, size)`` uint8 image.
+
+    Attributes:
+        size: edge of the output image (pixels). 250 is the thesis's input; 64 the downsampled
+            input of Niroui et al. The map window always spans at least 250 cells: ``size × factor``
+            cells with ``factor = ceil(250 / size)``, so 64 shows a 256-cell window at 4 cells a pixel.
+        frontier_channel: add a channel marking the candidate frontiers' cells.
+        pose_channel: add a channel marking the robot.
+    """
+
+    size: int = THESIS_INPUT_CELLS
+    frontier_channel: bool = False
+    pose_channel: bool = False
+
+    def __post_init__(self) -> None:
+        if not 8 <= self.size <= 1024:
+            raise ConfigError(f"observation size must be between 8 and 1024 pixels, got {self.size!r}")
+
+    @property
+    def factor(self) -> int:
+        """Cells per pixel along each axis."""
+        return math.ceil(THESIS_INPUT_CELLS / self.size)
+
+    @property
+    def window(self) -> int:
+        """Edge of the map window (cells)."""
+        return self.size * self.factor
+
+    @property
+    def channels(self) -> int:
+        """Number of image channels."""
+        return 1 + int(self.frontier_channel) + int(self.pose_channel)
+
+    @property
+    def shape(self) -> tuple[int, int, int]:
+        """The observation's shape, channels first."""
+        return (self.channels, self.size, self.size)
+
+    def window_origin(self, grid: OccupancyGrid, pose: Pose) -> tuple[int, int]:
+        """(row, col) of ``grid`` at the window's first pixel: the window is centred on the map and
+        shifted, if needed, so that it contains the robot."""
+        half = self.window // 2
+        row0 = grid.height // 2 - half
+        col0 = grid.width // 2 - half
+        r, c = grid.world_to_cell(pose.x, pose.y)
+        margin = min(half, max(2 * self.factor, 4))
+        row0 = min(max(row0, r + margin - self.window + 1), r - margin)
+        col0 = min(max(col0, c + margin - self.window + 1), c - margin)
+        return row0, col0
+
+    def pixel_to_world(self, grid: OccupancyGrid, pose: Pose, row: int, col: int) -> tuple[float, float]:
+        """World (x, y) (m) of the centre of pixel (``row``, ``col``) of an image encoded from
+        ``grid`` with the robot at ``pose``."""
+        row0, col0 = self.window_origin(grid, pose)
+        f = self.factor
+        cell_r = row0 + (row + 0.5) * f
+        cell_c = col0 + (col + 0.5) * f
+        return (grid.origin[0] + cell_c * grid.resolution, grid.origin[1] + cell_r * grid.resolution)
+
+    def encode(self, grid: OccupancyGrid, pose: Pose, frontiers: Frontiers | None = None) -> NDArray[np.uint8]:
+        """The observation image of ``grid`` with the robot at ``pose``; ``frontiers`` is needed
+        when the encoder has a frontier channel."""
+        row0, col0 = self.window_origin(grid, pose)
+        window = _crop(grid.data, row0, col0, self.window, CellState.UNKNOWN)
+        out = np.empty(self.shape, np.uint8)
+        state = downsample(window, self.factor) if self.factor > 1 else window
+        out[0] = MAP_UNKNOWN
+        out[0][state == CellState.OCCUPIED] = MAP_OCCUPIED
+        out[0][state == CellState.FREE] = MAP_FREE
+        channel = 1
+        if self.frontier_channel:
+            if frontiers is None:
+                raise ConfigError("this encoder has a frontier channel: pass the frontiers")
+            marks = np.zeros(grid.shape, np.bool_).reshape(-1)
+            for start, end in frontiers.spans:
+                marks[frontiers.flat_cells[start:end]] = True
+            out[channel] = _pool_marks(_crop(marks.reshape(grid.shape), row0, col0, self.window, False), self.factor)
+            channel += 1
+        if self.pose_channel:
+            out[channel] = _pool_marks(self._pose_disc(grid, pose, row0, col0), self.factor)
+        return out
+
+    def _pose_disc(self, grid: OccupancyGrid, pose: Pose, row0: int, col0: int) -> NDArray[np.bool_]:
+        radius = max(POSE_RADIUS_M / grid.resolution, 1.0)
+        rows = np.arange(self.window)[:, None] + row0 + 0.5
+        cols = np.arange(self.window)[None, :] + col0 + 0.5
+        r = (pose.y - grid.origin[1]) / grid.resolution
+        c = (pose.x - grid.origin[0]) / grid.resolution
+        return np.asarray((rows - r) ** 2 + (cols - c) ** 2 <= radius * radius, dtype=np.bool_)
+
+
+def _crop(data: NDArray[ScalarT], row0: int, col0: int, size: int, fill: object) -> NDArray[ScalarT]:
+    """The ``size`` × ``size`` window of ``data`` starting at (row0, col0), ``fill`` outside."""
+    out = np.full((size, size), fill, dtype=data.dtype)
+    r0, c0 = max(row0, 0), max(col0, 0)
+    r1, c1 = min(row0 + size, data.shape[0]), min(col0 + size, data.shape[1])
+    if r1 > r0 and c1 > c0:
+        out[r0 - row0 : r1 - row0, c0 - col0 : c1 - col0] = data[r0:r1, c0:c1]
+    return out
+
+
+def _pool_marks(marks: NDArray[np.bool_], factor: int) -> NDArray[np.uint8]:
+    """Max-pool a boolean mask by ``factor`` into a 0 / :data:`MARK` channel."""
+    if factor > 1:
+        n = marks.shape[0] // factor
+        return np.where(marks.reshape(n, factor, n, factor).any(axis=(1, 3)), MARK, 0).astype(np.uint8)
+    return np.where(marks, MARK, 0).astype(np.uint8)
+
+
+def frontier_features(
+    frontiers: Frontiers, pose: Pose, path_costs: NDArray[np.float64], sensor_range: float
+) -> NDArray[np.float32]:
+    """(n, 6) features of each frontier, scaled to about [−1, 1] (see :data:`FRONTIER_FEATURES`):
+    straight-line distance and path cost to the centre over 10 m, size over 100 cells, information
+    gain as a share of a full scan's disc, and the centre's offset from the robot over 10 m."""
+    res = frontiers.grid.resolution
+    disc_cells = math.pi * (sensor_range / res) ** 2
+    gains = frontiers.information_gain(sensor_range)
+    feats = np.column_stack(
+        (
+            frontiers.distances / 10.0,
+            np.minimum(path_costs, 100.0) / 10.0,
+            np.minimum(frontiers.sizes, 1000) / 100.0,
+            gains / disc_cells,
+            (frontiers.centers[:, 0] - pose.x) / 10.0,
+            (frontiers.centers[:, 1] - pose.y) / 10.0,
+        )
+    )
+    return feats.astype(np.float32).reshape(-1, len(FRONTIER_FEATURES))

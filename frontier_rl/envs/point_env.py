@@ -1,0 +1,63 @@
+"""Thesis models 1 and 2: the policy picks a cell of the map image and the robot navigates there."""
+
+from __future__ import annotations
+
+from typing import Any
+
+import gymnasium as gym
+import numpy as np
+from numpy.typing import NDArray
+
+from frontier_rl.core.grid import CellState
+from frontier_rl.core.simulator import LegResult
+from frontier_rl.envs.base import EnvConfig, ExplorationEnv
+from frontier_rl.envs.observation import MAP_FREE, MAP_OCCUPIED, MapEncoder
+
+
+class PointEnv(ExplorationEnv[NDArray[np.uint8]]):
+    """Observation: the map image (model 2), or the map, frontier and pose channels (model 1).
+    Action: a pixel of the image, ``row · size + col``; the robot drives to the reachable cell
+    nearest to that pixel's centre. On top of the preset's leg reward, the chosen cell earns the
+    thesis's table 3.1 reward by its state in the image (free, unknown, occupied, next to a wall).
+
+    Args:
+        config: shared settings (:class:`EnvConfig`).
+        with_frontiers_and_pose: add the frontier and pose channels (thesis model 1).
+        render_mode: None or "rgb_array".
+        **overrides: fields of :class:`EnvConfig`.
+    """
+
+    def __init__(
+        self,
+        config: EnvConfig | None = None,
+        with_frontiers_and_pose: bool = False,
+        render_mode: str | None = None,
+        **overrides: Any,
+    ) -> None:
+        super().__init__(config, render_mode, **overrides)
+        self.encoder = MapEncoder(self.config.observation_size, with_frontiers_and_pose, with_frontiers_and_pose)
+        self.observation_space = gym.spaces.Box(0, 255, self.encoder.shape, np.uint8)
+        self.action_space = gym.spaces.Discrete(self.encoder.size * self.encoder.size)
+        self._last_obs: NDArray[np.uint8] | None = None
+
+    def _observe(self) -> NDArray[np.uint8]:
+        sim = self.sim
+        cand = sim.candidates()
+        self._last_obs = self.encoder.encode(cand.grid, sim.pose, cand.frontiers)
+        return self._last_obs
+
+    def _act(self, action: int) -> tuple[LegResult, float]:
+        row, col = divmod(action, self.encoder.size)
+        sim = self.sim
+        x, y = self.encoder.pixel_to_world(sim.map(), sim.pose, row, col)
+        assert self._last_obs is not None
+        cell_reward = self.rewards.cell_reward(pixel_states(self._last_obs[0]), row, col)
+        return sim.go_to(x, y), cell_reward
+
+
+def pixel_states(map_channel: NDArray[np.uint8]) -> NDArray[np.int8]:
+    """The cell states an agent sees in the map channel of an observation."""
+    states = np.full(map_channel.shape, CellState.UNKNOWN, np.int8)
+    states[map_channel == MAP_OCCUPIED] = CellState.OCCUPIED
+    states[map_channel == MAP_FREE] = CellState.FREE
+    return states

@@ -1,0 +1,63 @@
+"""Thesis models 3 and 4: the policy picks the ranking weight w of eq. 3.1 from the map."""
+
+from __future__ import annotations
+
+from typing import Any
+
+import gymnasium as gym
+import numpy as np
+from numpy.typing import NDArray
+
+from frontier_rl.core.ranking import rank, weighted_cost
+from frontier_rl.core.simulator import LegResult
+from frontier_rl.envs.base import EnvConfig, ExplorationEnv
+from frontier_rl.envs.observation import MapEncoder
+
+WEIGHT_BINS = 100
+"""Number of discrete weights: action a means w = a / 100 (the thesis's output layer)."""
+
+
+def bin_to_weight(action: int) -> float:
+    """The ranking weight of action bin ``action`` (0 ≤ w ≤ 0.99)."""
+    return action / WEIGHT_BINS
+
+
+class WeightEnv(ExplorationEnv[NDArray[np.uint8]]):
+    """Observation: the map image (model 4), or the map, frontier and pose channels (model 3).
+    Action: a weight bin; the frontiers are ranked by ``w·d + (1 − w)·(1 − g)`` and the robot
+    drives to the best one it can plan to.
+
+    Args:
+        config: shared settings (:class:`EnvConfig`).
+        with_frontiers_and_pose: add the frontier and pose channels (thesis model 3).
+        render_mode: None or "rgb_array".
+        **overrides: fields of :class:`EnvConfig`.
+    """
+
+    def __init__(
+        self,
+        config: EnvConfig | None = None,
+        with_frontiers_and_pose: bool = False,
+        render_mode: str | None = None,
+        **overrides: Any,
+    ) -> None:
+        super().__init__(config, render_mode, **overrides)
+        self.encoder = MapEncoder(self.config.observation_size, with_frontiers_and_pose, with_frontiers_and_pose)
+        self.observation_space = gym.spaces.Box(0, 255, self.encoder.shape, np.uint8)
+        self.action_space = gym.spaces.Discrete(WEIGHT_BINS)
+
+    def _observe(self) -> NDArray[np.uint8]:
+        sim = self.sim
+        cand = sim.candidates()
+        return self.encoder.encode(cand.grid, sim.pose, cand.frontiers)
+
+    def _act(self, action: int) -> tuple[LegResult, float]:
+        weight = bin_to_weight(action)
+        order = rank(weighted_cost(self.sim.frontiers(), weight))
+        return self.sim.execute(order, weight), 0.0
+
+    def _info(self, leg: LegResult | None) -> dict[str, Any]:
+        info = super()._info(leg)
+        if leg is not None and self.sim.decisions:
+            info["weight"] = self.sim.decisions[-1].weight
+        return info

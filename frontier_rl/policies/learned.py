@@ -1,0 +1,89 @@
+"""Learned policies (``learned:PATH.zip``) behind the same interface as the baselines.
+
+The model kind follows from the network's spaces: a dict observation is the frontier-choice model
+(5); 100 actions a weight model (3 with frontier and pose channels, 4 without); otherwise a
+point model (1 or 2), whose chosen pixel becomes a goal to drive to.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+from frontier_rl.core.episode import DecisionContext, Ranking
+from frontier_rl.core.planner import Costmap
+from frontier_rl.core.ranking import rank, weighted_cost
+from frontier_rl.core.simulator import SimConfig
+from frontier_rl.envs.frontier_env import frontier_observation
+from frontier_rl.envs.observation import MapEncoder
+from frontier_rl.envs.weight_env import WEIGHT_BINS, bin_to_weight
+from frontier_rl.errors import ConfigError
+
+
+@dataclass
+class LearnedPolicy:
+    """A trained model file as an exploration policy.
+
+    Args:
+        path: a zip written by ``frontier-rl train``.
+        trust: allow loading SB3 zips without frontier_rl metadata (this unpickles the file).
+        sim: the simulator settings the frontier-choice model's path costs are computed with.
+    """
+
+    path: Path
+    trust: bool = False
+    sim: SimConfig = field(default_factory=SimConfig)
+
+    def __post_init__(self) -> None:
+        from frontier_rl.rl.model_file import load_policy  # torch is imported only for learned policies
+
+        self.path = Path(self.path)
+        self._policy, _ = load_policy(self.path, self.trust)
+        obs_space = self._policy.observation_space
+        n_actions = int(getattr(self._policy.action_space, "n", 0))
+        if n_actions < 1:
+            raise ConfigError(f"model file {str(self.path)!r} does not have a discrete action space")
+        self.kind = "frontier" if hasattr(obs_space, "spaces") else "weight" if n_actions == WEIGHT_BINS else "point"
+        image_shape = obs_space["map"].shape if self.kind == "frontier" else obs_space.shape  # type: ignore[index]
+        if image_shape is None or len(image_shape) != 3 or image_shape[1] != image_shape[2]:
+            raise ConfigError(f"model file {str(self.path)!r} expects observations of shape {image_shape}, not a map")
+        channels, size = int(image_shape[0]), int(image_shape[1])
+        extra = channels == 3
+        self._encoder = MapEncoder(size, frontier_channel=extra, pose_channel=extra)
+        if self._encoder.shape != tuple(image_shape):
+            raise ConfigError(f"model file {str(self.path)!r} expects map images of shape {tuple(image_shape)}")
+        if self.kind == "point" and n_actions != size * size:
+            raise ConfigError(
+                f"model file {str(self.path)!r} has {n_actions} actions, expected {WEIGHT_BINS} or {size}²"
+            )
+        self._top_k = n_actions
+
+    @property
+    def name(self) -> str:
+        """``learned:PATH``."""
+        return f"learned:{self.path}"
+
+    def _act(self, observation: Any) -> int:
+        from frontier_rl.rl.model_file import predict_action
+
+        return predict_action(self._policy, observation)
+
+    def rank(self, context: DecisionContext, rng: np.random.Generator) -> Ranking:
+        """The model's choice for this decision."""
+        grid, pose, frontiers = context.grid, context.pose, context.frontiers
+        if self.kind == "weight":
+            weight = bin_to_weight(self._act(self._encoder.encode(grid, pose, frontiers)))
+            return Ranking(rank(weighted_cost(frontiers, weight)), weight)
+        if self.kind == "point":
+            row, col = divmod(self._act(self._encoder.encode(grid, pose, frontiers)), self._encoder.size)
+            goal = self._encoder.pixel_to_world(grid, pose, row, col)
+            return Ranking(np.zeros(0, np.int64), goal=goal)
+        costmap = Costmap.build(grid, self.sim.robot, self.sim.navigation)
+        obs, slots = frontier_observation(
+            self._encoder, self._top_k, costmap, pose, frontiers, self.sim.robot.radius, context.sensor_range
+        )
+        chosen = self._act(obs) % len(slots)
+        return Ranking(np.concatenate(([slots[chosen]], np.delete(slots, chosen))))

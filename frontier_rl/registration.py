@@ -1,0 +1,72 @@
+"""Gymnasium ids of the frontier_rl environments, registered on ``import frontier_rl``.
+
+Registration imports nothing heavy: the env classes are named by entry-point strings and loaded
+by ``gymnasium.make``.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from typing import Any
+
+import gymnasium as gym
+
+from frontier_rl.errors import ConfigError
+
+NAMESPACE = "FrontierRL"
+
+
+@dataclass(frozen=True)
+class ModelSpec:
+    """A thesis model: which env it runs in and with which channels."""
+
+    number: int
+    name: str
+    entry_point: str
+    kwargs: dict[str, Any]
+    description: str
+
+
+MODELS: dict[int, ModelSpec] = {
+    1: ModelSpec(1, "PointMapFrontiersPose", "frontier_rl.envs.point_env:PointEnv",
+                 {"with_frontiers_and_pose": True}, "map + frontiers + pose in, a map cell out"),
+    2: ModelSpec(2, "PointMap", "frontier_rl.envs.point_env:PointEnv",
+                 {"with_frontiers_and_pose": False}, "map in, a map cell out"),
+    3: ModelSpec(3, "WeightMapFrontiersPose", "frontier_rl.envs.weight_env:WeightEnv",
+                 {"with_frontiers_and_pose": True}, "map + frontiers + pose in, ranking weight out"),
+    4: ModelSpec(4, "WeightMap", "frontier_rl.envs.weight_env:WeightEnv",
+                 {"with_frontiers_and_pose": False}, "map in, ranking weight out"),
+    5: ModelSpec(5, "FrontierChoice", "frontier_rl.envs.frontier_env:FrontierChoiceEnv",
+                 {}, "map + per-frontier features in, one of the top-K frontiers out"),
+}  # fmt: skip
+
+OBSERVATION_SIZES = (250, 64)
+"""The map image sizes with a registered id: the thesis's 250 × 250 and Niroui et al.'s 64 × 64."""
+
+
+def env_id(model: int, observation_size: int = 250) -> str:
+    """The registered id of thesis model ``model`` (1-5) at ``observation_size`` (250 or 64)."""
+    if model not in MODELS:
+        raise ConfigError(f"unknown model {model!r}; choose one of {', '.join(map(str, MODELS))}")
+    if observation_size not in OBSERVATION_SIZES:
+        raise ConfigError(f"observation size must be one of {OBSERVATION_SIZES}, got {observation_size!r}")
+    suffix = "" if observation_size == 250 else str(observation_size)
+    return f"{NAMESPACE}/{MODELS[model].name}{suffix}-v0"
+
+
+ENV_IDS: tuple[str, ...] = tuple(env_id(m, s) for m in MODELS for s in OBSERVATION_SIZES)
+"""Every registered id."""
+
+
+def register_envs() -> None:
+    """Register every id (idempotent)."""
+    for model, spec in MODELS.items():
+        for size in OBSERVATION_SIZES:
+            name = env_id(model, size)
+            if name not in gym.registry:
+                gym.register(
+                    id=name,
+                    entry_point=spec.entry_point,
+                    kwargs={**spec.kwargs, "observation_size": size},
+                    disable_env_checker=True,
+                )

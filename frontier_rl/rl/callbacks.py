@@ -1,0 +1,75 @@
+"""Training callbacks: evaluation on held-out validation worlds."""
+
+from __future__ import annotations
+
+import csv
+from pathlib import Path
+from typing import Any
+
+import gymnasium as gym
+import numpy as np
+from stable_baselines3.common.callbacks import BaseCallback
+
+from frontier_rl.envs.world_source import VALIDATION_SEED_LOW
+
+
+def run_validation(env: gym.Env[Any, Any], predict: Any, episodes: int) -> list[float]:
+    """Exploration time (s) of ``episodes`` deterministic episodes on validation worlds
+    ``VALIDATION_SEED_LOW + k``; ``predict(obs) -> action``."""
+    times = []
+    for k in range(episodes):
+        obs, info = env.reset(seed=k, options={"world_seed": VALIDATION_SEED_LOW + k})
+        terminated = truncated = False
+        while not (terminated or truncated):
+            obs, _, terminated, truncated, info = env.step(predict(obs))
+        times.append(float(info["sim_time_s"]))
+    return times
+
+
+class ValidationCallback(BaseCallback):
+    """Every ``every`` decisions, explore ``episodes`` validation worlds with the deterministic
+    policy; log the mean time to TensorBoard and ``csv_path``, and save the best model.
+
+    Args:
+        env: an environment like the training ones (not vectorised).
+        every: decisions between validations.
+        episodes: validation worlds per validation.
+        csv_path: where rows ``timesteps, mean_time_s, times`` are appended.
+        best_path: where the model with the lowest mean time is saved.
+    """
+
+    def __init__(self, env: gym.Env[Any, Any], every: int, episodes: int, csv_path: Path, best_path: Path) -> None:
+        super().__init__()
+        self.env = env
+        self.every = every
+        self.episodes = episodes
+        self.csv_path = csv_path
+        self.best_path = best_path
+        self.best = float("inf")
+        self._next = 0
+
+    def _on_training_start(self) -> None:
+        self._next = (self.num_timesteps // self.every + 1) * self.every
+        if self.csv_path.exists():  # a resumed run: keep the best so far
+            with self.csv_path.open() as source:
+                rows = list(csv.DictReader(source))
+            if rows:
+                self.best = min(float(r["mean_time_s"]) for r in rows)
+
+    def _on_step(self) -> bool:
+        if self.num_timesteps < self._next:
+            return True
+        self._next += self.every
+        times = run_validation(self.env, lambda obs: self.model.predict(obs, deterministic=True)[0], self.episodes)
+        mean = float(np.mean(times))
+        self.logger.record("eval/mean_time_s", mean)
+        new = not self.csv_path.exists()
+        with self.csv_path.open("a", newline="") as sink:
+            writer = csv.writer(sink)
+            if new:
+                writer.writerow(["timesteps", "mean_time_s", "times"])
+            writer.writerow([self.num_timesteps, f"{mean:.3f}", " ".join(f"{t:.1f}" for t in times)])
+        if mean < self.best:
+            self.best = mean
+            self.model.save(self.best_path)
+        return True

@@ -1,0 +1,115 @@
+"""The training run's settings: one frozen, documented dataclass, dumped into every run directory."""
+
+from __future__ import annotations
+
+from dataclasses import asdict, dataclass, fields
+from pathlib import Path
+from typing import Any
+
+import yaml
+
+from frontier_rl.envs.rewards import reward_preset
+from frontier_rl.envs.world_source import parse_world_list
+from frontier_rl.errors import ConfigError
+from frontier_rl.registration import MODELS, env_id
+
+ALGOS = ("a2c", "ppo")
+
+
+@dataclass(frozen=True)
+class TrainConfig:
+    """What ``frontier-rl train`` does.
+
+    Attributes:
+        model: thesis model 1-5 (see :data:`frontier_rl.registration.MODELS`).
+        worlds: comma-separated generator names and map files or folders, drawn per episode.
+        timesteps: decisions to train for (one env step = one decision).
+        n_envs: parallel environments (subprocesses when > 1).
+        algo: "a2c" (the thesis) or "ppo".
+        observation_size: map image edge, 64 (Niroui et al., the default: 15× fewer pixels) or 250.
+        reward: reward preset, "normalised" (trains well) or "thesis" (tables 3.1 / 3.2).
+        learning_rate: optimizer step size; SB3's A2C default 7e-4 (RMSprop), 3e-4 for PPO (Adam).
+        n_steps: decisions per env between updates; A2C's default is 5, 8 spreads a batch over
+            more of an episode (~100 decisions on the office world).
+        gamma: discount per decision.
+        vf_coef: value-loss weight, 0.5 as in the thesis.
+        ent_coef: entropy bonus, 0.001 as in the thesis.
+        features_dim: size of the CNN's feature vector.
+        max_decisions: an episode is truncated after this many decisions (an untrained point
+            model can choose useless cells for a long time).
+        eval_every: decisions between evaluations on held-out validation worlds (0: never).
+        eval_episodes: validation episodes per evaluation.
+        checkpoint_every: decisions between checkpoints (0: only the final model).
+        seed: seeds the envs, the network and the update order.
+    """
+
+    model: int = 4
+    worlds: str = "office"
+    timesteps: int = 100_000
+    n_envs: int = 2
+    algo: str = "a2c"
+    observation_size: int = 64
+    reward: str = "normalised"
+    learning_rate: float = 7e-4
+    n_steps: int = 8
+    gamma: float = 0.99
+    vf_coef: float = 0.5
+    ent_coef: float = 0.001
+    features_dim: int = 128
+    max_decisions: int = 1000
+    eval_every: int = 10_000
+    eval_episodes: int = 6
+    checkpoint_every: int = 10_000
+    seed: int = 0
+
+    def __post_init__(self) -> None:
+        if self.model not in MODELS:
+            raise ConfigError(f"unknown model {self.model!r}; choose one of {', '.join(map(str, MODELS))}")
+        if self.algo not in ALGOS:
+            raise ConfigError(f"unknown algorithm {self.algo!r}; choose one of {', '.join(ALGOS)}")
+        env_id(self.model, self.observation_size)  # checks the size
+        parse_world_list(self.worlds)  # checks every world now, not in a subprocess later
+        reward_preset(self.reward)
+        for name in ("timesteps", "n_envs", "n_steps", "features_dim", "max_decisions", "eval_episodes"):
+            if getattr(self, name) < 1:
+                raise ConfigError(f"{name} must be >= 1, got {getattr(self, name)!r}")
+        for name in ("eval_every", "checkpoint_every"):
+            if getattr(self, name) < 0:
+                raise ConfigError(f"{name} must be >= 0, got {getattr(self, name)!r}")
+        if not self.learning_rate > 0:
+            raise ConfigError(f"learning_rate must be > 0, got {self.learning_rate!r}")
+        if not 0 < self.gamma <= 1:
+            raise ConfigError(f"gamma must be in (0, 1], got {self.gamma!r}")
+
+    @property
+    def env_id(self) -> str:
+        """The Gymnasium id trained on."""
+        return env_id(self.model, self.observation_size)
+
+    def to_dict(self) -> dict[str, Any]:
+        """Plain values, for YAML."""
+        return asdict(self)
+
+    @classmethod
+    def from_dict(cls, values: dict[str, Any]) -> TrainConfig:
+        """A config from plain values; unknown keys are an error."""
+        known = {f.name for f in fields(cls)}
+        unknown = sorted(set(values) - known)
+        if unknown:
+            raise ConfigError(f"unknown training option(s) {', '.join(unknown)}")
+        return cls(**values)
+
+    def dump(self, path: Path) -> None:
+        """Write the config as YAML."""
+        path.write_text(yaml.safe_dump(self.to_dict(), sort_keys=False))
+
+    @classmethod
+    def load(cls, path: Path) -> TrainConfig:
+        """Read a config written by :meth:`dump`."""
+        try:
+            values = yaml.safe_load(path.read_text())
+        except (OSError, yaml.YAMLError) as exc:
+            raise ConfigError(f"cannot read training config {str(path)!r}: {exc}") from None
+        if not isinstance(values, dict):
+            raise ConfigError(f"training config {str(path)!r} is not a mapping")
+        return cls.from_dict(values)

@@ -1,0 +1,102 @@
+"""Feature extractors for occupancy-grid images, and the pointer policy of the frontier-choice model."""
+
+from __future__ import annotations
+
+from typing import Any
+
+import gymnasium as gym
+import torch
+from stable_baselines3.common.policies import ActorCriticPolicy
+from stable_baselines3.common.torch_layers import BaseFeaturesExtractor
+from torch import nn
+
+from frontier_rl.envs.observation import FRONTIER_FEATURES
+
+MASKED_LOGIT = -1.0e4
+"""Logit given to an empty frontier slot: its probability is exp(−10⁴) ≈ 0."""
+
+
+def _grid_cnn(channels: int) -> nn.Sequential:
+    """Four stride-2 convolutions and a 4 × 4 average pool: ~40 k weights whatever the image size
+    (a 250 × 250 map would give NatureCNN's flatten layer 24 M), and walls a few cells thick survive
+    the first layers."""
+    return nn.Sequential(
+        nn.Conv2d(channels, 16, kernel_size=5, stride=2, padding=2),
+        nn.ReLU(),
+        nn.Conv2d(16, 32, kernel_size=3, stride=2, padding=1),
+        nn.ReLU(),
+        nn.Conv2d(32, 32, kernel_size=3, stride=2, padding=1),
+        nn.ReLU(),
+        nn.Conv2d(32, 64, kernel_size=3, stride=2, padding=1),
+        nn.ReLU(),
+        nn.AdaptiveAvgPool2d(4),
+        nn.Flatten(),
+    )
+
+
+class GridCNN(BaseFeaturesExtractor):
+    """Map image (channels, H, W) uint8 → ``features_dim`` features.
+
+    SB3 has already scaled the image to [0, 1] (``normalize_images``) when it reaches ``forward``.
+    """
+
+    def __init__(self, observation_space: gym.spaces.Box, features_dim: int = 128) -> None:
+        super().__init__(observation_space, features_dim)
+        self.cnn = _grid_cnn(int(observation_space.shape[0]))
+        self.head = nn.Sequential(nn.Linear(64 * 16, features_dim), nn.ReLU())
+
+    def forward(self, observations: torch.Tensor) -> torch.Tensor:
+        """Features of a batch of map images."""
+        return self.head(self.cnn(observations))  # type: ignore[no-any-return]
+
+
+class FrontierScorer(BaseFeaturesExtractor):
+    """Frontier-choice observation → [K masked frontier scores | ``context_dim`` map features].
+
+    Every frontier is scored by one shared MLP over its features and the map embedding, so the
+    scores do not depend on the order of the slots (a pointer network over the candidates).
+    """
+
+    def __init__(self, observation_space: gym.spaces.Dict, context_dim: int = 128) -> None:
+        map_shape = observation_space["map"].shape
+        mask_shape = observation_space["mask"].shape
+        assert map_shape is not None and mask_shape is not None
+        self.top_k = int(mask_shape[0])
+        super().__init__(observation_space, self.top_k + context_dim)
+        self.cnn = _grid_cnn(int(map_shape[0]))
+        self.context = nn.Sequential(nn.Linear(64 * 16, context_dim), nn.ReLU())
+        n_feat = len(FRONTIER_FEATURES)
+        self.scorer = nn.Sequential(nn.Linear(n_feat + context_dim, 64), nn.ReLU(), nn.Linear(64, 1))
+
+    def forward(self, observations: dict[str, torch.Tensor]) -> torch.Tensor:
+        """Scores of the K slots (masked) followed by the map context."""
+        context = self.context(self.cnn(observations["map"]))
+        table = observations["frontiers"].reshape(context.shape[0], self.top_k, len(FRONTIER_FEATURES))
+        pairs = torch.cat((table, context[:, None, :].expand(-1, self.top_k, -1)), dim=2)
+        scores = self.scorer(pairs).squeeze(-1)
+        mask = observations["mask"]
+        scores = torch.where(mask > 0.5, scores, torch.full_like(scores, MASKED_LOGIT))
+        return torch.cat((scores, context), dim=1)
+
+
+class _FirstColumns(nn.Module):
+    """Passes on the first ``n`` features: the frontier scores become the action logits."""
+
+    def __init__(self, n: int) -> None:
+        super().__init__()
+        self.n = n
+
+    def forward(self, latent: torch.Tensor) -> torch.Tensor:
+        return latent[:, : self.n]
+
+
+class PointerPolicy(ActorCriticPolicy):
+    """Actor-critic whose action logits are :class:`FrontierScorer`'s per-frontier scores; the
+    critic reads the map context. Use with ``net_arch=dict(pi=[], vf=[64])``."""
+
+    def _build(self, lr_schedule: Any) -> None:
+        super()._build(lr_schedule)
+        top_k = int(self.action_space.n)  # type: ignore[attr-defined]
+        self.action_net = _FirstColumns(top_k)
+        # the optimizer was created over the old action_net; rebuild it over the current modules
+        self.optimizer = self.optimizer_class(self.parameters(), lr=lr_schedule(1), **self.optimizer_kwargs)  # type: ignore[call-arg]

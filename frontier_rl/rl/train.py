@@ -1,0 +1,151 @@
+"""``frontier-rl train``: Stable-Baselines3 A2C (or PPO) on a frontier_rl env, resumable.
+
+A run directory holds ``config.yaml``, ``model.zip`` (the final model), ``best_model.zip`` (best on
+the validation worlds), ``checkpoints/``, ``monitor_<start>.monitor.csv`` (one per started segment),
+``validation.csv``, ``tb/`` (TensorBoard) and ``learning_curve.png``.
+"""
+
+from __future__ import annotations
+
+import re
+import time
+from collections.abc import Sequence
+from functools import partial
+from pathlib import Path
+from typing import Any
+
+import gymnasium as gym
+import torch
+from stable_baselines3.common.base_class import BaseAlgorithm
+from stable_baselines3.common.callbacks import BaseCallback, CheckpointCallback
+from stable_baselines3.common.vec_env import DummyVecEnv, SubprocVecEnv, VecMonitor
+
+import frontier_rl
+from frontier_rl.errors import ConfigError
+from frontier_rl.rl.callbacks import ValidationCallback
+from frontier_rl.rl.config import TrainConfig
+from frontier_rl.rl.curves import plot_learning_curve
+from frontier_rl.rl.model_file import ALGORITHMS, ModelInfo, policy_setup, write_metadata
+
+_CHECKPOINT = re.compile(r"model_(\d+)_steps\.zip$")
+
+
+def latest_checkpoint(run: Path) -> tuple[Path, int] | None:
+    """The newest checkpoint of ``run`` and its step count, if any."""
+    found = []
+    for path in (run / "checkpoints").glob("model_*_steps.zip"):
+        match = _CHECKPOINT.search(path.name)
+        if match:
+            found.append((int(match.group(1)), path))
+    if not found:
+        return None
+    steps, path = max(found)
+    return path, steps
+
+
+def _check_run_dir(config: TrainConfig, out: Path, resume: bool) -> int:
+    """Prepare ``out``; returns the step count to start from (0, or the last checkpoint's)."""
+    saved_path = out / "config.yaml"
+    if saved_path.exists():
+        if not resume:
+            raise ConfigError(f"{str(out)!r} already holds a training run; pass --resume to continue it")
+        saved = TrainConfig.load(saved_path)
+        if saved != config:
+            differs = [k for k, v in config.to_dict().items() if saved.to_dict()[k] != v]
+            raise ConfigError(f"{str(out)!r} holds a run with a different configuration ({', '.join(differs)})")
+        checkpoint = latest_checkpoint(out)
+        return 0 if checkpoint is None else checkpoint[1]
+    if resume:
+        raise ConfigError(f"nothing to resume: {str(out)!r} holds no training run")
+    out.mkdir(parents=True, exist_ok=True)
+    config.dump(saved_path)
+    return 0
+
+
+def build_model(config: TrainConfig, env: object, out: Path) -> BaseAlgorithm:
+    """The SB3 algorithm for ``config`` on vectorised ``env``."""
+    policy_cls, policy_kwargs = policy_setup(config.model, config.features_dim)
+    common = {
+        "learning_rate": config.learning_rate,
+        "n_steps": config.n_steps,
+        "gamma": config.gamma,
+        "vf_coef": config.vf_coef,
+        "ent_coef": config.ent_coef,
+        "policy_kwargs": policy_kwargs,
+        "tensorboard_log": str(out / "tb"),
+        "seed": config.seed,
+        "device": "cpu",
+        "verbose": 0,
+    }
+    if config.algo == "ppo":
+        common["batch_size"] = min(64, config.n_steps * config.n_envs)
+    return ALGORITHMS[config.algo](policy_cls, env, **common)  # type: ignore[arg-type]
+
+
+def train(
+    config: TrainConfig,
+    out: Path,
+    resume: bool = False,
+    progress: bool = True,
+    extra_callbacks: Sequence[BaseCallback] = (),
+) -> Path:
+    """Train as ``config`` says into run directory ``out``; returns the final model's path.
+
+    With ``resume``, a run in ``out`` continues from its last checkpoint (weights, optimizer state
+    and step count); its configuration must be the same. ``extra_callbacks`` run after the
+    checkpoint and validation callbacks.
+    """
+    start = _check_run_dir(config, out, resume)
+    frontier_rl.register_envs()
+    env_kwargs: dict[str, Any] = {
+        "worlds": config.worlds,
+        "reward": config.reward,
+        "max_decisions": config.max_decisions,
+    }
+    vec_cls = SubprocVecEnv if config.n_envs > 1 else DummyVecEnv
+    envs = vec_cls([partial(gym.make, config.env_id, **env_kwargs) for _ in range(config.n_envs)])
+    # a resumed run must not replay the episodes it already saw: offset the env seeds by the start step
+    envs.seed(config.seed + start)
+    venv = VecMonitor(envs, str(out / f"monitor_{start}"), info_keywords=("sim_time_s", "coverage"))
+    model = build_model(config, venv, out)
+    if start:
+        checkpoint = latest_checkpoint(out)
+        assert checkpoint is not None
+        model.set_parameters(str(checkpoint[0]), device="cpu")  # weights and optimizer, no unpickling
+        model.num_timesteps = start
+    callbacks: list[BaseCallback] = []
+    if config.checkpoint_every:
+        every = max(config.checkpoint_every // config.n_envs, 1)
+        callbacks.append(CheckpointCallback(every, str(out / "checkpoints"), name_prefix="model"))
+    eval_env = None
+    if config.eval_every:
+        eval_env = gym.make(config.env_id, **env_kwargs)
+        callbacks.append(ValidationCallback(eval_env, config.eval_every, config.eval_episodes,
+                                            out / "validation.csv", out / "best_model.zip"))  # fmt: skip
+    callbacks.extend(extra_callbacks)
+    torch.set_num_threads(1 if config.n_envs > 1 else torch.get_num_threads())
+    started = time.perf_counter()
+    try:
+        model.learn(
+            total_timesteps=max(config.timesteps - start, 0),
+            callback=callbacks,
+            progress_bar=progress,
+            reset_num_timesteps=start == 0,
+            tb_log_name=config.algo,
+        )
+    finally:
+        venv.close()
+        if eval_env is not None:
+            eval_env.close()
+    final = out / "model.zip"
+    model.save(final)
+    info = ModelInfo(config.model, config.env_id, config.observation_size, config.algo, config.features_dim,
+                     int(model.num_timesteps))  # fmt: skip
+    write_metadata(final, info)
+    if (out / "best_model.zip").exists():
+        write_metadata(out / "best_model.zip", info)
+    elapsed = time.perf_counter() - started
+    with (out / "training_time.txt").open("a") as sink:
+        sink.write(f"steps {start}..{model.num_timesteps}: {elapsed:.1f} s wall\n")
+    plot_learning_curve(out, title=f"model {config.model} ({config.algo}, {config.worlds})")
+    return final

@@ -1,0 +1,176 @@
+"""The registered environments: API conformance, determinism, resets, actions, rendering."""
+
+from __future__ import annotations
+
+from typing import Any
+
+import gymnasium as gym
+import numpy as np
+import pytest
+from gymnasium.utils.env_checker import check_env as gym_check_env
+from stable_baselines3.common.env_checker import check_env as sb3_check_env
+
+import frontier_rl
+from frontier_rl.core.worlds import generate_world
+from frontier_rl.envs import FrontierChoiceEnv, WeightEnv
+from frontier_rl.errors import ConfigError, UnknownNameError
+from frontier_rl.registration import ENV_IDS, env_id
+
+
+def _obs_equal(a: Any, b: Any) -> bool:
+    if isinstance(a, dict):
+        return a.keys() == b.keys() and all(np.array_equal(a[k], b[k]) for k in a)
+    return bool(np.array_equal(a, b))
+
+
+def test_every_model_and_size_is_registered() -> None:
+    assert len(ENV_IDS) == 10
+    assert all(i in gym.registry for i in ENV_IDS)
+    assert env_id(4) == "FrontierRL/WeightMap-v0"
+    assert env_id(4, 64) == "FrontierRL/WeightMap64-v0"
+    with pytest.raises(ConfigError, match="7"):
+        env_id(7)
+    with pytest.raises(ConfigError, match="100"):
+        env_id(4, 100)
+
+
+@pytest.mark.parametrize("env_name", ENV_IDS)
+def test_passes_gymnasium_and_sb3_checkers(env_name: str) -> None:
+    env = gym.make(env_name, render_mode="rgb_array")
+    gym_check_env(env.unwrapped, skip_render_check=False)
+    sb3_check_env(gym.make(env_name), warn=True)
+
+
+@pytest.mark.parametrize("model", [1, 3, 4, 5])
+def test_same_seed_same_episode(model: int) -> None:
+    def rollout() -> tuple[list[Any], list[float], list[dict[str, Any]]]:
+        env = gym.make(env_id(model, 64))
+        env.action_space.seed(3)
+        obs, info = env.reset(seed=11)
+        observations, rewards, infos = [obs], [], [info]
+        for _ in range(6):
+            obs, reward, terminated, truncated, info = env.step(env.action_space.sample())
+            observations.append(obs)
+            rewards.append(reward)
+            infos.append(info)
+            if terminated or truncated:
+                break
+        return observations, rewards, infos
+
+    first, second = rollout(), rollout()
+    assert all(_obs_equal(a, b) for a, b in zip(first[0], second[0], strict=True))
+    assert first[1] == second[1]
+    assert first[2] == second[2]
+
+
+def test_reset_rebuilds_everything() -> None:
+    env = WeightEnv(observation_size=64)
+    fresh, _ = env.reset(seed=5)
+    for _ in range(5):
+        env.step(90)
+    assert env.sim.sim_time > 0
+    again, info = env.reset(seed=5)
+    assert np.array_equal(fresh, again)
+    assert info["sim_time_s"] == 0.0 and info["decisions"] == 0
+    assert env.sim.blacklist == [] and env.sim.path_length == 0.0
+    other, _ = env.reset(seed=6)
+    assert not np.array_equal(fresh, other)
+
+
+def test_world_seed_option_picks_an_evaluation_world() -> None:
+    env = WeightEnv(observation_size=64)
+    env.reset(seed=0, options={"world_seed": 3})
+    expected = generate_world("office", 3)
+    assert np.array_equal(env.sim.world.grid.data, expected.grid.data)
+    assert env.sim.world.start == expected.start
+
+
+def test_random_training_worlds_never_use_small_seeds() -> None:
+    env = WeightEnv(observation_size=64)
+    worlds = set()
+    for seed in range(5):
+        env.reset(seed=seed)
+        worlds.add(env.sim.world.grid.data.tobytes())
+        assert not any(np.array_equal(env.sim.world.grid.data, generate_world("office", k).grid.data) for k in range(3))
+    assert len(worlds) == 5
+
+
+@pytest.mark.parametrize(
+    ("action", "match"),
+    [(100, "outside the action space 0..99"), (-1, "outside"), (np.nan, "finite"), (1.5, "finite"),
+     ([1, 2], "one integer"), ("3", "one integer")],
+)  # fmt: skip
+def test_bad_actions_are_named(action: Any, match: str) -> None:
+    env = WeightEnv(observation_size=64)
+    env.reset(seed=0)
+    with pytest.raises(ValueError, match=match):
+        env.step(action)
+
+
+def test_step_after_the_end_asks_for_reset() -> None:
+    env = WeightEnv(observation_size=64, max_decisions=2)
+    env.reset(seed=0)
+    env.step(80)
+    _, _, terminated, truncated, _ = env.step(80)
+    assert truncated and not terminated
+    with pytest.raises(RuntimeError, match="reset"):
+        env.step(80)
+
+
+def test_step_before_reset_is_an_error() -> None:
+    with pytest.raises(RuntimeError, match="reset"):
+        WeightEnv(observation_size=64).step(1)
+
+
+def test_bad_options_are_named() -> None:
+    with pytest.raises(UnknownNameError, match="atlantis"):
+        WeightEnv(worlds="office,atlantis")
+    with pytest.raises(UnknownNameError, match="bonus"):
+        WeightEnv(reward="bonus")
+    with pytest.raises(ConfigError, match="colour"):
+        WeightEnv(colour="red")
+    with pytest.raises(ConfigError, match="render_mode"):
+        WeightEnv(render_mode="human")
+
+
+def test_runs_on_map_files(shared_maps: Any) -> None:
+    env = WeightEnv(worlds=str(shared_maps / "turtlebot3_world"), observation_size=64, resolution=0.05)
+    obs, info = env.reset(seed=0)
+    assert obs.shape == (1, 64, 64)
+    assert info["world"] == "map"
+    info = env.step(75)[4]
+    assert info["sim_time_s"] > 0
+
+
+def test_render_rgb_array() -> None:
+    env = gym.make(env_id(5, 64), render_mode="rgb_array")
+    env.reset(seed=0)
+    env.step(0)
+    frame = env.render()
+    assert isinstance(frame, np.ndarray) and frame.dtype == np.uint8
+    assert frame.ndim == 3 and frame.shape[2] == 3 and frame.shape[0] > 100
+
+
+def test_frontier_choice_mask_and_masked_actions() -> None:
+    env = FrontierChoiceEnv(observation_size=64, top_k=16)
+    obs, _ = env.reset(seed=2)
+    mask = env.action_masks()
+    assert np.array_equal(obs["mask"] > 0.5, mask)
+    n = int(mask.sum())
+    assert 1 <= n <= 16 and mask[:n].all() and not mask[n:].any()
+    table = obs["frontiers"].reshape(16, -1)
+    assert np.all(table[n:] == 0)
+    assert np.all(np.diff(table[:n, 1]) >= 0)  # cheapest path first
+    if n < 16:  # an empty slot is legal: it wraps onto a real frontier
+        _, _, _, _, info = env.step(15)
+        assert info["sim_time_s"] > 0
+
+
+def test_package_import_registers_without_loading_envs() -> None:
+    import subprocess
+    import sys
+
+    code = "import sys, frontier_rl; print('frontier_rl.core.simulator' in sys.modules, 'torch' in sys.modules)"
+    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True).stdout.split()
+    assert out == ["False", "False"]
+    assert frontier_rl.ENV_IDS == ENV_IDS

@@ -1,0 +1,108 @@
+"""Map images and per-frontier features."""
+
+from __future__ import annotations
+
+from collections.abc import Callable
+
+import numpy as np
+import pytest
+
+from frontier_rl.core.frontiers import detect_frontiers
+from frontier_rl.core.grid import CellState, OccupancyGrid
+from frontier_rl.core.robot import Pose
+from frontier_rl.envs.observation import MAP_FREE, MAP_OCCUPIED, MAP_UNKNOWN, MARK, MapEncoder, frontier_features
+from frontier_rl.errors import ConfigError
+
+
+def _room(rows: int = 40, cols: int = 60) -> OccupancyGrid:
+    data = np.full((rows, cols), CellState.UNKNOWN, np.int8)
+    data[5:30, 5:40] = CellState.FREE
+    data[5:30, 5] = CellState.OCCUPIED
+    data[5, 5:40] = CellState.OCCUPIED
+    return OccupancyGrid(data, 0.05, (-1.0, 2.0))
+
+
+def test_thesis_size_is_the_remapped_map_padded_with_unknown() -> None:
+    grid = _room()
+    enc = MapEncoder(250)
+    assert enc.shape == (1, 250, 250) and enc.factor == 1
+    pose = Pose(*grid.cell_to_world(15, 20))
+    image = enc.encode(grid, pose)[0]
+    row0, col0 = enc.window_origin(grid, pose)
+    inner = image[-row0 : -row0 + grid.height, -col0 : -col0 + grid.width]
+    expected = np.select(
+        [grid.data == CellState.OCCUPIED, grid.data == CellState.FREE], [MAP_OCCUPIED, MAP_FREE], MAP_UNKNOWN
+    )
+    assert np.array_equal(inner, expected)
+    assert (image == MAP_UNKNOWN).sum() == 250 * 250 - (grid.data != CellState.UNKNOWN).sum()
+
+
+def test_downsampled_size_keeps_walls() -> None:
+    grid = _room()
+    enc = MapEncoder(64)
+    assert enc.factor == 4 and enc.window == 256 and enc.shape == (1, 64, 64)
+    image = enc.encode(grid, Pose(*grid.cell_to_world(15, 20)))[0]
+    assert (image == MAP_OCCUPIED).sum() > 0
+    assert set(np.unique(image)) <= {MAP_OCCUPIED, MAP_UNKNOWN, MAP_FREE}
+
+
+def test_pose_and_frontier_channels() -> None:
+    grid = _room()
+    pose = Pose(*grid.cell_to_world(15, 20))
+    reach = grid.data == CellState.FREE
+    frontiers = detect_frontiers(grid, pose, reach)
+    enc = MapEncoder(250, frontier_channel=True, pose_channel=True)
+    image = enc.encode(grid, pose, frontiers)
+    assert image.shape == (3, 250, 250)
+    row0, col0 = enc.window_origin(grid, pose)
+    marked = np.argwhere(image[1] == MARK) + np.array([row0, col0])
+    assert len(marked) == sum(len(c) for c in frontiers.cells)
+    for r, c in marked:
+        assert grid.data[r, c] == CellState.FREE
+    disc = np.argwhere(image[2] == MARK)
+    centre = disc.mean(axis=0) + np.array([row0, col0])
+    assert np.allclose(centre, (15, 20), atol=0.6)
+    with pytest.raises(ConfigError, match="frontier"):
+        enc.encode(grid, pose)
+
+
+@pytest.mark.parametrize("size", [250, 64])
+def test_robot_stays_in_the_window_on_a_large_map(size: int) -> None:
+    data = np.full((800, 900), CellState.FREE, np.int8)
+    grid = OccupancyGrid(data, 0.05)
+    enc = MapEncoder(size, pose_channel=True)
+    for cell in [(3, 3), (796, 896), (400, 10), (10, 450)]:
+        pose = Pose(*grid.cell_to_world(*cell))
+        image = enc.encode(grid, pose)
+        assert (image[1] == MARK).any()
+        row, col = np.argwhere(image[1] == MARK).mean(axis=0).round().astype(int)
+        x, y = enc.pixel_to_world(grid, pose, int(row), int(col))
+        assert np.hypot(x - pose.x, y - pose.y) <= enc.factor * grid.resolution * 1.5
+
+
+def test_bad_size_is_named() -> None:
+    with pytest.raises(ConfigError, match="4000"):
+        MapEncoder(4000)
+
+
+def test_frontier_features(grid_from_text: Callable[..., OccupancyGrid]) -> None:
+    grid = grid_from_text(
+        [
+            "??????????",
+            "#........?",
+            "#........?",
+            "#........?",
+            "#........?",
+            "##########",
+        ]
+    )
+    pose = Pose(*grid.cell_to_world(2, 2))
+    frontiers = detect_frontiers(grid, pose, grid.data == CellState.FREE)
+    costs = np.full(len(frontiers), 0.7)
+    feats = frontier_features(frontiers, pose, costs, sensor_range=3.5)
+    assert feats.shape == (len(frontiers), 6) and feats.dtype == np.float32
+    assert np.allclose(feats[:, 0], frontiers.distances / 10, atol=1e-6)
+    assert np.allclose(feats[:, 1], 0.07)
+    assert np.allclose(feats[:, 2], frontiers.sizes / 100)
+    assert np.all(feats[:, 3] > 0)
+    assert np.allclose(feats[:, 4], (frontiers.centers[:, 0] - pose.x) / 10, atol=1e-6)

@@ -1,0 +1,160 @@
+"""Training: a smoke run per model that saves, reloads and acts; resuming; the run directory."""
+
+from __future__ import annotations
+
+import zipfile
+from pathlib import Path
+
+import numpy as np
+import pytest
+from stable_baselines3.common.callbacks import BaseCallback
+
+from frontier_rl.core.episode import run_episode
+from frontier_rl.core.simulator import SimConfig
+from frontier_rl.core.worlds import generate_world
+from frontier_rl.errors import ConfigError
+from frontier_rl.policies import make_policy
+from frontier_rl.rl.config import TrainConfig
+from frontier_rl.rl.model_file import METADATA_ENTRY, read_metadata
+from frontier_rl.rl.train import latest_checkpoint, train
+
+SHORT = SimConfig(max_sim_time=120.0)
+
+
+def _config(model: int, **changes: object) -> TrainConfig:
+    values: dict[str, object] = {
+        "model": model, "timesteps": 64, "n_envs": 1, "observation_size": 64, "eval_every": 32,
+        "eval_episodes": 1, "checkpoint_every": 32, "n_steps": 8, "max_decisions": 24,
+    }  # fmt: skip
+    values.update(changes)
+    return TrainConfig(**values)  # type: ignore[arg-type]
+
+
+@pytest.mark.parametrize("model", [1, 2, 3, 4, 5])
+def test_smoke_training_saves_reloads_and_acts(model: int, tmp_path: Path) -> None:
+    run = tmp_path / f"model{model}"
+    final = train(_config(model), run, progress=False)
+    assert final == run / "model.zip"
+    for name in ("config.yaml", "learning_curve.png", "validation.csv", "best_model.zip", "training_time.txt"):
+        assert (run / name).exists(), name
+    assert latest_checkpoint(run) is not None
+    assert list((run / "tb").iterdir())
+    info = read_metadata(final)
+    assert info is not None and info.model == model and info.timesteps >= 64
+    policy = make_policy(f"learned:{final}")
+    result = run_episode(generate_world("office", 0), policy, SHORT, seed=0)
+    assert result.sim_time_s > 0 and result.decisions > 0
+    if model in (3, 4):
+        weights = [d.weight for d in result.decision_log]
+        assert all(w is not None and 0 <= w < 1 for w in weights)
+
+
+def test_ppo_and_subprocess_envs(tmp_path: Path) -> None:
+    final = train(_config(4, algo="ppo", n_envs=2, timesteps=48, eval_every=0), tmp_path / "ppo", progress=False)
+    info = read_metadata(final)
+    assert info is not None and info.algo == "ppo"
+    assert not (tmp_path / "ppo" / "validation.csv").exists()
+
+
+class _Interrupt(BaseCallback):
+    """Stops training like a Ctrl-C once ``at`` steps are done."""
+
+    def __init__(self, at: int) -> None:
+        super().__init__()
+        self.at = at
+
+    def _on_step(self) -> bool:
+        if self.num_timesteps >= self.at:
+            raise KeyboardInterrupt
+        return True
+
+
+def test_interrupted_run_resumes_from_its_last_checkpoint(tmp_path: Path) -> None:
+    run = tmp_path / "run"
+    config = _config(4, timesteps=96, eval_every=0)
+    with pytest.raises(KeyboardInterrupt):
+        train(config, run, progress=False, extra_callbacks=[_Interrupt(70)])
+    assert not (run / "model.zip").exists()
+    checkpoint = latest_checkpoint(run)
+    assert checkpoint is not None and checkpoint[1] == 64
+    with pytest.raises(ConfigError, match="--resume"):
+        train(config, run, progress=False)
+    with pytest.raises(ConfigError, match="timesteps"):
+        train(_config(4, timesteps=200, eval_every=0), run, resume=True, progress=False)
+    final = train(config, run, resume=True, progress=False)
+    info = read_metadata(final)
+    assert info is not None and info.timesteps == 96
+    assert (run / "monitor_0.monitor.csv").exists() and (run / "monitor_64.monitor.csv").exists()
+
+
+def test_resume_without_a_run_is_an_error(tmp_path: Path) -> None:
+    with pytest.raises(ConfigError, match="nothing to resume"):
+        train(_config(4), tmp_path / "none", resume=True, progress=False)
+
+
+@pytest.mark.parametrize(
+    ("changes", "match"),
+    [({"model": 6}, "model 6"), ({"algo": "dqn"}, "dqn"), ({"observation_size": 128}, "128"),
+     ({"worlds": "office,venus"}, "venus"), ({"reward": "gold"}, "gold"), ({"timesteps": 0}, "timesteps"),
+     ({"learning_rate": -1.0}, "learning_rate"), ({"gamma": 1.5}, "gamma")],
+)  # fmt: skip
+def test_bad_training_options_are_named(changes: dict[str, object], match: str) -> None:
+    with pytest.raises(Exception, match=match):
+        _config(4, **changes)
+
+
+# ------------------------------------------------------------------------------ model files
+@pytest.fixture(scope="module")
+def trained(tmp_path_factory: pytest.TempPathFactory) -> Path:
+    run = tmp_path_factory.mktemp("trained")
+    return train(_config(4, timesteps=16, eval_every=0, checkpoint_every=0), run / "run", progress=False)
+
+
+def test_missing_and_corrupt_model_files(tmp_path: Path, trained: Path) -> None:
+    with pytest.raises(ConfigError, match="not found"):
+        make_policy(f"learned:{tmp_path / 'none.zip'}")
+    junk = tmp_path / "junk.zip"
+    junk.write_bytes(b"not a zip at all")
+    with pytest.raises(ConfigError, match=r"junk\.zip"):
+        make_policy(f"learned:{junk}")
+    truncated = tmp_path / "truncated.zip"
+    truncated.write_bytes(trained.read_bytes()[: trained.stat().st_size // 2])
+    with pytest.raises(ConfigError, match=r"truncated\.zip"):
+        make_policy(f"learned:{truncated}")
+    with pytest.raises(ConfigError, match="needs a model file"):
+        make_policy("learned:")
+
+
+def _rewrite(src: Path, dst: Path, metadata: bytes | None) -> None:
+    with zipfile.ZipFile(src) as zin, zipfile.ZipFile(dst, "w") as zout:
+        for name in zin.namelist():
+            if name != METADATA_ENTRY:
+                zout.writestr(name, zin.read(name))
+        if metadata is not None:
+            zout.writestr(METADATA_ENTRY, metadata)
+
+
+def test_foreign_zip_needs_trust(tmp_path: Path, trained: Path) -> None:
+    foreign = tmp_path / "foreign.zip"
+    _rewrite(trained, foreign, None)
+    with pytest.raises(ConfigError, match="--trust-model"):
+        make_policy(f"learned:{foreign}")
+    policy = make_policy(f"learned:{foreign}", trust_model=True)
+    result = run_episode(generate_world("office", 1), policy, SHORT, seed=1)
+    assert result.decisions > 0
+
+
+def test_model_for_another_observation_is_refused(tmp_path: Path, trained: Path) -> None:
+    wrong = tmp_path / "wrong.zip"
+    metadata = zipfile.ZipFile(trained).read(METADATA_ENTRY).replace(b"WeightMap64", b"WeightMapFrontiersPose64")
+    _rewrite(trained, wrong, metadata.replace(b'"model": 4', b'"model": 3'))
+    with pytest.raises(ConfigError, match="does not fit"):
+        make_policy(f"learned:{wrong}")
+
+
+def test_learned_weight_is_deterministic(trained: Path) -> None:
+    policy = make_policy(f"learned:{trained}")
+    runs = [run_episode(generate_world("office", 2), policy, SHORT, seed=2) for _ in range(2)]
+    assert runs[0].sim_time_s == runs[1].sim_time_s
+    assert [d.weight for d in runs[0].decision_log] == [d.weight for d in runs[1].decision_log]
+    assert np.isfinite(runs[0].sim_time_s)
