@@ -230,6 +230,27 @@ def _heap_pop(heap_f: NDArray[np.float64], heap_i: NDArray[np.int64], size: int)
     return size
 
 
+@nb.njit(inline="always")
+def _step_length(
+    open_ok: NDArray[np.bool_],
+    cur: int,
+    k: int,
+    offsets: NDArray[np.int64],
+    side_row: NDArray[np.int64],
+    side_col: NDArray[np.int64],
+) -> float:
+    """Length (cells) of the step from flat cell ``cur`` to its neighbour ``k`` (0 to 3 straight, 4 to 7
+    diagonal), or 0 if the step is not allowed: the target must be open, and a diagonal step may
+    not cut a corner (both side cells open)."""
+    if not open_ok[cur + offsets[k]]:
+        return 0.0
+    if k < 4:
+        return 1.0
+    if open_ok[cur + side_row[k]] and open_ok[cur + side_col[k]]:
+        return _SQRT2
+    return 0.0
+
+
 @nb.njit(cache=True)
 def astar_padded(
     open_padded: NDArray[np.bool_],
@@ -290,14 +311,11 @@ def astar_padded(
             break
         for k in range(8):
             nxt = cur + offsets[k]
-            if not open_ok[nxt] or closed[nxt]:
+            if closed[nxt]:
                 continue
-            if k >= 4:  # a diagonal step needs both side cells free (no corner cutting)
-                if not (open_ok[cur + side_row[k]] and open_ok[cur + side_col[k]]):
-                    continue
-                step = _SQRT2
-            else:
-                step = 1.0
+            step = _step_length(open_ok, cur, k, offsets, side_row, side_col)
+            if step == 0.0:
+                continue
             new_g = g[cur] + step * cost[nxt]
             if new_g < g[nxt]:
                 g[nxt] = new_g
@@ -351,14 +369,11 @@ def cost_to_go_padded(
         closed[cur] = True
         for k in range(8):
             nxt = cur + offsets[k]
-            if not open_ok[nxt] or closed[nxt]:
+            if closed[nxt]:
                 continue
-            if k >= 4:
-                if not (open_ok[cur + side_row[k]] and open_ok[cur + side_col[k]]):
-                    continue
-                step = _SQRT2
-            else:
-                step = 1.0
+            step = _step_length(open_ok, cur, k, offsets, side_row, side_col)
+            if step == 0.0:
+                continue
             new_g = g[cur] + step * cost[nxt]
             if new_g < g[nxt]:
                 g[nxt] = new_g

@@ -11,7 +11,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from frontier_rl.core.simulator import ExplorationSimulator, LegResult, SimConfig
-from frontier_rl.envs.observation import THESIS_INPUT_CELLS
+from frontier_rl.envs.observation import THESIS_INPUT_CELLS, MapEncoder
 from frontier_rl.envs.rewards import RewardConfig, reward_preset
 from frontier_rl.envs.world_source import WorldSource, parse_world_list
 from frontier_rl.errors import ConfigError
@@ -158,3 +158,24 @@ class ExplorationEnv(gym.Env[ObsT, np.int64], Generic[ObsT]):
             info["outcome"] = leg.outcome.value
             info["leg_time_s"] = leg.duration_s
         return info
+
+
+class MapImageEnv(ExplorationEnv[NDArray[np.uint8]]):
+    """An env whose observation is the map image, with the frontier and pose channels if asked
+    (the thesis's models 1 and 3) or without (models 2 and 4). Subclasses set ``action_space``."""
+
+    def __init__(
+        self,
+        config: EnvConfig | None = None,
+        with_frontiers_and_pose: bool = False,
+        render_mode: str | None = None,
+        **overrides: Any,
+    ) -> None:
+        super().__init__(config, render_mode, **overrides)
+        self.encoder = MapEncoder(self.config.observation_size, with_frontiers_and_pose, with_frontiers_and_pose)
+        self.observation_space = gym.spaces.Box(0, 255, self.encoder.shape, np.uint8)
+
+    def _observe(self) -> NDArray[np.uint8]:
+        sim = self.sim
+        cand = sim.candidates()
+        return self.encoder.encode(cand.grid, sim.pose, cand.frontiers)

@@ -10,11 +10,11 @@ from numpy.typing import NDArray
 
 from frontier_rl.core.grid import CellState
 from frontier_rl.core.simulator import LegResult
-from frontier_rl.envs.base import EnvConfig, ExplorationEnv
-from frontier_rl.envs.observation import MAP_FREE, MAP_OCCUPIED, MapEncoder
+from frontier_rl.envs.base import EnvConfig, MapImageEnv
+from frontier_rl.envs.observation import MAP_FREE, MAP_OCCUPIED
 
 
-class PointEnv(ExplorationEnv[NDArray[np.uint8]]):
+class PointEnv(MapImageEnv):
     """Observation: the map image (model 2), or the map, frontier and pose channels (model 1).
     Action: a pixel of the image, ``row · size + col``; the robot drives to the reachable cell
     nearest to that pixel's centre. On top of the preset's leg reward, the chosen cell earns the
@@ -34,16 +34,12 @@ class PointEnv(ExplorationEnv[NDArray[np.uint8]]):
         render_mode: str | None = None,
         **overrides: Any,
     ) -> None:
-        super().__init__(config, render_mode, **overrides)
-        self.encoder = MapEncoder(self.config.observation_size, with_frontiers_and_pose, with_frontiers_and_pose)
-        self.observation_space = gym.spaces.Box(0, 255, self.encoder.shape, np.uint8)
+        super().__init__(config, with_frontiers_and_pose, render_mode, **overrides)
         self.action_space = gym.spaces.Discrete(self.encoder.size * self.encoder.size)
         self._last_obs: NDArray[np.uint8] | None = None
 
     def _observe(self) -> NDArray[np.uint8]:
-        sim = self.sim
-        cand = sim.candidates()
-        self._last_obs = self.encoder.encode(cand.grid, sim.pose, cand.frontiers)
+        self._last_obs = super()._observe()
         return self._last_obs
 
     def _act(self, action: int) -> tuple[LegResult, float]:

@@ -5,13 +5,10 @@ from __future__ import annotations
 from typing import Any
 
 import gymnasium as gym
-import numpy as np
-from numpy.typing import NDArray
 
 from frontier_rl.core.ranking import rank, weighted_cost
 from frontier_rl.core.simulator import LegResult
-from frontier_rl.envs.base import EnvConfig, ExplorationEnv
-from frontier_rl.envs.observation import MapEncoder
+from frontier_rl.envs.base import EnvConfig, MapImageEnv
 
 WEIGHT_BINS = 100
 """Number of discrete weights: action a means w = a / 100 (the thesis's output layer)."""
@@ -22,7 +19,7 @@ def bin_to_weight(action: int) -> float:
     return action / WEIGHT_BINS
 
 
-class WeightEnv(ExplorationEnv[NDArray[np.uint8]]):
+class WeightEnv(MapImageEnv):
     """Observation: the map image (model 4), or the map, frontier and pose channels (model 3).
     Action: a weight bin; the frontiers are ranked by ``w·d + (1 − w)·(1 − g)`` and the robot
     drives to the best one it can plan to.
@@ -41,15 +38,8 @@ class WeightEnv(ExplorationEnv[NDArray[np.uint8]]):
         render_mode: str | None = None,
         **overrides: Any,
     ) -> None:
-        super().__init__(config, render_mode, **overrides)
-        self.encoder = MapEncoder(self.config.observation_size, with_frontiers_and_pose, with_frontiers_and_pose)
-        self.observation_space = gym.spaces.Box(0, 255, self.encoder.shape, np.uint8)
+        super().__init__(config, with_frontiers_and_pose, render_mode, **overrides)
         self.action_space = gym.spaces.Discrete(WEIGHT_BINS)
-
-    def _observe(self) -> NDArray[np.uint8]:
-        sim = self.sim
-        cand = sim.candidates()
-        return self.encoder.encode(cand.grid, sim.pose, cand.frontiers)
 
     def _act(self, action: int) -> tuple[LegResult, float]:
         weight = bin_to_weight(action)

@@ -158,3 +158,15 @@ def test_learned_weight_is_deterministic(trained: Path) -> None:
     assert runs[0].sim_time_s == runs[1].sim_time_s
     assert [d.weight for d in runs[0].decision_log] == [d.weight for d in runs[1].decision_log]
     assert np.isfinite(runs[0].sim_time_s)
+
+
+def test_sb3_stock_cnn_policy_takes_the_map_image() -> None:
+    """The 64 × 64 image is a valid SB3 image space: its stock CnnPolicy (NatureCNN) runs on it."""
+    import gymnasium as gym
+    from stable_baselines3 import A2C
+
+    env = gym.make("FrontierRL/WeightMap64-v0")
+    model = A2C("CnnPolicy", env, n_steps=4, device="cpu")
+    obs, _ = env.reset(seed=0)
+    action, _ = model.predict(obs, deterministic=True)
+    assert 0 <= int(action) < 100
