@@ -162,7 +162,14 @@ class ExplorationEnv(gym.Env[ObsT, np.int64], Generic[ObsT]):
 
 class MapImageEnv(ExplorationEnv[NDArray[np.uint8]]):
     """An env whose observation is the map image, with the frontier and pose channels if asked
-    (the thesis's models 1 and 3) or without (models 2 and 4). Subclasses set ``action_space``."""
+    (the thesis's models 1 and 3) or without (models 2 and 4). Subclasses give the action space.
+
+    Args:
+        config: shared settings (:class:`EnvConfig`).
+        with_frontiers_and_pose: add the frontier and pose channels.
+        render_mode: None or "rgb_array".
+        **overrides: fields of :class:`EnvConfig`.
+    """
 
     def __init__(
         self,
@@ -174,6 +181,10 @@ class MapImageEnv(ExplorationEnv[NDArray[np.uint8]]):
         super().__init__(config, render_mode, **overrides)
         self.encoder = MapEncoder(self.config.observation_size, with_frontiers_and_pose, with_frontiers_and_pose)
         self.observation_space = gym.spaces.Box(0, 255, self.encoder.shape, np.uint8)
+        self.action_space = self._make_action_space()
+
+    def _make_action_space(self) -> gym.spaces.Discrete:
+        raise NotImplementedError
 
     def _observe(self) -> NDArray[np.uint8]:
         sim = self.sim

@@ -2,15 +2,13 @@
 
 from __future__ import annotations
 
-from typing import Any
-
 import gymnasium as gym
 import numpy as np
 from numpy.typing import NDArray
 
 from frontier_rl.core.grid import CellState
 from frontier_rl.core.simulator import LegResult
-from frontier_rl.envs.base import EnvConfig, MapImageEnv
+from frontier_rl.envs.base import MapImageEnv
 from frontier_rl.envs.observation import MAP_FREE, MAP_OCCUPIED
 
 
@@ -20,23 +18,13 @@ class PointEnv(MapImageEnv):
     nearest to that pixel's centre. On top of the preset's leg reward, the chosen cell earns the
     thesis's table 3.1 reward by its state in the image (free, unknown, occupied, next to a wall).
 
-    Args:
-        config: shared settings (:class:`EnvConfig`).
-        with_frontiers_and_pose: add the frontier and pose channels (thesis model 1).
-        render_mode: None or "rgb_array".
-        **overrides: fields of :class:`EnvConfig`.
+    Arguments as :class:`MapImageEnv` (``with_frontiers_and_pose`` makes it model 1).
     """
 
-    def __init__(
-        self,
-        config: EnvConfig | None = None,
-        with_frontiers_and_pose: bool = False,
-        render_mode: str | None = None,
-        **overrides: Any,
-    ) -> None:
-        super().__init__(config, with_frontiers_and_pose, render_mode, **overrides)
-        self.action_space = gym.spaces.Discrete(self.encoder.size * self.encoder.size)
-        self._last_obs: NDArray[np.uint8] | None = None
+    _last_obs: NDArray[np.uint8] | None = None
+
+    def _make_action_space(self) -> gym.spaces.Discrete:
+        return gym.spaces.Discrete(self.encoder.size * self.encoder.size)
 
     def _observe(self) -> NDArray[np.uint8]:
         self._last_obs = super()._observe()

@@ -8,7 +8,7 @@ import gymnasium as gym
 
 from frontier_rl.core.ranking import rank, weighted_cost
 from frontier_rl.core.simulator import LegResult
-from frontier_rl.envs.base import EnvConfig, MapImageEnv
+from frontier_rl.envs.base import MapImageEnv
 
 WEIGHT_BINS = 100
 """Number of discrete weights: action a means w = a / 100 (the thesis's output layer)."""
@@ -22,24 +22,12 @@ def bin_to_weight(action: int) -> float:
 class WeightEnv(MapImageEnv):
     """Observation: the map image (model 4), or the map, frontier and pose channels (model 3).
     Action: a weight bin; the frontiers are ranked by ``w·d + (1 − w)·(1 − g)`` and the robot
-    drives to the best one it can plan to.
-
-    Args:
-        config: shared settings (:class:`EnvConfig`).
-        with_frontiers_and_pose: add the frontier and pose channels (thesis model 3).
-        render_mode: None or "rgb_array".
-        **overrides: fields of :class:`EnvConfig`.
+    drives to the best one it can plan to. Arguments as :class:`MapImageEnv`
+    (``with_frontiers_and_pose`` makes it model 3).
     """
 
-    def __init__(
-        self,
-        config: EnvConfig | None = None,
-        with_frontiers_and_pose: bool = False,
-        render_mode: str | None = None,
-        **overrides: Any,
-    ) -> None:
-        super().__init__(config, with_frontiers_and_pose, render_mode, **overrides)
-        self.action_space = gym.spaces.Discrete(WEIGHT_BINS)
+    def _make_action_space(self) -> gym.spaces.Discrete:
+        return gym.spaces.Discrete(WEIGHT_BINS)
 
     def _act(self, action: int) -> tuple[LegResult, float]:
         weight = bin_to_weight(action)
