@@ -18,8 +18,8 @@ demo: $(STAMP)
 	$(BIN)/frontier-rl demo --out demo_output
 
 lint: $(STAMP)
-	$(BIN)/ruff check frontier_rl tests benchmarks
-	$(BIN)/ruff format --check frontier_rl tests benchmarks
+	$(BIN)/ruff check frontier_rl tests benchmarks experiments
+	$(BIN)/ruff format --check frontier_rl tests benchmarks experiments
 
 typecheck: $(STAMP)
 	$(BIN)/mypy

@@ -28,6 +28,10 @@ def _episode(method: str, world: str, seed: int) -> dict[str, object]:
     from frontier_rl.policies.registry import make_policy
     from frontier_rl.world_spec import resolve_world
 
+    if method.startswith("learned:"):
+        import torch
+
+        torch.set_num_threads(1)  # one episode per core; a tiny network gains nothing from threads
     result = run_episode(resolve_world(world, seed), make_policy(method), seed=seed)
     row: dict[str, object] = {"method": method, "world": world, "seed": seed, **result.summary()}
     weights = [d.weight for d in result.decision_log if d.weight is not None]
@@ -81,6 +85,25 @@ def summarise(
     return out
 
 
+def sweep_analysis(
+    rows: dict[tuple[str, str, int], dict[str, object]], world: str, seeds: list[int]
+) -> dict[str, object]:
+    """How the best fixed weight varies between worlds: the best weight of the sweep on average,
+    each world's best weight in hindsight, and the mean time of that per-world oracle (optimistic:
+    it also picks each world's luckiest noise)."""
+    times = np.array([[float(rows[(m, world, s)]["sim_time_s"]) for m in SWEEP] for s in seeds])
+    weights = np.array([float(m.split(":")[1]) for m in SWEEP])
+    best = int(times.mean(axis=0).argmin())
+    per_world = weights[times.argmin(axis=1)]
+    return {
+        "best_weight": float(weights[best]),
+        "best_mean_time_s": float(times[:, best].mean()),
+        "per_world_best_weight_quartiles": [float(q) for q in np.percentile(per_world, [0, 25, 50, 75, 100])],
+        "per_world_best_weight_counts": {f"{w:.2f}": int((per_world == w).sum()) for w in weights},
+        "per_world_oracle_mean_time_s": float(times.min(axis=1).mean()),
+    }
+
+
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--methods", required=True, help="comma-separated policy specs; 'sweep' adds fixed:0.00..1.00")
@@ -115,6 +138,8 @@ def main() -> None:
             if i % 50 == 0:
                 print(f"  {i}/{len(todo)}", flush=True)
     summary = summarise(rows, methods, args.world, seeds, args.baseline)
+    if all((m, args.world, s) in rows for m in SWEEP for s in seeds):
+        summary["sweep"] = sweep_analysis(rows, args.world, seeds)
     (args.out / "summary.json").write_text(json.dumps(summary, indent=2) + "\n")
     lines = [
         "| method | mean time (s) | reduction vs baseline | 95 % CI of the difference (s) | p (one-tailed) |",

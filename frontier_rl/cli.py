@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import json
+import re
 from collections.abc import Callable
 from functools import wraps
 from pathlib import Path
@@ -26,6 +27,8 @@ F = TypeVar("F", bound=Callable[..., Any])
 
 DEMO_POLICIES = ("nearest", "largest", "fixed:0.75", "explore-lite", "info-gain", "random")
 DEMO_WORLDS = ("office", "rooms", "cluttered")
+SHIPPED_MODELS = (Path("models/model4.zip"), Path("models/model5.zip"))
+"""Trained models in the repository; the demo runs them too when run from the checkout."""
 
 
 def _friendly_errors(func: F) -> F:
@@ -111,7 +114,8 @@ def demo(
     out: Annotated[Path, typer.Option(help="Folder for the pictures and the results.")] = Path("demo_output"),
     seed: Annotated[int, typer.Option(help="World and noise seed.")] = 0,
 ) -> None:
-    """Every baseline on every built-in world: a table, a picture per run, an animation of one."""
+    """Every baseline and shipped model on every built-in world: a table, a picture per run, an
+    animation of one."""
     out.mkdir(parents=True, exist_ok=True)
     dump_config(SimConfig(), out / "config.yaml")
     warm_up()
@@ -119,14 +123,15 @@ def demo(
     for column in ("world", "policy", "time (s)", "t90 (s)", "path (m)", "coverage", "wall (s)"):
         table.add_column(column, justify="right" if column != "policy" else "left")
     rows = []
+    policies = [*DEMO_POLICIES, *(f"learned:{path}" for path in SHIPPED_MODELS if path.exists())]
     for world_name in DEMO_WORLDS:
         world = resolve_world(world_name, seed)
-        for policy_name in DEMO_POLICIES:
+        for policy_name in policies:
             policy = make_policy(policy_name)
             animate = world_name == "office" and policy_name == "fixed:0.75"
             recorder = EpisodeRecorder(world, frames=animate)
             result = run_episode(world, policy, seed=seed, on_decision=recorder)
-            stem = f"{world_name}_{policy_name.replace(':', '')}"
+            stem = f"{world_name}_{re.sub(r'[^A-Za-z0-9.]+', '_', policy_name.removesuffix('.zip'))}"
             recorder.save_png(out / f"{stem}.png", result, f"{world_name} / {policy_name}")
             if animate:
                 recorder.save_gif(out / f"{stem}.gif")
