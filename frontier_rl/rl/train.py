@@ -30,6 +30,13 @@ from frontier_rl.rl.model_file import ALGORITHMS, ModelInfo, policy_setup, write
 _CHECKPOINT = re.compile(r"model_(\d+)_steps\.zip$")
 
 
+def make_env(env_id: str, **kwargs: Any) -> gym.Env[Any, Any]:
+    """``gymnasium.make`` after registering the frontier_rl ids: picklable by reference, so that
+    subprocess environments can build it in a fresh interpreter."""
+    frontier_rl.register_envs()
+    return gym.make(env_id, **kwargs)
+
+
 def latest_checkpoint(run: Path) -> tuple[Path, int] | None:
     """The newest checkpoint of ``run`` and its step count, if any."""
     found = []
@@ -103,7 +110,7 @@ def train(
         "max_decisions": config.max_decisions,
     }
     vec_cls = SubprocVecEnv if config.n_envs > 1 else DummyVecEnv
-    envs = vec_cls([partial(gym.make, config.env_id, **env_kwargs) for _ in range(config.n_envs)])
+    envs = vec_cls([partial(make_env, config.env_id, **env_kwargs) for _ in range(config.n_envs)])
     # a resumed run must not replay the episodes it already saw: offset the env seeds by the start step
     envs.seed(config.seed + start)
     venv = VecMonitor(envs, str(out / f"monitor_{start}"), info_keywords=("sim_time_s", "coverage"))

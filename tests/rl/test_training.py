@@ -23,8 +23,8 @@ SHORT = SimConfig(max_sim_time=120.0)
 
 def _config(model: int, **changes: object) -> TrainConfig:
     values: dict[str, object] = {
-        "model": model, "timesteps": 64, "n_envs": 1, "observation_size": 64, "eval_every": 32,
-        "eval_episodes": 1, "checkpoint_every": 32, "n_steps": 8, "max_decisions": 24,
+        "model": model, "timesteps": 200, "n_envs": 1, "observation_size": 64, "eval_every": 100,
+        "eval_episodes": 1, "checkpoint_every": 100, "n_steps": 8, "max_decisions": 24,
     }  # fmt: skip
     values.update(changes)
     return TrainConfig(**values)  # type: ignore[arg-type]
@@ -40,7 +40,7 @@ def test_smoke_training_saves_reloads_and_acts(model: int, tmp_path: Path) -> No
     assert latest_checkpoint(run) is not None
     assert list((run / "tb").iterdir())
     info = read_metadata(final)
-    assert info is not None and info.model == model and info.timesteps >= 64
+    assert info is not None and info.model == model and info.timesteps >= 200
     policy = make_policy(f"learned:{final}")
     result = run_episode(generate_world("office", 0), policy, SHORT, seed=0)
     assert result.sim_time_s > 0 and result.decisions > 0
@@ -71,7 +71,7 @@ class _Interrupt(BaseCallback):
 
 def test_interrupted_run_resumes_from_its_last_checkpoint(tmp_path: Path) -> None:
     run = tmp_path / "run"
-    config = _config(4, timesteps=96, eval_every=0)
+    config = _config(4, timesteps=96, eval_every=0, checkpoint_every=32)
     with pytest.raises(KeyboardInterrupt):
         train(config, run, progress=False, extra_callbacks=[_Interrupt(70)])
     assert not (run / "model.zip").exists()
@@ -80,7 +80,7 @@ def test_interrupted_run_resumes_from_its_last_checkpoint(tmp_path: Path) -> Non
     with pytest.raises(ConfigError, match="--resume"):
         train(config, run, progress=False)
     with pytest.raises(ConfigError, match="timesteps"):
-        train(_config(4, timesteps=200, eval_every=0), run, resume=True, progress=False)
+        train(_config(4, timesteps=200, eval_every=0, checkpoint_every=32), run, resume=True, progress=False)
     final = train(config, run, resume=True, progress=False)
     info = read_metadata(final)
     assert info is not None and info.timesteps == 96
@@ -99,8 +99,9 @@ def test_resume_without_a_run_is_an_error(tmp_path: Path) -> None:
      ({"learning_rate": -1.0}, "learning_rate"), ({"gamma": 1.5}, "gamma")],
 )  # fmt: skip
 def test_bad_training_options_are_named(changes: dict[str, object], match: str) -> None:
+    values = {"model": 4, **changes}
     with pytest.raises(Exception, match=match):
-        _config(4, **changes)
+        TrainConfig(**values)  # type: ignore[arg-type]
 
 
 # ------------------------------------------------------------------------------ model files
