@@ -10,6 +10,7 @@ from __future__ import annotations
 import re
 import time
 from collections.abc import Sequence
+from dataclasses import replace
 from functools import partial
 from pathlib import Path
 from typing import Any
@@ -125,10 +126,12 @@ def train(
         every = max(config.checkpoint_every // config.n_envs, 1)
         callbacks.append(CheckpointCallback(every, str(out / "checkpoints"), name_prefix="model"))
     eval_env = None
+    validation = None
     if config.eval_every:
         eval_env = gym.make(config.env_id, **env_kwargs)
-        callbacks.append(ValidationCallback(eval_env, config.eval_every, config.eval_episodes,
-                                            out / "validation.csv", out / "best_model.zip"))  # fmt: skip
+        validation = ValidationCallback(eval_env, config.eval_every, config.eval_episodes, out / "validation.csv",
+                                        out / "best_model.zip")  # fmt: skip
+        callbacks.append(validation)
     callbacks.extend(extra_callbacks)
     torch.set_num_threads(1 if config.n_envs > 1 else torch.get_num_threads())
     started = time.perf_counter()
@@ -149,8 +152,8 @@ def train(
     info = ModelInfo(config.model, config.env_id, config.observation_size, config.algo, config.features_dim,
                      int(model.num_timesteps))  # fmt: skip
     write_metadata(final, info)
-    if (out / "best_model.zip").exists():
-        write_metadata(out / "best_model.zip", info)
+    if validation is not None and (out / "best_model.zip").exists():
+        write_metadata(out / "best_model.zip", replace(info, timesteps=validation.best_timesteps))
     elapsed = time.perf_counter() - started
     with (out / "training_time.txt").open("a") as sink:
         sink.write(f"steps {start}..{model.num_timesteps}: {elapsed:.1f} s wall\n")

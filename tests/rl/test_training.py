@@ -41,6 +41,8 @@ def test_smoke_training_saves_reloads_and_acts(model: int, tmp_path: Path) -> No
     assert list((run / "tb").iterdir())
     info = read_metadata(final)
     assert info is not None and info.model == model and info.timesteps >= 200
+    best = read_metadata(run / "best_model.zip")
+    assert best is not None and best.timesteps in (100, 200)
     policy = make_policy(f"learned:{final}")
     result = run_episode(generate_world("office", 0), policy, SHORT, seed=0)
     assert result.sim_time_s > 0 and result.decisions > 0
