@@ -15,7 +15,7 @@ from scipy.sparse.csgraph import dijkstra
 
 from frontier_rl.core.grid import CellState, OccupancyGrid
 from frontier_rl.core.navigation import NavigationConfig, follow_path, footprint_offsets, obstacle_distance
-from frontier_rl.core.planner import Costmap, astar, nearest_cell
+from frontier_rl.core.planner import Costmap, astar, cost_to_go_padded, nearest_cell
 from frontier_rl.core.robot import RobotConfig
 from frontier_rl.errors import ConfigError
 
@@ -149,6 +149,25 @@ def test_astar_cost_equals_dijkstra_on_random_grids(seed: int) -> None:
         else:
             assert_valid_path(path, passable, start, goal)  # type: ignore[arg-type]
             assert path_cost(path, penalty) == pytest.approx(expected, rel=1e-9)
+
+
+@pytest.mark.parametrize("seed", range(4))
+def test_cost_to_go_equals_dijkstra_on_random_grids(seed: int) -> None:
+    rng = np.random.default_rng(100 + seed)
+    shape = (15, 19)
+    passable = rng.random(shape) < 0.72
+    penalty = np.where(rng.random(shape) < 0.5, rng.uniform(0.0, 4.0, shape), 0.0)
+    cells = np.argwhere(passable)
+    start = tuple(int(v) for v in cells[rng.integers(len(cells))])
+    field = cost_to_go_padded(np.pad(passable, 1), np.pad(1.0 + penalty, 1, constant_values=1.0), *start)
+    assert field.shape == shape and field[start] == 0.0
+    for goal in map(tuple, cells[:: max(len(cells) // 12, 1)]):
+        expected = dijkstra_cost(passable, penalty, start, goal)  # type: ignore[arg-type]
+        if math.isinf(expected):
+            assert math.isinf(field[goal])
+        else:
+            assert field[goal] == pytest.approx(expected, rel=1e-9)
+    assert np.isinf(field[~passable]).all()
 
 
 # -------------------------------------------------------------------------------------- costmap
