@@ -138,7 +138,12 @@ def demo(
             s = result.summary()
             rows.append({"world": world_name, "policy": policy_name, **s})
             t90 = "-" if s["t90_s"] is None else f"{s['t90_s']:.1f}"
-            table.add_row(world_name, policy_name, f"{s['sim_time_s']:.1f}", t90,
+            shown = (
+                f"learned:{Path(policy_name.partition(':')[2]).stem}"
+                if policy_name.startswith("learned:")
+                else policy_name
+            )
+            table.add_row(world_name, shown, f"{s['sim_time_s']:.1f}", t90,
                           f"{s['path_length_m']:.1f}", f"{s['coverage']:.4f}", f"{s['wall_time_s']:.2f}")  # fmt: skip
     (out / "results.json").write_text(json.dumps(rows, indent=1))
     Console().print(table)
