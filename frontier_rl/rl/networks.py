@@ -17,9 +17,9 @@ MASKED_LOGIT = -1.0e4
 
 
 def _grid_cnn(channels: int) -> nn.Sequential:
-    """Four stride-2 convolutions and a 4 × 4 average pool: ~40 k weights whatever the image size
-    (a 250 × 250 map would give NatureCNN's flatten layer 24 M), and walls a few cells thick survive
-    the first layers."""
+    """Four stride-2 convolutions and a 4 × 4 average pool: 33 k weights and a 1,024-feature output
+    whatever the image size (a 250 × 250 map would give NatureCNN's flatten layer 24 M weights),
+    and walls a few cells thick survive the first layers."""
     return nn.Sequential(
         nn.Conv2d(channels, 16, kernel_size=5, stride=2, padding=2),
         nn.ReLU(),
