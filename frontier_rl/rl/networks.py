@@ -92,7 +92,7 @@ class _FirstColumns(nn.Module):
 
 class PointerPolicy(ActorCriticPolicy):
     """Actor-critic whose action logits are :class:`FrontierScorer`'s per-frontier scores; the
-    critic reads the map context. Use with ``net_arch=dict(pi=[], vf=[64])``."""
+    critic reads all the features (the scores and the map context). Use with ``net_arch=dict(pi=[], vf=[64])``."""
 
     def _build(self, lr_schedule: Any) -> None:
         super()._build(lr_schedule)
