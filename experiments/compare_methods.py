@@ -18,7 +18,6 @@ from concurrent.futures import ProcessPoolExecutor, as_completed
 from pathlib import Path
 
 import numpy as np
-from scipy import stats
 
 SWEEP = tuple(f"fixed:{0.05 * i:.2f}" for i in range(21))
 
@@ -54,33 +53,15 @@ def summarise(
     rows: dict[tuple[str, str, int], dict[str, object]], methods: list[str], world: str, seeds: list[int], baseline: str
 ) -> dict[str, object]:
     """Paired statistics of each method's exploration time against ``baseline``."""
+    from frontier_rl.evaluation import compare_methods
 
-    def times(m: str) -> np.ndarray:
-        return np.array([float(rows[(m, world, s)]["sim_time_s"]) for s in seeds])
-
-    base = times(baseline)
+    times = {m: [float(rows[(m, world, s)]["sim_time_s"]) for s in seeds] for m in methods}  # type: ignore[arg-type]
     out: dict[str, object] = {"baseline": baseline, "world": world, "episodes": len(seeds), "methods": {}}
-    for m in methods:
-        t = times(m)
-        diff = base - t
-        entry = {
-            "n": len(t),
-            "mean_time_s": float(t.mean()),
-            "var_time_s": float(t.var(ddof=1)),
-            "all_done": bool(all(rows[(m, world, s)]["done"] for s in seeds)),
-        }
-        if m != baseline:
-            half = stats.t.ppf(0.975, len(t) - 1) * diff.std(ddof=1) / np.sqrt(len(t))
-            entry |= {
-                "mean_diff_s": float(diff.mean()),
-                "ci95_s": [float(diff.mean() - half), float(diff.mean() + half)],
-                "p_one_tailed": float(stats.ttest_rel(t, base, alternative="less").pvalue),
-                "p_two_tailed": float(stats.ttest_rel(t, base).pvalue),
-                "reduction_pct": float(100 * diff.mean() / base.mean()),
-            }
+    for m, paired in compare_methods(times, baseline).items():  # type: ignore[arg-type]
+        entry = paired.to_dict() | {"all_done": bool(all(rows[(m, world, s)]["done"] for s in seeds))}
         weights = [rows[(m, world, s)].get("mean_weight") for s in seeds]
         if all(w is not None for w in weights):
-            entry["mean_weight"] = float(np.mean(weights))
+            entry["mean_weight"] = float(np.mean(weights))  # type: ignore[arg-type]
         out["methods"][m] = entry  # type: ignore[index]
     return out
 

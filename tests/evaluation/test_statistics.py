@@ -1,0 +1,82 @@
+"""Paired statistics against hand-computed values and scipy's."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+from scipy import stats
+
+from frontier_rl.errors import ConfigError
+from frontier_rl.evaluation import compare_methods, paired_stats, table_4_1
+
+BASE = [10.0, 12.0, 14.0, 16.0]
+FAST = [9.0, 11.0, 12.0, 15.0]  # savings 1, 1, 2, 1
+
+
+def test_hand_computed_values() -> None:
+    s = paired_stats(FAST, BASE)
+    assert s.n == 4
+    assert s.mean_time_s == pytest.approx(11.75)
+    assert s.var_time_s == pytest.approx(np.var(FAST, ddof=1))
+    assert s.mean_diff_s == pytest.approx(1.25)
+    # sd of the savings 0.5, so t = 1.25 / (0.5 / 2) = 5 with 3 degrees of freedom
+    half = 3.182446305284263 * 0.5 / 2
+    assert s.ci95_s == pytest.approx((1.25 - half, 1.25 + half))
+    assert s.p_one_tailed == pytest.approx(0.0076965, rel=1e-4)  # P(T3 > 5)
+    assert s.p_two_tailed == pytest.approx(2 * 0.0076965, rel=1e-4)
+    assert s.reduction_pct == pytest.approx(100 * 1.25 / 13.0)
+
+
+def test_matches_scipy_on_random_pairs() -> None:
+    rng = np.random.default_rng(0)
+    base = rng.uniform(300, 900, 60)
+    method = base * rng.normal(0.93, 0.1, 60)
+    s = paired_stats(method, base)
+    assert s.p_one_tailed == pytest.approx(stats.ttest_rel(method, base, alternative="less").pvalue)
+    assert s.p_two_tailed == pytest.approx(stats.ttest_rel(method, base).pvalue)
+    assert s.p_wilcoxon == pytest.approx(stats.wilcoxon(method, base, alternative="less").pvalue)
+    lo, hi = stats.t.interval(0.95, 59, loc=np.mean(base - method), scale=stats.sem(base - method))
+    assert s.ci95_s == pytest.approx((lo, hi))
+
+
+def test_slower_method_has_a_large_one_tailed_p() -> None:
+    s = paired_stats(BASE, FAST)
+    assert s.mean_diff_s < 0 and s.p_one_tailed > 0.99 and s.reduction_pct < 0
+
+
+def test_degenerate_inputs_give_nan_not_errors() -> None:
+    same = paired_stats(BASE, BASE)
+    assert same.mean_diff_s == 0 and math.isnan(same.p_one_tailed) and math.isnan(same.p_wilcoxon)
+    one = paired_stats([5.0], [6.0])
+    assert one.n == 1 and math.isnan(one.ci95_s[0]) and math.isnan(one.var_time_s)
+    assert paired_stats([], []).n == 0
+    assert one.to_dict()["ci95_s"] == [None, None]
+    with pytest.raises(ConfigError, match="shapes"):
+        paired_stats([1.0, 2.0], [1.0])
+
+
+def test_outliers_are_dropped_pairwise() -> None:
+    times = {"base": [100.0, 1500.0, 300.0, 400.0], "m": [90.0, 200.0, 2500.0, 350.0]}
+    everything = compare_methods(times, "base")
+    assert everything["m"].n == 4
+    trimmed = compare_methods(times, "base", outlier_above_s=1000.0)
+    assert trimmed["m"].n == 2 and trimmed["base"].n == 3  # the baseline row drops only its own outliers
+    assert trimmed["m"].mean_diff_s == pytest.approx(30.0)
+    with pytest.raises(ConfigError, match="-5"):
+        compare_methods(times, "base", outlier_above_s=-5)
+    with pytest.raises(ConfigError, match="nope"):
+        compare_methods(times, "nope")
+    with pytest.raises(ConfigError, match="3 episodes"):
+        compare_methods({"base": [1.0, 2.0], "m": [1.0, 2.0, 3.0]}, "base")
+
+
+def test_table_4_1_layout() -> None:
+    results = compare_methods({"fixed:0.75": BASE, "learned": FAST}, "fixed:0.75")
+    table = table_4_1(results, "fixed:0.75", title="office, 4 episodes")
+    lines = table.strip().splitlines()
+    assert lines[0] == "**office, 4 episodes**"
+    assert lines[2].startswith("| method | n | mean time (s) | variance (s²) | mean saving (s)")
+    assert lines[4].startswith("| fixed:0.75 (baseline) | 4 | 13.0 |")
+    assert lines[5].startswith("| learned | 4 | 11.8 |") and "9.6 %" in lines[5]
