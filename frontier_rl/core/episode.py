@@ -13,6 +13,7 @@ from numpy.typing import NDArray
 from frontier_rl.core.frontiers import Frontiers
 from frontier_rl.core.grid import OccupancyGrid
 from frontier_rl.core.metrics import EpisodeResult
+from frontier_rl.core.planner import Costmap
 from frontier_rl.core.robot import Pose
 from frontier_rl.core.simulator import ExplorationSimulator, SimConfig
 from frontier_rl.core.worlds import World
@@ -30,6 +31,7 @@ class DecisionContext:
         pose: the robot's pose (m, rad).
         sim_time: sim time of the decision (s).
         sensor_range: the LiDAR's maximum range (m), for information-gain estimates.
+        costmap: the navigator's costmap of ``grid``, when the caller has one (the simulator does).
     """
 
     grid: OccupancyGrid
@@ -37,6 +39,7 @@ class DecisionContext:
     pose: Pose
     sim_time: float
     sensor_range: float
+    costmap: Costmap | None = None
 
 
 @dataclass(frozen=True)
@@ -65,7 +68,7 @@ class ExplorationPolicy(Protocol):
 def decision_context(sim: ExplorationSimulator) -> DecisionContext:
     """The policy's view of the simulator's current state."""
     cand = sim.candidates()
-    return DecisionContext(cand.grid, cand.frontiers, sim.pose, sim.sim_time, sim.config.lidar.max_range)
+    return DecisionContext(cand.grid, cand.frontiers, sim.pose, sim.sim_time, sim.config.lidar.max_range, cand.costmap)
 
 
 def run_episode(

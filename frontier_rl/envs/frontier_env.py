@@ -67,6 +67,13 @@ def frontier_observation(
     return obs, slots
 
 
+def slot_order(slots: NDArray[np.int64], action: int) -> NDArray[np.int64]:
+    """Frontier indices to try, the chosen slot first (taken modulo the filled slots), then the
+    other slots cheapest first: if no path to the chosen one can be planned, the next is tried."""
+    chosen = action % len(slots)
+    return np.concatenate(([slots[chosen]], np.delete(slots, chosen))).astype(np.int64)
+
+
 class FrontierChoiceEnv(ExplorationEnv[dict[str, NDArray[Any]]]):
     """Observation (a dict): ``map``, the map with frontier and pose channels; ``frontiers``, a
     (K, 6) table, flattened row by row, of per-frontier features (:data:`FRONTIER_FEATURES`) for
@@ -118,8 +125,4 @@ class FrontierChoiceEnv(ExplorationEnv[dict[str, NDArray[Any]]]):
         return obs
 
     def _act(self, action: int) -> tuple[LegResult, float]:
-        n = len(self._slots)
-        chosen = action % n
-        # the chosen frontier first; if no path to it can be planned, the next cheapest ones
-        order = np.concatenate(([self._slots[chosen]], np.delete(self._slots, chosen)))
-        return self.sim.execute(order), 0.0
+        return self.sim.execute(slot_order(self._slots, action)), 0.0

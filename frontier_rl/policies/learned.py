@@ -17,7 +17,7 @@ from frontier_rl.core.episode import DecisionContext, Ranking
 from frontier_rl.core.planner import Costmap
 from frontier_rl.core.ranking import rank, weighted_cost
 from frontier_rl.core.simulator import SimConfig
-from frontier_rl.envs.frontier_env import frontier_observation
+from frontier_rl.envs.frontier_env import frontier_observation, slot_order
 from frontier_rl.envs.observation import MapEncoder
 from frontier_rl.envs.weight_env import WEIGHT_BINS, bin_to_weight
 from frontier_rl.errors import ConfigError
@@ -30,7 +30,8 @@ class LearnedPolicy:
     Args:
         path: a zip written by ``frontier-rl train``.
         trust: allow loading SB3 zips without frontier_rl metadata (this unpickles the file).
-        sim: the simulator settings the frontier-choice model's path costs are computed with.
+        sim: the robot and navigation settings of the costmap the frontier-choice model's path costs
+            are computed on, when the decision context brings none.
     """
 
     path: Path
@@ -81,9 +82,8 @@ class LearnedPolicy:
             row, col = divmod(self._act(self._encoder.encode(grid, pose, frontiers)), self._encoder.size)
             goal = self._encoder.pixel_to_world(grid, pose, row, col)
             return Ranking(np.zeros(0, np.int64), goal=goal)
-        costmap = Costmap.build(grid, self.sim.robot, self.sim.navigation)
+        costmap = context.costmap or Costmap.build(grid, self.sim.robot, self.sim.navigation)
         obs, slots = frontier_observation(
             self._encoder, self._top_k, costmap, pose, frontiers, self.sim.robot.radius, context.sensor_range
         )
-        chosen = self._act(obs) % len(slots)
-        return Ranking(np.concatenate(([slots[chosen]], np.delete(slots, chosen))))
+        return Ranking(slot_order(slots, self._act(obs)))
