@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import json
 import re
+import sys
 from collections.abc import Callable
 from functools import wraps
 from pathlib import Path
@@ -148,6 +149,64 @@ def demo(
     (out / "results.json").write_text(json.dumps(rows, indent=1))
     Console().print(table)
     Console().print(f"pictures and results.json in {out}/")
+
+
+@app.command()
+@_friendly_errors
+def evaluate(
+    methods: Annotated[str, typer.Option(help="Comma-separated policies, e.g. fixed:0.75,learned:models/model5.zip")],
+    out: Annotated[Path, typer.Option(help="Results folder; rerunning with it resumes.")],
+    worlds: Annotated[str, typer.Option(help="Comma-separated generators, map files and folders of maps.")] = "office",
+    episodes: Annotated[int, typer.Option(help="Episodes per world; episode i uses seed SEED + i.")] = 120,
+    seed: Annotated[int, typer.Option(help="Seed of the first episode.")] = 0,
+    baseline: Annotated[str, typer.Option(help="The method every other is compared with.")] = "fixed:0.75",
+    oracle: Annotated[bool, typer.Option(help="Also run the full-knowledge oracle tour (reference).")] = True,
+    workers: Annotated[int | None, typer.Option(help="Episodes run at once (default: every core).")] = None,
+    backend: Annotated[str, typer.Option(help="serial, process or ray.")] = "process",
+    ray_address: Annotated[str | None, typer.Option(help="Ray head host:port (default: a local Ray).")] = None,
+    outliers: Annotated[str, typer.Option(help="Also compare without episodes above these times (s).")] = "1000,2000",
+    config: Annotated[Path | None, typer.Option(help="SimConfig YAML (any subset of its fields).")] = None,
+    max_time: Annotated[float | None, typer.Option(help="Sim-time cap of every episode (s).")] = None,
+    resolution: Annotated[float | None, typer.Option(help="Cell size (m) for map files without one.")] = None,
+    trust_model: Annotated[
+        bool, typer.Option(help="Allow learned:PATH to be an SB3 zip from elsewhere (unpickles it: runs its code).")
+    ] = False,
+    progress: Annotated[bool, typer.Option(help="Show a progress bar.")] = True,
+) -> None:
+    """The paired experiment: every method on the same worlds, starts and noise; statistics against
+    the baseline, plots, and a Markdown and HTML report in --out."""
+    from frontier_rl.evaluation.evaluate import evaluate as run_evaluation
+    from frontier_rl.evaluation.evaluate import parse_thresholds
+    from frontier_rl.evaluation.experiment import ORACLE, ExperimentConfig, expand_worlds
+    from frontier_rl.evaluation.plots import method_label
+
+    names = [m.strip() for m in methods.split(",") if m.strip()]
+    ordered = list(dict.fromkeys([baseline, *names, *([ORACLE] if oracle else [])]))
+    experiment = ExperimentConfig(
+        methods=tuple(ordered), worlds=expand_worlds(worlds), episodes=episodes, seed=seed, baseline=baseline,
+        sim=_sim_config(config, max_time), resolution=resolution, trust_model=trust_model,
+    )  # fmt: skip
+    command = "frontier-rl evaluate " + " ".join(sys.argv[2:]) if len(sys.argv) > 2 else "frontier-rl evaluate"
+    try:
+        report = run_evaluation(
+            experiment, out, backend, workers, ray_address, parse_thresholds(outliers), progress, command
+        )
+    except KeyboardInterrupt:
+        err_console.print(f"interrupted: finished episodes are saved in {out}/; rerun the same command to resume")
+        raise typer.Exit(130) from None
+    summary = json.loads((report.parent / "summary.json").read_text())
+    table = Table(title=f"{experiment.episodes} episode(s) per world on {', '.join(experiment.worlds)}")
+    for column in ("method", "mean time (s)", "vs baseline", "p one-tailed", "time / oracle", "done"):
+        table.add_column(column, justify="left" if column == "method" else "right")
+    for name, e in summary["methods"].items():
+        compared = name != baseline and e["reduction_pct"] is not None
+        table.add_row(
+            method_label(name), f"{e['mean_time_s']:.1f}", f"{-e['reduction_pct']:+.1f} %" if compared else "baseline",
+            f"{e['p_one_tailed']:.2g}" if compared and e["p_one_tailed"] is not None else "",
+            f"{e['oracle_ratio']:.2f}" if e["oracle_ratio"] is not None else "", f"{e['episodes_done']}/{e['n']}",
+        )  # fmt: skip
+    Console().print(table)
+    Console().print(f"report: {report} and {report.with_suffix('.html')}")
 
 
 @app.command()

@@ -5,7 +5,7 @@ from __future__ import annotations
 import time
 from collections.abc import Callable
 from dataclasses import dataclass
-from typing import Protocol
+from typing import Protocol, runtime_checkable
 
 import numpy as np
 from numpy.typing import NDArray
@@ -65,6 +65,17 @@ class ExplorationPolicy(Protocol):
         ...
 
 
+@runtime_checkable
+class EpisodeAwarePolicy(Protocol):
+    """A policy that must know the episode before its first decision: :func:`run_episode` calls
+    ``begin_episode`` with the ground-truth world and the settings. Only reference methods that are
+    allowed to see the true map (the full-knowledge ``oracle``) implement it."""
+
+    def begin_episode(self, world: World, config: SimConfig) -> None:
+        """Prepare for an episode on ``world`` under ``config``."""
+        ...
+
+
 def decision_context(sim: ExplorationSimulator) -> DecisionContext:
     """The policy's view of the simulator's current state."""
     cand = sim.candidates()
@@ -90,6 +101,8 @@ def run_episode(
     started = time.perf_counter()
     hook_time = 0.0
     sim = ExplorationSimulator(world, config, sim_rng)
+    if isinstance(policy, EpisodeAwarePolicy):
+        policy.begin_episode(world, sim.config)
     stalled = 0  # decisions in a row that took no simulated time: a bug guard, never a hang
     while not sim.truncated and not sim.done:
         if stalled > _MAX_STALLED_DECISIONS:

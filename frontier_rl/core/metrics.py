@@ -6,7 +6,7 @@ from dataclasses import dataclass, field
 from typing import Any
 
 import numpy as np
-from numpy.typing import NDArray
+from numpy.typing import ArrayLike, NDArray
 
 from frontier_rl.core.grid import OccupancyGrid
 
@@ -94,3 +94,15 @@ def time_to_coverage(times: NDArray[np.float64], curve: NDArray[np.float64], lev
     """First time (s) at which ``curve`` reaches ``level``; None if it never does."""
     reached = np.flatnonzero(curve >= level - 1e-12)
     return float(times[reached[0]]) if reached.size else None
+
+
+def sample_step(times: ArrayLike, values: ArrayLike, at: ArrayLike) -> NDArray[np.float64]:
+    """A step function that takes ``values[i]`` from ``times[i]`` (s, increasing) on, sampled at
+    ``at``: 0 before the first time, the last value after the last."""
+    t = np.asarray(times, dtype=np.float64)
+    v = np.asarray(values, dtype=np.float64)
+    where = np.asarray(at, dtype=np.float64)
+    if t.size == 0:
+        return np.zeros_like(where)
+    index = np.searchsorted(t, where, side="right") - 1
+    return np.where(index >= 0, v[np.maximum(index, 0)], 0.0)

@@ -10,7 +10,8 @@ from __future__ import annotations
 
 import math
 import warnings
-from dataclasses import asdict, dataclass
+from collections.abc import Mapping
+from dataclasses import asdict, dataclass, fields
 from typing import Any
 
 import numpy as np
@@ -18,6 +19,7 @@ from numpy.typing import ArrayLike, NDArray
 from scipy import stats
 
 from frontier_rl.errors import ConfigError
+from frontier_rl.evaluation.tables import Table, number, p_value
 
 
 @dataclass(frozen=True)
@@ -96,7 +98,7 @@ def _tests(t: NDArray[np.float64], b: NDArray[np.float64]) -> tuple[float, float
 
 
 def compare_methods(
-    times: dict[str, ArrayLike], baseline: str, outlier_above_s: float | None = None
+    times: Mapping[str, ArrayLike], baseline: str, outlier_above_s: float | None = None
 ) -> dict[str, PairedStats]:
     """Every method of ``times`` (name → times per episode, aligned) against ``baseline``.
 
@@ -121,31 +123,37 @@ def compare_methods(
     return out
 
 
-def table_4_1(results: dict[str, PairedStats], baseline: str, title: str = "") -> str:
-    """A Markdown table laid out like the thesis's Table 4.1: per method the mean and variance of
-    the exploration time, the mean saving against the baseline with its 95 % CI, the p-values and
-    the reduction of the mean time."""
-    lines = [f"**{title}**", ""] if title else []
-    lines += [
-        "| method | n | mean time (s) | variance (s²) | mean saving (s) | 95 % CI (s) | p one-tailed | p two-tailed "
-        "| p Wilcoxon | reduction |",
-        "|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|",
-    ]
-    for name, s in results.items():
-        if name == baseline:
-            lines.append(f"| {name} (baseline) | {s.n} | {_f(s.mean_time_s)} | {_f(s.var_time_s)} | | | | | | |")
-            continue
-        ci = f"{_f(s.ci95_s[0])} … {_f(s.ci95_s[1])}"
-        lines.append(
-            f"| {name} | {s.n} | {_f(s.mean_time_s)} | {_f(s.var_time_s)} | {_f(s.mean_diff_s)} | {ci} "
-            f"| {_p(s.p_one_tailed)} | {_p(s.p_two_tailed)} | {_p(s.p_wilcoxon)} | {_f(s.reduction_pct)} % |"
-        )
-    return "\n".join(lines) + "\n"
+TABLE_4_1_HEADER = (
+    "method", "n", "mean time (s)", "variance (s²)", "mean saving (s)", "95 % CI (s)", "p one-tailed",
+    "p two-tailed", "p Wilcoxon", "reduction",
+)  # fmt: skip
 
 
-def _f(value: float) -> str:
-    return "n/a" if not math.isfinite(value) else f"{value:,.1f}"
+def table_4_1_row(name: str, s: PairedStats, is_baseline: bool) -> list[str]:
+    """One row of :func:`table_4_1`; the baseline's has no comparison cells."""
+    if is_baseline:
+        return [f"{name} (baseline)", str(s.n), number(s.mean_time_s), number(s.var_time_s), *[""] * 6]
+    ci = f"{number(s.ci95_s[0])} … {number(s.ci95_s[1])}"
+    return [
+        name, str(s.n), number(s.mean_time_s), number(s.var_time_s), number(s.mean_diff_s), ci,
+        p_value(s.p_one_tailed), p_value(s.p_two_tailed), p_value(s.p_wilcoxon), number(s.reduction_pct, unit=" %"),
+    ]  # fmt: skip
 
 
-def _p(value: float) -> str:
-    return "n/a" if not math.isfinite(value) else f"{value:.2g}"
+def table_4_1(results: dict[str, PairedStats], baseline: str, title: str = "") -> Table:
+    """A table laid out like the thesis's Table 4.1: per method the mean and variance of the
+    exploration time, the mean saving against the baseline with its 95 % CI, the p-values and
+    the reduction of the mean time (``.markdown()`` and ``.html()`` render it)."""
+    rows = [table_4_1_row(name, s, name == baseline) for name, s in results.items()]
+    return Table(TABLE_4_1_HEADER, rows, title)
+
+
+def stats_from_dict(entry: dict[str, Any]) -> PairedStats:
+    """The :class:`PairedStats` of a :meth:`PairedStats.to_dict` mapping (None back to NaN)."""
+    values: dict[str, Any] = {f.name: entry[f.name] for f in fields(PairedStats)}
+    for name, value in values.items():
+        if name == "ci95_s":
+            values[name] = tuple(math.nan if v is None else float(v) for v in value)
+        elif value is None:
+            values[name] = math.nan
+    return PairedStats(**values)

@@ -74,7 +74,7 @@ def test_outliers_are_dropped_pairwise() -> None:
 
 def test_table_4_1_layout() -> None:
     results = compare_methods({"fixed:0.75": BASE, "learned": FAST}, "fixed:0.75")
-    table = table_4_1(results, "fixed:0.75", title="office, 4 episodes")
+    table = table_4_1(results, "fixed:0.75", title="office, 4 episodes").markdown()
     lines = table.strip().splitlines()
     assert lines[0] == "**office, 4 episodes**"
     assert lines[2].startswith("| method | n | mean time (s) | variance (s²) | mean saving (s)")

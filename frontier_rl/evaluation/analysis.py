@@ -1,0 +1,86 @@
+"""From an experiment's rows to its summary: paired statistics, outlier cuts, the oracle ratio.
+
+The summary is what ``summary.json`` holds and what the report lays out:
+
+    {"baseline": ..., "reference": "oracle" | null, "worlds": [...], "episodes": N, "seed": S,
+     "methods": {NAME: {"n", "mean_time_s", "var_time_s", "mean_diff_s", "ci95_s", "p_one_tailed",
+                        "p_two_tailed", "p_wilcoxon", "reduction_pct", "oracle_ratio", ...}},
+     "outliers": {"1000": {"methods": {NAME: {..., "excluded"}}}, ...},
+     "per_world": {WORLD: {"methods": {...}}}}           # only with more than one world
+"""
+
+from __future__ import annotations
+
+import math
+from typing import Any
+
+import numpy as np
+
+from frontier_rl.evaluation.experiment import ORACLE, ExperimentConfig
+from frontier_rl.evaluation.statistics import compare_methods
+
+Rows = dict[tuple[str, str, int], dict[str, Any]]
+
+
+def paired_times(
+    rows: Rows, methods: tuple[str, ...], worlds: tuple[str, ...], episodes: int
+) -> dict[str, list[float]]:
+    """Each method's exploration times (s), aligned by (world, episode)."""
+    return {m: [float(rows[(m, w, e)]["sim_time_s"]) for e in range(episodes) for w in worlds] for m in methods}
+
+
+def summarise(rows: Rows, config: ExperimentConfig, outlier_thresholds: tuple[float, ...] = ()) -> dict[str, Any]:
+    """The experiment's summary (see the module docstring); every row of ``config`` must be in ``rows``."""
+    summary: dict[str, Any] = {
+        "baseline": config.baseline,
+        "reference": ORACLE if ORACLE in config.methods else None,
+        "worlds": list(config.worlds),
+        "episodes": config.episodes,
+        "seed": config.seed,
+        "methods": _method_table(rows, config, config.worlds),
+        "outliers": {},
+    }
+    times = paired_times(rows, config.methods, config.worlds, config.episodes)
+    base = np.asarray(times[config.baseline])
+    for threshold in outlier_thresholds:
+        cut = compare_methods(times, config.baseline, threshold)
+        entries = {}
+        for method, stats in cut.items():
+            t = np.asarray(times[method])
+            excluded = int(np.count_nonzero((t > threshold) | (base > threshold)))
+            entries[method] = stats.to_dict() | {"excluded": excluded}
+        summary["outliers"][f"{threshold:g}"] = {"methods": entries}
+    if len(config.worlds) > 1:
+        summary["per_world"] = {w: {"methods": _method_table(rows, config, (w,))} for w in config.worlds}
+    return summary
+
+
+def _method_table(rows: Rows, config: ExperimentConfig, worlds: tuple[str, ...]) -> dict[str, dict[str, Any]]:
+    times = paired_times(rows, config.methods, worlds, config.episodes)
+    stats = compare_methods(times, config.baseline)
+    oracle_mean = float(np.mean(times[ORACLE])) if ORACLE in times else math.nan
+    table: dict[str, dict[str, Any]] = {}
+    for method in config.methods:
+        own = [rows[(method, w, e)] for e in range(config.episodes) for w in worlds]
+        entry = stats[method].to_dict()
+        entry["median_time_s"] = float(np.median(times[method]))
+        entry["oracle_ratio"] = _ratio(float(np.mean(times[method])), oracle_mean)
+        entry["episodes_done"] = sum(bool(r["done"]) for r in own)
+        entry["mean_coverage"] = float(np.mean([r["coverage"] for r in own]))
+        entry["mean_path_length_m"] = float(np.mean([r["path_length_m"] for r in own]))
+        entry["mean_t90_s"] = _mean_of_present(r["t90_s"] for r in own)
+        entry["mean_t99_s"] = _mean_of_present(r["t99_s"] for r in own)
+        entry["mean_aborts"] = float(np.mean([r["aborts"] for r in own]))
+        entry["mean_weight"] = _mean_of_present(r["mean_weight"] for r in own)
+        entry["mean_wall_time_s"] = float(np.mean([r["wall_time_s"] for r in own]))
+        table[method] = entry
+    return table
+
+
+def _ratio(value: float, reference: float) -> float | None:
+    return value / reference if math.isfinite(reference) and reference > 0 else None
+
+
+def _mean_of_present(values: Any) -> float | None:
+    present = [float(v) for v in values if v is not None]
+    return float(np.mean(present)) if present else None

@@ -1,0 +1,93 @@
+"""``frontier-rl evaluate`` as a function: run what is missing of a paired experiment, then report."""
+
+from __future__ import annotations
+
+from collections.abc import Iterator
+from contextlib import contextmanager
+from pathlib import Path
+from typing import Any
+
+from rich.console import Console
+from rich.progress import BarColumn, MofNCompleteColumn, Progress, TextColumn, TimeElapsedColumn, TimeRemainingColumn
+
+from frontier_rl.errors import ConfigError, FrontierRLError
+from frontier_rl.evaluation.backends import check_backend, default_workers, run_jobs
+from frontier_rl.evaluation.experiment import ExperimentConfig, check_methods, identity
+from frontier_rl.evaluation.report import write_report
+from frontier_rl.evaluation.results import ResultStore
+
+DEFAULT_OUTLIERS_S = (1000.0, 2000.0)
+"""The thesis's outlier thresholds (s)."""
+
+
+class EpisodeFailedError(FrontierRLError):
+    """An episode raised; the finished ones are saved and a rerun resumes."""
+
+
+def parse_thresholds(text: str) -> tuple[float, ...]:
+    """Outlier thresholds from "1000,2000" (s, positive); "" gives none."""
+    values = []
+    for part in (p.strip() for p in text.split(",")):
+        if not part:
+            continue
+        try:
+            value = float(part)
+        except ValueError:
+            raise ConfigError(f"outlier thresholds must be seconds like '1000,2000', got {text!r}") from None
+        if not value > 0 or value == float("inf"):
+            raise ConfigError(f"outlier thresholds must be positive seconds, got {part!r}")
+        values.append(value)
+    return tuple(values)
+
+
+def evaluate(
+    config: ExperimentConfig,
+    out: Path,
+    backend: str = "process",
+    workers: int | None = None,
+    ray_address: str | None = None,
+    outliers: tuple[float, ...] = DEFAULT_OUTLIERS_S,
+    progress: bool = True,
+    command: str = "",
+) -> Path:
+    """Run the episodes of ``config`` not yet in ``out``, then write ``out``'s summary, figures and
+    reports; returns the Markdown report's path. Each finished episode is on disk before the next
+    is recorded, so an interrupted run resumes where it stopped when called again."""
+    workers = default_workers() if workers is None else workers
+    check_backend(backend, workers, ray_address)
+    check_methods(config)  # a bad method or model file fails before anything is written
+    store = ResultStore(out, identity(config))
+    jobs = config.jobs()
+    todo = [job for job in jobs if not store.done(job)]
+    finished_before = len(jobs) - len(todo)
+    with _progress_bar(len(todo), finished_before, progress) as advance:
+
+        def record(result: dict[str, Any]) -> None:
+            store.record(result)
+            advance()
+
+        try:
+            run_jobs(todo, config.settings(), record, backend, workers, ray_address)
+        except FrontierRLError:
+            raise
+        except Exception as exc:  # a worker's error: report it in one line, keep what finished
+            lines = [line for line in str(exc).splitlines() if line.strip()]
+            raise EpisodeFailedError(
+                f"an episode failed ({type(exc).__name__}: {lines[-1] if lines else ''}); the {len(store.rows)} "
+                f"finished episodes are saved in {store.csv_path}; rerun the command to resume"
+            ) from exc
+    store.finalise(jobs)
+    return write_report(store, config, outliers, command)
+
+
+@contextmanager
+def _progress_bar(total: int, done_before: int, enabled: bool) -> Iterator[Any]:
+    if not enabled or total == 0:
+        yield lambda: None
+        return
+    columns = (TextColumn("episodes"), BarColumn(), MofNCompleteColumn(), TimeElapsedColumn(), TimeRemainingColumn())
+    with Progress(*columns, console=Console(stderr=True)) as bar:
+        if done_before:
+            bar.console.print(f"{done_before} episodes already in the results folder; running the other {total}")
+        task = bar.add_task("episodes", total=total)
+        yield lambda: bar.advance(task)

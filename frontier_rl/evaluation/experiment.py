@@ -1,0 +1,240 @@
+"""A paired experiment: which methods, on which worlds, for how many episodes, and one episode of it.
+
+Paired design: episode i of every world uses seed ``seed + i`` for the world generator (or the
+random start on a map file) and for the sensor noise, so every method meets the same world, start
+pose and noise in episode i. :func:`run_job` is a top-level function of plain arguments, so any
+backend (a loop, a process pool, Ray tasks) runs the same episode and returns the same row.
+"""
+
+from __future__ import annotations
+
+import hashlib
+from dataclasses import dataclass, field
+from functools import lru_cache
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+from frontier_rl.config import to_dict
+from frontier_rl.core.episode import ExplorationPolicy, run_episode, warm_up
+from frontier_rl.core.metrics import sample_step
+from frontier_rl.core.simulator import SimConfig
+from frontier_rl.core.worlds import WORLD_GENERATORS, World, generate_world, make_world
+from frontier_rl.envs.world_source import parse_world_list
+from frontier_rl.errors import ConfigError
+from frontier_rl.io import LoadedMap, load_map
+from frontier_rl.policies import make_policy
+
+ORACLE = "oracle"
+"""The full-knowledge reference every report measures methods against."""
+
+_TRACE_POINTS = 200
+"""Coverage curves are stored at about this many instants per episode (enough for plots)."""
+
+
+@dataclass(frozen=True)
+class ExperimentConfig:
+    """What a paired experiment runs.
+
+    Attributes:
+        methods: policy specs as on the command line (``fixed:0.75``, ``learned:models/model4.zip``,
+            ``oracle``, ...), the baseline among them.
+        worlds: generator names and map files (folders already expanded, see :func:`expand_worlds`).
+        episodes: episodes per world; episode i uses seed ``seed + i``.
+        seed: the first episode's seed.
+        baseline: the method every other one is compared with.
+        sim: simulation settings shared by every episode.
+        resolution: cell size (m) for map files that carry none.
+        trust_model: admit SB3 zips from elsewhere for ``learned:`` methods (unpickles them).
+    """
+
+    methods: tuple[str, ...]
+    worlds: tuple[str, ...]
+    episodes: int
+    seed: int = 0
+    baseline: str = "fixed:0.75"
+    sim: SimConfig = field(default_factory=SimConfig)
+    resolution: float | None = None
+    trust_model: bool = False
+
+    def __post_init__(self) -> None:
+        if not self.methods:
+            raise ConfigError("an experiment needs at least one method")
+        if len(set(self.methods)) != len(self.methods):
+            raise ConfigError(f"methods are listed twice: {', '.join(self.methods)}")
+        if self.baseline not in self.methods:
+            raise ConfigError(f"baseline {self.baseline!r} is not among the methods {', '.join(self.methods)}")
+        if not self.worlds:
+            raise ConfigError("an experiment needs at least one world")
+        if isinstance(self.episodes, bool) or not isinstance(self.episodes, int) or self.episodes < 1:
+            raise ConfigError(f"episodes must be a positive integer, got {self.episodes!r}")
+        if self.resolution is not None and not self.resolution > 0:
+            raise ConfigError(f"resolution must be a positive number of metres, got {self.resolution!r}")
+
+    def jobs(self) -> list[EpisodeJob]:
+        """Every (method, world, episode), episode-major so that partial results stay paired."""
+        return [
+            EpisodeJob(method, world, episode, self.seed + episode)
+            for episode in range(self.episodes)
+            for world in self.worlds
+            for method in self.methods
+        ]
+
+    def settings(self) -> EpisodeSettings:
+        """What every episode of this experiment shares; relative paths resolve against the
+        current directory, wherever a worker runs."""
+        return EpisodeSettings(self.sim, self.resolution, self.trust_model, str(Path.cwd()))
+
+
+@dataclass(frozen=True)
+class EpisodeJob:
+    """One episode of an experiment: ``method`` on ``world`` (name or file), episode index and seed."""
+
+    method: str
+    world: str
+    episode: int
+    seed: int
+
+    @property
+    def key(self) -> tuple[str, str, int]:
+        """(method, world, episode): a row's identity in the results."""
+        return (self.method, self.world, self.episode)
+
+
+@dataclass(frozen=True)
+class EpisodeSettings:
+    """The shared settings a worker needs besides the job (picklable, small)."""
+
+    sim: SimConfig
+    resolution: float | None
+    trust_model: bool
+    base_dir: str
+
+
+def expand_worlds(text: str) -> tuple[str, ...]:
+    """Generator names and map files from a comma list that may name folders of maps."""
+    return parse_world_list(text)
+
+
+def method_fingerprint(method: str) -> str:
+    """What a method's results depend on besides its name: a model file's content hash."""
+    name, _, arg = method.partition(":")
+    if name != "learned":
+        return method
+    path = Path(arg)
+    if not path.is_file():
+        raise ConfigError(f"model file {arg!r} of method {method!r} does not exist")
+    return f"{method}#sha256:{hashlib.sha256(path.read_bytes()).hexdigest()[:16]}"
+
+
+def world_fingerprint(world: str, resolution: float | None) -> str:
+    """A generator's name, or a map file's name with a hash of the grid it loads as."""
+    if world in WORLD_GENERATORS:
+        return world
+    loaded = _load_map(str(Path(world).resolve()), resolution)
+    digest = hashlib.sha256(loaded.grid.data.tobytes())
+    digest.update(repr((loaded.grid.shape, loaded.grid.resolution, loaded.grid.origin, loaded.start)).encode())
+    return f"{world}#sha256:{digest.hexdigest()[:16]}"
+
+
+def identity(config: ExperimentConfig) -> dict[str, Any]:
+    """Everything a row's values depend on, per part: rows of two experiments may be mixed only
+    where these agree (methods may be added and episodes extended; worlds, seed and settings not)."""
+    return {
+        "seed": config.seed,
+        "worlds": [world_fingerprint(w, config.resolution) for w in config.worlds],
+        "resolution": config.resolution,
+        "sim": to_dict(config.sim),
+        "methods": {m: method_fingerprint(m) for m in config.methods},
+    }
+
+
+def check_methods(config: ExperimentConfig) -> None:
+    """Build every method once, so a bad name or model file fails before any episode runs."""
+    for method in config.methods:
+        _policy(method, config.trust_model)
+
+
+@lru_cache(maxsize=16)
+def _load_map(path: str, resolution: float | None) -> LoadedMap:
+    return load_map(path, resolution=resolution)
+
+
+def make_episode_world(world: str, seed: int, resolution: float | None) -> World:
+    """Episode ``seed``'s world: the generator drawn with it, or the map file with a start drawn
+    with it (a start stored in the file is kept)."""
+    if world in WORLD_GENERATORS:
+        return generate_world(world, seed)
+    loaded = _load_map(str(Path(world).resolve()), resolution)
+    return make_world(loaded.grid, Path(world).stem, start=loaded.start, rng=np.random.default_rng(seed))
+
+
+@lru_cache(maxsize=32)
+def _policy(method: str, trust_model: bool) -> ExplorationPolicy:
+    """One policy object per method and process: loading a model takes longer than an episode."""
+    if method.startswith("learned:"):
+        import torch
+
+        torch.set_num_threads(1)  # one episode per core; a tiny network gains nothing from threads
+    return make_policy(method, trust_model=trust_model)
+
+
+@lru_cache(maxsize=1)
+def _warm() -> None:
+    warm_up()  # compiled kernels load before the first timed episode of this process
+
+
+def run_job(job: EpisodeJob, settings: EpisodeSettings) -> dict[str, Any]:
+    """Run one episode; its result row (scalars) and ``trace`` (coverage curve and weights)."""
+    _warm()
+    base = Path(settings.base_dir)
+    world_spec = job.world if job.world in WORLD_GENERATORS else str(base / job.world)
+    name, _, model = job.method.partition(":")
+    spec = f"learned:{base / model}" if name == "learned" else job.method
+    world = make_episode_world(world_spec, job.seed, settings.resolution)
+    result = run_episode(world, _policy(spec, settings.trust_model), settings.sim, seed=job.seed)
+    summary = result.summary()
+    weights = [(d.time_s, d.weight) for d in result.decision_log if d.weight is not None]
+    times, curve = _thin_curve(result.coverage_times_s, result.coverage_curve, result.sim_time_s)
+    row = {
+        "method": job.method,
+        "world": job.world,
+        "episode": job.episode,
+        "seed": job.seed,
+        "start_x_m": round(world.start.x, 4),
+        "start_y_m": round(world.start.y, 4),
+        "start_theta_rad": round(world.start.theta, 4),
+        **{k: summary[k] for k in ROW_METRICS},
+        "mean_weight": round(float(np.mean([w for _, w in weights])), 4) if weights else None,
+        "wall_time_s": summary["wall_time_s"],
+    }
+    trace = {
+        "method": job.method,
+        "world": job.world,
+        "episode": job.episode,
+        "coverage_t": times,
+        "coverage": curve,
+        "weight_t": [round(t, 2) for t, _ in weights],
+        "weight": [round(float(w), 4) for _, w in weights if w is not None],
+    }
+    return {"row": row, "trace": trace}
+
+
+ROW_METRICS = ("sim_time_s", "path_length_m", "coverage", "t90_s", "t99_s", "decisions", "aborts", "done", "truncated")
+"""The episode metrics a row carries (see :class:`frontier_rl.core.metrics.EpisodeResult`)."""
+
+ROW_COLUMNS = (
+    "method", "world", "episode", "seed", "start_x_m", "start_y_m", "start_theta_rad", *ROW_METRICS,
+    "mean_weight", "wall_time_s",
+)  # fmt: skip
+"""The columns of ``episodes.csv``, in order."""
+
+
+def _thin_curve(times: np.ndarray, curve: np.ndarray, end: float) -> tuple[list[float], list[float]]:
+    """The coverage curve (a step function) sampled at :data:`_TRACE_POINTS` instants from 0 to ``end`` (s)."""
+    if len(times) == 0:
+        return [], []
+    grid = np.linspace(0.0, max(end, float(times[-1])), _TRACE_POINTS)
+    values = sample_step(times, curve, grid)
+    return [round(float(t), 2) for t in grid], [round(float(v), 5) for v in values]

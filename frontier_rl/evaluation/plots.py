@@ -1,0 +1,119 @@
+"""The experiment's figures: box plot and paired scatter of exploration times (the thesis's figures
+4.2 to 4.8), coverage over time, and the weight learned-weight methods chose over time.
+
+Figures are drawn on :class:`matplotlib.figure.Figure` objects (no pyplot state) and saved as PNG.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Mapping, Sequence
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+from matplotlib.figure import Figure
+
+from frontier_rl.core.metrics import sample_step
+
+_DPI = 110
+
+
+def method_label(method: str) -> str:
+    """A short name for plots and tables: ``learned:models/model4.zip`` → ``learned:model4``."""
+    name, _, arg = method.partition(":")
+    return f"learned:{Path(arg).stem}" if name == "learned" else method
+
+
+def box_plot(times: Mapping[str, Sequence[float]], path: Path, title: str) -> Path:
+    """Box-and-whisker plot of exploration time (s) per method; the triangle marks the mean."""
+    fig = Figure(figsize=(1.6 + 1.3 * len(times), 4.2), dpi=_DPI)
+    ax = fig.subplots()
+    ax.boxplot(list(times.values()), showmeans=True, widths=0.55)
+    ax.set_xticks(range(1, len(times) + 1), [method_label(m) for m in times], rotation=20, ha="right")
+    ax.set_ylabel("exploration time (s)")
+    ax.set_title(title)
+    ax.grid(axis="y", alpha=0.3)
+    fig.tight_layout()
+    fig.savefig(path)
+    return path
+
+
+def paired_scatter(times: Mapping[str, Sequence[float]], baseline: str, path: Path) -> Path:
+    """Each episode's time with a method (y) against the baseline's time in it (x); points under
+    the diagonal are episodes the method explored faster."""
+    fig = Figure(figsize=(5.2, 4.8), dpi=_DPI)
+    ax = fig.subplots()
+    base = np.asarray(times[baseline])
+    top = max(float(np.max(v)) for v in times.values()) * 1.05
+    ax.plot([0, top], [0, top], color="0.6", lw=1, ls="--", label="equal time")
+    for method, values in times.items():
+        if method != baseline:
+            ax.scatter(base, values, s=12, alpha=0.7, label=method_label(method))
+    ax.set_xlim(0, top)
+    ax.set_ylim(0, top)
+    ax.set_xlabel(f"{method_label(baseline)}: exploration time (s)")
+    ax.set_ylabel("method: exploration time (s)")
+    ax.set_title("Paired episodes")
+    ax.legend(fontsize=8)
+    fig.tight_layout()
+    fig.savefig(path)
+    return path
+
+
+def coverage_plot(traces: dict[str, list[dict[str, Any]]], path: Path) -> Path:
+    """Mean coverage over time per method with the band between the 25th and 75th percentiles;
+    an episode that has ended keeps its final coverage."""
+    fig = Figure(figsize=(6.4, 4.2), dpi=_DPI)
+    ax = fig.subplots()
+    end = max((t["coverage_t"][-1] for ts in traces.values() for t in ts if t["coverage_t"]), default=1.0)
+    grid = np.linspace(0.0, end, 300)
+    for method, method_traces in traces.items():
+        curves = np.array([sample_step(t["coverage_t"], t["coverage"], grid) for t in method_traces])
+        if curves.size == 0:
+            continue
+        low, high = np.percentile(curves, [25, 75], axis=0)
+        (line,) = ax.plot(grid, 100 * curves.mean(axis=0), lw=1.6, label=method_label(method))
+        ax.fill_between(grid, 100 * low, 100 * high, color=line.get_color(), alpha=0.15, lw=0)
+    ax.set_xlabel("sim time (s)")
+    ax.set_ylabel("explored (% of the reachable free space)")
+    ax.set_ylim(0, 101)
+    ax.set_xlim(0, end)
+    ax.set_title("Coverage over time (mean, band: 25th to 75th percentile)")
+    ax.grid(alpha=0.3)
+    ax.legend(fontsize=8, loc="lower right")
+    fig.tight_layout()
+    fig.savefig(path)
+    return path
+
+
+def weight_plot(traces: dict[str, list[dict[str, Any]]], path: Path) -> Path:
+    """The weight each learned-weight method chose at each decision (dots) and its mean per time
+    bin (line)."""
+    fig = Figure(figsize=(6.4, 4.0), dpi=_DPI)
+    ax = fig.subplots()
+    for method, method_traces in traces.items():
+        t = np.concatenate([np.asarray(tr["weight_t"], float) for tr in method_traces])
+        w = np.concatenate([np.asarray(tr["weight"], float) for tr in method_traces])
+        if t.size == 0:
+            continue
+        (line,) = ax.plot([], [])  # takes the next colour of the cycle for both
+        colour = line.get_color()
+        ax.scatter(t, w, s=4, alpha=0.15, color=colour)
+        edges = np.linspace(0.0, float(t.max()) + 1e-9, 21)
+        which = np.digitize(t, edges) - 1
+        centres, means = [], []
+        for b in range(len(edges) - 1):
+            if np.any(which == b):
+                centres.append(0.5 * (edges[b] + edges[b + 1]))
+                means.append(float(w[which == b].mean()))
+        ax.plot(centres, means, lw=1.8, color=colour, label=method_label(method))
+    ax.axhline(0.75, color="0.6", lw=1, ls="--", label="w = 0.75 (thesis baseline)")
+    ax.set_ylim(-0.02, 1.02)
+    ax.set_xlabel("sim time (s)")
+    ax.set_ylabel("weight w of eq. 3.1")
+    ax.set_title("Weight chosen over time")
+    ax.grid(alpha=0.3)
+    ax.legend(fontsize=8)
+    fig.tight_layout()
+    fig.savefig(path)
+    return path

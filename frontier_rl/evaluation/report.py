@@ -1,0 +1,121 @@
+"""The experiment's report: ``summary.json``, the figures, ``report.md`` and a self-contained
+``report.html`` (figures embedded), all from the rows and traces of the results folder."""
+
+from __future__ import annotations
+
+import base64
+import html
+import json
+from pathlib import Path
+from typing import Any
+
+from frontier_rl.evaluation.analysis import paired_times, summarise
+from frontier_rl.evaluation.experiment import ORACLE, ExperimentConfig
+from frontier_rl.evaluation.plots import box_plot, coverage_plot, method_label, paired_scatter, weight_plot
+from frontier_rl.evaluation.results import ResultStore
+from frontier_rl.evaluation.statistics import TABLE_4_1_HEADER, stats_from_dict, table_4_1_row
+from frontier_rl.evaluation.tables import Table, number
+
+_CSS = (
+    "body{font-family:system-ui,sans-serif;max-width:1100px;margin:2em auto;padding:0 1em;color:#222}"
+    "table{border-collapse:collapse;margin:1em 0;font-size:0.9em}caption{font-weight:bold;text-align:left;"
+    "padding:0.3em 0}th,td{border:1px solid #ccc;padding:0.25em 0.6em;text-align:right}"
+    "th:first-child,td:first-child{text-align:left}img{max-width:100%}.note{font-size:0.85em;color:#555}"
+)
+
+
+def write_report(store: ResultStore, config: ExperimentConfig, outliers: tuple[float, ...], command: str) -> Path:
+    """Write the summary, figures and reports of ``config``'s experiment into ``store.out``;
+    returns the Markdown report's path."""
+    out = store.out
+    summary = summarise(store.rows, config, outliers)
+    (out / "summary.json").write_text(json.dumps(summary, indent=1) + "\n")
+    figures = _figures(store, config)
+    tables = report_tables(summary, config)
+    title = f"Paired experiment: {len(config.methods)} methods, {', '.join(map(_world_label, config.worlds))}"
+    intro = (
+        f"{config.episodes} episode(s) per world, seeds {config.seed} to {config.seed + config.episodes - 1}; "
+        f"episode i of every method has the same world, start pose and sensor noise. Baseline: "
+        f"{method_label(config.baseline)}."
+    )
+    markdown = [f"# {title}", "", intro, "", f"Command: `{command}`", ""]
+    for table in tables:
+        markdown += [table.markdown()]
+    for caption, path in figures:
+        markdown += [f"![{caption}]({path.name})", ""]
+    markdown += ["Files: `episodes.csv` (one row per episode), `traces.jsonl` (coverage curves, weights), "
+                 "`summary.json` (the numbers above), `experiment.json` (what the rows depend on).", ""]  # fmt: skip
+    report_md = out / "report.md"
+    report_md.write_text("\n".join(markdown))
+    body = [f"<h1>{html.escape(title)}</h1>", f"<p>{html.escape(intro)}</p>",
+            f"<p>Command: <code>{html.escape(command)}</code></p>", *(t.html() for t in tables)]  # fmt: skip
+    for caption, path in figures:
+        data = base64.b64encode(path.read_bytes()).decode()
+        body.append(f'<figure><img alt="{html.escape(caption)}" src="data:image/png;base64,{data}"></figure>')
+    page = (
+        f'<!DOCTYPE html><html lang="en"><head><meta charset="utf-8"><title>{html.escape(title)}</title>'
+        f"<style>{_CSS}</style></head><body>{''.join(body)}</body></html>\n"
+    )
+    (out / "report.html").write_text(page)
+    return report_md
+
+
+def report_tables(summary: dict[str, Any], config: ExperimentConfig) -> list[Table]:
+    """Table 4.1 of all episodes (with the ratio to the oracle), of each outlier cut and of each
+    world, and a table of the other metrics."""
+    baseline = config.baseline
+    tables = [_table_4_1(summary["methods"], baseline, "Exploration time, all episodes", oracle=True)]
+    for threshold, cut in summary["outliers"].items():
+        table = _table_4_1(cut["methods"], baseline, f"Without episodes above {threshold} s (either method)")
+        tables.append(Table((*table.header, "excluded"), [
+            [*row, str(cut["methods"][m]["excluded"])] for row, m in zip(table.rows, config.methods, strict=True)
+        ], table.title))  # fmt: skip
+    for world, part in summary.get("per_world", {}).items():
+        tables.append(_table_4_1(part["methods"], baseline, f"World {_world_label(world)}", oracle=True))
+    metrics = Table(
+        ("method", "episodes done", "coverage", "path (m)", "t90 (s)", "t99 (s)", "aborts", "mean weight",
+         "wall per episode (s)"),
+        title="Other metrics (means over episodes; t90 and t99 over the episodes that reached them)",
+    )  # fmt: skip
+    for method, e in summary["methods"].items():
+        metrics.rows.append([
+            method_label(method), f"{e['episodes_done']} / {e['n']}", number(100 * e["mean_coverage"], 2, " %"),
+            number(e["mean_path_length_m"]), number(e["mean_t90_s"]), number(e["mean_t99_s"]),
+            number(e["mean_aborts"], 2), number(e["mean_weight"], 3), number(e["mean_wall_time_s"], 2),
+        ])  # fmt: skip
+    tables.append(metrics)
+    return tables
+
+
+def _table_4_1(entries: dict[str, dict[str, Any]], baseline: str, title: str, oracle: bool = False) -> Table:
+    rows = [table_4_1_row(method_label(m), stats_from_dict(e), m == baseline) for m, e in entries.items()]
+    if not oracle or ORACLE not in entries:
+        return Table(TABLE_4_1_HEADER, rows, title)
+    ratios = [number(e["oracle_ratio"], 2, " ×") for e in entries.values()]
+    return Table(
+        (*TABLE_4_1_HEADER, "time / oracle"),
+        [[*row, ratio] for row, ratio in zip(rows, ratios, strict=True)],
+        title,
+        "time / oracle: mean exploration time over the full-knowledge coverage tour's (1.00 × would be as fast "
+        "as a robot that knows the map).",
+    )
+
+
+def _figures(store: ResultStore, config: ExperimentConfig) -> list[tuple[str, Path]]:
+    out = store.out
+    times = paired_times(store.rows, config.methods, config.worlds, config.episodes)
+    keys = [(w, e) for e in range(config.episodes) for w in config.worlds]
+    traces = {m: [store.traces[(m, w, e)] for w, e in keys if (m, w, e) in store.traces] for m in config.methods}
+    figures = [
+        ("Exploration time per method", box_plot(times, out / "boxplot.png", "Exploration time per method")),
+        ("Paired episodes against the baseline", paired_scatter(times, config.baseline, out / "scatter.png")),
+        ("Coverage over time", coverage_plot(traces, out / "coverage.png")),
+    ]
+    learned = {m: t for m, t in traces.items() if m.startswith("learned:") and any(tr["weight"] for tr in t)}
+    if learned:
+        figures.append(("Weight chosen over time", weight_plot(learned, out / "weights.png")))
+    return figures
+
+
+def _world_label(world: str) -> str:
+    return Path(world).stem if "/" in world or "." in world else world

@@ -1,0 +1,214 @@
+"""``evaluate``: paired rows, identical across backends, resume after SIGKILL, refusal to mix
+configurations, the report files, and bad input."""
+
+from __future__ import annotations
+
+import csv
+import json
+import os
+import signal
+import subprocess
+import sys
+import time
+from pathlib import Path
+
+import pytest
+from typer.testing import CliRunner
+
+from frontier_rl.cli import app
+from frontier_rl.core.simulator import SimConfig
+from frontier_rl.errors import ConfigError, UnknownNameError
+from frontier_rl.evaluation.evaluate import evaluate, parse_thresholds
+from frontier_rl.evaluation.experiment import ExperimentConfig, expand_worlds
+
+SHORT = SimConfig(max_sim_time=80.0)  # episodes cut at 80 s of sim time: a fraction of a second each
+runner = CliRunner()
+
+
+def _config(methods: tuple[str, ...] = ("fixed:0.75", "nearest"), episodes: int = 2, **kw: object) -> ExperimentConfig:
+    return ExperimentConfig(methods=methods, worlds=("office",), episodes=episodes, sim=SHORT, **kw)  # type: ignore[arg-type]
+
+
+def _rows(out: Path, drop_wall: bool = True) -> list[dict[str, str]]:
+    with (out / "episodes.csv").open() as handle:
+        rows = list(csv.DictReader(handle))
+    for row in rows:
+        if drop_wall:
+            row.pop("wall_time_s")
+    return rows
+
+
+@pytest.fixture(scope="module")
+def serial_run(tmp_path_factory: pytest.TempPathFactory) -> Path:
+    out = tmp_path_factory.mktemp("serial") / "exp"
+    evaluate(_config(), out, backend="serial", progress=False, command="test")
+    return out
+
+
+def test_rows_are_paired_and_complete(serial_run: Path) -> None:
+    rows = _rows(serial_run)
+    assert [(r["method"], r["episode"]) for r in rows] == [
+        ("fixed:0.75", "0"), ("nearest", "0"), ("fixed:0.75", "1"), ("nearest", "1"),
+    ]  # fmt: skip
+    for episode in ("0", "1"):
+        pair = [r for r in rows if r["episode"] == episode]
+        # the same world, start and seed for both methods in an episode
+        assert len({(r["world"], r["seed"], r["start_x_m"], r["start_y_m"], r["start_theta_rad"]) for r in pair}) == 1
+    assert {r["seed"] for r in rows} == {"0", "1"}
+    assert all(float(r["sim_time_s"]) <= 80.0 + 1e-6 for r in rows)
+    traces = [json.loads(line) for line in (serial_run / "traces.jsonl").read_text().splitlines()]
+    assert [(t["method"], t["episode"]) for t in traces] == [(r["method"], int(r["episode"])) for r in rows]
+
+
+@pytest.mark.parametrize("backend", ["process", "ray"])
+def test_backends_give_identical_rows(serial_run: Path, tmp_path: Path, backend: str) -> None:
+    if backend == "ray":
+        pytest.importorskip("ray")
+    out = tmp_path / backend
+    evaluate(_config(), out, backend=backend, workers=2, progress=False, command="test")
+    assert _rows(out) == _rows(serial_run)
+    assert (out / "traces.jsonl").read_bytes() == (serial_run / "traces.jsonl").read_bytes()
+
+
+def test_summary_json_has_the_documented_fields(serial_run: Path) -> None:
+    summary = json.loads((serial_run / "summary.json").read_text())
+    assert summary["baseline"] == "fixed:0.75"
+    nearest = summary["methods"]["nearest"]
+    for key in ("n", "mean_time_s", "var_time_s", "mean_diff_s", "ci95_s", "p_one_tailed", "p_two_tailed",
+                "p_wilcoxon", "reduction_pct"):  # fmt: skip
+        assert key in nearest
+    times = {(r["method"], r["episode"]): float(r["sim_time_s"]) for r in _rows(serial_run)}
+    diffs = [times[("fixed:0.75", e)] - times[("nearest", e)] for e in ("0", "1")]
+    assert nearest["n"] == 2 and nearest["mean_diff_s"] == pytest.approx(sum(diffs) / 2)
+    assert set(summary["outliers"]) == {"1000", "2000"}
+
+
+def test_report_files_hold_the_table(serial_run: Path) -> None:
+    for name in ("report.md", "report.html", "boxplot.png", "scatter.png", "coverage.png", "summary.json"):
+        assert (serial_run / name).stat().st_size > 0, name
+    markdown = (serial_run / "report.md").read_text()
+    assert "| method | n | mean time (s) | variance (s²) | mean saving (s)" in markdown
+    assert "| fixed:0.75 (baseline) | 2 |" in markdown and "| nearest | 2 |" in markdown
+    assert "![Exploration time per method](boxplot.png)" in markdown
+    page = (serial_run / "report.html").read_text()
+    assert page.count("<table>") >= 3 and "fixed:0.75 (baseline)" in page
+    assert page.count("data:image/png;base64,") == 3  # figures embedded: no weight plot without learned methods
+
+
+def test_rerun_skips_finished_episodes_and_methods_can_be_added(serial_run: Path, tmp_path: Path) -> None:
+    out = tmp_path / "grow"
+    evaluate(_config(), out, backend="serial", progress=False)
+    before = {(r["method"], r["episode"]): r["wall_time_s"] for r in _rows(out, drop_wall=False)}
+    evaluate(_config(("fixed:0.75", "nearest", "largest")), out, backend="serial", progress=False)
+    after = _rows(out, drop_wall=False)
+    assert len(after) == 6
+    for row in after:  # the old rows were kept, not rerun (their wall times are unchanged)
+        if (row["method"], row["episode"]) in before:
+            assert row["wall_time_s"] == before[(row["method"], row["episode"])]
+
+
+@pytest.mark.parametrize(
+    ("change", "needle"),
+    [({"seed": 5}, "seed"), ({"sim": SimConfig(max_sim_time=90.0)}, "sim")],
+)
+def test_a_different_configuration_is_refused_and_nothing_is_lost(
+    serial_run: Path, change: dict[str, object], needle: str
+) -> None:
+    files = {p.name: p.read_bytes() for p in serial_run.iterdir()}
+    kwargs = {"methods": ("fixed:0.75", "nearest"), "worlds": ("office",), "episodes": 2, "sim": SHORT} | change
+    with pytest.raises(ConfigError, match=f"different configuration \\({needle}"):
+        evaluate(ExperimentConfig(**kwargs), serial_run, backend="serial", progress=False)  # type: ignore[arg-type]
+    assert {p.name: p.read_bytes() for p in serial_run.iterdir()} == files
+
+
+def test_a_changed_model_file_is_refused(tmp_path: Path) -> None:
+    model = Path("models/model4.zip")
+    if not model.exists():
+        pytest.skip("shipped model missing")
+    copy = tmp_path / "m.zip"
+    copy.write_bytes(model.read_bytes())
+    config = _config(("fixed:0.75", f"learned:{copy}"), episodes=1)
+    evaluate(config, tmp_path / "exp", backend="serial", progress=False)
+    copy.write_bytes(Path("models/model5.zip").read_bytes())
+    with pytest.raises(ConfigError, match="different model file"):
+        evaluate(config, tmp_path / "exp", backend="serial", progress=False)
+
+
+def test_map_files_and_folders_are_worlds(shared_maps: Path, tmp_path: Path) -> None:
+    folder = tmp_path / "maps"
+    folder.mkdir()
+    for name in ("map.yaml", "map.pgm"):
+        (folder / name).write_bytes((shared_maps / "turtlebot3_world" / name).read_bytes())
+    worlds = expand_worlds(f"{folder},office")
+    assert worlds == (str(folder / "map.yaml"), "office")
+    config = ExperimentConfig(methods=("fixed:0.75", "nearest"), worlds=worlds, episodes=1, sim=SHORT)
+    evaluate(config, tmp_path / "exp", backend="serial", progress=False)
+    summary = json.loads((tmp_path / "exp" / "summary.json").read_text())
+    assert set(summary["per_world"]) == set(worlds)
+    assert "World map" in (tmp_path / "exp" / "report.md").read_text()
+
+
+def _cli(out: Path, *extra: str) -> list[str]:
+    return [sys.executable, "-m", "frontier_rl.cli", "evaluate", "--methods", "nearest,largest", "--episodes", "4",
+            "--max-time", "150", "--no-oracle", "--backend", "serial", "--no-progress", "--out", str(out), *extra]  # fmt: skip
+
+
+def test_resume_after_sigkill_ends_with_the_uninterrupted_table(tmp_path: Path) -> None:
+    whole = tmp_path / "whole"
+    subprocess.run(_cli(whole), check=True, capture_output=True, timeout=300)
+    killed = tmp_path / "killed"
+    process = subprocess.Popen(_cli(killed), stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
+    csv_path = killed / "episodes.csv"
+    deadline = time.monotonic() + 120
+    while time.monotonic() < deadline and (not csv_path.exists() or len(csv_path.read_text().splitlines()) < 4):
+        time.sleep(0.02)
+    os.kill(process.pid, signal.SIGKILL)
+    process.wait(timeout=30)
+    finished = len(csv_path.read_text().splitlines()) - 1
+    assert 3 <= finished < 8, "the kill should land mid-run"
+    with csv_path.open("a") as handle:  # as if killed while writing a row
+        handle.write("nearest,office,3,3,1.0")
+    with (killed / "traces.jsonl").open("a") as handle:
+        handle.write('{"method": "nearest", "wor')
+    subprocess.run(_cli(killed), check=True, capture_output=True, timeout=300)
+    assert _rows(killed) == _rows(whole)
+    assert (killed / "traces.jsonl").read_bytes() == (whole / "traces.jsonl").read_bytes()
+
+
+@pytest.mark.parametrize(
+    ("args", "needle"),
+    [
+        (["--methods", "nearest,bogus"], "unknown policy 'bogus'"),
+        (["--methods", "learned:missing.zip"], "missing.zip"),
+        (["--methods", "nearest", "--worlds", "atlantis"], "unknown world 'atlantis'"),
+        (["--methods", "nearest", "--episodes", "0"], "episodes must be a positive integer"),
+        (["--methods", "nearest", "--backend", "mpi"], "unknown backend 'mpi'"),
+        (["--methods", "nearest", "--workers", "0"], "--workers must be a positive integer"),
+        (["--methods", "nearest", "--outliers", "1000,abc"], "outlier thresholds"),
+        (["--methods", "nearest", "--backend", "ray", "--ray-address", "127.0.0.1:1"], "does not answer"),
+    ],
+)
+def test_bad_input_is_one_line_and_writes_nothing(tmp_path: Path, args: list[str], needle: str) -> None:
+    if "ray" in args:
+        pytest.importorskip("ray")
+    out = tmp_path / "out"
+    result = runner.invoke(app, ["evaluate", "--out", str(out), "--no-progress", *args])
+    assert result.exit_code == 2, result.output
+    assert needle in result.output and len(result.output.strip().splitlines()) == 1, result.output
+    assert not out.exists()
+
+
+def test_outlier_thresholds_parse() -> None:
+    assert parse_thresholds("1000, 2000") == (1000.0, 2000.0)
+    assert parse_thresholds("") == ()
+    with pytest.raises(ConfigError):
+        parse_thresholds("-5")
+
+
+def test_unknown_baseline_and_duplicates_are_refused() -> None:
+    with pytest.raises(ConfigError, match="baseline"):
+        ExperimentConfig(methods=("nearest",), worlds=("office",), episodes=1)
+    with pytest.raises(ConfigError, match="twice"):
+        ExperimentConfig(methods=("fixed:0.75", "fixed:0.75"), worlds=("office",), episodes=1)
+    with pytest.raises(UnknownNameError):
+        expand_worlds("office,nowhere/")
