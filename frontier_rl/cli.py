@@ -26,7 +26,6 @@ app = typer.Typer(add_completion=False, no_args_is_help=True, help="Frontier exp
 err_console = Console(stderr=True, soft_wrap=True)
 F = TypeVar("F", bound=Callable[..., Any])
 
-DEMO_POLICIES = ("nearest", "largest", "fixed:0.75", "explore-lite", "info-gain", "random")
 DEMO_WORLDS = ("office", "rooms", "cluttered")
 SHIPPED_MODELS = (Path("models/model4.zip"), Path("models/model5.zip"))
 """Trained models in the repository; the demo runs them too when run from the checkout."""
@@ -112,43 +111,63 @@ def explore(
 @app.command()
 @_friendly_errors
 def demo(
-    out: Annotated[Path, typer.Option(help="Folder for the pictures and the results.")] = Path("demo_output"),
-    seed: Annotated[int, typer.Option(help="World and noise seed.")] = 0,
+    out: Annotated[Path, typer.Option(help="Folder for the report and pictures (rewritten).")] = Path("demo_output"),
+    seed: Annotated[int, typer.Option(help="Seed of the first episode.")] = 0,
+    episodes: Annotated[int, typer.Option(help="Episodes per world.")] = 10,
+    workers: Annotated[int | None, typer.Option(help="Episodes run at once (default: every core).")] = None,
+    max_time: Annotated[float | None, typer.Option(help="Sim-time cap of every episode (s).")] = None,
+    progress: Annotated[bool, typer.Option(help="Show a progress bar.")] = True,
 ) -> None:
-    """Every baseline and shipped model on every built-in world: a table, a picture per run, an
-    animation of one."""
+    """The compact experiment: the shipped models against fixed:0.75, nearest and the oracle on the
+    built-in worlds, with a report in OUT/experiment, and a picture of each method's first episode
+    on each world (plus an animation of one)."""
+    import shutil
+
+    from frontier_rl.evaluation.evaluate import DEFAULT_OUTLIERS_S
+    from frontier_rl.evaluation.evaluate import evaluate as run_evaluation
+    from frontier_rl.evaluation.experiment import ORACLE, ExperimentConfig
+
+    methods = ("fixed:0.75", "nearest", *(f"learned:{path}" for path in SHIPPED_MODELS if path.exists()), ORACLE)
+    sim = _sim_config(None, max_time)
+    experiment = ExperimentConfig(methods=methods, worlds=DEMO_WORLDS, episodes=episodes, seed=seed, sim=sim)
     out.mkdir(parents=True, exist_ok=True)
-    dump_config(SimConfig(), out / "config.yaml")
+    results = out / "experiment"
+    if results.exists():  # the demo starts afresh: a retrained model must not meet its old rows
+        shutil.rmtree(results)
+    dump_config(experiment.sim, out / "config.yaml")
+    command = "frontier-rl demo " + " ".join(sys.argv[2:]) if len(sys.argv) > 2 else "frontier-rl demo"
+    report = run_evaluation(experiment, results, "process", workers, None, DEFAULT_OUTLIERS_S, progress, command)
+    _print_summary(report, f"{episodes} episode(s) per world on {', '.join(DEMO_WORLDS)}", experiment.baseline)
     warm_up()
-    table = Table(title=f"Baselines on the built-in worlds (seed {seed})")
-    for column in ("world", "policy", "time (s)", "t90 (s)", "path (m)", "coverage", "wall (s)"):
-        table.add_column(column, justify="right" if column != "policy" else "left")
-    rows = []
-    policies = [*DEMO_POLICIES, *(f"learned:{path}" for path in SHIPPED_MODELS if path.exists())]
     for world_name in DEMO_WORLDS:
         world = resolve_world(world_name, seed)
-        for policy_name in policies:
-            policy = make_policy(policy_name)
-            animate = world_name == "office" and policy_name == "fixed:0.75"
+        for method in methods:
+            animate = world_name == "office" and method == "fixed:0.75"
             recorder = EpisodeRecorder(world, frames=animate)
-            result = run_episode(world, policy, seed=seed, on_decision=recorder)
-            stem = f"{world_name}_{re.sub(r'[^A-Za-z0-9.]+', '_', policy_name.removesuffix('.zip'))}"
-            recorder.save_png(out / f"{stem}.png", result, f"{world_name} / {policy_name}")
+            result = run_episode(world, make_policy(method), sim, seed=seed, on_decision=recorder)
+            stem = f"{world_name}_{re.sub(r'[^A-Za-z0-9.]+', '_', method.removesuffix('.zip'))}"
+            recorder.save_png(out / f"{stem}.png", result, f"{world_name} / {method}")
             if animate:
                 recorder.save_gif(out / f"{stem}.gif")
-            s = result.summary()
-            rows.append({"world": world_name, "policy": policy_name, **s})
-            t90 = "-" if s["t90_s"] is None else f"{s['t90_s']:.1f}"
-            shown = (
-                f"learned:{Path(policy_name.partition(':')[2]).stem}"
-                if policy_name.startswith("learned:")
-                else policy_name
-            )
-            table.add_row(world_name, shown, f"{s['sim_time_s']:.1f}", t90,
-                          f"{s['path_length_m']:.1f}", f"{s['coverage']:.4f}", f"{s['wall_time_s']:.2f}")  # fmt: skip
-    (out / "results.json").write_text(json.dumps(rows, indent=1))
+    Console().print(f"report: {report} and {report.with_suffix('.html')}; pictures of seed {seed} in {out}/")
+
+
+def _print_summary(report: Path, title: str, baseline: str) -> None:
+    """The main numbers of an experiment's ``summary.json`` as a table on the terminal."""
+    from frontier_rl.evaluation.plots import method_label
+
+    summary = json.loads((report.parent / "summary.json").read_text())
+    table = Table(title=title)
+    for column in ("method", "mean time (s)", "vs baseline", "p one-tailed", "time / oracle", "done"):
+        table.add_column(column, justify="left" if column == "method" else "right", no_wrap=column == "method")
+    for name, e in summary["methods"].items():
+        compared = name != baseline and e["reduction_pct"] is not None
+        table.add_row(
+            method_label(name), f"{e['mean_time_s']:.1f}", f"{-e['reduction_pct']:+.1f} %" if compared else "baseline",
+            f"{e['p_one_tailed']:.2g}" if compared and e["p_one_tailed"] is not None else "",
+            f"{e['oracle_ratio']:.2f}" if e["oracle_ratio"] is not None else "", f"{e['episodes_done']}/{e['n']}",
+        )  # fmt: skip
     Console().print(table)
-    Console().print(f"pictures and results.json in {out}/")
 
 
 @app.command()
@@ -178,7 +197,6 @@ def evaluate(
     from frontier_rl.evaluation.evaluate import evaluate as run_evaluation
     from frontier_rl.evaluation.evaluate import parse_thresholds
     from frontier_rl.evaluation.experiment import ORACLE, ExperimentConfig, expand_worlds
-    from frontier_rl.evaluation.plots import method_label
 
     names = [m.strip() for m in methods.split(",") if m.strip()]
     ordered = list(dict.fromkeys([baseline, *names, *([ORACLE] if oracle else [])]))
@@ -194,18 +212,7 @@ def evaluate(
     except KeyboardInterrupt:
         err_console.print(f"interrupted: finished episodes are saved in {out}/; rerun the same command to resume")
         raise typer.Exit(130) from None
-    summary = json.loads((report.parent / "summary.json").read_text())
-    table = Table(title=f"{experiment.episodes} episode(s) per world on {', '.join(experiment.worlds)}")
-    for column in ("method", "mean time (s)", "vs baseline", "p one-tailed", "time / oracle", "done"):
-        table.add_column(column, justify="left" if column == "method" else "right")
-    for name, e in summary["methods"].items():
-        compared = name != baseline and e["reduction_pct"] is not None
-        table.add_row(
-            method_label(name), f"{e['mean_time_s']:.1f}", f"{-e['reduction_pct']:+.1f} %" if compared else "baseline",
-            f"{e['p_one_tailed']:.2g}" if compared and e["p_one_tailed"] is not None else "",
-            f"{e['oracle_ratio']:.2f}" if e["oracle_ratio"] is not None else "", f"{e['episodes_done']}/{e['n']}",
-        )  # fmt: skip
-    Console().print(table)
+    _print_summary(report, f"{episodes} episode(s) per world on {', '.join(experiment.worlds)}", baseline)
     Console().print(f"report: {report} and {report.with_suffix('.html')}")
 
 

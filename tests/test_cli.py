@@ -135,3 +135,17 @@ def test_bad_learned_policy_is_one_line_and_exit_2(spec: str, needle: str) -> No
     result = runner.invoke(app, ["explore", "--policy", spec])
     assert result.exit_code == 2
     assert needle in result.output and "Traceback" not in result.output
+
+
+def test_demo_runs_the_compact_experiment_and_draws_every_method(tmp_path: Path) -> None:
+    out = tmp_path / "demo"
+    result = runner.invoke(app, ["demo", "--out", str(out), "--episodes", "1", "--max-time", "60", "--no-progress"])
+    assert result.exit_code == 0, result.output
+    summary = json.loads((out / "experiment" / "summary.json").read_text())
+    methods = set(summary["methods"])
+    assert {"fixed:0.75", "nearest", "oracle"} <= methods
+    assert summary["worlds"] == ["office", "rooms", "cluttered"] and summary["episodes"] == 1
+    assert "| fixed:0.75 (baseline) | 3 |" in (out / "experiment" / "report.md").read_text()
+    assert (out / "experiment" / "boxplot.png").stat().st_size > 0
+    assert len(list(out.glob("*.png"))) == 3 * len(methods)
+    assert (out / "office_fixed_0.75.gif").exists()
