@@ -162,8 +162,9 @@ def _print_summary(report: Path, title: str, baseline: str) -> None:
         table.add_column(column, justify="left" if column == "method" else "right", no_wrap=column == "method")
     for name, e in summary["methods"].items():
         compared = name != baseline and e["reduction_pct"] is not None
+        change = f"{0.0 - e['reduction_pct'] + 0.0:+.1f} %" if compared else "baseline"  # + 0.0: no "-0.0"
         table.add_row(
-            method_label(name), f"{e['mean_time_s']:.1f}", f"{-e['reduction_pct']:+.1f} %" if compared else "baseline",
+            method_label(name), f"{e['mean_time_s']:.1f}", change,
             f"{e['p_one_tailed']:.2g}" if compared and e["p_one_tailed"] is not None else "",
             f"{e['oracle_ratio']:.2f}" if e["oracle_ratio"] is not None else "", f"{e['episodes_done']}/{e['n']}",
         )  # fmt: skip

@@ -17,6 +17,7 @@ from numpy.typing import NDArray
 from frontier_rl.core.distance import chamfer_distance_padded, flood_known
 from frontier_rl.core.grid import CellState, OccupancyGrid
 from frontier_rl.core.navigation import NavigationConfig
+from frontier_rl.core.path_costs import cost_field
 from frontier_rl.core.robot import RobotConfig
 
 _SQRT2 = math.sqrt(2.0)
@@ -91,7 +92,7 @@ class Costmap:
         traversable cell; inf where there is no path."""
         if not self.grid.in_bounds(*start):
             return np.full(self.grid.shape, np.inf)
-        return cost_to_go_padded(self.open_padded, self.cost_padded, start[0], start[1]) * self.grid.resolution
+        return cost_field(self, start)
 
     def plan(self, start: tuple[int, int], goal: tuple[int, int], escape_radius: float = 0.25) -> NDArray[np.int64]:
         """A* path (cells, (n, 2) rows and columns) from ``start`` to ``goal``; empty if none.
@@ -338,44 +339,3 @@ def astar_padded(
         path[i, 1] = cur % pcols - 1
         cur = parent[cur]
     return path
-
-
-@nb.njit(cache=True)
-def cost_to_go_padded(
-    open_padded: NDArray[np.bool_], cost_padded: NDArray[np.float64], start_r: int, start_c: int
-) -> NDArray[np.float64]:
-    """Dijkstra from (start_r, start_c) (unpadded) with the planner's step costs: the path cost (cells)
-    to every traversable cell, inf where unreachable. Unpadded shape."""
-    rows, pcols = open_padded.shape
-    n = open_padded.size
-    open_ok = open_padded.reshape(-1)
-    cost = cost_padded.reshape(-1)
-    start = (start_r + 1) * pcols + start_c + 1
-    offsets = np.array([-pcols, pcols, -1, 1, -pcols - 1, -pcols + 1, pcols - 1, pcols + 1])
-    side_row = np.array([0, 0, 0, 0, -pcols, -pcols, pcols, pcols])
-    side_col = np.array([0, 0, 0, 0, -1, 1, -1, 1])
-    g = np.full(n, np.inf)
-    closed = np.zeros(n, np.bool_)
-    heap_f = np.empty(8 * n + 8)
-    heap_i = np.empty(8 * n + 8, np.int64)
-    g[start] = 0.0
-    heap_f[0], heap_i[0] = 0.0, start
-    size = 1
-    while size > 0:
-        cur = heap_i[0]
-        size = _heap_pop(heap_f, heap_i, size)
-        if closed[cur]:
-            continue
-        closed[cur] = True
-        for k in range(8):
-            nxt = cur + offsets[k]
-            if closed[nxt]:
-                continue
-            step = _step_length(open_ok, cur, k, offsets, side_row, side_col)
-            if step == 0.0:
-                continue
-            new_g = g[cur] + step * cost[nxt]
-            if new_g < g[nxt]:
-                g[nxt] = new_g
-                size = _heap_push(heap_f, heap_i, size, new_g, nxt)
-    return g.reshape(rows, pcols)[1:-1, 1:-1].copy()

@@ -105,10 +105,14 @@ def _ray_tasks(
 
     started_here = not ray.is_initialized()
     if started_here:
-        if address is None:  # a local instance with this many CPUs
-            ray.init(num_cpus=workers, include_dashboard=False, log_to_driver=False, configure_logging=False)
-        else:
-            ray.init(address=address, log_to_driver=False, configure_logging=False)
+        try:
+            if address is None:  # a local instance with this many CPUs
+                ray.init(num_cpus=workers, include_dashboard=False, log_to_driver=False, configure_logging=False)
+            else:
+                ray.init(address=address, log_to_driver=False, configure_logging=False)
+        except (ConnectionError, RuntimeError) as exc:
+            where = address or "a local instance"
+            raise ConfigError(f"Ray could not start or reach {where}: {str(exc).splitlines()[0]}") from None
     try:
         remote_job = ray.remote(num_cpus=1, max_retries=2)(run_job)
         settings_ref = ray.put(settings)

@@ -8,6 +8,7 @@ from frontier_rl.policies.baselines import (
     NearestFrontier,
     RandomFrontier,
 )
+from frontier_rl.policies.oracle import OracleTour
 from frontier_rl.policies.registry import POLICY_NAMES, make_policy
 
 __all__ = [
@@ -17,6 +18,7 @@ __all__ = [
     "InformationGain",
     "LargestFrontier",
     "NearestFrontier",
+    "OracleTour",
     "RandomFrontier",
     "make_policy",
 ]

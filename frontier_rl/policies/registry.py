@@ -15,6 +15,7 @@ from frontier_rl.policies.baselines import (
     NearestFrontier,
     RandomFrontier,
 )
+from frontier_rl.policies.oracle import OracleTour
 
 _SIMPLE: dict[str, Callable[[], ExplorationPolicy]] = {
     "nearest": NearestFrontier,
@@ -22,6 +23,7 @@ _SIMPLE: dict[str, Callable[[], ExplorationPolicy]] = {
     "explore-lite": ExploreLite,
     "info-gain": InformationGain,
     "random": RandomFrontier,
+    "oracle": OracleTour,
 }
 
 POLICY_NAMES: tuple[str, ...] = (*_SIMPLE, "fixed:W", "learned:PATH.zip")

@@ -15,7 +15,8 @@ from scipy.sparse.csgraph import dijkstra
 
 from frontier_rl.core.grid import CellState, OccupancyGrid
 from frontier_rl.core.navigation import NavigationConfig, follow_path, footprint_offsets, obstacle_distance
-from frontier_rl.core.planner import Costmap, astar, cost_to_go_padded, nearest_cell
+from frontier_rl.core.path_costs import cost_to_go_padded
+from frontier_rl.core.planner import Costmap, astar, nearest_cell
 from frontier_rl.core.robot import RobotConfig
 from frontier_rl.errors import ConfigError
 
@@ -159,7 +160,7 @@ def test_cost_to_go_equals_dijkstra_on_random_grids(seed: int) -> None:
     penalty = np.where(rng.random(shape) < 0.5, rng.uniform(0.0, 4.0, shape), 0.0)
     cells = np.argwhere(passable)
     start = tuple(int(v) for v in cells[rng.integers(len(cells))])
-    field = cost_to_go_padded(np.pad(passable, 1), np.pad(1.0 + penalty, 1, constant_values=1.0), *start)
+    field = cost_to_go_padded(np.pad(passable, 1), np.pad(1.0 + penalty, 1, constant_values=1.0), start)  # type: ignore[arg-type]
     assert field.shape == shape and field[start] == 0.0
     for goal in map(tuple, cells[:: max(len(cells) // 12, 1)]):
         expected = dijkstra_cost(passable, penalty, start, goal)  # type: ignore[arg-type]

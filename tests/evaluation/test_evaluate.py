@@ -150,7 +150,8 @@ def test_map_files_and_folders_are_worlds(shared_maps: Path, tmp_path: Path) -> 
 
 def _cli(out: Path, *extra: str) -> list[str]:
     return [sys.executable, "-m", "frontier_rl.cli", "evaluate", "--methods", "nearest,largest", "--episodes", "4",
-            "--max-time", "150", "--no-oracle", "--backend", "serial", "--no-progress", "--out", str(out), *extra]  # fmt: skip
+            "--max-time", "150", "--no-oracle", "--backend", "serial", "--no-progress", "--out", str(out),
+            *extra]  # fmt: skip
 
 
 def test_resume_after_sigkill_ends_with_the_uninterrupted_table(tmp_path: Path) -> None:

@@ -17,6 +17,7 @@ from frontier_rl.policies import (
     InformationGain,
     LargestFrontier,
     NearestFrontier,
+    OracleTour,
     RandomFrontier,
     make_policy,
 )
@@ -31,7 +32,8 @@ SIMPLE = {
 
 
 def test_policy_names() -> None:
-    assert set(POLICY_NAMES) == {*SIMPLE, "fixed:W", "learned:PATH.zip"}
+    assert set(POLICY_NAMES) == {*SIMPLE, "oracle", "fixed:W", "learned:PATH.zip"}
+    assert isinstance(make_policy("oracle"), OracleTour)
 
 
 @pytest.mark.parametrize("name", sorted(SIMPLE))
