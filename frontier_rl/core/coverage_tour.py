@@ -263,7 +263,9 @@ def insertion_cover(
         place = np.full(n, len(route))
         if len(route) > 1:
             edges = costs[np.arange(len(route) - 1), route[1:]]
-            between = costs[:-1] + costs[1:] - edges[:, None]
+            with np.errstate(invalid="ignore"):  # inf - inf where an edge was never searched
+                between = costs[:-1] + costs[1:] - edges[:, None]
+            between[~np.isfinite(edges)] = np.inf  # no detour is known for an edge of unknown length
             best_between = between.argmin(axis=0)
             better = between[best_between, np.arange(n)] < insert
             insert[better] = between[best_between, np.arange(n)][better]
