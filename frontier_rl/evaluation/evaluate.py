@@ -57,10 +57,21 @@ def evaluate(
     check_backend(backend, workers, ray_address)
     check_methods(config)  # a bad method or model file fails before anything is written
     store = ResultStore(out, identity(config))
+    try:
+        _run_missing(store, config, backend, workers, ray_address, progress)
+        store.finalise(config.jobs())
+        return write_report(store, config, outliers, command)
+    finally:
+        store.close()
+
+
+def _run_missing(
+    store: ResultStore, config: ExperimentConfig, backend: str, workers: int, ray_address: str | None, progress: bool
+) -> None:
+    """Run the jobs of ``config`` that ``store`` does not hold yet, recording each as it finishes."""
     jobs = config.jobs()
     todo = [job for job in jobs if not store.done(job)]
-    finished_before = len(jobs) - len(todo)
-    with _progress_bar(len(todo), finished_before, progress) as advance:
+    with _progress_bar(len(todo), len(jobs) - len(todo), progress) as advance:
 
         def record(result: dict[str, Any]) -> None:
             store.record(result)
@@ -76,8 +87,6 @@ def evaluate(
                 f"an episode failed ({type(exc).__name__}: {lines[-1] if lines else ''}); the {len(store.rows)} "
                 f"finished episodes are saved in {store.csv_path}; rerun the command to resume"
             ) from exc
-    store.finalise(jobs)
-    return write_report(store, config, outliers, command)
 
 
 @contextmanager

@@ -17,7 +17,12 @@ import io
 import json
 import os
 from pathlib import Path
-from typing import Any
+from typing import IO, Any
+
+try:
+    import fcntl
+except ImportError:  # pragma: no cover - not POSIX
+    fcntl = None  # type: ignore[assignment]
 
 from frontier_rl.errors import ConfigError
 from frontier_rl.evaluation.experiment import ROW_COLUMNS, EpisodeJob
@@ -43,12 +48,39 @@ class ResultStore:
         self.csv_path = self.out / "episodes.csv"
         self.trace_path = self.out / "traces.jsonl"
         self.identity_path = self.out / "experiment.json"
-        self._check_identity(identity)
+        self._lock = self._acquire_lock()
         self.rows: dict[Key, dict[str, Any]] = {}
         self._row_lines: dict[Key, str] = {}
         self.traces: dict[Key, dict[str, Any]] = {}
         self._trace_lines: dict[Key, str] = {}
-        self._load()
+        try:
+            self._check_identity(identity)
+            self._load()
+        except BaseException:
+            self.close()
+            raise
+
+    def _acquire_lock(self) -> IO[bytes] | None:
+        """An exclusive lock on the folder for this store's lifetime: two runs appending to the
+        same files would interleave their rows."""
+        if fcntl is None:  # no POSIX locks here (Windows): run one experiment per folder at a time
+            return None
+        self.out.mkdir(parents=True, exist_ok=True)
+        handle = (self.out / ".lock").open("ab")
+        try:
+            fcntl.flock(handle.fileno(), fcntl.LOCK_EX | fcntl.LOCK_NB)
+        except OSError:
+            handle.close()
+            raise ConfigError(
+                f"another run is writing to --out {str(self.out)!r}; wait for it or choose another"
+            ) from None
+        return handle
+
+    def close(self) -> None:
+        """Release the folder's lock (also released when the process ends)."""
+        if self._lock is not None:
+            self._lock.close()
+            self._lock = None
 
     # ------------------------------------------------------------------ identity
     def _check_identity(self, identity: dict[str, Any]) -> None:
@@ -137,16 +169,19 @@ def parse_row(line: str) -> dict[str, Any]:
         raise ConfigError(f"episodes.csv: a row has {len(values)} fields, expected {len(ROW_COLUMNS)}: {line[:80]!r}")
     row: dict[str, Any] = {}
     for column, text in zip(ROW_COLUMNS, values, strict=True):
-        if column in _TEXT_COLUMNS:
-            row[column] = text
-        elif text == "":
-            row[column] = None
-        elif column in _INT_COLUMNS:
-            row[column] = int(text)
-        elif column in _BOOL_COLUMNS:
-            row[column] = text == "True"
-        else:
-            row[column] = float(text)
+        try:
+            if column in _TEXT_COLUMNS:
+                row[column] = text
+            elif text == "":
+                row[column] = None
+            elif column in _INT_COLUMNS:
+                row[column] = int(text)
+            elif column in _BOOL_COLUMNS:
+                row[column] = {"True": True, "False": False}[text]
+            else:
+                row[column] = float(text)
+        except (ValueError, KeyError):
+            raise ConfigError(f"episodes.csv: {column} {text!r} is not valid in row {line[:80]!r}") from None
     return row
 
 

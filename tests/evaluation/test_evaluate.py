@@ -19,7 +19,8 @@ from frontier_rl.cli import app
 from frontier_rl.core.simulator import SimConfig
 from frontier_rl.errors import ConfigError, UnknownNameError
 from frontier_rl.evaluation.evaluate import evaluate, parse_thresholds
-from frontier_rl.evaluation.experiment import ExperimentConfig, expand_worlds
+from frontier_rl.evaluation.experiment import ExperimentConfig, expand_worlds, identity
+from frontier_rl.evaluation.results import ResultStore
 
 SHORT = SimConfig(max_sim_time=80.0)  # episodes cut at 80 s of sim time: a fraction of a second each
 runner = CliRunner()
@@ -213,3 +214,25 @@ def test_unknown_baseline_and_duplicates_are_refused() -> None:
         ExperimentConfig(methods=("fixed:0.75", "fixed:0.75"), worlds=("office",), episodes=1)
     with pytest.raises(UnknownNameError):
         expand_worlds("office,nowhere/")
+
+
+def test_a_folder_in_use_by_another_run_is_refused(tmp_path: Path) -> None:
+    config = _config()
+    first = ResultStore(tmp_path / "exp", identity(config))
+    with pytest.raises(ConfigError, match="another run is writing"):
+        evaluate(config, tmp_path / "exp", backend="serial", progress=False)
+    first.close()
+    evaluate(config, tmp_path / "exp", backend="serial", progress=False)  # free again
+    assert len(_rows(tmp_path / "exp")) == 4
+
+
+def test_a_corrupt_results_file_is_a_clear_error(serial_run: Path, tmp_path: Path) -> None:
+    out = tmp_path / "corrupt"
+    out.mkdir()
+    for name in ("experiment.json", "episodes.csv", "traces.jsonl"):
+        (out / name).write_bytes((serial_run / name).read_bytes())
+    lines = (out / "episodes.csv").read_text().splitlines()
+    lines[2] = lines[2].replace(",True,", ",yes,", 1)
+    (out / "episodes.csv").write_text("\n".join(lines) + "\n")
+    with pytest.raises(ConfigError, match="truncated 'yes' is not valid"):
+        evaluate(_config(), out, backend="serial", progress=False)
