@@ -154,9 +154,10 @@ def demo(
 
 def _print_summary(report: Path, title: str, baseline: str) -> None:
     """The main numbers of an experiment's ``summary.json`` as a table on the terminal."""
-    from frontier_rl.evaluation.plots import method_label
+    from frontier_rl.evaluation.tables import short_labels
 
     summary = json.loads((report.parent / "summary.json").read_text())
+    labels = short_labels(summary["methods"])
     table = Table(title=title)
     for column in ("method", "mean time (s)", "vs baseline", "p one-tailed", "time / oracle", "done"):
         table.add_column(column, justify="left" if column == "method" else "right", no_wrap=column == "method")
@@ -164,7 +165,7 @@ def _print_summary(report: Path, title: str, baseline: str) -> None:
         compared = name != baseline and e["reduction_pct"] is not None
         change = f"{0.0 - e['reduction_pct'] + 0.0:+.1f} %" if compared else "baseline"  # + 0.0: no "-0.0"
         table.add_row(
-            method_label(name), f"{e['mean_time_s']:.1f}", change,
+            labels[name], f"{e['mean_time_s']:.1f}", change,
             f"{e['p_one_tailed']:.2g}" if compared and e["p_one_tailed"] is not None else "",
             f"{e['oracle_ratio']:.2f}" if e["oracle_ratio"] is not None else "", f"{e['episodes_done']}/{e['n']}",
         )  # fmt: skip

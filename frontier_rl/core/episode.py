@@ -125,8 +125,9 @@ def run_episode(
     return sim.result(time.perf_counter() - started - hook_time)
 
 
-def warm_up() -> None:
-    """Run a tiny episode so that every compiled kernel is loaded (or compiled) before timing."""
+def warm_up(policy: ExplorationPolicy | None = None) -> None:
+    """Run a tiny episode so that every compiled kernel is loaded (or compiled) before timing;
+    with ``policy`` instead of the nearest frontier, its kernels too."""
     from frontier_rl.core.grid import CellState, OccupancyGrid
     from frontier_rl.core.worlds import make_world
 
@@ -143,4 +144,4 @@ def warm_up() -> None:
             context.frontiers.information_gain(context.sensor_range)  # compiles its kernel too
             return Ranking(np.argsort(context.frontiers.distances, kind="stable"))
 
-    run_episode(world, _Nearest(), seed=0)
+    run_episode(world, policy or _Nearest(), seed=0)

@@ -48,7 +48,8 @@ def summarise(rows: Rows, config: ExperimentConfig, outlier_thresholds: tuple[fl
         for method, stats in cut.items():
             t = np.asarray(times[method])
             excluded = int(np.count_nonzero((t > threshold) | (base > threshold)))
-            entries[method] = stats.to_dict() | {"excluded": excluded}
+            paired_base = stats.mean_time_s + stats.mean_diff_s  # the baseline's mean on the same episodes
+            entries[method] = stats.to_dict() | {"excluded": excluded, "baseline_mean_time_s": _finite(paired_base)}
         summary["outliers"][f"{threshold:g}"] = {"methods": entries}
     if len(config.worlds) > 1:
         summary["per_world"] = {w: {"methods": _method_table(rows, config, (w,))} for w in config.worlds}
@@ -75,6 +76,10 @@ def _method_table(rows: Rows, config: ExperimentConfig, worlds: tuple[str, ...])
         entry["mean_wall_time_s"] = float(np.mean([r["wall_time_s"] for r in own]))
         table[method] = entry
     return table
+
+
+def _finite(value: float) -> float | None:
+    return value if math.isfinite(value) else None
 
 
 def _ratio(value: float, reference: float) -> float | None:

@@ -10,11 +10,13 @@ from __future__ import annotations
 import multiprocessing
 import os
 import socket
+import threading
+import time
 from collections.abc import Callable, Iterator
-from concurrent.futures import FIRST_COMPLETED, Future, ProcessPoolExecutor, wait
+from concurrent.futures import FIRST_COMPLETED, ProcessPoolExecutor, wait
 from typing import Any
 
-from frontier_rl.errors import ConfigError
+from frontier_rl.errors import ConfigError, FrontierRLError
 from frontier_rl.evaluation.experiment import EpisodeJob, EpisodeSettings, run_job
 
 BACKENDS = ("serial", "process", "ray")
@@ -59,6 +61,10 @@ def check_ray_address(address: str, timeout_s: float = 5.0) -> None:
         raise ConfigError(f"Ray address {address!r} does not answer ({reason})") from None
 
 
+class EpisodeFailedError(FrontierRLError):
+    """Episodes raised; every other episode ran and was handed on, and a rerun retries these."""
+
+
 def run_jobs(
     jobs: list[EpisodeJob],
     settings: EpisodeSettings,
@@ -67,32 +73,68 @@ def run_jobs(
     workers: int | None = None,
     ray_address: str | None = None,
 ) -> None:
-    """Run ``jobs`` on ``backend`` with ``workers`` parallel episodes (default: every core)."""
+    """Run ``jobs`` on ``backend`` with ``workers`` parallel episodes (default: every core). An
+    episode that raises does not stop the others: once all have run, :class:`EpisodeFailedError`
+    names the failures."""
     workers = default_workers() if workers is None else workers
     check_backend(backend, workers, ray_address)
     if not jobs:
         return
+    failures: list[tuple[EpisodeJob, BaseException]] = []
     if backend == "serial":
-        for job in jobs:
-            on_result(run_job(job, settings))
+        outcomes: Iterator[tuple[EpisodeJob, dict[str, Any] | BaseException]] = _serial(jobs, settings)
     elif backend == "process":
-        for result in _process_pool(jobs, settings, workers):
-            on_result(result)
+        outcomes = _process_pool(jobs, settings, workers)
     else:
-        for result in _ray_tasks(jobs, settings, workers, ray_address):
-            on_result(result)
+        outcomes = _ray_tasks(jobs, settings, workers, ray_address)
+    for job, outcome in outcomes:
+        if isinstance(outcome, BaseException):
+            failures.append((job, outcome))
+        else:
+            on_result(outcome)
+    if failures:
+        job, exc = failures[0]
+        lines = [line for line in str(exc).splitlines() if line.strip()]
+        raise EpisodeFailedError(
+            f"{len(failures)} of {len(jobs)} episodes failed, the first {job.method} on {job.world} episode "
+            f"{job.episode} ({type(exc).__name__}: {lines[-1] if lines else ''})"
+        )
 
 
-def _process_pool(jobs: list[EpisodeJob], settings: EpisodeSettings, workers: int) -> Iterator[dict[str, Any]]:
+def _serial(jobs: list[EpisodeJob], settings: EpisodeSettings) -> Iterator[tuple[EpisodeJob, Any]]:
+    for job in jobs:
+        try:
+            yield job, run_job(job, settings)
+        except Exception as exc:  # handed on: the other episodes still run
+            yield job, exc
+
+
+def _exit_with_parent(parent: int) -> None:
+    """Pool initializer: end this worker when the process that started it is gone (killed with
+    SIGKILL, it cannot shut the pool down), instead of waiting on its queue forever."""
+
+    def watch() -> None:
+        while os.getppid() == parent:
+            time.sleep(0.5)
+        os._exit(1)
+
+    threading.Thread(target=watch, daemon=True).start()
+
+
+def _process_pool(jobs: list[EpisodeJob], settings: EpisodeSettings, workers: int) -> Iterator[tuple[EpisodeJob, Any]]:
     # spawn: the parent may hold torch's and numba's threads, which fork does not copy safely
     context = multiprocessing.get_context("spawn")
-    with ProcessPoolExecutor(min(workers, len(jobs)), mp_context=context) as pool:
-        pending: set[Future[dict[str, Any]]] = {pool.submit(run_job, job, settings) for job in jobs}
+    with ProcessPoolExecutor(
+        min(workers, len(jobs)), mp_context=context, initializer=_exit_with_parent, initargs=(os.getpid(),)
+    ) as pool:
+        pending = {pool.submit(run_job, job, settings): job for job in jobs}
         try:
             while pending:
-                finished, pending = wait(pending, return_when=FIRST_COMPLETED)
+                finished, _ = wait(pending, return_when=FIRST_COMPLETED)
                 for future in finished:
-                    yield future.result()
+                    job = pending.pop(future)
+                    exc = future.exception()
+                    yield job, exc if exc is not None else future.result()
         finally:
             for future in pending:
                 future.cancel()
@@ -100,7 +142,7 @@ def _process_pool(jobs: list[EpisodeJob], settings: EpisodeSettings, workers: in
 
 def _ray_tasks(
     jobs: list[EpisodeJob], settings: EpisodeSettings, workers: int, address: str | None
-) -> Iterator[dict[str, Any]]:
+) -> Iterator[tuple[EpisodeJob, Any]]:
     import ray
 
     started_here = not ray.is_initialized()
@@ -116,11 +158,15 @@ def _ray_tasks(
     try:
         remote_job = ray.remote(num_cpus=1, max_retries=2)(run_job)
         settings_ref = ray.put(settings)
-        pending = [remote_job.remote(job, settings_ref) for job in jobs]
+        pending = {remote_job.remote(job, settings_ref): job for job in jobs}
         while pending:
-            finished, pending = ray.wait(pending, num_returns=1)
+            finished, _ = ray.wait(list(pending), num_returns=1)
             for ref in finished:
-                yield ray.get(ref)
+                job = pending.pop(ref)
+                try:
+                    yield job, ray.get(ref)
+                except Exception as exc:  # a task's error (RayTaskError): handed on like the others
+                    yield job, exc
     finally:
         if started_here:
             ray.shutdown()

@@ -10,18 +10,14 @@ from typing import Any
 from rich.console import Console
 from rich.progress import BarColumn, MofNCompleteColumn, Progress, TextColumn, TimeElapsedColumn, TimeRemainingColumn
 
-from frontier_rl.errors import ConfigError, FrontierRLError
-from frontier_rl.evaluation.backends import check_backend, default_workers, run_jobs
+from frontier_rl.errors import ConfigError
+from frontier_rl.evaluation.backends import EpisodeFailedError, check_backend, default_workers, run_jobs
 from frontier_rl.evaluation.experiment import ExperimentConfig, check_methods, identity
 from frontier_rl.evaluation.report import write_report
 from frontier_rl.evaluation.results import ResultStore
 
 DEFAULT_OUTLIERS_S = (1000.0, 2000.0)
 """The thesis's outlier thresholds (s)."""
-
-
-class EpisodeFailedError(FrontierRLError):
-    """An episode raised; the finished ones are saved and a rerun resumes."""
 
 
 def parse_thresholds(text: str) -> tuple[float, ...]:
@@ -79,14 +75,11 @@ def _run_missing(
 
         try:
             run_jobs(todo, config.settings(), record, backend, workers, ray_address)
-        except FrontierRLError:
-            raise
-        except Exception as exc:  # a worker's error: report it in one line, keep what finished
-            lines = [line for line in str(exc).splitlines() if line.strip()]
+        except EpisodeFailedError as exc:
             raise EpisodeFailedError(
-                f"an episode failed ({type(exc).__name__}: {lines[-1] if lines else ''}); the {len(store.rows)} "
-                f"finished episodes are saved in {store.csv_path}; rerun the command to resume"
-            ) from exc
+                f"{exc}; the {len(store.rows)} finished episodes are saved in {store.csv_path}; "
+                "rerun the command to retry the failed ones"
+            ) from None
 
 
 @contextmanager

@@ -67,6 +67,12 @@ class ExperimentConfig:
             raise ConfigError(f"baseline {self.baseline!r} is not among the methods {', '.join(self.methods)}")
         if not self.worlds:
             raise ConfigError("an experiment needs at least one world")
+        resolved = [w if w in WORLD_GENERATORS else str(Path(w).resolve()) for w in self.worlds]
+        twice = sorted({w for w, r in zip(self.worlds, resolved, strict=True) if resolved.count(r) > 1})
+        if twice:
+            raise ConfigError(f"worlds are listed twice (their episodes would count double): {', '.join(twice)}")
+        if isinstance(self.seed, bool) or not isinstance(self.seed, int) or self.seed < 0:
+            raise ConfigError(f"seed must be a non-negative integer, got {self.seed!r}")
         if isinstance(self.episodes, bool) or not isinstance(self.episodes, int) or self.episodes < 1:
             raise ConfigError(f"episodes must be a positive integer, got {self.episodes!r}")
         if self.resolution is not None and not self.resolution > 0:
@@ -156,8 +162,14 @@ def check_methods(config: ExperimentConfig) -> None:
         _policy(method, config.trust_model)
 
 
-@lru_cache(maxsize=16)
 def _load_map(path: str, resolution: float | None) -> LoadedMap:
+    """``path`` loaded, once per process and version of the file (its size and modification time)."""
+    stat = Path(path).stat()
+    return _load_map_version(path, resolution, stat.st_size, stat.st_mtime_ns)
+
+
+@lru_cache(maxsize=64)
+def _load_map_version(path: str, resolution: float | None, size: int, mtime_ns: int) -> LoadedMap:
     return load_map(path, resolution=resolution)
 
 
@@ -170,9 +182,16 @@ def make_episode_world(world: str, seed: int, resolution: float | None) -> World
     return make_world(loaded.grid, Path(world).stem, start=loaded.start, rng=np.random.default_rng(seed))
 
 
-@lru_cache(maxsize=32)
 def _policy(method: str, trust_model: bool) -> ExplorationPolicy:
-    """One policy object per method and process: loading a model takes longer than an episode."""
+    """One policy object per method, process and version of its model file: loading a model takes
+    longer than an episode."""
+    name, _, arg = method.partition(":")
+    stat = Path(arg).stat() if name == "learned" and Path(arg).is_file() else None
+    return _policy_version(method, trust_model, None if stat is None else (stat.st_size, stat.st_mtime_ns))
+
+
+@lru_cache(maxsize=32)
+def _policy_version(method: str, trust_model: bool, version: tuple[int, int] | None) -> ExplorationPolicy:
     if method.startswith("learned:"):
         import torch
 
@@ -182,7 +201,9 @@ def _policy(method: str, trust_model: bool) -> ExplorationPolicy:
 
 @lru_cache(maxsize=1)
 def _warm() -> None:
-    warm_up()  # compiled kernels load before the first timed episode of this process
+    """Load the compiled kernels before the first timed episode of this process (the oracle's too)."""
+    warm_up()
+    warm_up(make_policy(ORACLE))
 
 
 def run_job(job: EpisodeJob, settings: EpisodeSettings) -> dict[str, Any]:
@@ -216,7 +237,7 @@ def run_job(job: EpisodeJob, settings: EpisodeSettings) -> dict[str, Any]:
         "coverage_t": times,
         "coverage": curve,
         "weight_t": [round(t, 2) for t, _ in weights],
-        "weight": [round(float(w), 4) for _, w in weights if w is not None],
+        "weight": [round(float(w), 4) for _, w in weights],
     }
     return {"row": row, "trace": trace}
 

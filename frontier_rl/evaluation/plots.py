@@ -1,5 +1,6 @@
-"""The experiment's figures: box plot and paired scatter of exploration times (the thesis's figures
-4.2 to 4.8), coverage over time, and the weight learned-weight methods chose over time.
+"""The experiment's figures (dict keys are the methods' display names): box plot and paired
+scatter of exploration times (the thesis's figures 4.2 to 4.8), coverage over time, and the weight
+learned-weight methods chose over time.
 
 Figures are drawn on :class:`matplotlib.figure.Figure` objects (no pyplot state) and saved as PNG.
 """
@@ -18,18 +19,12 @@ from frontier_rl.core.metrics import sample_step
 _DPI = 110
 
 
-def method_label(method: str) -> str:
-    """A short name for plots and tables: ``learned:models/model4.zip`` → ``learned:model4``."""
-    name, _, arg = method.partition(":")
-    return f"learned:{Path(arg).stem}" if name == "learned" else method
-
-
 def box_plot(times: Mapping[str, Sequence[float]], path: Path, title: str) -> Path:
     """Box-and-whisker plot of exploration time (s) per method; the triangle marks the mean."""
     fig = Figure(figsize=(1.6 + 1.3 * len(times), 4.2), dpi=_DPI)
     ax = fig.subplots()
     ax.boxplot(list(times.values()), showmeans=True, widths=0.55)
-    ax.set_xticks(range(1, len(times) + 1), [method_label(m) for m in times], rotation=20, ha="right")
+    ax.set_xticks(range(1, len(times) + 1), list(times), rotation=20, ha="right")
     ax.set_ylabel("exploration time (s)")
     ax.set_title(title)
     ax.grid(axis="y", alpha=0.3)
@@ -48,10 +43,10 @@ def paired_scatter(times: Mapping[str, Sequence[float]], baseline: str, path: Pa
     ax.plot([0, top], [0, top], color="0.6", lw=1, ls="--", label="equal time")
     for method, values in times.items():
         if method != baseline:
-            ax.scatter(base, values, s=12, alpha=0.7, label=method_label(method))
+            ax.scatter(base, values, s=12, alpha=0.7, label=method)
     ax.set_xlim(0, top)
     ax.set_ylim(0, top)
-    ax.set_xlabel(f"{method_label(baseline)}: exploration time (s)")
+    ax.set_xlabel(f"{baseline}: exploration time (s)")
     ax.set_ylabel("method: exploration time (s)")
     ax.set_title("Paired episodes")
     ax.legend(fontsize=8)
@@ -72,7 +67,7 @@ def coverage_plot(traces: dict[str, list[dict[str, Any]]], path: Path) -> Path:
         if curves.size == 0:
             continue
         low, high = np.percentile(curves, [25, 75], axis=0)
-        (line,) = ax.plot(grid, 100 * curves.mean(axis=0), lw=1.6, label=method_label(method))
+        (line,) = ax.plot(grid, 100 * curves.mean(axis=0), lw=1.6, label=method)
         ax.fill_between(grid, 100 * low, 100 * high, color=line.get_color(), alpha=0.15, lw=0)
     ax.set_xlabel("sim time (s)")
     ax.set_ylabel("explored (% of the reachable free space)")
@@ -106,7 +101,7 @@ def weight_plot(traces: dict[str, list[dict[str, Any]]], path: Path) -> Path:
             if np.any(which == b):
                 centres.append(0.5 * (edges[b] + edges[b + 1]))
                 means.append(float(w[which == b].mean()))
-        ax.plot(centres, means, lw=1.8, color=colour, label=method_label(method))
+        ax.plot(centres, means, lw=1.8, color=colour, label=method)
     ax.axhline(0.75, color="0.6", lw=1, ls="--", label="w = 0.75 (thesis baseline)")
     ax.set_ylim(-0.02, 1.02)
     ax.set_xlabel("sim time (s)")

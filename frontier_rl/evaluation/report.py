@@ -11,10 +11,13 @@ from typing import Any
 
 from frontier_rl.evaluation.analysis import paired_times, summarise
 from frontier_rl.evaluation.experiment import ORACLE, ExperimentConfig
-from frontier_rl.evaluation.plots import box_plot, coverage_plot, method_label, paired_scatter, weight_plot
+from frontier_rl.evaluation.plots import box_plot, coverage_plot, paired_scatter, weight_plot
 from frontier_rl.evaluation.results import ResultStore
-from frontier_rl.evaluation.statistics import TABLE_4_1_HEADER, stats_from_dict, table_4_1_row
-from frontier_rl.evaluation.tables import Table, number
+from frontier_rl.evaluation.statistics import stats_from_dict
+from frontier_rl.evaluation.tables import TABLE_4_1_HEADER, Table, number, short_labels, table_4_1_row
+
+_MAX_WORLD_TABLES = 12
+"""Per-world tables are written for at most this many worlds (a folder of maps can hold hundreds)."""
 
 _CSS = (
     "body{font-family:system-ui,sans-serif;max-width:1100px;margin:2em auto;padding:0 1em;color:#222}"
@@ -32,11 +35,13 @@ def write_report(store: ResultStore, config: ExperimentConfig, outliers: tuple[f
     (out / "summary.json").write_text(json.dumps(summary, indent=1) + "\n")
     figures = _figures(store, config)
     tables = report_tables(summary, config)
-    title = f"Paired experiment: {len(config.methods)} methods, {', '.join(map(_world_label, config.worlds))}"
+    worlds = list(short_labels(config.worlds).values())
+    shown = ", ".join(worlds[:6]) + (f" and {len(worlds) - 6} more worlds" if len(worlds) > 6 else "")
+    title = f"Paired experiment: {len(config.methods)} methods, {shown}"
     intro = (
         f"{config.episodes} episode(s) per world, seeds {config.seed} to {config.seed + config.episodes - 1}; "
         f"episode i of every method has the same world, start pose and sensor noise. Baseline: "
-        f"{method_label(config.baseline)}."
+        f"{short_labels(config.methods)[config.baseline]}."
     )
     markdown = [f"# {title}", "", intro, "", f"Command: `{command}`", ""]
     for table in tables:
@@ -63,15 +68,35 @@ def write_report(store: ResultStore, config: ExperimentConfig, outliers: tuple[f
 def report_tables(summary: dict[str, Any], config: ExperimentConfig) -> list[Table]:
     """Table 4.1 of all episodes (with the ratio to the oracle), of each outlier cut and of each
     world, and a table of the other metrics."""
-    baseline = config.baseline
-    tables = [_table_4_1(summary["methods"], baseline, "Exploration time, all episodes", oracle=True)]
+    labels = short_labels(config.methods)
+    world_labels = short_labels(config.worlds)
+    main = _table_4_1(summary["methods"], config, labels, "Exploration time, all episodes", oracle=True)
+    capped = {m: e["n"] - e["episodes_done"] for m, e in summary["methods"].items() if e["episodes_done"] < e["n"]}
+    if capped:
+        note = ", ".join(f"{labels[m]} {k}" for m, k in capped.items())
+        note = f"{main.note} Episodes cut at the sim-time cap (their time counts as the cap): {note}."
+        main = Table(main.header, main.rows, main.title, note)
+    tables = [main]
     for threshold, cut in summary["outliers"].items():
-        table = _table_4_1(cut["methods"], baseline, f"Without episodes above {threshold} s (either method)")
-        tables.append(Table((*table.header, "excluded"), [
-            [*row, str(cut["methods"][m]["excluded"])] for row, m in zip(table.rows, config.methods, strict=True)
-        ], table.title))  # fmt: skip
-    for world, part in summary.get("per_world", {}).items():
-        tables.append(_table_4_1(part["methods"], baseline, f"World {_world_label(world)}", oracle=True))
+        table = _table_4_1(cut["methods"], config, labels, f"Without episodes above {threshold} s")
+        extra = [
+            ["" if m == config.baseline else number(e["baseline_mean_time_s"]), str(e["excluded"])]
+            for m, e in cut["methods"].items()
+        ]
+        tables.append(Table(
+            (*table.header, "paired baseline mean (s)", "excluded"),
+            [[*row, *more] for row, more in zip(table.rows, extra, strict=True)],
+            table.title,
+            "Each method against the baseline on the episodes where neither took longer than the threshold; the "
+            "baseline's own row drops only its own long episodes.",
+        ))  # fmt: skip
+    per_world = summary.get("per_world", {})
+    for world, part in list(per_world.items())[:_MAX_WORLD_TABLES]:
+        tables.append(_table_4_1(part["methods"], config, labels, f"World {world_labels[world]}", oracle=True))
+    if len(per_world) > _MAX_WORLD_TABLES:
+        tables[-1] = Table(tables[-1].header, tables[-1].rows, tables[-1].title,
+                           f"Tables of the other {len(per_world) - _MAX_WORLD_TABLES} worlds: per_world in "
+                           "summary.json.")  # fmt: skip
     metrics = Table(
         ("method", "episodes done", "coverage", "path (m)", "t90 (s)", "t99 (s)", "aborts", "mean weight",
          "wall per episode (s)"),
@@ -79,7 +104,7 @@ def report_tables(summary: dict[str, Any], config: ExperimentConfig) -> list[Tab
     )  # fmt: skip
     for method, e in summary["methods"].items():
         metrics.rows.append([
-            method_label(method), f"{e['episodes_done']} / {e['n']}", number(100 * e["mean_coverage"], 2, " %"),
+            labels[method], f"{e['episodes_done']} / {e['n']}", number(100 * e["mean_coverage"], 2, " %"),
             number(e["mean_path_length_m"]), number(e["mean_t90_s"]), number(e["mean_t99_s"]),
             number(e["mean_aborts"], 2), number(e["mean_weight"], 3), number(e["mean_wall_time_s"], 2),
         ])  # fmt: skip
@@ -87,8 +112,11 @@ def report_tables(summary: dict[str, Any], config: ExperimentConfig) -> list[Tab
     return tables
 
 
-def _table_4_1(entries: dict[str, dict[str, Any]], baseline: str, title: str, oracle: bool = False) -> Table:
-    rows = [table_4_1_row(method_label(m), stats_from_dict(e), m == baseline) for m, e in entries.items()]
+def _table_4_1(
+    entries: dict[str, dict[str, Any]], config: ExperimentConfig, labels: dict[str, str], title: str,
+    oracle: bool = False,
+) -> Table:  # fmt: skip
+    rows = [table_4_1_row(labels[m], stats_from_dict(e), m == config.baseline) for m, e in entries.items()]
     if not oracle or ORACLE not in entries:
         return Table(TABLE_4_1_HEADER, rows, title)
     ratios = [number(e["oracle_ratio"], 2, " ×") for e in entries.values()]
@@ -103,19 +131,17 @@ def _table_4_1(entries: dict[str, dict[str, Any]], baseline: str, title: str, or
 
 def _figures(store: ResultStore, config: ExperimentConfig) -> list[tuple[str, Path]]:
     out = store.out
-    times = paired_times(store.rows, config.methods, config.worlds, config.episodes)
+    labels = short_labels(config.methods)
+    times = {labels[m]: t for m, t in paired_times(store.rows, config.methods, config.worlds, config.episodes).items()}
     keys = [(w, e) for e in range(config.episodes) for w in config.worlds]
     traces = {m: [store.traces[(m, w, e)] for w, e in keys if (m, w, e) in store.traces] for m in config.methods}
+    baseline = labels[config.baseline]
     figures = [
         ("Exploration time per method", box_plot(times, out / "boxplot.png", "Exploration time per method")),
-        ("Paired episodes against the baseline", paired_scatter(times, config.baseline, out / "scatter.png")),
-        ("Coverage over time", coverage_plot(traces, out / "coverage.png")),
+        ("Paired episodes against the baseline", paired_scatter(times, baseline, out / "scatter.png")),
+        ("Coverage over time", coverage_plot({labels[m]: t for m, t in traces.items()}, out / "coverage.png")),
     ]
-    learned = {m: t for m, t in traces.items() if m.startswith("learned:") and any(tr["weight"] for tr in t)}
+    learned = {labels[m]: t for m, t in traces.items() if m.startswith("learned:") and any(tr["weight"] for tr in t)}
     if learned:
         figures.append(("Weight chosen over time", weight_plot(learned, out / "weights.png")))
     return figures
-
-
-def _world_label(world: str) -> str:
-    return Path(world).stem if "/" in world or "." in world else world

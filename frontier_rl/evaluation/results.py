@@ -91,8 +91,10 @@ class ResultStore:
                 stored = json.loads(self.identity_path.read_text())
             except json.JSONDecodeError as exc:
                 raise ConfigError(f"{self.identity_path} is not valid JSON ({exc.msg}); choose another --out") from None
-        elif self.csv_path.exists():
-            raise ConfigError(f"{self.csv_path} exists without experiment.json: choose another --out")
+            if not isinstance(stored, dict) or not isinstance(stored.get("methods", {}), dict):
+                raise ConfigError(f"{self.identity_path} is not an experiment description; choose another --out")
+        elif any(path.name != ".lock" for path in self.out.iterdir()):
+            raise ConfigError(f"--out {str(self.out)!r} holds other files and no experiment.json: choose another --out")
         if stored is not None:
             for part in ("seed", "worlds", "resolution", "sim"):
                 if stored.get(part) != identity[part]:
@@ -119,8 +121,11 @@ class ResultStore:
             self.rows[key] = row
             self._row_lines[key] = line
         for line in _complete_lines(self.trace_path):
-            trace = json.loads(line)
-            key = (trace["method"], trace["world"], trace["episode"])
+            try:
+                trace = json.loads(line)
+                key = (trace["method"], trace["world"], trace["episode"])
+            except (json.JSONDecodeError, TypeError, KeyError):
+                raise ConfigError(f"traces.jsonl: a line is not a trace: {line[:80]!r}") from None
             self.traces[key] = trace  # a trace of an episode rerun after a kill: the last one wins
             self._trace_lines[key] = line
 

@@ -19,7 +19,6 @@ from numpy.typing import ArrayLike, NDArray
 from scipy import stats
 
 from frontier_rl.errors import ConfigError
-from frontier_rl.evaluation.tables import Table, number, p_value
 
 
 @dataclass(frozen=True)
@@ -90,7 +89,8 @@ def _tests(t: NDArray[np.float64], b: NDArray[np.float64]) -> tuple[float, float
     if len(t) < 2 or np.all(t == b):
         return math.nan, math.nan, math.nan
     with warnings.catch_warnings():
-        warnings.simplefilter("ignore", RuntimeWarning)  # constant differences: scipy warns and returns 0 or 1
+        # constant or tied differences: scipy warns (and falls back to an approximation or returns 0 or 1)
+        warnings.simplefilter("ignore")
         p_one = float(stats.ttest_rel(t, b, alternative="less").pvalue)
         p_two = float(stats.ttest_rel(t, b).pvalue)
         p_wil = float(stats.wilcoxon(t, b, alternative="less").pvalue)
@@ -121,31 +121,6 @@ def compare_methods(
             keep = (t <= outlier_above_s) & (base <= outlier_above_s)
         out[name] = paired_stats(t[keep], base[keep])
     return out
-
-
-TABLE_4_1_HEADER = (
-    "method", "n", "mean time (s)", "variance (s²)", "mean saving (s)", "95 % CI (s)", "p one-tailed",
-    "p two-tailed", "p Wilcoxon", "reduction",
-)  # fmt: skip
-
-
-def table_4_1_row(name: str, s: PairedStats, is_baseline: bool) -> list[str]:
-    """One row of :func:`table_4_1`; the baseline's has no comparison cells."""
-    if is_baseline:
-        return [f"{name} (baseline)", str(s.n), number(s.mean_time_s), number(s.var_time_s), *[""] * 6]
-    ci = f"{number(s.ci95_s[0])} … {number(s.ci95_s[1])}"
-    return [
-        name, str(s.n), number(s.mean_time_s), number(s.var_time_s), number(s.mean_diff_s), ci,
-        p_value(s.p_one_tailed), p_value(s.p_two_tailed), p_value(s.p_wilcoxon), number(s.reduction_pct, unit=" %"),
-    ]  # fmt: skip
-
-
-def table_4_1(results: dict[str, PairedStats], baseline: str, title: str = "") -> Table:
-    """A table laid out like the thesis's Table 4.1: per method the mean and variance of the
-    exploration time, the mean saving against the baseline with its 95 % CI, the p-values and
-    the reduction of the mean time (``.markdown()`` and ``.html()`` render it)."""
-    rows = [table_4_1_row(name, s, name == baseline) for name, s in results.items()]
-    return Table(TABLE_4_1_HEADER, rows, title)
 
 
 def stats_from_dict(entry: dict[str, Any]) -> PairedStats:

@@ -4,7 +4,12 @@ from __future__ import annotations
 
 import html
 import math
+from collections import Counter
+from collections.abc import Iterable
 from dataclasses import dataclass, field
+from pathlib import Path
+
+from frontier_rl.evaluation.statistics import PairedStats
 
 
 @dataclass(frozen=True)
@@ -42,6 +47,22 @@ class Table:
         return f"<table>{caption}<thead><tr>{head}</tr></thead><tbody>{body}</tbody></table>{note}"
 
 
+def short_labels(names: Iterable[str]) -> dict[str, str]:
+    """Display names: ``learned:models/model4.zip`` → ``learned:model4``, a map file → its stem;
+    names whose short forms would coincide keep their full form."""
+    names = list(names)
+    short = {n: _short(n) for n in names}
+    counts = Counter(short.values())
+    return {n: short[n] if counts[short[n]] == 1 else n for n in names}
+
+
+def _short(name: str) -> str:
+    kind, sep, arg = name.partition(":")
+    if kind == "learned" and sep:
+        return f"learned:{Path(arg).stem}"
+    return Path(name).stem if not sep and ("/" in name or "." in name) else name
+
+
 def number(value: float | None, digits: int = 1, unit: str = "") -> str:
     """``value`` with thousands separators and ``digits`` decimals, or "n/a"."""
     if value is None or not math.isfinite(value):
@@ -52,3 +73,28 @@ def number(value: float | None, digits: int = 1, unit: str = "") -> str:
 def p_value(value: float | None) -> str:
     """A p-value with two significant digits, or "n/a"."""
     return "n/a" if value is None or not math.isfinite(value) else f"{value:.2g}"
+
+
+TABLE_4_1_HEADER = (
+    "method", "n", "mean time (s)", "variance (s²)", "mean saving (s)", "95 % CI (s)", "p one-tailed",
+    "p two-tailed", "p Wilcoxon", "reduction",
+)  # fmt: skip
+
+
+def table_4_1_row(name: str, s: PairedStats, is_baseline: bool) -> list[str]:
+    """One row of :func:`table_4_1`; the baseline's has no comparison cells."""
+    if is_baseline:
+        return [f"{name} (baseline)", str(s.n), number(s.mean_time_s), number(s.var_time_s), *[""] * 6]
+    ci = f"{number(s.ci95_s[0])} … {number(s.ci95_s[1])}"
+    return [
+        name, str(s.n), number(s.mean_time_s), number(s.var_time_s), number(s.mean_diff_s), ci,
+        p_value(s.p_one_tailed), p_value(s.p_two_tailed), p_value(s.p_wilcoxon), number(s.reduction_pct, unit=" %"),
+    ]  # fmt: skip
+
+
+def table_4_1(results: dict[str, PairedStats], baseline: str, title: str = "") -> Table:
+    """A table laid out like the thesis's Table 4.1: per method the mean and variance of the
+    exploration time, the mean saving against the baseline with its 95 % CI, the p-values and
+    the reduction of the mean time (``.markdown()`` and ``.html()`` render it)."""
+    rows = [table_4_1_row(name, s, name == baseline) for name, s in results.items()]
+    return Table(TABLE_4_1_HEADER, rows, title)

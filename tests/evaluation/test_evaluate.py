@@ -18,9 +18,12 @@ from typer.testing import CliRunner
 from frontier_rl.cli import app
 from frontier_rl.core.simulator import SimConfig
 from frontier_rl.errors import ConfigError, UnknownNameError
+from frontier_rl.evaluation import backends
+from frontier_rl.evaluation.backends import EpisodeFailedError
 from frontier_rl.evaluation.evaluate import evaluate, parse_thresholds
-from frontier_rl.evaluation.experiment import ExperimentConfig, expand_worlds, identity
+from frontier_rl.evaluation.experiment import EpisodeJob, EpisodeSettings, ExperimentConfig, expand_worlds, identity
 from frontier_rl.evaluation.results import ResultStore
+from frontier_rl.evaluation.tables import short_labels
 
 SHORT = SimConfig(max_sim_time=80.0)  # episodes cut at 80 s of sim time: a fraction of a second each
 runner = CliRunner()
@@ -151,30 +154,94 @@ def test_map_files_and_folders_are_worlds(shared_maps: Path, tmp_path: Path) -> 
 
 def _cli(out: Path, *extra: str) -> list[str]:
     return [sys.executable, "-m", "frontier_rl.cli", "evaluate", "--methods", "nearest,largest", "--episodes", "4",
-            "--max-time", "150", "--no-oracle", "--backend", "serial", "--no-progress", "--out", str(out),
-            *extra]  # fmt: skip
+            "--max-time", "150", "--no-oracle", "--no-progress", "--out", str(out), *extra]  # fmt: skip
 
 
-def test_resume_after_sigkill_ends_with_the_uninterrupted_table(tmp_path: Path) -> None:
-    whole = tmp_path / "whole"
-    subprocess.run(_cli(whole), check=True, capture_output=True, timeout=300)
+def _children(pid: int) -> list[int]:
+    found = []
+    for task in Path(f"/proc/{pid}/task").iterdir():
+        found += [int(c) for c in (task / "children").read_text().split()]
+    return found
+
+
+def _gone(pid: int) -> bool:
+    try:
+        status = Path(f"/proc/{pid}/status").read_text()
+    except FileNotFoundError:
+        return True
+    return "State:\tZ" in status  # a zombie has exited (nobody reaps it in some containers)
+
+
+@pytest.fixture(scope="module")
+def uninterrupted(tmp_path_factory: pytest.TempPathFactory) -> Path:
+    whole = tmp_path_factory.mktemp("whole") / "exp"
+    subprocess.run(_cli(whole, "--backend", "serial"), check=True, capture_output=True, timeout=300)
+    return whole
+
+
+@pytest.mark.parametrize("backend", ["serial", "process"])
+def test_resume_after_sigkill_ends_with_the_uninterrupted_table(
+    uninterrupted: Path, tmp_path: Path, backend: str
+) -> None:
     killed = tmp_path / "killed"
-    process = subprocess.Popen(_cli(killed), stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
+    process = subprocess.Popen(_cli(killed, "--backend", backend), stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
     csv_path = killed / "episodes.csv"
     deadline = time.monotonic() + 120
     while time.monotonic() < deadline and (not csv_path.exists() or len(csv_path.read_text().splitlines()) < 4):
         time.sleep(0.02)
+    workers = _children(process.pid)
     os.kill(process.pid, signal.SIGKILL)
     process.wait(timeout=30)
     finished = len(csv_path.read_text().splitlines()) - 1
     assert 3 <= finished < 8, "the kill should land mid-run"
+    if backend == "process":  # the pool's workers do not outlive the killed run
+        deadline = time.monotonic() + 10
+        while time.monotonic() < deadline and not all(_gone(pid) for pid in workers):
+            time.sleep(0.1)
+        assert workers and all(_gone(pid) for pid in workers)
     with csv_path.open("a") as handle:  # as if killed while writing a row
         handle.write("nearest,office,3,3,1.0")
     with (killed / "traces.jsonl").open("a") as handle:
         handle.write('{"method": "nearest", "wor')
-    subprocess.run(_cli(killed), check=True, capture_output=True, timeout=300)
-    assert _rows(killed) == _rows(whole)
-    assert (killed / "traces.jsonl").read_bytes() == (whole / "traces.jsonl").read_bytes()
+    subprocess.run(_cli(killed, "--backend", backend), check=True, capture_output=True, timeout=300)
+    assert _rows(killed) == _rows(uninterrupted)
+    assert (killed / "traces.jsonl").read_bytes() == (uninterrupted / "traces.jsonl").read_bytes()
+
+
+def test_a_failing_episode_keeps_every_other_one(tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> None:
+    real = backends.run_job
+
+    def flaky(job: EpisodeJob, settings: EpisodeSettings) -> dict[str, object]:
+        if job.method == "nearest" and job.episode == 0:
+            raise RuntimeError("simulated crash")
+        return real(job, settings)
+
+    monkeypatch.setattr(backends, "run_job", flaky)
+    out = tmp_path / "exp"
+    with pytest.raises(EpisodeFailedError, match="1 of 4 episodes failed, the first nearest on office episode 0"):
+        evaluate(_config(), out, backend="serial", progress=False)
+    assert len(_rows(out)) == 3  # the other three were recorded
+    monkeypatch.setattr(backends, "run_job", real)
+    evaluate(_config(), out, backend="serial", progress=False)  # the rerun retries only the failed one
+    assert len(_rows(out)) == 4
+
+
+def test_a_folder_of_other_files_is_refused(tmp_path: Path) -> None:
+    out = tmp_path / "mine"
+    out.mkdir()
+    (out / "notes.txt").write_text("keep me")
+    with pytest.raises(ConfigError, match="holds other files"):
+        evaluate(_config(), out, backend="serial", progress=False)
+    assert [p.name for p in out.iterdir() if p.name != ".lock"] == ["notes.txt"]
+
+
+def test_short_labels_stay_unique() -> None:
+    labels = short_labels(["fixed:0.75", "learned:runs/a/model.zip", "learned:runs/b/model.zip", "learned:m5.zip"])
+    assert labels == {
+        "fixed:0.75": "fixed:0.75", "learned:runs/a/model.zip": "learned:runs/a/model.zip",
+        "learned:runs/b/model.zip": "learned:runs/b/model.zip", "learned:m5.zip": "learned:m5",
+    }  # fmt: skip
+    assert short_labels(["office", "maps/house.yaml"]) == {"office": "office", "maps/house.yaml": "house"}
 
 
 @pytest.mark.parametrize(
@@ -207,7 +274,11 @@ def test_outlier_thresholds_parse() -> None:
         parse_thresholds("-5")
 
 
-def test_unknown_baseline_and_duplicates_are_refused() -> None:
+def test_unknown_baseline_duplicates_and_negative_seeds_are_refused() -> None:
+    with pytest.raises(ConfigError, match="worlds are listed twice"):
+        ExperimentConfig(methods=("fixed:0.75",), worlds=("office", "office"), episodes=1)
+    with pytest.raises(ConfigError, match="seed must be a non-negative integer"):
+        ExperimentConfig(methods=("fixed:0.75",), worlds=("office",), episodes=1, seed=-1)
     with pytest.raises(ConfigError, match="baseline"):
         ExperimentConfig(methods=("nearest",), worlds=("office",), episodes=1)
     with pytest.raises(ConfigError, match="twice"):
