@@ -271,14 +271,16 @@ def insertion_cover(
             insert[better] = between[best_between, np.arange(n)][better]
             place[better] = best_between[better] + 1
         denom = np.maximum(insert, 0.0) + detour_m
-        score = np.where(bound >= min_gain, bound / denom, -np.inf)
+        # a candidate no route node has a known path to yet cannot be placed: it waits for the wider search
+        reachable = np.isfinite(insert)
+        score = np.where((bound >= min_gain) & reachable, bound / denom, -np.inf)
         while True:
             c = int(np.argmax(score))
             if not np.isfinite(score[c]):
                 break
             vis = indices[indptr[c] : indptr[c + 1]]
             bound[c] = np.count_nonzero(~covered[vis])
-            score[c] = bound[c] / denom[c] if bound[c] >= min_gain else -np.inf
+            score[c] = bound[c] / denom[c] if bound[c] >= min_gain and reachable[c] else -np.inf
             if int(np.argmax(score)) == c:
                 break
         if not np.isfinite(score[c]):

@@ -9,7 +9,14 @@ import numpy as np
 import pytest
 from numpy.typing import NDArray
 
-from frontier_rl.core.coverage_tour import CoverageTour, coverage_targets, plan_coverage_tour, two_opt, visibility
+from frontier_rl.core.coverage_tour import (
+    CoverageTour,
+    coverage_targets,
+    insertion_cover,
+    plan_coverage_tour,
+    two_opt,
+    visibility,
+)
 from frontier_rl.core.episode import DecisionContext, EpisodeAwarePolicy, run_episode
 from frontier_rl.core.frontiers import detect_frontiers
 from frontier_rl.core.grid import CellState, OccupancyGrid
@@ -193,3 +200,18 @@ def test_oracle_is_faster_than_the_thesis_baseline(oracle_runs: dict[int, Episod
     baseline = [run_episode(generate_world("office", s), make_policy("fixed:0.75"), seed=s).sim_time_s for s in SEEDS]
     oracle = [oracle_runs[s].sim_time_s for s in SEEDS]
     assert np.mean(oracle) < 0.9 * np.mean(baseline)
+
+
+def test_viewpoints_beyond_the_search_reach_are_placed_by_gain_with_known_costs() -> None:
+    # a 70 m corridor: the two far viewpoints are outside a 15 m search from the start
+    data = np.full((31, 1401), CellState.FREE, np.int8)
+    data[[0, -1], :] = CellState.OCCUPIED
+    data[:, [0, -1]] = CellState.OCCUPIED
+    world = make_world(OccupancyGrid(data, 0.05), "corridor", start=Pose(0.5, 0.775, 0.0))
+    config = SimConfig()
+    costmap = Costmap.build(world.grid, config.robot, config.navigation)
+    cand = np.array([[15, 10], [15, 400], [15, 500]], np.int64)
+    route, dist = insertion_cover(costmap, cand, visibility(world, config, cand), 10, 3.0, reach_m=15.0)
+    assert sorted(route) == [0, 1, 2] and route[0] == 0
+    assert np.all(dist < 1e6), "every edge of the route has a searched path cost"
+    assert dist[route.index(0), route.index(1)] == pytest.approx(19.5, abs=0.5)  # 390 cells of 0.05 m
