@@ -64,6 +64,7 @@ def main() -> None:
     report = evaluate(config, args.out, workers=args.workers, command=command)
 
     store = ResultStore(args.out, identity(config))
+    store.close()
     summary_path = args.out / "summary.json"
     summary = json.loads(summary_path.read_text())
     summary["sweep"] = sweep_analysis(store.rows, worlds, args.episodes)
