@@ -3,8 +3,12 @@ PYTHON ?= python3.11
 VENV   := .venv
 BIN    := $(VENV)/bin
 STAMP  := $(VENV)/.installed
+# ROS 1 from Debian's own packages, for the frontier node and its test against a real roscore
+ROS_APT := ros-core python3-rospy python3-nav-msgs python3-geometry-msgs python3-visualization-msgs \
+           python3-std-msgs python3-tf2-ros
+ROS_CHECK := command -v roscore >/dev/null && /usr/bin/python3 -c "import rospy, nav_msgs.msg, geometry_msgs.msg, visualization_msgs.msg" 2>/dev/null
 
-.PHONY: setup demo test lint typecheck pytest bench clean
+.PHONY: setup ros-deps demo test lint typecheck pytest bench clean
 
 $(STAMP): pyproject.toml
 	$(PYTHON) -m venv $(VENV)
@@ -13,6 +17,13 @@ $(STAMP): pyproject.toml
 	touch $(STAMP)
 
 setup: $(STAMP)
+
+ros-deps:
+	@if $(ROS_CHECK); then :; \
+	elif command -v apt-get >/dev/null && [ "$$(id -u)" = 0 ]; then \
+		echo "installing ROS 1 from Debian: $(ROS_APT)"; \
+		(apt-get update -q && DEBIAN_FRONTEND=noninteractive apt-get install -y -q $(ROS_APT)) >/dev/null; \
+	else echo "ROS 1 is not installed and apt-get as root is not available: the ROS node test will be skipped"; fi
 
 demo: $(STAMP)
 	$(BIN)/frontier-rl demo --out demo_output
@@ -24,7 +35,7 @@ lint: $(STAMP)
 typecheck: $(STAMP)
 	$(BIN)/mypy
 
-pytest: $(STAMP)
+pytest: $(STAMP) ros-deps
 	$(BIN)/pytest -q
 
 test: lint typecheck pytest

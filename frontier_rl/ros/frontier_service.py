@@ -1,0 +1,96 @@
+"""What the ROS frontier node answers, without ROS: a map message's cells to a grid, and the
+ranked frontiers of that grid for a robot pose.
+
+Kept free of rospy so that it is tested and used anywhere; the node only converts messages.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Sequence
+from dataclasses import dataclass
+
+import numpy as np
+
+from frontier_rl.core.episode import DecisionContext, ExplorationPolicy
+from frontier_rl.core.frontiers import detect_frontiers
+from frontier_rl.core.grid import CellState, OccupancyGrid
+from frontier_rl.core.planner import Costmap
+from frontier_rl.core.robot import Pose
+from frontier_rl.core.simulator import SimConfig
+from frontier_rl.errors import MapError
+
+
+@dataclass(frozen=True)
+class MapThresholds:
+    """How occupancy values (0 to 100, -1 unknown) become cell states, as map_server reads them.
+
+    Attributes:
+        occupied_above: values above this are occupied (%).
+        free_below: values below this are free (%); values in between are unknown.
+    """
+
+    occupied_above: float = 65.0
+    free_below: float = 19.6
+
+
+@dataclass(frozen=True)
+class RankedFrontier:
+    """One frontier of the answer: its centre in the map frame (m) and its size (cells)."""
+
+    x: float
+    y: float
+    size: int
+
+
+def grid_from_message(
+    width: int,
+    height: int,
+    resolution: float,
+    data: Sequence[int],
+    thresholds: MapThresholds | None = None,
+) -> OccupancyGrid:
+    """A grid (origin 0, 0: the map's own cell frame) from a ``nav_msgs/OccupancyGrid``'s size,
+    resolution (m) and row-major data; probabilities are thresholded, not rejected. A map of zero
+    size, a resolution that is not positive, or data of the wrong length is a :class:`MapError`."""
+    t = thresholds or MapThresholds()
+    if width <= 0 or height <= 0:
+        raise MapError(f"map of size {width} × {height} has no cells")
+    if not (math.isfinite(resolution) and resolution > 0):
+        raise MapError(f"map resolution must be a positive number of metres, got {resolution!r}")
+    if len(data) != width * height:
+        raise MapError(f"map data has {len(data)} values, expected width × height = {width * height}")
+    values = np.asarray(data, dtype=np.int16).reshape(height, width)
+    cells = np.full(values.shape, CellState.UNKNOWN, np.int8)
+    known = values >= 0
+    cells[known & (values > t.occupied_above)] = CellState.OCCUPIED
+    cells[known & (values < t.free_below)] = CellState.FREE
+    return OccupancyGrid(cells, float(resolution), (0.0, 0.0))
+
+
+def rank_frontiers(
+    grid: OccupancyGrid,
+    pose: Pose,
+    policy: ExplorationPolicy,
+    top_k: int = 10,
+    min_cluster_cells: int = 4,
+    sim: SimConfig | None = None,
+    rng: np.random.Generator | None = None,
+) -> tuple[list[RankedFrontier], float | None]:
+    """The ``top_k`` frontiers of ``grid`` that the robot at ``pose`` (grid frame, m) can reach
+    through known free space, best first by ``policy``, and the weight the policy used."""
+    sim = sim or SimConfig()
+    costmap = Costmap.build(grid, sim.robot, sim.navigation)
+    row, col = grid.world_to_cell(pose.x, pose.y)
+    reachable = costmap.reachable_known((row, col))
+    frontiers = detect_frontiers(grid, pose, reachable, min_cluster_cells)
+    if len(frontiers) == 0:
+        return [], None
+    context = DecisionContext(grid, frontiers, pose, 0.0, sim.lidar.max_range, costmap)
+    ranking = policy.rank(context, rng or np.random.default_rng(0))
+    order = [int(i) for i in ranking.order[:top_k]]
+    ranked = [
+        RankedFrontier(float(frontiers.centers[i, 0]), float(frontiers.centers[i, 1]), int(frontiers.sizes[i]))
+        for i in order
+    ]
+    return ranked, ranking.weight

@@ -1,0 +1,184 @@
+"""The ROS frontier node against a real roscore: its answer equals frontier_rl's own ranking of
+the map at that weight, in the map frame; bad maps, unknown robots and early requests get empty
+answers and the node keeps serving. Plus the ROS-free conversion of map messages."""
+
+from __future__ import annotations
+
+import json
+import os
+import shutil
+import socket
+import subprocess
+import sys
+import time
+import xmlrpc.client
+from collections.abc import Iterator
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from frontier_rl.core.frontiers import detect_frontiers
+from frontier_rl.core.grid import CellState, OccupancyGrid
+from frontier_rl.core.planner import Costmap
+from frontier_rl.core.ranking import rank, weighted_cost
+from frontier_rl.core.robot import Pose
+from frontier_rl.core.simulator import SimConfig
+from frontier_rl.errors import FrontierRLError, MapError
+from frontier_rl.io import load_map
+from frontier_rl.ros.frontier_service import grid_from_message
+
+WEIGHT = 0.6
+CLIENT = Path(__file__).with_name("ros_client.py")
+
+
+def _free_port() -> int:
+    with socket.socket() as s:
+        s.bind(("localhost", 0))
+        return int(s.getsockname()[1])
+
+
+def _ros_available() -> bool:
+    from frontier_rl.ros.node import import_rospy
+
+    try:
+        import_rospy()
+    except FrontierRLError:
+        return False
+    return shutil.which("roscore") is not None
+
+
+@pytest.fixture(scope="module")
+def ros_env(tmp_path_factory: pytest.TempPathFactory) -> Iterator[dict[str, str]]:
+    if not _ros_available():
+        pytest.skip("ROS 1 not installed (make test installs it with apt-get where it can)")
+    port = _free_port()
+    uri = f"http://localhost:{port}"
+    env = {**os.environ, "ROS_MASTER_URI": uri, "ROS_HOME": str(tmp_path_factory.mktemp("ros_home"))}
+    core = subprocess.Popen(["roscore", "-p", str(port)], env=env, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
+    deadline = time.monotonic() + 30
+    while time.monotonic() < deadline:
+        try:
+            with xmlrpc.client.ServerProxy(uri) as master:
+                master.getSystemState("/probe")
+            break
+        except OSError:
+            time.sleep(0.2)
+    else:
+        core.kill()
+        pytest.fail("roscore did not come up")
+    yield env
+    core.terminate()
+    core.wait(timeout=30)
+
+
+def _scene(shared_maps: Path, tmp_path: Path) -> tuple[Path, dict[str, np.ndarray]]:
+    """turtlebot3_world's map, seen only within 1.5 m of a pose (so that it has frontiers), with
+    probabilities instead of 0 and 100 in places: a map as a running SLAM publishes it."""
+    grid = load_map(shared_maps / "turtlebot3_world" / "map.yaml").grid
+    rows, cols = np.indices(grid.shape)
+    free = np.argwhere(grid.data == CellState.FREE)
+    centre = free[len(free) // 2]
+    pose_xy = grid.cell_to_world(int(centre[0]), int(centre[1]))
+    seen = np.hypot(rows - centre[0], cols - centre[1]) * grid.resolution <= 1.5
+    data = np.where(seen, grid.data, CellState.UNKNOWN).astype(np.int16)
+    rng = np.random.default_rng(0)
+    noisy = rng.random(data.shape) < 0.2
+    data[noisy & (data == CellState.FREE)] = 12  # still free (below 19.6)
+    data[noisy & (data == CellState.OCCUPIED)] = 88  # still occupied (above 65)
+    arrays = {
+        "width": np.array(grid.width), "height": np.array(grid.height), "resolution": np.array(grid.resolution),
+        "origin": np.array(grid.origin), "pose": np.array(pose_xy), "data": data.reshape(-1),
+    }  # fmt: skip
+    path = tmp_path / "scene.npz"
+    np.savez(path, **arrays)  # type: ignore[arg-type]
+    return path, arrays
+
+
+def _expected(arrays: dict[str, np.ndarray]) -> list[list[float]]:
+    """frontier_rl's own ranking of the map at WEIGHT, computed here from the core functions."""
+    data = arrays["data"].reshape(int(arrays["height"]), int(arrays["width"]))
+    cells = np.full(data.shape, CellState.UNKNOWN, np.int8)
+    cells[(data >= 0) & (data < 19.6)] = CellState.FREE
+    cells[data > 65] = CellState.OCCUPIED
+    origin = (float(arrays["origin"][0]), float(arrays["origin"][1]))
+    grid = OccupancyGrid(cells, float(arrays["resolution"]), origin)
+    pose = Pose(float(arrays["pose"][0]), float(arrays["pose"][1]), 0.0)
+    sim = SimConfig()
+    costmap = Costmap.build(grid, sim.robot, sim.navigation)
+    reachable = costmap.reachable_known(grid.world_to_cell(pose.x, pose.y))
+    frontiers = detect_frontiers(grid, pose, reachable, 4)
+    order = rank(weighted_cost(frontiers, WEIGHT))[:10]
+    return [[float(frontiers.centers[i, 0]), float(frontiers.centers[i, 1])] for i in order]
+
+
+def test_node_answers_with_frontier_rls_own_ranking(ros_env: dict[str, str], shared_maps: Path, tmp_path: Path) -> None:
+    scene, arrays = _scene(shared_maps, tmp_path)
+    expected = _expected(arrays)
+    assert len(expected) >= 2, "the scene should have several frontiers"
+    node = subprocess.Popen(
+        [sys.executable, "-m", "frontier_rl.ros.node", "_robots:=tb3_0", f"_weight:={WEIGHT}"],
+        env=ros_env, stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, text=True,
+    )  # fmt: skip
+    try:
+        client = subprocess.run(
+            [sys.executable, str(CLIENT), str(scene)], env=ros_env, capture_output=True, text=True, timeout=180
+        )
+        assert client.returncode == 0, client.stderr[-2000:]
+        early, answer, unknown, malformed, again = (json.loads(line) for line in client.stdout.splitlines())
+        assert early["poses"] == [] and unknown["poses"] == [] and malformed["poses"] == []
+        assert answer["frame"] == "tb3_0/map"
+        assert np.allclose(answer["poses"], expected, atol=1e-6)
+        assert again == answer  # the node kept serving after the malformed map
+        assert node.poll() is None, "the node must still be running"
+    finally:
+        node.terminate()
+        _, log = node.communicate(timeout=30)
+    assert "rejected" in log and "unknown robot 'nobody'" in log and "no usable map" in log
+
+
+@pytest.mark.parametrize(
+    ("width", "height", "resolution", "length", "needle"),
+    [
+        (0, 5, 0.05, 0, "no cells"),
+        (4, 5, 0.0, 20, "resolution"),
+        (4, 5, float("nan"), 20, "resolution"),
+        (4, 5, 0.05, 19, "expected width × height = 20"),
+    ],
+)
+def test_malformed_map_messages_are_map_errors(
+    width: int, height: int, resolution: float, length: int, needle: str
+) -> None:
+    with pytest.raises(MapError, match=needle):
+        grid_from_message(width, height, resolution, [0] * length)
+
+
+def test_probabilities_are_thresholded_like_map_server() -> None:
+    grid = grid_from_message(5, 1, 0.05, [-1, 0, 19, 50, 66])
+    assert grid.data.tolist() == [[CellState.UNKNOWN, CellState.FREE, CellState.FREE, CellState.UNKNOWN,
+                                   CellState.OCCUPIED]]  # fmt: skip
+
+
+@pytest.mark.parametrize("model", ["models/model4.zip", "models/model5.zip"])
+def test_learned_models_rank_a_map_message(model: str, shared_maps: Path, tmp_path: Path) -> None:
+    if not Path(model).exists():
+        pytest.skip("shipped model missing")
+    from frontier_rl.policies import make_policy
+    from frontier_rl.ros.frontier_service import rank_frontiers
+
+    _, arrays = _scene(shared_maps, tmp_path)
+    grid = grid_from_message(int(arrays["width"]), int(arrays["height"]), float(arrays["resolution"]), arrays["data"])
+    origin = arrays["origin"]
+    pose = Pose(float(arrays["pose"][0] - origin[0]), float(arrays["pose"][1] - origin[1]), 0.0)
+    ranked, weight = rank_frontiers(grid, pose, make_policy(f"learned:{model}"), top_k=10)
+    assert 1 <= len(ranked) <= 10
+    assert (weight is not None) == model.endswith("model4.zip")  # model 5 picks a frontier, not a weight
+
+
+def test_map_frames_with_a_rotated_origin_round_trip() -> None:
+    from frontier_rl.ros.node import _Frame
+
+    frame = _Frame("map", 2.0, -1.0, 0.7)
+    gx, gy = frame.to_grid(3.5, 4.25)
+    assert frame.to_map(gx, gy) == pytest.approx((3.5, 4.25))
+    assert frame.to_map(0.0, 0.0) == pytest.approx((2.0, -1.0))
