@@ -95,6 +95,9 @@ class FrontierNode:
         self.list_pub = rospy.Publisher("/frontier_list", PoseArray, queue_size=10)
         self.marker_pub = rospy.Publisher("/frontier_markers", MarkerArray, queue_size=10)
         self.weight_pub = rospy.Publisher("/frontier_weight", Float32, queue_size=10, latch=True)
+        weight = getattr(self.policy, "weight", None)
+        if isinstance(weight, float):  # a fixed weight is known before any request; a model's comes with each
+            self.weight_pub.publish(Float32(weight))
         self.tf_buffer = self._tf_buffer()
         rospy.Subscriber("/frontier_request", String, self._on_request, queue_size=10)
         rospy.loginfo("frontier_rl node: robots %s, policy %s, top %d", self.robots, self.policy.name, self.top_k)

@@ -20,12 +20,14 @@ from frontier_rl.ros.node import import_rospy
 rospy = import_rospy()
 from geometry_msgs.msg import PoseArray, PoseStamped  # noqa: E402
 from nav_msgs.msg import OccupancyGrid  # noqa: E402
-from std_msgs.msg import String  # noqa: E402
+from std_msgs.msg import Float32, String  # noqa: E402
 
 
 def main() -> None:
     scene = np.load(sys.argv[1])
     rospy.init_node("frontier_test_client", anonymous=True, disable_signals=True)
+    weights: queue.Queue[Float32] = queue.Queue()
+    rospy.Subscriber("/frontier_weight", Float32, weights.put)  # latched: arrives on connecting
     answers: queue.Queue[PoseArray] = queue.Queue()
     rospy.Subscriber("/frontier_list", PoseArray, answers.put)
     request = rospy.Publisher("/frontier_request", String, queue_size=10)
@@ -55,6 +57,7 @@ def main() -> None:
         maps.publish(msg)
         time.sleep(1.0)
 
+    print(json.dumps({"weight": weights.get(timeout=20).data}))
     ask("tb3_0")  # before any map
     pose = PoseStamped()
     pose.header.frame_id = "tb3_0/map"

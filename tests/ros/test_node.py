@@ -125,7 +125,8 @@ def test_node_answers_with_frontier_rls_own_ranking(ros_env: dict[str, str], sha
             [sys.executable, str(CLIENT), str(scene)], env=ros_env, capture_output=True, text=True, timeout=180
         )
         assert client.returncode == 0, client.stderr[-2000:]
-        early, answer, unknown, malformed, again = (json.loads(line) for line in client.stdout.splitlines())
+        weight, early, answer, unknown, malformed, again = (json.loads(line) for line in client.stdout.splitlines())
+        assert weight["weight"] == pytest.approx(WEIGHT)
         assert early["poses"] == [] and unknown["poses"] == [] and malformed["poses"] == []
         assert answer["frame"] == "tb3_0/map"
         assert np.allclose(answer["poses"], expected, atol=1e-6)
