@@ -9,9 +9,10 @@ frontiers, :meth:`execute` drives to the first of a ranked list that can be plan
 from __future__ import annotations
 
 import math
-from collections.abc import Sequence
+from collections.abc import Generator, Sequence
 from dataclasses import dataclass, field
 from enum import Enum
+from typing import TypeVar
 
 import numpy as np
 from numpy.typing import NDArray
@@ -208,6 +209,14 @@ class ExplorationSimulator:
     def execute(self, order: Sequence[int] | NDArray[np.int64], weight: float | None = None) -> LegResult:
         """Drive to the first frontier of ``order`` (indices into :meth:`frontiers`) that a path
         can be planned to; frontiers that cannot be planned to are blacklisted on the way."""
+        return run_leg(self.execute_steps(order, weight))
+
+    def execute_steps(
+        self, order: Sequence[int] | NDArray[np.int64], weight: float | None = None
+    ) -> Generator[None, None, LegResult]:
+        """:meth:`execute` step by step: the leg yields each time its clock has moved on (a drive up
+        to the next map update, about 0.5 s of sim time, or one LiDAR tick of a turn) and returns
+        its result, so that several robots can share one clock."""
         cand = self.candidates()
         start_time, start_len = self.sim_time, self.path_length
         for index in order:
@@ -225,7 +234,7 @@ class ExplorationSimulator:
                 continue
             goal = cand.grid.cell_to_world(*goal_cell)
             frontier_xy = cand.grid.cells_to_world(cand.frontiers.cells_of(index))
-            return self._drive(path, goal, frontier_xy, center, index, weight)
+            return (yield from self._drive(path, goal, frontier_xy, center, index, weight))
         self._candidates = None  # the blacklist changed
         self._finished = len(self.frontiers()) == 0
         self._log(weight, (math.nan, math.nan), LegOutcome.NONE)
@@ -236,6 +245,10 @@ class ExplorationSimulator:
         """Drive to the reachable cell nearest to world point (x, y) (m): the point-goal action. A
         point no path leads to costs a recovery rotation and is given up; a point where the robot
         already is costs one turn on the spot. Every call takes simulated time."""
+        return run_leg(self.go_to_steps(x, y, weight))
+
+    def go_to_steps(self, x: float, y: float, weight: float | None = None) -> Generator[None, None, LegResult]:
+        """:meth:`go_to` one map update at a time (see :meth:`execute_steps`)."""
         cand = self.candidates()
         row, col = cand.grid.world_to_cell(x, y)
         row = min(max(row, 0), cand.grid.height - 1)
@@ -248,16 +261,16 @@ class ExplorationSimulator:
             start_time = self.sim_time
             self.aborts += 1
             self._log(weight, (x, y), LegOutcome.ABORTED)
-            new_free, new_occ = self._rotate_in_place()
+            new_free, new_occ = yield from self._rotate_steps()
             return LegResult(LegOutcome.ABORTED, -1, (x, y), self.sim_time - start_time, 0.0, new_free, new_occ)
         goal = cand.grid.cell_to_world(*goal_cell)
         if math.hypot(goal[0] - self.pose.x, goal[1] - self.pose.y) <= self.config.navigation.goal_tolerance:
             # already there: the robot looks around once, so that no decision is free of time
             start_time = self.sim_time
             self._log(weight, goal, LegOutcome.REACHED)
-            new_free, new_occ = self._rotate_in_place()
+            new_free, new_occ = yield from self._rotate_steps()
             return LegResult(LegOutcome.REACHED, -1, goal, self.sim_time - start_time, 0.0, new_free, new_occ)
-        return self._drive(path, goal, None, None, -1, weight)
+        return (yield from self._drive(path, goal, None, None, -1, weight))
 
     # ------------------------------------------------------------- navigation
     def _plan(self, cand: _Candidates, goal_cell: tuple[int, int]) -> NDArray[np.float64] | None:
@@ -290,7 +303,7 @@ class ExplorationSimulator:
         center: tuple[float, float] | None,
         index: int,
         weight: float | None,
-    ) -> LegResult:
+    ) -> Generator[None, None, LegResult]:
         cfg = self.config
         nav = cfg.navigation
         truth = self.world.grid
@@ -319,6 +332,7 @@ class ExplorationSimulator:
             self.path_length += driven
             self.sim_time += used
             seen = self._scan()
+            yield
             if seen is not None:
                 new_free += seen[0]
                 new_occ += seen[1]
@@ -353,7 +367,7 @@ class ExplorationSimulator:
                 new_path = self._replan(goal)
                 while new_path is None and recoveries < nav.max_recoveries and not self.truncated:
                     recoveries += 1
-                    f, o = self._rotate_in_place()
+                    f, o = yield from self._rotate_steps()
                     new_free += f
                     new_occ += o
                     new_path = self._replan(goal)
@@ -373,7 +387,7 @@ class ExplorationSimulator:
             outcome is LegOutcome.REACHED and frontier_cells is not None and self._frontier_alive(frontier_cells)
         )
         if reached_alive and center is not None and frontier_cells is not None:
-            self._wait_for_map_update()
+            yield from self._wait_for_map_update()
             if self._frontier_alive(frontier_cells):
                 self.blacklist.append(center)
                 self._candidates = None
@@ -390,12 +404,14 @@ class ExplorationSimulator:
         """Whether more than ``min_frontier_cells`` of a frontier's cells are still fringe cells."""
         return count_fringe(self.mapper.state, cells[:, 0], cells[:, 1]) > self.config.min_frontier_cells
 
-    def _wait_for_map_update(self) -> None:
+    def _wait_for_map_update(self) -> Generator[None, None, None]:
         """Stand still until the mapper has folded in the next scan (or the sim-time cap)."""
         while not self.truncated:
             duration, _ = self._until_next_scan()
             self.sim_time += duration
-            if self._scan() is not None:
+            seen = self._scan()
+            yield
+            if seen is not None:
                 return
 
     def _until_next_scan(self) -> tuple[float, NDArray[np.float64]]:
@@ -435,8 +451,9 @@ class ExplorationSimulator:
         self.mapper.mark_occupied(rows[near] + r0, cols[near] + c0)
         self._candidates = None
 
-    def _rotate_in_place(self) -> tuple[int, int]:
-        """A recovery behaviour: one full turn at max angular speed, scanning as it goes."""
+    def _rotate_steps(self) -> Generator[None, None, tuple[int, int]]:
+        """A recovery behaviour: one full turn at max angular speed, scanning as it goes; yields
+        after every LiDAR tick and returns the cells first seen free and occupied."""
         period = self.config.lidar.period
         omega = self.config.robot.max_angular_speed
         steps = int(math.ceil(2.0 * math.pi / (omega * period)))
@@ -448,6 +465,7 @@ class ExplorationSimulator:
             self.pose = Pose(self.pose.x, self.pose.y, (self.pose.theta + omega * step) % (2 * math.pi))
             self.sim_time += step
             seen = self._scan()
+            yield
             if seen is not None:
                 new_free += seen[0]
                 new_occ += seen[1]
@@ -498,3 +516,15 @@ def _tail_lengths(path: NDArray[np.float64]) -> NDArray[np.float64]:
     """For each waypoint, the length (m) of the path from it to the end."""
     seg = np.hypot(*np.diff(path, axis=0).T)
     return np.concatenate((np.cumsum(seg[::-1])[::-1], [0.0]))
+
+
+_T = TypeVar("_T")
+
+
+def run_leg(steps: Generator[None, None, _T]) -> _T:
+    """Run a stepwise leg (:meth:`ExplorationSimulator.execute_steps`, ...) to its end; its result."""
+    while True:
+        try:
+            next(steps)
+        except StopIteration as stop:
+            return stop.value  # type: ignore[no-any-return]

@@ -3,6 +3,7 @@ world, episodes are reproducible, the sim-time cap holds, and nothing hangs."""
 
 from __future__ import annotations
 
+import itertools
 import math
 from functools import cache
 from pathlib import Path
@@ -14,7 +15,7 @@ from frontier_rl.core.episode import run_episode
 from frontier_rl.core.grid import CellState, OccupancyGrid
 from frontier_rl.core.metrics import DecisionRecord, EpisodeResult
 from frontier_rl.core.robot import Pose
-from frontier_rl.core.simulator import ExplorationSimulator, LegOutcome, SimConfig
+from frontier_rl.core.simulator import ExplorationSimulator, LegOutcome, SimConfig, run_leg
 from frontier_rl.core.worlds import World, generate_world, make_world
 from frontier_rl.errors import ConfigError
 from frontier_rl.io import load_map
@@ -152,7 +153,7 @@ def test_sim_time_cap_truncates(cap: float) -> None:
 
 def test_a_recovery_rotation_does_not_overshoot_the_sim_time_cap() -> None:
     sim = ExplorationSimulator(generated("office", 0), SimConfig(max_sim_time=1.1), np.random.default_rng(0))
-    sim._rotate_in_place()  # a full turn takes 12 periods (2.4 s), more than the cap
+    run_leg(sim._rotate_steps())  # a full turn takes 12 periods (2.4 s), more than the cap
     assert sim.truncated
     assert sim.sim_time <= sim.config.max_sim_time + 1e-9
 
@@ -254,3 +255,24 @@ def test_go_to_always_takes_time() -> None:
     before = sim.sim_time
     sim.go_to(sim.pose.x + 1.0, sim.pose.y)
     assert sim.sim_time > before
+
+
+def test_a_leg_run_step_by_step_is_the_same_leg() -> None:
+    world = generate_world("office", 3)
+    whole = ExplorationSimulator(world, rng=np.random.default_rng(3))
+    stepped = ExplorationSimulator(world, rng=np.random.default_rng(3))
+    order = np.argsort(whole.frontiers().distances)
+    result = whole.execute(order, 0.5)
+    steps = stepped.execute_steps(order, 0.5)
+    clocks = []
+    while True:
+        try:
+            next(steps)
+        except StopIteration as stop:
+            stepped_result = stop.value
+            break
+        clocks.append(stepped.sim_time)
+    assert stepped_result == result and stepped.pose == whole.pose
+    assert len(clocks) > 1 and all(b > a for a, b in itertools.pairwise(clocks))  # the clock moves at every step
+    # no step longer than the mapper's time trigger (0.5 s) in whole LiDAR periods (0.2 s)
+    assert max(np.diff([0.0, *clocks])) <= 0.6 + 1e-9
