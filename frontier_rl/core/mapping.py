@@ -207,6 +207,28 @@ class LogOddsMapper:
         self.explored_cells += update.new_explorable
         return update
 
+    def merge_from(self, other: LogOddsMapper) -> int:
+        """Fold ``other``'s map (the same world and frame: known relative start poses) into this
+        one by multirobot_map_merge's rule, cell by cell occupied > free > unknown; a cell that
+        changes class takes ``other``'s log-odds. Returns the explorable cells newly known here."""
+        if other.state.shape != self.state.shape:
+            raise ValueError(f"maps of shapes {self.state.shape} and {other.state.shape} cannot be merged")
+        merged = merge_states(self.state, other.state)
+        changed = merged != self.state
+        newly = changed & ~self.seen
+        self.state[changed] = merged[changed]
+        self.logodds[changed] = other.logodds[changed]
+        self.seen |= newly
+        gained = int(np.count_nonzero(newly & self.explorable))
+        self.explored_cells += gained
+        if newly.any():
+            rows, cols = np.nonzero(newly)
+            self._bbox[:] = (
+                min(self._bbox[0], rows.min()), max(self._bbox[1], rows.max()),
+                min(self._bbox[2], cols.min()), max(self._bbox[3], cols.max()),
+            )  # fmt: skip
+        return gained
+
     @property
     def known_bounds(self) -> tuple[int, int, int, int] | None:
         """(row_min, row_max, col_min, col_max) of the cells seen so far, inclusive; None if none."""
@@ -229,6 +251,15 @@ class LogOddsMapper:
             res,
             (self.origin[0] + c0 * res, self.origin[1] + r0 * res),
         )
+
+
+def merge_states(mine: NDArray[np.int8], theirs: NDArray[np.int8]) -> NDArray[np.int8]:
+    """Two maps of one frame merged cell by cell as multirobot_map_merge does: occupied where
+    either is occupied, else free where either is free, else unknown."""
+    merged = mine.copy()
+    merged[(mine == CellState.UNKNOWN) & (theirs == CellState.FREE)] = CellState.FREE
+    merged[theirs == CellState.OCCUPIED] = CellState.OCCUPIED
+    return merged
 
 
 def fit_to_size(data: NDArray[np.int8], size: int, center: tuple[int, int] | None = None) -> NDArray[np.int8]:

@@ -13,7 +13,7 @@ from numpy.typing import NDArray
 
 from frontier_rl.core.grid import CellState, OccupancyGrid
 from frontier_rl.core.lidar import Lidar, LidarConfig, Scan
-from frontier_rl.core.mapping import LogOddsMapper, MapperConfig, downsample, fit_to_size
+from frontier_rl.core.mapping import LogOddsMapper, MapperConfig, downsample, fit_to_size, merge_states
 from frontier_rl.core.robot import Pose
 from frontier_rl.core.worlds import World, generate_world
 from frontier_rl.errors import ConfigError
@@ -530,3 +530,53 @@ def test_fused_scan_matches_scan_then_integrate_even_with_huge_undershoots(noise
         )
     np.testing.assert_array_equal(plain.logodds, fused.logodds)
     np.testing.assert_array_equal(plain.state, fused.state)
+
+
+# ------------------------------------------------------------------------------- map merging
+UNK, FREE, OCC = CellState.UNKNOWN, CellState.FREE, CellState.OCCUPIED
+
+
+@pytest.mark.parametrize(
+    ("mine", "theirs", "merged"),
+    [
+        (UNK, UNK, UNK),
+        (UNK, FREE, FREE),
+        (UNK, OCC, OCC),
+        (FREE, UNK, FREE),
+        (FREE, FREE, FREE),
+        (FREE, OCC, OCC),
+        (OCC, UNK, OCC),
+        (OCC, FREE, OCC),
+        (OCC, OCC, OCC),
+    ],
+)
+def test_merge_rule_is_occupied_over_free_over_unknown(mine: int, theirs: int, merged: int) -> None:
+    a = np.full((2, 3), mine, np.int8)
+    b = np.full((2, 3), theirs, np.int8)
+    assert np.all(merge_states(a, b) == merged)
+
+
+def _scanned(world: World, pose: Pose) -> LogOddsMapper:
+    mapper = LogOddsMapper(world.grid, explorable=world.explorable)
+    mapper.integrate_simulated(Lidar(world.grid), pose, None)
+    return mapper
+
+
+def test_mappers_merge_by_the_rule_and_count_what_they_gain() -> None:
+    world = generate_world("office", 2)
+    free = np.argwhere(world.explorable)
+    first = world.grid.cell_to_world(*free[0])
+    last = world.grid.cell_to_world(*free[-1])
+    a, b = _scanned(world, Pose(*first, 0.0)), _scanned(world, Pose(*last, 0.0))
+    expected = merge_states(a.state, b.state)
+    before = a.explored_cells
+    gained = a.merge_from(b)
+    assert np.array_equal(a.state, expected)
+    assert gained > 0 and a.explored_cells == before + gained
+    assert a.explored_cells == int(np.count_nonzero((a.state != UNK) & world.explorable))
+    r0, r1, c0, c1 = a.known_bounds  # type: ignore[misc]
+    rows, cols = np.nonzero(a.state != UNK)
+    assert (r0, r1, c0, c1) == (rows.min(), rows.max(), cols.min(), cols.max())
+    assert a.merge_from(b) == 0  # merging again changes nothing
+    b.merge_from(a)
+    assert np.array_equal(a.state, b.state)  # both robots now hold the same map
