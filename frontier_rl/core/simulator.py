@@ -189,9 +189,7 @@ class ExplorationSimulator:
         """The current map, its costmap and the reachable, non-blacklisted frontiers (cached)."""
         if self._candidates is None:
             grid = self.mapper.occupancy_grid(margin=2)
-            costmap = Costmap.build(grid, self.config.robot, self.config.navigation)
-            reachable = costmap.reachable_known(grid.world_to_cell(self.pose.x, self.pose.y))
-            frontiers = detect_frontiers(grid, self.pose, reachable, self.config.min_frontier_cells)
+            costmap, reachable, frontiers = reachable_frontiers(grid, self.pose, self.config)
             if self.blacklist and len(frontiers):
                 black = np.asarray(self.blacklist)
                 d = np.hypot(
@@ -516,6 +514,18 @@ def _tail_lengths(path: NDArray[np.float64]) -> NDArray[np.float64]:
     """For each waypoint, the length (m) of the path from it to the end."""
     seg = np.hypot(*np.diff(path, axis=0).T)
     return np.concatenate((np.cumsum(seg[::-1])[::-1], [0.0]))
+
+
+def reachable_frontiers(
+    grid: OccupancyGrid, pose: Pose, config: SimConfig, min_cells: int | None = None
+) -> tuple[Costmap, NDArray[np.bool_], Frontiers]:
+    """The navigator's costmap of ``grid``, the known free cells the robot at ``pose`` can reach,
+    and the frontier clusters larger than ``min_cells`` (default ``config.min_frontier_cells``)
+    that touch them: what a decision chooses from, before any blacklist."""
+    costmap = Costmap.build(grid, config.robot, config.navigation)
+    reachable = costmap.reachable_known(grid.world_to_cell(pose.x, pose.y))
+    cells = config.min_frontier_cells if min_cells is None else min_cells
+    return costmap, reachable, detect_frontiers(grid, pose, reachable, cells)
 
 
 _T = TypeVar("_T")

@@ -13,11 +13,9 @@ from dataclasses import dataclass
 import numpy as np
 
 from frontier_rl.core.episode import DecisionContext, ExplorationPolicy
-from frontier_rl.core.frontiers import detect_frontiers
 from frontier_rl.core.grid import CellState, OccupancyGrid
-from frontier_rl.core.planner import Costmap
 from frontier_rl.core.robot import Pose
-from frontier_rl.core.simulator import SimConfig
+from frontier_rl.core.simulator import SimConfig, reachable_frontiers
 from frontier_rl.errors import MapError
 
 
@@ -80,10 +78,7 @@ def rank_frontiers(
     """The ``top_k`` frontiers of ``grid`` that the robot at ``pose`` (grid frame, m) can reach
     through known free space, best first by ``policy``, and the weight the policy used."""
     sim = sim or SimConfig()
-    costmap = Costmap.build(grid, sim.robot, sim.navigation)
-    row, col = grid.world_to_cell(pose.x, pose.y)
-    reachable = costmap.reachable_known((row, col))
-    frontiers = detect_frontiers(grid, pose, reachable, min_cluster_cells)
+    costmap, _, frontiers = reachable_frontiers(grid, pose, sim, min_cluster_cells)
     if len(frontiers) == 0:
         return [], None
     context = DecisionContext(grid, frontiers, pose, 0.0, sim.lidar.max_range, costmap)
