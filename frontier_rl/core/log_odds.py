@@ -101,12 +101,14 @@ def apply_pending(
     logodds: NDArray[np.float32],
     state: NDArray[np.int8],
     seen: NDArray[np.bool_],
+    observed: NDArray[np.bool_],
     explorable: NDArray[np.bool_],
     params: NDArray[np.float64],
     bbox: NDArray[np.int64],
     counters: NDArray[np.int64],
 ) -> None:
-    """Update every marked cell in ``window`` (row0, row1, col0, col1; exclusive ends), clear its mark.
+    """Update every marked cell in ``window`` (row0, row1, col0, col1; exclusive ends), clear its mark
+    and set it in ``observed`` (the cells this map's own sensor has reached).
 
     ``params`` = (clamp_min, clamp_max, free_below, occupied_above, hit, miss). A cell's class
     follows its log-odds past the thresholds; in between, a classified cell keeps its class (a
@@ -123,6 +125,7 @@ def apply_pending(
             if mark == 0:
                 continue
             pending[row, col] = 0
+            observed[row, col] = True
             value = min(max(logodds[row, col] + (hit if mark & HIT else miss), low), high)
             logodds[row, col] = value
             if value > occupied_above:
@@ -244,3 +247,38 @@ def _unmark_beyond(
         else:
             row += s_r
             tm_r += td_r
+
+
+@nb.njit(cache=True)
+def merge_window(
+    state: NDArray[np.int8],
+    logodds: NDArray[np.float32],
+    seen: NDArray[np.bool_],
+    explorable: NDArray[np.bool_],
+    other_state: NDArray[np.int8],
+    other_logodds: NDArray[np.float32],
+    window: tuple[int, int, int, int],
+    bbox: NDArray[np.int64],
+) -> int:
+    """Merge ``other_state`` into ``state`` over ``window`` (row0, row1, col0, col1; exclusive
+    ends, clipped) by multirobot_map_merge's rule, occupied > free > unknown; a cell that changes
+    class takes the other's log-odds. Returns the explorable cells newly seen; ``bbox`` grows."""
+    r0, r1, c0, c1 = window
+    gained = 0
+    for row in range(max(r0, 0), min(r1, state.shape[0])):
+        for col in range(max(c0, 0), min(c1, state.shape[1])):
+            theirs = other_state[row, col]
+            mine = state[row, col]
+            if theirs in (mine, _UNKNOWN) or (theirs == _FREE and mine != _UNKNOWN):
+                continue
+            state[row, col] = theirs
+            logodds[row, col] = other_logodds[row, col]
+            if not seen[row, col]:
+                seen[row, col] = True
+                if explorable[row, col]:
+                    gained += 1
+                bbox[0] = min(bbox[0], row)
+                bbox[1] = max(bbox[1], row)
+                bbox[2] = min(bbox[2], col)
+                bbox[3] = max(bbox[3], col)
+    return gained

@@ -15,7 +15,7 @@ from numpy.typing import NDArray
 
 from frontier_rl.core.grid import CellState, OccupancyGrid
 from frontier_rl.core.lidar import Lidar, Scan
-from frontier_rl.core.log_odds import HIT, apply_pending, cast_and_mark, mark_beams
+from frontier_rl.core.log_odds import HIT, apply_pending, cast_and_mark, mark_beams, merge_window
 from frontier_rl.core.robot import Pose, wrap_angle
 from frontier_rl.errors import ConfigError
 
@@ -107,6 +107,7 @@ class LogOddsMapper:
         self.logodds = np.zeros(shape, dtype=np.float32)
         self.state = np.full(shape, CellState.UNKNOWN, dtype=np.int8)
         self.seen = np.zeros(shape, dtype=np.bool_)
+        self.observed = np.zeros(shape, dtype=np.bool_)  # reached by this mapper's own scans, not merges
         self.explorable = np.ones(shape, np.bool_) if explorable is None else explorable.astype(np.bool_)
         self._pending = np.zeros(shape, dtype=np.int16)
         self._bbox = np.array([shape[0], -1, shape[1], -1], dtype=np.int64)
@@ -187,8 +188,8 @@ class LogOddsMapper:
         params[4] = self.config.clamp_max  # a hit that saturates
         self._counters[:] = 0
         window = (int(np.min(rows)), int(np.max(rows)) + 1, int(np.min(cols)), int(np.max(cols)) + 1)
-        apply_pending(self._pending, window, self.logodds, self.state, self.seen, self.explorable, params,
-                      self._bbox, self._counters)  # fmt: skip
+        apply_pending(self._pending, window, self.logodds, self.state, self.seen, self.observed, self.explorable,
+                      params, self._bbox, self._counters)  # fmt: skip
         self.explored_cells += int(self._counters[2])
 
     def _apply(self, pose: Pose, time_s: float) -> ScanUpdate:
@@ -199,35 +200,26 @@ class LogOddsMapper:
         self._counters[:] = 0
         window = (row - reach, row + reach + 1, col - reach, col + reach + 1)
         apply_pending(
-            self._pending, window, self.logodds, self.state, self.seen, self.explorable, self._params, self._bbox,
-            self._counters,
+            self._pending, window, self.logodds, self.state, self.seen, self.observed, self.explorable, self._params,
+            self._bbox, self._counters,
         )  # fmt: skip
         self._last_update = (pose, time_s)
         update = ScanUpdate(int(self._counters[0]), int(self._counters[1]), int(self._counters[2]))
         self.explored_cells += update.new_explorable
         return update
 
-    def merge_from(self, other: LogOddsMapper) -> int:
+    def merge_from(self, other: LogOddsMapper, window: tuple[int, int, int, int] | None = None) -> int:
         """Fold ``other``'s map (the same world and frame: known relative start poses) into this
         one by multirobot_map_merge's rule, cell by cell occupied > free > unknown; a cell that
-        changes class takes ``other``'s log-odds. Returns the explorable cells newly known here."""
+        changes class takes ``other``'s log-odds. ``window`` (row0, row1, col0, col1; exclusive
+        ends) limits the merge to part of the map. Returns the explorable cells newly known here."""
         if other.state.shape != self.state.shape:
             raise ValueError(f"maps of shapes {self.state.shape} and {other.state.shape} cannot be merged")
-        merged = merge_states(self.state, other.state)
-        changed = merged != self.state
-        newly = changed & ~self.seen
-        self.state[changed] = merged[changed]
-        self.logodds[changed] = other.logodds[changed]
-        self.seen |= newly
-        gained = int(np.count_nonzero(newly & self.explorable))
+        rows, cols = self.state.shape
+        gained = merge_window(self.state, self.logodds, self.seen, self.explorable, other.state, other.logodds,
+                              window if window is not None else (0, rows, 0, cols), self._bbox)  # fmt: skip
         self.explored_cells += gained
-        if newly.any():
-            rows, cols = np.nonzero(newly)
-            self._bbox[:] = (
-                min(self._bbox[0], rows.min()), max(self._bbox[1], rows.max()),
-                min(self._bbox[2], cols.min()), max(self._bbox[3], cols.max()),
-            )  # fmt: skip
-        return gained
+        return int(gained)
 
     @property
     def known_bounds(self) -> tuple[int, int, int, int] | None:

@@ -41,6 +41,10 @@ class NavigationConfig:
         max_recoveries: in-place rotations tried when stuck before the goal is aborted.
         blacklist_radius: frontiers whose centre lies this close (m) to a blacklisted goal are ignored.
         frontier_check_period: how often (s) the goal's frontier is checked for being explored.
+        teammate_margin: in a team, paths keep this much room (m) from other robots when they can.
+        teammate_patience: in a team, a robot blocked by another one for this long (s) in a leg
+            squeezes past it for the rest of the leg, instead of both standing for ever (a
+            simplification: real teams need a traffic rule for narrow corridors).
     """
 
     inflation_radius: float = 0.55
@@ -57,9 +61,14 @@ class NavigationConfig:
     max_recoveries: int = 2
     blacklist_radius: float = 0.25
     frontier_check_period: float = 1.0
+    teammate_margin: float = 0.1
+    teammate_patience: float = 5.0
 
     def __post_init__(self) -> None:
-        for name in ("inflation_radius", "goal_tolerance", "lookahead", "control_dt", "progress_timeout"):
+        if not (math.isfinite(self.teammate_margin) and self.teammate_margin >= 0):
+            raise ConfigError(f"NavigationConfig.teammate_margin must be >= 0, got {self.teammate_margin!r}")
+        for name in ("inflation_radius", "goal_tolerance", "lookahead", "control_dt", "progress_timeout",
+                     "teammate_patience"):  # fmt: skip
             value = getattr(self, name)
             if not (math.isfinite(value) and value > 0):
                 raise ConfigError(f"NavigationConfig.{name} must be positive, got {value!r}")
@@ -72,6 +81,45 @@ def obstacle_distance(occupied: NDArray[np.bool_], resolution: float) -> NDArray
     if not occupied.any():
         return np.full(occupied.shape, np.inf)
     return np.asarray(ndimage.distance_transform_edt(~occupied), dtype=np.float64) * resolution
+
+
+@nb.njit(cache=True)
+def stamp_discs(
+    clearance: NDArray[np.float64],
+    true_clearance: NDArray[np.float64],
+    boxes: NDArray[np.int64],
+    stamped: int,
+    xs: NDArray[np.float64],
+    ys: NDArray[np.float64],
+    radius: float,
+    reach: int,
+    origin_x: float,
+    origin_y: float,
+    resolution: float,
+) -> int:
+    """Take back the ``stamped`` discs of ``boxes`` (row0, row1, col0, col1 per disc) from
+    ``clearance``, then lower it around every point (xs, ys) (m) to the distance (m) from each
+    cell centre to a disc of ``radius`` there, within ``reach`` cells; ``boxes`` is rewritten.
+    Returns the number of discs stamped."""
+    rows, cols = clearance.shape
+    for k in range(stamped):
+        for r in range(boxes[k, 0], boxes[k, 1]):
+            for c in range(boxes[k, 2], boxes[k, 3]):
+                clearance[r, c] = true_clearance[r, c]
+    for k in range(xs.shape[0]):
+        row = int(math.floor((ys[k] - origin_y) / resolution))
+        col = int(math.floor((xs[k] - origin_x) / resolution))
+        r0, r1 = max(row - reach, 0), min(row + reach + 1, rows)
+        c0, c1 = max(col - reach, 0), min(col + reach + 1, cols)
+        boxes[k, 0], boxes[k, 1], boxes[k, 2], boxes[k, 3] = r0, max(r1, r0), c0, max(c1, c0)
+        for r in range(r0, r1):
+            cy = origin_y + (r + 0.5) * resolution
+            for c in range(c0, c1):
+                cx = origin_x + (c + 0.5) * resolution
+                d = math.hypot(cx - xs[k], cy - ys[k]) - radius
+                if d < clearance[r, c]:
+                    clearance[r, c] = d
+    return int(xs.shape[0])
 
 
 @nb.njit(cache=True)

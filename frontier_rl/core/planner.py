@@ -73,6 +73,26 @@ class Costmap:
         """Distance (m) from each cell centre to the nearest occupied cell centre (chamfer, capped)."""
         return self.clearance_padded[1:-1, 1:-1] * self.grid.resolution
 
+    def with_discs_blocked(self, centres: NDArray[np.float64], radius: float) -> Costmap:
+        """A copy in which every cell whose centre lies within ``radius`` (m) of one of ``centres``
+        ((k, 2) world points, m) is blocked like a wall: other robots, for planning around them."""
+        open_p = self.open_padded.copy()
+        clear_p = self.clearance_padded.copy()
+        g = self.grid
+        reach = int(math.ceil(radius / g.resolution))
+        for x, y in centres:
+            row, col = g.world_to_cell(float(x), float(y))
+            r0, r1 = max(row - reach, 0), min(row + reach + 1, g.height)
+            c0, c1 = max(col - reach, 0), min(col + reach + 1, g.width)
+            if r0 >= r1 or c0 >= c1:
+                continue
+            cy = g.origin[1] + (np.arange(r0, r1) + 0.5) * g.resolution
+            cx = g.origin[0] + (np.arange(c0, c1) + 0.5) * g.resolution
+            inside = np.hypot(cx[None, :] - x, cy[:, None] - y) <= radius
+            open_p[r0 + 1 : r1 + 1, c0 + 1 : c1 + 1] &= ~inside
+            clear_p[r0 + 1 : r1 + 1, c0 + 1 : c1 + 1][inside] = 0.0  # so the start's escape zone stays shut
+        return Costmap(g, open_p, self.cost_padded, clear_p)
+
     def reachable_known(self, start: tuple[int, int]) -> NDArray[np.bool_]:
         """Known-free traversable cells connected (8-way) to ``start`` (row, col), or to the nearest
         such cell within 0.5 m when the start itself is not one."""

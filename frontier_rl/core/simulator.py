@@ -28,6 +28,7 @@ from frontier_rl.core.navigation import (
     footprint_offsets,
     obstacle_distance,
     path_blocked,
+    stamp_discs,
 )
 from frontier_rl.core.planner import Costmap, nearest_cell
 from frontier_rl.core.robot import Pose, RobotConfig
@@ -120,6 +121,9 @@ class ExplorationSimulator:
         grid = world.grid
         self._lidar = Lidar(grid, self.config.lidar)
         self._true_clearance = obstacle_distance(grid.data == CellState.OCCUPIED, grid.resolution)
+        self._clearance = self._true_clearance  # what the follower collides with: walls, and teammates
+        self._boxes = np.zeros((0, 4), np.int64)  # the teammate discs stamped into _clearance
+        self._stamped = 0
         self._footprint = footprint_offsets(self.config.robot.radius, grid.resolution)
         r = self.config.robot
         n = self.config.navigation
@@ -145,7 +149,13 @@ class ExplorationSimulator:
         self._poses: list[tuple[float, float, float]] = []
         self._candidates: _Candidates | None = None
         self._finished = False
+        self.target: tuple[float, float] | None = None  # the frontier centre or point of the leg under way
+        self.set_teammates(np.zeros((0, 2)))
         self._scan()
+
+    def refresh(self) -> None:
+        """The map was changed from outside (merged with a teammate's): forget the cached candidates."""
+        self._candidates = None
 
     @property
     def coverage(self) -> float:
@@ -169,6 +179,25 @@ class ExplorationSimulator:
     def map(self) -> OccupancyGrid:
         """The robot's current map (grown to the seen area)."""
         return self.candidates().grid
+
+    def set_teammates(self, positions: NDArray[np.float64], radius: float | None = None) -> None:
+        """Other robots at ``positions`` ((k, 2) world points, m) of ``radius`` (m; this robot's own
+        by default), until the next call: the follower collides with them and the planner plans
+        around them. Frontier detection and the map ignore them (they are passing, not walls)."""
+        self._teammate_radius = self.config.robot.radius if radius is None else radius
+        self.teammates = np.asarray(positions, dtype=np.float64).reshape(-1, 2)
+        if len(self.teammates) == 0 and self._stamped == 0:
+            return
+        if self._clearance is self._true_clearance:
+            self._clearance = self._true_clearance.copy()
+        if len(self._boxes) < len(self.teammates):
+            self._boxes = np.zeros((len(self.teammates), 4), np.int64)
+        g = self.world.grid
+        reach = int(math.ceil((self._teammate_radius + 2.0 * self.config.robot.radius) / g.resolution)) + 1
+        self._stamped = stamp_discs(
+            self._clearance, self._true_clearance, self._boxes, self._stamped, self.teammates[:, 0],
+            self.teammates[:, 1], self._teammate_radius, reach, g.origin[0], g.origin[1], g.resolution,
+        )  # fmt: skip
 
     # ---------------------------------------------------------------- sensing
     def _scan(self) -> tuple[int, int] | None:
@@ -232,7 +261,11 @@ class ExplorationSimulator:
                 continue
             goal = cand.grid.cell_to_world(*goal_cell)
             frontier_xy = cand.grid.cells_to_world(cand.frontiers.cells_of(index))
-            return (yield from self._drive(path, goal, frontier_xy, center, index, weight))
+            self.target = center
+            try:
+                return (yield from self._drive(path, goal, frontier_xy, center, index, weight))
+            finally:
+                self.target = None
         self._candidates = None  # the blacklist changed
         self._finished = len(self.frontiers()) == 0
         self._log(weight, (math.nan, math.nan), LegOutcome.NONE)
@@ -268,13 +301,24 @@ class ExplorationSimulator:
             self._log(weight, goal, LegOutcome.REACHED)
             new_free, new_occ = yield from self._rotate_steps()
             return LegResult(LegOutcome.REACHED, -1, goal, self.sim_time - start_time, 0.0, new_free, new_occ)
-        return (yield from self._drive(path, goal, None, None, -1, weight))
+        self.target = goal
+        try:
+            return (yield from self._drive(path, goal, None, None, -1, weight))
+        finally:
+            self.target = None
 
     # ------------------------------------------------------------- navigation
     def _plan(self, cand: _Candidates, goal_cell: tuple[int, int]) -> NDArray[np.float64] | None:
         """A world-frame path (n, 2) from the robot to ``goal_cell`` of ``cand.grid``, or None."""
         start = cand.grid.world_to_cell(self.pose.x, self.pose.y)
-        cells = cand.costmap.plan(start, goal_cell)
+        cells = np.zeros((0, 2), np.int64)
+        keep_off = self._teammate_radius + self.config.robot.radius + self.config.navigation.teammate_margin
+        near = self._teammates_within(keep_off, cand.grid.cell_to_world(*goal_cell))
+        if len(self.teammates) and not near:  # around the other robots if there is a way, else through them
+            blocked = cand.costmap.with_discs_blocked(self.teammates, keep_off)
+            cells = blocked.plan(start, goal_cell)
+        if len(cells) == 0:
+            cells = cand.costmap.plan(start, goal_cell)
         if len(cells) == 0:
             return None
         xy = cand.grid.cells_to_world(cells)
@@ -318,12 +362,14 @@ class ExplorationSimulator:
         next_frontier_check = self.sim_time + nav.frontier_check_period
         recoveries = 0
         outcome = LegOutcome.TIMEOUT
+        clearance = self._clearance
+        teammate_blocked_since: float | None = None
         while not self.truncated:
             # Drive tick by tick until the mapper wants the next scan (nothing else changes before).
             duration, gate = self._until_next_scan()
             x, y, theta, index_on_path, driven, used, status = follow_path(
                 path[:, 0], path[:, 1], index_on_path, self.pose.x, self.pose.y, self.pose.theta, duration,
-                self._follow_params, self._true_clearance, truth.origin[0], truth.origin[1], truth.resolution, gate,
+                self._follow_params, clearance, truth.origin[0], truth.origin[1], truth.resolution, gate,
                 careful,
             )  # fmt: skip
             self.pose = Pose(x, y, theta)
@@ -355,7 +401,15 @@ class ExplorationSimulator:
             elif self.sim_time - last_progress > nav.progress_timeout:
                 outcome = LegOutcome.ABORTED
                 break
-            if status == 2:
+            if status == 2 and self._touching_teammate():
+                if teammate_blocked_since is None:
+                    teammate_blocked_since = self.sim_time
+                if self.sim_time - teammate_blocked_since >= nav.teammate_patience:
+                    clearance = self._true_clearance  # squeeze past for the rest of the leg
+                else:
+                    yield from self.wait_steps()  # give the other robot a moment to pass
+                continue
+            elif status == 2:
                 self._bump()
             blocked = status == 2 or (
                 seen is not None  # only a map update can put a new obstacle on the path
@@ -385,7 +439,7 @@ class ExplorationSimulator:
             outcome is LegOutcome.REACHED and frontier_cells is not None and self._frontier_alive(frontier_cells)
         )
         if reached_alive and center is not None and frontier_cells is not None:
-            yield from self._wait_for_map_update()
+            yield from self.wait_steps()
             if self._frontier_alive(frontier_cells):
                 self.blacklist.append(center)
                 self._candidates = None
@@ -402,8 +456,9 @@ class ExplorationSimulator:
         """Whether more than ``min_frontier_cells`` of a frontier's cells are still fringe cells."""
         return count_fringe(self.mapper.state, cells[:, 0], cells[:, 1]) > self.config.min_frontier_cells
 
-    def _wait_for_map_update(self) -> Generator[None, None, None]:
-        """Stand still until the mapper has folded in the next scan (or the sim-time cap)."""
+    def wait_steps(self) -> Generator[None, None, None]:
+        """Stand still until the mapper has folded in the next scan (or the sim-time cap), yielding
+        after every LiDAR tick: a robot waiting for its team."""
         while not self.truncated:
             duration, _ = self._until_next_scan()
             self.sim_time += duration
@@ -432,6 +487,18 @@ class ExplorationSimulator:
             [period, last_pose.x, last_pose.y, last_pose.theta, mapper_cfg.linear_update, mapper_cfg.angular_update]
         )
         return duration, gate
+
+    def _touching_teammate(self) -> bool:
+        """Whether another robot is (about) in contact with this one."""
+        contact = self._teammate_radius + self.config.robot.radius + 2.0 * self.world.grid.resolution
+        return self._teammates_within(contact)
+
+    def _teammates_within(self, distance: float, goal: tuple[float, float] | None = None) -> bool:
+        """Whether another robot is within ``distance`` (m) of this one (or of ``goal``)."""
+        if len(self.teammates) == 0:
+            return False
+        points = [(self.pose.x, self.pose.y)] if goal is None else [(self.pose.x, self.pose.y), goal]
+        return any(np.hypot(self.teammates[:, 0] - x, self.teammates[:, 1] - y).min() <= distance for x, y in points)
 
     def _bump(self) -> None:
         """The robot ran into a wall its map did not show (the LiDAR is blind closer than its

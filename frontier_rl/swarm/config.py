@@ -1,0 +1,138 @@
+"""Team settings: size, coordination strategy, communication range and failures."""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+from enum import StrEnum
+
+from frontier_rl.errors import ConfigError
+
+MAX_ROBOTS = 8
+
+
+class Strategy(StrEnum):
+    """How the robots of a team share the work.
+
+    * ``uncoordinated``: each robot ranks the frontiers of its own (merged) map on its own.
+    * ``coordinated``: Burgard et al. (2000): a frontier a teammate in contact is heading for drops
+      in utility for the others (those near it less so the farther they are).
+    * ``rendezvous``: the thesis's commander/explorer cycle: the commander (robot 0, or the lowest
+      surviving) picks a meeting frontier from its ranking, all explore alone for
+      ``explore_period``, then meet there, merge maps, and the cycle repeats.
+    """
+
+    UNCOORDINATED = "uncoordinated"
+    COORDINATED = "coordinated"
+    RENDEZVOUS = "rendezvous"
+
+
+@dataclass(frozen=True)
+class Failure:
+    """A robot that stops for good at a sim time: ``robot`` None is drawn at random (seeded) among
+    the team, ``time_s`` None uniformly in [0, ``TeamConfig.random_failure_horizon``]."""
+
+    robot: int | None
+    time_s: float | None
+
+    def __post_init__(self) -> None:
+        if self.robot is not None and self.robot < 0:
+            raise ConfigError(f"failure robot id must be >= 0, got {self.robot!r}")
+        if self.time_s is not None and not (math.isfinite(self.time_s) and self.time_s >= 0):
+            raise ConfigError(f"failure time must be a non-negative number of seconds, got {self.time_s!r}")
+
+    @classmethod
+    def parse(cls, text: str) -> Failure:
+        """``ROBOT@SECONDS``, where either may be ``random``; ``random`` alone is ``random@random``."""
+        spec = text.strip().lower()
+        robot_text, _, time_text = spec.partition("@")
+        if spec == "random":
+            time_text = "random"
+        if not time_text:
+            raise ConfigError(f"failure {text!r} must read ROBOT@SECONDS (e.g. 1@200, random@200, random)")
+        try:
+            robot = None if robot_text == "random" else int(robot_text)
+            time_s = None if time_text == "random" else float(time_text)
+        except ValueError:
+            raise ConfigError(f"failure {text!r} must read ROBOT@SECONDS (e.g. 1@200, random@200, random)") from None
+        return cls(robot, time_s)
+
+    def __str__(self) -> str:
+        robot = "random" if self.robot is None else str(self.robot)
+        time_s = "random" if self.time_s is None else f"{self.time_s:g}"
+        return f"{robot}@{time_s}"
+
+
+@dataclass(frozen=True)
+class TeamConfig:
+    """A team of robots exploring one world together.
+
+    Attributes:
+        robots: team size, 1 to 8.
+        strategy: how they share the work.
+        comm_range: robots this close (m) merge maps and share their goals; None: unlimited for
+            uncoordinated and coordinated, ``meeting_radius`` for rendezvous (which then shares
+            only at meetings and chance encounters).
+        failures: robots that stop for good mid-run; what they had not shared is lost.
+        explore_period: rendezvous: how long (s) the robots explore alone between meetings.
+        meeting_radius: rendezvous: a robot this close (m) to the meeting point has arrived.
+        meeting_timeout: rendezvous: a meeting goes ahead without robots that have not arrived
+            this long (s) after it was due.
+        claim_radius: coordination: a frontier whose centre is this close (m) to a teammate's goal
+            is that teammate's; a robot takes it only when no other is left.
+        coordination_range: coordination: a teammate's goal lowers the utility of frontiers up to
+            this far (m) from it, linearly (Burgard et al.'s P(d) = 1 - d / range).
+        start_spacing: distance (m) between neighbouring robots' start positions.
+        random_failure_horizon: random failure times are drawn in [0, this] (s).
+    """
+
+    robots: int = 1
+    strategy: Strategy = Strategy.UNCOORDINATED
+    comm_range: float | None = None
+    failures: tuple[Failure, ...] = ()
+    explore_period: float = 120.0
+    meeting_radius: float = 2.0
+    meeting_timeout: float = 120.0
+    claim_radius: float = 1.0
+    coordination_range: float = 3.0
+    start_spacing: float = 0.5
+    random_failure_horizon: float = 300.0
+
+    def __post_init__(self) -> None:
+        if not 1 <= self.robots <= MAX_ROBOTS:
+            raise ConfigError(f"robots must be 1 to {MAX_ROBOTS}, got {self.robots!r}")
+        if not isinstance(self.strategy, Strategy):
+            object.__setattr__(self, "strategy", parse_strategy(str(self.strategy)))
+        if self.comm_range is not None and not self.comm_range >= 0:
+            raise ConfigError(f"comm_range must be >= 0 m, got {self.comm_range!r}")
+        for name in ("explore_period", "meeting_radius", "meeting_timeout", "claim_radius", "coordination_range",
+                     "start_spacing", "random_failure_horizon"):  # fmt: skip
+            value = getattr(self, name)
+            if not (math.isfinite(value) and value > 0):
+                raise ConfigError(f"TeamConfig.{name} must be a positive number, got {value!r}")
+        for failure in self.failures:
+            if failure.robot is not None and failure.robot >= self.robots:
+                raise ConfigError(
+                    f"failure {failure} names robot {failure.robot}, but the team has robots 0..{self.robots - 1}"
+                )
+        named = [f.robot for f in self.failures if f.robot is not None]
+        if len(named) != len(set(named)):
+            raise ConfigError(f"a robot can fail only once, got failures {', '.join(map(str, self.failures))}")
+        if len(self.failures) > self.robots:
+            raise ConfigError(f"{len(self.failures)} failures for a team of {self.robots}")
+
+    @property
+    def range_m(self) -> float:
+        """The communication range in effect (m; inf when unlimited)."""
+        if self.comm_range is not None:
+            return self.comm_range
+        return self.meeting_radius if self.strategy is Strategy.RENDEZVOUS else math.inf
+
+
+def parse_strategy(text: str) -> Strategy:
+    """The strategy named ``text``; a one-line error listing the names otherwise."""
+    try:
+        return Strategy(text.strip().lower())
+    except ValueError:
+        names = ", ".join(s.value for s in Strategy)
+        raise ConfigError(f"unknown strategy {text!r}: choose one of {names}") from None

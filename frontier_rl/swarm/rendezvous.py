@@ -1,0 +1,104 @@
+"""The thesis's commander/explorer rendezvous cycle.
+
+The commander (robot 0, or the lowest-numbered one still working) picks the meeting point: the
+frontier at the top of its own ranking, which it then drives to. Every robot explores on its own
+for ``explore_period`` seconds, then drives to the meeting point; once all working robots are
+within ``meeting_radius`` of it (or the meeting is ``meeting_timeout`` late), the robots there
+merge their maps and the commander picks the next meeting point. Between meetings, robots share
+only when they happen to come within communication range.
+"""
+
+from __future__ import annotations
+
+import math
+from enum import Enum
+from typing import TYPE_CHECKING
+
+if TYPE_CHECKING:
+    from frontier_rl.swarm.team import TeamRobot, TeamSimulator
+
+
+class Phase(Enum):
+    """Where a robot is in the rendezvous cycle (always EXPLORE for the other strategies)."""
+
+    EXPLORE = "explore"
+    TO_MEETING = "to_meeting"
+    WAITING = "waiting"
+
+
+class RendezvousCycle:
+    """The meeting point and schedule of a team, and the phase changes of its robots."""
+
+    def __init__(self, team: TeamSimulator) -> None:
+        self.team = team
+        self.point: tuple[float, float] | None = None  # the next meeting point (m), once picked
+        self.due = math.inf  # when the robots head for it (s)
+        self.needs_point = True  # the commander picks the first one at the start
+        self.meetings: list[tuple[float, tuple[float, float], tuple[int, ...]]] = []  # (time, point, robots)
+
+    @property
+    def commander(self) -> TeamRobot | None:
+        """The robot that picks the meeting points: the lowest-numbered working one."""
+        alive = self.team.alive
+        return alive[0] if alive else None
+
+    def commander_to_decide(self) -> TeamRobot | None:
+        """The commander, when it must pick the next meeting point now (before anyone else moves)."""
+        commander = self.commander
+        if not self.needs_point or commander is None or commander.leg is not None:
+            return None
+        if len(commander.sim.frontiers()) == 0:  # nothing left on its map: meet where it stands
+            self._set_point(commander.xy, commander.sim.sim_time)
+            return None
+        return commander
+
+    def decided(self, robot: TeamRobot) -> None:
+        """``robot`` has just started a leg: the commander's first choice is the meeting point."""
+        if self.needs_point and robot is self.commander:
+            target = robot.sim.target
+            self._set_point(target if target is not None else robot.xy, robot.sim.sim_time)
+
+    def _set_point(self, xy: tuple[float, float], now: float) -> None:
+        self.point = (float(xy[0]), float(xy[1]))
+        self.due = now + self.team.team.explore_period
+        self.needs_point = False
+
+    def before_step(self, robot: TeamRobot) -> None:
+        """Move ``robot`` on in the cycle before its next step (and hold the meeting when due)."""
+        point = self.point
+        if point is None:
+            return
+        config = self.team.team
+        sim = robot.sim
+        if robot.phase is Phase.EXPLORE and sim.sim_time >= self.due:
+            robot.drop_leg()
+            robot.phase = Phase.TO_MEETING
+            robot.leg = sim.go_to_steps(*point)
+        arrived = math.dist(robot.xy, point) <= config.meeting_radius or robot.leg is None
+        if robot.phase is Phase.TO_MEETING and arrived:
+            robot.drop_leg()
+            robot.phase = Phase.WAITING
+        if robot.phase is Phase.WAITING:
+            alive = self.team.alive
+            late = sim.sim_time >= self.due + config.meeting_timeout
+            if late or all(r.phase is Phase.WAITING for r in alive):
+                self._meet([r for r in alive if r.phase is Phase.WAITING])
+            elif robot.leg is None:
+                robot.leg = sim.wait_steps()
+
+    def _meet(self, present: list[TeamRobot]) -> None:
+        """The robots ``present`` merge their maps; everyone goes back to exploring."""
+        first = present[0]
+        for other in present[1:]:
+            first.sim.mapper.merge_from(other.sim.mapper)
+        for other in present[1:]:
+            other.sim.mapper.merge_from(first.sim.mapper)
+        for robot in self.team.alive:
+            robot.drop_leg()
+            robot.sim.refresh()
+            robot.phase = Phase.EXPLORE
+        assert self.point is not None
+        self.meetings.append((self.team.sim_time, self.point, tuple(r.index for r in present)))
+        self.point = None
+        self.due = math.inf
+        self.needs_point = True

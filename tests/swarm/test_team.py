@@ -1,0 +1,244 @@
+"""The team simulator: one clock, merged maps, robots as obstacles, coordination, rendezvous,
+failures and the frontier request."""
+
+from __future__ import annotations
+
+import math
+from functools import cache
+
+import numpy as np
+import pytest
+
+from frontier_rl.core.episode import run_episode
+from frontier_rl.core.grid import CellState, OccupancyGrid
+from frontier_rl.core.robot import Pose
+from frontier_rl.core.simulator import ExplorationSimulator
+from frontier_rl.core.worlds import World, generate_world, make_world
+from frontier_rl.errors import ConfigError
+from frontier_rl.policies import FixedWeight, NearestFrontier
+from frontier_rl.swarm import (
+    Failure,
+    Strategy,
+    TeamConfig,
+    TeamResult,
+    TeamSimulator,
+    frontier_request,
+    run_team_episode,
+)
+from frontier_rl.swarm.result import overlap_share
+from frontier_rl.swarm.starts import team_starts
+
+POLICY = FixedWeight(0.75)
+
+
+@cache
+def office(seed: int) -> World:
+    return generate_world("office", seed)
+
+
+@cache
+def team_episode(seed: int, robots: int, strategy: str, failures: tuple[Failure, ...] = ()) -> TeamResult:
+    team = TeamConfig(robots=robots, strategy=Strategy(strategy), failures=failures)
+    return run_team_episode(office(seed), POLICY, team=team, seed=seed)
+
+
+def test_a_one_robot_team_explores_exactly_as_the_single_robot() -> None:
+    single = run_episode(office(3), NearestFrontier(), seed=3)
+    team = run_team_episode(office(3), NearestFrontier(), team=TeamConfig(robots=1), seed=3)
+    assert np.array_equal(single.trajectory, team.trajectory)
+    assert team.sim_time_s == single.sim_time_s and team.coverage == single.coverage
+    assert team.robots == 1 and team.overlap == 0.0
+
+
+@pytest.mark.parametrize("strategy", ["uncoordinated", "coordinated", "rendezvous"])
+def test_teams_finish_the_map_and_report_every_robot(strategy: str) -> None:
+    result = team_episode(1, 3, strategy)
+    assert result.done and not result.truncated and result.coverage >= 0.99
+    assert result.robots == 3 and len(result.robot_path_lengths_m) == 3 and len(result.trajectories) == 3
+    assert all(length > 0 for length in result.robot_path_lengths_m)
+    assert math.isclose(result.path_length_m, sum(result.robot_path_lengths_m))
+    assert 0.0 <= result.overlap <= 1.0 and all(0 < c <= 1 for c in result.robot_coverage)
+    summary = result.summary()
+    assert summary["robots"] == 3 and len(summary["robot_path_lengths_m"]) == 3 and "overlap" in summary
+
+
+def test_team_episodes_are_deterministic() -> None:
+    a = run_team_episode(office(2), POLICY, team=TeamConfig(robots=2, strategy=Strategy.COORDINATED), seed=2)
+    b = team_episode(2, 2, "coordinated")
+    assert a.sim_time_s == b.sim_time_s
+    assert all(np.array_equal(x, y) for x, y in zip(a.trajectories, b.trajectories, strict=True))
+
+
+def test_two_robots_cover_the_office_sooner_than_one() -> None:
+    one = run_episode(office(1), POLICY, seed=1)
+    two = team_episode(1, 2, "coordinated")
+    assert two.sim_time_s < one.sim_time_s
+
+
+def test_coordination_never_sends_two_robots_to_one_frontier_while_others_remain() -> None:
+    config = TeamConfig(robots=3, strategy=Strategy.COORDINATED)
+    team = TeamSimulator(office(4), team=config, rng=np.random.default_rng(4))
+    rng = np.random.default_rng(0)
+    checked = 0
+    while (index := team.next_decision()) is not None:
+        claims = team.claims(index)
+        centres = team.robots[index].sim.frontiers().centers
+        free = [c for c in centres if len(claims) == 0 or np.hypot(*(claims - c).T).min() > config.claim_radius]
+        team.assign(index, POLICY.rank(team.context(index), rng))
+        target = team.robots[index].sim.target
+        if free and len(claims) and target is not None:
+            assert np.hypot(*(claims - np.asarray(target)).T).min() > config.claim_radius
+            checked += 1
+    assert checked >= 10 and team.done
+
+
+def _room(height_cells: int) -> World:
+    """A free room 3 m long and ``height_cells`` high, walled all round."""
+    data = np.full((height_cells + 2, 62), CellState.FREE, np.int8)
+    data[[0, -1], :] = CellState.OCCUPIED
+    data[:, [0, -1]] = CellState.OCCUPIED
+    y = (height_cells + 2) * 0.05 / 2
+    return make_world(OccupancyGrid(data, 0.05), "room", start=Pose(0.4, y, 0.0))
+
+
+def _drive_past(world: World, mate: tuple[float, float]) -> tuple[ExplorationSimulator, float]:
+    """Drive from the start to the far end with a teammate standing at ``mate``; the closest the
+    robot came to it (m)."""
+    sim = ExplorationSimulator(world, rng=np.random.default_rng(0))
+    sim.set_teammates(np.array([mate]))
+    sim.go_to(2.7, world.start.y)
+    xy = sim.trajectory()[:, :2]
+    return sim, float(np.hypot(xy[:, 0] - mate[0], xy[:, 1] - mate[1]).min())
+
+
+def test_robots_plan_around_each_other() -> None:
+    world = _room(40)  # 2 m wide: room to pass
+    sim, closest = _drive_past(world, (1.5, world.start.y))
+    assert closest >= 2 * 0.105 and math.dist((sim.pose.x, sim.pose.y), (2.7, world.start.y)) < 0.2
+    free = sim._true_clearance.copy()
+    sim.set_teammates(np.zeros((0, 2)))
+    assert np.array_equal(sim._clearance, free)  # the teammate's stamp is gone once it has left
+
+
+def test_a_blocked_robot_waits_then_squeezes_past() -> None:
+    world = _room(8)  # 0.4 m wide: no way round another robot
+    alone = ExplorationSimulator(world, rng=np.random.default_rng(0))
+    alone.go_to(2.7, world.start.y)
+    sim, closest = _drive_past(world, (1.5, world.start.y))
+    assert closest < 2 * 0.105  # it went through in the end, rather than standing for ever
+    assert math.dist((sim.pose.x, sim.pose.y), (alone.pose.x, alone.pose.y)) < 0.05
+    assert sim.sim_time - alone.sim_time >= sim.config.navigation.teammate_patience
+
+
+def test_windowed_merges_follow_the_rule() -> None:
+    config = TeamConfig(robots=2)
+    team = TeamSimulator(office(5), team=config, rng=np.random.default_rng(5))
+    a, b = team.robots
+    assert np.array_equal(a.sim.mapper.state, b.sim.mapper.state)  # they start side by side, in contact
+    rng = np.random.default_rng(0)
+    for _ in range(20):
+        index = team.next_decision()
+        assert index is not None
+        team.assign(index, POLICY.rank(team.context(index), rng))
+    known = (a.sim.mapper.state != CellState.UNKNOWN) & (b.sim.mapper.state != CellState.UNKNOWN)
+    agree = a.sim.mapper.state[known] == b.sim.mapper.state[known]
+    assert agree.mean() > 0.99  # every scan reached the teammate's map at once
+    assert team.coverage >= max(r.sim.coverage for r in team.robots) - 1e-12
+
+
+def test_the_rendezvous_cycle_meets_merges_and_repeats() -> None:
+    config = TeamConfig(robots=3, strategy=Strategy.RENDEZVOUS, explore_period=40.0)
+    team = TeamSimulator(office(2), team=config, rng=np.random.default_rng(2))
+    assert team.rendezvous is not None
+    rng = np.random.default_rng(0)
+    meetings = 0
+    while (index := team.next_decision()) is not None:
+        if len(team.rendezvous.meetings) > meetings:  # a meeting was just held: the commander decides first
+            meetings = len(team.rendezvous.meetings)
+            _, point, present = team.rendezvous.meetings[-1]
+            assert index == 0 and present == (0, 1, 2)
+            states = [team.robots[i].sim.mapper.state for i in present]
+            assert all(np.array_equal(states[0], s) for s in states[1:])  # merged
+            assert all(math.dist(team.robots[i].xy, point) <= config.meeting_radius for i in present)
+        team.assign(index, POLICY.rank(team.context(index), rng))
+        if meetings == 0 and team.rendezvous.point is not None:
+            assert team.rendezvous.due == pytest.approx(config.explore_period, abs=1.0)
+    assert meetings >= 2 and team.done
+
+
+def test_a_failed_robot_stops_and_the_others_finish() -> None:
+    healthy = team_episode(0, 3, "coordinated")
+    failing = team_episode(0, 3, "coordinated", (Failure(2, healthy.sim_time_s / 2),))
+    stopped = failing.failed_at_s[2]
+    assert stopped is not None and healthy.sim_time_s / 2 <= stopped <= healthy.sim_time_s / 2 + 0.6
+    assert failing.failed_at_s[:2] == (None, None)
+    assert failing.done and failing.coverage >= 0.99
+    assert failing.robot_path_lengths_m[2] < healthy.robot_path_lengths_m[2]
+
+
+def test_what_a_failed_robot_had_not_shared_is_lost() -> None:
+    team = TeamConfig(robots=2, comm_range=0.0, failures=(Failure(1, 40.0),))
+    sim = TeamSimulator(office(1), team=team, rng=np.random.default_rng(1))
+    rng = np.random.default_rng(0)
+    before = None
+    while (index := sim.next_decision()) is not None:
+        if before is None and sim.robots[1].failed_at is not None:
+            before = sim._curve[-2], sim._curve[-1]
+        sim.assign(index, POLICY.rank(sim.context(index), rng))
+    assert before is not None and before[1] < before[0]  # the team's coverage fell when robot 1 failed
+    assert sim.done and sim.coverage >= 0.99  # robot 0 saw it all again
+
+
+def test_random_failures_are_seeded() -> None:
+    team = TeamConfig(robots=3, failures=(Failure(None, None),), random_failure_horizon=100.0)
+    draws = [TeamSimulator(office(0), team=team, rng=np.random.default_rng(s)) for s in (7, 7, 8)]
+    fails = [[r.fail_at for r in t.robots] for t in draws]
+    assert fails[0] == fails[1] != fails[2]
+    assert sum(math.isfinite(f) for f in fails[0]) == 1 and all(f <= 100.0 for f in fails[0] if math.isfinite(f))
+
+
+def test_frontier_request_answers_in_the_robots_map_frame() -> None:
+    world = office(6)
+    team = TeamSimulator(world, team=TeamConfig(robots=2), rng=np.random.default_rng(6))
+    answer = frontier_request(team, 1)
+    assert answer.frame == "robot_1/map" and 1 <= len(answer.frontiers) <= 10 and answer.weight == 0.75
+    start = team.robots[1].sim.world.start
+    centres = team.robots[1].sim.frontiers().centers
+    for f in answer.frontiers:
+        c, s = math.cos(start.theta), math.sin(start.theta)
+        x, y = start.x + c * f.x - s * f.y, start.y + s * f.x + c * f.y
+        assert np.hypot(centres[:, 0] - x, centres[:, 1] - y).min() < 1e-9
+    assert len(frontier_request(team, 0, top_k=3).frontiers) <= 3
+    with pytest.raises(ConfigError, match="no robot 2"):
+        frontier_request(team, 2)
+    team.fail(team.robots[0])
+    with pytest.raises(ConfigError, match="robot 0 failed"):
+        frontier_request(team, 0)
+
+
+def test_more_robots_than_start_room_is_refused() -> None:
+    data = np.full((12, 12), CellState.FREE, np.int8)
+    data[[0, -1], :] = CellState.OCCUPIED
+    data[:, [0, -1]] = CellState.OCCUPIED
+    world = make_world(OccupancyGrid(data, 0.05), "closet", start=Pose(0.3, 0.3, 0.0))
+    with pytest.raises(ConfigError, match="room for only 1 robot"):
+        team_starts(world, 2, 0.105, 0.5)
+    with pytest.raises(ConfigError, match="closet"):
+        TeamSimulator(world, team=TeamConfig(robots=3))
+
+
+def test_team_starts_are_spaced_and_free() -> None:
+    world = office(0)
+    poses = team_starts(world, 8, 0.105, 0.5)
+    assert poses[0] == world.start
+    xy = np.array([(p.x, p.y) for p in poses])
+    d = np.hypot(xy[:, None, 0] - xy[None, :, 0], xy[:, None, 1] - xy[None, :, 1]) + np.eye(8) * 9
+    assert d.min() >= 0.5 - 1e-9
+
+
+def test_overlap_counts_cells_seen_by_more_than_one() -> None:
+    explorable = np.ones((2, 2), np.bool_)
+    a = np.array([[True, True], [False, False]])
+    b = np.array([[True, False], [True, False]])
+    assert overlap_share([a, b], explorable) == pytest.approx(1 / 3)
+    assert overlap_share([a], explorable) == 0.0
