@@ -16,10 +16,12 @@ from rich.table import Table
 
 from frontier_rl.config import dump_config, load_sim_config
 from frontier_rl.core.episode import run_episode, warm_up
+from frontier_rl.core.metrics import EpisodeResult
 from frontier_rl.core.simulator import SimConfig
 from frontier_rl.errors import ConfigError, FrontierRLError
 from frontier_rl.policies import POLICY_NAMES, make_policy
-from frontier_rl.recording import EpisodeRecorder
+from frontier_rl.recording import EpisodeRecorder, save_team_png
+from frontier_rl.swarm import Failure, TeamConfig, parse_strategy, run_team_episode
 from frontier_rl.world_spec import parse_pose, resolve_world
 
 app = typer.Typer(add_completion=False, no_args_is_help=True, help="Frontier exploration for search and rescue.")
@@ -46,6 +48,15 @@ def _friendly_errors(func: F) -> F:
             raise typer.Exit(2) from None
 
     return wrapper  # type: ignore[return-value]
+
+
+def _team_config(robots: int, strategy: str, comm_range: float | None, fail: list[str]) -> TeamConfig | None:
+    """The team of ``explore``'s options; None for a single robot with no team option."""
+    failures = tuple(Failure.parse(text) for text in fail)
+    if comm_range is not None and not comm_range >= 0:
+        raise ConfigError(f"--comm-range must be >= 0 m, got {comm_range!r}")
+    team = TeamConfig(robots, parse_strategy(strategy), comm_range, failures)
+    return None if team == TeamConfig() else team
 
 
 def _sim_config(config: Path | None, max_time: float | None) -> SimConfig:
@@ -76,21 +87,41 @@ def explore(
     trust_model: Annotated[
         bool, typer.Option(help="Allow learned:PATH to be an SB3 zip from elsewhere (unpickles it: runs its code).")
     ] = False,
+    robots: Annotated[int, typer.Option(help="Team size, 1 to 8; robot 0 starts on the start pose.")] = 1,
+    strategy: Annotated[
+        str, typer.Option(help="Team coordination: uncoordinated | coordinated | rendezvous.")
+    ] = "uncoordinated",
+    comm_range: Annotated[
+        float | None,
+        typer.Option(help="Robots this close (m) merge maps and share goals (default: unlimited; rendezvous: 2 m)."),
+    ] = None,
+    fail: Annotated[
+        list[str] | None,
+        typer.Option(help="ROBOT@SECONDS: that robot stops for good then (either may be 'random'); repeatable."),
+    ] = None,
 ) -> None:
-    """Explore one world with one policy and report time, distance and coverage."""
+    """Explore one world with one policy (or a team of robots) and report time, distance and coverage."""
     sim_config = _sim_config(config, max_time)
+    team = _team_config(robots, strategy, comm_range, fail or [])
     chosen = make_policy(policy, trust_model=trust_model)
     the_world = resolve_world(world, seed, parse_pose(start) if start else None, resolution)
     for out in (png, gif):
         if out is not None and not out.parent.exists():
             raise ConfigError(f"output folder {str(out.parent)!r} does not exist")
+    if gif is not None and team is not None:
+        raise ConfigError("--gif records one robot's decisions; use --png for a team")
     warm_up()
-    recorder = EpisodeRecorder(the_world, frames=gif is not None) if (png or gif) else None
-    result = run_episode(the_world, chosen, sim_config, seed, on_decision=recorder)
-    if recorder is not None and png is not None:
-        recorder.save_png(png, result, f"{the_world.name} / {chosen.name}")
-    if recorder is not None and gif is not None:
-        recorder.save_gif(gif)
+    if team is not None:
+        result: EpisodeResult = run_team_episode(the_world, chosen, sim_config, team, seed)
+        if png is not None:
+            save_team_png(png, the_world, result, f"{the_world.name} / {chosen.name}")  # type: ignore[arg-type]
+    else:
+        recorder = EpisodeRecorder(the_world, frames=gif is not None) if (png or gif) else None
+        result = run_episode(the_world, chosen, sim_config, seed, on_decision=recorder)
+        if recorder is not None and png is not None:
+            recorder.save_png(png, result, f"{the_world.name} / {chosen.name}")
+        if recorder is not None and gif is not None:
+            recorder.save_gif(gif)
     summary = {"world": the_world.name, "seed": seed, "policy": chosen.name, **result.summary()}
     weights = [d.weight for d in result.decision_log if d.weight is not None]
     if weights and as_json:

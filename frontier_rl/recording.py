@@ -15,6 +15,7 @@ from frontier_rl.core.metrics import EpisodeResult
 from frontier_rl.core.simulator import ExplorationSimulator
 from frontier_rl.core.worlds import World
 from frontier_rl.render import FrameCanvas, save_gif, side_by_side
+from frontier_rl.swarm.result import TeamResult
 
 
 @dataclass
@@ -76,3 +77,31 @@ class EpisodeRecorder:
     def save_gif(self, path: str | Path) -> Path:
         """All recorded frames as a looping GIF."""
         return save_gif(self._frames, path)
+
+
+#: One colour per robot of a team (matplotlib's tab10).
+TEAM_COLOURS = ((31, 119, 180), (255, 127, 14), (44, 160, 44), (214, 39, 40), (148, 103, 189), (140, 86, 75),
+                (227, 119, 194), (127, 127, 127))  # fmt: skip
+
+
+def save_team_png(path: str | Path, world: World, result: TeamResult, title: str, scale: int = 2) -> Path:
+    """A team episode's picture: true map with every robot's path | the team's merged map with them
+    (one colour per robot; a failed robot's path ends where it stopped)."""
+    canvas = FrameCanvas(world.grid, scale)
+    truth, built = canvas.truth(), canvas.base(result.team_map)
+    for index, trajectory in enumerate(result.trajectories):
+        for image in (truth, built):
+            canvas.draw_path(image, trajectory, TEAM_COLOURS[index % len(TEAM_COLOURS)])
+    failed = sum(t is not None for t in result.failed_at_s)
+    caption = (
+        f"{title}   {result.robots} robots, {result.strategy}   t = {result.sim_time_s:.1f} s   "
+        f"coverage {100 * result.coverage:.1f} %   overlap {100 * result.overlap:.0f} %"
+        + (f"   {failed} failed" if failed else "")
+    )
+    image = side_by_side(truth, built)
+    out = Image.new("RGB", (image.width, image.height + 18), (255, 255, 255))
+    ImageDraw.Draw(out).text((4, 3), caption, fill=(0, 0, 0))
+    out.paste(image, (0, 18))
+    path = Path(path)
+    out.save(path)
+    return path

@@ -74,15 +74,18 @@ class FrameCanvas:
         image = Image.fromarray(np.ascontiguousarray(rgb))
         return image.resize((image.width * self.scale, image.height * self.scale), Image.Resampling.NEAREST)
 
-    def draw_path(self, image: Image.Image, trajectory: NDArray[np.float64]) -> None:
-        """The robot's path and its last pose."""
+    def draw_path(
+        self, image: Image.Image, trajectory: NDArray[np.float64], colour: tuple[int, int, int] | None = None
+    ) -> None:
+        """The robot's path and its last pose (in ``colour``, for one robot of a team)."""
         draw = ImageDraw.Draw(image)
         if len(trajectory) >= 2:
-            draw.line([tuple(p) for p in self._to_px(trajectory[:, :2])], fill=_PATH, width=max(self.scale, 1))
+            line = colour or _PATH
+            draw.line([tuple(p) for p in self._to_px(trajectory[:, :2])], fill=line, width=max(self.scale, 1))
         if len(trajectory):
             x, y = self._to_px(trajectory[-1:, :2])[0]
             r = 3 * self.scale
-            draw.ellipse((x - r, y - r, x + r, y + r), fill=_ROBOT)
+            draw.ellipse((x - r, y - r, x + r, y + r), fill=colour or _ROBOT, outline=(0, 0, 0))
 
     def draw_frontiers(self, image: Image.Image, centers_ranked: NDArray[np.float64]) -> None:
         """Frontier centres, best first: green for the best, orange for the worst."""

@@ -149,3 +149,33 @@ def test_demo_runs_the_compact_experiment_and_draws_every_method(tmp_path: Path)
     assert (out / "experiment" / "boxplot.png").stat().st_size > 0
     assert len(list(out.glob("*.png"))) == 3 * len(methods)
     assert (out / "office_fixed_0.75.gif").exists()
+
+
+def test_explore_with_a_team_reports_every_robot(tmp_path: Path) -> None:
+    png = tmp_path / "team.png"
+    args = ["explore", "--seed", "1", "--robots", "3", "--strategy", "coordinated", "--fail", "2@60", "--json"]
+    result = runner.invoke(app, [*args, "--png", str(png)])
+    assert result.exit_code == 0, result.output
+    data = json.loads(result.stdout.strip().splitlines()[-1])
+    assert data["robots"] == 3 and data["strategy"] == "coordinated" and 0 <= data["overlap"] <= 1
+    assert len(data["robot_path_lengths_m"]) == 3 and data["failed_at_s"][2] >= 60 and data["done"]
+    assert png.stat().st_size > 0
+
+
+@pytest.mark.parametrize(
+    ("args", "needle"),
+    [
+        (["--robots", "9"], "9"),
+        (["--robots", "2", "--fail", "2@10"], "robot 2"),
+        (["--robots", "2", "--fail", "1@-4"], "-4"),
+        (["--robots", "2", "--fail", "soon"], "soon"),
+        (["--robots", "2", "--comm-range", "-1"], "-1"),
+        (["--strategy", "swarming"], "swarming"),
+        (["--robots", "2", "--gif", "x.gif"], "--gif"),
+    ],
+)
+def test_bad_team_input_is_one_line_and_exit_2(args: list[str], needle: str) -> None:
+    result = runner.invoke(app, ["explore", *args])
+    assert result.exit_code == 2
+    lines = [line for line in result.output.splitlines() if line.strip()]
+    assert len(lines) == 1 and needle in lines[0], result.output
