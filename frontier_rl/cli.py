@@ -21,7 +21,7 @@ from frontier_rl.core.simulator import SimConfig
 from frontier_rl.errors import ConfigError, FrontierRLError
 from frontier_rl.policies import POLICY_NAMES, make_policy
 from frontier_rl.recording import EpisodeRecorder, save_team_png
-from frontier_rl.swarm import Failure, TeamConfig, parse_strategy, run_team_episode
+from frontier_rl.swarm import Failure, Strategy, TeamConfig, TeamMethod, parse_strategy, run_team_episode
 from frontier_rl.world_spec import parse_pose, resolve_world
 
 app = typer.Typer(add_completion=False, no_args_is_help=True, help="Frontier exploration for search and rescue.")
@@ -57,6 +57,38 @@ def _team_config(robots: int, strategy: str, comm_range: float | None, fail: lis
         raise ConfigError(f"--comm-range must be >= 0 m, got {comm_range!r}")
     team = TeamConfig(robots, parse_strategy(strategy), comm_range, failures)
     return None if team == TeamConfig() else team
+
+
+def _text_list(text: str) -> list[str]:
+    return [part.strip() for part in text.split(",") if part.strip()]
+
+
+def _int_list(option: str, text: str) -> list[int]:
+    try:
+        values = [int(part) for part in _text_list(text)]
+    except ValueError:
+        raise ConfigError(f"{option} must be a comma list of whole numbers, got {text!r}") from None
+    if not values:
+        raise ConfigError(f"{option} needs at least one value, got {text!r}")
+    return values
+
+
+def team_methods(methods: list[str], robots: list[int], strategies: list[Strategy]) -> list[str]:
+    """Every method run by every team size (a size of 1 is the method alone) and, above 1, every
+    strategy; methods already written as POLICY@N[:STRATEGY] are kept as they are."""
+    out: list[str] = []
+    for method in methods:
+        if TeamMethod.parse(method).robots is not None:
+            out.append(method)
+            continue
+        for n in robots:
+            if n == 1:
+                out.append(method)
+            else:
+                out += [str(TeamMethod(method, n, s)) for s in strategies or [Strategy.UNCOORDINATED]]
+    for n in robots:
+        TeamConfig(robots=n)  # a size out of range fails here, named
+    return list(dict.fromkeys(out))
 
 
 def _sim_config(config: Path | None, max_time: float | None) -> SimConfig:
@@ -224,18 +256,36 @@ def evaluate(
         bool, typer.Option(help="Allow learned:PATH to be an SB3 zip from elsewhere (unpickles it: runs its code).")
     ] = False,
     progress: Annotated[bool, typer.Option(help="Show a progress bar.")] = True,
+    robots: Annotated[
+        str, typer.Option(help="Team sizes to run every method with, e.g. 1,2,4 (a method POLICY@N runs as given).")
+    ] = "1",
+    strategy: Annotated[
+        str, typer.Option(help="Team strategies for sizes above 1: uncoordinated, coordinated, rendezvous (a list).")
+    ] = "uncoordinated",
+    comm_range: Annotated[
+        float | None, typer.Option(help="Communication range (m) of the teams (default: unlimited; rendezvous 2 m).")
+    ] = None,
+    fail: Annotated[
+        list[str] | None, typer.Option(help="ROBOT@SECONDS: a failure in every team episode (repeatable).")
+    ] = None,
 ) -> None:
     """The paired experiment: every method on the same worlds, starts and noise; statistics against
-    the baseline, plots, and a Markdown and HTML report in --out."""
+    the baseline, plots, and a Markdown and HTML report in --out. With --robots, teams of each size
+    run each method, and the report adds exploration time against team size, overlap and per-robot
+    coverage."""
     from frontier_rl.evaluation.evaluate import evaluate as run_evaluation
     from frontier_rl.evaluation.evaluate import parse_thresholds
     from frontier_rl.evaluation.experiment import ORACLE, ExperimentConfig, expand_worlds
 
     names = [m.strip() for m in methods.split(",") if m.strip()]
+    names = team_methods(names, _int_list("--robots", robots), [parse_strategy(s) for s in _text_list(strategy)])
     ordered = list(dict.fromkeys([baseline, *names, *([ORACLE] if oracle else [])]))
+    if comm_range is not None and not comm_range >= 0:
+        raise ConfigError(f"--comm-range must be >= 0 m, got {comm_range!r}")
     experiment = ExperimentConfig(
         methods=tuple(ordered), worlds=expand_worlds(worlds), episodes=episodes, seed=seed, baseline=baseline,
-        sim=_sim_config(config, max_time), resolution=resolution, trust_model=trust_model,
+        sim=_sim_config(config, max_time), resolution=resolution, trust_model=trust_model, comm_range=comm_range,
+        failures=tuple(Failure.parse(text) for text in fail or []),
     )  # fmt: skip
     command = "frontier-rl evaluate " + " ".join(sys.argv[2:]) if len(sys.argv) > 2 else "frontier-rl evaluate"
     try:

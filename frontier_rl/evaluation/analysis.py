@@ -6,7 +6,9 @@ The summary is what ``summary.json`` holds and what the report lays out:
      "methods": {NAME: {"n", "mean_time_s", "var_time_s", "mean_diff_s", "ci95_s", "p_one_tailed",
                         "p_two_tailed", "p_wilcoxon", "reduction_pct", "oracle_ratio", ...}},
      "outliers": {"1000": {"methods": {NAME: {..., "excluded"}}}, ...},
-     "per_world": {WORLD: {"methods": {...}}}}           # only with more than one world
+     "per_world": {WORLD: {"methods": {...}}},           # only with more than one world
+     "teams": {POLICY: {STRATEGY: {ROBOTS: {"method", "n", "mean_time_s", "ci95_half_s"}}}}}
+                                                           # only with team methods (POLICY@N[:STRATEGY])
 """
 
 from __future__ import annotations
@@ -15,9 +17,11 @@ import math
 from typing import Any
 
 import numpy as np
+from scipy import stats as scipy_stats
 
 from frontier_rl.evaluation.experiment import ORACLE, ExperimentConfig
 from frontier_rl.evaluation.statistics import compare_methods
+from frontier_rl.swarm.config import TeamMethod
 
 Rows = dict[tuple[str, str, int], dict[str, Any]]
 
@@ -53,7 +57,34 @@ def summarise(rows: Rows, config: ExperimentConfig, outlier_thresholds: tuple[fl
         summary["outliers"][f"{threshold:g}"] = {"methods": entries}
     if len(config.worlds) > 1:
         summary["per_world"] = {w: {"methods": _method_table(rows, config, (w,))} for w in config.worlds}
+    teams = team_scaling(times, config.methods)
+    if teams:
+        summary["teams"] = teams
     return summary
+
+
+def team_scaling(times: dict[str, list[float]], methods: tuple[str, ...]) -> dict[str, Any]:
+    """Mean exploration time (s) against team size, per policy and strategy, with the 95 % CI
+    half-width (Student's t) of each mean; a policy's one-robot method, if run, starts every line."""
+    parsed = {m: TeamMethod.parse(m) for m in methods}
+    scaling: dict[str, Any] = {}
+    for method, team in parsed.items():
+        if team.robots is None:
+            continue
+        line = scaling.setdefault(team.policy, {}).setdefault(team.strategy.value, {})
+        line[str(team.robots)] = _time_entry(method, times[method])
+        if team.policy in parsed and "1" not in line:
+            line["1"] = _time_entry(team.policy, times[team.policy])
+    for lines in scaling.values():
+        for strategy, line in lines.items():
+            lines[strategy] = dict(sorted(line.items(), key=lambda kv: int(kv[0])))
+    return scaling
+
+
+def _time_entry(method: str, values: list[float]) -> dict[str, Any]:
+    t = np.asarray(values, dtype=np.float64)
+    half = float(scipy_stats.t.ppf(0.975, len(t) - 1) * t.std(ddof=1) / math.sqrt(len(t))) if len(t) > 1 else None
+    return {"method": method, "n": len(t), "mean_time_s": float(t.mean()), "ci95_half_s": half}
 
 
 def _method_table(rows: Rows, config: ExperimentConfig, worlds: tuple[str, ...]) -> dict[str, dict[str, Any]]:
@@ -74,6 +105,8 @@ def _method_table(rows: Rows, config: ExperimentConfig, worlds: tuple[str, ...])
         entry["mean_aborts"] = float(np.mean([r["aborts"] for r in own]))
         entry["mean_weight"] = _mean_of_present(r["mean_weight"] for r in own)
         entry["mean_wall_time_s"] = float(np.mean([r["wall_time_s"] for r in own]))
+        entry["robots"] = int(own[0]["robots"]) if own else 1
+        entry["mean_overlap"] = float(np.mean([r["overlap"] for r in own]))
         table[method] = entry
     return table
 

@@ -25,6 +25,7 @@ from frontier_rl.envs.world_source import parse_world_list
 from frontier_rl.errors import ConfigError
 from frontier_rl.io import LoadedMap, load_map
 from frontier_rl.policies import make_policy
+from frontier_rl.swarm import Failure, TeamConfig, TeamMethod, TeamResult, run_team_episode
 
 ORACLE = "oracle"
 """The full-knowledge reference every report measures methods against."""
@@ -47,6 +48,9 @@ class ExperimentConfig:
         sim: simulation settings shared by every episode.
         resolution: cell size (m) for map files that carry none.
         trust_model: admit SB3 zips from elsewhere for ``learned:`` methods (unpickles them).
+        comm_range: communication range (m) of the team methods (``POLICY@N[:STRATEGY]``); None:
+            the strategy's default.
+        failures: robot failures in every team method's episodes.
     """
 
     methods: tuple[str, ...]
@@ -57,12 +61,21 @@ class ExperimentConfig:
     sim: SimConfig = field(default_factory=SimConfig)
     resolution: float | None = None
     trust_model: bool = False
+    comm_range: float | None = None
+    failures: tuple[Failure, ...] = ()
 
     def __post_init__(self) -> None:
         if not self.methods:
             raise ConfigError("an experiment needs at least one method")
-        if len(set(self.methods)) != len(self.methods):
+        canonical = [str(TeamMethod.parse(m)) for m in self.methods]
+        if len(set(canonical)) != len(canonical):
             raise ConfigError(f"methods are listed twice: {', '.join(self.methods)}")
+        teams = [self.team_for(m) for m in self.methods]  # a bad team size, strategy or failure fails here
+        if (self.comm_range is not None or self.failures) and not any(teams):
+            raise ConfigError("a communication range or failures need team methods (POLICY@N[:STRATEGY])")
+        team_policies = {TeamMethod.parse(m).policy for m, t in zip(self.methods, teams, strict=True) if t}
+        if ORACLE in team_policies:
+            raise ConfigError(f"the {ORACLE} plans one robot's tour of the true map; it cannot run in a team")
         if self.baseline not in self.methods:
             raise ConfigError(f"baseline {self.baseline!r} is not among the methods {', '.join(self.methods)}")
         if not self.worlds:
@@ -90,7 +103,12 @@ class ExperimentConfig:
     def settings(self) -> EpisodeSettings:
         """What every episode of this experiment shares; relative paths resolve against the
         current directory, wherever a worker runs."""
-        return EpisodeSettings(self.sim, self.resolution, self.trust_model, str(Path.cwd()))
+        return EpisodeSettings(self.sim, self.resolution, self.trust_model, str(Path.cwd()), self.comm_range,
+                               self.failures)  # fmt: skip
+
+    def team_for(self, method: str) -> TeamConfig | None:
+        """The team that runs ``method``; None for a single robot."""
+        return team_config(TeamMethod.parse(method), self.comm_range, self.failures)
 
 
 @dataclass(frozen=True)
@@ -116,6 +134,15 @@ class EpisodeSettings:
     resolution: float | None
     trust_model: bool
     base_dir: str
+    comm_range: float | None = None
+    failures: tuple[Failure, ...] = ()
+
+
+def team_config(method: TeamMethod, comm_range: float | None, failures: tuple[Failure, ...]) -> TeamConfig | None:
+    """The team of a parsed method under an experiment's range and failures; None for one robot."""
+    if method.robots is None:
+        return None
+    return TeamConfig(method.robots, method.strategy, comm_range, failures)
 
 
 def expand_worlds(text: str) -> tuple[str, ...]:
@@ -125,7 +152,7 @@ def expand_worlds(text: str) -> tuple[str, ...]:
 
 def method_fingerprint(method: str) -> str:
     """What a method's results depend on besides its name: a model file's content hash."""
-    name, _, arg = method.partition(":")
+    name, _, arg = TeamMethod.parse(method).policy.partition(":")
     if name != "learned":
         return method
     path = Path(arg)
@@ -147,19 +174,22 @@ def world_fingerprint(world: str, resolution: float | None) -> str:
 def identity(config: ExperimentConfig) -> dict[str, Any]:
     """Everything a row's values depend on, per part: rows of two experiments may be mixed only
     where these agree (methods may be added and episodes extended; worlds, seed and settings not)."""
-    return {
+    parts: dict[str, Any] = {
         "seed": config.seed,
         "worlds": [world_fingerprint(w, config.resolution) for w in config.worlds],
         "resolution": config.resolution,
         "sim": to_dict(config.sim),
         "methods": {m: method_fingerprint(m) for m in config.methods},
     }
+    if config.comm_range is not None or config.failures:  # only then, so older results folders still match
+        parts["team"] = {"comm_range": config.comm_range, "failures": [str(f) for f in config.failures]}
+    return parts
 
 
 def check_methods(config: ExperimentConfig) -> None:
     """Build every method once, so a bad name or model file fails before any episode runs."""
     for method in config.methods:
-        _policy(method, config.trust_model)
+        _policy(TeamMethod.parse(method).policy, config.trust_model)
 
 
 def _load_map(path: str, resolution: float | None) -> LoadedMap:
@@ -211,10 +241,16 @@ def run_job(job: EpisodeJob, settings: EpisodeSettings) -> dict[str, Any]:
     _warm()
     base = Path(settings.base_dir)
     world_spec = job.world if job.world in WORLD_GENERATORS else str(base / job.world)
-    name, _, model = job.method.partition(":")
-    spec = f"learned:{base / model}" if name == "learned" else job.method
+    method = TeamMethod.parse(job.method)
+    name, _, model = method.policy.partition(":")
+    spec = f"learned:{base / model}" if name == "learned" else method.policy
     world = make_episode_world(world_spec, job.seed, settings.resolution)
-    result = run_episode(world, _policy(spec, settings.trust_model), settings.sim, seed=job.seed)
+    policy = _policy(spec, settings.trust_model)
+    team = team_config(method, settings.comm_range, settings.failures)
+    if team is None:
+        result = run_episode(world, policy, settings.sim, seed=job.seed)
+    else:
+        result = run_team_episode(world, policy, settings.sim, team, seed=job.seed)
     summary = result.summary()
     weights = [(d.time_s, d.weight) for d in result.decision_log if d.weight is not None]
     times, curve = _thin_curve(result.coverage_times_s, result.coverage_curve, result.sim_time_s)
@@ -228,6 +264,8 @@ def run_job(job: EpisodeJob, settings: EpisodeSettings) -> dict[str, Any]:
         "start_theta_rad": round(world.start.theta, 4),
         **{k: summary[k] for k in ROW_METRICS},
         "mean_weight": round(float(np.mean([w for _, w in weights])), 4) if weights else None,
+        "robots": summary.get("robots", 1),
+        "overlap": summary.get("overlap", 0.0),
         "wall_time_s": summary["wall_time_s"],
     }
     trace = {
@@ -239,6 +277,8 @@ def run_job(job: EpisodeJob, settings: EpisodeSettings) -> dict[str, Any]:
         "weight_t": [round(t, 2) for t, _ in weights],
         "weight": [round(float(w), 4) for _, w in weights],
     }
+    if isinstance(result, TeamResult):
+        trace |= {k: summary[k] for k in ("robot_path_lengths_m", "robot_coverage", "failed_at_s")}
     return {"row": row, "trace": trace}
 
 
@@ -247,7 +287,7 @@ ROW_METRICS = ("sim_time_s", "path_length_m", "coverage", "t90_s", "t99_s", "dec
 
 ROW_COLUMNS = (
     "method", "world", "episode", "seed", "start_x_m", "start_y_m", "start_theta_rad", *ROW_METRICS,
-    "mean_weight", "wall_time_s",
+    "mean_weight", "robots", "overlap", "wall_time_s",
 )  # fmt: skip
 """The columns of ``episodes.csv``, in order."""
 

@@ -112,3 +112,28 @@ def weight_plot(traces: dict[str, list[dict[str, Any]]], path: Path) -> Path:
     fig.tight_layout()
     fig.savefig(path)
     return path
+
+
+def team_size_plot(scaling: Mapping[str, Mapping[str, Mapping[str, Mapping[str, Any]]]], path: Path) -> Path:
+    """Mean exploration time against team size, one line per policy and strategy, with 95 %
+    confidence intervals (``scaling`` as :func:`~frontier_rl.evaluation.analysis.team_scaling` gives it)."""
+    fig = Figure(figsize=(6.4, 4.2), dpi=_DPI)
+    ax = fig.subplots()
+    sizes: set[int] = set()
+    for policy, lines in scaling.items():
+        for strategy, line in lines.items():
+            robots = [int(n) for n in line]
+            sizes.update(robots)
+            means = [e["mean_time_s"] for e in line.values()]
+            errors = [e["ci95_half_s"] or 0.0 for e in line.values()]
+            ax.errorbar(robots, means, yerr=errors, marker="o", capsize=3, lw=1.6, label=f"{policy}, {strategy}")
+    ax.set_xticks(sorted(sizes))
+    ax.set_xlabel("robots")
+    ax.set_ylabel("exploration time (s)")
+    ax.set_ylim(bottom=0)
+    ax.set_title("Exploration time against team size (mean, 95 % CI)")
+    ax.grid(alpha=0.3)
+    ax.legend(fontsize=8)
+    fig.tight_layout()
+    fig.savefig(path)
+    return path

@@ -9,12 +9,15 @@ import json
 from pathlib import Path
 from typing import Any
 
+import numpy as np
+
 from frontier_rl.evaluation.analysis import paired_times, summarise
 from frontier_rl.evaluation.experiment import ORACLE, ExperimentConfig
-from frontier_rl.evaluation.plots import box_plot, coverage_plot, paired_scatter, weight_plot
+from frontier_rl.evaluation.plots import box_plot, coverage_plot, paired_scatter, team_size_plot, weight_plot
 from frontier_rl.evaluation.results import ResultStore
 from frontier_rl.evaluation.statistics import stats_from_dict
 from frontier_rl.evaluation.tables import TABLE_4_1_HEADER, Table, number, short_labels, table_4_1_row
+from frontier_rl.swarm.config import TeamMethod
 
 _MAX_WORLD_TABLES = 12
 """Per-world tables are written for at most this many worlds (a folder of maps can hold hundreds)."""
@@ -33,8 +36,9 @@ def write_report(store: ResultStore, config: ExperimentConfig, outliers: tuple[f
     out = store.out
     summary = summarise(store.rows, config, outliers)
     (out / "summary.json").write_text(json.dumps(summary, indent=1) + "\n")
-    figures = _figures(store, config)
-    tables = report_tables(summary, config)
+    figures = _figures(store, config, summary)
+    traces = {m: [t for (method, _, _), t in store.traces.items() if method == m] for m in config.methods}
+    tables = report_tables(summary, config, traces)
     worlds = list(short_labels(config.worlds).values())
     shown = ", ".join(worlds[:6]) + (f" and {len(worlds) - 6} more worlds" if len(worlds) > 6 else "")
     title = f"Paired experiment: {len(config.methods)} methods, {shown}"
@@ -65,9 +69,12 @@ def write_report(store: ResultStore, config: ExperimentConfig, outliers: tuple[f
     return report_md
 
 
-def report_tables(summary: dict[str, Any], config: ExperimentConfig) -> list[Table]:
+def report_tables(
+    summary: dict[str, Any], config: ExperimentConfig, teams_traces: dict[str, list[dict[str, Any]]] | None = None
+) -> list[Table]:
     """Table 4.1 of all episodes (with the ratio to the oracle), of each outlier cut and of each
-    world, and a table of the other metrics."""
+    world, a table of the other metrics, and one of the team methods (``teams_traces``: their
+    traces, for the per-robot figures)."""
     labels = short_labels(config.methods)
     world_labels = short_labels(config.worlds)
     main = _table_4_1(summary["methods"], config, labels, "Exploration time, all episodes", oracle=True)
@@ -109,7 +116,39 @@ def report_tables(summary: dict[str, Any], config: ExperimentConfig) -> list[Tab
             number(e["mean_aborts"], 2), number(e["mean_weight"], 3), number(e["mean_wall_time_s"], 2),
         ])  # fmt: skip
     tables.append(metrics)
+    if "teams" in summary:
+        tables.append(_team_table(summary, labels, teams_traces or {}))
     return tables
+
+
+def _team_table(summary: dict[str, Any], labels: dict[str, str], traces: dict[str, list[dict[str, Any]]]) -> Table:
+    """Team methods: size, speed-up over the same policy alone, overlap, per-robot coverage, failures."""
+    table = Table(
+        ("method", "robots", "mean time (s)", "speed-up over 1 robot", "overlap", "coverage per robot",
+         "robots failed"),
+        title="Teams (speed-up: the policy's one-robot mean time over the team's)",
+        note="overlap: share of the cells the robots' own sensors reached that more than one robot's did; "
+        "coverage per robot: the share of the explorable space each robot's own sensor reached (mean, min - max "
+        "over robots, averaged over episodes).",
+    )  # fmt: skip
+    methods = summary["methods"]
+    for method, entry in methods.items():
+        team = TeamMethod.parse(method)
+        if team.robots is None:
+            continue
+        alone = methods.get(team.policy)
+        speedup = alone["mean_time_s"] / entry["mean_time_s"] if alone and entry["mean_time_s"] > 0 else None
+        own = traces.get(method, [])
+        per_robot = [t["robot_coverage"] for t in own if t.get("robot_coverage")]
+        coverage = "n/a"
+        if per_robot:
+            mean, low, high = (float(np.mean([f(c) for c in per_robot])) for f in (np.mean, np.min, np.max))
+            coverage = f"{100 * mean:.0f} % ({100 * low:.0f} - {100 * high:.0f} %)"
+        failed = sum(sum(f is not None for f in t.get("failed_at_s", [])) for t in own)
+        table.rows.append([labels[method], str(team.robots), number(entry["mean_time_s"]),
+                           number(speedup, 2, " ×"), number(100 * entry["mean_overlap"], 0, " %"), coverage,
+                           f"{failed} in {len(own)} episodes"])  # fmt: skip
+    return table
 
 
 def _table_4_1(
@@ -129,7 +168,7 @@ def _table_4_1(
     )
 
 
-def _figures(store: ResultStore, config: ExperimentConfig) -> list[tuple[str, Path]]:
+def _figures(store: ResultStore, config: ExperimentConfig, summary: dict[str, Any]) -> list[tuple[str, Path]]:
     out = store.out
     labels = short_labels(config.methods)
     times = {labels[m]: t for m, t in paired_times(store.rows, config.methods, config.worlds, config.episodes).items()}
@@ -144,4 +183,6 @@ def _figures(store: ResultStore, config: ExperimentConfig) -> list[tuple[str, Pa
     learned = {labels[m]: t for m, t in traces.items() if m.startswith("learned:") and any(tr["weight"] for tr in t)}
     if learned:
         figures.append(("Weight chosen over time", weight_plot(learned, out / "weights.png")))
+    if "teams" in summary:
+        figures.append(("Exploration time against team size", team_size_plot(summary["teams"], out / "teams.png")))
     return figures

@@ -28,7 +28,7 @@ from frontier_rl.errors import ConfigError
 from frontier_rl.evaluation.experiment import ROW_COLUMNS, EpisodeJob
 
 Key = tuple[str, str, int]
-_INT_COLUMNS = ("episode", "seed", "decisions", "aborts")
+_INT_COLUMNS = ("episode", "seed", "decisions", "aborts", "robots")
 _BOOL_COLUMNS = ("done", "truncated")
 _TEXT_COLUMNS = ("method", "world")
 

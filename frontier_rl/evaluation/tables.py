@@ -9,7 +9,9 @@ from collections.abc import Iterable
 from dataclasses import dataclass, field
 from pathlib import Path
 
+from frontier_rl.errors import ConfigError
 from frontier_rl.evaluation.statistics import PairedStats
+from frontier_rl.swarm.config import TeamMethod
 
 
 @dataclass(frozen=True)
@@ -57,6 +59,12 @@ def short_labels(names: Iterable[str]) -> dict[str, str]:
 
 
 def _short(name: str) -> str:
+    try:
+        method = TeamMethod.parse(name)
+    except ConfigError:  # not a method (a world's file name)
+        method = TeamMethod(name)
+    if method.robots is not None:
+        return method.label(_short(method.policy))
     kind, sep, arg = name.partition(":")
     if kind == "learned" and sep:
         return f"learned:{Path(arg).stem}"

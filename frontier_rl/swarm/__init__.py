@@ -1,6 +1,6 @@
 """Multi-robot exploration: teams, map merging, coordination, rendezvous and failures."""
 
-from frontier_rl.swarm.config import Failure, Strategy, TeamConfig, parse_strategy
+from frontier_rl.swarm.config import Failure, Strategy, TeamConfig, TeamMethod, parse_strategy
 from frontier_rl.swarm.episode import FrontierList, frontier_request, run_team_episode
 from frontier_rl.swarm.result import TeamResult
 from frontier_rl.swarm.team import TeamRobot, TeamSimulator
@@ -10,6 +10,7 @@ __all__ = [
     "FrontierList",
     "Strategy",
     "TeamConfig",
+    "TeamMethod",
     "TeamResult",
     "TeamRobot",
     "TeamSimulator",

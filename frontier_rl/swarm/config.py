@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import math
+import re
 from dataclasses import dataclass
 from enum import StrEnum
 
@@ -136,3 +137,41 @@ def parse_strategy(text: str) -> Strategy:
     except ValueError:
         names = ", ".join(s.value for s in Strategy)
         raise ConfigError(f"unknown strategy {text!r}: choose one of {names}") from None
+
+
+_TEAM_SUFFIX = re.compile(r"^(?P<policy>.+)@(?P<robots>\d+)(?::(?P<strategy>[a-z]+))?$")
+
+
+@dataclass(frozen=True)
+class TeamMethod:
+    """A method of an experiment: a policy, and the team that runs it (None: one robot alone).
+
+    Written ``POLICY`` for one robot, ``POLICY@N`` for an uncoordinated team of N and
+    ``POLICY@N:STRATEGY`` otherwise, e.g. ``fixed:0.75@4:coordinated``.
+    """
+
+    policy: str
+    robots: int | None = None
+    strategy: Strategy = Strategy.UNCOORDINATED
+
+    @classmethod
+    def parse(cls, method: str) -> TeamMethod:
+        """The policy and team of ``method``; a bad team size or strategy is a ConfigError."""
+        match = _TEAM_SUFFIX.match(method.strip())
+        if match is None:
+            return cls(method.strip())
+        robots = int(match["robots"])
+        if not 1 <= robots <= MAX_ROBOTS:
+            raise ConfigError(f"method {method!r}: a team has 1 to {MAX_ROBOTS} robots, got {robots}")
+        strategy = parse_strategy(match["strategy"]) if match["strategy"] else Strategy.UNCOORDINATED
+        return cls(match["policy"], robots, strategy)
+
+    def __str__(self) -> str:
+        if self.robots is None:
+            return self.policy
+        suffix = "" if self.strategy is Strategy.UNCOORDINATED else f":{self.strategy.value}"
+        return f"{self.policy}@{self.robots}{suffix}"
+
+    def label(self, policy_label: str) -> str:
+        """A display name from the policy's: ``fixed:0.75 ×4 coordinated``."""
+        return policy_label if self.robots is None else f"{policy_label} ×{self.robots} {self.strategy.value}"

@@ -1,0 +1,94 @@
+"""``evaluate`` with teams: method syntax, validation, rows, and the report's team figures."""
+
+from __future__ import annotations
+
+import csv
+import json
+from pathlib import Path
+
+import pytest
+from typer.testing import CliRunner
+
+from frontier_rl.cli import app, team_methods
+from frontier_rl.core.simulator import SimConfig
+from frontier_rl.errors import ConfigError
+from frontier_rl.evaluation.evaluate import evaluate
+from frontier_rl.evaluation.experiment import ExperimentConfig, identity
+from frontier_rl.swarm import Failure, Strategy, TeamMethod
+
+SHORT = SimConfig(max_sim_time=120.0)
+runner = CliRunner()
+
+
+def _config(methods: tuple[str, ...], **kw: object) -> ExperimentConfig:
+    return ExperimentConfig(methods=methods, worlds=("office",), episodes=2, sim=SHORT, **kw)  # type: ignore[arg-type]
+
+
+def test_team_methods_expand_every_size_and_strategy() -> None:
+    out = team_methods(["fixed:0.75", "nearest@3"], [1, 2], [Strategy.UNCOORDINATED, Strategy.COORDINATED])
+    assert out == ["fixed:0.75", "fixed:0.75@2", "fixed:0.75@2:coordinated", "nearest@3"]
+    assert str(TeamMethod.parse("nearest@2:uncoordinated")) == "nearest@2"
+
+
+@pytest.mark.parametrize(
+    ("methods", "kw", "needle"),
+    [
+        (("fixed:0.75", "fixed:0.75@9"), {}, "1 to 8"),
+        (("fixed:0.75", "oracle@2"), {}, "oracle"),
+        (("fixed:0.75", "nearest"), {"failures": (Failure(0, 10.0),)}, "team methods"),
+        (("fixed:0.75", "nearest@2"), {"failures": (Failure(2, 10.0),)}, "robot 2"),
+        (("fixed:0.75", "nearest@2", "nearest@2:uncoordinated"), {}, "twice"),
+        (("fixed:0.75", "nearest@2:swarm"), {}, "swarm"),
+    ],
+)
+def test_bad_team_experiments_are_refused(methods: tuple[str, ...], kw: dict[str, object], needle: str) -> None:
+    with pytest.raises(ConfigError, match=needle):
+        _config(methods, **kw)
+
+
+def test_team_settings_are_part_of_the_identity() -> None:
+    plain = identity(_config(("fixed:0.75", "nearest@2")))
+    assert "team" not in plain  # results folders of single robots keep matching
+    failing = identity(_config(("fixed:0.75", "nearest@2"), failures=(Failure(1, 30.0),), comm_range=3.0))
+    assert failing["team"] == {"comm_range": 3.0, "failures": ["1@30"]}
+
+
+def test_a_team_experiment_reports_time_against_team_size(tmp_path: Path) -> None:
+    config = _config(("fixed:0.75", "fixed:0.75@2:coordinated", "fixed:0.75@3:coordinated"),
+                     failures=(Failure(1, 30.0),))  # fmt: skip
+    report = evaluate(config, tmp_path, backend="serial", progress=False)
+    with (tmp_path / "episodes.csv").open() as handle:
+        rows = list(csv.DictReader(handle))
+    assert {(r["method"], r["robots"]) for r in rows} == {
+        ("fixed:0.75", "1"), ("fixed:0.75@2:coordinated", "2"), ("fixed:0.75@3:coordinated", "3")
+    }  # fmt: skip
+    assert all(0.0 <= float(r["overlap"]) <= 1.0 for r in rows)
+    traces = [json.loads(line) for line in (tmp_path / "traces.jsonl").read_text().splitlines()]
+    teams = [t for t in traces if "@" in t["method"]]
+    assert all(len(t["robot_coverage"]) == TeamMethod.parse(t["method"]).robots for t in teams)
+    assert all(t["failed_at_s"][1] is not None and t["failed_at_s"][1] >= 30.0 for t in teams)
+    summary = json.loads((tmp_path / "summary.json").read_text())
+    line = summary["teams"]["fixed:0.75"]["coordinated"]
+    assert list(line) == ["1", "2", "3"] and line["2"]["method"] == "fixed:0.75@2:coordinated"
+    assert summary["methods"]["fixed:0.75@3:coordinated"]["robots"] == 3
+    text = report.read_text()
+    assert "fixed:0.75 ×3 coordinated" in text and "speed-up over 1 robot" in text and "teams.png" in text
+    assert (tmp_path / "teams.png").stat().st_size > 0
+
+
+@pytest.mark.parametrize(
+    ("args", "needle"),
+    [
+        (["--robots", "1,x"], "1,x"),
+        (["--robots", "9"], "9"),
+        (["--robots", "2", "--strategy", "swarm"], "swarm"),
+        (["--robots", "2", "--comm-range", "-2"], "-2"),
+        (["--robots", "2", "--fail", "3@10"], "robot 3"),
+    ],
+)
+def test_bad_team_options_are_one_line(tmp_path: Path, args: list[str], needle: str) -> None:
+    result = runner.invoke(app, ["evaluate", "--methods", "nearest", "--out", str(tmp_path / "r"), *args])
+    assert result.exit_code == 2
+    lines = [line for line in result.output.splitlines() if line.strip()]
+    assert len(lines) == 1 and needle in lines[0], result.output
+    assert not (tmp_path / "r").exists()
