@@ -1,4 +1,5 @@
-"""Gymnasium environments for the thesis's models: weight (3, 4), point (1, 2), frontier choice (5)."""
+"""Gymnasium environments for the thesis's models: weight (3, 4), point (1, 2), frontier choice (5);
+and the PettingZoo team environment (:mod:`frontier_rl.envs.team_env`)."""
 
 from frontier_rl.envs.base import EnvConfig, ExplorationEnv
 from frontier_rl.envs.frontier_env import FrontierChoiceEnv

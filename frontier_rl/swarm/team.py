@@ -146,9 +146,14 @@ class TeamSimulator:
         return self._over and not self._done and any(r.alive and r.sim.truncated for r in self.robots)
 
     @property
+    def known_cells(self) -> int:
+        """Explorable cells the surviving robots know."""
+        return int(np.count_nonzero(self._known & self.world.explorable))
+
+    @property
     def coverage(self) -> float:
         """Share of the explorable cells the surviving robots know."""
-        return int(np.count_nonzero(self._known & self.world.explorable)) / max(self.world.explorable_count, 1)
+        return self.known_cells / max(self.world.explorable_count, 1)
 
     # ------------------------------------------------------------- decisions
     def next_decision(self) -> int | None:
@@ -271,7 +276,7 @@ class TeamSimulator:
         self._record(self.sim_time)
 
     def _record(self, time_s: float) -> None:
-        count = int(np.count_nonzero(self._known & self.world.explorable))
+        count = self.known_cells
         if self._curve and count == self._curve[-1]:
             return
         self._times.append(max(time_s, self._times[-1]) if self._times else time_s)
