@@ -181,6 +181,33 @@ def bench_episodes(n_seeds: int) -> list[Row]:
     ]
 
 
+def bench_teams(n_seeds: int) -> list[Row]:
+    """Team episodes on office worlds: the wall time of a 4-robot coordinated episode over a
+    1-robot episode of the same world and seed (median of the per-seed ratios)."""
+    from frontier_rl.swarm import Strategy, TeamConfig, run_team_episode
+
+    policy = make_policy(POLICY)
+    four = TeamConfig(robots=4, strategy=Strategy.COORDINATED)
+    run_team_episode(generate_world("office", WARMUP_SEED), policy, team=four, seed=WARMUP_SEED)
+    gc.collect()
+    ratios, walls, speedups = [], [], []
+    for seed in range(n_seeds):
+        world = generate_world("office", seed)
+        alone = run_episode(world, policy, seed=seed)
+        team = run_team_episode(world, policy, team=four, seed=seed)
+        ratios.append(team.wall_time_s / alone.wall_time_s)
+        walls.append(team.wall_time_s)
+        speedups.append(alone.sim_time_s / team.sim_time_s)
+    n = f"{n_seeds} office seeds"
+    return [
+        Row(f"4-robot coordinated episode wall time (median, {n})", statistics.median(walls), "s",
+            higher_is_better=False),
+        Row(f"4-robot / 1-robot episode wall time (median ratio, {n})", statistics.median(ratios), "×", 4.0,
+            higher_is_better=False, detail=f" (max {fmt(max(ratios), '×')})"),
+        Row(f"4-robot sim-time speed-up over 1 robot (median, {n})", statistics.median(speedups), "×"),
+    ]  # fmt: skip
+
+
 def bench_envs(n_episodes: int) -> list[Row]:
     """Gymnasium env steps (decisions, with the observation encoding) per second on office worlds,
     the action fixed at bin 75 (w = 0.75); episode resets are included."""
@@ -253,6 +280,7 @@ def main(argv: list[str] | None = None) -> int:
         bench_lidar(500 if args.quick else 2_000, 3 if args.quick else 15)
         + bench_frontiers(20 if args.quick else 200)
         + rows
+        + bench_teams(3 if args.quick else 10)
         + bench_envs(2 if args.quick else 10)
     )
     total = time.perf_counter() - started

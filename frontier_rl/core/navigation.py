@@ -42,6 +42,8 @@ class NavigationConfig:
         blacklist_radius: frontiers whose centre lies this close (m) to a blacklisted goal are ignored.
         frontier_check_period: how often (s) the goal's frontier is checked for being explored.
         teammate_margin: in a team, paths keep this much room (m) from other robots when they can.
+        teammate_range: ... from the robots within this distance (m); farther ones will have moved
+            by the time the robot gets there.
         teammate_patience: in a team, a robot blocked by another one for this long (s) in a leg
             squeezes past it for the rest of the leg, instead of both standing for ever (a
             simplification: real teams need a traffic rule for narrow corridors).
@@ -62,13 +64,14 @@ class NavigationConfig:
     blacklist_radius: float = 0.25
     frontier_check_period: float = 1.0
     teammate_margin: float = 0.1
+    teammate_range: float = 1.5
     teammate_patience: float = 5.0
 
     def __post_init__(self) -> None:
         if not (math.isfinite(self.teammate_margin) and self.teammate_margin >= 0):
             raise ConfigError(f"NavigationConfig.teammate_margin must be >= 0, got {self.teammate_margin!r}")
         for name in ("inflation_radius", "goal_tolerance", "lookahead", "control_dt", "progress_timeout",
-                     "teammate_patience"):  # fmt: skip
+                     "teammate_patience", "teammate_range"):  # fmt: skip
             value = getattr(self, name)
             if not (math.isfinite(value) and value > 0):
                 raise ConfigError(f"NavigationConfig.{name} must be positive, got {value!r}")

@@ -311,17 +311,20 @@ class ExplorationSimulator:
     def _plan(self, cand: _Candidates, goal_cell: tuple[int, int]) -> NDArray[np.float64] | None:
         """A world-frame path (n, 2) from the robot to ``goal_cell`` of ``cand.grid``, or None."""
         start = cand.grid.world_to_cell(self.pose.x, self.pose.y)
-        cells = np.zeros((0, 2), np.int64)
-        keep_off = self._teammate_radius + self.config.robot.radius + self.config.navigation.teammate_margin
-        near = self._teammates_within(keep_off, cand.grid.cell_to_world(*goal_cell))
-        if len(self.teammates) and not near:  # around the other robots if there is a way, else through them
-            blocked = cand.costmap.with_discs_blocked(self.teammates, keep_off)
-            cells = blocked.plan(start, goal_cell)
-        if len(cells) == 0:
-            cells = cand.costmap.plan(start, goal_cell)
+        cells = cand.costmap.plan(start, goal_cell)
         if len(cells) == 0:
             return None
         xy = cand.grid.cells_to_world(cells)
+        nav = self.config.navigation
+        close = self.teammates[np.hypot(*(self.teammates - (self.pose.x, self.pose.y)).T) <= nav.teammate_range]
+        if len(close):  # around nearby robots in the way, if there is a way round
+            keep_off = self._teammate_radius + self.config.robot.radius + nav.teammate_margin
+            gap = np.hypot(xy[:, None, 0] - close[None, :, 0], xy[:, None, 1] - close[None, :, 1])
+            goal_xy = cand.grid.cell_to_world(*goal_cell)
+            if gap.min() <= keep_off and not self._teammates_within(keep_off, goal_xy):
+                detour = cand.costmap.with_discs_blocked(close, keep_off).plan(start, goal_cell)
+                if len(detour):
+                    xy = cand.grid.cells_to_world(detour)
         xy[-1] = cand.grid.cell_to_world(*goal_cell)
         return xy
 
