@@ -404,7 +404,7 @@ class ExplorationSimulator:
             elif self.sim_time - last_progress > nav.progress_timeout:
                 outcome = LegOutcome.ABORTED
                 break
-            if status == 2 and self._touching_teammate():
+            if status == 2 and clearance is not self._true_clearance and self._touching_teammate():
                 if teammate_blocked_since is None:
                     teammate_blocked_since = self.sim_time
                 if self.sim_time - teammate_blocked_since >= nav.teammate_patience:
