@@ -282,3 +282,28 @@ def merge_window(
                 bbox[2] = min(bbox[2], col)
                 bbox[3] = max(bbox[3], col)
     return gained
+
+
+@nb.njit(cache=True)
+def drop_marks(
+    pending: NDArray[np.int16],
+    xs: NDArray[np.float64],
+    ys: NDArray[np.float64],
+    radius: float,
+    origin_x: float,
+    origin_y: float,
+    resolution: float,
+) -> None:
+    """Clear the marks of every cell whose centre lies within ``radius`` (m) of a point (xs, ys)
+    (m): a scan filter that leaves known moving objects (other robots) out of the map."""
+    rows, cols = pending.shape
+    reach = int(math.ceil(radius / resolution)) + 1
+    for k in range(xs.shape[0]):
+        row = int(math.floor((ys[k] - origin_y) / resolution))
+        col = int(math.floor((xs[k] - origin_x) / resolution))
+        for r in range(max(row - reach, 0), min(row + reach + 1, rows)):
+            cy = origin_y + (r + 0.5) * resolution
+            for c in range(max(col - reach, 0), min(col + reach + 1, cols)):
+                cx = origin_x + (c + 0.5) * resolution
+                if math.hypot(cx - xs[k], cy - ys[k]) <= radius:
+                    pending[r, c] = 0

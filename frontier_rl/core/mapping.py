@@ -15,7 +15,7 @@ from numpy.typing import NDArray
 
 from frontier_rl.core.grid import CellState, OccupancyGrid
 from frontier_rl.core.lidar import Lidar, Scan
-from frontier_rl.core.log_odds import HIT, apply_pending, cast_and_mark, mark_beams, merge_window
+from frontier_rl.core.log_odds import HIT, apply_pending, cast_and_mark, drop_marks, mark_beams, merge_window
 from frontier_rl.core.robot import Pose, wrap_angle
 from frontier_rl.errors import ConfigError
 
@@ -160,11 +160,18 @@ class LogOddsMapper:
         return self._apply(scan.pose, time_s)
 
     def integrate_simulated(
-        self, lidar: Lidar, pose: Pose, rng: np.random.Generator | None, time_s: float = 0.0
+        self,
+        lidar: Lidar,
+        pose: Pose,
+        rng: np.random.Generator | None,
+        time_s: float = 0.0,
+        filtered: tuple[NDArray[np.float64], float] | None = None,
     ) -> ScanUpdate:
         """Simulate a scan of ``lidar`` at ``pose`` (at ``time_s``) and fold it in: the same result,
         bit for bit, as ``integrate(lidar.scan(pose, rng), lidar.config.max_range, time_s)``,
-        without the Python-side arrays. The lidar must cast on a world of this mapper's shape."""
+        without the Python-side arrays. The lidar must cast on a world of this mapper's shape.
+        ``filtered`` = (centres (k, 2) in m, radius in m): discs whose cells the scan leaves
+        untouched (other robots: a laser filter keeps them out of the map)."""
         if lidar.grid.shape != self.state.shape:
             raise ValueError(f"lidar world shape {lidar.grid.shape} differs from the map's {self.state.shape}")
         res = self.resolution
@@ -177,6 +184,9 @@ class LogOddsMapper:
             lidar.cos_offsets, lidar.sin_offsets, lidar.normals(rng), lidar.noise_params,
             min(lidar.config.max_range, self.config.usable_range) / res, self._ranges,
         )  # fmt: skip
+        if filtered is not None and len(filtered[0]):
+            centres, radius = filtered
+            drop_marks(self._pending, centres[:, 0], centres[:, 1], radius, self.origin[0], self.origin[1], res)
         return self._apply(pose, time_s)
 
     def mark_occupied(self, rows: NDArray[np.int64], cols: NDArray[np.int64]) -> None:

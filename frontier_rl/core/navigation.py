@@ -90,10 +90,13 @@ def obstacle_distance(occupied: NDArray[np.bool_], resolution: float) -> NDArray
 def stamp_discs(
     clearance: NDArray[np.float64],
     true_clearance: NDArray[np.float64],
+    blocked_padded: NDArray[np.bool_],
+    true_blocked_padded: NDArray[np.bool_],
     boxes: NDArray[np.int64],
     stamped: int,
     xs: NDArray[np.float64],
     ys: NDArray[np.float64],
+    occlude: NDArray[np.bool_],
     radius: float,
     reach: int,
     origin_x: float,
@@ -101,14 +104,16 @@ def stamp_discs(
     resolution: float,
 ) -> int:
     """Take back the ``stamped`` discs of ``boxes`` (row0, row1, col0, col1 per disc) from
-    ``clearance``, then lower it around every point (xs, ys) (m) to the distance (m) from each
-    cell centre to a disc of ``radius`` there, within ``reach`` cells; ``boxes`` is rewritten.
-    Returns the number of discs stamped."""
+    ``clearance`` and the LiDAR's ``blocked_padded``, then stamp a disc of ``radius`` (m) at every
+    point (xs, ys) (m): ``clearance`` is lowered to the distance (m) from each cell centre to the
+    disc, within ``reach`` cells, and, where ``occlude`` is set, the cells whose centre lies in the
+    disc stop beams. ``boxes`` is rewritten. Returns the number of discs stamped."""
     rows, cols = clearance.shape
     for k in range(stamped):
         for r in range(boxes[k, 0], boxes[k, 1]):
             for c in range(boxes[k, 2], boxes[k, 3]):
                 clearance[r, c] = true_clearance[r, c]
+                blocked_padded[r + 1, c + 1] = true_blocked_padded[r + 1, c + 1]
     for k in range(xs.shape[0]):
         row = int(math.floor((ys[k] - origin_y) / resolution))
         col = int(math.floor((xs[k] - origin_x) / resolution))
@@ -122,6 +127,8 @@ def stamp_discs(
                 d = math.hypot(cx - xs[k], cy - ys[k]) - radius
                 if d < clearance[r, c]:
                     clearance[r, c] = d
+                if occlude[k] and d <= 0.0:
+                    blocked_padded[r + 1, c + 1] = True
     return int(xs.shape[0])
 
 

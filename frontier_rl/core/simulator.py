@@ -35,6 +35,10 @@ from frontier_rl.core.robot import Pose, RobotConfig
 from frontier_rl.core.worlds import World
 from frontier_rl.errors import ConfigError
 
+TEAMMATE_FILTER_MARGIN_M = 0.1
+"""The laser filter that keeps teammates out of a robot's map drops this much (m) around them too,
+so that a noisy reading that ends just short of a teammate leaves no phantom wall."""
+
 
 @dataclass(frozen=True)
 class SimConfig:
@@ -112,14 +116,22 @@ class ExplorationSimulator:
         world: the ground truth and start pose.
         config: simulation settings.
         rng: the only source of randomness (sensor noise); the same seed gives the same episode.
+        teammates: other robots' positions (k, 2) (m) at the start, for the first scan.
     """
 
-    def __init__(self, world: World, config: SimConfig | None = None, rng: np.random.Generator | None = None):
+    def __init__(
+        self,
+        world: World,
+        config: SimConfig | None = None,
+        rng: np.random.Generator | None = None,
+        teammates: NDArray[np.float64] | None = None,
+    ) -> None:
         self.world = world
         self.config = config or SimConfig()
         self.rng = rng if rng is not None else np.random.default_rng(0)
         grid = world.grid
         self._lidar = Lidar(grid, self.config.lidar)
+        self._true_blocked = self._lidar.blocked_padded  # the LiDAR's own copy gets teammates stamped in
         self._true_clearance = obstacle_distance(grid.data == CellState.OCCUPIED, grid.resolution)
         self._clearance = self._true_clearance  # what the follower collides with: walls, and teammates
         self._boxes = np.zeros((0, 4), np.int64)  # the teammate discs stamped into _clearance
@@ -132,11 +144,12 @@ class ExplorationSimulator:
              n.goal_tolerance, n.control_dt, r.radius],
             dtype=np.float64,
         )  # fmt: skip
-        self.reset()
+        self.reset(teammates)
 
     # ------------------------------------------------------------------ state
-    def reset(self) -> None:
-        """Put the robot back at the start with an empty map and take the first scan."""
+    def reset(self, teammates: NDArray[np.float64] | None = None) -> None:
+        """Put the robot back at the start with an empty map and take the first scan (with other
+        robots standing at ``teammates``, (k, 2) m, see :meth:`set_teammates`)."""
         self.pose = self.world.start
         self.mapper = LogOddsMapper(self.world.grid, self.config.mapper, self.world.explorable)
         self.sim_time = 0.0
@@ -150,7 +163,7 @@ class ExplorationSimulator:
         self._candidates: _Candidates | None = None
         self._finished = False
         self.target: tuple[float, float] | None = None  # the frontier centre or point of the leg under way
-        self.set_teammates(np.zeros((0, 2)))
+        self.set_teammates(np.zeros((0, 2)) if teammates is None else teammates)
         self._scan()
 
     def refresh(self) -> None:
@@ -182,21 +195,26 @@ class ExplorationSimulator:
 
     def set_teammates(self, positions: NDArray[np.float64], radius: float | None = None) -> None:
         """Other robots at ``positions`` ((k, 2) world points, m) of ``radius`` (m; this robot's own
-        by default), until the next call: the follower collides with them and the planner plans
-        around them. Frontier detection and the map ignore them (they are passing, not walls)."""
+        by default), until the next call: the follower collides with them, the planner plans around
+        them and the LiDAR's beams stop at them. The map leaves them out (a laser filter drops the
+        scan's marks on and around them: they are passing, not walls)."""
         self._teammate_radius = self.config.robot.radius if radius is None else radius
         self.teammates = np.asarray(positions, dtype=np.float64).reshape(-1, 2)
         if len(self.teammates) == 0 and self._stamped == 0:
             return
         if self._clearance is self._true_clearance:
             self._clearance = self._true_clearance.copy()
+            self._lidar.blocked_padded = self._true_blocked.copy()
         if len(self._boxes) < len(self.teammates):
             self._boxes = np.zeros((len(self.teammates), 4), np.int64)
         g = self.world.grid
         reach = int(math.ceil((self._teammate_radius + 2.0 * self.config.robot.radius) / g.resolution)) + 1
+        # A teammate overlapping this robot (squeezing past) does not hide the world from it.
+        apart = np.hypot(*(self.teammates - (self.pose.x, self.pose.y)).T) > self._teammate_radius + g.resolution
         self._stamped = stamp_discs(
-            self._clearance, self._true_clearance, self._boxes, self._stamped, self.teammates[:, 0],
-            self.teammates[:, 1], self._teammate_radius, reach, g.origin[0], g.origin[1], g.resolution,
+            self._clearance, self._true_clearance, self._lidar.blocked_padded, self._true_blocked, self._boxes,
+            self._stamped, self.teammates[:, 0], self.teammates[:, 1], apart, self._teammate_radius, reach,
+            g.origin[0], g.origin[1], g.resolution,
         )  # fmt: skip
 
     # ---------------------------------------------------------------- sensing
@@ -207,7 +225,10 @@ class ExplorationSimulator:
         if not self.mapper.wants_scan(self.pose, self.sim_time):
             return None
         noise = self.rng if self.config.sensor_noise else None
-        update = self.mapper.integrate_simulated(self._lidar, self.pose, noise, self.sim_time)
+        filtered = None
+        if len(self.teammates):
+            filtered = (self.teammates, self._teammate_radius + TEAMMATE_FILTER_MARGIN_M)
+        update = self.mapper.integrate_simulated(self._lidar, self.pose, noise, self.sim_time, filtered)
         self._times.append(self.sim_time)
         self._explored.append(self.mapper.explored_cells)
         self._candidates = None

@@ -99,8 +99,9 @@ class TeamSimulator:
         n = self.team.robots
         starts = team_starts(world, n, self.config.robot.radius, self.team.start_spacing)
         streams = [rng, *rng.spawn(n - 1)]
+        xy = np.array([(pose.x, pose.y) for pose in starts])
         self.robots = [
-            TeamRobot(i, ExplorationSimulator(replace(world, start=pose), self.config, stream))
+            TeamRobot(i, ExplorationSimulator(replace(world, start=pose), self.config, stream, np.delete(xy, i, 0)))
             for i, (pose, stream) in enumerate(zip(starts, streams, strict=True))
         ]
         self._draw_failures(rng.spawn(1)[0])

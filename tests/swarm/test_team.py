@@ -133,6 +133,19 @@ def test_a_blocked_robot_waits_then_squeezes_past() -> None:
     assert sim.sim_time - alone.sim_time >= sim.config.navigation.teammate_patience
 
 
+def test_robots_hide_what_is_behind_them_and_stay_out_of_the_maps() -> None:
+    world = _room(40)
+    mate = np.array([[1.0, world.start.y]])  # 0.6 m ahead of the start, in the LiDAR's view
+    alone = ExplorationSimulator(world, rng=np.random.default_rng(0))
+    seen = ExplorationSimulator(world, rng=np.random.default_rng(0), teammates=mate)
+    g = world.grid
+    row, col = g.world_to_cell(2.5, world.start.y)  # straight behind the teammate
+    assert alone.mapper.state[row, col] == CellState.FREE and seen.mapper.state[row, col] == CellState.UNKNOWN
+    r0, c0 = g.world_to_cell(1.0 - 0.2, world.start.y - 0.2)
+    r1, c1 = g.world_to_cell(1.0 + 0.2, world.start.y + 0.2)
+    assert not (seen.mapper.state[r0 : r1 + 1, c0 : c1 + 1] == CellState.OCCUPIED).any()  # no phantom wall
+
+
 def test_windowed_merges_follow_the_rule() -> None:
     config = TeamConfig(robots=2)
     team = TeamSimulator(office(5), team=config, rng=np.random.default_rng(5))
