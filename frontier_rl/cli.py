@@ -53,10 +53,15 @@ def _friendly_errors(func: F) -> F:
 def _team_config(robots: int, strategy: str, comm_range: float | None, fail: list[str]) -> TeamConfig | None:
     """The team of ``explore``'s options; None for a single robot with no team option."""
     failures = tuple(Failure.parse(text) for text in fail)
-    if comm_range is not None and not comm_range >= 0:
-        raise ConfigError(f"--comm-range must be >= 0 m, got {comm_range!r}")
-    team = TeamConfig(robots, parse_strategy(strategy), comm_range, failures)
+    team = TeamConfig(robots, parse_strategy(strategy), _comm_range(comm_range), failures)
     return None if team == TeamConfig() else team
+
+
+def _comm_range(value: float | None) -> float | None:
+    """``--comm-range``, checked (m; None: the strategy's default)."""
+    if value is not None and not value >= 0:
+        raise ConfigError(f"--comm-range must be >= 0 m, got {value!r}")
+    return value
 
 
 def _text_list(text: str) -> list[str]:
@@ -280,11 +285,10 @@ def evaluate(
     names = [m.strip() for m in methods.split(",") if m.strip()]
     names = team_methods(names, _int_list("--robots", robots), [parse_strategy(s) for s in _text_list(strategy)])
     ordered = list(dict.fromkeys([baseline, *names, *([ORACLE] if oracle else [])]))
-    if comm_range is not None and not comm_range >= 0:
-        raise ConfigError(f"--comm-range must be >= 0 m, got {comm_range!r}")
     experiment = ExperimentConfig(
         methods=tuple(ordered), worlds=expand_worlds(worlds), episodes=episodes, seed=seed, baseline=baseline,
-        sim=_sim_config(config, max_time), resolution=resolution, trust_model=trust_model, comm_range=comm_range,
+        sim=_sim_config(config, max_time), resolution=resolution, trust_model=trust_model,
+        comm_range=_comm_range(comm_range),
         failures=tuple(Failure.parse(text) for text in fail or []),
     )  # fmt: skip
     command = "frontier-rl evaluate " + " ".join(sys.argv[2:]) if len(sys.argv) > 2 else "frontier-rl evaluate"

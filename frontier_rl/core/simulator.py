@@ -210,7 +210,7 @@ class ExplorationSimulator:
         g = self.world.grid
         reach = int(math.ceil((self._teammate_radius + 2.0 * self.config.robot.radius) / g.resolution)) + 1
         # A teammate overlapping this robot (squeezing past) does not hide the world from it.
-        apart = np.hypot(*(self.teammates - (self.pose.x, self.pose.y)).T) > self._teammate_radius + g.resolution
+        apart = self._teammate_distances() > self._teammate_radius + g.resolution
         self._stamped = stamp_discs(
             self._clearance, self._true_clearance, self._lidar.blocked_padded, self._true_blocked, self._boxes,
             self._stamped, self.teammates[:, 0], self.teammates[:, 1], apart, self._teammate_radius, reach,
@@ -337,7 +337,7 @@ class ExplorationSimulator:
             return None
         xy = cand.grid.cells_to_world(cells)
         nav = self.config.navigation
-        close = self.teammates[np.hypot(*(self.teammates - (self.pose.x, self.pose.y)).T) <= nav.teammate_range]
+        close = self.teammates[self._teammate_distances() <= nav.teammate_range]
         if len(close):  # around nearby robots in the way, if there is a way round
             keep_off = self._teammate_radius + self.config.robot.radius + nav.teammate_margin
             gap = np.hypot(xy[:, None, 0] - close[None, :, 0], xy[:, None, 1] - close[None, :, 1])
@@ -517,12 +517,17 @@ class ExplorationSimulator:
         contact = self._teammate_radius + self.config.robot.radius + 2.0 * self.world.grid.resolution
         return self._teammates_within(contact)
 
+    def _teammate_distances(self, point: tuple[float, float] | None = None) -> NDArray[np.float64]:
+        """Distance (m) from this robot (or from ``point``) to each teammate."""
+        x, y = (self.pose.x, self.pose.y) if point is None else point
+        return np.asarray(np.hypot(self.teammates[:, 0] - x, self.teammates[:, 1] - y), dtype=np.float64)
+
     def _teammates_within(self, distance: float, goal: tuple[float, float] | None = None) -> bool:
         """Whether another robot is within ``distance`` (m) of this one (or of ``goal``)."""
         if len(self.teammates) == 0:
             return False
-        points = [(self.pose.x, self.pose.y)] if goal is None else [(self.pose.x, self.pose.y), goal]
-        return any(np.hypot(self.teammates[:, 0] - x, self.teammates[:, 1] - y).min() <= distance for x, y in points)
+        points = [None] if goal is None else [None, goal]
+        return any(self._teammate_distances(point).min() <= distance for point in points)
 
     def _bump(self) -> None:
         """The robot ran into a wall its map did not show (the LiDAR is blind closer than its
