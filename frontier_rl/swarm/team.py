@@ -109,7 +109,8 @@ class TeamSimulator:
         self._contact = np.zeros((n, n), np.bool_)
         mapper_cfg = self.config.mapper
         self._reach = int(math.ceil(mapper_cfg.usable_range / world.grid.resolution)) + 2
-        self._known = np.zeros(world.grid.shape, np.bool_)
+        self._known = np.zeros(world.grid.shape, np.bool_)  # cells a surviving robot knows
+        self._known_count = 0  # ... of them explorable
         self._times: list[float] = []
         self._curve: list[int] = []
         self._over = False
@@ -149,7 +150,7 @@ class TeamSimulator:
     @property
     def known_cells(self) -> int:
         """Explorable cells the surviving robots know."""
-        return int(np.count_nonzero(self._known & self.world.explorable))
+        return self._known_count
 
     @property
     def coverage(self) -> float:
@@ -245,7 +246,7 @@ class TeamSimulator:
         """Merge ``robot``'s new scan (or whole map) with the teammates in range, both ways, and add
         it to what the team knows."""
         mapper = robot.sim.mapper
-        row, col = mapper_cell(mapper, robot.xy)
+        row, col = self.world.grid.world_to_cell(*robot.xy)
         reach = self._reach
         window = (row - reach, row + reach + 1, col - reach, col + reach + 1)
         for other in self.robots:
@@ -259,7 +260,9 @@ class TeamSimulator:
             self._contact[i, j] = self._contact[j, i] = near
         r0, c0 = max(window[0], 0), max(window[2], 0)
         rows, cols = slice(r0, window[1]), slice(c0, window[3])
-        self._known[rows, cols] |= mapper.seen[rows, cols]
+        newly = mapper.seen[rows, cols] & ~self._known[rows, cols]
+        self._known[rows, cols] |= newly
+        self._known_count += int(np.count_nonzero(newly & self.world.explorable[rows, cols]))
         self._record(robot.sim.sim_time)
 
     def merge_pair(self, a: TeamRobot, b: TeamRobot, window: tuple[int, int, int, int] | None = None) -> None:
@@ -274,6 +277,7 @@ class TeamSimulator:
         self._known[:] = False
         for robot in self.alive:
             self._known |= robot.sim.mapper.seen
+        self._known_count = int(np.count_nonzero(self._known & self.world.explorable))
         self._record(self.sim_time)
 
     def _record(self, time_s: float) -> None:
@@ -345,11 +349,3 @@ class TeamSimulator:
             trajectories=tuple(s.trajectory() for s in sims),
             team_map=self.team_map(),
         )
-
-
-def mapper_cell(mapper: LogOddsMapper, xy: tuple[float, float]) -> tuple[int, int]:
-    """The (row, col) of world point ``xy`` (m) in ``mapper``'s array."""
-    return (
-        int(math.floor((xy[1] - mapper.origin[1]) / mapper.resolution)),
-        int(math.floor((xy[0] - mapper.origin[0]) / mapper.resolution)),
-    )
