@@ -25,6 +25,37 @@ _OCCUPIED = np.int8(CellState.OCCUPIED)
 _UNKNOWN = np.int8(CellState.UNKNOWN)
 
 
+class SearchScratch:
+    """The A* search's scratch arrays (path cost, parent, a per-cell search stamp and the heap),
+    kept from one search to the next. A search reaches about a thousand cells of a map of tens of
+    thousands; filling arrays of the map's size at every search took longer than the search.
+    One search at a time: a planner that searches in several threads needs one each."""
+
+    def __init__(self) -> None:
+        self._stamp = 0
+        self._arrays = self._allocate(0)
+
+    @staticmethod
+    def _allocate(
+        cells: int,
+    ) -> tuple[NDArray[np.float64], NDArray[np.int64], NDArray[np.int64], NDArray[np.float64], NDArray[np.int64]]:
+        heap = 8 * cells + 8  # a push per improvement: at most 8 per expanded cell, and the start
+        return (np.empty(cells), np.empty(cells, np.int64), np.zeros(cells, np.int64), np.empty(heap),
+                np.empty(heap, np.int64))  # fmt: skip
+
+    def next_search(
+        self, cells: int
+    ) -> tuple[
+        tuple[NDArray[np.float64], NDArray[np.int64], NDArray[np.int64], NDArray[np.float64], NDArray[np.int64]], int
+    ]:
+        """The arrays for a search over ``cells`` cells (grown if needed) and its stamp."""
+        if self._arrays[0].shape[0] < cells:
+            self._arrays = self._allocate(cells)
+            self._stamp = 0
+        self._stamp += 2
+        return self._arrays, self._stamp
+
+
 @dataclass(frozen=True)
 class Costmap:
     """Planning costs on one map, kept with a one-cell blocked border (so the compiled planner
@@ -43,10 +74,14 @@ class Costmap:
     open_padded: NDArray[np.bool_] = field(repr=False)
     cost_padded: NDArray[np.float64] = field(repr=False)
     clearance_padded: NDArray[np.float64] = field(repr=False)
+    scratch: SearchScratch = field(default_factory=SearchScratch, repr=False, compare=False)
 
     @classmethod
-    def build(cls, grid: OccupancyGrid, robot: RobotConfig, config: NavigationConfig) -> Costmap:
-        """Inflate the obstacles of ``grid`` for a robot of ``robot.radius``."""
+    def build(
+        cls, grid: OccupancyGrid, robot: RobotConfig, config: NavigationConfig, scratch: SearchScratch | None = None
+    ) -> Costmap:
+        """Inflate the obstacles of ``grid`` for a robot of ``robot.radius``; its searches use
+        ``scratch`` (a new one by default: pass one to reuse it from map to map)."""
         res = grid.resolution
         clearance_p, open_p, cost_p = _inflate(
             grid.data,
@@ -56,7 +91,7 @@ class Costmap:
             config.inflation_cost,
             config.unknown_cost,
         )
-        return cls(grid, open_p, cost_p, clearance_p)
+        return cls(grid, open_p, cost_p, clearance_p, scratch or SearchScratch())
 
     @property
     def traversable(self) -> NDArray[np.bool_]:
@@ -91,7 +126,7 @@ class Costmap:
             inside = np.hypot(cx[None, :] - x, cy[:, None] - y) <= radius
             open_p[r0 + 1 : r1 + 1, c0 + 1 : c1 + 1] &= ~inside
             clear_p[r0 + 1 : r1 + 1, c0 + 1 : c1 + 1][inside] = 0.0  # so the start's escape zone stays shut
-        return Costmap(g, open_p, self.cost_padded, clear_p)
+        return Costmap(g, open_p, self.cost_padded, clear_p, self.scratch)
 
     def reachable_known(self, start: tuple[int, int]) -> NDArray[np.bool_]:
         """Known-free traversable cells connected (8-way) to ``start`` (row, col), or to the nearest
@@ -123,8 +158,9 @@ class Costmap:
         if not (self.grid.in_bounds(*start) and self.grid.in_bounds(*goal)):
             return np.zeros((0, 2), np.int64)
         escape = escape_radius / self.grid.resolution
+        scratch, stamp = self.scratch.next_search(self.open_padded.size)
         return astar_padded(self.open_padded, self.cost_padded, self.clearance_padded, start[0], start[1],
-                            goal[0], goal[1], escape)  # fmt: skip
+                            goal[0], goal[1], escape, scratch, stamp)  # fmt: skip
 
 
 @nb.njit(cache=True)
@@ -153,32 +189,35 @@ def _inflate(
         table[k] = inflation_cost * math.exp(-cost_scaling * max(k / steps - lethal_below, 0.0))
     # Traversability must be exact, and the chamfer distance runs up to 8.24 % long: below the
     # lethal distance it is surely lethal, 8.24 % above it surely clear, and the cells in between
-    # get an exact look at the walls around them.
+    # (if any: with the default radius no chamfer value falls there) get an exact look at the
+    # walls around them. Selects instead of branches in the sweep: near walls they would be
+    # mispredicted half the time.
     traversable = np.zeros((rows + 2, cols + 2), np.bool_)
-    reach = int(math.ceil(lethal_below))
-    lethal2 = lethal_below * lethal_below
-    for r in range(1, rows + 1):
-        for c in range(1, cols + 1):
-            d = clearance[r, c]
-            if d < lethal_below:
-                continue
-            if d >= lethal_below * 1.0825:
-                traversable[r, c] = True
-                continue
-            clear = True
-            for rr in range(max(r - 1 - reach, 0), min(r + reach, rows)):
-                for cc in range(max(c - 1 - reach, 0), min(c + reach, cols)):
-                    if occupied[rr, cc] and (rr - r + 1) ** 2 + (cc - c + 1) ** 2 < lethal2:
-                        clear = False
-            traversable[r, c] = clear
     cost = np.ones((rows + 2, cols + 2))
+    surely_clear = lethal_below * 1.0825
+    undecided = 0
     for r in range(1, rows + 1):
         for c in range(1, cols + 1):
             d = clearance[r, c]
-            extra = table[int(d * steps)] if d < inflation_radius else 0.0
-            if state[r - 1, c - 1] == _UNKNOWN:
-                extra += unknown_cost
+            index = int(min(d, inflation_radius) * steps)  # in the table even where it is not used
+            extra = table[index] if d < inflation_radius else 0.0
+            extra += unknown_cost if state[r - 1, c - 1] == _UNKNOWN else 0.0
             cost[r, c] = 1.0 + extra
+            traversable[r, c] = d >= surely_clear
+            undecided += (d >= lethal_below) & (d < surely_clear)
+    if undecided:
+        reach = int(math.ceil(lethal_below))
+        lethal2 = lethal_below * lethal_below
+        for r in range(1, rows + 1):
+            for c in range(1, cols + 1):
+                if not lethal_below <= clearance[r, c] < surely_clear:
+                    continue
+                clear = True
+                for rr in range(max(r - 1 - reach, 0), min(r + reach, rows)):
+                    for cc in range(max(c - 1 - reach, 0), min(c + reach, cols)):
+                        if occupied[rr, cc] and (rr - r + 1) ** 2 + (cc - c + 1) ** 2 < lethal2:
+                            clear = False
+                traversable[r, c] = clear
     return clearance, traversable, cost
 
 
@@ -214,7 +253,8 @@ def astar(
     open_padded = np.pad(np.asarray(passable, np.bool_), 1, constant_values=False)
     cost_padded = np.pad(1.0 + np.asarray(penalty, np.float64), 1, constant_values=1.0)
     no_escape = np.zeros(open_padded.shape)
-    return astar_padded(open_padded, cost_padded, no_escape, start_r, start_c, goal_r, goal_c, 0.0)
+    scratch, stamp = SearchScratch().next_search(open_padded.size)
+    return astar_padded(open_padded, cost_padded, no_escape, start_r, start_c, goal_r, goal_c, 0.0, scratch, stamp)
 
 
 @nb.njit(inline="always")
@@ -251,27 +291,6 @@ def _heap_pop(heap_f: NDArray[np.float64], heap_i: NDArray[np.int64], size: int)
     return size
 
 
-@nb.njit(inline="always")
-def _step_length(
-    open_ok: NDArray[np.bool_],
-    cur: int,
-    k: int,
-    offsets: NDArray[np.int64],
-    side_row: NDArray[np.int64],
-    side_col: NDArray[np.int64],
-) -> float:
-    """Length (cells) of the step from flat cell ``cur`` to its neighbour ``k`` (0 to 3 straight, 4 to 7
-    diagonal), or 0 if the step is not allowed: the target must be open, and a diagonal step may
-    not cut a corner (both side cells open)."""
-    if not open_ok[cur + offsets[k]]:
-        return 0.0
-    if k < 4:
-        return 1.0
-    if open_ok[cur + side_row[k]] and open_ok[cur + side_col[k]]:
-        return _SQRT2
-    return 0.0
-
-
 @nb.njit(cache=True)
 def astar_padded(
     open_padded: NDArray[np.bool_],
@@ -282,17 +301,19 @@ def astar_padded(
     goal_r: int,
     goal_c: int,
     escape: float,
+    scratch: tuple[NDArray[np.float64], NDArray[np.int64], NDArray[np.int64], NDArray[np.float64], NDArray[np.int64]],
+    stamp: int,
 ) -> NDArray[np.int64]:
     """8-connected A* with octile heuristic on padded costmap arrays (a border of blocked cells).
 
     A step costs its length × the cost factor of the cell entered; diagonal steps may not cut a
     corner. Within ``escape`` cells of the start, cells that are not traversable may still be
     crossed if they are no closer to a wall than the start (and not occupied): a robot that ended
-    up too close to a wall may back away from it, not squeeze on. Returns the (n, 2) cell path
-    (unpadded rows and columns), empty if there is none.
+    up too close to a wall may back away from it, not squeeze on. ``scratch`` and ``stamp`` come
+    from :meth:`SearchScratch.next_search`. Returns the (n, 2) cell path (unpadded rows and
+    columns), empty if there is none.
     """
-    pcols = open_padded.shape[1]
-    n = open_padded.size
+    prows, pcols = open_padded.shape
     start = (start_r + 1) * pcols + start_c + 1
     goal = (goal_r + 1) * pcols + goal_c + 1
     open_ok = open_padded.copy().reshape(-1)
@@ -303,49 +324,68 @@ def astar_padded(
     for dr in range(-reach, reach + 1):
         for dc in range(-reach, reach + 1):
             r, c = start_r + 1 + dr, start_c + 1 + dc
-            if dr * dr + dc * dc <= escape * escape and 1 <= r < open_padded.shape[0] - 1 and 1 <= c < pcols - 1:
+            if dr * dr + dc * dc <= escape * escape and 1 <= r < prows - 1 and 1 <= c < pcols - 1:
                 cell = r * pcols + c
                 if clear[cell] >= floor_clear:
                     open_ok[cell] = True
     open_ok[start] = True
     if not open_ok[goal]:
         return np.zeros((0, 2), np.int64)
-    offsets = np.array([-pcols, pcols, -1, 1, -pcols - 1, -pcols + 1, pcols - 1, pcols + 1])
-    side_row = np.array([0, 0, 0, 0, -pcols, -pcols, pcols, pcols])
-    side_col = np.array([0, 0, 0, 0, -1, 1, -1, 1])
-    g = np.full(n, np.inf)
-    parent = np.full(n, -1, np.int64)
-    closed = np.zeros(n, np.bool_)
-    heap_f = np.empty(8 * n + 8)
-    heap_i = np.empty(8 * n + 8, np.int64)
+    # mark[cell] < stamp: not reached by this search; == stamp: reached (g, parent valid);
+    # == stamp + 1: closed. Nothing has to be cleared between searches.
+    g, parent, mark, heap_f, heap_i = scratch
+    closed = stamp + 1
     size = 1
     heap_f[0] = 0.0
     heap_i[0] = start
     g[start] = 0.0
+    mark[start] = stamp
+    goal_pr, goal_pc = goal_r + 1, goal_c + 1
     while size > 0:
         cur = heap_i[0]
         size = _heap_pop(heap_f, heap_i, size)
-        if closed[cur]:
+        if mark[cur] == closed:
             continue
-        closed[cur] = True
+        mark[cur] = closed
         if cur == goal:
             break
-        for k in range(8):
-            nxt = cur + offsets[k]
-            if closed[nxt]:
-                continue
-            step = _step_length(open_ok, cur, k, offsets, side_row, side_col)
-            if step == 0.0:
+        row = cur // pcols
+        col = cur - row * pcols
+        up, down, left, right = open_ok[cur - pcols], open_ok[cur + pcols], open_ok[cur - 1], open_ok[cur + 1]
+        for k in range(8):  # straight steps need the cell open, diagonal ones both side cells too
+            if k == 0:
+                nxt, d_row, d_col, step = cur - pcols, -1, 0, 1.0 if up else 0.0
+            elif k == 1:
+                nxt, d_row, d_col, step = cur + pcols, 1, 0, 1.0 if down else 0.0
+            elif k == 2:
+                nxt, d_row, d_col, step = cur - 1, 0, -1, 1.0 if left else 0.0
+            elif k == 3:
+                nxt, d_row, d_col, step = cur + 1, 0, 1, 1.0 if right else 0.0
+            elif k == 4:
+                nxt, d_row, d_col = cur - pcols - 1, -1, -1
+                step = _SQRT2 if up and left and open_ok[nxt] else 0.0
+            elif k == 5:
+                nxt, d_row, d_col = cur - pcols + 1, -1, 1
+                step = _SQRT2 if up and right and open_ok[nxt] else 0.0
+            elif k == 6:
+                nxt, d_row, d_col = cur + pcols - 1, 1, -1
+                step = _SQRT2 if down and left and open_ok[nxt] else 0.0
+            else:
+                nxt, d_row, d_col = cur + pcols + 1, 1, 1
+                step = _SQRT2 if down and right and open_ok[nxt] else 0.0
+            seen = mark[nxt]
+            if step == 0.0 or seen == closed:
                 continue
             new_g = g[cur] + step * cost[nxt]
-            if new_g < g[nxt]:
+            if seen < stamp or new_g < g[nxt]:
                 g[nxt] = new_g
                 parent[nxt] = cur
-                dr = abs(nxt // pcols - goal_r - 1)
-                dc = abs(nxt % pcols - goal_c - 1)
+                mark[nxt] = stamp
+                dr = abs(row + d_row - goal_pr)
+                dc = abs(col + d_col - goal_pc)
                 f = new_g + (_SQRT2 - 1.0) * min(dr, dc) + max(dr, dc)
                 size = _heap_push(heap_f, heap_i, size, f, nxt)
-    if not closed[goal]:
+    if mark[goal] != closed:
         return np.zeros((0, 2), np.int64)
     length = 1
     cur = goal

@@ -30,7 +30,7 @@ from frontier_rl.core.navigation import (
     path_blocked,
     stamp_discs,
 )
-from frontier_rl.core.planner import Costmap, nearest_cell
+from frontier_rl.core.planner import Costmap, SearchScratch, nearest_cell
 from frontier_rl.core.robot import Pose, RobotConfig
 from frontier_rl.core.worlds import World
 from frontier_rl.errors import ConfigError
@@ -137,6 +137,7 @@ class ExplorationSimulator:
         self._boxes = np.zeros((0, 4), np.int64)  # the teammate discs stamped into _clearance
         self._stamped = 0
         self._footprint = footprint_offsets(self.config.robot.radius, grid.resolution)
+        self._scratch = SearchScratch()  # the planner's, reused by every costmap of the episode
         r = self.config.robot
         n = self.config.navigation
         self._follow_params = np.array(
@@ -239,7 +240,7 @@ class ExplorationSimulator:
         """The current map, its costmap and the reachable, non-blacklisted frontiers (cached)."""
         if self._candidates is None:
             grid = self.mapper.occupancy_grid(margin=2)
-            costmap, reachable, frontiers = reachable_frontiers(grid, self.pose, self.config)
+            costmap, reachable, frontiers = reachable_frontiers(grid, self.pose, self.config, scratch=self._scratch)
             if self.blacklist and len(frontiers):
                 black = np.asarray(self.blacklist)
                 d = np.hypot(
@@ -613,12 +614,17 @@ def _tail_lengths(path: NDArray[np.float64]) -> NDArray[np.float64]:
 
 
 def reachable_frontiers(
-    grid: OccupancyGrid, pose: Pose, config: SimConfig, min_cells: int | None = None
+    grid: OccupancyGrid,
+    pose: Pose,
+    config: SimConfig,
+    min_cells: int | None = None,
+    scratch: SearchScratch | None = None,
 ) -> tuple[Costmap, NDArray[np.bool_], Frontiers]:
-    """The navigator's costmap of ``grid``, the known free cells the robot at ``pose`` can reach,
-    and the frontier clusters larger than ``min_cells`` (default ``config.min_frontier_cells``)
-    that touch them: what a decision chooses from, before any blacklist."""
-    costmap = Costmap.build(grid, config.robot, config.navigation)
+    """The navigator's costmap of ``grid`` (its searches using ``scratch``), the known free cells
+    the robot at ``pose`` can reach, and the frontier clusters larger than ``min_cells`` (default
+    ``config.min_frontier_cells``) that touch them: what a decision chooses from, before any
+    blacklist."""
+    costmap = Costmap.build(grid, config.robot, config.navigation, scratch)
     reachable = costmap.reachable_known(grid.world_to_cell(pose.x, pose.y))
     cells = config.min_frontier_cells if min_cells is None else min_cells
     return costmap, reachable, detect_frontiers(grid, pose, reachable, cells)
