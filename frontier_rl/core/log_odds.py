@@ -160,12 +160,14 @@ def cast_and_mark(
     noise: NDArray[np.float64],
     usable: float,
     ranges: NDArray[np.float64],
+    extent: NDArray[np.int64],
 ) -> None:
     """A noisy scan cast on the ground truth and marked: the same ranges and marks, bit for bit, as
     :class:`~frontier_rl.core.lidar.Lidar`'s ``scan`` then :func:`mark_beams`, in one traversal per
     beam. Lengths in cells; ``noise`` = (resolution, min_range, max_range, sigma_abs, sigma_rel,
     rel_from) in m, ``usable`` the range where beams are cropped. Writes the ranges (cells; ``inf``
-    = no return, ``nan`` = invalid) into ``ranges``.
+    = no return, ``nan`` = invalid) into ``ranges``, and into ``extent`` (row0, row1, col0, col1;
+    exclusive ends) a window that holds every cell it marked, for :func:`apply_pending`.
 
     Each cell is marked as the beam crosses it on the ground truth, before the noisy reading is
     known; a reading that falls short of the wall then takes back the marks beyond it (kept in
@@ -181,6 +183,8 @@ def cast_and_mark(
     ring_cell = np.empty(_RING, np.int64)
     ring_exit = np.empty(_RING)
     dirs = np.empty((cos_offsets.shape[0], 2))
+    row0, col0 = int(math.floor(cy)), int(math.floor(cx))
+    extent[0], extent[1], extent[2], extent[3] = row0, row0, col0, col0
     for i in range(cos_offsets.shape[0]):
         dx = cos_t * cos_offsets[i] - sin_t * sin_offsets[i]
         dy = sin_t * cos_offsets[i] + cos_t * sin_offsets[i]
@@ -224,6 +228,12 @@ def cast_and_mark(
                     k -= 1
         elif math.isfinite(t_hit) and limit > t_hit:  # long: on through the wall
             _mark_crossed(flat, rows, cols, row, col, s_r, s_c, tm_r, tm_c, td_r, td_c, limit)
+        # The beam's marks (crossed cells and its hit) lie on it up to here, give or take a cell.
+        reach = min(usable, max(t_hit, 0.0 if math.isnan(r_cells) else r_cells))
+        end_row, end_col = int(math.floor(cy + reach * dy)), int(math.floor(cx + reach * dx))
+        extent[0], extent[1] = min(extent[0], end_row), max(extent[1], end_row)
+        extent[2], extent[3] = min(extent[2], end_col), max(extent[3], end_col)
+    extent[0], extent[1], extent[2], extent[3] = extent[0] - 1, extent[1] + 2, extent[2] - 1, extent[3] + 2
     _mark_hits(pending, cx, cy, dirs[:, 0], dirs[:, 1], ranges, usable)
 
 

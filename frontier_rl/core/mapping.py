@@ -113,6 +113,7 @@ class LogOddsMapper:
         self._bbox = np.array([shape[0], -1, shape[1], -1], dtype=np.int64)
         self._counters = np.zeros(3, dtype=np.int64)
         self._ranges = np.empty(0)  # scratch: the simulated scan's ranges (cells)
+        self._extent = np.zeros(4, np.int64)  # scratch: the window the simulated scan marked
         c = self.config
         self._params = np.array(
             [c.clamp_min, c.clamp_max, c.free_below, c.occupied_above, c.hit, c.miss], dtype=np.float64
@@ -182,12 +183,13 @@ class LogOddsMapper:
         cast_and_mark(
             lidar.blocked_padded, self._pending, cx, cy, math.cos(pose.theta), math.sin(pose.theta),
             lidar.cos_offsets, lidar.sin_offsets, lidar.normals(rng), lidar.noise_params,
-            min(lidar.config.max_range, self.config.usable_range) / res, self._ranges,
+            min(lidar.config.max_range, self.config.usable_range) / res, self._ranges, self._extent,
         )  # fmt: skip
         if filtered is not None and len(filtered[0]):
             centres, radius = filtered
             drop_marks(self._pending, centres[:, 0], centres[:, 1], radius, self.origin[0], self.origin[1], res)
-        return self._apply(pose, time_s)
+        r0, r1, c0, c1 = self._extent
+        return self._apply(pose, time_s, (int(r0), int(r1), int(c0), int(c1)))
 
     def mark_occupied(self, rows: NDArray[np.int64], cols: NDArray[np.int64]) -> None:
         """Set cells to certainly occupied (from contact, not from the LiDAR)."""
@@ -202,13 +204,16 @@ class LogOddsMapper:
                       params, self._bbox, self._counters)  # fmt: skip
         self.explored_cells += int(self._counters[2])
 
-    def _apply(self, pose: Pose, time_s: float) -> ScanUpdate:
-        """Apply the marks of the scan taken at ``pose`` and record it as the last processed one."""
-        reach = int(math.ceil(self.config.usable_range / self.resolution)) + 2
-        row = int(math.floor((pose.y - self.origin[1]) / self.resolution))
-        col = int(math.floor((pose.x - self.origin[0]) / self.resolution))
+    def _apply(self, pose: Pose, time_s: float, window: tuple[int, int, int, int] | None = None) -> ScanUpdate:
+        """Apply the marks of the scan taken at ``pose`` (all within ``window``, row0, row1, col0,
+        col1 with exclusive ends; by default the square the usable range reaches) and record it
+        as the last processed one."""
+        if window is None:
+            reach = int(math.ceil(self.config.usable_range / self.resolution)) + 2
+            row = int(math.floor((pose.y - self.origin[1]) / self.resolution))
+            col = int(math.floor((pose.x - self.origin[0]) / self.resolution))
+            window = (row - reach, row + reach + 1, col - reach, col + reach + 1)
         self._counters[:] = 0
-        window = (row - reach, row + reach + 1, col - reach, col + reach + 1)
         apply_pending(
             self._pending, window, self.logodds, self.state, self.seen, self.observed, self.explorable, self._params,
             self._bbox, self._counters,

@@ -31,9 +31,10 @@ class SearchScratch:
     thousands; filling arrays of the map's size at every search took longer than the search.
     One search at a time: a planner that searches in several threads needs one each."""
 
-    def __init__(self) -> None:
+    def __init__(self, cells: int = 0) -> None:
+        """Scratch for searches over up to ``cells`` cells to start with (it grows as needed)."""
         self._stamp = 0
-        self._arrays = self._allocate(0)
+        self._arrays = self._allocate(cells)
 
     @staticmethod
     def _allocate(

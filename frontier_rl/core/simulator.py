@@ -137,7 +137,8 @@ class ExplorationSimulator:
         self._boxes = np.zeros((0, 4), np.int64)  # the teammate discs stamped into _clearance
         self._stamped = 0
         self._footprint = footprint_offsets(self.config.robot.radius, grid.resolution)
-        self._scratch = SearchScratch()  # the planner's, reused by every costmap of the episode
+        # the planner's, reused by every costmap of the episode: they are crops of the world, padded
+        self._scratch = SearchScratch((grid.height + 2) * (grid.width + 2))
         r = self.config.robot
         n = self.config.navigation
         self._follow_params = np.array(

@@ -213,6 +213,7 @@ def test_integrate_simulated_is_bit_identical_to_scan_then_integrate(
         u_plain = plain.integrate(lidar.scan(pose, rng_plain if noisy else None), lidar_config.max_range, t)
         assert u_fused == u_plain, k
         _assert_same_map(fused, plain)
+        assert not fused._pending.any(), k  # the fused scan's window held every cell it marked
     assert fused.explored_cells > 0
     # the two generators were drawn from equally often
     assert rng_fused.random() == rng_plain.random()
@@ -528,6 +529,7 @@ def test_fused_scan_matches_scan_then_integrate_even_with_huge_undershoots(noise
         assert plain.integrate(lidar.scan(pose, rng_plain), lidar.config.max_range) == fused.integrate_simulated(
             lidar, pose, rng_fused
         )
+        assert not fused._pending.any()  # its window held every cell it marked, long readings too
     np.testing.assert_array_equal(plain.logodds, fused.logodds)
     np.testing.assert_array_equal(plain.state, fused.state)
 
