@@ -63,8 +63,8 @@ def cluster_fringe(
     reachable: NDArray[np.bool_],
     robot_row: float,
     robot_col: float,
-) -> tuple[NDArray[np.int32], NDArray[np.int64], NDArray[np.float64], NDArray[np.int64]]:
-    """Label 8-connected fringe clusters and gather their statistics in one pass.
+) -> tuple[NDArray[np.int64], NDArray[np.float64], NDArray[np.int64]]:
+    """Find the 8-connected fringe clusters and gather their statistics in one pass.
 
     Args:
         state: grid of cell states.
@@ -72,7 +72,6 @@ def cluster_fringe(
         robot_row, robot_col: robot position in continuous cell coordinates.
 
     Returns:
-        labels: cluster id + 1 per cell, 0 for non-fringe cells.
         counts: (n, 2) cells per cluster and how many of them are reachable.
         stats: (n, 3) sum of row indices, sum of column indices, min squared distance (cells²)
             from the robot to a cell centre.
@@ -80,8 +79,7 @@ def cluster_fringe(
             ``cells[offsets[k]:offsets[k+1]]`` where offsets is the cumulative sum of counts).
     """
     rows, cols = state.shape
-    fringe = fringe_mask(state)
-    labels = np.zeros((rows, cols), np.int32)
+    todo = fringe_mask(state)  # fringe cells not yet in a cluster
     stack = np.empty(rows * cols, np.int64)
     cells = np.empty(rows * cols, np.int64)
     counts_list = []
@@ -90,10 +88,10 @@ def cluster_fringe(
     n_clusters = 0
     for r0 in range(rows):
         for c0 in range(cols):
-            if labels[r0, c0] != 0 or not fringe[r0, c0]:
+            if not todo[r0, c0]:
                 continue
             n_clusters += 1
-            labels[r0, c0] = n_clusters
+            todo[r0, c0] = False
             top = 0
             stack[top] = r0 * cols + c0
             top += 1
@@ -119,8 +117,8 @@ def cluster_fringe(
                 for k in range(8):
                     rr = r + _NEIGHBOURS_8[k, 0]
                     cc = c + _NEIGHBOURS_8[k, 1]
-                    if 0 <= rr < rows and 0 <= cc < cols and labels[rr, cc] == 0 and fringe[rr, cc]:
-                        labels[rr, cc] = n_clusters
+                    if 0 <= rr < rows and 0 <= cc < cols and todo[rr, cc]:
+                        todo[rr, cc] = False
                         stack[top] = rr * cols + cc
                         top += 1
             counts_list.append((size, n_reach))
@@ -130,7 +128,7 @@ def cluster_fringe(
     for k in range(n_clusters):
         counts[k, 0], counts[k, 1] = counts_list[k]
         stats[k, 0], stats[k, 1], stats[k, 2] = stats_list[k]
-    return labels, counts, stats, cells[:n_cells].copy()
+    return counts, stats, cells[:n_cells].copy()
 
 
 @nb.njit(cache=True)
@@ -266,20 +264,47 @@ def detect_frontiers(
     robot_col = (robot.x - grid.origin[0]) / res
     robot_row = (robot.y - grid.origin[1]) / res
     reach = np.ones(grid.shape, np.bool_) if reachable is None else reachable
-    _, counts, stats, flat = cluster_fringe(grid.data, reach, robot_row, robot_col)
-    sizes = counts[:, 0]
-    offsets = np.concatenate(([0], np.cumsum(sizes)))
-    keep = np.flatnonzero((sizes > min_cells) & (counts[:, 1] > 0))
-    mean_r = stats[keep, 0] / sizes[keep] + 0.5
-    mean_c = stats[keep, 1] / sizes[keep] + 0.5
-    centers = np.column_stack((grid.origin[0] + mean_c * res, grid.origin[1] + mean_r * res))
-    distances = np.hypot(centers[:, 0] - robot.x, centers[:, 1] - robot.y)
-    return Frontiers(
-        grid=grid,
-        centers=centers.reshape(-1, 2),
-        sizes=sizes[keep].astype(np.int64),
-        distances=distances,
-        min_distances=np.sqrt(stats[keep, 2]) * res,
-        flat_cells=flat,
-        spans=np.column_stack((offsets[keep], offsets[keep + 1])).astype(np.int64).reshape(-1, 2),
+    counts, stats, flat = cluster_fringe(grid.data, reach, robot_row, robot_col)
+    centers, sizes, distances, min_distances, spans = _kept_clusters(
+        counts, stats, min_cells, grid.origin[0], grid.origin[1], res, robot.x, robot.y
     )
+    return Frontiers(grid, centers, sizes, distances, min_distances, flat, spans)
+
+
+@nb.njit(cache=True)
+def _kept_clusters(
+    counts: NDArray[np.int64],
+    stats: NDArray[np.float64],
+    min_cells: int,
+    origin_x: float,
+    origin_y: float,
+    resolution: float,
+    robot_x: float,
+    robot_y: float,
+) -> tuple[NDArray[np.float64], NDArray[np.int64], NDArray[np.float64], NDArray[np.float64], NDArray[np.int64]]:
+    """The clusters of :func:`cluster_fringe` larger than ``min_cells`` with a reachable cell:
+    centres (m), sizes, distance from the robot to the centre and to the nearest cell (m), and
+    their spans in the cluster-ordered cells."""
+    n = 0
+    for k in range(counts.shape[0]):
+        n += counts[k, 0] > min_cells and counts[k, 1] > 0
+    centers = np.empty((n, 2))
+    sizes = np.empty(n, np.int64)
+    distances = np.empty(n)
+    min_distances = np.empty(n)
+    spans = np.empty((n, 2), np.int64)
+    start = 0
+    i = 0
+    for k in range(counts.shape[0]):
+        size = counts[k, 0]
+        if size > min_cells and counts[k, 1] > 0:
+            x = origin_x + (stats[k, 1] / size + 0.5) * resolution
+            y = origin_y + (stats[k, 0] / size + 0.5) * resolution
+            centers[i, 0], centers[i, 1] = x, y
+            sizes[i] = size
+            distances[i] = math.hypot(x - robot_x, y - robot_y)
+            min_distances[i] = math.sqrt(stats[k, 2]) * resolution
+            spans[i, 0], spans[i, 1] = start, start + size
+            i += 1
+        start += size
+    return centers, sizes, distances, min_distances, spans
