@@ -9,6 +9,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass, field
+from functools import cached_property
 
 import numba as nb
 import numpy as np
@@ -23,6 +24,8 @@ from frontier_rl.core.robot import RobotConfig
 _SQRT2 = math.sqrt(2.0)
 _OCCUPIED = np.int8(CellState.OCCUPIED)
 _UNKNOWN = np.int8(CellState.UNKNOWN)
+_COST_STEPS = 64  # inflation table entries per cell of clearance
+_NO_COSTS = np.zeros(0)  # astar_padded works the step costs out itself
 
 
 class SearchScratch:
@@ -62,19 +65,27 @@ class Costmap:
     """Planning costs on one map, kept with a one-cell blocked border (so the compiled planner
     needs no bounds checks); the properties give the unpadded views.
 
+    A cell's step cost factor follows from its clearance and state (:attr:`cost_padded`); the
+    planner works it out for the cells it reaches, so that a costmap costs no sweep for it.
+
     Attributes:
         grid: the map.
         open_padded: traversable cells (not within the robot radius of a wall), padded.
-        cost_padded: step cost factor per cell, 1 + inflation and unknown penalties, padded.
         clearance_padded: distance (cells) from each cell centre to the nearest occupied cell
             centre, by a chamfer transform (exact or up to 8 % over), capped just above the
             inflation radius, padded.
+        inflation_table: the inflation cost by clearance, in steps of 1/64 cell.
+        inflation_radius: clearance (cells) from which a cell has no inflation cost.
+        unknown_cost: extra cost factor of an unknown cell.
+        scratch: the planner's scratch arrays.
     """
 
     grid: OccupancyGrid
     open_padded: NDArray[np.bool_] = field(repr=False)
-    cost_padded: NDArray[np.float64] = field(repr=False)
     clearance_padded: NDArray[np.float64] = field(repr=False)
+    inflation_table: NDArray[np.float64] = field(repr=False)
+    inflation_radius: float
+    unknown_cost: float
     scratch: SearchScratch = field(default_factory=SearchScratch, repr=False, compare=False)
 
     @classmethod
@@ -84,15 +95,17 @@ class Costmap:
         """Inflate the obstacles of ``grid`` for a robot of ``robot.radius``; its searches use
         ``scratch`` (a new one by default: pass one to reuse it from map to map)."""
         res = grid.resolution
-        clearance_p, open_p, cost_p = _inflate(
-            grid.data,
-            (robot.radius + 0.5 * res) / res,  # lethal below: cell centre to wall surface, in cells
-            config.inflation_radius / res,
-            config.cost_scaling * res,
-            config.inflation_cost,
-            config.unknown_cost,
-        )
-        return cls(grid, open_p, cost_p, clearance_p, scratch or SearchScratch())
+        lethal_below = (robot.radius + 0.5 * res) / res  # cell centre to wall surface, in cells
+        inflation_radius = config.inflation_radius / res
+        clearance_p, open_p = _inflate(grid.data, lethal_below, inflation_radius)
+        table = inflation_table(lethal_below, inflation_radius, config.cost_scaling * res, config.inflation_cost)
+        return cls(grid, open_p, clearance_p, table, inflation_radius, config.unknown_cost, scratch or SearchScratch())
+
+    @cached_property
+    def cost_padded(self) -> NDArray[np.float64]:
+        """Step cost factor per cell, 1 + inflation and unknown penalties, padded (made on first use)."""
+        return _step_costs(self.grid.data, self.clearance_padded, self.inflation_table, self.inflation_radius,
+                           self.unknown_cost)  # fmt: skip
 
     @property
     def traversable(self) -> NDArray[np.bool_]:
@@ -111,7 +124,8 @@ class Costmap:
 
     def with_discs_blocked(self, centres: NDArray[np.float64], radius: float) -> Costmap:
         """A copy in which every cell whose centre lies within ``radius`` (m) of one of ``centres``
-        ((k, 2) world points, m) is blocked like a wall: other robots, for planning around them."""
+        ((k, 2) world points, m) is blocked (and costed) like a wall: other robots, for planning
+        around them."""
         open_p = self.open_padded.copy()
         clear_p = self.clearance_padded.copy()
         g = self.grid
@@ -127,7 +141,7 @@ class Costmap:
             inside = np.hypot(cx[None, :] - x, cy[:, None] - y) <= radius
             open_p[r0 + 1 : r1 + 1, c0 + 1 : c1 + 1] &= ~inside
             clear_p[r0 + 1 : r1 + 1, c0 + 1 : c1 + 1][inside] = 0.0  # so the start's escape zone stays shut
-        return Costmap(g, open_p, self.cost_padded, clear_p, self.scratch)
+        return Costmap(g, open_p, clear_p, self.inflation_table, self.inflation_radius, self.unknown_cost, self.scratch)
 
     def reachable_known(self, start: tuple[int, int]) -> NDArray[np.bool_]:
         """Known-free traversable cells connected (8-way) to ``start`` (row, col), or to the nearest
@@ -160,50 +174,76 @@ class Costmap:
             return np.zeros((0, 2), np.int64)
         escape = escape_radius / self.grid.resolution
         scratch, stamp = self.scratch.next_search(self.open_padded.size)
-        return astar_padded(self.open_padded, self.cost_padded, self.clearance_padded, start[0], start[1],
-                            goal[0], goal[1], escape, scratch, stamp)  # fmt: skip
+        costs = (self.grid.data, self.inflation_table, self.inflation_radius, self.unknown_cost)
+        return astar_padded(self.open_padded, self.clearance_padded, costs, _NO_COSTS, start[0], start[1], goal[0],
+                            goal[1], escape, scratch, stamp)  # fmt: skip
+
+
+@nb.njit(cache=True)
+def inflation_table(
+    lethal_below: float, inflation_radius: float, cost_scaling: float, inflation_cost: float
+) -> NDArray[np.float64]:
+    """The inflation cost by clearance (cells), in steps of 1/64 cell: ``inflation_cost`` up to the
+    lethal distance, then decaying by ``cost_scaling`` per cell. A lookup costs less than exp()
+    per cell, and 1/64 cell is far finer than the costmap needs."""
+    table = np.empty(int(math.ceil(inflation_radius * _COST_STEPS)) + 2)
+    for k in range(table.shape[0]):
+        table[k] = inflation_cost * math.exp(-cost_scaling * max(k / _COST_STEPS - lethal_below, 0.0))
+    return table
+
+
+@nb.njit(cache=True, inline="always")
+def _step_cost(
+    clearance: float, unknown: bool, table: NDArray[np.float64], inflation_radius: float, unknown_cost: float
+) -> float:
+    """The step cost factor of a cell of ``clearance`` (cells): 1 + inflation + unknown penalties."""
+    index = int(min(clearance, inflation_radius) * _COST_STEPS)  # in the table even where it is not used
+    extra = table[index] if clearance < inflation_radius else 0.0
+    extra += unknown_cost if unknown else 0.0
+    return 1.0 + extra
+
+
+@nb.njit(cache=True)
+def _step_costs(
+    state: NDArray[np.int8],
+    clearance_padded: NDArray[np.float64],
+    table: NDArray[np.float64],
+    inflation_radius: float,
+    unknown_cost: float,
+) -> NDArray[np.float64]:
+    """The step cost factor of every cell (:func:`_step_cost`), with a border of 1."""
+    rows, cols = state.shape
+    cost = np.ones((rows + 2, cols + 2))
+    for r in range(rows):
+        for c in range(cols):
+            cost[r + 1, c + 1] = _step_cost(
+                clearance_padded[r + 1, c + 1], state[r, c] == _UNKNOWN, table, inflation_radius, unknown_cost
+            )
+    return cost
 
 
 @nb.njit(cache=True)
 def _inflate(
-    state: NDArray[np.int8],
-    lethal_below: float,
-    inflation_radius: float,
-    cost_scaling: float,
-    inflation_cost: float,
-    unknown_cost: float,
-) -> tuple[NDArray[np.float64], NDArray[np.bool_], NDArray[np.float64]]:
-    """Clearance (cells), traversable mask and step cost factor (1 + penalty) of a map, each with a
-    one-cell border (not traversable) so that the planner needs no bounds checks; lengths in
-    cells, ``cost_scaling`` per cell."""
+    state: NDArray[np.int8], lethal_below: float, inflation_radius: float
+) -> tuple[NDArray[np.float64], NDArray[np.bool_]]:
+    """Clearance (cells) and traversable mask of a map, each with a one-cell border (not
+    traversable) so that the planner needs no bounds checks; lengths in cells."""
     rows, cols = state.shape
     occupied = np.empty((rows, cols), np.bool_)
     for r in range(rows):
         for c in range(cols):
             occupied[r, c] = state[r, c] == _OCCUPIED
     clearance = chamfer_distance_padded(occupied, inflation_radius + 1.0)
-    # The inflation cost by table lookup: exp() per cell near a wall would cost more than the
-    # distance transform; 64 steps per cell of distance is far finer than the costmap needs.
-    steps = 64
-    table = np.empty(int(math.ceil(inflation_radius * steps)) + 2)
-    for k in range(table.shape[0]):
-        table[k] = inflation_cost * math.exp(-cost_scaling * max(k / steps - lethal_below, 0.0))
     # Traversability must be exact, and the chamfer distance runs up to 8.24 % long: below the
     # lethal distance it is surely lethal, 8.24 % above it surely clear, and the cells in between
     # (if any: with the default radius no chamfer value falls there) get an exact look at the
-    # walls around them. Selects instead of branches in the sweep: near walls they would be
-    # mispredicted half the time.
+    # walls around them.
     traversable = np.zeros((rows + 2, cols + 2), np.bool_)
-    cost = np.ones((rows + 2, cols + 2))
     surely_clear = lethal_below * 1.0825
     undecided = 0
     for r in range(1, rows + 1):
         for c in range(1, cols + 1):
             d = clearance[r, c]
-            index = int(min(d, inflation_radius) * steps)  # in the table even where it is not used
-            extra = table[index] if d < inflation_radius else 0.0
-            extra += unknown_cost if state[r - 1, c - 1] == _UNKNOWN else 0.0
-            cost[r, c] = 1.0 + extra
             traversable[r, c] = d >= surely_clear
             undecided += (d >= lethal_below) & (d < surely_clear)
     if undecided:
@@ -219,7 +259,7 @@ def _inflate(
                         if occupied[rr, cc] and (rr - r + 1) ** 2 + (cc - c + 1) ** 2 < lethal2:
                             clear = False
                 traversable[r, c] = clear
-    return clearance, traversable, cost
+    return clearance, traversable
 
 
 def nearest_cell(mask: NDArray[np.bool_], target: tuple[int, int], max_radius: int) -> tuple[int, int] | None:
@@ -255,7 +295,9 @@ def astar(
     cost_padded = np.pad(1.0 + np.asarray(penalty, np.float64), 1, constant_values=1.0)
     no_escape = np.zeros(open_padded.shape)
     scratch, stamp = SearchScratch().next_search(open_padded.size)
-    return astar_padded(open_padded, cost_padded, no_escape, start_r, start_c, goal_r, goal_c, 0.0, scratch, stamp)
+    no_inflation = (np.zeros(np.shape(passable), np.int8), np.zeros(1), 0.0, 0.0)
+    return astar_padded(open_padded, no_escape, no_inflation, cost_padded, start_r, start_c, goal_r, goal_c, 0.0,
+                        scratch, stamp)  # fmt: skip
 
 
 @nb.njit(inline="always")
@@ -295,8 +337,9 @@ def _heap_pop(heap_f: NDArray[np.float64], heap_i: NDArray[np.int64], size: int)
 @nb.njit(cache=True)
 def astar_padded(
     open_padded: NDArray[np.bool_],
-    cost_padded: NDArray[np.float64],
     clearance_padded: NDArray[np.float64],
+    costs: tuple[NDArray[np.int8], NDArray[np.float64], float, float],
+    cost_padded: NDArray[np.float64],
     start_r: int,
     start_c: int,
     goal_r: int,
@@ -307,19 +350,23 @@ def astar_padded(
 ) -> NDArray[np.int64]:
     """8-connected A* with octile heuristic on padded costmap arrays (a border of blocked cells).
 
-    A step costs its length × the cost factor of the cell entered; diagonal steps may not cut a
-    corner. Within ``escape`` cells of the start, cells that are not traversable may still be
-    crossed if they are no closer to a wall than the start (and not occupied): a robot that ended
-    up too close to a wall may back away from it, not squeeze on. ``scratch`` and ``stamp`` come
-    from :meth:`SearchScratch.next_search`. Returns the (n, 2) cell path (unpadded rows and
-    columns), empty if there is none.
+    A step costs its length × the cost factor of the cell entered: from ``cost_padded`` when it is
+    not empty, else worked out from the cell's clearance and its state in the map, as
+    :attr:`Costmap.cost_padded` would give it (``costs`` = map, inflation table, inflation radius,
+    unknown cost); diagonal steps may not cut a corner. Within ``escape`` cells of the start,
+    cells that are not traversable may still be crossed if they are no closer to a wall than the
+    start (and not occupied): a robot that ended up too close to a wall may back away from it, not
+    squeeze on. ``scratch`` and ``stamp`` come from :meth:`SearchScratch.next_search`. Returns the
+    (n, 2) cell path (unpadded rows and columns), empty if there is none.
     """
     prows, pcols = open_padded.shape
     start = (start_r + 1) * pcols + start_c + 1
     goal = (goal_r + 1) * pcols + goal_c + 1
     open_ok = open_padded.copy().reshape(-1)
-    cost = cost_padded.reshape(-1)
     clear = clearance_padded.reshape(-1)
+    state, table, inflation_radius, unknown_cost = costs
+    given = cost_padded.size > 0
+    cost = cost_padded.reshape(-1)
     reach = int(math.ceil(escape))
     floor_clear = max(clear[start], 0.5)  # >= 0.5: occupied cells (clearance 0) never open
     for dr in range(-reach, reach + 1):
@@ -377,7 +424,12 @@ def astar_padded(
             seen = mark[nxt]
             if step == 0.0 or seen == closed:
                 continue
-            new_g = g[cur] + step * cost[nxt]
+            if given:
+                step_cost = cost[nxt]
+            else:
+                unknown = state[row + d_row - 1, col + d_col - 1] == _UNKNOWN
+                step_cost = _step_cost(clear[nxt], unknown, table, inflation_radius, unknown_cost)
+            new_g = g[cur] + step * step_cost
             if seen < stamp or new_g < g[nxt]:
                 g[nxt] = new_g
                 parent[nxt] = cur

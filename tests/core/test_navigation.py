@@ -18,6 +18,7 @@ from frontier_rl.core.navigation import NavigationConfig, follow_path, footprint
 from frontier_rl.core.path_costs import cost_to_go_padded
 from frontier_rl.core.planner import Costmap, astar, nearest_cell
 from frontier_rl.core.robot import RobotConfig
+from frontier_rl.core.worlds import generate_world
 from frontier_rl.errors import ConfigError
 
 FREE, OCC, UNKNOWN = CellState.FREE.value, CellState.OCCUPIED.value, CellState.UNKNOWN.value
@@ -318,6 +319,29 @@ def test_plan_escapes_from_an_inflated_start_but_not_through_walls() -> None:
     assert cm.plan((10, 20), (20, 20)).shape == (0, 2)
     assert cm.plan((10, 20), (19, 20)).shape == (0, 2)
     assert cm.plan((10, 20), (50, 20)).shape == (0, 2)
+
+
+@pytest.mark.parametrize("seed", range(3))
+def test_plan_works_out_the_step_costs_it_needs_exactly_as_the_cost_array(seed: int) -> None:
+    """Costmap.plan computes each cell's cost where it reaches it; on a half-explored office map
+    (walls, free and unknown cells, inflation) its paths are those of A* on the whole cost array."""
+    from frontier_rl.core.planner import SearchScratch, astar_padded
+
+    world = generate_world("office", seed)
+    rng = np.random.default_rng(seed)
+    data = world.grid.data.copy()
+    data[rng.random(data.shape) < 0.3] = UNKNOWN
+    data[:, data.shape[1] // 2 :] = UNKNOWN
+    cm = Costmap.build(OccupancyGrid(data, world.grid.resolution), RobotConfig(), NavigationConfig())
+    cells = np.argwhere(cm.traversable)
+    no_inflation = (np.zeros(data.shape, np.int8), np.zeros(1), 0.0, 0.0)
+    for _ in range(15):
+        start, goal = (tuple(int(v) for v in cells[k]) for k in rng.choice(len(cells), 2))
+        scratch, stamp = SearchScratch().next_search(cm.open_padded.size)
+        escape = 0.25 / world.grid.resolution  # Costmap.plan's default
+        given = astar_padded(cm.open_padded, cm.clearance_padded, no_inflation, cm.cost_padded, *start, *goal, escape,
+                             scratch, stamp)  # fmt: skip
+        np.testing.assert_array_equal(cm.plan(start, goal), given)
 
 
 # --------------------------------------------------------------------------------- nearest_cell
