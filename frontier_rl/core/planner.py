@@ -25,7 +25,12 @@ _SQRT2 = math.sqrt(2.0)
 _OCCUPIED = np.int8(CellState.OCCUPIED)
 _UNKNOWN = np.int8(CellState.UNKNOWN)
 _COST_STEPS = 64  # inflation table entries per cell of clearance
+_MAX_STAMP = 2**31 - 2  # a search marks cells with its stamp and stamp + 1, as int32
 _NO_COSTS = np.zeros(0)  # astar_padded works the step costs out itself
+
+
+SearchArrays = tuple[NDArray[np.float64], NDArray[np.int32], NDArray[np.int32], NDArray[np.float64], NDArray[np.int32]]
+"""The A* search's scratch: path cost, parent and search stamp per cell, and the heap (priority, cell)."""
 
 
 class SearchScratch:
@@ -40,20 +45,14 @@ class SearchScratch:
         self._arrays = self._allocate(cells)
 
     @staticmethod
-    def _allocate(
-        cells: int,
-    ) -> tuple[NDArray[np.float64], NDArray[np.int64], NDArray[np.int64], NDArray[np.float64], NDArray[np.int64]]:
+    def _allocate(cells: int) -> SearchArrays:
         heap = 8 * cells + 8  # a push per improvement: at most 8 per expanded cell, and the start
-        return (np.empty(cells), np.empty(cells, np.int64), np.zeros(cells, np.int64), np.empty(heap),
-                np.empty(heap, np.int64))  # fmt: skip
+        return (np.empty(cells), np.empty(cells, np.int32), np.zeros(cells, np.int32), np.empty(heap),
+                np.empty(heap, np.int32))  # fmt: skip
 
-    def next_search(
-        self, cells: int
-    ) -> tuple[
-        tuple[NDArray[np.float64], NDArray[np.int64], NDArray[np.int64], NDArray[np.float64], NDArray[np.int64]], int
-    ]:
+    def next_search(self, cells: int) -> tuple[SearchArrays, int]:
         """The arrays for a search over ``cells`` cells (grown if needed) and its stamp."""
-        if self._arrays[0].shape[0] < cells:
+        if self._arrays[0].shape[0] < cells or self._stamp > _MAX_STAMP:  # grown, or the stamps wrapped
             self._arrays = self._allocate(cells)
             self._stamp = 0
         self._stamp += 2
@@ -301,7 +300,7 @@ def astar(
 
 
 @nb.njit(inline="always")
-def _heap_push(heap_f: NDArray[np.float64], heap_i: NDArray[np.int64], size: int, f: float, item: int) -> int:
+def _heap_push(heap_f: NDArray[np.float64], heap_i: NDArray[np.int32], size: int, f: float, item: int) -> int:
     """Push ``item`` with priority ``f`` onto the binary min-heap of ``size`` entries; returns the new size."""
     pos = size
     while pos > 0:
@@ -315,7 +314,7 @@ def _heap_push(heap_f: NDArray[np.float64], heap_i: NDArray[np.int64], size: int
 
 
 @nb.njit(inline="always")
-def _heap_pop(heap_f: NDArray[np.float64], heap_i: NDArray[np.int64], size: int) -> int:
+def _heap_pop(heap_f: NDArray[np.float64], heap_i: NDArray[np.int32], size: int) -> int:
     """Remove the root (read it first) of the min-heap of ``size`` entries; returns the new size."""
     size -= 1  # move the last entry to the root and sift it down
     last_f, last_i = heap_f[size], heap_i[size]
@@ -345,7 +344,7 @@ def astar_padded(
     goal_r: int,
     goal_c: int,
     escape: float,
-    scratch: tuple[NDArray[np.float64], NDArray[np.int64], NDArray[np.int64], NDArray[np.float64], NDArray[np.int64]],
+    scratch: SearchArrays,
     stamp: int,
 ) -> NDArray[np.int64]:
     """8-connected A* with octile heuristic on padded costmap arrays (a border of blocked cells).

@@ -344,6 +344,28 @@ def test_plan_works_out_the_step_costs_it_needs_exactly_as_the_cost_array(seed: 
         np.testing.assert_array_equal(cm.plan(start, goal), given)
 
 
+def test_search_scratch_reused_across_maps_and_stamps_gives_fresh_results() -> None:
+    """One scratch serves searches on maps of growing and shrinking size, and survives running out
+    of stamps: every path is the one a fresh scratch gives."""
+    from frontier_rl.core import planner
+
+    rng = np.random.default_rng(3)
+    shared = planner.SearchScratch()
+    for k, size in enumerate((20, 45, 30, 60, 25)):
+        data = np.where(rng.random((size, size)) < 0.25, OCC, FREE).astype(np.int8)
+        data[rng.random((size, size)) < 0.2] = UNKNOWN
+        grid = OccupancyGrid(data, 0.05)
+        fresh = Costmap.build(grid, RobotConfig(radius=0.02), NavigationConfig())
+        reused = Costmap.build(grid, RobotConfig(radius=0.02), NavigationConfig(), shared)
+        if k == 3:
+            shared._stamp = planner._MAX_STAMP - 1  # the next search must start the stamps afresh
+        cells = np.argwhere(fresh.traversable)
+        for _ in range(10):
+            start, goal = (tuple(int(v) for v in cells[i]) for i in rng.choice(len(cells), 2))
+            np.testing.assert_array_equal(reused.plan(start, goal), fresh.plan(start, goal))
+    assert shared._stamp < 100  # the stamps did start afresh
+
+
 # --------------------------------------------------------------------------------- nearest_cell
 @pytest.mark.parametrize("seed", range(6))
 def test_nearest_cell_matches_brute_force(seed: int) -> None:
