@@ -264,19 +264,38 @@ def _inflate(
 def nearest_cell(mask: NDArray[np.bool_], target: tuple[int, int], max_radius: int) -> tuple[int, int] | None:
     """The True cell of ``mask`` nearest to ``target`` (row, col), searched in growing windows
     up to ``max_radius`` cells; None if there is none that close."""
-    r, c = target
+    row, col = _nearest_cell(np.asarray(mask, np.bool_), int(target[0]), int(target[1]), int(max_radius))
+    return None if row < 0 else (int(row), int(col))
+
+
+@nb.njit(cache=True, inline="always")
+def _slice_stop(stop: int, size: int) -> int:
+    """Where a slice ``[...:stop]`` of an axis of ``size`` ends, as Python counts it."""
+    if stop < 0:
+        stop += size
+    return min(max(stop, 0), size)
+
+
+@nb.njit(cache=True)
+def _nearest_cell(mask: NDArray[np.bool_], r: int, c: int, max_radius: int) -> tuple[int, int]:
+    """:func:`nearest_cell`, (-1, -1) for None. Windows of radius 2, 4, 8, ... (capped): the first
+    with a True cell within the radius gives the nearest, ties to the first in row-major order."""
+    rows, cols = mask.shape
     radius = min(2, max_radius)
     while True:
-        r0, c0 = max(r - radius, 0), max(c - radius, 0)
-        window = mask[r0 : r + radius + 1, c0 : c + radius + 1]
-        hits = np.argwhere(window)
-        if hits.size:
-            d2 = (hits[:, 0] + r0 - r) ** 2 + (hits[:, 1] + c0 - c) ** 2
-            best = int(np.argmin(d2))
-            if d2[best] <= radius * radius:
-                return int(hits[best, 0] + r0), int(hits[best, 1] + c0)
+        r0, c0 = min(max(r - radius, 0), rows), min(max(c - radius, 0), cols)
+        r1, c1 = _slice_stop(r + radius + 1, rows), _slice_stop(c + radius + 1, cols)
+        best, best_row, best_col = -1, -1, -1
+        for rr in range(r0, r1):
+            for cc in range(c0, c1):
+                if mask[rr, cc]:
+                    d2 = (rr - r) ** 2 + (cc - c) ** 2
+                    if best < 0 or d2 < best:
+                        best, best_row, best_col = d2, rr, cc
+        if best >= 0 and best <= radius * radius:
+            return best_row, best_col
         if radius >= max_radius:
-            return None
+            return -1, -1
         radius = min(radius * 2, max_radius)
 
 
