@@ -17,6 +17,7 @@ from typing import TypeVar
 import numpy as np
 from numpy.typing import NDArray
 
+from frontier_rl.core.astar import SearchScratch
 from frontier_rl.core.frontiers import Frontiers, count_fringe, detect_frontiers
 from frontier_rl.core.grid import CellState, OccupancyGrid
 from frontier_rl.core.lidar import Lidar, LidarConfig
@@ -30,7 +31,7 @@ from frontier_rl.core.navigation import (
     path_blocked,
     stamp_discs,
 )
-from frontier_rl.core.planner import Costmap, SearchScratch, nearest_cell
+from frontier_rl.core.planner import Costmap, nearest_cell
 from frontier_rl.core.robot import Pose, RobotConfig
 from frontier_rl.core.worlds import World
 from frontier_rl.errors import ConfigError

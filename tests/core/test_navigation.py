@@ -1,5 +1,6 @@
-"""Tests of frontier_rl.core.navigation: A* against known paths and scipy's Dijkstra, the inflated
-costmap, nearest_cell, the robot footprint and the path follower's timing and collision check."""
+"""Tests of frontier_rl.core.navigation, planner and astar: A* against known paths and scipy's
+Dijkstra, the inflated costmap, nearest_cell, the robot footprint and the path follower's timing
+and collision check."""
 
 from __future__ import annotations
 
@@ -13,10 +14,12 @@ from scipy import ndimage
 from scipy.sparse import csr_matrix
 from scipy.sparse.csgraph import dijkstra
 
+from frontier_rl.core import astar as astar_module
+from frontier_rl.core.astar import SearchScratch, astar, astar_padded
 from frontier_rl.core.grid import CellState, OccupancyGrid
 from frontier_rl.core.navigation import NavigationConfig, follow_path, footprint_offsets, obstacle_distance
 from frontier_rl.core.path_costs import cost_to_go_padded
-from frontier_rl.core.planner import Costmap, astar, nearest_cell
+from frontier_rl.core.planner import Costmap, nearest_cell
 from frontier_rl.core.robot import RobotConfig
 from frontier_rl.core.worlds import generate_world
 from frontier_rl.errors import ConfigError
@@ -325,8 +328,6 @@ def test_plan_escapes_from_an_inflated_start_but_not_through_walls() -> None:
 def test_plan_works_out_the_step_costs_it_needs_exactly_as_the_cost_array(seed: int) -> None:
     """Costmap.plan computes each cell's cost where it reaches it; on a half-explored office map
     (walls, free and unknown cells, inflation) its paths are those of A* on the whole cost array."""
-    from frontier_rl.core.planner import SearchScratch, astar_padded
-
     world = generate_world("office", seed)
     rng = np.random.default_rng(seed)
     data = world.grid.data.copy()
@@ -347,10 +348,8 @@ def test_plan_works_out_the_step_costs_it_needs_exactly_as_the_cost_array(seed: 
 def test_search_scratch_reused_across_maps_and_stamps_gives_fresh_results() -> None:
     """One scratch serves searches on maps of growing and shrinking size, and survives running out
     of stamps: every path is the one a fresh scratch gives."""
-    from frontier_rl.core import planner
-
     rng = np.random.default_rng(3)
-    shared = planner.SearchScratch()
+    shared = SearchScratch()
     for k, size in enumerate((20, 45, 30, 60, 25)):
         data = np.where(rng.random((size, size)) < 0.25, OCC, FREE).astype(np.int8)
         data[rng.random((size, size)) < 0.2] = UNKNOWN
@@ -358,7 +357,7 @@ def test_search_scratch_reused_across_maps_and_stamps_gives_fresh_results() -> N
         fresh = Costmap.build(grid, RobotConfig(radius=0.02), NavigationConfig())
         reused = Costmap.build(grid, RobotConfig(radius=0.02), NavigationConfig(), shared)
         if k == 3:
-            shared._stamp = planner._MAX_STAMP - 1  # the next search must start the stamps afresh
+            shared._stamp = astar_module._MAX_STAMP - 1  # the next search must start the stamps afresh
         cells = np.argwhere(fresh.traversable)
         for _ in range(10):
             start, goal = (tuple(int(v) for v in cells[i]) for i in rng.choice(len(cells), 2))
