@@ -44,8 +44,9 @@ class SearchScratch:
 
     def next_search(self, cells: int) -> tuple[SearchArrays, int]:
         """The arrays for a search over ``cells`` cells (grown if needed) and its stamp."""
-        if self._arrays[0].shape[0] < cells or self._stamp > _MAX_STAMP:  # grown, or the stamps wrapped
-            self._arrays = self._allocate(cells)
+        capacity = self._arrays[0].shape[0]
+        if capacity < cells or self._stamp + 2 > _MAX_STAMP:  # too small, or out of stamps
+            self._arrays = self._allocate(max(capacity, cells))
             self._stamp = 0
         self._stamp += 2
         return self._arrays, self._stamp
@@ -65,7 +66,7 @@ def astar(
     cost_padded = np.pad(1.0 + np.asarray(penalty, np.float64), 1, constant_values=1.0)
     no_escape = np.zeros(open_padded.shape)
     scratch, stamp = SearchScratch().next_search(open_padded.size)
-    no_inflation = (np.zeros(np.shape(passable), np.int8), np.zeros(1), 0.0, 0.0)
+    no_inflation = (np.zeros((0, 0), np.int8), np.zeros(1), 0.0, 0.0)  # unused: the costs are given
     return astar_padded(open_padded, no_escape, no_inflation, cost_padded, start_r, start_c, goal_r, goal_c, 0.0,
                         scratch, stamp)  # fmt: skip
 

@@ -358,6 +358,9 @@ def test_search_scratch_reused_across_maps_and_stamps_gives_fresh_results() -> N
         reused = Costmap.build(grid, RobotConfig(radius=0.02), NavigationConfig(), shared)
         if k == 3:
             shared._stamp = astar_module._MAX_STAMP - 1  # the next search must start the stamps afresh
+            arrays, stamp = shared.next_search(cells=10)
+            assert stamp + 1 <= np.iinfo(np.int32).max  # its closed mark still fits the int32 stamps
+            assert not arrays[2].any()  # no stamp left from the searches before
         cells = np.argwhere(fresh.traversable)
         for _ in range(10):
             start, goal = (tuple(int(v) for v in cells[i]) for i in rng.choice(len(cells), 2))
