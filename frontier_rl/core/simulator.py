@@ -27,18 +27,13 @@ from frontier_rl.core.navigation import (
     NavigationConfig,
     follow_path,
     footprint_offsets,
-    obstacle_distance,
     path_blocked,
-    stamp_discs,
 )
 from frontier_rl.core.planner import Costmap, nearest_cell
 from frontier_rl.core.robot import Pose, RobotConfig
+from frontier_rl.core.teammates import Teammates
 from frontier_rl.core.worlds import World
 from frontier_rl.errors import ConfigError
-
-TEAMMATE_FILTER_MARGIN_M = 0.1
-"""The laser filter that keeps teammates out of a robot's map drops this much (m) around them too,
-so that a noisy reading that ends just short of a teammate leaves no phantom wall."""
 
 
 @dataclass(frozen=True)
@@ -132,11 +127,7 @@ class ExplorationSimulator:
         self.rng = rng if rng is not None else np.random.default_rng(0)
         grid = world.grid
         self._lidar = Lidar(grid, self.config.lidar)
-        self._true_blocked = self._lidar.blocked_padded  # the LiDAR's own copy gets teammates stamped in
-        self._true_clearance = obstacle_distance(grid.data == CellState.OCCUPIED, grid.resolution)
-        self._clearance = self._true_clearance  # what the follower collides with: walls, and teammates
-        self._boxes = np.zeros((0, 4), np.int64)  # the teammate discs stamped into _clearance
-        self._stamped = 0
+        self._teammates = Teammates(grid, self._lidar, self.config.robot.radius)
         self._footprint = footprint_offsets(self.config.robot.radius, grid.resolution)
         # the planner's, reused by every costmap of the episode: they are crops of the world, padded
         self._scratch = SearchScratch((grid.height + 2) * (grid.width + 2))
@@ -201,24 +192,13 @@ class ExplorationSimulator:
         by default), until the next call: the follower collides with them, the planner plans around
         them and the LiDAR's beams stop at them. The map leaves them out (a laser filter drops the
         scan's marks on and around them: they are passing, not walls)."""
-        self._teammate_radius = self.config.robot.radius if radius is None else radius
-        self.teammates = np.asarray(positions, dtype=np.float64).reshape(-1, 2)
-        if len(self.teammates) == 0 and self._stamped == 0:
-            return
-        if self._clearance is self._true_clearance:
-            self._clearance = self._true_clearance.copy()
-            self._lidar.blocked_padded = self._true_blocked.copy()
-        if len(self._boxes) < len(self.teammates):
-            self._boxes = np.zeros((len(self.teammates), 4), np.int64)
-        g = self.world.grid
-        reach = int(math.ceil((self._teammate_radius + 2.0 * self.config.robot.radius) / g.resolution)) + 1
-        # A teammate overlapping this robot (squeezing past) does not hide the world from it.
-        apart = self._teammate_distances() > self._teammate_radius + g.resolution
-        self._stamped = stamp_discs(
-            self._clearance, self._true_clearance, self._lidar.blocked_padded, self._true_blocked, self._boxes,
-            self._stamped, self.teammates[:, 0], self.teammates[:, 1], apart, self._teammate_radius, reach,
-            g.origin[0], g.origin[1], g.resolution,
-        )  # fmt: skip
+        own_radius = self.config.robot.radius
+        self._teammates.place(positions, own_radius if radius is None else radius, (self.pose.x, self.pose.y))
+
+    @property
+    def teammates(self) -> NDArray[np.float64]:
+        """The other robots' positions, (k, 2) world points (m), as of :meth:`set_teammates`."""
+        return self._teammates.positions
 
     # ---------------------------------------------------------------- sensing
     def _scan(self) -> tuple[int, int] | None:
@@ -228,9 +208,7 @@ class ExplorationSimulator:
         if not self.mapper.wants_scan(self.pose, self.sim_time):
             return None
         noise = self.rng if self.config.sensor_noise else None
-        filtered = None
-        if len(self.teammates):
-            filtered = (self.teammates, self._teammate_radius + TEAMMATE_FILTER_MARGIN_M)
+        filtered = self._teammates.laser_filter()
         update = self.mapper.integrate_simulated(self._lidar, self.pose, noise, self.sim_time, filtered)
         self._times.append(self.sim_time)
         self._explored.append(self.mapper.explored_cells)
@@ -340,12 +318,14 @@ class ExplorationSimulator:
             return None
         xy = cand.grid.cells_to_world(cells)
         nav = self.config.navigation
-        close = self.teammates[self._teammate_distances() <= nav.teammate_range]
+        mates = self._teammates
+        here = (self.pose.x, self.pose.y)
+        close = mates.positions[mates.distances(here) <= nav.teammate_range]
         if len(close):  # around nearby robots in the way, if there is a way round
-            keep_off = self._teammate_radius + self.config.robot.radius + nav.teammate_margin
+            keep_off = mates.radius + self.config.robot.radius + nav.teammate_margin
             gap = np.hypot(xy[:, None, 0] - close[None, :, 0], xy[:, None, 1] - close[None, :, 1])
             goal_xy = cand.grid.cell_to_world(*goal_cell)
-            if gap.min() <= keep_off and not self._teammates_within(keep_off, goal_xy):
+            if gap.min() <= keep_off and not mates.within(keep_off, here, goal_xy):
                 detour = cand.costmap.with_discs_blocked(close, keep_off).plan(start, goal_cell)
                 if len(detour):
                     xy = cand.grid.cells_to_world(detour)
@@ -389,7 +369,8 @@ class ExplorationSimulator:
         next_frontier_check = self.sim_time + nav.frontier_check_period
         recoveries = 0
         outcome = LegOutcome.TIMEOUT
-        clearance = self._clearance
+        mates = self._teammates
+        clearance = mates.clearance
         teammate_blocked_since: float | None = None
         while not self.truncated:
             # Drive tick by tick until the mapper wants the next scan (nothing else changes before).
@@ -428,11 +409,11 @@ class ExplorationSimulator:
             elif self.sim_time - last_progress > nav.progress_timeout:
                 outcome = LegOutcome.ABORTED
                 break
-            if status == 2 and clearance is not self._true_clearance and self._touching_teammate():
+            if status == 2 and clearance is not mates.true_clearance and mates.touching((self.pose.x, self.pose.y)):
                 if teammate_blocked_since is None:
                     teammate_blocked_since = self.sim_time
                 if self.sim_time - teammate_blocked_since >= nav.teammate_patience:
-                    clearance = self._true_clearance  # squeeze past for the rest of the leg
+                    clearance = mates.true_clearance  # squeeze past for the rest of the leg
                 else:
                     yield from self.wait_steps()  # give the other robot a moment to pass
                 continue
@@ -514,23 +495,6 @@ class ExplorationSimulator:
             [period, last_pose.x, last_pose.y, last_pose.theta, mapper_cfg.linear_update, mapper_cfg.angular_update]
         )
         return duration, gate
-
-    def _touching_teammate(self) -> bool:
-        """Whether another robot is (about) in contact with this one."""
-        contact = self._teammate_radius + self.config.robot.radius + 2.0 * self.world.grid.resolution
-        return self._teammates_within(contact)
-
-    def _teammate_distances(self, point: tuple[float, float] | None = None) -> NDArray[np.float64]:
-        """Distance (m) from this robot (or from ``point``) to each teammate."""
-        x, y = (self.pose.x, self.pose.y) if point is None else point
-        return np.asarray(np.hypot(self.teammates[:, 0] - x, self.teammates[:, 1] - y), dtype=np.float64)
-
-    def _teammates_within(self, distance: float, goal: tuple[float, float] | None = None) -> bool:
-        """Whether another robot is within ``distance`` (m) of this one (or of ``goal``)."""
-        if len(self.teammates) == 0:
-            return False
-        points = [None] if goal is None else [None, goal]
-        return any(self._teammate_distances(point).min() <= distance for point in points)
 
     def _bump(self) -> None:
         """The robot ran into a wall its map did not show (the LiDAR is blind closer than its
