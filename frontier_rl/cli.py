@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import dataclasses
 import json
 import re
 import sys
@@ -101,8 +102,7 @@ def _sim_config(config: Path | None, max_time: float | None) -> SimConfig:
     if max_time is not None:
         if not max_time > 0:
             raise ConfigError(f"--max-time must be a positive number of seconds, got {max_time!r}")
-        cfg = SimConfig(cfg.robot, cfg.lidar, cfg.mapper, cfg.navigation, cfg.min_frontier_cells, max_time,
-                        cfg.sensor_noise)  # fmt: skip
+        cfg = dataclasses.replace(cfg, max_sim_time=max_time)
     return cfg
 
 
@@ -166,8 +166,10 @@ def explore(
     elif weights:
         summary["mean_weight"] = round(float(sum(weights) / len(weights)), 3)
     if as_json:
+        summary["frontiers_left"] = [f.summary() for f in result.frontiers_left]
         typer.echo(json.dumps(summary))
         return
+    summary["frontiers_left"] = len(result.frontiers_left)
     table = Table(title=f"{the_world.name}, seed {seed}, {chosen.name}")
     table.add_column("metric")
     table.add_column("value", justify="right")
@@ -226,7 +228,7 @@ def _print_summary(report: Path, title: str, baseline: str) -> None:
 
     summary = json.loads((report.parent / "summary.json").read_text())
     labels = short_labels(summary["methods"])
-    table = Table(title=title)
+    table = Table(title=title, caption=_not_explored(summary["methods"], labels), caption_justify="left")
     for column in ("method", "mean time (s)", "vs baseline", "p one-tailed", "time / oracle", "done"):
         table.add_column(column, justify="left" if column == "method" else "right", no_wrap=column == "method")
     for name, e in summary["methods"].items():
@@ -238,6 +240,17 @@ def _print_summary(report: Path, title: str, baseline: str) -> None:
             f"{e['oracle_ratio']:.2f}" if e["oracle_ratio"] is not None else "", f"{e['episodes_done']}/{e['n']}",
         )  # fmt: skip
     Console().print(table)
+
+
+def _not_explored(methods: dict[str, dict[str, Any]], labels: dict[str, str]) -> str | None:
+    """The episodes each method ended otherwise than explored, by reason ("not explored: nearest
+    1 unreachable, 2 time_cap; ..."); None if every episode was explored."""
+    parts = []
+    for name, entry in methods.items():
+        ends = [f"{n} {reason}" for reason, n in entry["end_reasons"].items() if n and reason != "explored"]
+        if ends:
+            parts.append(f"{labels[name]} {', '.join(ends)}")
+    return "not explored: " + "; ".join(parts) if parts else None
 
 
 @app.command()

@@ -47,6 +47,8 @@ def _coerce(hint: Any, value: Any, where: str) -> Any:
         if isinstance(value, bool) or not isinstance(value, int):
             raise ConfigError(f"{where} must be an integer, got {value!r}")
         return value
+    if hint == float | None:
+        return None if value is None else _coerce(float, value, where)
     if hint is float:
         if isinstance(value, bool) or not isinstance(value, int | float) or math.isnan(value):
             raise ConfigError(f"{where} must be a number, got {value!r}")

@@ -9,6 +9,7 @@ import pytest
 from typer.testing import CliRunner
 
 from frontier_rl.cli import app
+from tests.evaluation.maps import write_slit_map
 
 runner = CliRunner()
 
@@ -18,9 +19,11 @@ def test_explore_json_has_the_documented_fields(tmp_path: Path) -> None:
     assert result.exit_code == 0, result.output
     data = json.loads(result.stdout.strip().splitlines()[-1])
     for key in ("sim_time_s", "path_length_m", "coverage", "t90_s", "t99_s", "decisions", "aborts", "done",
-                "wall_time_s"):  # fmt: skip
+                "wall_time_s", "end_reason", "free_coverage", "unknown_left_m2", "frontiers_left"):  # fmt: skip
         assert key in data
     assert data["done"] is True
+    assert data["end_reason"] == "explored" and isinstance(data["frontiers_left"], list)
+    assert sum(f["unknown_m2"] for f in data["frontiers_left"]) == pytest.approx(data["unknown_left_m2"], abs=1e-3)
     assert data["coverage"] >= 0.99
     assert 0 < data["t90_s"] <= data["t99_s"] <= data["sim_time_s"]
 
@@ -94,8 +97,26 @@ def test_max_time_truncates(shared_maps: Path) -> None:
     world = shared_maps / "lse_arena" / "lse_arena.yaml"
     result = runner.invoke(app, ["explore", "--world", str(world), "--max-time", "4", "--json"])
     data = json.loads(result.stdout.strip().splitlines()[-1])
-    assert data["truncated"] is True and data["done"] is False
+    assert data["truncated"] is True and data["done"] is False and data["end_reason"] == "time_cap"
     assert data["sim_time_s"] == pytest.approx(4.0)
+
+
+def test_explore_lists_the_frontiers_left(tmp_path: Path) -> None:
+    world = str(write_slit_map(tmp_path))  # a slit too narrow for the robot: the room behind it stays unexplored
+    result = runner.invoke(app, ["explore", "--world", world, "--start", "1,1", "--policy", "nearest", "--json"])
+    assert result.exit_code == 0, result.output
+    data = json.loads(result.stdout.strip().splitlines()[-1])
+    assert data["end_reason"] in ("explored", "unreachable") and data["truncated"] is False
+    assert data["done"] is (data["end_reason"] == "explored")
+    left = data["frontiers_left"]
+    assert left and all(set(f) == {"x", "y", "cells", "unknown_m2", "failures"} for f in left)
+    assert all(f["x"] > 2.0 and f["cells"] > 0 for f in left)  # beyond the wall at x = 2 m
+    assert sum(f["unknown_m2"] for f in left) == pytest.approx(data["unknown_left_m2"], abs=1e-3)
+    assert 0 < data["free_coverage"] < data["coverage"]
+    table = runner.invoke(app, ["explore", "--world", world, "--start", "1,1", "--policy", "nearest"])
+    assert table.exit_code == 0, table.output
+    rows = {line.split()[1]: line.split()[3] for line in table.stdout.splitlines() if line.count("│") == 3}
+    assert rows["end_reason"] == data["end_reason"] and rows["frontiers_left"] == str(len(left))
 
 
 def test_train_then_explore_with_the_learned_policy(tmp_path: Path) -> None:
@@ -146,6 +167,10 @@ def test_demo_runs_the_compact_experiment_and_draws_every_method(tmp_path: Path)
     assert {"fixed:0.75", "nearest", "oracle"} <= methods
     assert summary["worlds"] == ["office", "rooms", "cluttered"] and summary["episodes"] == 1
     assert "| fixed:0.75 (baseline) | 3 |" in (out / "experiment" / "report.md").read_text()
+    assert "**Completion**" in (out / "experiment" / "report.md").read_text()
+    capped = summary["methods"]["nearest"]["end_reasons"]["time_cap"]
+    assert capped >= 1  # 60 s is too short for these worlds
+    assert f"nearest {capped} time_cap" in " ".join(result.output.split())  # the terminal summary names them
     assert (out / "experiment" / "boxplot.png").stat().st_size > 0
     assert len(list(out.glob("*.png"))) == 3 * len(methods)
     assert (out / "office_fixed_0.75.gif").exists()

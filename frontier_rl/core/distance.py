@@ -88,10 +88,22 @@ def chamfer_distance_padded(seeds: NDArray[np.bool_], cap: float) -> NDArray[np.
 
 @nb.njit(cache=True)
 def flood_known(
-    open_padded: NDArray[np.bool_], state: NDArray[np.int8], start_row: int, start_col: int
+    open_padded: NDArray[np.bool_],
+    state: NDArray[np.int8],
+    start_row: int,
+    start_col: int,
+    clearance_padded: NDArray[np.float64] | None = None,
+    escape: float = 0.0,
 ) -> NDArray[np.bool_]:
     """Cells that are open in ``open_padded`` (a mask with a one-cell False border) and FREE in
-    ``state``, 8-connected to (start_row, start_col); all False if the start is not one of them.
+    ``state``, connected to (start_row, start_col) as the planner moves: 8-connected steps whose
+    diagonals may not cut a corner, which connect exactly what 4-connected steps do; all False
+    if the start is not one of them.
+
+    With ``clearance_padded``, the cells within ``escape`` cells of the start that are no closer to
+    a wall than the start count as open too, as the planner lets the robot cross them
+    (:func:`frontier_rl.core.astar.astar_padded`): a robot that ended up too close to clutter can
+    still back away, so what it can reach starts where it can move from.
 
     A scanline fill: it fills whole runs of a row at once and seeds the rows above and below
     with one entry per run they touch, so it reads the map row by row instead of cell by cell.
@@ -104,10 +116,19 @@ def flood_known(
     for r in range(rows):
         for c in range(cols):
             todo[r + 1, c + 1] = open_padded[r + 1, c + 1] & (state[r, c] == _FREE)
+    if clearance_padded is not None and escape > 0:
+        floor_clear = max(clearance_padded[start_row + 1, start_col + 1], 0.5)  # never an occupied cell
+        reach = int(math.ceil(escape))
+        for dr in range(-reach, reach + 1):
+            for dc in range(-reach, reach + 1):
+                r, c = start_row + dr, start_col + dc
+                if dr * dr + dc * dc <= escape * escape and 0 <= r < rows and 0 <= c < cols:
+                    if clearance_padded[r + 1, c + 1] >= floor_clear and state[r, c] == _FREE:
+                        todo[r + 1, c + 1] = 1
     if not todo[start_row + 1, start_col + 1]:
         return reached
-    # A fill of a run of n cells pushes at most n + 4 seeds (one per run of each neighbour row
-    # within its span widened by one), so 5 per cell bounds the stack.
+    # A fill of a run of n cells pushes at most n + 2 seeds (one per run of each neighbour row
+    # within its span), so 5 per cell bounds the stack.
     stack_r = np.empty(5 * rows * cols + 1, np.int64)
     stack_c = np.empty(5 * rows * cols + 1, np.int64)
     stack_r[0], stack_c[0] = start_row + 1, start_col + 1
@@ -126,13 +147,13 @@ def flood_known(
         for k in range(lo, hi + 1):
             todo[r, k] = 0
             reached[r - 1, k - 1] = True
-        for rr in (r - 1, r + 1):  # 8-connected: the neighbour rows from lo - 1 to hi + 1
-            k = lo - 1
-            while k <= hi + 1:
+        for rr in (r - 1, r + 1):  # the neighbour rows from lo to hi
+            k = lo
+            while k <= hi:
                 if todo[rr, k]:
                     stack_r[top], stack_c[top] = rr, k
                     top += 1
-                    while k <= hi + 1 and todo[rr, k]:
+                    while k <= hi and todo[rr, k]:
                         k += 1
                 else:
                     k += 1

@@ -104,7 +104,7 @@ def run_episode(
     if isinstance(policy, EpisodeAwarePolicy):
         policy.begin_episode(world, sim.config)
     stalled = 0  # decisions in a row that took no simulated time: a bug guard, never a hang
-    while not sim.truncated and not sim.done:
+    while not sim.truncated and not sim.finished:
         if stalled > _MAX_STALLED_DECISIONS:
             raise RuntimeError(
                 f"episode on {world.name!r} stalled: {stalled} decisions in a row took no simulated time "

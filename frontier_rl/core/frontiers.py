@@ -9,7 +9,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass, field
-from functools import cached_property
+from functools import cached_property, lru_cache
 
 import numba as nb
 import numpy as np
@@ -23,6 +23,7 @@ _UNKNOWN = np.int8(CellState.UNKNOWN)
 _FREE = np.int8(CellState.FREE)
 _OCCUPIED = np.int8(CellState.OCCUPIED)
 
+_MAX_SIGHT_TRIES = 64
 _NEIGHBOURS_8 = np.array([(-1, -1), (-1, 0), (-1, 1), (0, -1), (0, 1), (1, -1), (1, 0), (1, 1)], np.int64)
 
 
@@ -141,6 +142,24 @@ def count_fringe(state: NDArray[np.int8], rows_idx: NDArray[np.int64], cols_idx:
     return n
 
 
+@nb.njit(cache=True)
+def unknown_beside(
+    state: NDArray[np.int8], rows_idx: NDArray[np.int64], cols_idx: NDArray[np.int64], truth: NDArray[np.int8]
+) -> tuple[int, int]:
+    """How many UNKNOWN cells of ``state`` are 8-neighbours of the given cells (each counted
+    once), and how many of those are FREE in ``truth`` (a grid of the same shape)."""
+    rows, cols = state.shape
+    counted = set()
+    free = 0
+    for i in range(rows_idx.shape[0]):
+        for k in range(8):
+            r, c = rows_idx[i] + _NEIGHBOURS_8[k, 0], cols_idx[i] + _NEIGHBOURS_8[k, 1]
+            if 0 <= r < rows and 0 <= c < cols and state[r, c] == _UNKNOWN and r * cols + c not in counted:
+                counted.add(r * cols + c)
+                free += truth[r, c] == _FREE
+    return len(counted), free
+
+
 @nb.njit(cache=True, fastmath=FASTMATH)
 def visible_unknown(
     state: NDArray[np.int8],
@@ -177,18 +196,179 @@ def visible_unknown(
     return total
 
 
+@nb.njit(cache=True)
+def split_segments(
+    flat: NDArray[np.int64], sizes: NDArray[np.int64], min_cells: int, cols: int, radius: float
+) -> tuple[NDArray[np.int64], NDArray[np.int64]]:
+    """Split the clusters larger than ``min_cells`` into segments of cells within ``radius``
+    (cells) of a seed: seeds are placed farthest-point first (the first at the cell farthest from
+    the cluster's first cell, an end of an arc), until every cell is within ``radius`` of one,
+    and each cell joins its nearest seed. Smaller clusters are left out.
+
+    Args:
+        flat: flat cell indices grouped by cluster (as :func:`cluster_fringe` returns them).
+        sizes: cells per cluster.
+        min_cells: clusters of this many cells or fewer are dropped.
+        cols: the grid's width, to turn flat indices into rows and columns.
+        radius: the largest distance (cells) of a cell from its segment's seed; ``inf`` keeps
+            every cluster whole.
+
+    Returns:
+        the cells grouped by segment, and the cells per segment.
+    """
+    out = np.empty(flat.shape[0], np.int64)
+    seg_sizes = []
+    n_out = 0
+    start = 0
+    r2 = radius * radius
+    for k in range(sizes.shape[0]):
+        size = sizes[k]
+        cells = flat[start : start + size]
+        start += size
+        if size <= min_cells:
+            continue
+        rows = cells // cols
+        cs = cells % cols
+        label = np.zeros(size, np.int64)
+        n_seeds = 1
+        if radius < np.inf:
+            far, seed = -1.0, 0
+            for i in range(size):  # the first seed: the cell farthest from the first cell
+                d2 = float((rows[i] - rows[0]) ** 2 + (cs[i] - cs[0]) ** 2)
+                if d2 > far:
+                    far, seed = d2, i
+            mind = np.empty(size)
+            for i in range(size):
+                mind[i] = float((rows[i] - rows[seed]) ** 2 + (cs[i] - cs[seed]) ** 2)
+            while True:
+                j = int(np.argmax(mind))
+                if mind[j] <= r2:
+                    break
+                for i in range(size):
+                    d2 = float((rows[i] - rows[j]) ** 2 + (cs[i] - cs[j]) ** 2)
+                    if d2 < mind[i]:
+                        mind[i] = d2
+                        label[i] = n_seeds
+                n_seeds += 1
+        counts = np.zeros(n_seeds + 1, np.int64)
+        for i in range(size):
+            counts[label[i] + 1] += 1
+        for s in range(n_seeds):
+            if counts[s + 1] > 0:
+                seg_sizes.append(counts[s + 1])
+            counts[s + 1] += counts[s]
+        for i in range(size):  # a counting sort by segment
+            out[n_out + counts[label[i]]] = cells[i]
+            counts[label[i]] += 1
+        n_out += size
+    result = np.empty(len(seg_sizes), np.int64)
+    for s in range(len(seg_sizes)):
+        result[s] = seg_sizes[s]
+    return out[:n_out].copy(), result
+
+
+@nb.njit(cache=True, inline="always")
+def _line_of_sight(state: NDArray[np.int8], r0: int, c0: int, r1: int, c1: int) -> bool:
+    """Whether the straight line between the centres of two cells crosses only FREE cells
+    (sampled every half cell)."""
+    steps = 2 * max(abs(r1 - r0), abs(c1 - c0))
+    for i in range(1, steps):
+        t = i / steps
+        r = int(math.floor(r0 + 0.5 + (r1 - r0) * t))
+        c = int(math.floor(c0 + 0.5 + (c1 - c0) * t))
+        if state[r, c] != _FREE:
+            return False
+    return True
+
+
+@nb.njit(cache=True)
+def summarise_segments(
+    state: NDArray[np.int8],
+    reachable: NDArray[np.bool_],
+    cells: NDArray[np.int64],
+    sizes: NDArray[np.int64],
+    offsets: NDArray[np.int64],
+    robot_row: float,
+    robot_col: float,
+) -> tuple[NDArray[np.float64], NDArray[np.float64], NDArray[np.int64]]:
+    """Per segment: the centre (mean row and column, cell units), the squared distance (cells²)
+    from the robot to its nearest cell centre, and its goal cell (row, col; -1 when it has none).
+
+    The goal is a reachable cell from which the segment can be seen: its *anchor* (the segment's
+    cell nearest its centre) when that is reachable, else the reachable cell nearest to the
+    anchor, among ``offsets`` (row and column steps sorted by length), that sees it along a line
+    of FREE cells. Only the nearest ``_MAX_SIGHT_TRIES`` reachable cells are tried, which bounds
+    the work on a segment that none sees (each try walks a line of up to the reach).
+    """
+    rows, cols = state.shape
+    n = sizes.shape[0]
+    centres = np.empty((n, 2))
+    min_d2 = np.empty(n)
+    goals = np.full((n, 2), -1, np.int64)
+    start = 0
+    for k in range(n):
+        seg = cells[start : start + sizes[k]]
+        start += sizes[k]
+        sum_r = 0.0
+        sum_c = 0.0
+        best = np.inf
+        for flat in seg:
+            r, c = flat // cols, flat % cols
+            sum_r += r
+            sum_c += c
+            best = min(best, (r + 0.5 - robot_row) ** 2 + (c + 0.5 - robot_col) ** 2)
+        mean_r, mean_c = sum_r / seg.shape[0], sum_c / seg.shape[0]
+        centres[k, 0], centres[k, 1] = mean_r, mean_c
+        min_d2[k] = best
+        anchor, near = seg[0], np.inf
+        for flat in seg:
+            d2 = (flat // cols - mean_r) ** 2 + (flat % cols - mean_c) ** 2
+            if d2 < near:
+                anchor, near = flat, d2
+        ar, ac = anchor // cols, anchor % cols
+        tries = 0
+        for i in range(offsets.shape[0]):
+            r, c = ar + offsets[i, 0], ac + offsets[i, 1]
+            if 0 <= r < rows and 0 <= c < cols and reachable[r, c]:
+                if _line_of_sight(state, r, c, ar, ac):
+                    goals[k, 0], goals[k, 1] = r, c
+                    break
+                tries += 1
+                if tries == _MAX_SIGHT_TRIES:
+                    break
+    return centres, min_d2, goals
+
+
+@lru_cache(maxsize=8)
+def disc_offsets(radius: int) -> NDArray[np.int64]:
+    """(row, col) steps of length at most ``radius`` cells, shortest first (ties in row-major order)."""
+    dr, dc = np.mgrid[-radius : radius + 1, -radius : radius + 1]
+    d2 = (dr * dr + dc * dc).ravel()
+    keep = d2 <= radius * radius
+    order = np.argsort(d2[keep], kind="stable")
+    offsets = np.column_stack((dr.ravel()[keep][order], dc.ravel()[keep][order])).astype(np.int64)
+    offsets.flags.writeable = False
+    return offsets
+
+
 @dataclass(frozen=True)
 class Frontiers:
     """The candidate frontiers of one map, as parallel arrays (one entry per frontier).
 
+    A frontier is a fringe cluster, or a segment of one: clusters longer than the segment length
+    are split (:func:`split_segments`) so that each goal resolves a part the robot can see.
+
     Attributes:
         grid: the map they were found on.
-        centers: (n, 2) cluster centres, the mean of the cells' centres, world (x, y) in m.
-        sizes: (n,) number of fringe cells.
+        centers: (n, 2) frontier centres, the mean of the cells' centres, world (x, y) in m
+            (eq. 3.1's d is measured to it; it may lie off the frontier, e.g. inside an arc).
+        sizes: (n,) number of fringe cells (eq. 3.1's g).
         distances: (n,) straight-line distance from the robot to the centre (m).
         min_distances: (n,) straight-line distance from the robot to the nearest cell centre (m).
-        flat_cells: flat indices into ``grid`` of the cells of all clusters, grouped by cluster.
+        flat_cells: flat indices into ``grid`` of the cells of all frontiers, grouped by frontier.
         spans: (n, 2) start and end of each frontier's cells in ``flat_cells``.
+        goal_cells: (n, 2) the goal of each frontier, (row, col) in ``grid``: a cell the robot can
+            reach that sees the frontier (see :func:`summarise_segments`).
     """
 
     grid: OccupancyGrid
@@ -198,9 +378,15 @@ class Frontiers:
     min_distances: NDArray[np.float64]
     flat_cells: NDArray[np.int64] = field(repr=False)
     spans: NDArray[np.int64] = field(repr=False)
+    goal_cells: NDArray[np.int64] = field(repr=False)
 
     def __len__(self) -> int:
         return int(self.sizes.shape[0])
+
+    @property
+    def goals(self) -> NDArray[np.float64]:
+        """(n, 2) goal points, world (x, y) in m: the centres of the goal cells."""
+        return self.grid.cells_to_world(self.goal_cells)
 
     def cells_of(self, index: int) -> NDArray[np.int64]:
         """(size, 2) row and column indices in ``grid`` of frontier ``index``'s cells."""
@@ -224,6 +410,7 @@ class Frontiers:
             self.min_distances[idx],
             self.flat_cells,
             self.spans[idx],
+            self.goal_cells[idx],
         )
 
     def information_gain(self, sensor_range: float, n_rays: int = 180) -> NDArray[np.int64]:
@@ -250,61 +437,34 @@ def detect_frontiers(
     robot: Pose,
     reachable: NDArray[np.bool_] | None = None,
     min_cells: int = 4,
+    segment_length: float = math.inf,
+    goal_reach: float = 3.0,
 ) -> Frontiers:
-    """Frontier clusters of ``grid`` larger than ``min_cells`` that touch ``reachable``.
+    """Frontier clusters of ``grid`` larger than ``min_cells``, split into segments of at most
+    about ``segment_length`` (m), that the robot can get to see.
 
     Args:
         grid: the robot's map.
         robot: robot pose (m); distances are measured from it.
         reachable: cells the robot can reach through known free space (same shape as the grid);
-            ``None`` accepts every cluster.
+            a segment is kept when one of them within ``goal_reach`` (m) of it sees it (its goal).
+            ``None`` accepts every segment, with its goal on the segment itself.
         min_cells: clusters of this many cells or fewer are dropped (the thesis drops <= 4).
+        segment_length: the largest span (m) of a segment; ``inf`` keeps clusters whole.
+        goal_reach: how far (m) from a segment its goal may be.
     """
     res = grid.resolution
     robot_col = (robot.x - grid.origin[0]) / res
     robot_row = (robot.y - grid.origin[1]) / res
     reach = np.ones(grid.shape, np.bool_) if reachable is None else reachable
-    counts, stats, flat = cluster_fringe(grid.data, reach, robot_row, robot_col)
-    centers, sizes, distances, min_distances, spans = _kept_clusters(
-        counts, stats, min_cells, grid.origin[0], grid.origin[1], res, robot.x, robot.y
-    )
-    return Frontiers(grid, centers, sizes, distances, min_distances, flat, spans)
-
-
-@nb.njit(cache=True)
-def _kept_clusters(
-    counts: NDArray[np.int64],
-    stats: NDArray[np.float64],
-    min_cells: int,
-    origin_x: float,
-    origin_y: float,
-    resolution: float,
-    robot_x: float,
-    robot_y: float,
-) -> tuple[NDArray[np.float64], NDArray[np.int64], NDArray[np.float64], NDArray[np.float64], NDArray[np.int64]]:
-    """The clusters of :func:`cluster_fringe` larger than ``min_cells`` with a reachable cell:
-    centres (m), sizes, distance from the robot to the centre and to the nearest cell (m), and
-    their spans in the cluster-ordered cells."""
-    n = 0
-    for k in range(counts.shape[0]):
-        n += counts[k, 0] > min_cells and counts[k, 1] > 0
-    centers = np.empty((n, 2))
-    sizes = np.empty(n, np.int64)
-    distances = np.empty(n)
-    min_distances = np.empty(n)
-    spans = np.empty((n, 2), np.int64)
-    start = 0
-    i = 0
-    for k in range(counts.shape[0]):
-        size = counts[k, 0]
-        if size > min_cells and counts[k, 1] > 0:
-            x = origin_x + (stats[k, 1] / size + 0.5) * resolution
-            y = origin_y + (stats[k, 0] / size + 0.5) * resolution
-            centers[i, 0], centers[i, 1] = x, y
-            sizes[i] = size
-            distances[i] = math.hypot(x - robot_x, y - robot_y)
-            min_distances[i] = math.sqrt(stats[k, 2]) * resolution
-            spans[i, 0], spans[i, 1] = start, start + size
-            i += 1
-        start += size
-    return centers, sizes, distances, min_distances, spans
+    counts, _, flat = cluster_fringe(grid.data, reach, robot_row, robot_col)
+    radius = segment_length / (2.0 * res) if math.isfinite(segment_length) else np.inf
+    cells, sizes = split_segments(flat, counts[:, 0].copy(), min_cells, grid.width, radius)
+    offsets = disc_offsets(int(goal_reach / res) if reachable is not None else 0)
+    centres, min_d2, goals = summarise_segments(grid.data, reach, cells, sizes, offsets, robot_row, robot_col)
+    ends = np.cumsum(sizes)
+    spans = np.column_stack((ends - sizes, ends)).astype(np.int64).reshape(-1, 2)
+    xy = np.column_stack((grid.origin[0] + (centres[:, 1] + 0.5) * res, grid.origin[1] + (centres[:, 0] + 0.5) * res))
+    distances = np.hypot(xy[:, 0] - robot.x, xy[:, 1] - robot.y)
+    everything = Frontiers(grid, xy.reshape(-1, 2), sizes, distances, np.sqrt(min_d2) * res, cells, spans, goals)
+    return everything.subset(goals[:, 0] >= 0)

@@ -33,6 +33,36 @@ class DecisionRecord:
 
 
 @dataclass(frozen=True)
+class FrontierLeft:
+    """A frontier the episode ended without exploring.
+
+    Attributes:
+        x, y: its centre (m).
+        cells: its fringe cells.
+        unknown_cells: the unknown cells next to its cells (8-neighbours).
+        unseen_free_cells: those of them that are free in the true world: space left unseen (the
+            others are walls no beam reached, or noise).
+        unknown_m2: the area of the unseen free cells (m²).
+        failures: how often a leg to a goal of it failed (0: no reachable cell sees it, e.g. it lies
+            behind a gap narrower than the robot).
+    """
+
+    x: float
+    y: float
+    cells: int
+    unknown_cells: int
+    unseen_free_cells: int
+    unknown_m2: float
+    failures: int
+
+    def summary(self) -> dict[str, Any]:
+        """A JSON-ready dict."""
+        return {"x": round(self.x, 3), "y": round(self.y, 3), "cells": self.cells,
+                "unknown_cells": self.unknown_cells,
+                "unseen_free_cells": self.unseen_free_cells, "unknown_m2": round(self.unknown_m2, 4), "failures": self.failures}  # fmt: skip
+
+
+@dataclass(frozen=True)
 class EpisodeResult:
     """What one exploration episode did.
 
@@ -43,13 +73,22 @@ class EpisodeResult:
         t90_s, t99_s: sim time at which coverage first reached 90 % / 99 % (s); None if never.
         decisions: number of decisions taken.
         aborts: goals given up (no progress, unreachable) and blacklisted.
-        done: exploration ended by itself (no reachable frontier left).
+        done: the map is explored: no frontier is left that the robot could see from where it can go
+            (``end_reason == "explored"``).
         truncated: the sim-time cap ended the episode.
         wall_time_s: wall-clock time of the episode loop (s), without set-up and compilation.
+        end_reason: "explored", "unreachable" (frontiers are left, each failed its attempts or has
+            no reachable cell that sees it: see ``frontiers_left``) or "time_cap"; None while the
+            episode goes on.
+        free_coverage: share of all the world's free cells (connected to the start) that are
+            mapped, explorable or not.
+        unknown_left_m2: the unseen free area (m²) beside the frontiers left: free in the true
+            world, unknown in the map.
         coverage_times_s, coverage_curve: coverage after every map update, and when (s).
         trajectory: (n, 3) robot pose (x, y, theta) at every LiDAR tick.
         decision_log: every decision, in order.
         final_map: the robot's map at the end.
+        frontiers_left: the frontiers left at the end (none when explored).
     """
 
     sim_time_s: float
@@ -62,11 +101,15 @@ class EpisodeResult:
     done: bool
     truncated: bool
     wall_time_s: float
+    end_reason: str | None
+    free_coverage: float
+    unknown_left_m2: float
     coverage_times_s: NDArray[np.float64] = field(repr=False)
     coverage_curve: NDArray[np.float64] = field(repr=False)
     trajectory: NDArray[np.float64] = field(repr=False)
     decision_log: tuple[DecisionRecord, ...] = field(repr=False, default=())
     final_map: OccupancyGrid | None = field(repr=False, default=None)
+    frontiers_left: tuple[FrontierLeft, ...] = field(repr=False, default=())
 
     @property
     def real_time_factor(self) -> float:
@@ -85,6 +128,9 @@ class EpisodeResult:
             "aborts": self.aborts,
             "done": self.done,
             "truncated": self.truncated,
+            "end_reason": self.end_reason,
+            "free_coverage": round(self.free_coverage, 5),
+            "unknown_left_m2": round(self.unknown_left_m2, 4),
             "wall_time_s": round(self.wall_time_s, 4),
             "real_time_factor": round(self.real_time_factor, 1),
         }

@@ -39,7 +39,9 @@ class NavigationConfig:
         progress_distance: the remaining path must shrink by this much (m) to count as progress...
         oscillation_distance: ... or the robot must move this far (m) (move_base's setting).
         max_recoveries: in-place rotations tried when stuck before the goal is aborted.
-        blacklist_radius: frontiers whose centre lies this close (m) to a blacklisted goal are ignored.
+        blacklist_radius: frontiers whose goal lies this close (m) to a failed goal are skipped
+            (until the map around it changes, or it is retried before the episode would end).
+        max_goal_failures: a goal that failed this often is given up for good.
         frontier_check_period: how often (s) the goal's frontier is checked for being explored.
         teammate_margin: in a team, paths keep this much room (m) from other robots when they can.
         teammate_range: ... from the robots within this distance (m); farther ones will have moved
@@ -62,6 +64,7 @@ class NavigationConfig:
     oscillation_distance: float = 0.5
     max_recoveries: int = 2
     blacklist_radius: float = 0.25
+    max_goal_failures: int = 2
     frontier_check_period: float = 1.0
     teammate_margin: float = 0.1
     teammate_range: float = 1.5
@@ -75,6 +78,8 @@ class NavigationConfig:
             value = getattr(self, name)
             if not (math.isfinite(value) and value > 0):
                 raise ConfigError(f"NavigationConfig.{name} must be positive, got {value!r}")
+        if self.max_goal_failures < 1:
+            raise ConfigError(f"NavigationConfig.max_goal_failures must be >= 1, got {self.max_goal_failures!r}")
         if self.max_recoveries < 0:
             raise ConfigError(f"NavigationConfig.max_recoveries must be >= 0, got {self.max_recoveries!r}")
 

@@ -25,6 +25,10 @@ from frontier_rl.core.step_costs import inflation_table, step_costs
 
 _OCCUPIED = np.int8(CellState.OCCUPIED)
 _NO_COSTS = np.zeros(0)  # astar_padded works the step costs out itself
+ESCAPE_RADIUS_M = 0.25
+"""Around the robot, cells closer to a wall than the robot radius may be crossed within this
+distance (m), if no closer to a wall than the robot already is: so it can leave a wall it ended up
+against (move_base clears the robot's footprint for the same reason)."""
 
 
 @dataclass(frozen=True)
@@ -110,13 +114,16 @@ class Costmap:
             clear_p[r0 + 1 : r1 + 1, c0 + 1 : c1 + 1][inside] = 0.0  # so the start's escape zone stays shut
         return Costmap(g, open_p, clear_p, self.inflation_table, self.inflation_radius, self.unknown_cost, self.scratch)
 
-    def reachable_known(self, start: tuple[int, int]) -> NDArray[np.bool_]:
-        """Known-free traversable cells connected (8-way) to ``start`` (row, col), or to the nearest
-        such cell within 0.5 m when the start itself is not one."""
+    def reachable_known(self, start: tuple[int, int], escape_radius: float = ESCAPE_RADIUS_M) -> NDArray[np.bool_]:
+        """Known-free cells the robot at ``start`` (row, col) can drive to: traversable cells
+        connected (8-way) to it, through the cells within ``escape_radius`` (m) it may cross to
+        leave a wall as :meth:`plan` does; from the nearest traversable known-free cell within
+        0.5 m when the start itself is not known free."""
         r, c = start
         if not self.grid.in_bounds(r, c):
             return np.zeros(self.grid.shape, np.bool_)
-        reach = flood_known(self.open_padded, self.grid.data, r, c)
+        escape = escape_radius / self.grid.resolution
+        reach = flood_known(self.open_padded, self.grid.data, r, c, self.clearance_padded, escape)
         if not reach[r, c]:
             mask = self.traversable & (self.grid.data == CellState.FREE)
             nearest = nearest_cell(mask, start, max_radius=int(round(0.5 / self.grid.resolution)))
@@ -131,7 +138,9 @@ class Costmap:
             return np.full(self.grid.shape, np.inf)
         return cost_field(self, start)
 
-    def plan(self, start: tuple[int, int], goal: tuple[int, int], escape_radius: float = 0.25) -> NDArray[np.int64]:
+    def plan(
+        self, start: tuple[int, int], goal: tuple[int, int], escape_radius: float = ESCAPE_RADIUS_M
+    ) -> NDArray[np.int64]:
         """A* path (cells, (n, 2) rows and columns) from ``start`` to ``goal``; empty if none.
 
         Cells within ``escape_radius`` (m) of the start may be crossed even if inflated (not if

@@ -18,11 +18,12 @@ import numpy as np
 from numpy.typing import NDArray
 
 from frontier_rl.core.astar import SearchScratch
-from frontier_rl.core.frontiers import Frontiers, count_fringe, detect_frontiers
+from frontier_rl.core.blacklist import Blacklist
+from frontier_rl.core.frontiers import Frontiers, count_fringe, detect_frontiers, unknown_beside
 from frontier_rl.core.grid import CellState, OccupancyGrid
 from frontier_rl.core.lidar import Lidar, LidarConfig
 from frontier_rl.core.mapping import LogOddsMapper, MapperConfig
-from frontier_rl.core.metrics import DecisionRecord, EpisodeResult, time_to_coverage
+from frontier_rl.core.metrics import DecisionRecord, EpisodeResult, FrontierLeft, time_to_coverage
 from frontier_rl.core.navigation import (
     NavigationConfig,
     follow_path,
@@ -46,8 +47,15 @@ class SimConfig:
         mapper: the log-odds map update.
         navigation: costmap, planner and controller.
         min_frontier_cells: frontier clusters of this many cells or fewer are dropped.
-        max_sim_time: sim-time cap of an episode (s); the episode is truncated there.
+        max_sim_time: sim-time cap of an episode (s); the episode is truncated there. ``None``
+            (the default) scales it with the world: see :meth:`time_cap`.
         sensor_noise: whether LiDAR ranges get noise.
+        time_per_area: the default cap allows this much sim time per m² of explorable space (s/m²).
+        min_time_cap: ... and never less than this (s).
+        frontier_segment_length: frontier clusters longer than this (m) are split into segments,
+            each a candidate with its own goal (about the mapping range: one view resolves one).
+        frontier_goal_reach: a frontier's goal is a reachable cell that sees it from at most this
+            far (m); a frontier with none is not a candidate.
     """
 
     robot: RobotConfig = field(default_factory=RobotConfig)
@@ -55,14 +63,31 @@ class SimConfig:
     mapper: MapperConfig = field(default_factory=MapperConfig)
     navigation: NavigationConfig = field(default_factory=NavigationConfig)
     min_frontier_cells: int = 4
-    max_sim_time: float = 3600.0
+    max_sim_time: float | None = None
     sensor_noise: bool = True
+    time_per_area: float = 10.0
+    min_time_cap: float = 3600.0
+    frontier_segment_length: float = 3.0
+    frontier_goal_reach: float = 3.0
 
     def __post_init__(self) -> None:
         if self.min_frontier_cells < 0:
             raise ConfigError(f"min_frontier_cells must be >= 0, got {self.min_frontier_cells!r}")
-        if not (self.max_sim_time > 0 and math.isfinite(self.max_sim_time)):
+        if self.max_sim_time is not None and not (self.max_sim_time > 0 and math.isfinite(self.max_sim_time)):
             raise ConfigError(f"max_sim_time must be a positive number of seconds, got {self.max_sim_time!r}")
+        for name in ("time_per_area", "min_time_cap", "frontier_segment_length", "frontier_goal_reach"):
+            value = getattr(self, name)
+            if not (math.isfinite(value) and value > 0):
+                raise ConfigError(f"{name} must be a positive number, got {value!r}")
+
+    def time_cap(self, world: World) -> float:
+        """The sim-time cap (s) of an episode on ``world``: ``max_sim_time`` when set, else
+        ``time_per_area`` s per m² of its explorable space, at least ``min_time_cap`` (an office
+        of 12.5 m x 12.5 m gets 3,600 s; a 60 m x 50 m floor about 20,000 s)."""
+        if self.max_sim_time is not None:
+            return self.max_sim_time
+        area = world.explorable_count * world.grid.resolution**2
+        return max(self.min_time_cap, self.time_per_area * area)
 
 
 class LegOutcome(Enum):
@@ -73,6 +98,14 @@ class LegOutcome(Enum):
     ABORTED = "aborted"  # no progress, no path, or stuck: the goal is blacklisted
     TIMEOUT = "timeout"  # the episode's sim-time cap
     NONE = "none"  # no candidate could be planned to
+
+
+class EndReason(Enum):
+    """Why an episode ended."""
+
+    EXPLORED = "explored"  # no frontier left with free space behind it
+    UNREACHABLE = "unreachable"  # frontiers left with free space behind: every attempt failed, or no reachable view
+    TIME_CAP = "time_cap"  # the sim-time cap
 
 
 @dataclass(frozen=True)
@@ -125,6 +158,7 @@ class ExplorationSimulator:
         self.world = world
         self.config = config or SimConfig()
         self.rng = rng if rng is not None else np.random.default_rng(0)
+        self.max_sim_time = self.config.time_cap(world)
         grid = world.grid
         self._lidar = Lidar(grid, self.config.lidar)
         self._teammates = Teammates(grid, self._lidar, self.config.robot.radius)
@@ -149,13 +183,14 @@ class ExplorationSimulator:
         self.sim_time = 0.0
         self.path_length = 0.0
         self.aborts = 0
-        self.blacklist: list[tuple[float, float]] = []
+        nav = self.config.navigation
+        grid = self.world.grid
+        self.blacklist = Blacklist(nav.blacklist_radius, nav.max_goal_failures, grid.resolution, grid.origin)
         self.decisions: list[DecisionRecord] = []
         self._times: list[float] = []
         self._explored: list[int] = []
         self._poses: list[tuple[float, float, float]] = []
         self._candidates: _Candidates | None = None
-        self._finished = False
         self.target: tuple[float, float] | None = None  # the frontier centre or point of the leg under way
         self.set_teammates(np.zeros((0, 2)) if teammates is None else teammates)
         self._scan()
@@ -172,12 +207,45 @@ class ExplorationSimulator:
     @property
     def truncated(self) -> bool:
         """Whether the sim-time cap has been reached."""
-        return self.sim_time >= self.config.max_sim_time - 1e-9
+        return self.sim_time >= self.max_sim_time - 1e-9
 
     @property
-    def done(self) -> bool:
-        """Whether exploration has ended by itself (no reachable, non-blacklisted frontier)."""
-        return self._finished or len(self.candidates().frontiers) == 0
+    def finished(self) -> bool:
+        """Whether exploration has ended by itself: no candidate frontier is left (every one
+        explored, or failed all its attempts, or out of reach); :meth:`end_reason` says which."""
+        return len(self.candidates().frontiers) == 0
+
+    def end_reason(self) -> EndReason | None:
+        """Why the episode ended, None while it goes on."""
+        if self.truncated:
+            return EndReason.TIME_CAP
+        if not self.finished:
+            return None
+        return EndReason.UNREACHABLE if unresolved(self.frontiers_left(), self.config) else EndReason.EXPLORED
+
+    def frontiers_left(self) -> tuple[FrontierLeft, ...]:
+        """The frontiers of the current map that are not candidates (blacklisted after failed
+        attempts, or with no reachable cell that sees them), with the unknown area beside each."""
+        cand = self.candidates()
+        every = detect_frontiers(
+            cand.grid, self.pose, None, self.config.min_frontier_cells, self.config.frontier_segment_length
+        )
+        res = cand.grid.resolution
+        top, left_col = self.world.grid.world_to_cell(*cand.grid.cell_to_world(0, 0))
+        truth = self.world.grid.data[top : top + cand.grid.height, left_col : left_col + cand.grid.width]
+        candidate_cells = np.zeros(cand.grid.shape[0] * cand.grid.shape[1], np.bool_)
+        for start, end in cand.frontiers.spans:
+            candidate_cells[cand.frontiers.flat_cells[start:end]] = True
+        left = []
+        for i in range(len(every)):
+            cells = every.cells_of(i)
+            if candidate_cells[cells[:, 0] * cand.grid.width + cells[:, 1]].any():
+                continue
+            x, y = (float(v) for v in every.centers[i])
+            failures = max((self.blacklist.failures_near(*g) for g in cand.grid.cells_to_world(cells)), default=0)
+            unknown, unseen = unknown_beside(cand.grid.data, cells[:, 0], cells[:, 1], truth)
+            left.append(FrontierLeft(x, y, int(every.sizes[i]), unknown, unseen, unseen * res * res, failures))
+        return tuple(left)
 
     def trajectory(self) -> NDArray[np.float64]:
         """(n, 3) robot poses (x, y, theta) so far: after every drive step, at least at every map update."""
@@ -217,17 +285,21 @@ class ExplorationSimulator:
 
     # -------------------------------------------------------------- decisions
     def candidates(self) -> _Candidates:
-        """The current map, its costmap and the reachable, non-blacklisted frontiers (cached)."""
+        """The current map, its costmap and the reachable, non-blacklisted frontiers (cached).
+
+        When the blacklist would leave none, the goals that may be retried are lifted once, so
+        that the episode never ends with a frontier it gave up on after a single failure."""
         if self._candidates is None:
             grid = self.mapper.occupancy_grid(margin=2)
             costmap, reachable, frontiers = reachable_frontiers(grid, self.pose, self.config, scratch=self._scratch)
-            if self.blacklist and len(frontiers):
-                black = np.asarray(self.blacklist)
-                d = np.hypot(
-                    frontiers.centers[:, None, 0] - black[None, :, 0],
-                    frontiers.centers[:, None, 1] - black[None, :, 1],
-                )
-                frontiers = frontiers.subset(d.min(axis=1) > self.config.navigation.blacklist_radius)
+            if self.blacklist.entries and len(frontiers):
+                self.blacklist.refresh(self.mapper.state)
+                goals = frontiers.goals
+                kept = frontiers.subset(~self.blacklist.blocked(goals))
+                if len(kept) == 0:
+                    self.blacklist.retry()
+                    kept = frontiers.subset(~self.blacklist.blocked(goals))
+                frontiers = kept
             self._candidates = _Candidates(grid, costmap, reachable, frontiers)
         return self._candidates
 
@@ -252,24 +324,20 @@ class ExplorationSimulator:
             index = int(index)
             if not 0 <= index < len(cand.frontiers):
                 raise IndexError(f"frontier index {index} out of range 0..{len(cand.frontiers) - 1}")
-            center = (float(cand.frontiers.centers[index, 0]), float(cand.frontiers.centers[index, 1]))
-            goal_cell = nearest_cell(
-                cand.reachable, cand.grid.world_to_cell(*center), max_radius=_grid_diagonal(cand.grid)
-            )
-            path = None if goal_cell is None else self._plan(cand, goal_cell)
-            if path is None or goal_cell is None:
-                self.blacklist.append(center)
+            row, col = (int(v) for v in cand.frontiers.goal_cells[index])
+            goal = cand.grid.cell_to_world(row, col)
+            path = self._plan(cand, (row, col))
+            if path is None:
+                self.blacklist.fail(*goal, self.mapper.state)
                 self.aborts += 1
                 continue
-            goal = cand.grid.cell_to_world(*goal_cell)
             frontier_xy = cand.grid.cells_to_world(cand.frontiers.cells_of(index))
-            self.target = center
+            self.target = goal
             try:
-                return (yield from self._drive(path, goal, frontier_xy, center, index, weight))
+                return (yield from self._drive(path, goal, frontier_xy, index, weight))
             finally:
                 self.target = None
         self._candidates = None  # the blacklist changed
-        self._finished = len(self.frontiers()) == 0
         self._log(weight, (math.nan, math.nan), LegOutcome.NONE)
         return LegResult(LegOutcome.NONE, -1, (math.nan, math.nan), self.sim_time - start_time,
                          self.path_length - start_len, 0, 0)  # fmt: skip
@@ -305,7 +373,7 @@ class ExplorationSimulator:
             return LegResult(LegOutcome.REACHED, -1, goal, self.sim_time - start_time, 0.0, new_free, new_occ)
         self.target = goal
         try:
-            return (yield from self._drive(path, goal, None, None, -1, weight))
+            return (yield from self._drive(path, goal, None, -1, weight))
         finally:
             self.target = None
 
@@ -349,7 +417,6 @@ class ExplorationSimulator:
         path: NDArray[np.float64],
         goal: tuple[float, float],
         frontier_xy: NDArray[np.float64] | None,
-        center: tuple[float, float] | None,
         index: int,
         weight: float | None,
     ) -> Generator[None, None, LegResult]:
@@ -446,14 +513,14 @@ class ExplorationSimulator:
         reached_alive = (
             outcome is LegOutcome.REACHED and frontier_cells is not None and self._frontier_alive(frontier_cells)
         )
-        if reached_alive and center is not None and frontier_cells is not None:
+        if reached_alive and frontier_cells is not None:
             yield from self.wait_steps()
             if self._frontier_alive(frontier_cells):
-                self.blacklist.append(center)
+                self.blacklist.fail(*goal, self.mapper.state)
                 self._candidates = None
         if outcome is LegOutcome.ABORTED:
             self.aborts += 1
-            self.blacklist.append(center if center is not None else goal)
+            self.blacklist.fail(*goal, self.mapper.state)
             self._candidates = None
         self._log(weight, goal, outcome, start=(start_time, start_xy))
         return LegResult(
@@ -480,7 +547,7 @@ class ExplorationSimulator:
         to the sim-time cap), and the ``gate`` of :func:`follow_path` for its motion triggers."""
         period = self.config.lidar.period
         mapper_cfg = self.config.mapper
-        left = self.config.max_sim_time - self.sim_time
+        left = self.max_sim_time - self.sim_time
         last = self.mapper.last_update
         if last is None:
             return min(period, left), np.array([period, self.pose.x, self.pose.y, self.pose.theta, 0.0, 0.0])
@@ -522,7 +589,7 @@ class ExplorationSimulator:
         for _ in range(steps):
             if self.truncated:
                 break
-            step = min(period, self.config.max_sim_time - self.sim_time)
+            step = min(period, self.max_sim_time - self.sim_time)
             self.pose = Pose(self.pose.x, self.pose.y, (self.pose.theta + omega * step) % (2 * math.pi))
             self.sim_time += step
             seen = self._scan()
@@ -546,9 +613,12 @@ class ExplorationSimulator:
 
     # ---------------------------------------------------------------- results
     def result(self, wall_time_s: float) -> EpisodeResult:
-        """The episode's metrics so far."""
+        """The episode's metrics so far (an episode still under way has end reason None)."""
         times = np.asarray(self._times, dtype=np.float64)
         curve = np.asarray(self._explored, dtype=np.float64) / max(self.world.explorable_count, 1)
+        reason = self.end_reason()
+        left = self.frontiers_left() if reason is not None else ()
+        free = self.world.grid.data == CellState.FREE
         return EpisodeResult(
             sim_time_s=self.sim_time,
             path_length_m=self.path_length,
@@ -557,14 +627,18 @@ class ExplorationSimulator:
             t99_s=time_to_coverage(times, curve, 0.99),
             decisions=len(self.decisions),
             aborts=self.aborts,
-            done=self._finished or (not self.truncated and len(self.candidates().frontiers) == 0),
+            done=reason is EndReason.EXPLORED,
             truncated=self.truncated,
             wall_time_s=wall_time_s,
+            end_reason=None if reason is None else reason.value,
+            free_coverage=int(np.count_nonzero(self.mapper.seen & free)) / max(int(np.count_nonzero(free)), 1),
+            unknown_left_m2=sum(f.unknown_m2 for f in left),
             coverage_times_s=times,
             coverage_curve=curve,
             trajectory=self.trajectory(),
             decision_log=tuple(self.decisions),
             final_map=self.mapper.occupancy_grid(),
+            frontiers_left=left,
         )
 
 
@@ -593,7 +667,19 @@ def reachable_frontiers(
     costmap = Costmap.build(grid, config.robot, config.navigation, scratch)
     reachable = costmap.reachable_known(grid.world_to_cell(pose.x, pose.y))
     cells = config.min_frontier_cells if min_cells is None else min_cells
-    return costmap, reachable, detect_frontiers(grid, pose, reachable, cells)
+    frontiers = detect_frontiers(
+        grid, pose, reachable, cells, config.frontier_segment_length, config.frontier_goal_reach
+    )
+    return costmap, reachable, frontiers
+
+
+def unresolved(left: Sequence[FrontierLeft], config: SimConfig) -> bool:
+    """Whether real space is left unseen beside the frontiers left: more than
+    ``min_frontier_cells`` cells that are unknown in the map and free in the true world, beside
+    one of them (fewer is a speck, as the thesis treats fringe clusters that small). A frontier
+    whose unknown side is all wall (cells no beam reached, or range noise that marked cells inside
+    a wall free) leaves nothing to explore."""
+    return any(f.unseen_free_cells > config.min_frontier_cells for f in left)
 
 
 _T = TypeVar("_T")

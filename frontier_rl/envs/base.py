@@ -100,13 +100,13 @@ class ExplorationEnv(gym.Env[ObsT, np.int64], Generic[ObsT]):
     def step(self, action: Any) -> tuple[ObsT, float, bool, bool, dict[str, Any]]:
         """Take one decision and simulate the drive that follows it."""
         sim = self.sim
-        if sim.done or sim.truncated or self._decisions >= self.config.max_decisions:
+        if sim.finished or sim.truncated or self._decisions >= self.config.max_decisions:
             raise RuntimeError("the episode has ended; call reset() before step()")
         index = self._check_action(action)
         coverage_before = sim.coverage
         leg, extra = self._act(index)
         self._decisions += 1
-        terminated = sim.done
+        terminated = sim.finished
         truncated = not terminated and (sim.truncated or self._decisions >= self.config.max_decisions)
         reward = self.rewards.leg_reward(leg, sim.coverage - coverage_before, terminated) + extra
         return self._observe(), float(reward), terminated, truncated, self._info(leg)

@@ -4,7 +4,9 @@ The summary is what ``summary.json`` holds and what the report lays out:
 
     {"baseline": ..., "reference": "oracle" | null, "worlds": [...], "episodes": N, "seed": S,
      "methods": {NAME: {"n", "mean_time_s", "var_time_s", "mean_diff_s", "ci95_s", "p_one_tailed",
-                        "p_two_tailed", "p_wilcoxon", "reduction_pct", "oracle_ratio", ...}},
+                        "p_two_tailed", "p_wilcoxon", "reduction_pct", "oracle_ratio",
+                        "end_reasons": {"explored": n, "unreachable": n, "time_cap": n, ...},
+                        "mean_coverage", "min_coverage", "mean_free_coverage", "mean_unknown_left_m2", ...}},
      "outliers": {"1000": {"methods": {NAME: {..., "excluded"}}}, ...},
      "per_world": {WORLD: {"methods": {...}}},           # only with more than one world
      "teams": {POLICY: {STRATEGY: {ROBOTS: {"method", "n", "mean_time_s", "ci95_half_s"}}}}}
@@ -14,11 +16,13 @@ The summary is what ``summary.json`` holds and what the report lays out:
 from __future__ import annotations
 
 import math
+from collections import Counter
 from typing import Any
 
 import numpy as np
 from scipy import stats as scipy_stats
 
+from frontier_rl.core.simulator import EndReason
 from frontier_rl.evaluation.experiment import ORACLE, ExperimentConfig
 from frontier_rl.evaluation.statistics import compare_methods
 from frontier_rl.swarm.config import TeamMethod
@@ -98,7 +102,11 @@ def _method_table(rows: Rows, config: ExperimentConfig, worlds: tuple[str, ...])
         entry["median_time_s"] = float(np.median(times[method]))
         entry["oracle_ratio"] = _ratio(float(np.mean(times[method])), oracle_mean)
         entry["episodes_done"] = sum(bool(r["done"]) for r in own)
+        entry["end_reasons"] = end_reasons(own)
         entry["mean_coverage"] = float(np.mean([r["coverage"] for r in own]))
+        entry["min_coverage"] = float(np.min([r["coverage"] for r in own]))
+        entry["mean_free_coverage"] = float(np.mean([r["free_coverage"] for r in own]))
+        entry["mean_unknown_left_m2"] = float(np.mean([r["unknown_left_m2"] for r in own]))
         entry["mean_path_length_m"] = float(np.mean([r["path_length_m"] for r in own]))
         entry["mean_t90_s"] = _mean_of_present(r["t90_s"] for r in own)
         entry["mean_t99_s"] = _mean_of_present(r["t99_s"] for r in own)
@@ -109,6 +117,14 @@ def _method_table(rows: Rows, config: ExperimentConfig, worlds: tuple[str, ...])
         entry["mean_overlap"] = float(np.mean([r["overlap"] for r in own]))
         table[method] = entry
     return table
+
+
+def end_reasons(rows: list[dict[str, Any]]) -> dict[str, int]:
+    """How many of ``rows`` ended for each reason: "explored", "unreachable" and "time_cap" always
+    (0 if none did), then any other reason a row gives (a team's "failed"), by name."""
+    counts = Counter(str(r["end_reason"]) for r in rows if r["end_reason"] is not None)
+    standard = {reason.value: counts.pop(reason.value, 0) for reason in EndReason}
+    return standard | dict(sorted(counts.items()))
 
 
 def _finite(value: float) -> float | None:

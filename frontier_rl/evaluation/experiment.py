@@ -282,7 +282,10 @@ def run_job(job: EpisodeJob, settings: EpisodeSettings) -> dict[str, Any]:
     return {"row": row, "trace": trace}
 
 
-ROW_METRICS = ("sim_time_s", "path_length_m", "coverage", "t90_s", "t99_s", "decisions", "aborts", "done", "truncated")
+ROW_METRICS = (
+    "sim_time_s", "path_length_m", "coverage", "t90_s", "t99_s", "decisions", "aborts", "done", "truncated",
+    "end_reason", "free_coverage", "unknown_left_m2",
+)  # fmt: skip
 """The episode metrics a row carries (see :class:`frontier_rl.core.metrics.EpisodeResult`)."""
 
 ROW_COLUMNS = (

@@ -16,7 +16,14 @@ from frontier_rl.evaluation.experiment import ORACLE, ExperimentConfig
 from frontier_rl.evaluation.plots import box_plot, coverage_plot, paired_scatter, team_size_plot, weight_plot
 from frontier_rl.evaluation.results import ResultStore
 from frontier_rl.evaluation.statistics import stats_from_dict
-from frontier_rl.evaluation.tables import TABLE_4_1_HEADER, Table, number, short_labels, table_4_1_row
+from frontier_rl.evaluation.tables import (
+    TABLE_4_1_HEADER,
+    Table,
+    completion_table,
+    number,
+    short_labels,
+    table_4_1_row,
+)
 from frontier_rl.swarm.config import TeamMethod
 
 _MAX_WORLD_TABLES = 12
@@ -73,15 +80,15 @@ def report_tables(
     summary: dict[str, Any], config: ExperimentConfig, teams_traces: dict[str, list[dict[str, Any]]] | None = None
 ) -> list[Table]:
     """Table 4.1 of all episodes (with the ratio to the oracle), of each outlier cut and of each
-    world, a table of the other metrics, and one of the team methods (``teams_traces``: their
-    traces, for the per-robot figures)."""
+    world, a table of the other metrics, one of how the episodes ended, and one of the team methods
+    (``teams_traces``: their traces, for the per-robot figures)."""
     labels = short_labels(config.methods)
     world_labels = short_labels(config.worlds)
     main = _table_4_1(summary["methods"], config, labels, "Exploration time, all episodes", oracle=True)
-    capped = {m: e["n"] - e["episodes_done"] for m, e in summary["methods"].items() if e["episodes_done"] < e["n"]}
+    capped = {m: e["end_reasons"]["time_cap"] for m, e in summary["methods"].items() if e["end_reasons"]["time_cap"]}
     if capped:
         note = ", ".join(f"{labels[m]} {k}" for m, k in capped.items())
-        note = f"{main.note} Episodes cut at the sim-time cap (their time counts as the cap): {note}."
+        note = f"{main.note} Episodes cut at the sim-time cap (their time counts as the cap): {note}.".strip()
         main = Table(main.header, main.rows, main.title, note)
     tables = [main]
     for threshold, cut in summary["outliers"].items():
@@ -116,6 +123,7 @@ def report_tables(
             number(e["mean_aborts"], 2), number(e["mean_weight"], 3), number(e["mean_wall_time_s"], 2),
         ])  # fmt: skip
     tables.append(metrics)
+    tables.append(completion_table(summary["methods"], labels))
     if "teams" in summary:
         tables.append(_team_table(summary, labels, teams_traces or {}))
     return tables

@@ -31,6 +31,7 @@ Key = tuple[str, str, int]
 _INT_COLUMNS = ("episode", "seed", "decisions", "aborts", "robots")
 _BOOL_COLUMNS = ("done", "truncated")
 _TEXT_COLUMNS = ("method", "world")
+_OPTIONAL_TEXT_COLUMNS = ("end_reason",)  # an empty field is None
 
 
 class ResultStore:
@@ -115,7 +116,12 @@ class ResultStore:
 
     # ------------------------------------------------------------------ reading
     def _load(self) -> None:
-        for line in _complete_lines(self.csv_path)[1:]:  # the first is the header
+        lines = _complete_lines(self.csv_path)
+        if lines and lines[0] != ",".join(ROW_COLUMNS):
+            raise ConfigError(
+                f"{self.csv_path} has the columns of another version of frontier_rl; choose another --out"
+            )
+        for line in lines[1:]:  # the first is the header
             row = parse_row(line)
             key = (row["method"], row["world"], row["episode"])
             self.rows[key] = row
@@ -168,7 +174,7 @@ def format_row(row: dict[str, Any]) -> str:
 
 
 def parse_row(line: str) -> dict[str, Any]:
-    """A row from one CSV line, with its numbers and booleans typed."""
+    """A row from one CSV line, with its numbers and booleans typed (an empty field is None)."""
     values = next(csv.reader([line]))
     if len(values) != len(ROW_COLUMNS):
         raise ConfigError(f"episodes.csv: a row has {len(values)} fields, expected {len(ROW_COLUMNS)}: {line[:80]!r}")
@@ -183,6 +189,8 @@ def parse_row(line: str) -> dict[str, Any]:
                 row[column] = int(text)
             elif column in _BOOL_COLUMNS:
                 row[column] = {"True": True, "False": False}[text]
+            elif column in _OPTIONAL_TEXT_COLUMNS:
+                row[column] = text
             else:
                 row[column] = float(text)
         except (ValueError, KeyError):

@@ -8,6 +8,7 @@ from collections import Counter
 from collections.abc import Iterable
 from dataclasses import dataclass, field
 from pathlib import Path
+from typing import Any
 
 from frontier_rl.errors import ConfigError
 from frontier_rl.evaluation.statistics import PairedStats
@@ -106,3 +107,28 @@ def table_4_1(results: dict[str, PairedStats], baseline: str, title: str = "") -
     the reduction of the mean time (``.markdown()`` and ``.html()`` render it)."""
     rows = [table_4_1_row(name, s, name == baseline) for name, s in results.items()]
     return Table(TABLE_4_1_HEADER, rows, title)
+
+
+def completion_table(entries: dict[str, dict[str, Any]], labels: dict[str, str] | None = None) -> Table:
+    """How the episodes of each method ended, from ``summary.json``'s method entries: how many were
+    explored, ended with unreachable frontiers left or at the sim-time cap (and for any other reason
+    a method gave, such as a team's "failed"), the mean and lowest coverage, the mean share of all
+    free cells mapped and the mean unknown area left beside the frontiers left."""
+    labels = labels or {}
+    reasons = list(dict.fromkeys(reason for e in entries.values() for reason in e["end_reasons"]))
+    table = Table(
+        ("method", "episodes", *(reason.replace("_", " ") for reason in reasons), "mean coverage", "min coverage",
+         "free coverage", "unknown left (m²)"),
+        title="Completion",
+        note="explored: no frontier left that the robot could see from where it can go; unreachable: frontiers "
+        "left, none of them reachable; time cap: cut at the sim-time cap. coverage: share of the explorable "
+        "space mapped; free coverage: share of all free cells mapped; unknown left: the unknown area beside the "
+        "frontiers left (mean over episodes).",
+    )  # fmt: skip
+    for method, e in entries.items():
+        table.rows.append([
+            labels.get(method, method), str(e["n"]), *(str(e["end_reasons"].get(r, 0)) for r in reasons),
+            number(100 * e["mean_coverage"], 2, " %"), number(100 * e["min_coverage"], 2, " %"),
+            number(100 * e["mean_free_coverage"], 2, " %"), number(e["mean_unknown_left_m2"], 2),
+        ])  # fmt: skip
+    return table

@@ -20,10 +20,10 @@ import numpy as np
 from numpy.typing import NDArray
 
 from frontier_rl.core.episode import DecisionContext, Ranking, decision_context
-from frontier_rl.core.grid import OccupancyGrid
+from frontier_rl.core.grid import CellState, OccupancyGrid
 from frontier_rl.core.mapping import LogOddsMapper
-from frontier_rl.core.metrics import time_to_coverage
-from frontier_rl.core.simulator import ExplorationSimulator, SimConfig
+from frontier_rl.core.metrics import FrontierLeft, time_to_coverage
+from frontier_rl.core.simulator import EndReason, ExplorationSimulator, SimConfig, unresolved
 from frontier_rl.core.worlds import World
 from frontier_rl.swarm.config import Strategy, TeamConfig
 from frontier_rl.swarm.coordination import coordinated_order
@@ -324,6 +324,8 @@ class TeamSimulator:
         sims = [r.sim for r in self.robots]
         explorable = self.world.explorable
         first = sims[0].result(wall)
+        left = self._frontiers_left()
+        reason = self._end_reason(left)
         return TeamResult(
             sim_time_s=self.sim_time,
             path_length_m=sum(s.path_length for s in sims),
@@ -332,9 +334,12 @@ class TeamSimulator:
             t99_s=time_to_coverage(times, curve, 0.99),
             decisions=sum(len(s.decisions) for s in sims),
             aborts=sum(s.aborts for s in sims),
-            done=self._done,
+            done=self._done and reason == EndReason.EXPLORED.value,
             truncated=self.truncated,
             wall_time_s=wall,
+            end_reason=reason,
+            free_coverage=self._free_coverage(),
+            unknown_left_m2=sum(f.unknown_m2 for f in left),
             coverage_times_s=times,
             coverage_curve=curve,
             trajectory=first.trajectory,
@@ -348,4 +353,26 @@ class TeamSimulator:
             failed_at_s=tuple(r.failed_at for r in self.robots),
             trajectories=tuple(s.trajectory() for s in sims),
             team_map=self.team_map(),
+            frontiers_left=left,
         )
+
+    def _frontiers_left(self) -> tuple[FrontierLeft, ...]:
+        """The frontiers the surviving robots ended without exploring (none before the end)."""
+        if not self._done:
+            return ()
+        return tuple(f for r in self.alive for f in r.sim.frontiers_left())
+
+    def _end_reason(self, left: tuple[FrontierLeft, ...]) -> str | None:
+        """Why the team's episode ended (None while it goes on): "failed" when no robot is left."""
+        if self.truncated:
+            return EndReason.TIME_CAP.value
+        if not self._over:
+            return None
+        if not self.alive:
+            return "failed"
+        return (EndReason.UNREACHABLE if unresolved(left, self.config) else EndReason.EXPLORED).value
+
+    def _free_coverage(self) -> float:
+        """Share of the world's free cells the surviving robots know."""
+        free = self.world.grid.data == CellState.FREE
+        return int(np.count_nonzero(self._known & free)) / max(int(np.count_nonzero(free)), 1)

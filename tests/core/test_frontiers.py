@@ -196,13 +196,16 @@ def test_reachability_filter(grid_from_text: TextGrid) -> None:
     both = detect_frontiers(g, robot)
     assert sorted(both.sizes.tolist()) == [5, 6]
     reachable = np.zeros(g.shape, bool)
-    reachable[0, :5] = True  # only the left room; it does not touch the fringe row 1 ...
-    assert len(detect_frontiers(g, robot, reachable)) == 0
-    reachable[1, 4] = True  # ... one fringe cell of the left cluster: the whole cluster counts
+    assert len(detect_frontiers(g, robot, reachable)) == 0  # nothing reachable: no candidate
+    reachable[0, :5] = True  # the left room's lower row sees the left fringe, not the right one behind the wall
     left = detect_frontiers(g, robot, reachable)
     assert left.sizes.tolist() == [5]
     assert left.centers[0, 0] < 5 * g.resolution
-    reachable[1, 11] = True
+    assert left.goal_cells[0, 0] == 0 and left.goal_cells[0, 1] < 5  # its goal is a reachable cell
+    assert len(detect_frontiers(g, robot, reachable, goal_reach=0.0)) == 0  # too far for a goal at 0 m
+    reachable[1, 2] = True  # the fringe cell nearest the cluster's centre is reachable: the goal is on it
+    assert detect_frontiers(g, robot, reachable, goal_reach=0.0).sizes.tolist() == [5]
+    reachable[0, 11] = True
     assert len(detect_frontiers(g, robot, reachable)) == 2
 
 
@@ -223,8 +226,8 @@ def test_subset_keeps_parallel_arrays_in_order() -> None:
 
 @pytest.mark.parametrize("seed", [0, 3])
 def test_detect_frontiers_matches_scipy_components_on_a_real_map(seed: int) -> None:
-    """After a few scans of an office world: the clusters are exactly the 8-connected components of
-    the fringe mask with more than 4 cells that touch the reachable region."""
+    """After a few scans of an office world: unsplit, the clusters are exactly the 8-connected
+    components of the fringe mask with more than 4 cells."""
     w = generate_world("office", seed)
     lidar = Lidar(w.grid)
     mapper = LogOddsMapper(w.grid, explorable=w.explorable)
@@ -234,14 +237,13 @@ def test_detect_frontiers_matches_scipy_components_on_a_real_map(seed: int) -> N
         r, c = free[rng.integers(len(free))]
         mapper.integrate_simulated(lidar, Pose(*w.grid.cell_to_world(r, c), 0.0), rng, float(k))
     grid = mapper.occupancy_grid(margin=2)
-    reachable = rng.random(grid.shape) < 0.3
     robot = Pose(*grid.cell_to_world(grid.height // 2, grid.width // 2), 0.0)
-    f = detect_frontiers(grid, robot, reachable)
+    f = detect_frontiers(grid, robot)  # every cluster, unsplit
     labels, n = ndimage.label(fringe_reference(grid.data), structure=EIGHT)
     expected = []
     for k in range(1, n + 1):
         comp = labels == k
-        if comp.sum() > 4 and (comp & reachable).any():
+        if comp.sum() > 4:
             expected.append(frozenset(map(tuple, np.argwhere(comp).tolist())))
     got = [frozenset(map(tuple, cells.tolist())) for cells in f.cells]
     assert len(got) > 0

@@ -300,8 +300,11 @@ def test_reachable_known_snaps_a_start_near_a_wall_and_gives_up_outside() -> Non
     data[:, [0, -1]] = OCC
     cm = Costmap.build(OccupancyGrid(data, 0.05), RobotConfig(), NavigationConfig())
     assert not cm.traversable[1, 1]
-    reach = cm.reachable_known((1, 1))  # inside the inflated zone: snapped to the nearest good cell
-    assert reach[20, 20] and reach.sum() == cm.traversable.sum()
+    reach = cm.reachable_known((1, 1))  # inside the inflated zone: it may back away from the walls
+    assert reach[20, 20] and reach[1, 1] and np.all(reach[cm.traversable])
+    escape = reach & ~cm.traversable  # the cells it crosses to get out, no closer to a wall than (1, 1)
+    assert escape.sum() > 0 and np.all(cm.clearance[escape] >= cm.clearance[1, 1])
+    assert not reach[0].any() and not reach[:, 0].any()  # never a wall cell
     assert not cm.reachable_known((-1, 5)).any()
     assert not cm.reachable_known((5, 40)).any()
 
@@ -571,3 +574,21 @@ def test_follow_path_blocked_mid_tick_waits_until_the_tick_ends() -> None:
 def test_bad_navigation_config_raises_config_error_naming_the_value(kwargs: dict[str, float], named: str) -> None:
     with pytest.raises(ConfigError, match=named.replace(".", r"\.")):
         NavigationConfig(**kwargs)  # type: ignore[arg-type]
+
+
+@pytest.mark.parametrize("seed", range(4))
+def test_every_reachable_cell_can_be_planned_to(seed: int) -> None:
+    """Reachability and the planner agree: on a cluttered, half-known map, every cell the flood
+    calls reachable has an A* path from the start (a reachable goal that cannot be planned to
+    was blacklisted on real maps, where the flood crossed corners the planner may not cut)."""
+    rng = np.random.default_rng(seed)
+    data = np.where(rng.random((60, 60)) < 0.04, OCC, FREE).astype(np.int8)
+    data[rng.random((60, 60)) < 0.1] = CellState.UNKNOWN
+    grid = OccupancyGrid(data, 0.05)
+    cm = Costmap.build(grid, RobotConfig(), NavigationConfig())
+    start = tuple(int(v) for v in np.argwhere(cm.traversable & (data == FREE))[0])
+    reach = cm.reachable_known(start)
+    cells = np.argwhere(reach)
+    assert len(cells) > 20
+    for goal in cells[rng.integers(len(cells), size=20)]:
+        assert len(cm.plan(start, (int(goal[0]), int(goal[1])))) > 0

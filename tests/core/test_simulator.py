@@ -38,10 +38,12 @@ def real(maps: Path, name: str, k: int) -> World:
     return make_world(loaded.grid, name, start=loaded.start, rng=np.random.default_rng(k))
 
 
-def check_episode(result: EpisodeResult, cap: float = SimConfig().max_sim_time) -> None:
+def check_episode(result: EpisodeResult, cap: float = SimConfig().min_time_cap) -> None:
     """The invariants every finished episode's metrics hold."""
     assert result.coverage >= 0.99, result.summary()
     assert result.done and not result.truncated, result.summary()
+    assert result.end_reason == "explored", result.summary()
+    assert all(f.failures == 0 for f in result.frontiers_left)  # only frontiers no reachable cell sees
     assert 0 < result.sim_time_s < cap
     assert result.path_length_m > 0
     assert result.t90_s is not None and result.t99_s is not None
@@ -82,7 +84,14 @@ def test_the_other_shared_maps_are_explored_without_stalling(shared_maps: Path, 
     decision repeated for ever. Reached-but-unresolved frontiers are now blacklisted."""
     loaded = load_map(shared_maps / path)
     world = make_world(loaded.grid, path, start=loaded.start, rng=np.random.default_rng(0))
-    check_episode(run_episode(world, make_policy("fixed:0.75"), seed=0))
+    result = run_episode(world, make_policy("fixed:0.75"), seed=0)
+    if result.end_reason == "unreachable":  # e.g. the depot's floor behind scattered SLAM noise
+        assert result.coverage >= 0.99 and not result.truncated, result.summary()
+        assert result.unknown_left_m2 > 0 and any(f.unseen_free_cells > 4 for f in result.frontiers_left)
+        limit = SimConfig().navigation.max_goal_failures
+        assert all(f.failures in (0, limit) for f in result.frontiers_left)  # every view was tried, or none exists
+    else:
+        check_episode(result)
 
 
 @pytest.mark.parametrize("world_name", GENERATED)
@@ -193,7 +202,7 @@ def test_a_fresh_simulator_has_scanned_once() -> None:
     grid = sim.map()
     row, col = grid.world_to_cell(world.start.x, world.start.y)
     assert grid.in_bounds(row, col) and grid.data[row, col] == FREE
-    assert len(sim.frontiers()) > 0 and not sim.done
+    assert len(sim.frontiers()) > 0 and not sim.finished and sim.end_reason() is None
 
 
 @pytest.mark.parametrize("offset", [0, 1, 100])

@@ -60,6 +60,10 @@ def test_rows_are_paired_and_complete(serial_run: Path) -> None:
         assert len({(r["world"], r["seed"], r["start_x_m"], r["start_y_m"], r["start_theta_rad"]) for r in pair}) == 1
     assert {r["seed"] for r in rows} == {"0", "1"}
     assert all(float(r["sim_time_s"]) <= 80.0 + 1e-6 for r in rows)
+    for row in rows:  # how each episode ended; cut at 80 s, none explores the office
+        assert row["end_reason"] == "time_cap" and row["truncated"] == "True" and row["done"] == "False"
+        assert 0.0 < float(row["free_coverage"]) <= float(row["coverage"]) + 1e-9
+        assert float(row["unknown_left_m2"]) >= 0.0
     traces = [json.loads(line) for line in (serial_run / "traces.jsonl").read_text().splitlines()]
     assert [(t["method"], t["episode"]) for t in traces] == [(r["method"], int(r["episode"])) for r in rows]
 
@@ -85,6 +89,13 @@ def test_summary_json_has_the_documented_fields(serial_run: Path) -> None:
     diffs = [times[("fixed:0.75", e)] - times[("nearest", e)] for e in ("0", "1")]
     assert nearest["n"] == 2 and nearest["mean_diff_s"] == pytest.approx(sum(diffs) / 2)
     assert set(summary["outliers"]) == {"1000", "2000"}
+    for method, entry in summary["methods"].items():
+        own = [r for r in _rows(serial_run) if r["method"] == method]
+        assert entry["end_reasons"] == {"explored": 0, "unreachable": 0, "time_cap": 2}
+        assert entry["mean_coverage"] == pytest.approx(sum(float(r["coverage"]) for r in own) / 2)
+        assert entry["min_coverage"] == min(float(r["coverage"]) for r in own)
+        assert entry["mean_free_coverage"] == pytest.approx(sum(float(r["free_coverage"]) for r in own) / 2)
+        assert entry["mean_unknown_left_m2"] == pytest.approx(sum(float(r["unknown_left_m2"]) for r in own) / 2)
 
 
 def test_report_files_hold_the_table(serial_run: Path) -> None:
@@ -94,8 +105,13 @@ def test_report_files_hold_the_table(serial_run: Path) -> None:
     assert "| method | n | mean time (s) | variance (s²) | mean saving (s)" in markdown
     assert "| fixed:0.75 (baseline) | 2 |" in markdown and "| nearest | 2 |" in markdown
     assert "![Exploration time per method](boxplot.png)" in markdown
+    header = "| method | episodes | explored | unreachable | time cap | mean coverage | min coverage"
+    assert f"**Completion**\n\n{header}" in markdown
+    assert "| nearest | 2 | 0 | 0 | 2 |" in markdown
+    assert "cap): fixed:0.75 2, nearest 2." in markdown  # the episodes cut at the cap, named under Table 4.1
     page = (serial_run / "report.html").read_text()
     assert page.count("<table>") >= 3 and "fixed:0.75 (baseline)" in page
+    assert "<caption>Completion</caption>" in page
     assert page.count("data:image/png;base64,") == 3  # figures embedded: no weight plot without learned methods
 
 
