@@ -62,8 +62,8 @@ def _frontiers_from(
     md = d.copy() if min_distances is None else np.asarray(min_distances, dtype=np.float64)
     ends = np.cumsum(s)
     spans = np.column_stack((ends - s, ends)).astype(np.int64).reshape(-1, 2)
-    goals = np.column_stack([grid.world_to_cell(float(x), float(y)) for x, y in c]).T.reshape(-1, 2) if n else np.zeros((0, 2), np.int64)
-    return Frontiers(grid, c, s, d, md, np.zeros(int(s.sum()), np.int64), spans, goals.astype(np.int64))
+    goals = np.array([grid.world_to_cell(float(x), float(y)) for x, y in c], np.int64).reshape(-1, 2)
+    return Frontiers(grid, c, s, d, md, np.zeros(int(s.sum()), np.int64), spans, goals)
 
 
 @pytest.fixture(scope="session")

@@ -122,9 +122,9 @@ def flood_known(
         for dr in range(-reach, reach + 1):
             for dc in range(-reach, reach + 1):
                 r, c = start_row + dr, start_col + dc
-                if dr * dr + dc * dc <= escape * escape and 0 <= r < rows and 0 <= c < cols:
-                    if clearance_padded[r + 1, c + 1] >= floor_clear and state[r, c] == _FREE:
-                        todo[r + 1, c + 1] = 1
+                inside = dr * dr + dc * dc <= escape * escape and 0 <= r < rows and 0 <= c < cols
+                if inside and clearance_padded[r + 1, c + 1] >= floor_clear and state[r, c] == _FREE:
+                    todo[r + 1, c + 1] = 1
     if not todo[start_row + 1, start_col + 1]:
         return reached
     # A fill of a run of n cells pushes at most n + 2 seeds (one per run of each neighbour row

@@ -57,9 +57,15 @@ class FrontierLeft:
 
     def summary(self) -> dict[str, Any]:
         """A JSON-ready dict."""
-        return {"x": round(self.x, 3), "y": round(self.y, 3), "cells": self.cells,
-                "unknown_cells": self.unknown_cells,
-                "unseen_free_cells": self.unseen_free_cells, "unknown_m2": round(self.unknown_m2, 4), "failures": self.failures}  # fmt: skip
+        return {
+            "x": round(self.x, 3),
+            "y": round(self.y, 3),
+            "cells": self.cells,
+            "unknown_cells": self.unknown_cells,
+            "unseen_free_cells": self.unseen_free_cells,
+            "unknown_m2": round(self.unknown_m2, 4),
+            "failures": self.failures,
+        }
 
 
 @dataclass(frozen=True)

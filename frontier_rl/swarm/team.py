@@ -370,7 +370,8 @@ class TeamSimulator:
             return None
         if not self.alive:
             return "failed"
-        return (EndReason.UNREACHABLE if unresolved(left, self.config) else EndReason.EXPLORED).value
+        reason = EndReason.UNREACHABLE if unresolved(left, self.config) else EndReason.EXPLORED
+        return str(reason.value)
 
     def _free_coverage(self) -> float:
         """Share of the world's free cells the surviving robots know."""

@@ -161,7 +161,7 @@ def test_a_start_in_a_pocket_smaller_than_the_robot_is_refused() -> None:
     data = walled(40, 40)
     data[10:30, 18:22] = OCC
     data[19:21, 19:21] = FREE  # a 0.1 m pocket inside a wall block
-    with pytest.raises(MapError, match="too close to a wall|inside a wall"):
+    with pytest.raises(MapError, match=r"too close to a wall|inside a wall"):
         make_world(OccupancyGrid(data, RES), "pocket", start=Pose(1.0, 1.0, 0.0))
 
 
