@@ -109,7 +109,9 @@ def test_explore_lists_the_frontiers_left(tmp_path: Path) -> None:
     assert data["end_reason"] in ("explored", "unreachable") and data["truncated"] is False
     assert data["done"] is (data["end_reason"] == "explored")
     left = data["frontiers_left"]
-    assert left and all(set(f) == {"x", "y", "cells", "unknown_m2", "failures"} for f in left)
+    assert left and all(
+        set(f) == {"x", "y", "cells", "unknown_cells", "unseen_free_cells", "unknown_m2", "failures"} for f in left
+    )
     assert all(f["x"] > 2.0 and f["cells"] > 0 for f in left)  # beyond the wall at x = 2 m
     assert sum(f["unknown_m2"] for f in left) == pytest.approx(data["unknown_left_m2"], abs=1e-3)
     assert 0 < data["free_coverage"] < data["coverage"]

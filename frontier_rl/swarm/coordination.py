@@ -27,7 +27,7 @@ def coordinated_order(
         centres: (n, 2) frontier centres (m).
         order: the robot's own ranking, best first (a permutation of some of range(n)).
         claims: (k, 2) goals (m) of the teammates it is in contact with.
-        claim_radius: a frontier whose centre is this close (m) to a claim is taken.
+        claim_radius: a frontier whose goal is this close (m) to a claim (a teammate's goal) is taken.
         coordination_range: the discount reaches this far (m) from a claim.
     """
     order = np.asarray(order, dtype=np.int64)

@@ -214,7 +214,7 @@ class TeamSimulator:
         else:
             order = ranking.order
             if self.team.strategy is not Strategy.UNCOORDINATED:
-                order = coordinated_order(sim.frontiers().centers, order, self.claims(index), self.team.claim_radius,
+                order = coordinated_order(sim.frontiers().goals, order, self.claims(index), self.team.claim_radius,
                                           self.team.coordination_range)  # fmt: skip
             robot.leg = sim.execute_steps(order, ranking.weight)
         self._step(robot)

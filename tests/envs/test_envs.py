@@ -72,7 +72,7 @@ def test_reset_rebuilds_everything() -> None:
     again, info = env.reset(seed=5)
     assert np.array_equal(fresh, again)
     assert info["sim_time_s"] == 0.0 and info["decisions"] == 0
-    assert env.sim.blacklist == [] and env.sim.path_length == 0.0
+    assert not env.sim.blacklist.entries and env.sim.path_length == 0.0
     other, _ = env.reset(seed=6)
     assert not np.array_equal(fresh, other)
 

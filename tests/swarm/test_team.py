@@ -82,12 +82,12 @@ def test_coordination_never_sends_two_robots_to_one_frontier_while_others_remain
     checked = 0
     while (index := team.next_decision()) is not None:
         claims = team.claims(index)
-        centres = team.robots[index].sim.frontiers().centers
+        centres = team.robots[index].sim.frontiers().goals
         free = [c for c in centres if len(claims) == 0 or np.hypot(*(claims - c).T).min() > config.claim_radius]
         team.assign(index, POLICY.rank(team.context(index), rng))
         sim = team.robots[index].sim
         if free and len(claims) and sim.target is not None:
-            black = np.asarray(sim.blacklist).reshape(-1, 2)
+            black = np.asarray([(e.x, e.y) for e in sim.blacklist.entries if e.active]).reshape(-1, 2)
             unreachable = [len(black) and np.hypot(*(black - c).T).min() < 1e-9 for c in free]
             if not all(unreachable):  # a free frontier it could plan to: it must have taken one
                 assert np.hypot(*(claims - np.asarray(sim.target)).T).min() > config.claim_radius
@@ -198,7 +198,7 @@ def test_what_a_failed_robot_had_not_shared_is_lost() -> None:
     fell = np.flatnonzero(np.diff(result.coverage_curve) < 0)
     assert len(fell) == 1  # the team's coverage fell once: when robot 1 failed
     assert 40.0 <= result.coverage_times_s[fell[0] + 1] <= 41.0
-    assert result.done and result.coverage >= 0.99  # robot 0 saw it all again
+    assert result.end_reason in ("explored", "unreachable") and result.coverage >= 0.99  # robot 0 saw it all again
 
 
 def test_random_failures_are_seeded() -> None:
