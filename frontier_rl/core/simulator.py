@@ -221,7 +221,11 @@ class ExplorationSimulator:
             return EndReason.TIME_CAP
         if not self.finished:
             return None
-        return EndReason.UNREACHABLE if unresolved(self.frontiers_left(), self.config) else EndReason.EXPLORED
+        return self._reason_from(self.frontiers_left())
+
+    def _reason_from(self, left: tuple[FrontierLeft, ...]) -> EndReason:
+        """The end reason of a finished episode that leaves the frontiers ``left``."""
+        return EndReason.UNREACHABLE if unresolved(left, self.config) else EndReason.EXPLORED
 
     def frontiers_left(self) -> tuple[FrontierLeft, ...]:
         """The frontiers of the current map that are not candidates (blacklisted after failed
@@ -616,8 +620,9 @@ class ExplorationSimulator:
         """The episode's metrics so far (an episode still under way has end reason None)."""
         times = np.asarray(self._times, dtype=np.float64)
         curve = np.asarray(self._explored, dtype=np.float64) / max(self.world.explorable_count, 1)
-        reason = self.end_reason()
-        left = self.frontiers_left() if reason is not None else ()
+        ended = self.truncated or self.finished
+        left = self.frontiers_left() if ended else ()  # computed once: the end reason reads it too
+        reason = None if not ended else EndReason.TIME_CAP if self.truncated else self._reason_from(left)
         free = self.world.grid.data == CellState.FREE
         return EpisodeResult(
             sim_time_s=self.sim_time,
