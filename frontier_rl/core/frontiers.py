@@ -281,6 +281,37 @@ def _line_of_sight(state: NDArray[np.int8], r0: int, c0: int, r1: int, c1: int) 
     return True
 
 
+@nb.njit(cache=True, fastmath=FASTMATH)
+def _viewer_by_rays(
+    state: NDArray[np.int8], reachable: NDArray[np.bool_], ar: int, ac: int, reach: float
+) -> tuple[int, int]:
+    """The reachable cell nearest to cell (ar, ac) along a ray of FREE cells from it, within
+    ``reach`` cells; (-1, -1) when none. The rays are at most one cell apart at full reach, so a
+    viewer through a gap narrower than the robot is found wherever it stands."""
+    rows, cols = state.shape
+    n_rays = max(8, int(math.ceil(2.0 * math.pi * reach)))
+    best_t, best_r, best_c = np.inf, -1, -1
+    for i in range(n_rays):
+        a = 2.0 * math.pi * i / n_rays
+        row, col, s_r, s_c, tm_r, tm_c, td_r, td_c = ray_start(ac + 0.5, ar + 0.5, math.cos(a), math.sin(a))
+        t = 0.0
+        while t <= min(reach, best_t) and 0 <= row < rows and 0 <= col < cols:
+            if state[row, col] != _FREE:
+                break
+            if reachable[row, col]:
+                best_t, best_r, best_c = t, row, col
+                break
+            if tm_c < tm_r:
+                col += s_c
+                t = tm_c
+                tm_c += td_c
+            else:
+                row += s_r
+                t = tm_r
+                tm_r += td_r
+    return best_r, best_c
+
+
 @nb.njit(cache=True)
 def summarise_segments(
     state: NDArray[np.int8],
@@ -297,11 +328,13 @@ def summarise_segments(
     The goal is a reachable cell from which the segment can be seen: its *anchor* (the segment's
     cell nearest its centre) when that is reachable, else the reachable cell nearest to the
     anchor, among ``offsets`` (row and column steps sorted by length), that sees it along a line
-    of FREE cells. Only the nearest ``_MAX_SIGHT_TRIES`` reachable cells are tried, which bounds
-    the work on a segment that none sees (each try walks a line of up to the reach).
+    of FREE cells. The nearest ``_MAX_SIGHT_TRIES`` reachable cells are tried first (each try
+    walks a line of up to the reach); when none of them sees the anchor, a fan of rays from it
+    looks for a viewer further round, e.g. through a gap narrower than the robot.
     """
     rows, cols = state.shape
     n = sizes.shape[0]
+    reach = math.sqrt(float(offsets[-1, 0] ** 2 + offsets[-1, 1] ** 2)) if offsets.shape[0] else 0.0
     centres = np.empty((n, 2))
     min_d2 = np.empty(n)
     goals = np.full((n, 2), -1, np.int64)
@@ -335,6 +368,8 @@ def summarise_segments(
                     break
                 tries += 1
                 if tries == _MAX_SIGHT_TRIES:
+                    # Many reachable cells near it and none sees it: look further round
+                    goals[k, 0], goals[k, 1] = _viewer_by_rays(state, reachable, ar, ac, reach)
                     break
     return centres, min_d2, goals
 

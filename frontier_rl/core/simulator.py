@@ -33,7 +33,7 @@ from frontier_rl.core.navigation import (
 from frontier_rl.core.planner import Costmap, nearest_cell
 from frontier_rl.core.robot import Pose, RobotConfig
 from frontier_rl.core.teammates import Teammates
-from frontier_rl.core.worlds import World
+from frontier_rl.core.worlds import World, make_world
 from frontier_rl.errors import ConfigError
 
 
@@ -79,6 +79,20 @@ class SimConfig:
             value = getattr(self, name)
             if not (math.isfinite(value) and value > 0):
                 raise ConfigError(f"{name} must be a positive number, got {value!r}")
+
+    @property
+    def mapping_range(self) -> float:
+        """The range (m) within which a scan updates the map: the LiDAR's, cropped at the mapper's."""
+        return min(self.lidar.max_range, self.mapper.usable_range)
+
+    def fit_world(self, world: World) -> World:
+        """``world`` with its explorable space computed for this robot's radius and mapping range
+        (the same world when it already is)."""
+        if (world.robot_radius, world.sensor_range) == (self.robot.radius, self.mapping_range):
+            return world
+        return make_world(
+            world.grid, world.name, start=world.start, robot_radius=self.robot.radius, sensor_range=self.mapping_range
+        )
 
     def time_cap(self, world: World) -> float:
         """The sim-time cap (s) of an episode on ``world``: ``max_sim_time`` when set, else
@@ -155,8 +169,8 @@ class ExplorationSimulator:
         rng: np.random.Generator | None = None,
         teammates: NDArray[np.float64] | None = None,
     ) -> None:
-        self.world = world
         self.config = config or SimConfig()
+        self.world = world = self.config.fit_world(world)
         self.rng = rng if rng is not None else np.random.default_rng(0)
         self.max_sim_time = self.config.time_cap(world)
         grid = world.grid
@@ -443,13 +457,13 @@ class ExplorationSimulator:
         mates = self._teammates
         clearance = mates.clearance
         teammate_blocked_since: float | None = None
+        params = self._follow_params
         while not self.truncated:
             # Drive tick by tick until the mapper wants the next scan (nothing else changes before).
             duration, gate = self._until_next_scan()
             x, y, theta, index_on_path, driven, used, status = follow_path(
                 path[:, 0], path[:, 1], index_on_path, self.pose.x, self.pose.y, self.pose.theta, duration,
-                self._follow_params, clearance, truth.origin[0], truth.origin[1], truth.resolution, gate,
-                careful,
+                params, clearance, truth.origin[0], truth.origin[1], truth.resolution, gate, careful,
             )  # fmt: skip
             self.pose = Pose(x, y, theta)
             self.path_length += driven
@@ -459,7 +473,15 @@ class ExplorationSimulator:
             if seen is not None:
                 new_free += seen[0]
                 new_occ += seen[1]
+            if status == 2 and params is not self._follow_params:
+                status = 1  # closing in and a wall is in the way: this is as close as it gets
             if status == 1:
+                if params is self._follow_params and self._alive(frontier_cells):
+                    # Within the goal tolerance and the frontier is still there: close in on the
+                    # goal cell itself (a frontier seen through a gap needs the exact viewpoint).
+                    params = self._follow_params.copy()
+                    params[5] = truth.resolution
+                    continue
                 outcome = LegOutcome.REACHED
                 break
             if self.truncated:
@@ -514,12 +536,9 @@ class ExplorationSimulator:
         # blind zone). Wait for the next map update; if it is still there, the robot cannot
         # resolve it from here, so it is blacklisted: otherwise the same frontier would be chosen
         # again and again, at no cost in time, for ever.
-        reached_alive = (
-            outcome is LegOutcome.REACHED and frontier_cells is not None and self._frontier_alive(frontier_cells)
-        )
-        if reached_alive and frontier_cells is not None:
+        if outcome is LegOutcome.REACHED and self._alive(frontier_cells):
             yield from self.wait_steps()
-            if self._frontier_alive(frontier_cells):
+            if self._alive(frontier_cells):
                 self.blacklist.fail(*goal, self.mapper.state)
                 self._candidates = None
         if outcome is LegOutcome.ABORTED:
@@ -530,6 +549,10 @@ class ExplorationSimulator:
         return LegResult(
             outcome, index, goal, self.sim_time - start_time, self.path_length - start_len, new_free, new_occ
         )
+
+    def _alive(self, cells: NDArray[np.int64] | None) -> bool:
+        """:meth:`_frontier_alive` for a leg's frontier, False for a leg to a point."""
+        return cells is not None and self._frontier_alive(cells)
 
     def _frontier_alive(self, cells: NDArray[np.int64]) -> bool:
         """Whether more than ``min_frontier_cells`` of a frontier's cells are still fringe cells."""

@@ -2,8 +2,9 @@
 
 A world is an :class:`OccupancyGrid` holding only FREE and OCCUPIED cells (unknown cells of an input
 map and free cells cut off from the start count as walls), a start pose and the *explorable* mask:
-the free cells a robot of the given radius can get close enough to for its map to matter, which is
-what exploration coverage is measured on.
+the free cells the robot's sensor could ever map, in line of sight and range of a pose the robot can
+reach from its start (:mod:`frontier_rl.core.visibility`), which is what exploration coverage is
+measured on.
 """
 
 from __future__ import annotations
@@ -20,13 +21,16 @@ from scipy import ndimage
 from frontier_rl.core import generators as gen
 from frontier_rl.core.grid import CellState, OccupancyGrid
 from frontier_rl.core.robot import Pose
+from frontier_rl.core.visibility import visible_from
 from frontier_rl.errors import ConfigError, MapError, UnknownNameError
 
 ROBOT_RADIUS_M = 0.105  # TurtleBot3 Burger footprint radius (m)
+# The range the robot's map learns cells within (m): the LDS-01's 3.5 m cropped at Gmapping's
+# maxUrange 3.0 m (min of LidarConfig.max_range and MapperConfig.usable_range).
+MAPPING_RANGE_M = 3.0
 START_MARGIN_M = 0.05  # extra clearance (m) of a randomly drawn start over the robot radius
 RUBBLE_M = (0.1, 0.8)  # rubble piece size range (m)
 RUBBLE_GAP_M = 0.5  # cluttered world: slots between rubble narrower than this are filled (m)
-_EIGHT = np.ones((3, 3), dtype=np.bool_)  # 8-connectivity for ndimage.label
 
 
 @dataclass(frozen=True, eq=False)  # compared by identity: numpy fields have no boolean equality
@@ -38,14 +42,20 @@ class World:
         grid: ground truth; only ``CellState.FREE`` and ``CellState.OCCUPIED`` cells, all free cells
             4-connected to the start. Its data array is read-only.
         start: robot start pose (m, m, rad), on a cell the robot fits on.
-        explorable: read-only mask (grid shape) of the cells coverage is measured on: free cells
-            within robot radius + 2 cells of a cell the robot's centre can reach.
+        explorable: read-only mask (grid shape) of the cells coverage is measured on: free cells in
+            line of sight, within ``sensor_range``, of a cell the robot's centre can reach from the
+            start (cells at least ``robot_radius`` from every wall, 4-connected to the start: the
+            planner cuts no corners).
+        robot_radius: the footprint radius (m) the mask was computed for.
+        sensor_range: the mapping range (m) the mask was computed for.
     """
 
     name: str
     grid: OccupancyGrid
     start: Pose
     explorable: NDArray[np.bool_]
+    robot_radius: float = ROBOT_RADIUS_M
+    sensor_range: float = MAPPING_RANGE_M
 
     def __post_init__(self) -> None:
         if self.explorable.shape != self.grid.shape or self.explorable.dtype != np.bool_:
@@ -126,13 +136,15 @@ def make_world(
     start: Pose | None = None,
     rng: np.random.Generator | None = None,
     robot_radius: float = ROBOT_RADIUS_M,
+    sensor_range: float = MAPPING_RANGE_M,
 ) -> World:
     """Build a :class:`World` from any occupancy grid (unknown cells count as walls).
 
     The robot's centre may stand on free cells at least ``robot_radius`` from every non-free cell
-    (centre to centre; outside the grid counts as non-free); those 8-connected to the start are
-    *reachable*. Explorable cells are the start's free cells within robot_radius + 2 cells of a
-    reachable one.
+    (centre to centre; outside the grid counts as non-free); those 4-connected to the start are
+    *reachable*. Explorable cells are the free cells in line of sight of a reachable one within
+    ``sensor_range`` (a room behind a door narrower than the robot counts as far as the robot can
+    see into it through the door).
 
     Args:
         grid: the map; its free cells 4-connected to the start stay free, all else becomes occupied.
@@ -142,14 +154,17 @@ def make_world(
             in [-pi, pi).
         rng: generator for the random start (required when ``start`` is ``None``).
         robot_radius: robot footprint radius (m).
+        sensor_range: range (m) within which the robot's map learns cells.
 
     Raises:
-        ConfigError: ``start`` and ``rng`` both missing, or a non-positive radius.
+        ConfigError: ``start`` and ``rng`` both missing, or a non-positive radius or range.
         MapError: no free cell with room for the robot, or a start outside the grid, in a wall or
             too close to one.
     """
     if not (math.isfinite(robot_radius) and robot_radius > 0):
         raise ConfigError(f"robot_radius must be a positive number of metres, got {robot_radius!r}")
+    if not (math.isfinite(sensor_range) and sensor_range > 0):
+        raise ConfigError(f"sensor_range must be a positive number of metres, got {sensor_range!r}")
     if start is None and rng is None:
         raise ConfigError(f"world {name!r}: pass a start pose or an rng to draw one (got start=None, rng=None)")
     res = grid.resolution
@@ -167,7 +182,7 @@ def make_world(
             f"map has no free cell with clearance for the robot (radius {robot_radius:.3f} m; "
             f"roomiest free cell {_clearance(free, res).max():.3f} m)"
         )
-    parts, _ = ndimage.label(fits, structure=_EIGHT)
+    parts, _ = ndimage.label(fits)
     if start is None:
         assert rng is not None
         roomy = _roomy(free, (robot_radius + START_MARGIN_M) / res)
@@ -192,7 +207,7 @@ def make_world(
     # when the other components become walls: nothing needs recomputing.
     components, _ = ndimage.label(free)
     inside = components == components[local]
-    explorable_local = inside & dilate(parts == parts[local], robot_radius / res + 2.0)
+    explorable_local = visible_from(inside, parts == parts[local], sensor_range / res)
     window = (slice(top + 1, top + free.shape[0] - 1), slice(left + 1, left + free.shape[1] - 1))
     data = np.full(grid.shape, CellState.OCCUPIED, dtype=np.int8)
     data[window][inside[1:-1, 1:-1]] = CellState.FREE
@@ -200,7 +215,7 @@ def make_world(
     explorable[window] = explorable_local[1:-1, 1:-1]
     data.flags.writeable = False
     explorable.flags.writeable = False
-    return World(name, OccupancyGrid(data, res, grid.origin), start, explorable)
+    return World(name, OccupancyGrid(data, res, grid.origin), start, explorable, robot_radius, sensor_range)
 
 
 def _layout_grid(occ: NDArray[np.bool_], resolution: float) -> OccupancyGrid:

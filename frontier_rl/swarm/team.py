@@ -92,8 +92,8 @@ class TeamSimulator:
         team: TeamConfig | None = None,
         rng: np.random.Generator | None = None,
     ) -> None:
-        self.world = world
         self.config = config or SimConfig()
+        self.world = world = self.config.fit_world(world)
         self.team = team or TeamConfig()
         rng = rng if rng is not None else np.random.default_rng(0)
         n = self.team.robots

@@ -41,9 +41,11 @@ def real(maps: Path, name: str, k: int) -> World:
 def check_episode(result: EpisodeResult, cap: float = SimConfig().min_time_cap) -> None:
     """The invariants every finished episode's metrics hold."""
     assert result.coverage >= 0.99, result.summary()
-    assert result.done and not result.truncated, result.summary()
-    assert result.end_reason == "explored", result.summary()
-    assert all(f.unseen_free_cells <= 4 for f in result.frontiers_left)  # only walls or specks beside those left
+    assert not result.truncated and result.done == (result.end_reason == "explored"), result.summary()
+    if result.done:
+        assert all(f.unseen_free_cells <= 4 for f in result.frontiers_left)  # only walls or specks beside those left
+    else:  # rubble can hide slivers of floor behind gaps narrower than the robot, never more
+        assert result.end_reason == "unreachable" and result.unknown_left_m2 <= 0.25, result.summary()
     assert 0 < result.sim_time_s < cap
     assert result.path_length_m > 0
     assert result.t90_s is not None and result.t99_s is not None

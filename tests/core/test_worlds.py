@@ -12,7 +12,9 @@ from scipy import ndimage
 
 from frontier_rl.core.grid import CellState, OccupancyGrid
 from frontier_rl.core.robot import Pose
+from frontier_rl.core.visibility import visible_from
 from frontier_rl.core.worlds import (
+    MAPPING_RANGE_M,
     ROBOT_RADIUS_M,
     START_MARGIN_M,
     WORLD_GENERATORS,
@@ -52,15 +54,16 @@ def open_room(rows: int, cols: int, resolution: float = 0.05) -> OccupancyGrid:
 
 
 def reference(grid: OccupancyGrid, start_cell: tuple[int, int], radius: float) -> tuple[NDArray[np.bool_], ...]:
-    """(free component, reachable, explorable) straight from the definitions, with distance transforms."""
+    """(free component, reachable, explorable) from the definitions: distance transforms, labels
+    (4-connected, as the planner moves) and the line-of-sight kernel (tested on its own)."""
     res = grid.resolution
     free = grid.data == FREE
     components, _ = ndimage.label(free)
     inside = components == components[start_cell]
     clearance = ndimage.distance_transform_edt(np.pad(free, 1))[1:-1, 1:-1] * res
-    parts, _ = ndimage.label(clearance >= radius, structure=EIGHT)
+    parts, _ = ndimage.label(clearance >= radius)
     reachable = parts == parts[start_cell]
-    explorable = inside & (ndimage.distance_transform_edt(~reachable) * res <= radius + 2 * res)
+    explorable = visible_from(inside, reachable, MAPPING_RANGE_M / res)
     return inside, reachable, explorable
 
 
@@ -249,7 +252,7 @@ def test_make_world_matches_the_definitions_on_a_ragged_map() -> None:
         assert np.array_equal(w.explorable, explorable)
         # the random start lies in the largest region the robot can move in, with the extra margin
         clearance = ndimage.distance_transform_edt(np.pad(data == FREE, 1))[1:-1, 1:-1] * 0.05
-        parts, _ = ndimage.label(clearance >= 0.12, structure=EIGHT)
+        parts, _ = ndimage.label(clearance >= 0.12)
         assert parts[cell] == np.argmax(np.bincount(parts.ravel())[1:]) + 1
         assert reachable[cell] and clearance[cell] >= 0.12 + START_MARGIN_M
 
