@@ -16,7 +16,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from frontier_rl.core.grid import CellState, OccupancyGrid
-from frontier_rl.core.raycast import FASTMATH, ray_start
+from frontier_rl.core.raycast import FASTMATH, dda_step, ray_start
 from frontier_rl.core.robot import Pose
 
 _UNKNOWN = np.int8(CellState.UNKNOWN)
@@ -185,14 +185,7 @@ def visible_unknown(
             if value == _UNKNOWN and stamp[row, col] != stamp_id:
                 stamp[row, col] = stamp_id
                 total += 1
-            if tm_c < tm_r:
-                col += s_c
-                t = tm_c
-                tm_c += td_c
-            else:
-                row += s_r
-                t = tm_r
-                tm_r += td_r
+            row, col, tm_r, tm_c, t = dda_step(row, col, s_r, s_c, tm_r, tm_c, td_r, td_c)
     return total
 
 
@@ -301,14 +294,7 @@ def _viewer_by_rays(
             if reachable[row, col]:
                 best_t, best_r, best_c = t, row, col
                 break
-            if tm_c < tm_r:
-                col += s_c
-                t = tm_c
-                tm_c += td_c
-            else:
-                row += s_r
-                t = tm_r
-                tm_r += td_r
+            row, col, tm_r, tm_c, t = dda_step(row, col, s_r, s_c, tm_r, tm_c, td_r, td_c)
     return best_r, best_c
 
 

@@ -43,6 +43,18 @@ def ray_start(cx: float, cy: float, dx: float, dy: float) -> tuple[int, int, int
     return row, col, step_row, step_col, t_max_row, t_max_col, t_delta_row, t_delta_col
 
 
+@nb.njit(cache=True, inline="always")
+def dda_step(
+    row: int, col: int, s_r: int, s_c: int, tm_r: float, tm_c: float, td_r: float, td_c: float
+) -> tuple[int, int, float, float, float]:
+    """One DDA step of a ray in the state :func:`ray_start` gives: into the next cell along
+    whichever boundary comes first. Returns (row, col, t_max_row, t_max_col, t), t being the ray
+    parameter (cells) at which the ray enters the new cell."""
+    if tm_c < tm_r:
+        return row, col + s_c, tm_r, tm_c + td_c, tm_c
+    return row + s_r, col, tm_r + td_r, tm_c, tm_r
+
+
 def pad_blocked(blocked: NDArray[np.bool_]) -> NDArray[np.bool_]:
     """``blocked`` with a one-cell blocked border, so ray loops need no bounds checks."""
     return np.pad(np.ascontiguousarray(blocked, dtype=np.bool_), 1, constant_values=True)

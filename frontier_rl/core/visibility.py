@@ -20,7 +20,7 @@ import numpy as np
 from numpy.typing import NDArray
 from scipy import ndimage
 
-from frontier_rl.core.raycast import FASTMATH, ray_start
+from frontier_rl.core.raycast import FASTMATH, dda_step, ray_start
 
 SENSOR_RANGE_M = 3.5  # LDS-01 maximum range (m): the default of LidarConfig.max_range
 
@@ -38,14 +38,7 @@ def _sees_viewer(
             return False
         if viewer[row + 1, col + 1]:
             return True
-        if tm_c < tm_r:
-            t = tm_c
-            tm_c += td_c
-            col += s_c
-        else:
-            t = tm_r
-            tm_r += td_r
-            row += s_r
+        row, col, tm_r, tm_c, t = dda_step(row, col, s_r, s_c, tm_r, tm_c, td_r, td_c)
     return False
 
 

@@ -5,7 +5,10 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
+from frontier_rl.core.lidar import LidarConfig
+from frontier_rl.core.simulator import ExplorationSimulator, SimConfig
 from frontier_rl.core.visibility import visible_from
+from frontier_rl.core.worlds import MAPPING_RANGE_M, ROBOT_RADIUS_M, generate_world
 
 
 def open_room(rows: int = 40, cols: int = 40) -> np.ndarray:
@@ -73,3 +76,15 @@ def test_it_agrees_with_a_brute_force_line_check(seed: int) -> None:
     assert to_centre.sum() > 15
     assert np.count_nonzero(to_centre & ~seen) <= 0.05 * np.count_nonzero(to_centre)
     assert np.count_nonzero(seen & ~to_any) <= 0.05 * np.count_nonzero(seen)
+
+
+def test_a_simulator_with_a_shorter_lidar_recomputes_the_explorable_space() -> None:
+    world = generate_world("office", 0)
+    assert (world.robot_radius, world.sensor_range) == (ROBOT_RADIUS_M, MAPPING_RANGE_M)
+    assert ExplorationSimulator(world).world is world  # the defaults: nothing to recompute
+    short = SimConfig(lidar=LidarConfig(max_range=1.0))
+    sim = ExplorationSimulator(world, short)
+    assert sim.world.sensor_range == 1.0 and sim.world.start == world.start
+    assert np.array_equal(sim.world.grid.data, world.grid.data)
+    assert not (sim.world.explorable & ~world.explorable).any()
+    assert sim.world.explorable_count <= world.explorable_count
