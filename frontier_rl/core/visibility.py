@@ -22,9 +22,6 @@ from scipy import ndimage
 
 from frontier_rl.core.raycast import FASTMATH, dda_step, ray_start
 
-SENSOR_RANGE_M = 3.5  # LDS-01 maximum range (m): the default of LidarConfig.max_range
-
-
 @nb.njit(cache=True, fastmath=FASTMATH)
 def _sees_viewer(
     blocked: NDArray[np.bool_], viewer: NDArray[np.bool_], cx: float, cy: float, dx: float, dy: float, reach: float
