@@ -22,6 +22,7 @@ from scipy import ndimage
 
 from frontier_rl.core.raycast import FASTMATH, dda_step, ray_start
 
+
 @nb.njit(cache=True, fastmath=FASTMATH)
 def _sees_viewer(
     blocked: NDArray[np.bool_], viewer: NDArray[np.bool_], cx: float, cy: float, dx: float, dy: float, reach: float
