@@ -108,6 +108,7 @@ class LogOddsMapper:
         self.state = np.full(shape, CellState.UNKNOWN, dtype=np.int8)
         self.seen = np.zeros(shape, dtype=np.bool_)
         self.observed = np.zeros(shape, dtype=np.bool_)  # reached by this mapper's own scans, not merges
+        self.felt = np.zeros(shape, dtype=np.bool_)  # occupied from contact (:meth:`mark_occupied`)
         self.explorable = np.ones(shape, np.bool_) if explorable is None else explorable.astype(np.bool_)
         self._pending = np.zeros(shape, dtype=np.int16)
         self._bbox = np.array([shape[0], -1, shape[1], -1], dtype=np.int64)
@@ -195,6 +196,7 @@ class LogOddsMapper:
         """Set cells to certainly occupied (from contact, not from the LiDAR)."""
         if len(rows) == 0:
             return
+        self.felt[rows, cols] = True
         self._pending[rows, cols] |= HIT
         params = self._params.copy()
         params[4] = self.config.clamp_max  # a hit that saturates

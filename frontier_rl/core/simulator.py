@@ -33,6 +33,7 @@ from frontier_rl.core.navigation import (
 from frontier_rl.core.planner import Costmap, nearest_cell
 from frontier_rl.core.robot import Pose, RobotConfig
 from frontier_rl.core.teammates import Teammates
+from frontier_rl.core.thin_walls import thin_walls
 from frontier_rl.core.worlds import World, make_world
 from frontier_rl.errors import ConfigError
 
@@ -309,17 +310,33 @@ class ExplorationSimulator:
         that the episode never ends with a frontier it gave up on after a single failure."""
         if self._candidates is None:
             grid = self.mapper.occupancy_grid(margin=2)
-            costmap, reachable, frontiers = reachable_frontiers(grid, self.pose, self.config, scratch=self._scratch)
-            if self.blacklist.entries and len(frontiers):
-                self.blacklist.refresh(self.mapper.state)
-                goals = frontiers.goals
-                kept = frontiers.subset(~self.blacklist.blocked(goals))
-                if len(kept) == 0:
-                    self.blacklist.retry()
-                    kept = frontiers.subset(~self.blacklist.blocked(goals))
-                frontiers = kept
-            self._candidates = _Candidates(grid, costmap, reachable, frontiers)
+            cand = self._candidates_on(grid, tight=False)
+            if len(cand.frontiers) == 0:
+                # The narrow-passage recovery (core/thin_walls.py): before giving up, plan on the
+                # map with its walls a cell thinner, as range noise made them a cell thicker.
+                tight = self._candidates_on(grid, tight=True)
+                if len(tight.frontiers):
+                    cand = tight
+            self._candidates = cand
         return self._candidates
+
+    def _candidates_on(self, grid: OccupancyGrid, tight: bool) -> _Candidates:
+        """The candidates on ``grid`` with the normal or the tight costmap."""
+        felt = None
+        if tight:
+            top, left = self.world.grid.world_to_cell(*grid.cell_to_world(0, 0))
+            felt = self.mapper.felt[top : top + grid.height, left : left + grid.width]
+        costmap, reachable, frontiers = reachable_frontiers(grid, self.pose, self.config, scratch=self._scratch,
+                                                            thin_except=felt)  # fmt: skip
+        if self.blacklist.entries and len(frontiers):
+            self.blacklist.refresh(self.mapper.state)
+            goals = frontiers.goals
+            kept = frontiers.subset(~self.blacklist.blocked(goals))
+            if len(kept) == 0:
+                self.blacklist.retry()
+                kept = frontiers.subset(~self.blacklist.blocked(goals))
+            frontiers = kept
+        return _Candidates(grid, costmap, reachable, frontiers)
 
     def frontiers(self) -> Frontiers:
         """The current candidate frontiers."""
@@ -687,13 +704,21 @@ def reachable_frontiers(
     config: SimConfig,
     min_cells: int | None = None,
     scratch: SearchScratch | None = None,
+    thin_except: NDArray[np.bool_] | None = None,
 ) -> tuple[Costmap, NDArray[np.bool_], Frontiers]:
     """The navigator's costmap of ``grid`` (its searches using ``scratch``), the known free cells
     the robot at ``pose`` can reach, and the frontier clusters larger than ``min_cells`` (default
     ``config.min_frontier_cells``) that touch them: what a decision chooses from, before any
-    blacklist."""
-    costmap = Costmap.build(grid, config.robot, config.navigation, scratch)
-    reachable = costmap.reachable_known(grid.world_to_cell(pose.x, pose.y))
+    blacklist. With ``thin_except`` (a mask of ``grid``'s shape), the costmap is that of the
+    narrow-passage recovery: the map's walls thinned by a cell except at those cells
+    (:func:`~frontier_rl.core.thin_walls.thin_walls`)."""
+    if thin_except is None:
+        costmap = Costmap.build(grid, config.robot, config.navigation, scratch)
+        reachable = costmap.reachable_known(grid.world_to_cell(pose.x, pose.y))
+    else:
+        thinned = OccupancyGrid(thin_walls(grid.data, thin_except), grid.resolution, grid.origin)
+        costmap = Costmap.build(thinned, config.robot, config.navigation, scratch)
+        reachable = costmap.reachable_known(grid.world_to_cell(pose.x, pose.y)) & (grid.data == CellState.FREE)
     cells = config.min_frontier_cells if min_cells is None else min_cells
     frontiers = detect_frontiers(
         grid, pose, reachable, cells, config.frontier_segment_length, config.frontier_goal_reach

@@ -89,9 +89,8 @@ def test_the_other_shared_maps_are_explored_without_stalling(shared_maps: Path, 
     result = run_episode(world, make_policy("fixed:0.75"), seed=0)
     if result.end_reason == "unreachable":  # e.g. the depot's floor behind scattered SLAM noise
         assert result.coverage >= 0.99 and not result.truncated, result.summary()
-        assert result.unknown_left_m2 > 0 and any(f.unseen_free_cells > 4 for f in result.frontiers_left)
-        limit = SimConfig().navigation.max_goal_failures
-        assert all(f.failures in (0, limit) for f in result.frontiers_left)  # every view was tried, or none exists
+        assert any(f.unseen_free_cells > 4 for f in result.frontiers_left)
+        assert 0 < result.unknown_left_m2 <= 0.25, result.summary()  # specks, not rooms
     else:
         check_episode(result)
 

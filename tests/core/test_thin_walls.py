@@ -1,0 +1,59 @@
+"""The narrow-passage recovery: walls a cell thinner than the map shows (core/thin_walls.py)."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+from frontier_rl.core.grid import CellState
+from frontier_rl.core.thin_walls import thin_walls
+
+FREE, OCC, UNKNOWN = (np.int8(v) for v in (CellState.FREE, CellState.OCCUPIED, CellState.UNKNOWN))
+
+
+def band(thickness: int, beyond: np.int8 = FREE) -> np.ndarray:
+    """A vertical wall ``thickness`` cells thick in a 7-row strip, free on its left, ``beyond`` on its right."""
+    data = np.full((7, 12), FREE, np.int8)
+    data[:, 4 : 4 + thickness] = OCC
+    data[:, 4 + thickness :] = beyond
+    return data
+
+
+@pytest.mark.parametrize(("thickness", "left"), [(1, 1), (2, 2), (3, 1), (5, 3)])
+def test_a_thick_wall_seen_from_both_sides_loses_a_cell_on_each(thickness: int, left: int) -> None:
+    out = thin_walls(band(thickness))
+    assert ((out == OCC).sum(axis=1) == left).all()
+    assert set(np.unique(out)) <= {FREE, OCC}
+
+
+@pytest.mark.parametrize("thickness", [1, 2])
+def test_a_wall_that_may_be_one_true_cell_is_kept(thickness: int) -> None:
+    """Two cells with free space on both sides may be one true cell seen from either side."""
+    data = band(thickness)
+    np.testing.assert_array_equal(thin_walls(data), data)
+
+
+def test_a_wall_two_cells_thick_seen_from_one_side_loses_its_front_cell() -> None:
+    out = thin_walls(band(2, beyond=UNKNOWN))
+    assert (out[:, 4] == FREE).all() and (out[:, 5] == OCC).all()
+
+
+def test_only_the_side_that_faces_free_space_is_peeled() -> None:
+    out = thin_walls(band(3, beyond=UNKNOWN))
+    assert (out[:, 4] == FREE).all() and (out[:, 5:7] == OCC).all() and (out[:, 7:] == UNKNOWN).all()
+
+
+def test_walls_the_robot_touched_are_kept() -> None:
+    data = band(3)
+    felt = np.zeros(data.shape, bool)
+    felt[2:5, 4] = True
+    out = thin_walls(data, felt)
+    assert (out[2:5, 4] == OCC).all() and (out[[0, 1, 5, 6], 4] == FREE).all()
+    assert (out[:, 6] == FREE).all()  # the other side is peeled as before
+
+
+def test_the_input_is_not_changed() -> None:
+    data = band(3)
+    before = data.copy()
+    thin_walls(data)
+    np.testing.assert_array_equal(data, before)
