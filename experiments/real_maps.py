@@ -67,6 +67,7 @@ def main() -> None:
     parser.add_argument("--episodes", type=int, default=5, help="random starts per ROS/Stage/HouseExpo map")
     parser.add_argument("--dungeon", type=int, default=20, help="DungeonMaps per difficulty (their own start)")
     parser.add_argument("--skip", default="", help="comma-separated map stems to leave out (e.g. warehouse)")
+    parser.add_argument("--workers", type=int, default=None, help="episodes run at once (default: every core)")
     parser.add_argument("--out", type=Path, required=True)
     args = parser.parse_args()
     skip = set(filter(None, args.skip.split(",")))
@@ -81,6 +82,8 @@ def main() -> None:
         baseline = args.methods.split(",")[0]
         cmd = [str(frl), "evaluate", "--methods", args.methods, "--worlds", ",".join(map(str, files)),
                "--episodes", str(episodes), "--no-oracle", "--baseline", baseline, "--out", str(out)]  # fmt: skip
+        if args.workers is not None:
+            cmd += ["--workers", str(args.workers)]
         subprocess.run(cmd, check=True)
         with (out / "episodes.csv").open() as handle:
             for row in csv.DictReader(handle):
