@@ -181,6 +181,32 @@ def bench_episodes(n_seeds: int) -> list[Row]:
     ]
 
 
+def bench_large_map(n_seeds: int, maps: Path) -> list[Row]:
+    """Whole episodes on ``nav2_warehouse`` (a 0.05 m SLAM map of about 1,000 × 1,000 cells) from
+    random starts: wall time and wall time per decision. No rows without the shared maps."""
+    from frontier_rl.core.worlds import make_world
+    from frontier_rl.io import load_map
+
+    path = maps / "nav2_warehouse" / "warehouse.yaml"
+    if not path.is_file():
+        print(f"- large-map rows skipped: {path} not found")
+        return []
+    loaded = load_map(path)
+    worlds = [make_world(loaded.grid, "warehouse", rng=np.random.default_rng(s)) for s in range(n_seeds)]
+    gc.collect()
+    results = [run_episode(world, make_policy(POLICY), seed=s) for s, world in enumerate(worlds)]
+    walls = [r.wall_time_s for r in results]
+    per_decision = [1e3 * r.wall_time_s / max(r.decisions, 1) for r in results]
+    n = f"{n_seeds} starts"
+    return [
+        Row(f"nav2_warehouse episode wall time (median, {n})", statistics.median(walls), "s",
+            higher_is_better=False, detail=f" (max {fmt(max(walls), 's')})"),
+        Row(f"nav2_warehouse wall time per decision (median, {n})", statistics.median(per_decision), "ms",
+            higher_is_better=False),
+        Row("nav2_warehouse episode sim time (median)", statistics.median(r.sim_time_s for r in results), "s"),
+    ]  # fmt: skip
+
+
 def bench_teams(n_seeds: int) -> list[Row]:
     """Team episodes on office worlds: the wall time of a 4-robot coordinated episode over a
     1-robot episode of the same world and seed (median of the per-seed ratios)."""
@@ -269,6 +295,8 @@ def main(argv: list[str] | None = None) -> int:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0] if __doc__ else None)
     parser.add_argument("--quick", action="store_true", help="fewer repeats and seeds (a smoke run)")
     parser.add_argument("--json", type=Path, metavar="PATH", help="also write the results as JSON")
+    parser.add_argument("--maps", type=Path, default=Path(__file__).resolve().parents[2] / "shared" / "maps",
+                        help="the shared maps folder, for the large-map rows (default ../shared/maps)")  # fmt: skip
     args = parser.parse_args(argv)
     if hasattr(os, "sched_setaffinity"):
         os.sched_setaffinity(0, {min(os.sched_getaffinity(0))})
@@ -280,6 +308,7 @@ def main(argv: list[str] | None = None) -> int:
         bench_lidar(500 if args.quick else 2_000, 3 if args.quick else 15)
         + bench_frontiers(20 if args.quick else 200)
         + rows
+        + bench_large_map(1 if args.quick else 3, args.maps)
         + bench_teams(3 if args.quick else 10)
         + bench_envs(2 if args.quick else 10)
     )
