@@ -4,51 +4,67 @@ from __future__ import annotations
 
 import dataclasses
 import json
+import os
 import re
 import sys
-from collections.abc import Callable
-from functools import wraps
 from pathlib import Path
-from typing import Annotated, Any, TypeVar
+from typing import Annotated, Any, NoReturn
 
 import typer
-from rich.console import Console
 from rich.table import Table
+from rich.text import Text
 
+from frontier_rl.cli_output import OneLineGroup, err_console, friendly_errors, one_line, stdout_console
 from frontier_rl.config import dump_config, load_sim_config
 from frontier_rl.core.episode import run_episode, warm_up
 from frontier_rl.core.metrics import EpisodeResult
 from frontier_rl.core.simulator import SimConfig
-from frontier_rl.errors import ConfigError, FrontierRLError
+from frontier_rl.core.worlds import resolution_bounds
+from frontier_rl.errors import ConfigError, short_repr
 from frontier_rl.policies import POLICY_NAMES, make_policy
 from frontier_rl.recording import EpisodeRecorder, save_team_png
+from frontier_rl.render import check_output_file
 from frontier_rl.swarm import Failure, Strategy, TeamConfig, TeamMethod, parse_strategy, run_team_episode
-from frontier_rl.world_spec import parse_pose, resolve_world
+from frontier_rl.world_spec import checked_resolution, parse_pose, resolve_world
 
-app = typer.Typer(add_completion=False, no_args_is_help=True, help="Frontier exploration for search and rescue.")
-err_console = Console(stderr=True, soft_wrap=True)
-F = TypeVar("F", bound=Callable[..., Any])
+#: Largest seed a command accepts (seeds are 0 to 2**32 - 1: NumPy's legacy seeding, which
+#: Stable-Baselines3 uses, takes no more).
+MAX_SEED = 2**32 - 1
 
+app = typer.Typer(
+    add_completion=False, no_args_is_help=True, help="Frontier exploration for search and rescue.", cls=OneLineGroup
+)
+
+_RES_LO, _RES_HI = resolution_bounds()
 DEMO_WORLDS = ("office", "rooms", "cluttered")
 SHIPPED_MODELS = (Path("models/model4.zip"), Path("models/model5.zip"))
 """Trained models in the repository; the demo runs them too when run from the checkout."""
 
 
-def _friendly_errors(func: F) -> F:
-    """Bad input ends the command with a one-line message and exit code 2, never a traceback."""
+def _fail(message: str) -> NoReturn:
+    raise ConfigError(message)
 
-    @wraps(func)
-    def wrapper(*args: Any, **kwargs: Any) -> Any:
-        try:
-            return func(*args, **kwargs)
-        except FrontierRLError as exc:
-            err_console.print(f"[red]error:[/red] {exc}", highlight=False)
-            raise typer.Exit(2) from None
-        except OSError as exc:
-            err_console.print(f"[red]error:[/red] {exc.strerror or exc}: {exc.filename or ''}", highlight=False)
-            raise typer.Exit(2) from None
 
-    return wrapper  # type: ignore[return-value]
+def _seed(value: int, option: str = "--seed") -> int:
+    """A seed option, checked: a whole number from 0 to :data:`MAX_SEED`."""
+    if not 0 <= value <= MAX_SEED:
+        _fail(f"{option} must be a whole number from 0 to {MAX_SEED}, got {short_repr(value)}")
+    return value
+
+
+def _output_folder(path: Path, option: str = "--out") -> Path:
+    """A results folder option, checked before any work: an existing folder, or a path whose
+    nearest existing ancestor is a writable folder (the command creates the rest)."""
+    if path.exists() and not path.is_dir():
+        _fail(f"{option} {short_repr(str(path))} is a file, not a folder")
+    ancestor = path
+    while not ancestor.exists() and ancestor != ancestor.parent:
+        ancestor = ancestor.parent
+    if not ancestor.is_dir():
+        _fail(f"{option} {short_repr(str(path))}: {short_repr(str(ancestor))} is a file, not a folder")
+    if not os.access(ancestor, os.W_OK | os.X_OK):
+        _fail(f"{option} {short_repr(str(path))}: folder {short_repr(str(ancestor))} is not writable")
+    return path
 
 
 def _team_config(robots: int, strategy: str, comm_range: float | None, fail: list[str]) -> TeamConfig | None:
@@ -107,18 +123,25 @@ def _sim_config(config: Path | None, max_time: float | None) -> SimConfig:
 
 
 @app.command()
-@_friendly_errors
+@friendly_errors
 def explore(
     world: Annotated[
         str, typer.Option(help="office | rooms | cluttered | a map file (ROS .yaml, Dungeon .png, HouseExpo .json)")
     ] = "office",
-    seed: Annotated[int, typer.Option(help="Seeds the world generator, the start and the sensor noise.")] = 0,
+    seed: Annotated[
+        int, typer.Option(help=f"Seeds the world generator, the start and the sensor noise (0 to {MAX_SEED}).")
+    ] = 0,
     policy: Annotated[str, typer.Option(help=f"One of: {', '.join(POLICY_NAMES)} (W in [0, 1]).")] = "fixed:0.75",
-    png: Annotated[Path | None, typer.Option(help="Write a picture of the episode here.")] = None,
-    gif: Annotated[Path | None, typer.Option(help="Write an animation, one frame per decision, here.")] = None,
+    png: Annotated[Path | None, typer.Option(help="Write a picture of the episode to this .png file.")] = None,
+    gif: Annotated[
+        Path | None, typer.Option(help="Write an animation, one frame per decision, to this .gif file.")
+    ] = None,
     as_json: Annotated[bool, typer.Option("--json", help="Print the metrics as one JSON object.")] = False,
-    start: Annotated[str | None, typer.Option(help="Start pose 'x,y[,theta]' (m, rad).")] = None,
-    resolution: Annotated[float | None, typer.Option(help="Cell size (m) for map files without one.")] = None,
+    start: Annotated[str | None, typer.Option(help="Start pose 'x,y[,theta]' (m, rad; |theta| <= 1e6).")] = None,
+    resolution: Annotated[
+        float | None,
+        typer.Option(help=f"Cell size (m) for map files, {_RES_LO:.2g} to {_RES_HI:.3g} (the robot's radius)."),
+    ] = None,
     config: Annotated[Path | None, typer.Option(help="SimConfig YAML (any subset of its fields).")] = None,
     max_time: Annotated[float | None, typer.Option(help="Sim-time cap of the episode (s).")] = None,
     trust_model: Annotated[
@@ -138,28 +161,41 @@ def explore(
     ] = None,
 ) -> None:
     """Explore one world with one policy (or a team of robots) and report time, distance and coverage."""
+    # Every option is checked before the episode runs (outputs included); the metrics are printed
+    # before the pictures are written, so a picture that cannot be written loses no result.
+    _seed(seed)
     sim_config = _sim_config(config, max_time)
     team = _team_config(robots, strategy, comm_range, fail or [])
-    chosen = make_policy(policy, trust_model=trust_model)
-    the_world = resolve_world(world, seed, parse_pose(start) if start else None, resolution)
-    for out in (png, gif):
-        if out is not None and not out.parent.exists():
-            raise ConfigError(f"output folder {str(out.parent)!r} does not exist")
     if gif is not None and team is not None:
         raise ConfigError("--gif records one robot's decisions; use --png for a team")
+    if png is not None:
+        check_output_file(png, ".png", "--png")
+    if gif is not None:
+        check_output_file(gif, ".gif", "--gif")
+    resolution = checked_resolution(resolution)
+    pose = parse_pose(start) if start is not None else None
+    chosen = make_policy(policy, trust_model=trust_model)
+    the_world = resolve_world(world, seed, pose, resolution)
     warm_up()
+    recorder = None
     if team is not None:
         result: EpisodeResult = run_team_episode(the_world, chosen, sim_config, team, seed)
-        if png is not None:
-            save_team_png(png, the_world, result, f"{the_world.name} / {chosen.name}")  # type: ignore[arg-type]
     else:
         recorder = EpisodeRecorder(the_world, frames=gif is not None) if (png or gif) else None
         result = run_episode(the_world, chosen, sim_config, seed, on_decision=recorder)
-        if recorder is not None and png is not None:
-            recorder.save_png(png, result, f"{the_world.name} / {chosen.name}")
-        if recorder is not None and gif is not None:
-            recorder.save_gif(gif)
-    summary = {"world": the_world.name, "seed": seed, "policy": chosen.name, **result.summary()}
+    _print_episode(the_world.name, seed, chosen.name, result, as_json)
+    title = f"{the_world.name} / {chosen.name}"
+    if team is not None and png is not None:
+        save_team_png(png, the_world, result, title)  # type: ignore[arg-type]
+    if recorder is not None and png is not None:
+        recorder.save_png(png, result, title)
+    if recorder is not None and gif is not None:
+        recorder.save_gif(gif, result, title)
+
+
+def _print_episode(world: str, seed: int, policy: str, result: EpisodeResult, as_json: bool) -> None:
+    """An episode's metrics on standard output: one JSON object, or a table."""
+    summary = {"world": world, "seed": seed, "policy": policy, **result.summary()}
     weights = [d.weight for d in result.decision_log if d.weight is not None]
     if weights and as_json:
         summary["weights"] = weights  # the weight of every decision, in order
@@ -170,16 +206,16 @@ def explore(
         typer.echo(json.dumps(summary))
         return
     summary["frontiers_left"] = len(result.frontiers_left)
-    table = Table(title=f"{the_world.name}, seed {seed}, {chosen.name}")
+    table = Table(title=f"{world}, seed {seed}, {policy}")
     table.add_column("metric")
     table.add_column("value", justify="right")
     for key, value in summary.items():
         table.add_row(key, str(value))
-    Console().print(table)
+    stdout_console().print(table)
 
 
 @app.command()
-@_friendly_errors
+@friendly_errors
 def demo(
     out: Annotated[Path, typer.Option(help="Folder for the report and pictures (rewritten).")] = Path("demo_output"),
     seed: Annotated[int, typer.Option(help="Seed of the first episode.")] = 0,
@@ -197,6 +233,8 @@ def demo(
     from frontier_rl.evaluation.evaluate import evaluate as run_evaluation
     from frontier_rl.evaluation.experiment import ORACLE, ExperimentConfig
 
+    _seed(seed)
+    _output_folder(out)
     methods = ("fixed:0.75", "nearest", *(f"learned:{path}" for path in SHIPPED_MODELS if path.exists()), ORACLE)
     sim = _sim_config(None, max_time)
     experiment = ExperimentConfig(methods=methods, worlds=DEMO_WORLDS, episodes=episodes, seed=seed, sim=sim)
@@ -218,8 +256,8 @@ def demo(
             stem = f"{world_name}_{re.sub(r'[^A-Za-z0-9.]+', '_', method.removesuffix('.zip'))}"
             recorder.save_png(out / f"{stem}.png", result, f"{world_name} / {method}")
             if animate:
-                recorder.save_gif(out / f"{stem}.gif")
-    Console().print(f"report: {report} and {report.with_suffix('.html')}; pictures of seed {seed} in {out}/")
+                recorder.save_gif(out / f"{stem}.gif", result, f"{world_name} / {method}")
+    stdout_console().print(f"report: {report} and {report.with_suffix('.html')}; pictures of seed {seed} in {out}/")
 
 
 def _print_summary(report: Path, title: str, baseline: str) -> None:
@@ -239,7 +277,7 @@ def _print_summary(report: Path, title: str, baseline: str) -> None:
             f"{e['p_one_tailed']:.2g}" if compared and e["p_one_tailed"] is not None else "",
             f"{e['oracle_ratio']:.2f}" if e["oracle_ratio"] is not None else "", f"{e['episodes_done']}/{e['n']}",
         )  # fmt: skip
-    Console().print(table)
+    stdout_console().print(table)
 
 
 def _not_explored(methods: dict[str, dict[str, Any]], labels: dict[str, str]) -> str | None:
@@ -254,7 +292,7 @@ def _not_explored(methods: dict[str, dict[str, Any]], labels: dict[str, str]) ->
 
 
 @app.command()
-@_friendly_errors
+@friendly_errors
 def evaluate(
     methods: Annotated[str, typer.Option(help="Comma-separated policies, e.g. fixed:0.75,learned:models/model5.zip")],
     out: Annotated[Path, typer.Option(help="Results folder; rerunning with it resumes.")],
@@ -269,7 +307,10 @@ def evaluate(
     outliers: Annotated[str, typer.Option(help="Also compare without episodes above these times (s).")] = "1000,2000",
     config: Annotated[Path | None, typer.Option(help="SimConfig YAML (any subset of its fields).")] = None,
     max_time: Annotated[float | None, typer.Option(help="Sim-time cap of every episode (s).")] = None,
-    resolution: Annotated[float | None, typer.Option(help="Cell size (m) for map files without one.")] = None,
+    resolution: Annotated[
+        float | None,
+        typer.Option(help=f"Cell size (m) for map files, {_RES_LO:.2g} to {_RES_HI:.3g} (the robot's radius)."),
+    ] = None,
     trust_model: Annotated[
         bool, typer.Option(help="Allow learned:PATH to be an SB3 zip from elsewhere (unpickles it: runs its code).")
     ] = False,
@@ -295,6 +336,9 @@ def evaluate(
     from frontier_rl.evaluation.evaluate import parse_thresholds
     from frontier_rl.evaluation.experiment import ORACLE, ExperimentConfig, expand_worlds
 
+    _seed(seed)
+    _output_folder(out)
+    resolution = checked_resolution(resolution)
     names = [m.strip() for m in methods.split(",") if m.strip()]
     names = team_methods(names, _int_list("--robots", robots), [parse_strategy(s) for s in _text_list(strategy)])
     ordered = list(dict.fromkeys([baseline, *names, *([ORACLE] if oracle else [])]))
@@ -310,14 +354,16 @@ def evaluate(
             experiment, out, backend, workers, ray_address, parse_thresholds(outliers), progress, command
         )
     except KeyboardInterrupt:
-        err_console.print(f"interrupted: finished episodes are saved in {out}/; rerun the same command to resume")
+        err_console.print(
+            Text(one_line(f"interrupted: finished episodes are saved in {out}/; rerun the same command to resume"))
+        )
         raise typer.Exit(130) from None
     _print_summary(report, f"{episodes} episode(s) per world on {', '.join(experiment.worlds)}", baseline)
-    Console().print(f"report: {report} and {report.with_suffix('.html')}")
+    stdout_console().print(f"report: {report} and {report.with_suffix('.html')}")
 
 
 @app.command()
-@_friendly_errors
+@friendly_errors
 def train(
     out: Annotated[Path, typer.Option(help="Run directory: config, checkpoints, logs, model.zip, learning curve.")],
     model: Annotated[int, typer.Option(help="Thesis model: 1, 2 (point), 3, 4 (weight), 5 (frontier choice).")] = 4,
@@ -336,6 +382,8 @@ def train(
     progress: Annotated[bool, typer.Option(help="Show a progress bar.")] = True,
 ) -> None:
     """Train a thesis model with Stable-Baselines3 (A2C as in the thesis, or PPO)."""
+    _seed(seed)
+    _output_folder(out)
     from frontier_rl.rl.config import TrainConfig
     from frontier_rl.rl.train import train as run_training
 
@@ -345,7 +393,7 @@ def train(
         seed=seed, eval_every=eval_every, checkpoint_every=checkpoint_every,
     )  # fmt: skip
     final = run_training(config, out, resume=resume, progress=progress)
-    Console().print(f"model: {final}   learning curve: {out / 'learning_curve.png'}")
+    stdout_console().print(f"model: {final}   learning curve: {out / 'learning_curve.png'}")
 
 
 def main() -> None:

@@ -1,4 +1,8 @@
-"""Frozen-dataclass configuration to and from YAML, with unknown keys rejected by name."""
+"""Frozen-dataclass configuration to and from YAML, with unknown keys rejected by name.
+
+YAML is read by :mod:`frontier_rl.safe_yaml` (size-bounded, no aliases, YAML-1.2 numbers: ``6e2`` is
+a float); values quoted in errors are cut to a bounded length.
+"""
 
 from __future__ import annotations
 
@@ -11,7 +15,8 @@ from typing import Any, TypeVar
 import yaml
 
 from frontier_rl.core.simulator import SimConfig
-from frontier_rl.errors import ConfigError
+from frontier_rl.errors import ConfigError, FrontierRLError, short_repr
+from frontier_rl.safe_yaml import load_yaml_file
 
 T = TypeVar("T")
 
@@ -25,34 +30,43 @@ def from_dict(cls: type[T], data: Any, where: str = "") -> T:
         raise TypeError(f"{cls!r} is not a dataclass")
     hints = typing.get_type_hints(cls)
     fields = {f.name: f for f in dataclasses.fields(cls)}
-    unknown = sorted(set(data) - set(fields))
+    unknown = sorted((key for key in data if key not in fields), key=str)
     if unknown:
-        raise ConfigError(f"unknown key {unknown[0]!r} in {name}; valid keys: {', '.join(fields)}")
+        raise ConfigError(f"unknown key {short_repr(unknown[0])} in {name}; valid keys: {', '.join(fields)}")
     kwargs: dict[str, Any] = {}
     for key, value in data.items():
         hint = hints[key]
         if dataclasses.is_dataclass(hint) and isinstance(hint, type):
             kwargs[key] = from_dict(hint, value, f"{name}.{key}")
         else:
-            kwargs[key] = _coerce(hint, value, f"{name}.{key}")
+            kwargs[key] = coerce(hint, value, f"{name}.{key}")
     return cls(**kwargs)
 
 
-def _coerce(hint: Any, value: Any, where: str) -> Any:
+def coerce(hint: Any, value: Any, where: str) -> Any:
+    """``value`` checked against type ``hint`` (bool, int, float, float | None, str); others pass as they are.
+
+    Raises:
+        ConfigError: naming ``where`` and quoting ``value`` (cut to a bounded length).
+    """
     if hint is bool:
         if not isinstance(value, bool):
-            raise ConfigError(f"{where} must be true or false, got {value!r}")
+            raise ConfigError(f"{where} must be true or false, got {short_repr(value)}")
         return value
     if hint is int:
         if isinstance(value, bool) or not isinstance(value, int):
-            raise ConfigError(f"{where} must be an integer, got {value!r}")
+            raise ConfigError(f"{where} must be an integer, got {short_repr(value)}")
         return value
     if hint == float | None:
-        return None if value is None else _coerce(float, value, where)
+        return None if value is None else coerce(float, value, where)
     if hint is float:
         if isinstance(value, bool) or not isinstance(value, int | float) or math.isnan(value):
-            raise ConfigError(f"{where} must be a number, got {value!r}")
+            raise ConfigError(f"{where} must be a number, got {short_repr(value)}")
         return float(value)
+    if hint is str:
+        if not isinstance(value, str):
+            raise ConfigError(f"{where} must be a string, got {short_repr(value)}")
+        return value
     return value
 
 
@@ -62,15 +76,13 @@ def to_dict(config: Any) -> dict[str, Any]:
 
 
 def load_sim_config(path: str | Path) -> SimConfig:
-    """Read a :class:`SimConfig` from a YAML file (any subset of its fields)."""
-    path = Path(path)
+    """Read a :class:`SimConfig` from a YAML file (any subset of its fields; see :mod:`frontier_rl.safe_yaml`
+    for the limits on the file)."""
+    data = load_yaml_file(path, ConfigError, "config file")
     try:
-        data = yaml.safe_load(path.read_text()) or {}
-    except OSError as exc:
-        raise ConfigError(f"cannot read config file {str(path)!r}: {exc.strerror}") from exc
-    except yaml.YAMLError as exc:
-        raise ConfigError(f"config file {str(path)!r} is not valid YAML: {exc}".splitlines()[0]) from exc
-    return from_dict(SimConfig, data, "SimConfig")
+        return from_dict(SimConfig, {} if data is None else data, "SimConfig")
+    except FrontierRLError as exc:
+        raise type(exc)(f"config file {path}: {exc}") from None
 
 
 def dump_config(config: Any, path: str | Path) -> Path:

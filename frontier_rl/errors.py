@@ -1,6 +1,12 @@
-"""Exception types: every error a user can cause names the bad value in one line."""
+"""Exception types: every error a user can cause names the bad value in one line, and the
+helpers that quote an untrusted value in a message with a bound on its length."""
 
 from __future__ import annotations
+
+import reprlib
+
+QUOTE_LIMIT = 80
+"""Default bound (characters) on a value quoted in an error message."""
 
 
 class FrontierRLError(Exception):
@@ -20,3 +26,35 @@ class UnknownNameError(FrontierRLError, KeyError):
 
     def __str__(self) -> str:  # KeyError quotes its argument; keep the message readable
         return str(self.args[0]) if self.args else ""
+
+
+class _ShortRepr(reprlib.Repr):
+    """``reprlib`` with its size bounds set from one character limit: twice the limit, so that the
+    cut :func:`short_text` makes at the limit (marked with an ellipsis) comes first."""
+
+    def __init__(self, limit: int) -> None:
+        super().__init__()
+        self.maxstring = self.maxother = self.maxlong = max(2 * limit, 8)
+        self.maxlevel = 3
+        self.maxlist = self.maxtuple = self.maxdict = self.maxset = self.maxfrozenset = self.maxdeque = 6
+
+    def repr_int(self, x: int, level: int) -> str:
+        if x.bit_length() > 4 * self.maxlong:  # str() of a huge int is slow, and refused beyond 4300 digits
+            return f"<an integer of {x.bit_length()} bits>"
+        return super().repr_int(x, level)
+
+
+def short_text(text: str, limit: int = 200) -> str:
+    """``text`` on one line (runs of whitespace become one space), cut to at most ``limit`` characters."""
+    flat = " ".join(text[: 4 * limit].split())
+    return flat if len(flat) <= limit else flat[: max(limit - 1, 0)] + "…"
+
+
+def short_repr(value: object, limit: int = QUOTE_LIMIT) -> str:
+    """``repr(value)`` for an error message: one line of at most ``limit`` characters, computed without
+    expanding a large (or deeply shared) value in full."""
+    try:
+        text = _ShortRepr(limit).repr(value)
+    except Exception:  # a hostile __repr__ must not hide the error being reported
+        text = f"<{type(value).__name__}>"
+    return short_text(text, limit)

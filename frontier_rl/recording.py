@@ -14,7 +14,7 @@ from frontier_rl.core.grid import OccupancyGrid
 from frontier_rl.core.metrics import EpisodeResult
 from frontier_rl.core.simulator import ExplorationSimulator
 from frontier_rl.core.worlds import World
-from frontier_rl.render import FrameCanvas, save_gif, side_by_side
+from frontier_rl.render import FrameCanvas, save_gif, save_image, side_by_side
 from frontier_rl.swarm.result import TeamResult
 
 
@@ -62,21 +62,28 @@ class EpisodeRecorder:
         out.paste(image, (0, banner.height))
         return out
 
-    def save_png(self, path: str | Path, result: EpisodeResult, title: str) -> Path:
+    def final_picture(self, result: EpisodeResult, title: str) -> Image.Image:
         """The final picture: true map with the path | built map with the path and the last
-        ranked frontiers (green = best)."""
+        ranked frontiers (green = best), under a caption of ``title`` and the metrics."""
         caption = (
             f"{title}   t = {result.sim_time_s:.1f} s   coverage {100 * result.coverage:.1f} %   "
             f"path {result.path_length_m:.1f} m   decisions {result.decisions}"
         )
-        image = self._picture(result.final_map, result.trajectory, self._last_centers, caption)
-        path = Path(path)
-        image.save(path)
-        return path
+        return self._picture(result.final_map, result.trajectory, self._last_centers, caption)
 
-    def save_gif(self, path: str | Path) -> Path:
-        """All recorded frames as a looping GIF."""
-        return save_gif(self._frames, path)
+    def save_png(self, path: str | Path, result: EpisodeResult, title: str) -> Path:
+        """:meth:`final_picture` written to ``path`` (.png or .gif) through a temporary file."""
+        return save_image(self.final_picture(result, title), path)
+
+    def save_gif(self, path: str | Path, result: EpisodeResult | None = None, title: str = "") -> Path:
+        """All recorded frames as a looping GIF (``path`` ends in .gif), then, with ``result``, the
+        final picture (so an episode that ended before its first decision still has a frame).
+
+        Raises:
+            ValueError: no frame at all (no decision recorded and no ``result``).
+        """
+        frames = self._frames if result is None else [*self._frames, self.final_picture(result, title)]
+        return save_gif(frames, path)
 
 
 #: One colour per robot of a team (matplotlib's tab10).
@@ -102,6 +109,4 @@ def save_team_png(path: str | Path, world: World, result: TeamResult, title: str
     out = Image.new("RGB", (image.width, image.height + 18), (255, 255, 255))
     ImageDraw.Draw(out).text((4, 3), caption, fill=(0, 0, 0))
     out.paste(image, (0, 18))
-    path = Path(path)
-    out.save(path)
-    return path
+    return save_image(out, path)

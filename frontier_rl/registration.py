@@ -11,7 +11,7 @@ from typing import Any
 
 import gymnasium as gym
 
-from frontier_rl.errors import ConfigError
+from frontier_rl.errors import ConfigError, short_repr
 
 NAMESPACE = "FrontierRL"
 
@@ -47,9 +47,9 @@ OBSERVATION_SIZES = (250, 64)
 def env_id(model: int, observation_size: int = 250) -> str:
     """The registered id of thesis model ``model`` (1-5) at ``observation_size`` (250 or 64)."""
     if model not in MODELS:
-        raise ConfigError(f"unknown model {model!r}; choose one of {', '.join(map(str, MODELS))}")
+        raise ConfigError(f"unknown model {short_repr(model)}; choose one of {', '.join(map(str, MODELS))}")
     if observation_size not in OBSERVATION_SIZES:
-        raise ConfigError(f"observation size must be one of {OBSERVATION_SIZES}, got {observation_size!r}")
+        raise ConfigError(f"observation size must be one of {OBSERVATION_SIZES}, got {short_repr(observation_size)}")
     suffix = "" if observation_size == 250 else str(observation_size)
     return f"{NAMESPACE}/{MODELS[model].name}{suffix}-v0"
 

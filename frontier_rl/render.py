@@ -6,14 +6,19 @@ millisecond and an episode's GIF a fraction of a second.
 
 from __future__ import annotations
 
+import io
+import os
 from collections.abc import Sequence
 from pathlib import Path
+from typing import Any
 
 import numpy as np
 from numpy.typing import NDArray
 from PIL import Image, ImageDraw
 
+from frontier_rl.atomic_write import write_bytes_atomic
 from frontier_rl.core.grid import CellState, OccupancyGrid
+from frontier_rl.errors import ConfigError, short_repr
 
 _COLOURS = {
     CellState.UNKNOWN: (150, 150, 160),
@@ -119,11 +124,60 @@ def side_by_side(left: Image.Image, right: Image.Image, gap: int = 8) -> Image.I
     return out
 
 
+#: Picture formats by file suffix (lower case): what :func:`check_output_file` accepts.
+IMAGE_FORMATS = {".png": "PNG", ".gif": "GIF"}
+
+
+def check_output_file(path: str | Path, suffix: str, what: str = "output") -> Path:
+    """``path`` if a picture can be written there, checked before any work is done: it ends in
+    ``suffix`` (".png" or ".gif", any case), is not a folder, and its folder exists and is
+    writable.
+
+    Raises:
+        ConfigError: otherwise, naming ``what`` and the path (cut to 80 characters).
+    """
+    path = Path(path)
+    if path.is_dir():
+        raise ConfigError(f"{what} {short_repr(str(path))} is a folder; name a {suffix} file inside it")
+    if path.suffix.lower() != suffix:
+        raise ConfigError(f"{what} {short_repr(str(path))} must be a {suffix} file name, got suffix {path.suffix!r}")
+    folder = path.parent
+    if not folder.is_dir():
+        state = "is a file, not a folder" if folder.exists() else "does not exist"
+        raise ConfigError(f"{what} folder {short_repr(str(folder))} {state}")
+    if not os.access(folder, os.W_OK | os.X_OK):
+        raise ConfigError(f"{what} folder {short_repr(str(folder))} is not writable")
+    return path
+
+
+def save_image(image: Image.Image, path: str | Path, **params: Any) -> Path:
+    """Write ``image`` to ``path`` in the format its suffix names (:data:`IMAGE_FORMATS`), all or
+    nothing: encoded in memory, then written with
+    :func:`~frontier_rl.atomic_write.write_bytes_atomic`, so that a failed write (a full disk)
+    never leaves a truncated picture in place of a good one. ``params`` go to
+    :meth:`PIL.Image.Image.save`.
+
+    Raises:
+        ConfigError: a suffix other than .png or .gif.
+        OutputWriteError: the picture could not be written (``path`` is then unchanged).
+    """
+    path = Path(path)
+    fmt = IMAGE_FORMATS.get(path.suffix.lower())
+    if fmt is None:
+        raise ConfigError(f"picture {short_repr(str(path))}: unknown suffix {path.suffix!r} (use .png or .gif)")
+    buffer = io.BytesIO()
+    image.save(buffer, format=fmt, **params)
+    write_bytes_atomic(path, buffer.getvalue())
+    return path
+
+
 def save_gif(frames: Sequence[Image.Image], path: str | Path, frame_ms: int = 120) -> Path:
-    """Write ``frames`` as a looping GIF; the last frame is held for a second."""
+    """Write ``frames`` as a looping GIF (``path`` ends in .gif); the last frame is held for a second."""
     if not frames:
         raise ValueError("no frames to write")
     path = Path(path)
+    if path.suffix.lower() != ".gif":
+        raise ConfigError(f"animation {short_repr(str(path))} must be a .gif file name, got suffix {path.suffix!r}")
     durations = [frame_ms] * (len(frames) - 1) + [1000]
-    frames[0].save(path, save_all=True, append_images=list(frames[1:]), duration=durations, loop=0, optimize=False)
-    return path
+    params = {"save_all": True, "append_images": list(frames[1:]), "duration": durations, "loop": 0}
+    return save_image(frames[0], path, optimize=False, **params)

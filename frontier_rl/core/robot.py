@@ -43,3 +43,26 @@ class RobotConfig:
 def wrap_angle(angle: float) -> float:
     """Angle wrapped to [-pi, pi) (rad)."""
     return (angle + math.pi) % (2.0 * math.pi) - math.pi
+
+
+#: Largest heading (rad, either sign) a pose from user input may have: near it floats are 1.2e-10
+#: rad apart, while a heading of 1e17 rad cannot name a direction at all (floats there are 16 rad
+#: apart) and leaves the robot unable to turn.
+MAX_HEADING_RAD = 1e6
+
+
+def checked_pose(pose: Pose, what: str = "pose") -> Pose:
+    """``pose`` (m, m, rad) checked as user input, its heading wrapped into [-pi, pi).
+
+    A heading already in [-pi, pi) is kept bit for bit.
+
+    Raises:
+        ConfigError: a non-finite coordinate, or a heading beyond +-:data:`MAX_HEADING_RAD`;
+            the message starts with ``what``.
+    """
+    x, y, theta = (float(v) for v in pose)
+    if not (math.isfinite(x) and math.isfinite(y)):
+        raise ConfigError(f"{what} ({x}, {y}) must have finite coordinates in metres")
+    if not (math.isfinite(theta) and abs(theta) <= MAX_HEADING_RAD):
+        raise ConfigError(f"{what} heading must be a finite angle within +-{MAX_HEADING_RAD:g} rad, got {theta!r}")
+    return Pose(x, y, theta if -math.pi <= theta < math.pi else wrap_angle(theta))

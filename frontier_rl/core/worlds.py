@@ -20,7 +20,7 @@ from scipy import ndimage
 
 from frontier_rl.core import generators as gen
 from frontier_rl.core.grid import CellState, OccupancyGrid
-from frontier_rl.core.robot import Pose
+from frontier_rl.core.robot import MAX_HEADING_RAD, Pose, checked_pose
 from frontier_rl.core.visibility import visible_from
 from frontier_rl.errors import ConfigError, MapError, UnknownNameError
 
@@ -31,6 +31,15 @@ MAPPING_RANGE_M = 3.0
 START_MARGIN_M = 0.05  # extra clearance (m) of a randomly drawn start over the robot radius
 RUBBLE_M = (0.1, 0.8)  # rubble piece size range (m)
 RUBBLE_GAP_M = 0.5  # cluttered world: slots between rubble narrower than this are filled (m)
+# Cell sizes a world accepts (make_world, check_resolution): a cell at most as wide as the robot's
+# radius (coarser, the grid cannot say where the robot fits: 5 m cells ran and reported "done" at
+# 0 %) and at most a tenth of the mapping range; the radius at most MAX_RADIUS_CELLS cells and the
+# range at most MAX_RANGE_CELLS (the clearance disc, the line-of-sight fans and the memory grow
+# with these: 1e-5 m cells took the machine's memory). For the TurtleBot3 Burger (radius 0.105 m,
+# range 3 m): 0.0042 m to 0.105 m.
+MAX_RADIUS_CELLS = 25
+MIN_RANGE_CELLS = 10
+MAX_RANGE_CELLS = 2000
 
 
 @dataclass(frozen=True, eq=False)  # compared by identity: numpy fields have no boolean equality
@@ -98,6 +107,50 @@ def _roomy(free: NDArray[np.bool_], clearance_cells: float) -> NDArray[np.bool_]
     return np.asarray(free & ~dilate(~free, clearance_cells, strict=True))
 
 
+def resolution_bounds(
+    robot_radius: float = ROBOT_RADIUS_M, sensor_range: float = MAPPING_RANGE_M
+) -> tuple[float, float]:
+    """The smallest and largest cell size (m) a world accepts for a robot of ``robot_radius`` (m)
+    mapping within ``sensor_range`` (m); see :data:`MAX_RADIUS_CELLS`."""
+    lo = max(robot_radius / MAX_RADIUS_CELLS, sensor_range / MAX_RANGE_CELLS)
+    return lo, min(robot_radius, sensor_range / MIN_RANGE_CELLS)
+
+
+def check_resolution(
+    resolution: object,
+    what: str = "resolution",
+    robot_radius: float = ROBOT_RADIUS_M,
+    sensor_range: float = MAPPING_RANGE_M,
+) -> float:
+    """``resolution`` as a cell size (m) that suits a robot of ``robot_radius`` (m) mapping within
+    ``sensor_range`` (m): finite and within :func:`resolution_bounds`.
+
+    Raises:
+        MapError: anything else, the message starting with ``what``.
+    """
+    if isinstance(resolution, bool) or not isinstance(resolution, int | float | np.integer | np.floating):
+        raise MapError(f"{what} must be a number of metres, got {_short(repr(resolution))}")
+    res = float(resolution)
+    if not (math.isfinite(res) and res > 0):
+        raise MapError(f"{what} must be a positive, finite number of metres, got {res!r}")
+    lo, hi = resolution_bounds(robot_radius, sensor_range)
+    if lo > hi:
+        raise MapError(
+            f"{what}: no cell size suits a robot of radius {robot_radius:g} m mapping within {sensor_range:g} m"
+        )
+    if not lo * (1 - 1e-9) <= res <= hi * (1 + 1e-9):  # admits the bounds as printed
+        raise MapError(
+            f"{what} {res:g} m does not suit a robot of radius {robot_radius:g} m mapping within "
+            f"{sensor_range:g} m: use {lo:.3g} to {hi:.3g} m"
+        )
+    return res
+
+
+def _short(text: str, limit: int = 80) -> str:
+    """``text`` cut to ``limit`` characters (an ellipsis marks the cut)."""
+    return text if len(text) <= limit else text[: limit - 1] + "…"
+
+
 def _start_name(start: Pose) -> str:
     return f"start pose ({start.x:.2f}, {start.y:.2f})"
 
@@ -106,9 +159,13 @@ def _check_start(grid: OccupancyGrid, start: Pose) -> tuple[int, int]:
     """Cell of a given start pose, or MapError naming the pose if it is off the grid or not free."""
     if not all(math.isfinite(v) for v in start):
         raise MapError(f"{_start_name(start)} has a non-finite coordinate: {start}")
-    row, col = grid.world_to_cell(start.x, start.y)
+    if abs(start.theta) > MAX_HEADING_RAD:
+        raise MapError(f"{_start_name(start)} has a heading beyond +-{MAX_HEADING_RAD:g} rad: {start.theta!r}")
+    (x0, y0), res = grid.origin, grid.resolution
+    far = not (math.isfinite((start.x - x0) / res) and math.isfinite((start.y - y0) / res))
+    row, col = (-1, -1) if far else grid.world_to_cell(start.x, start.y)  # far: no cell index at all
     if not grid.in_bounds(row, col):
-        (x0, y0), (w, h) = grid.origin, grid.size_m
+        w, h = grid.size_m
         raise MapError(
             f"{_start_name(start)} is outside the grid (x in [{x0:.2f}, {x0 + w:.2f}), y in [{y0:.2f}, {y0 + h:.2f}) m)"
         )
@@ -156,10 +213,13 @@ def make_world(
         robot_radius: robot footprint radius (m).
         sensor_range: range (m) within which the robot's map learns cells.
 
+    A given start's heading is wrapped into [-pi, pi).
+
     Raises:
         ConfigError: ``start`` and ``rng`` both missing, or a non-positive radius or range.
-        MapError: no free cell with room for the robot, or a start outside the grid, in a wall or
-            too close to one.
+        MapError: a cell size that does not suit the robot (:func:`check_resolution`), no free
+            cell with room for the robot, a start outside the grid, in a wall, too close to one or
+            with a non-finite or absurd heading, or nothing to explore.
     """
     if not (math.isfinite(robot_radius) and robot_radius > 0):
         raise ConfigError(f"robot_radius must be a positive number of metres, got {robot_radius!r}")
@@ -173,6 +233,7 @@ def make_world(
     if rows.size == 0:
         raise MapError("map has no free cell with clearance for the robot: it has no free cell at all")
     cell = None if start is None else _check_start(grid, start)
+    check_resolution(res, f"world {_short(repr(name))}: cell size", robot_radius, sensor_range)
     # Work on the free cells' bounding box with a one-cell non-free rim (cheap on big, mostly unknown maps).
     top, left = int(rows[0]) - 1, int(cols[0]) - 1
     free = np.pad(free_all[rows[0] : rows[-1] + 1, cols[0] : cols[-1] + 1], 1)
@@ -213,6 +274,12 @@ def make_world(
     data[window][inside[1:-1, 1:-1]] = CellState.FREE
     explorable = np.zeros(grid.shape, dtype=np.bool_)
     explorable[window] = explorable_local[1:-1, 1:-1]
+    if not explorable.any():
+        raise MapError(
+            f"world {_short(repr(name))} has nothing to explore: no free cell is in line of sight "
+            f"within {sensor_range:g} m of a place the robot can reach"
+        )
+    start = checked_pose(start, _start_name(start))
     data.flags.writeable = False
     explorable.flags.writeable = False
     return World(name, OccupancyGrid(data, res, grid.origin), start, explorable, robot_radius, sensor_range)

@@ -13,7 +13,7 @@ from numpy.typing import NDArray
 from frontier_rl.core.simulator import ExplorationSimulator, LegResult, SimConfig
 from frontier_rl.envs.observation import THESIS_INPUT_CELLS, MapEncoder
 from frontier_rl.envs.rewards import RewardConfig, reward_preset
-from frontier_rl.envs.world_source import WorldSource, parse_world_list
+from frontier_rl.envs.world_source import WorldSource, parse_world_list, reset_world_seed
 from frontier_rl.errors import ConfigError
 from frontier_rl.render import FrameCanvas, side_by_side
 
@@ -64,7 +64,8 @@ class ExplorationEnv(gym.Env[ObsT, np.int64], Generic[ObsT]):
 
     Subclasses set ``observation_space`` and ``action_space`` and implement :meth:`_observe`
     and :meth:`_act`. ``reset(options={"world_seed": k})`` picks generator seed ``k`` (an
-    evaluation world) instead of a random training seed.
+    evaluation world) instead of a random training seed; other keys, and a seed that is not a
+    non-negative integer, raise :class:`~frontier_rl.errors.ConfigError`.
     """
 
     metadata: dict[str, Any] = {"render_modes": ["rgb_array"], "render_fps": 4}  # noqa: RUF012 (gymnasium's API)
@@ -88,9 +89,14 @@ class ExplorationEnv(gym.Env[ObsT, np.int64], Generic[ObsT]):
 
     # ----------------------------------------------------------- gym API
     def reset(self, *, seed: int | None = None, options: dict[str, Any] | None = None) -> tuple[ObsT, dict[str, Any]]:
-        """A new world, robot, map, navigator and blacklist, all drawn from the env's seed."""
+        """A new world, robot, map, navigator and blacklist, all drawn from the env's seed.
+
+        Raises:
+            ConfigError: ``options`` has a key other than ``world_seed`` or a value of the wrong kind
+                (see :func:`~frontier_rl.envs.world_source.reset_world_seed`).
+        """
+        world_seed = reset_world_seed(options)  # checked before anything changes
         super().reset(seed=seed)
-        world_seed = None if options is None else options.get("world_seed")
         world = self.source.sample(self.np_random, world_seed)
         sim_rng = np.random.default_rng(int(self.np_random.integers(2**63 - 1)))
         self._sim = ExplorationSimulator(world, self.config.sim, sim_rng)

@@ -9,7 +9,7 @@ from numpy.typing import NDArray
 
 from frontier_rl.core.grid import CellState
 from frontier_rl.core.simulator import LegResult
-from frontier_rl.errors import UnknownNameError
+from frontier_rl.errors import UnknownNameError, short_repr
 
 
 @dataclass(frozen=True)
@@ -112,4 +112,5 @@ def reward_preset(name: str) -> RewardConfig:
     try:
         return REWARD_PRESETS[name]
     except KeyError:
-        raise UnknownNameError(f"unknown reward preset {name!r}; choose one of {', '.join(REWARD_PRESETS)}") from None
+        choices = ", ".join(REWARD_PRESETS)
+        raise UnknownNameError(f"unknown reward preset {short_repr(name)}; choose one of {choices}") from None

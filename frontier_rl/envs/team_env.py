@@ -27,7 +27,7 @@ from frontier_rl.envs.frontier_env import FEATURE_BOUND, frontier_observation, s
 from frontier_rl.envs.observation import FRONTIER_FEATURES, MapEncoder
 from frontier_rl.envs.rewards import RewardConfig, reward_preset
 from frontier_rl.envs.weight_env import WEIGHT_BINS, bin_to_weight
-from frontier_rl.envs.world_source import WorldSource
+from frontier_rl.envs.world_source import WorldSource, reset_world_seed
 from frontier_rl.errors import ConfigError
 from frontier_rl.render import FrameCanvas, side_by_side
 from frontier_rl.swarm import TeamConfig, TeamSimulator
@@ -112,10 +112,13 @@ class TeamExplorationEnv(ParallelEnv):  # type: ignore[misc]  # pettingzoo ships
     def reset(
         self, seed: int | None = None, options: dict[str, Any] | None = None
     ) -> tuple[dict[str, Observation], dict[str, dict[str, Any]]]:
-        """A new world and team, drawn from ``seed`` (``options={"world_seed": k}`` picks a world)."""
+        """A new world and team, drawn from ``seed`` (``options={"world_seed": k}`` picks a world; a
+        seed of the wrong kind, or a key that looks like a misspelt ``world_seed``, raises
+        :class:`~frontier_rl.errors.ConfigError`; other keys are let pass, as PettingZoo's API test
+        resets with ``{"options": 1}``)."""
+        world_seed = reset_world_seed(options, ignore_unknown=True)  # checked before anything changes
         if seed is not None or self._team is None:
             self._rng = np.random.default_rng(seed)
-        world_seed = None if options is None else options.get("world_seed")
         world = self.source.sample(self._rng, world_seed)
         team_rng = np.random.default_rng(int(self._rng.integers(2**63 - 1)))
         self._team = TeamSimulator(world, self.config.sim, self.team_config, team_rng)

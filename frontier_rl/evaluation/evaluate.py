@@ -10,6 +10,7 @@ from typing import Any
 from rich.console import Console
 from rich.progress import BarColumn, MofNCompleteColumn, Progress, TextColumn, TimeElapsedColumn, TimeRemainingColumn
 
+from frontier_rl.atomic_write import OutputWriteError
 from frontier_rl.errors import ConfigError
 from frontier_rl.evaluation.backends import EpisodeFailedError, check_backend, default_workers, run_jobs
 from frontier_rl.evaluation.experiment import ExperimentConfig, check_methods, identity
@@ -48,15 +49,30 @@ def evaluate(
 ) -> Path:
     """Run the episodes of ``config`` not yet in ``out``, then write ``out``'s summary, figures and
     reports; returns the Markdown report's path. Each finished episode is on disk before the next
-    is recorded, so an interrupted run resumes where it stopped when called again."""
+    is recorded, so an interrupted run resumes where it stopped when called again.
+
+    Raises:
+        ConfigError: bad settings, or ``out`` holds another experiment or edited or damaged rows.
+        EpisodeFailedError: episodes raised (every other one is recorded).
+        OutputWriteError: a file could not be written (a full disk); the message names it and
+            says that the finished episodes are kept.
+    """
     workers = default_workers() if workers is None else workers
     check_backend(backend, workers, ray_address)
     check_methods(config)  # a bad method or model file fails before anything is written
-    store = ResultStore(out, identity(config))
+    try:
+        store = ResultStore(out, identity(config))
+    except OutputWriteError as exc:
+        raise exc.with_note(f"the results already in {str(out)!r} are unchanged") from None
     try:
         _run_missing(store, config, backend, workers, ray_address, progress)
         store.finalise(config.jobs())
         return write_report(store, config, outliers, command)
+    except OutputWriteError as exc:  # a full disk: say what could not be written and what is kept
+        raise exc.with_note(
+            f"the {len(store.rows)} finished episodes are kept in {str(store.csv_path)!r}; free some space and "
+            "rerun the same command: it resumes and writes the report"
+        ) from None
     finally:
         store.close()
 

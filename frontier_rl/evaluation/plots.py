@@ -2,7 +2,8 @@
 scatter of exploration times (the thesis's figures 4.2 to 4.8), coverage over time, and the weight
 learned-weight methods chose over time.
 
-Figures are drawn on :class:`matplotlib.figure.Figure` objects (no pyplot state) and saved as PNG.
+Figures are drawn on :class:`matplotlib.figure.Figure` objects (no pyplot state) and saved as PNG,
+each through a temporary file renamed into place (a failed write leaves the previous figure).
 """
 
 from __future__ import annotations
@@ -14,6 +15,7 @@ from typing import Any
 import numpy as np
 from matplotlib.figure import Figure
 
+from frontier_rl.atomic_write import save_figure_atomic
 from frontier_rl.core.metrics import sample_step
 
 _DPI = 110
@@ -29,8 +31,7 @@ def box_plot(times: Mapping[str, Sequence[float]], path: Path, title: str) -> Pa
     ax.set_title(title)
     ax.grid(axis="y", alpha=0.3)
     fig.tight_layout()
-    fig.savefig(path)
-    return path
+    return save_figure_atomic(fig, path)
 
 
 def paired_scatter(times: Mapping[str, Sequence[float]], baseline: str, path: Path) -> Path:
@@ -51,8 +52,7 @@ def paired_scatter(times: Mapping[str, Sequence[float]], baseline: str, path: Pa
     ax.set_title("Paired episodes")
     ax.legend(fontsize=8)
     fig.tight_layout()
-    fig.savefig(path)
-    return path
+    return save_figure_atomic(fig, path)
 
 
 def coverage_plot(traces: dict[str, list[dict[str, Any]]], path: Path) -> Path:
@@ -77,8 +77,7 @@ def coverage_plot(traces: dict[str, list[dict[str, Any]]], path: Path) -> Path:
     ax.grid(alpha=0.3)
     ax.legend(fontsize=8, loc="lower right")
     fig.tight_layout()
-    fig.savefig(path)
-    return path
+    return save_figure_atomic(fig, path)
 
 
 def weight_plot(traces: dict[str, list[dict[str, Any]]], path: Path) -> Path:
@@ -110,8 +109,7 @@ def weight_plot(traces: dict[str, list[dict[str, Any]]], path: Path) -> Path:
     ax.grid(alpha=0.3)
     ax.legend(fontsize=8)
     fig.tight_layout()
-    fig.savefig(path)
-    return path
+    return save_figure_atomic(fig, path)
 
 
 def team_size_plot(scaling: Mapping[str, Mapping[str, Mapping[str, Mapping[str, Any]]]], path: Path) -> Path:
@@ -135,5 +133,4 @@ def team_size_plot(scaling: Mapping[str, Mapping[str, Mapping[str, Mapping[str, 
     ax.grid(alpha=0.3)
     ax.legend(fontsize=8)
     fig.tight_layout()
-    fig.savefig(path)
-    return path
+    return save_figure_atomic(fig, path)

@@ -11,6 +11,7 @@ from typing import Any
 
 import numpy as np
 
+from frontier_rl.atomic_write import write_text_atomic
 from frontier_rl.evaluation.analysis import paired_times, summarise
 from frontier_rl.evaluation.experiment import ORACLE, ExperimentConfig
 from frontier_rl.evaluation.plots import box_plot, coverage_plot, paired_scatter, team_size_plot, weight_plot
@@ -39,10 +40,11 @@ _CSS = (
 
 def write_report(store: ResultStore, config: ExperimentConfig, outliers: tuple[float, ...], command: str) -> Path:
     """Write the summary, figures and reports of ``config``'s experiment into ``store.out``;
-    returns the Markdown report's path."""
+    returns the Markdown report's path. Each file is replaced atomically: a failure (a full disk)
+    leaves its previous version and raises :class:`~frontier_rl.atomic_write.OutputWriteError`."""
     out = store.out
     summary = summarise(store.rows, config, outliers)
-    (out / "summary.json").write_text(json.dumps(summary, indent=1) + "\n")
+    write_text_atomic(out / "summary.json", json.dumps(summary, indent=1) + "\n")
     figures = _figures(store, config, summary)
     traces = {m: [t for (method, _, _), t in store.traces.items() if method == m] for m in config.methods}
     tables = report_tables(summary, config, traces)
@@ -60,9 +62,10 @@ def write_report(store: ResultStore, config: ExperimentConfig, outliers: tuple[f
     for caption, path in figures:
         markdown += [f"![{caption}]({path.name})", ""]
     markdown += ["Files: `episodes.csv` (one row per episode), `traces.jsonl` (coverage curves, weights), "
-                 "`summary.json` (the numbers above), `experiment.json` (what the rows depend on).", ""]  # fmt: skip
+                 "`checksums.jsonl` (each row's checksum), `summary.json` (the numbers above), `experiment.json` "
+                 "(what the rows depend on).", ""]  # fmt: skip
     report_md = out / "report.md"
-    report_md.write_text("\n".join(markdown))
+    write_text_atomic(report_md, "\n".join(markdown))
     body = [f"<h1>{html.escape(title)}</h1>", f"<p>{html.escape(intro)}</p>",
             f"<p>Command: <code>{html.escape(command)}</code></p>", *(t.html() for t in tables)]  # fmt: skip
     for caption, path in figures:
@@ -72,7 +75,7 @@ def write_report(store: ResultStore, config: ExperimentConfig, outliers: tuple[f
         f'<!DOCTYPE html><html lang="en"><head><meta charset="utf-8"><title>{html.escape(title)}</title>'
         f"<style>{_CSS}</style></head><body>{''.join(body)}</body></html>\n"
     )
-    (out / "report.html").write_text(page)
+    write_text_atomic(out / "report.html", page)
     return report_md
 
 

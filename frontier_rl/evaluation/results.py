@@ -2,17 +2,39 @@
 
 ``OUT/experiment.json`` records what the rows depend on (:func:`~frontier_rl.evaluation.experiment.identity`);
 a rerun with a different seed, worlds or settings, or a changed model file under the same method
-name, is refused rather than mixed. ``OUT/episodes.csv`` gets one row per finished episode and
-``OUT/traces.jsonl`` its coverage curve and weights, each line flushed to disk before the next
-episode is recorded, so a run killed at any moment loses at most the episodes still running; a
-torn last line is cut off on reopening. When every episode is in, :meth:`ResultStore.finalise`
-rewrites both files in job order, so an interrupted and resumed run ends with the same files as
-an uninterrupted one (up to the wall times).
+name, is refused rather than mixed, and the refusal lists each setting that differs with its
+value there and now. ``OUT/episodes.csv`` gets one row per finished episode,
+``OUT/traces.jsonl`` its coverage curve and weights and ``OUT/checksums.jsonl`` the row's
+checksum, each line flushed to disk before the next episode is recorded, so a run killed at any
+moment loses at most the episodes still running; a torn last line is cut off on reopening. When
+every episode is in, :meth:`ResultStore.finalise` rewrites the three files in job order, so an
+interrupted and resumed run ends with the same ``episodes.csv`` and ``traces.jsonl`` as an
+uninterrupted one (up to the wall times, and so the checksums).
+
+Row checksums: each line of ``checksums.jsonl`` holds a row's key (method, world, episode), the
+SHA-256 of its trace line in ``traces.jsonl`` and the SHA-256 of (:data:`CHECKSUM_SCHEME`, the
+experiment id, the method's fingerprint, the row's CSV line as written, the trace's SHA-256).
+The experiment id is the SHA-256 of ``experiment.json`` without its methods (seed, worlds with
+their map hashes, resolution, simulator and team settings), so a row binds to this experiment's
+configuration, its method's model file and its trace. Reopening a folder checks every row: a row
+that was edited (a changed time, a renamed method, a changed seed), copied from another
+experiment or repeated, a row without a checksum and a trace that was edited are refused with an
+error naming the file and line. The checksums detect careless edits and mixed-up files; they are
+not a signature (anyone can recompute them). A folder written before row checksums existed (rows,
+no ``checksums.jsonl``) is refused with a message asking to rerun into a new folder, or to adopt
+its rows as they are with :func:`adopt_rows` where they are trusted.
+
+Writing never destroys what is there: appends that fail (a full disk) are cut back to the
+previous end of the file, and rewrites go through a temporary file renamed into place
+(:mod:`frontier_rl.atomic_write`); either raises
+:class:`~frontier_rl.atomic_write.OutputWriteError` naming the file.
 """
 
 from __future__ import annotations
 
+import contextlib
 import csv
+import hashlib
 import io
 import json
 import os
@@ -24,7 +46,9 @@ try:
 except ImportError:  # pragma: no cover - not POSIX
     fcntl = None  # type: ignore[assignment]
 
-from frontier_rl.errors import ConfigError
+from frontier_rl import atomic_write
+from frontier_rl.atomic_write import OutputWriteError, describe_os_error, write_text_atomic
+from frontier_rl.errors import ConfigError, short_repr, short_text
 from frontier_rl.evaluation.experiment import ROW_COLUMNS, EpisodeJob
 
 Key = tuple[str, str, int]
@@ -33,6 +57,21 @@ _BOOL_COLUMNS = ("done", "truncated")
 _TEXT_COLUMNS = ("method", "world")
 _OPTIONAL_TEXT_COLUMNS = ("end_reason",)  # an empty field is None
 
+CHECKSUM_SCHEME = "frontier_rl episode row v1"
+"""Hashed first into every row checksum: a later scheme changes it."""
+
+_QUOTE_CHARS = 60
+"""Values from files are quoted in messages up to this many characters."""
+
+_DIFFERENCES_SHOWN = 4
+"""A refused configuration names at most this many differing settings."""
+
+_VALUE_CHARS = 48
+"""A differing setting's value is shown up to about this many characters."""
+
+_MAX_DEPTH = 32
+"""``experiment.json`` nests no deeper than this (the simulator's settings nest 3 levels)."""
+
 
 class ResultStore:
     """The result files of one experiment folder.
@@ -40,23 +79,37 @@ class ResultStore:
     Args:
         out: the folder (created if missing).
         identity: what the experiment's rows depend on; refused if the folder holds another.
+        adopt_unchecked: in a folder written before row checksums (no ``checksums.jsonl``),
+            take its rows as they are and write their checksums (see :func:`adopt_rows`).
+
+    Raises:
+        ConfigError: the folder holds another experiment, another run holds it, or its files
+            were edited or damaged (the message names the file and line).
+        OutputWriteError: ``experiment.json`` could not be written.
     """
 
-    def __init__(self, out: Path, identity: dict[str, Any]) -> None:
+    def __init__(self, out: Path, identity: dict[str, Any], *, adopt_unchecked: bool = False) -> None:
         self.out = Path(out)
         if self.out.exists() and not self.out.is_dir():
             raise ConfigError(f"--out {str(self.out)!r} is a file, not a folder")
+        self.out.mkdir(parents=True, exist_ok=True)
         self.csv_path = self.out / "episodes.csv"
         self.trace_path = self.out / "traces.jsonl"
+        self.checksum_path = self.out / "checksums.jsonl"
         self.identity_path = self.out / "experiment.json"
         self._lock = self._acquire_lock()
         self.rows: dict[Key, dict[str, Any]] = {}
         self._row_lines: dict[Key, str] = {}
         self.traces: dict[Key, dict[str, Any]] = {}
         self._trace_lines: dict[Key, str] = {}
+        self._checksum_lines: dict[Key, str] = {}
+        self.identity: dict[str, Any] = {}
+        self.experiment_id = ""
         try:
             self._check_identity(identity)
-            self._load()
+            self._load(adopt_unchecked)
+            # written once the rows are checked: a refused folder keeps its experiment.json as it was
+            write_text_atomic(self.identity_path, json.dumps(self.identity, indent=1) + "\n")
         except BaseException:
             self.close()
             raise
@@ -66,7 +119,6 @@ class ResultStore:
         same files would interleave their rows."""
         if fcntl is None:  # no POSIX locks here (Windows): run one experiment per folder at a time
             return None
-        self.out.mkdir(parents=True, exist_ok=True)
         handle = (self.out / ".lock").open("ab")
         try:
             fcntl.flock(handle.fileno(), fcntl.LOCK_EX | fcntl.LOCK_NB)
@@ -88,52 +140,164 @@ class ResultStore:
         identity = json.loads(json.dumps(identity))  # tuples become lists, as in the stored file
         stored: dict[str, Any] | None = None
         if self.identity_path.exists():
+            text = _decode(self.identity_path, self.identity_path.read_bytes())
             try:
-                stored = json.loads(self.identity_path.read_text())
+                stored = json.loads(text)
             except json.JSONDecodeError as exc:
-                raise ConfigError(f"{self.identity_path} is not valid JSON ({exc.msg}); choose another --out") from None
-            if not isinstance(stored, dict) or not isinstance(stored.get("methods", {}), dict):
+                raise ConfigError(
+                    f"{self.identity_path} is not valid JSON ({exc.msg} at line {exc.lineno}); choose another --out"
+                ) from None
+            except RecursionError:
+                stored = None
+            if (
+                not isinstance(stored, dict)
+                or not isinstance(stored.get("methods", {}), dict)
+                or _depth(stored) > _MAX_DEPTH
+            ):
                 raise ConfigError(f"{self.identity_path} is not an experiment description; choose another --out")
-        elif any(path.name != ".lock" for path in self.out.iterdir()):
+        elif any(not _ours(path.name) for path in self.out.iterdir()):
             raise ConfigError(f"--out {str(self.out)!r} holds other files and no experiment.json: choose another --out")
         if stored is not None:
-            for part in ("seed", "worlds", "resolution", "sim"):
-                if stored.get(part) != identity[part]:
-                    raise ConfigError(
-                        f"--out {str(self.out)!r} holds results of a different configuration ({part}: "
-                        f"{_short(stored.get(part))} there, {_short(identity[part])} now); choose another --out"
-                    )
+            parts = [*identity, *(part for part in stored if part not in identity)]
+            differences = [
+                d for part in parts if part != "methods" for d in differences_between(stored.get(part, _ABSENT),
+                                                                                      identity.get(part, _ABSENT), part)
+            ]  # fmt: skip
+            if differences:
+                raise ConfigError(
+                    f"--out {str(self.out)!r} holds results of a different configuration "
+                    f"({describe_differences(differences)}); choose another --out"
+                )
             for method, fingerprint in identity["methods"].items():
                 old = stored.get("methods", {}).get(method)
                 if old is not None and old != fingerprint:
+                    there, now = contrast(old, fingerprint)
                     raise ConfigError(
-                        f"--out {str(self.out)!r} holds results of {method!r} from a different model file; "
-                        "choose another --out or rename the model"
+                        f"--out {str(self.out)!r} holds results of {short_repr(method)} from a different model file "
+                        f"({there} there, {now} now); choose another --out or rename the model"
                     )
             identity = {**identity, "methods": {**stored.get("methods", {}), **identity["methods"]}}
-        self.out.mkdir(parents=True, exist_ok=True)
-        _write_atomic(self.identity_path, json.dumps(identity, indent=1) + "\n")
+        self.identity = identity
+        self.experiment_id = experiment_id(identity)
 
     # ------------------------------------------------------------------ reading
-    def _load(self) -> None:
+    def _load(self, adopt_unchecked: bool = False) -> None:
         lines = _complete_lines(self.csv_path)
-        if lines and lines[0] != ",".join(ROW_COLUMNS):
+        if lines and lines[0][1] != ",".join(ROW_COLUMNS):
             raise ConfigError(
                 f"{self.csv_path} has the columns of another version of frontier_rl; choose another --out"
             )
-        for line in lines[1:]:  # the first is the header
-            row = parse_row(line)
+        row_numbers: dict[Key, int] = {}
+        for number, line in lines[1:]:  # the first is the header
+            try:
+                row = parse_row(line)
+            except ConfigError as exc:
+                raise ConfigError(f"{self.csv_path} line {number}: {exc}; {_FIX_ROW}") from None
             key = (row["method"], row["world"], row["episode"])
+            if key in row_numbers:
+                raise ConfigError(
+                    f"{self.csv_path} line {number} repeats the episode of line {row_numbers[key]} "
+                    f"({_describe(key)}); {_FIX_ROW}"
+                )
+            row_numbers[key] = number
             self.rows[key] = row
             self._row_lines[key] = line
-        for line in _complete_lines(self.trace_path):
+        traces: dict[Key, tuple[int, str, dict[str, Any]]] = {}
+        for number, line in _complete_lines(self.trace_path):
             try:
                 trace = json.loads(line)
                 key = (trace["method"], trace["world"], trace["episode"])
-            except (json.JSONDecodeError, TypeError, KeyError):
-                raise ConfigError(f"traces.jsonl: a line is not a trace: {line[:80]!r}") from None
-            self.traces[key] = trace  # a trace of an episode rerun after a kill: the last one wins
-            self._trace_lines[key] = line
+                hash(key)
+            except (json.JSONDecodeError, TypeError, KeyError, RecursionError):
+                raise ConfigError(f"{self.trace_path} line {number} is not a trace: {short_repr(line)}") from None
+            traces[key] = (number, line, trace)  # a trace of an episode rerun after a kill: the last one wins
+        checksums: dict[Key, tuple[int, str, dict[str, Any]]] = {}
+        for number, line in _complete_lines(self.checksum_path):
+            try:
+                entry = json.loads(line)
+                key = (entry["method"], entry["world"], entry["episode"])
+                hash(key)
+                if not all(isinstance(entry.get(f), str) for f in ("row_sha256", "trace_sha256")):
+                    raise TypeError
+            except (json.JSONDecodeError, TypeError, KeyError, AttributeError, RecursionError):
+                raise ConfigError(
+                    f"{self.checksum_path} line {number} is not a row checksum: {short_repr(line)}"
+                ) from None
+            checksums[key] = (number, line, entry)  # an episode rerun after a kill: the last one wins
+        if self.rows and not self.checksum_path.exists():
+            if adopt_unchecked:
+                checksums = self._adopt(row_numbers, traces)
+            else:
+                raise ConfigError(
+                    f"{self.csv_path} holds {len(self.rows)} episodes but {self.checksum_path.name} is missing: the "
+                    "folder was written by a frontier_rl without row checksums (or the file was deleted), so its "
+                    "rows cannot be checked; choose another --out and run the experiment again (or, if you trust "
+                    "these rows, adopt them once with frontier_rl.evaluation.results.adopt_rows)"
+                )
+        for key in self.rows:
+            self._verify(key, row_numbers[key], traces.get(key), checksums.get(key))
+            self.traces[key] = traces[key][2]
+            self._trace_lines[key] = traces[key][1]
+            self._checksum_lines[key] = checksums[key][1]
+
+    def _adopt(
+        self, row_numbers: dict[Key, int], traces: dict[Key, tuple[int, str, dict[str, Any]]]
+    ) -> dict[Key, tuple[int, str, dict[str, Any]]]:
+        """Write ``checksums.jsonl`` for the rows as they are (each needs a method of this
+        experiment and a trace); returns the entries as :meth:`_load` reads them."""
+        entries: dict[Key, tuple[int, str, dict[str, Any]]] = {}
+        for number, key in enumerate(self.rows, start=1):
+            fingerprint = self.identity.get("methods", {}).get(key[0])
+            if not isinstance(fingerprint, str) or key not in traces:
+                what = "is not a method of this experiment" if not isinstance(fingerprint, str) else "has no trace"
+                raise ConfigError(f"{self.csv_path} line {row_numbers[key]} ({_describe(key)}) {what}; {_FIX_ROW}")
+            trace_sha256 = _sha256(traces[key][1])
+            entry = {
+                "method": key[0],
+                "world": key[1],
+                "episode": key[2],
+                "trace_sha256": trace_sha256,
+                "row_sha256": row_checksum(self.experiment_id, fingerprint, self._row_lines[key], trace_sha256),
+            }
+            entries[key] = (number, json.dumps(entry, separators=(",", ":")), entry)  # fmt: skip
+        write_text_atomic(self.checksum_path, "".join(line + "\n" for _, line, _ in entries.values()))
+        return entries
+
+    def _verify(
+        self,
+        key: Key,
+        number: int,
+        trace: tuple[int, str, dict[str, Any]] | None,
+        checksum: tuple[int, str, dict[str, Any]] | None,
+    ) -> None:
+        """Refuse the row at line ``number`` unless its checksum and its trace's match."""
+        where = f"{self.csv_path} line {number} ({_describe(key)})"
+        fingerprint = self.identity.get("methods", {}).get(key[0])
+        if not isinstance(fingerprint, str):
+            raise ConfigError(
+                f"{where}: {short_repr(key[0])} is not a method of this experiment ({self.identity_path.name}); "
+                f"the row was edited or copied from another experiment; {_FIX_ROW}"
+            )
+        if checksum is None:
+            raise ConfigError(
+                f"{where} has no checksum in {self.checksum_path.name}: the row was edited or copied from another "
+                f"experiment; {_FIX_ROW}"
+            )
+        entry = checksum[2]
+        expected = row_checksum(self.experiment_id, fingerprint, self._row_lines[key], entry["trace_sha256"])
+        if entry["row_sha256"] != expected:
+            raise ConfigError(
+                f"{where} does not match its checksum ({self.checksum_path.name} line {checksum[0]}): the row was "
+                f"edited or copied from another experiment; {_FIX_ROW}"
+            )
+        if trace is None:
+            raise ConfigError(f"{where} has no trace in {self.trace_path.name}; {_FIX_ROW}")
+        if _sha256(trace[1]) != entry["trace_sha256"]:
+            raise ConfigError(
+                f"{self.trace_path} line {trace[0]} (the trace of {_describe(key)}) does not match its checksum: it "
+                f"was edited or copied from another experiment; delete it and line {number} of "
+                f"{self.csv_path.name} to run that episode again, or choose another --out"
+            )
 
     def done(self, job: EpisodeJob) -> bool:
         """Whether ``job``'s row is already recorded."""
@@ -141,12 +305,25 @@ class ResultStore:
 
     # ------------------------------------------------------------------ writing
     def record(self, result: dict[str, Any]) -> None:
-        """Append one finished episode (``run_job``'s result): the trace, then the row, each synced."""
+        """Append one finished episode (``run_job``'s result): the trace, the checksum, then the
+        row, each synced; a kill between them leaves an episode that is simply run again.
+
+        Raises:
+            OutputWriteError: a file could not be appended to (cut back to its previous end).
+        """
         row, trace = result["row"], result["trace"]
         key = (row["method"], row["world"], row["episode"])
+        fingerprint = self.identity.get("methods", {}).get(row["method"])
+        if not isinstance(fingerprint, str):
+            raise ConfigError(f"method {short_repr(row['method'])} is not in {self.identity_path}")
         trace_line = json.dumps(trace, separators=(",", ":"))
         row_line = format_row(row)
+        trace_sha256 = _sha256(trace_line)
+        entry = {"method": key[0], "world": key[1], "episode": key[2], "trace_sha256": trace_sha256,
+                 "row_sha256": row_checksum(self.experiment_id, fingerprint, row_line, trace_sha256)}  # fmt: skip
+        checksum_line = json.dumps(entry, separators=(",", ":"))
         _append(self.trace_path, trace_line + "\n")
+        _append(self.checksum_path, checksum_line + "\n")
         if not self.csv_path.exists() or self.csv_path.stat().st_size == 0:
             _append(self.csv_path, ",".join(ROW_COLUMNS) + "\n")
         _append(self.csv_path, row_line + "\n")
@@ -154,16 +331,67 @@ class ResultStore:
         self._row_lines[key] = row_line
         self.traces[key] = trace
         self._trace_lines[key] = trace_line
+        self._checksum_lines[key] = checksum_line
 
     def finalise(self, jobs: list[EpisodeJob]) -> None:
-        """Rewrite both files in job order (rows of other jobs after them, in their order), once
-        every job is recorded; atomic, so a kill meanwhile leaves the old files."""
+        """Rewrite the three files in job order (rows of other jobs after them, in their order),
+        once every job is recorded; traces and checksums of episodes without a row are dropped.
+        Each file is replaced atomically, so a kill or a full disk meanwhile leaves the old one.
+
+        Raises:
+            OutputWriteError: a file could not be written (it is unchanged).
+        """
         order = {job.key: i for i, job in enumerate(jobs)}
         keys = sorted(self._row_lines, key=lambda k: (order.get(k, len(order)), k))
+        self.traces = {k: self.traces[k] for k in keys if k in self.traces}
         lines = [",".join(ROW_COLUMNS), *(self._row_lines[k] for k in keys)]
-        _write_atomic(self.csv_path, "\n".join(lines) + "\n")
-        trace_keys = [k for k in keys if k in self._trace_lines]
-        _write_atomic(self.trace_path, "".join(self._trace_lines[k] + "\n" for k in trace_keys))
+        write_text_atomic(self.checksum_path, "".join(self._checksum_lines[k] + "\n" for k in keys))
+        write_text_atomic(self.trace_path, "".join(self._trace_lines[k] + "\n" for k in keys))
+        write_text_atomic(self.csv_path, "\n".join(lines) + "\n")
+
+
+def adopt_rows(out: Path) -> int:
+    """Write ``checksums.jsonl`` for a results folder written before row checksums existed, taking
+    its rows and traces as they are (only for rows you trust: nothing can check them now); from
+    then on they are checked like any other. Returns how many rows were adopted.
+
+    Raises:
+        ConfigError: ``out`` has no readable experiment.json, already has checksums, or a row
+            that does not parse, repeats another or has no trace.
+    """
+    out = Path(out)
+    if (out / "checksums.jsonl").exists():
+        raise ConfigError(f"{out / 'checksums.jsonl'} exists: the rows of {str(out)!r} are checked already")
+    path = out / "experiment.json"
+    if not path.is_file():
+        raise ConfigError(f"{str(out)!r} has no experiment.json: it is not a results folder")
+    try:
+        stored = json.loads(_decode(path, path.read_bytes()))
+    except (json.JSONDecodeError, RecursionError):
+        stored = None
+    if not isinstance(stored, dict):
+        raise ConfigError(f"{path} is not an experiment description")
+    store = ResultStore(out, stored, adopt_unchecked=True)
+    store.close()
+    return len(store.rows)
+
+
+def experiment_id(identity: dict[str, Any]) -> str:
+    """The SHA-256 (hex) of an experiment's identity without its methods: what rows of every
+    method share (seed, worlds and their map hashes, resolution, simulator and team settings)."""
+    parts = {part: value for part, value in identity.items() if part != "methods"}
+    return _sha256(json.dumps(parts, sort_keys=True, separators=(",", ":")))
+
+
+def row_checksum(experiment: str, method_fingerprint: str, row_line: str, trace_sha256: str) -> str:
+    """The SHA-256 (hex) binding a row's CSV line to its experiment id, its method's fingerprint
+    (the model file's hash for learned methods) and its trace's SHA-256."""
+    digest = hashlib.sha256()
+    for part in (CHECKSUM_SCHEME, experiment, method_fingerprint, row_line, trace_sha256):
+        data = part.encode("utf-8")
+        digest.update(f"{len(data)}:".encode())  # length-prefixed: no two part lists hash alike
+        digest.update(data)
+    return digest.hexdigest()
 
 
 def format_row(row: dict[str, Any]) -> str:
@@ -174,10 +402,17 @@ def format_row(row: dict[str, Any]) -> str:
 
 
 def parse_row(line: str) -> dict[str, Any]:
-    """A row from one CSV line, with its numbers and booleans typed (an empty field is None)."""
-    values = next(csv.reader([line]))
+    """A row from one CSV line, with its numbers and booleans typed (an empty field is None).
+
+    Raises:
+        ConfigError: the line is not a row (wrong field count, a value of the wrong kind).
+    """
+    try:
+        values = next(csv.reader([line]), [])
+    except csv.Error as exc:
+        raise ConfigError(f"not a CSV row ({exc})") from None
     if len(values) != len(ROW_COLUMNS):
-        raise ConfigError(f"episodes.csv: a row has {len(values)} fields, expected {len(ROW_COLUMNS)}: {line[:80]!r}")
+        raise ConfigError(f"a row has {len(values)} fields, expected {len(ROW_COLUMNS)}: {short_repr(line)}")
     row: dict[str, Any] = {}
     for column, text in zip(ROW_COLUMNS, values, strict=True):
         try:
@@ -194,18 +429,130 @@ def parse_row(line: str) -> dict[str, Any]:
             else:
                 row[column] = float(text)
         except (ValueError, KeyError):
-            raise ConfigError(f"episodes.csv: {column} {text!r} is not valid in row {line[:80]!r}") from None
+            kind = (
+                "an integer" if column in _INT_COLUMNS else "True or False" if column in _BOOL_COLUMNS else "a number"
+            )
+            raise ConfigError(f"{column} {short_repr(text)} is not valid (expected {kind})") from None
     return row
 
 
-def _short(value: Any) -> str:
-    text = json.dumps(value)
-    return text if len(text) <= 60 else text[:57] + "..."
+# ---------------------------------------------------------------------- configuration differences
+class _Absent:
+    """A setting one side of a comparison does not have."""
+
+    def __repr__(self) -> str:
+        return "(absent)"
 
 
-def _complete_lines(path: Path) -> list[str]:
-    """The file's complete lines; a torn last line (no newline: the writer was killed) is cut off
-    the file, so that the next append starts on a fresh line."""
+_ABSENT: Any = _Absent()
+
+
+def differences_between(there: Any, now: Any, path: str) -> list[tuple[str, Any, Any]]:
+    """The settings that differ between two JSON values, as (dotted path, value there, value
+    now), down to the leaves of dicts and of lists of the same length; absent keys are
+    ``(absent)``. Values whose JSON texts agree count as equal."""
+    if isinstance(there, dict) and isinstance(now, dict):
+        keys = [*there, *(k for k in now if k not in there)]
+        return [d for k in keys for d in differences_between(there.get(k, _ABSENT), now.get(k, _ABSENT), f"{path}.{k}")]
+    if isinstance(there, list) and isinstance(now, list) and len(there) == len(now):
+        return [d for i, (a, b) in enumerate(zip(there, now, strict=True)) for d in
+                differences_between(a, b, f"{path}[{i}]")]  # fmt: skip
+    if there == now or _show(there) == _show(now):
+        return []
+    return [(path, there, now)]
+
+
+def describe_differences(differences: list[tuple[str, Any, Any]]) -> str:
+    """``path: A there, B now`` for the first few differences, each value cut to about
+    :data:`_VALUE_CHARS` characters around where the two differ (so they never read the same)."""
+    shown = []
+    for path, there, now in differences[:_DIFFERENCES_SHOWN]:
+        a, b = contrast(there, now)
+        shown.append(f"{_clip(path)}: {a} there, {b} now")
+    more = len(differences) - _DIFFERENCES_SHOWN
+    return "; ".join(shown) + (f"; and {more} more difference{'s' * (more > 1)}" if more > 0 else "")
+
+
+def contrast(there: Any, now: Any, width: int = _VALUE_CHARS) -> tuple[str, str]:
+    """Two values as JSON text, each cut to ``width`` characters around the first character where
+    they differ; a cut text is marked with "…" and its full length. Two different texts stay
+    different: the window holds the first differing character (or the end of the shorter text)."""
+    a, b = _show(there), _show(now)
+    if len(a) <= width and len(b) <= width:
+        return a, b
+    same = 0
+    while same < min(len(a), len(b)) and a[same] == b[same]:
+        same += 1
+    start = max(0, same - width // 3)
+    return _window(a, start, width), _window(b, start, width)
+
+
+def _window(text: str, start: int, width: int) -> str:
+    if len(text) <= width and start == 0:
+        return text
+    piece = text[start : start + width]
+    return f"{'…' * (start > 0)}{piece}{'…' * (start + width < len(text))} ({len(text)} chars)"
+
+
+def _show(value: Any) -> str:
+    if value is _ABSENT:
+        return "(absent)"
+    try:
+        return json.dumps(value, sort_keys=True)
+    except (TypeError, ValueError):
+        return repr(value)
+
+
+# ---------------------------------------------------------------------- files
+_FIX_ROW = "delete that line to run the episode again, or choose another --out"
+
+
+def _describe(key: Key) -> str:
+    return f"{_clip(str(key[0]))} on {_clip(str(key[1]))}, episode {_clip(str(key[2]))}"
+
+
+def _clip(text: str) -> str:
+    return short_text(text, _QUOTE_CHARS)
+
+
+def _depth(value: Any) -> int:
+    """How deeply lists and dicts nest in ``value`` (0 for a scalar), without recursion."""
+    deepest, stack = 0, [(value, 0)]
+    while stack:
+        item, level = stack.pop()
+        deepest = max(deepest, level)
+        if isinstance(item, dict | list) and level <= _MAX_DEPTH:
+            stack.extend((child, level + 1) for child in (item.values() if isinstance(item, dict) else item))
+    return deepest
+
+
+def _sha256(text: str) -> str:
+    return hashlib.sha256(text.encode("utf-8")).hexdigest()
+
+
+def _ours(name: str) -> bool:
+    """Files the store itself leaves in a folder before experiment.json: the lock and the
+    temporary file of a write that was killed."""
+    return name == ".lock" or (name.startswith(".") and name.endswith(".tmp"))
+
+
+def _decode(path: Path, data: bytes, first_line: int = 1) -> str:
+    """``data`` as UTF-8, or a one-line error naming the line of ``path`` that is not."""
+    try:
+        return data.decode("utf-8")
+    except UnicodeDecodeError as exc:
+        line = first_line + data.count(b"\n", 0, exc.start)
+        column = exc.start - (data.rfind(b"\n", 0, exc.start) + 1) + 1
+        raise ConfigError(
+            f"{path} line {line} holds bytes that are not UTF-8 (at character {column}): the file was edited or "
+            "damaged; fix or delete that line, or choose another --out"
+        ) from None
+
+
+def _complete_lines(path: Path) -> list[tuple[int, str]]:
+    """The file's complete, non-blank lines with their numbers (from 1; a Windows line end is
+    dropped); a torn last line (no newline: the writer was killed) is cut off the file, so that
+    the next append starts on a fresh line."""
     if not path.exists():
         return []
     data = path.read_bytes()
@@ -213,20 +560,26 @@ def _complete_lines(path: Path) -> list[str]:
     if end < len(data):
         with path.open("r+b") as handle:
             handle.truncate(end)
-    return [line for line in data[:end].decode().split("\n") if line.strip()]
+    text = _decode(path, data[:end])
+    return [(i, line.removesuffix("\r")) for i, line in enumerate(text.split("\n"), start=1) if line.strip()]
 
 
 def _append(path: Path, text: str) -> None:
-    with path.open("a", encoding="utf-8") as handle:
-        handle.write(text)
-        handle.flush()
-        os.fsync(handle.fileno())
-
-
-def _write_atomic(path: Path, text: str) -> None:
-    tmp = path.with_name(path.name + ".tmp")
-    with tmp.open("w", encoding="utf-8") as handle:
-        handle.write(text)
-        handle.flush()
-        os.fsync(handle.fileno())
-    os.replace(tmp, path)
+    """Append ``text`` and sync it; if that fails (a full disk), cut the file back to where it
+    ended so no partial line is left, and raise :class:`OutputWriteError`."""
+    data = text.encode("utf-8")
+    try:
+        fd = os.open(path, os.O_WRONLY | os.O_APPEND | os.O_CREAT | getattr(os, "O_BINARY", 0), 0o666)
+    except OSError as exc:
+        raise OutputWriteError(path, describe_os_error(exc)) from None
+    try:
+        start = os.lseek(fd, 0, os.SEEK_END)
+        try:
+            atomic_write.write_all(fd, data)
+            os.fsync(fd)
+        except OSError as exc:
+            with contextlib.suppress(OSError):
+                os.ftruncate(fd, start)
+            raise OutputWriteError(path, describe_os_error(exc)) from None
+    finally:
+        os.close(fd)

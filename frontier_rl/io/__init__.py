@@ -8,6 +8,10 @@
 * any other ``.png`` / ``.pgm``: a plain bitmap (black wall, white free) read as ``map_server``
   reads it with the default thresholds and the origin at (0, 0);
 * ``.json``: a HouseExpo floor plan (no start).
+
+Map files may come from strangers: a YAML is read by :mod:`frontier_rl.safe_yaml` (at most 1 MiB,
+no anchors or aliases, YAML-1.2 numbers), an image may have at most :data:`MAX_MAP_PIXELS` pixels,
+and a PGM's header must match its pixel data exactly; anything else is a one-line :class:`MapError`.
 """
 
 from __future__ import annotations
@@ -16,7 +20,8 @@ from dataclasses import replace
 from pathlib import Path
 
 from frontier_rl.core.grid import CellState
-from frontier_rl.errors import MapError
+from frontier_rl.errors import MapError, short_repr
+from frontier_rl.io._image import MAX_MAP_PIXELS
 from frontier_rl.io.dungeon import DUNGEON_RESOLUTION, is_dungeon_image, load_dungeon_map
 from frontier_rl.io.houseexpo import HOUSEEXPO_RESOLUTION, load_houseexpo
 from frontier_rl.io.loaded_map import LoadedMap, positive_metres
@@ -31,6 +36,7 @@ from frontier_rl.io.ros_map import (
 
 __all__ = [
     "BITMAP_RESOLUTION",
+    "MAX_MAP_PIXELS",
     "LoadedMap",
     "MapImageParams",
     "MapMode",
@@ -75,7 +81,7 @@ def _load(path: Path, resolution: float | None) -> LoadedMap:
     if suffix in _IMAGE_SUFFIXES:
         res = positive_metres(BITMAP_RESOLUTION if resolution is None else resolution, "resolution", path)
         return LoadedMap(grid=load_map_image(path, res, params=MapImageParams()), start=None, source=path)
-    raise MapError(f"unsupported map file type {path.suffix!r}: {path} (use .yaml, .png, .pgm or .json)")
+    raise MapError(f"unsupported map file type {short_repr(path.suffix)}: {path} (use .yaml, .png, .pgm or .json)")
 
 
 def load_map(path: str | Path, resolution: float | None = None) -> LoadedMap:

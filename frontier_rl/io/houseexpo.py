@@ -5,6 +5,13 @@ walls are thin slits cut into the outline, and a slit narrower than a cell can f
 cell centres. Cells are sampled at their centres (matplotlib's point-in-polygon), then every place
 where the outline passes between two 4-adjacent free centres (a wall that sampling lost) gets the
 cell that the outline crosses marked occupied, so every wall stays at least one cell thick.
+
+Files are untrusted input: a file over :data:`MAX_FILE_BYTES`, a polygon of more than
+:data:`MAX_VERTICES` vertices or with a coordinate beyond +-:data:`MAX_COORDINATE_M`, a polygon
+whose outline crosses itself (a bow tie: inside and outside are then undefined), one of zero area,
+or a grid of more than :data:`MAX_CELLS` cells is refused with a :class:`MapError` naming the
+file. Repeated consecutive vertices are dropped (they add no edge); edges that only touch (a slit
+of zero width) are kept.
 """
 
 from __future__ import annotations
@@ -29,31 +36,137 @@ HOUSEEXPO_MARGIN = 0.5
 MAX_CELLS = 16_000_000
 #: Polygons with less area (m^2) than this are degenerate.
 MIN_AREA = 1e-9
+#: Largest HouseExpo file (bytes) read; the dataset's files are a few kilobytes.
+MAX_FILE_BYTES = 16 * 1024 * 1024
+#: Most polygon vertices accepted; the dataset's outlines have hundreds.
+MAX_VERTICES = 10_000
+#: Largest coordinate (m, either sign) accepted: a floor plan, not a continent.
+MAX_COORDINATE_M = 1e6
+#: Two edges cross only where each passes more than this (m) to either side of the other's line.
+CROSSING_TOLERANCE_M = 1e-6
+_PAIRS_AT_ONCE = 1_000_000  # edge pairs compared at once (bounded memory)
+
+
+def _is_number(value: object) -> bool:
+    return isinstance(value, int | float) and not isinstance(value, bool)
 
 
 def _read_verts(path: Path) -> NDArray[np.float64]:
-    """The polygon of a HouseExpo JSON as an (n, 2) array (m), without a repeated closing vertex."""
+    """The polygon of a HouseExpo JSON as an (n, 2) array (m): repeated consecutive vertices (a
+    repeated closing vertex included) dropped, checked not to cross itself and to have an area."""
     if not path.is_file():
         raise MapError(f"map file not found: {path}")
     try:
+        size = path.stat().st_size
+        if size > MAX_FILE_BYTES:
+            raise MapError(f"{path}: a HouseExpo file of {size} bytes is too large (at most {MAX_FILE_BYTES})")
         doc = json.loads(path.read_text(encoding="utf-8"))
-    except (OSError, UnicodeDecodeError, json.JSONDecodeError) as exc:
-        raise MapError(f"cannot parse HouseExpo JSON {path}: {exc}") from exc
+    except (OSError, UnicodeDecodeError, json.JSONDecodeError, RecursionError) as exc:
+        reason = "nested too deeply" if isinstance(exc, RecursionError) else str(exc)[:200]
+        raise MapError(f"cannot parse HouseExpo JSON {path}: {reason}") from None
     if not isinstance(doc, dict) or "verts" not in doc:
         raise MapError(f"{path}: a HouseExpo file must be a JSON object with a 'verts' field")
+    raw = doc["verts"]
+    if not isinstance(raw, list):
+        raise MapError(f"{path}: 'verts' must be a list of [x, y] pairs in metres, got {type(raw).__name__}")
+    if len(raw) > MAX_VERTICES:
+        raise MapError(f"{path}: 'verts' has {len(raw)} vertices, more than the {MAX_VERTICES} accepted")
+    for k, pair in enumerate(raw):
+        if not (isinstance(pair, list) and len(pair) == 2 and all(_is_number(v) for v in pair)):
+            shown = json.dumps(pair)[:80]
+            raise MapError(f"{path}: 'verts' must be a list of [x, y] pairs in metres; vertex {k} is {shown}")
     try:
-        verts = np.asarray(doc["verts"], dtype=np.float64)
-    except (TypeError, ValueError) as exc:
-        raise MapError(f"{path}: 'verts' must be a list of [x, y] pairs in metres: {exc}") from exc
-    if verts.ndim != 2 or verts.shape[1] != 2 or not np.isfinite(verts).all():
+        verts = np.array(raw, dtype=np.float64).reshape(-1, 2)
+    except OverflowError:
+        raise MapError(f"{path}: 'verts' must be a list of finite [x, y] pairs, got a number too large") from None
+    if not np.isfinite(verts).all():
         raise MapError(f"{path}: 'verts' must be a list of finite [x, y] pairs, got shape {verts.shape}")
-    if len(verts) > 1 and np.array_equal(verts[0], verts[-1]):
-        verts = verts[:-1]
+    if verts.size and float(np.abs(verts).max()) > MAX_COORDINATE_M:
+        worst = float(np.abs(verts).max())
+        raise MapError(f"{path}: 'verts' coordinates must be within +-{MAX_COORDINATE_M:g} m, got {worst:g}")
+    # Drop every vertex equal to the next one (cyclically: a repeated closing vertex too), so
+    # that no edge has zero length.
+    keep = np.any(verts != np.roll(verts, -1, axis=0), axis=1)
+    if keep.size and not keep.any():  # every vertex the same point: keep one
+        keep[0] = True
+    index = np.flatnonzero(keep)
+    verts = verts[keep]
+    if len(verts) >= 3:
+        _check_simple(path, verts, index)
     x, y = verts[:, 0], verts[:, 1]
     area = 0.5 * abs(float(np.dot(x, np.roll(y, -1)) - np.dot(np.roll(x, -1), y)))
     if len(verts) < 3 or area < MIN_AREA:
         raise MapError(f"{path}: degenerate polygon ({len(verts)} vertices, area {area:g} m^2)")
     return verts
+
+
+def _crossings(verts: NDArray[np.float64]) -> tuple[NDArray[np.int64], NDArray[np.int64]]:
+    """The pairs (i, j), i < j, of edges of the closed polygon ``verts`` (edge k runs from vertex k
+    to k + 1) that cross: each passes more than :data:`CROSSING_TOLERANCE_M` to either side of the
+    other's line. Edges that only touch or overlap along a line do not count.
+
+    A sweep along x: edges sorted by their left end are compared only with the edges that start
+    before they end, at most :data:`_PAIRS_AT_ONCE` pairs at a time."""
+    a = verts
+    b = np.roll(verts, -1, axis=0)
+    n = len(a)
+    d = b - a
+    length = np.hypot(d[:, 0], d[:, 1])
+    lo, hi = np.minimum(a, b), np.maximum(a, b)
+    order = np.argsort(lo[:, 0], kind="stable")
+    ends = np.searchsorted(lo[order, 0], hi[order, 0], side="right")  # sorted edges that start before k ends
+    counts = np.maximum(ends - np.arange(1, n + 1), 0)
+    cumulative = np.cumsum(counts)
+
+    def offsets(e: NDArray[np.int64], p: NDArray[np.float64]) -> NDArray[np.float64]:
+        """Signed distance (m) of the points ``p`` from the lines of the edges ``e``."""
+        rel = p - a[e]
+        return np.asarray((d[e, 0] * rel[:, 1] - d[e, 1] * rel[:, 0]) / length[e])
+
+    def straddles(e: NDArray[np.int64], other: NDArray[np.int64]) -> NDArray[np.bool_]:
+        s, t = offsets(e, a[other]), offsets(e, b[other])
+        tol = CROSSING_TOLERANCE_M
+        return np.asarray(((s > tol) & (t < -tol)) | ((s < -tol) & (t > tol)))
+
+    found: list[NDArray[np.int64]] = []
+    first = 0
+    while first < n:
+        done = int(cumulative[first - 1]) if first else 0
+        last = max(int(np.searchsorted(cumulative, done + _PAIRS_AT_ONCE, side="right")), first + 1)
+        k = np.arange(first, min(last, n))
+        reps = counts[k]
+        left = np.repeat(k, reps)
+        right = left + 1 + np.arange(int(reps.sum())) - np.repeat(np.cumsum(reps) - reps, reps)
+        i, j = np.minimum(order[left], order[right]), np.maximum(order[left], order[right])
+        keep = (j - i > 1) & ~((i == 0) & (j == n - 1))  # neither an edge's neighbour
+        keep &= (lo[i, 1] <= hi[j, 1]) & (lo[j, 1] <= hi[i, 1])  # bounding boxes overlap in y
+        i, j = i[keep], j[keep]
+        crossing = straddles(i, j) & straddles(j, i)
+        found.append(np.column_stack((i[crossing], j[crossing])))
+        first = last
+    pairs = np.concatenate(found).astype(np.int64).reshape(-1, 2)
+    pairs = pairs[np.lexsort((pairs[:, 1], pairs[:, 0]))]
+    return pairs[:, 0], pairs[:, 1]
+
+
+def _check_simple(path: Path, verts: NDArray[np.float64], index: NDArray[np.int64]) -> None:
+    """MapError naming the first crossing edges (by the file's vertex numbers) if the outline
+    ``verts`` crosses itself; ``index`` holds each vertex's number in the file."""
+    cross_i, cross_j = _crossings(verts)
+    if cross_i.size == 0:
+        return
+    n = len(verts)
+
+    def edge(k: int) -> str:
+        (x0, y0), (x1, y1) = verts[k], verts[(k + 1) % n]
+        return f"{index[k]}-{index[(k + 1) % n]} ({x0:g}, {y0:g})-({x1:g}, {y1:g})"
+
+    i, j = int(cross_i[0]), int(cross_j[0])
+    more = f" ({cross_i.size} crossing pairs in all)" if cross_i.size > 1 else ""
+    raise MapError(
+        f"{path}: the polygon crosses itself (inside and outside are undefined): "
+        f"edge {edge(i)} crosses edge {edge(j)}{more}"
+    )
 
 
 def _line_crossings(
@@ -127,6 +240,11 @@ def load_houseexpo(
     verts = _read_verts(path)
     origin = verts.min(axis=0) - float(margin_m)
     extent = verts.max(axis=0) + float(margin_m) - origin
+    with np.errstate(over="ignore"):
+        span = extent / res  # cells along x and y, before anything is allocated
+    if not (np.isfinite(span).all() and float(np.maximum(span, 1.0)[0]) * float(np.maximum(span, 1.0)[1]) <= MAX_CELLS):
+        size = f"{extent[0]:g} m x {extent[1]:g} m"
+        raise MapError(f"{path}: {size} at resolution {res!r} m is more than {MAX_CELLS} cells")
     cols, rows = (max(math.ceil(e / res - 1e-9), 1) for e in extent)
     if rows * cols > MAX_CELLS:
         raise MapError(f"{path}: a {rows} x {cols} grid at resolution {res!r} m is too large")

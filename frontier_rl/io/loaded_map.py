@@ -9,7 +9,7 @@ from pathlib import Path
 
 from frontier_rl.core.grid import OccupancyGrid
 from frontier_rl.core.robot import Pose
-from frontier_rl.errors import MapError
+from frontier_rl.errors import MapError, short_repr
 
 
 @dataclass(frozen=True)
@@ -30,8 +30,8 @@ class LoadedMap:
 def positive_metres(value: object, name: str, source: object) -> float:
     """``value`` as a finite float > 0 (m); raises :class:`MapError` naming ``name`` and ``source``."""
     if isinstance(value, bool) or not isinstance(value, numbers.Real):
-        raise MapError(f"{source}: {name} must be a positive number of metres, got {value!r}")
+        raise MapError(f"{source}: {name} must be a positive number of metres, got {short_repr(value)}")
     number = float(value)
     if not (math.isfinite(number) and number > 0):
-        raise MapError(f"{source}: {name} must be a positive number of metres, got {value!r}")
+        raise MapError(f"{source}: {name} must be a positive number of metres, got {short_repr(value)}")
     return number

@@ -10,6 +10,10 @@ colour channels, ``p = (255 - brightness) / 255`` (``brightness / 255`` with ``n
 A fully transparent pixel is unknown in trinary and scale mode. The image's top row is the map's
 highest y, so rows are flipped: row 0 of the grid is the lower-left corner (the grid convention).
 Writing follows ``map_saver``: free 254, occupied 0, unknown 205, thresholds 0.65 / 0.196.
+
+The YAML is read by :mod:`frontier_rl.safe_yaml` (at most 1 MiB, no anchors or aliases, YAML-1.2
+numbers as ``yaml-cpp`` reads them: ``6e2`` is 600.0); the image by :func:`~frontier_rl.io._image.read_image`
+(at most :data:`~frontier_rl.io._image.MAX_MAP_PIXELS` pixels, a PGM's header must match its data).
 """
 
 from __future__ import annotations
@@ -28,8 +32,9 @@ from numpy.typing import NDArray
 from PIL import Image
 
 from frontier_rl.core.grid import CellState, OccupancyGrid
-from frontier_rl.errors import MapError
+from frontier_rl.errors import MapError, short_repr
 from frontier_rl.io._image import read_image
+from frontier_rl.safe_yaml import load_yaml_file, parse_yaml
 
 #: Pixel values that ``map_saver`` writes for each cell state.
 FREE_PIXEL = 254
@@ -74,7 +79,7 @@ class MapImageParams:
         for name in ("occupied_thresh", "free_thresh"):
             value = getattr(self, name)
             if not 0.0 <= value <= 1.0:
-                raise MapError(f"{name} must lie in [0, 1], got {value!r}")
+                raise MapError(f"{name} must lie in [0, 1], got {short_repr(value)}")
         if self.free_thresh > self.occupied_thresh:
             raise MapError(f"free_thresh {self.free_thresh!r} must not exceed occupied_thresh {self.occupied_thresh!r}")
 
@@ -112,13 +117,10 @@ def load_map_image(
 
 
 def _read_yaml(path: Path) -> dict[str, Any]:
+    """The fields of a map YAML, read by :func:`frontier_rl.safe_yaml.load_yaml_file` (bounded, no aliases)."""
     if not path.is_file():
         raise MapError(f"map file not found: {path}")
-    try:
-        doc = yaml.safe_load(path.read_text(encoding="utf-8"))
-    except (OSError, UnicodeDecodeError, yaml.YAMLError) as exc:
-        reason = str(exc).replace("\n", " ")
-        raise MapError(f"cannot parse map YAML {path}: {reason}") from exc
+    doc = load_yaml_file(path, MapError, "map YAML")
     if not isinstance(doc, dict):
         raise MapError(f"{path}: a map YAML must be a mapping of fields, got {type(doc).__name__}")
     return doc
@@ -141,17 +143,17 @@ def _number(value: Any, key: str, path: Path) -> float:
         except ValueError:
             number = None
     if number is None or not math.isfinite(number):
-        raise MapError(f"{path}: field '{key}' must be a finite number, got {value!r}")
+        raise MapError(f"{path}: field '{key}' must be a finite number, got {short_repr(value)}")
     return number
 
 
 def _params(doc: dict[str, Any], path: Path) -> MapImageParams:
     negate = _field(doc, "negate", path)
     if negate not in (0, 1) or not isinstance(negate, int):
-        raise MapError(f"{path}: field 'negate' must be 0 or 1, got {negate!r}")
+        raise MapError(f"{path}: field 'negate' must be 0 or 1, got {short_repr(negate)}")
     mode_name = doc.get("mode", MapMode.TRINARY.value)
     if not isinstance(mode_name, str) or mode_name.lower() not in {m.value for m in MapMode}:
-        raise MapError(f"{path}: field 'mode' must be trinary, scale or raw, got {mode_name!r}")
+        raise MapError(f"{path}: field 'mode' must be trinary, scale or raw, got {short_repr(mode_name)}")
     try:
         return MapImageParams(
             occupied_thresh=_number(_field(doc, "occupied_thresh", path), "occupied_thresh", path),
@@ -166,7 +168,7 @@ def _params(doc: dict[str, Any], path: Path) -> MapImageParams:
 def _image_path(doc: dict[str, Any], path: Path) -> Path:
     image = _field(doc, "image", path)
     if not isinstance(image, str) or not image.strip():
-        raise MapError(f"{path}: field 'image' must be a file name, got {image!r}")
+        raise MapError(f"{path}: field 'image' must be a file name, got {short_repr(image)}")
     image_path = Path(image)
     return image_path if image_path.is_absolute() else path.parent / image_path
 
@@ -191,13 +193,13 @@ def load_ros_map(yaml_path: str | Path) -> OccupancyGrid:
     image_path = _image_path(doc, path)
     resolution = _number(_field(doc, "resolution", path), "resolution", path)
     if resolution <= 0:
-        raise MapError(f"{path}: field 'resolution' must be positive (m/cell), got {resolution!r}")
+        raise MapError(f"{path}: field 'resolution' must be positive (m/cell), got {short_repr(resolution)}")
     origin = _field(doc, "origin", path)
     if not isinstance(origin, list | tuple) or len(origin) != 3:
-        raise MapError(f"{path}: field 'origin' must be [x, y, yaw], got {origin!r}")
+        raise MapError(f"{path}: field 'origin' must be [x, y, yaw], got {short_repr(origin)}")
     x, y, yaw = (_number(v, "origin", path) for v in origin)
     if yaw != 0.0:
-        raise MapError(f"{path}: rotated maps are not supported, origin yaw is {yaw!r} rad")
+        raise MapError(f"{path}: rotated maps are not supported, origin yaw is {short_repr(yaw)} rad")
     params = _params(doc, path)
     if not image_path.is_file():
         raise MapError(f"{path}: image file not found: {image_path}")
@@ -205,10 +207,11 @@ def load_ros_map(yaml_path: str | Path) -> OccupancyGrid:
 
 
 def _yaml_string(text: str) -> str:
-    """``text`` as a YAML scalar: bare like ``map_saver`` writes it, quoted where YAML would misread it."""
+    """``text`` as a YAML scalar: bare like ``map_saver`` writes it, quoted where YAML (as
+    :func:`~frontier_rl.safe_yaml.parse_yaml` reads it) would misread it."""
     try:
-        bare_ok = yaml.safe_load(text) == text
-    except yaml.YAMLError:
+        bare_ok = parse_yaml(text) == text
+    except (yaml.YAMLError, ValueError):
         bare_ok = False
     return text if bare_ok else json.dumps(text)
 
@@ -225,7 +228,7 @@ def save_ros_map(grid: OccupancyGrid, yaml_path: str | Path, image_format: str =
         raise MapError(f"map YAML path must end in .yaml or .yml, got {path}")
     fmt = image_format.lower().lstrip(".")
     if fmt not in _IMAGE_FORMATS:
-        raise MapError(f"image_format must be 'pgm' or 'png', got {image_format!r}")
+        raise MapError(f"image_format must be 'pgm' or 'png', got {short_repr(image_format)}")
     image_path = path.with_suffix(f".{fmt}")
     data = grid.data
     pixels = np.full(grid.shape, UNKNOWN_PIXEL, dtype=np.uint8)

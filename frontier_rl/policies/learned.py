@@ -20,7 +20,7 @@ from frontier_rl.core.simulator import SimConfig
 from frontier_rl.envs.frontier_env import frontier_observation, slot_order
 from frontier_rl.envs.observation import MapEncoder
 from frontier_rl.envs.weight_env import WEIGHT_BINS, bin_to_weight
-from frontier_rl.errors import ConfigError
+from frontier_rl.errors import ConfigError, short_repr
 
 
 @dataclass
@@ -39,27 +39,33 @@ class LearnedPolicy:
     sim: SimConfig = field(default_factory=SimConfig)
 
     def __post_init__(self) -> None:
-        from frontier_rl.rl.model_file import load_policy  # torch is imported only for learned policies
+        # torch is imported only for learned policies
+        from frontier_rl.rl.model_file import load_policy
 
         self.path = Path(self.path)
         self._policy, _ = load_policy(self.path, self.trust)
+        where = f"model file {str(self.path)!r}"
         obs_space = self._policy.observation_space
-        n_actions = int(getattr(self._policy.action_space, "n", 0))
-        if n_actions < 1:
-            raise ConfigError(f"model file {str(self.path)!r} does not have a discrete action space")
-        self.kind = "frontier" if hasattr(obs_space, "spaces") else "weight" if n_actions == WEIGHT_BINS else "point"
-        image_shape = obs_space["map"].shape if self.kind == "frontier" else obs_space.shape  # type: ignore[index]
+        n_actions = getattr(self._policy.action_space, "n", 0)
+        if not isinstance(n_actions, int | np.integer) or n_actions < 1:
+            raise ConfigError(f"{where} does not have a discrete action space")
+        n_actions = int(n_actions)
+        spaces = getattr(obs_space, "spaces", None)  # a dict observation: the frontier-choice model
+        self.kind = "frontier" if spaces is not None else "weight" if n_actions == WEIGHT_BINS else "point"
+        image_space = obs_space if spaces is None else spaces.get("map") if isinstance(spaces, dict) else None
+        image_shape = getattr(image_space, "shape", None)
         if image_shape is None or len(image_shape) != 3 or image_shape[1] != image_shape[2]:
-            raise ConfigError(f"model file {str(self.path)!r} expects observations of shape {image_shape}, not a map")
+            raise ConfigError(f"{where} expects observations of shape {short_repr(image_shape)}, not a map")
         channels, size = int(image_shape[0]), int(image_shape[1])
         extra = channels == 3
-        self._encoder = MapEncoder(size, frontier_channel=extra, pose_channel=extra)
+        try:
+            self._encoder = MapEncoder(size, frontier_channel=extra, pose_channel=extra)
+        except (ValueError, TypeError):
+            raise ConfigError(f"{where} expects map images of shape {short_repr(tuple(image_shape))}") from None
         if self._encoder.shape != tuple(image_shape):
-            raise ConfigError(f"model file {str(self.path)!r} expects map images of shape {tuple(image_shape)}")
+            raise ConfigError(f"{where} expects map images of shape {short_repr(tuple(image_shape))}")
         if self.kind == "point" and n_actions != size * size:
-            raise ConfigError(
-                f"model file {str(self.path)!r} has {n_actions} actions, expected {WEIGHT_BINS} or {size}²"
-            )
+            raise ConfigError(f"{where} has {n_actions} actions, expected {WEIGHT_BINS} or {size}²")
         self._top_k = n_actions
 
     @property

@@ -6,7 +6,7 @@ from collections.abc import Callable
 from pathlib import Path
 
 from frontier_rl.core.episode import ExplorationPolicy
-from frontier_rl.errors import ConfigError, UnknownNameError
+from frontier_rl.errors import ConfigError, UnknownNameError, short_repr
 from frontier_rl.policies.baselines import (
     ExploreLite,
     FixedWeight,
@@ -36,7 +36,7 @@ def make_policy(spec: str, trust_model: bool = False) -> ExplorationPolicy:
     name, _, arg = spec.strip().partition(":")
     if name == "learned":
         if not arg:
-            raise ConfigError(f"learned:PATH needs a model file, got {spec!r}")
+            raise ConfigError(f"learned:PATH needs a model file, got {short_repr(spec)}")
         from frontier_rl.policies.learned import LearnedPolicy  # torch only when asked for
 
         return LearnedPolicy(Path(arg), trust=trust_model)
@@ -44,11 +44,11 @@ def make_policy(spec: str, trust_model: bool = False) -> ExplorationPolicy:
         try:
             weight = float(arg)
         except ValueError:
-            raise ConfigError(f"fixed:W needs a weight in [0, 1], got {spec!r}") from None
+            raise ConfigError(f"fixed:W needs a weight in [0, 1], got {short_repr(spec)}") from None
         try:
             return FixedWeight(weight)
         except ConfigError as exc:
-            raise ConfigError(f"{spec!r}: {exc}") from None
+            raise ConfigError(f"{short_repr(spec)}: {exc}") from None
     if name in _SIMPLE and ":" not in spec:
         return _SIMPLE[name]()
-    raise UnknownNameError(f"unknown policy {spec!r}; choose one of {', '.join(POLICY_NAMES)}")
+    raise UnknownNameError(f"unknown policy {short_repr(spec)}; choose one of {', '.join(POLICY_NAMES)}")

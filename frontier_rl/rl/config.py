@@ -2,18 +2,30 @@
 
 from __future__ import annotations
 
+import typing
 from dataclasses import asdict, dataclass, fields
 from pathlib import Path
 from typing import Any
 
 import yaml
 
-from frontier_rl.envs.rewards import reward_preset
+from frontier_rl.config import coerce
+from frontier_rl.envs.rewards import REWARD_PRESETS, reward_preset
 from frontier_rl.envs.world_source import parse_world_list
-from frontier_rl.errors import ConfigError
+from frontier_rl.errors import ConfigError, FrontierRLError, short_repr, short_text
 from frontier_rl.registration import MODELS, env_id
+from frontier_rl.safe_yaml import load_yaml_file
+
+MAX_FEATURES_DIM = 8192
+"""Largest ``features_dim`` a run may use and a model file may hold (the shipped models use 128)."""
+
+MAX_TIMESTEPS = 10**12
+"""Largest ``timesteps`` a run may use and a model file may hold (decisions; 10¹² is ~30 years at 1000 per second)."""
+
 
 ALGOS = ("a2c", "ppo")
+#: Longest error message passed on from a check of ``worlds`` (characters).
+_MESSAGE_LIMIT = 300
 
 
 @dataclass(frozen=True)
@@ -64,18 +76,39 @@ class TrainConfig:
 
     def __post_init__(self) -> None:
         if self.model not in MODELS:
-            raise ConfigError(f"unknown model {self.model!r}; choose one of {', '.join(map(str, MODELS))}")
+            raise ConfigError(f"unknown model {short_repr(self.model)}; choose one of {', '.join(map(str, MODELS))}")
         if self.algo not in ALGOS:
-            raise ConfigError(f"unknown algorithm {self.algo!r}; choose one of {', '.join(ALGOS)}")
+            raise ConfigError(f"unknown algorithm {short_repr(self.algo)}; choose one of {', '.join(ALGOS)}")
+        if not isinstance(self.observation_size, int) or isinstance(self.observation_size, bool):
+            raise ConfigError(f"observation_size must be an integer, got {short_repr(self.observation_size)}")
         env_id(self.model, self.observation_size)  # checks the size
-        parse_world_list(self.worlds)  # checks every world now, not in a subprocess later
+        if not isinstance(self.worlds, str):
+            raise ConfigError(f"worlds must be a string, got {short_repr(self.worlds)}")
+        try:
+            parse_world_list(self.worlds)  # checks every world now, not in a subprocess later
+        except FrontierRLError as exc:  # it quotes the whole list: keep the message bounded
+            raise type(exc)(short_text(str(exc), _MESSAGE_LIMIT)) from None
+        except OSError as exc:  # a name the file system refuses to look up (too long, ...)
+            raise ConfigError(f"worlds: cannot look up {short_repr(self.worlds)}: {exc.strerror or exc}") from None
+        if not isinstance(self.reward, str) or self.reward not in REWARD_PRESETS:
+            raise ConfigError(
+                f"unknown reward preset {short_repr(self.reward)}; choose one of {', '.join(REWARD_PRESETS)}"
+            )
         reward_preset(self.reward)
         for name in ("timesteps", "n_envs", "n_steps", "features_dim", "max_decisions", "eval_episodes"):
-            if getattr(self, name) < 1:
-                raise ConfigError(f"{name} must be >= 1, got {getattr(self, name)!r}")
-        for name in ("eval_every", "checkpoint_every"):
-            if getattr(self, name) < 0:
-                raise ConfigError(f"{name} must be >= 0, got {getattr(self, name)!r}")
+            value = coerce(int, getattr(self, name), name)
+            if value < 1:
+                raise ConfigError(f"{name} must be >= 1, got {value!r}")
+        for name in ("eval_every", "checkpoint_every", "seed"):
+            value = coerce(int, getattr(self, name), name)
+            if value < 0:
+                raise ConfigError(f"{name} must be >= 0, got {value!r}")
+        # what a model file may hold (rl/model_file.py refuses more), and NumPy's legacy seeding
+        for name, high in (("features_dim", MAX_FEATURES_DIM), ("timesteps", MAX_TIMESTEPS), ("seed", 2**32 - 1)):
+            if getattr(self, name) > high:
+                raise ConfigError(f"{name} must be <= {high}, got {short_repr(getattr(self, name))}")
+        for name in ("learning_rate", "gamma", "vf_coef", "ent_coef"):
+            coerce(float, getattr(self, name), name)
         if not self.learning_rate > 0:
             raise ConfigError(f"learning_rate must be > 0, got {self.learning_rate!r}")
         if not 0 < self.gamma <= 1:
@@ -92,12 +125,13 @@ class TrainConfig:
 
     @classmethod
     def from_dict(cls, values: dict[str, Any]) -> TrainConfig:
-        """A config from plain values; unknown keys are an error."""
+        """A config from plain values; unknown keys and values of the wrong type are errors."""
         known = {f.name for f in fields(cls)}
-        unknown = sorted(set(values) - known)
+        unknown = sorted(short_repr(key) for key in values if key not in known)
         if unknown:
-            raise ConfigError(f"unknown training option(s) {', '.join(unknown)}")
-        return cls(**values)
+            raise ConfigError(f"unknown training option(s) {', '.join(unknown[:5])}")
+        hints = typing.get_type_hints(cls)
+        return cls(**{key: coerce(hints[key], value, key) for key, value in values.items()})
 
     def dump(self, path: Path) -> None:
         """Write the config as YAML."""
@@ -105,11 +139,11 @@ class TrainConfig:
 
     @classmethod
     def load(cls, path: Path) -> TrainConfig:
-        """Read a config written by :meth:`dump`."""
-        try:
-            values = yaml.safe_load(path.read_text())
-        except (OSError, yaml.YAMLError) as exc:
-            raise ConfigError(f"cannot read training config {str(path)!r}: {exc}") from None
+        """Read a config written by :meth:`dump` (see :mod:`frontier_rl.safe_yaml` for the limits)."""
+        values = load_yaml_file(path, ConfigError, "training config")
         if not isinstance(values, dict):
-            raise ConfigError(f"training config {str(path)!r} is not a mapping")
-        return cls.from_dict(values)
+            raise ConfigError(f"training config {path} is not a mapping")
+        try:
+            return cls.from_dict(values)
+        except FrontierRLError as exc:
+            raise type(exc)(f"training config {path}: {exc}") from None

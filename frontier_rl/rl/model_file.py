@@ -1,32 +1,86 @@
 """Model files: Stable-Baselines3 zips with a ``frontier_rl.json`` entry saying what they are.
 
-Loading never unpickles: the network is rebuilt from the JSON entry and only the weights are read
-(``torch.load(weights_only=True)``). SB3's own ``load`` unpickles parts of the zip, which can run
-code from the file; it is used only when the caller says the file is trusted.
+A model file is untrusted input. Loading one without ``trust``:
+
+1. checks the zip before anything in it is read: at most :data:`MAX_MEMBERS` members, each stored
+   or deflated, none over :data:`MAX_MEMBER_BYTES` uncompressed, all together at most
+   :data:`MAX_ARCHIVE_BYTES`, none compressed more than :data:`MAX_COMPRESSION_RATIO` to 1;
+2. reads ``frontier_rl.json`` (at most :data:`MAX_METADATA_BYTES`) and checks every field against
+   what ``frontier-rl train`` writes: a known model number, one of the project's own Gymnasium ids
+   fitting that model and image size, a known algorithm, whole numbers in range, no other keys.
+   Nothing from the file reaches ``gymnasium.make`` or an import unchecked;
+3. rebuilds the network from those fields and reads only ``policy.pth``, as plain tensors
+   (``torch.load(weights_only=True)``, never unpickling code), after the same size checks on the
+   torch archive inside it; every tensor must have the name, shape and dtype of the rebuilt network.
+
+SB3's own ``load`` unpickles parts of the zip, which can run code from the file; it is used only
+when the caller says the file is trusted (``--trust-model``), and after the same zip checks.
+Every problem is one :class:`~frontier_rl.errors.ConfigError` line naming the file and the field.
 """
 
 from __future__ import annotations
 
+import io
 import json
+import pickle
+import struct
+import warnings
 import zipfile
-from dataclasses import asdict, dataclass
+from collections.abc import Iterator
+from contextlib import contextmanager
+from dataclasses import asdict, dataclass, fields
 from pathlib import Path
-from typing import Any
+from typing import IO, Any
 
 import gymnasium as gym
 import torch
 from stable_baselines3 import A2C, PPO
 from stable_baselines3.common.base_class import BaseAlgorithm
 from stable_baselines3.common.policies import ActorCriticCnnPolicy, ActorCriticPolicy
-from stable_baselines3.common.save_util import load_from_zip_file
 
 import frontier_rl
-from frontier_rl.errors import ConfigError
+from frontier_rl.errors import QUOTE_LIMIT, ConfigError, short_repr
+from frontier_rl.registration import ENV_IDS, MODELS, OBSERVATION_SIZES, env_id
+from frontier_rl.rl.config import MAX_FEATURES_DIM, MAX_TIMESTEPS
 from frontier_rl.rl.networks import FrontierScorer, GridCNN, PointerPolicy
 
 METADATA_ENTRY = "frontier_rl.json"
+WEIGHTS_ENTRY = "policy.pth"
 FORMAT_VERSION = 1
 ALGORITHMS: dict[str, type[BaseAlgorithm]] = {"a2c": A2C, "ppo": PPO}
+
+MAX_METADATA_BYTES = 64 * 1024
+"""Largest ``frontier_rl.json`` read (bytes); ``frontier-rl train`` writes about 170."""
+
+MAX_MEMBER_BYTES = 256 * 1024**2
+"""Largest zip member, uncompressed (bytes). The largest network the metadata admits
+(:data:`MAX_FEATURES_DIM` features) has ~40 MB of weights and an optimizer state of one to two times
+that; the shipped ``policy.pth`` files are ~0.75 MB."""
+
+MAX_ARCHIVE_BYTES = 1024**3
+"""Largest sum of a zip's members, uncompressed (bytes): the zip of a model file, or the torch
+archive inside its ``policy.pth``. The shipped model files hold ~1.6 MB."""
+
+MAX_MEMBERS = 64
+"""Most members in a model file's zip; SB3 writes 6 and ``frontier-rl train`` adds 1."""
+
+MAX_WEIGHT_RECORDS = 4096
+"""Most records in the torch archive of ``policy.pth`` (one per tensor storage, plus 6); the
+shipped models have 24."""
+
+MAX_COMPRESSION_RATIO = 200
+"""Most a member over :data:`RATIO_FLOOR_BYTES` may be compressed (uncompressed / compressed).
+Weights deflate to ~1.1:1 and SB3's JSON ``data`` to ~12:1; only long runs of one byte (a zip
+bomb) go beyond ~200:1 (deflate's limit is ~1030:1)."""
+
+RATIO_FLOOR_BYTES = 1024**2
+"""Members up to this size (bytes, uncompressed) are exempt from :data:`MAX_COMPRESSION_RATIO`."""
+
+
+_STORED_OR_DEFLATED = (zipfile.ZIP_STORED, zipfile.ZIP_DEFLATED)
+_END_RECORD = struct.Struct("<4s4H2LH")  # end of central directory: signature ... comment length
+_ZIP64_LOCATOR = struct.Struct("<4sLQL")
+_ZIP64_END_RECORD = struct.Struct("<4sQ2H2L4Q")
 
 
 @dataclass(frozen=True)
@@ -50,6 +104,16 @@ class ModelInfo:
     features_dim: int
     timesteps: int
     format: int = FORMAT_VERSION
+
+
+_FIELDS: tuple[str, ...] = tuple(f.name for f in fields(ModelInfo))
+
+
+def _reason(exc: BaseException, limit: int = 120) -> str:
+    """The first line of an exception's message, cut to ``limit`` characters."""
+    lines = [line.strip() for line in str(exc).splitlines() if line.strip()]
+    text = lines[0] if lines else type(exc).__name__
+    return text if len(text) <= limit else text[: limit - 1] + "…"
 
 
 def policy_setup(model: int, features_dim: int) -> tuple[type[ActorCriticPolicy], dict[str, Any]]:
@@ -77,30 +141,263 @@ def write_metadata(path: Path, info: ModelInfo) -> None:
         archive.writestr(METADATA_ENTRY, json.dumps(asdict(info), indent=2))
 
 
-def read_metadata(path: str | Path) -> ModelInfo | None:
-    """The metadata of the model file at ``path``; None for an SB3 zip without it. Raises
-    :class:`ConfigError` for a missing or unreadable file."""
-    path = Path(path)
+# ------------------------------------------------------------------------------ bounded zips
+def _directory_size(file: IO[bytes]) -> tuple[int, int] | None:
+    """(entries, bytes) of a zip's central directory, from its end record; None where there is no
+    end record (then :mod:`zipfile` says the file is not a zip)."""
+    file.seek(0, io.SEEK_END)
+    size = file.tell()
+    tail_start = max(0, size - _END_RECORD.size - 0xFFFF)
+    file.seek(tail_start)
+    tail = file.read()
+    at = tail.rfind(b"PK\x05\x06")
+    if at < 0 or len(tail) - at < _END_RECORD.size:
+        return None
+    *_, entries, directory_bytes, _offset, _comment = _END_RECORD.unpack_from(tail, at)
+    if entries != 0xFFFF and directory_bytes != 0xFFFFFFFF:
+        return entries, directory_bytes
+    locator_at = tail_start + at - _ZIP64_LOCATOR.size
+    if locator_at < 0:
+        return entries, directory_bytes
+    file.seek(locator_at)
+    signature, _disk, record_at, _disks = _ZIP64_LOCATOR.unpack(file.read(_ZIP64_LOCATOR.size))
+    if signature != b"PK\x06\x07" or record_at > size - _ZIP64_END_RECORD.size:
+        return entries, directory_bytes
+    file.seek(record_at)
+    record = _ZIP64_END_RECORD.unpack(file.read(_ZIP64_END_RECORD.size))
+    if record[0] != b"PK\x06\x06":
+        return entries, directory_bytes
+    return record[7], record[8]
+
+
+def _check_members(archive: zipfile.ZipFile, where: str, max_members: int) -> None:
+    """Refuse a zip whose members, as its directory declares them, are too many, too big, too
+    compressed, duplicated, or compressed other than stored or deflated; nothing is read."""
+    members = archive.infolist()
+    if len(members) > max_members:
+        raise ConfigError(f"{where} has {len(members)} members, more than the {max_members} allowed")
+    names: set[str] = set()
+    total = 0
+    for member in members:
+        name = short_repr(member.filename)
+        if member.filename in names:
+            raise ConfigError(f"{where} holds member {name} twice")
+        names.add(member.filename)
+        if member.compress_type not in _STORED_OR_DEFLATED:
+            raise ConfigError(f"{where}: member {name} uses compression method {member.compress_type}, "
+                              "not stored or deflated")  # fmt: skip
+        if member.file_size > MAX_MEMBER_BYTES:
+            raise ConfigError(f"{where}: member {name} unpacks to {member.file_size} bytes, "
+                              f"more than the {MAX_MEMBER_BYTES} allowed")  # fmt: skip
+        if member.file_size > RATIO_FLOOR_BYTES and member.file_size > MAX_COMPRESSION_RATIO * member.compress_size:
+            raise ConfigError(f"{where}: member {name} unpacks {member.compress_size} bytes to {member.file_size}, "
+                              f"more than {MAX_COMPRESSION_RATIO} times (a zip bomb?)")  # fmt: skip
+        total += member.file_size
+    if total > MAX_ARCHIVE_BYTES:
+        raise ConfigError(f"{where} unpacks to {total} bytes, more than the {MAX_ARCHIVE_BYTES} allowed")
+
+
+def _open_zip(file: IO[bytes], where: str, max_members: int, kind: str = "a frontier_rl model") -> zipfile.ZipFile:
+    """``file`` as a checked zip (:func:`_check_members`); its central directory is sized from the
+    end record before :mod:`zipfile` parses it. ``kind`` says what the file should be, in messages."""
+    directory = _directory_size(file)
+    if directory is not None:
+        entries, directory_bytes = directory
+        if entries > max_members or directory_bytes > 1024 * max_members:
+            raise ConfigError(f"{where} declares {entries} members in {directory_bytes} bytes of directory, "
+                              f"more than the {max_members} allowed")  # fmt: skip
+    file.seek(0)
+    try:
+        archive = zipfile.ZipFile(file)
+    except Exception as exc:  # BadZipFile, or what a malformed directory makes zipfile raise
+        raise ConfigError(f"{where} is corrupt or not {kind} ({_reason(exc)})") from None
+    try:
+        _check_members(archive, where, max_members)
+    except BaseException:
+        archive.close()
+        raise
+    return archive
+
+
+@contextmanager
+def _open_model(path: Path) -> Iterator[zipfile.ZipFile]:
+    """The model file at ``path`` as a checked zip (:func:`_open_zip`)."""
     if not path.is_file():
         raise ConfigError(f"model file {str(path)!r} not found")
     try:
-        with zipfile.ZipFile(path) as archive:
-            if METADATA_ENTRY not in archive.namelist():
-                return None
-            values = json.loads(archive.read(METADATA_ENTRY))
-        return ModelInfo(**values)
-    except (zipfile.BadZipFile, json.JSONDecodeError, TypeError, OSError) as exc:
-        raise ConfigError(f"model file {str(path)!r} is corrupt or not a frontier_rl model: {exc}") from None
+        file = path.open("rb")
+    except OSError as exc:
+        raise ConfigError(f"model file {str(path)!r} cannot be read ({exc.strerror or _reason(exc)})") from None
+    with file, _open_zip(file, f"model file {str(path)!r}", MAX_MEMBERS) as archive:
+        yield archive
+
+
+def _read_member(archive: zipfile.ZipFile, name: str, limit: int, where: str) -> bytes:
+    """Member ``name`` of a checked zip, refused if it unpacks to more than ``limit`` bytes."""
+    member = archive.getinfo(name)
+    if member.file_size > limit:
+        raise ConfigError(f"{where}: {name} unpacks to {member.file_size} bytes, more than the {limit} allowed")
+    try:
+        with archive.open(member) as stream:
+            data = stream.read(limit + 1)
+    except Exception as exc:  # BadZipFile (CRC), zlib.error, EOFError, encrypted members, ...
+        raise ConfigError(f"{where}: {name} is corrupt ({_reason(exc)})") from None
+    if len(data) > limit:
+        raise ConfigError(f"{where}: {name} unpacks to more than the {limit} bytes allowed")
+    return data
+
+
+# ------------------------------------------------------------------------------ metadata
+def _reject_constant(name: str) -> None:
+    raise ValueError(f"{name} is not a number JSON allows")
+
+
+def _object_without_duplicates(pairs: list[tuple[str, Any]]) -> dict[str, Any]:
+    values: dict[str, Any] = {}
+    for key, value in pairs:
+        if key in values:
+            raise ValueError(f"key {short_repr(key)} appears twice")
+        values[key] = value
+    return values
+
+
+def _whole(values: dict[str, Any], name: str, low: int, high: int, where: str) -> int:
+    """Field ``name`` as an int in [low, high] (a bool, float or string is refused)."""
+    value = values[name]
+    if type(value) is not int:
+        raise ConfigError(f"{where}: metadata field {name!r} must be a whole number, "
+                          f"got {short_repr(value)} ({type(value).__name__})")  # fmt: skip
+    if not low <= value <= high:
+        raise ConfigError(f"{where}: metadata field {name!r} must be in {low}..{high}, got {short_repr(value)}")
+    return value
+
+
+def _choice(values: dict[str, Any], name: str, choices: tuple[Any, ...], where: str) -> Any:
+    """Field ``name``, which must be one of ``choices`` (of the same type: 64.0 is not 64)."""
+    value = values[name]
+    if not any(type(value) is type(choice) and value == choice for choice in choices):
+        listed = ", ".join(str(choice) for choice in choices)
+        raise ConfigError(f"{where}: metadata field {name!r} must be one of {listed}, got {short_repr(value)}")
+    return value
+
+
+def parse_metadata(raw: bytes, where: str) -> ModelInfo:
+    """The :class:`ModelInfo` of a ``frontier_rl.json`` entry, every field checked against what
+    ``frontier-rl train`` writes. ``where`` names the file in messages. Raises :class:`ConfigError`."""
+    if len(raw) > MAX_METADATA_BYTES:
+        raise ConfigError(f"{where}: {METADATA_ENTRY} is {len(raw)} bytes, more than the {MAX_METADATA_BYTES} allowed")
+    try:
+        values = json.loads(
+            raw.decode("utf-8"), object_pairs_hook=_object_without_duplicates, parse_constant=_reject_constant
+        )
+    except (ValueError, RecursionError) as exc:  # JSONDecodeError and UnicodeDecodeError are ValueErrors
+        raise ConfigError(f"{where}: {METADATA_ENTRY} is not valid JSON ({_reason(exc)})") from None
+    if not isinstance(values, dict):
+        raise ConfigError(f"{where}: {METADATA_ENTRY} must hold a JSON object, got a {type(values).__name__}")
+    unknown = [key for key in values if key not in _FIELDS]
+    if unknown:
+        shown = ", ".join(short_repr(key, 40) for key in unknown[:4]) + (", …" if len(unknown) > 4 else "")
+        raise ConfigError(f"{where}: unknown metadata field(s) {shown}")
+    missing = [key for key in _FIELDS if key not in values]
+    if missing:
+        raise ConfigError(f"{where}: metadata field(s) {', '.join(map(repr, missing))} missing")
+    version = _whole(values, "format", 0, 2**31, where)
+    if version != FORMAT_VERSION:
+        raise ConfigError(f"{where} has metadata format {version}, expected {FORMAT_VERSION}")
+    model = _choice(values, "model", tuple(MODELS), where)
+    size = _choice(values, "observation_size", OBSERVATION_SIZES, where)
+    name = values["env_id"]
+    expected = env_id(model, size)
+    if not isinstance(name, str) or name not in ENV_IDS:
+        raise ConfigError(f"{where}: metadata field 'env_id' must be a frontier_rl id such as {expected!r}, "
+                          f"got {short_repr(name)}")  # fmt: skip
+    if name != expected:
+        raise ConfigError(f"{where}: metadata field 'env_id' is {name!r}, but model {model} at {size} px "
+                          f"runs in {expected!r}")  # fmt: skip
+    algo = _choice(values, "algo", tuple(ALGORITHMS), where)
+    features_dim = _whole(values, "features_dim", 1, MAX_FEATURES_DIM, where)
+    timesteps = _whole(values, "timesteps", 0, MAX_TIMESTEPS, where)
+    return ModelInfo(model, name, size, algo, features_dim, timesteps, version)
+
+
+def _metadata(archive: zipfile.ZipFile, where: str) -> ModelInfo | None:
+    if METADATA_ENTRY not in archive.namelist():
+        return None
+    return parse_metadata(_read_member(archive, METADATA_ENTRY, MAX_METADATA_BYTES, where), where)
+
+
+def read_metadata(path: str | Path) -> ModelInfo | None:
+    """The checked metadata of the model file at ``path`` (see :func:`parse_metadata`); None for an
+    SB3 zip without it. Raises :class:`ConfigError` for a missing, unreadable, oversized or corrupt
+    file, or metadata that ``frontier-rl train`` would not write."""
+    path = Path(path)
+    with _open_model(path) as archive:
+        return _metadata(archive, f"model file {str(path)!r}")
 
 
 def env_spaces(env_id: str) -> tuple[gym.Space[Any], gym.Space[Any]]:
-    """Observation and action spaces of a registered id (the env is built, not reset)."""
+    """Observation and action spaces of one of the project's registered ids (the env is built, not
+    reset); any other id is refused, so no module it names is imported."""
+    if env_id not in ENV_IDS:
+        raise ConfigError(f"{short_repr(env_id)} is not a frontier_rl environment id such as {ENV_IDS[-1]!r}")
     frontier_rl.register_envs()
     env = gym.make(env_id)
     try:
         return env.observation_space, env.action_space
     finally:
         env.close()
+
+
+# ------------------------------------------------------------------------------ weights
+def _read_weights(archive: zipfile.ZipFile, where: str) -> dict[str, torch.Tensor]:
+    """The tensors of ``policy.pth``: its torch archive is size-checked like the model file, then
+    read with ``weights_only`` (no code runs); torch's messages and warnings become one line."""
+    if WEIGHTS_ENTRY not in archive.namelist():
+        raise ConfigError(f"{where} has no {WEIGHTS_ENTRY}")
+    raw = io.BytesIO(_read_member(archive, WEIGHTS_ENTRY, MAX_MEMBER_BYTES, where))
+    inner = f"{where}: {WEIGHTS_ENTRY}"
+    _open_zip(raw, inner, MAX_WEIGHT_RECORDS, "a torch weights file (torch's zip format)").close()
+    raw.seek(0)
+    try:
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore")
+            state = torch.load(raw, map_location="cpu", weights_only=True)
+    except pickle.UnpicklingError as exc:
+        lines = str(exc).splitlines()
+        detail = next((line.strip() for line in lines if "GLOBAL" in line or "Unsupported" in line), "")
+        cut = f": {detail[:QUOTE_LIMIT]}" if detail else ""
+        raise ConfigError(f"{inner} holds objects other than tensors, refused{cut}") from None
+    except Exception as exc:
+        raise ConfigError(f"{inner} is corrupt ({_reason(exc)})") from None
+    if not isinstance(state, dict) or not all(
+        isinstance(key, str) and isinstance(value, torch.Tensor) for key, value in state.items()
+    ):
+        raise ConfigError(f"{inner} does not hold a dict of named tensors")
+    return dict(state)  # a plain dict: drops attributes the pickle may have set (torch reads ``_metadata``)
+
+
+def _check_fit(policy: ActorCriticPolicy, state: dict[str, torch.Tensor], info: ModelInfo, where: str) -> None:
+    """Refuse weights whose names, shapes or dtypes differ from the rebuilt network's, or that are
+    not finite; shapes are compared before any value is touched."""
+    expected = policy.state_dict()
+    fit = f"{where} does not fit {info.env_id}"
+    missing = [key for key in expected if key not in state]
+    unexpected = [key for key in state if key not in expected]
+    if missing or unexpected:
+        first = f"missing {short_repr(missing[0])}" if missing else f"unexpected {short_repr(unexpected[0])}"
+        raise ConfigError(f"{fit} ({len(missing)} weights missing, {len(unexpected)} unexpected; {first})")
+    for key, tensor in state.items():
+        want = expected[key]
+        if (
+            tensor.layout != torch.strided
+            or tensor.device.type != "cpu"
+            or tuple(tensor.shape) != tuple(want.shape)
+            or tensor.dtype != want.dtype
+        ):
+            got = short_repr(f"{tuple(tensor.shape)} {tensor.dtype}")
+            raise ConfigError(f"{fit} (weight {key!r} is {got}, expected {tuple(want.shape)} {want.dtype})")
+        if tensor.is_floating_point() and not bool(torch.isfinite(tensor).all()):
+            raise ConfigError(f"{where}: weight {key!r} holds values that are not finite")
 
 
 def load_policy(path: str | Path, trust: bool = False) -> tuple[ActorCriticPolicy, ModelInfo | None]:
@@ -110,45 +407,48 @@ def load_policy(path: str | Path, trust: bool = False) -> tuple[ActorCriticPolic
         path: a zip written by ``frontier-rl train``.
         trust: allow SB3's full (unpickling) load for zips without frontier_rl metadata.
     """
-    info = read_metadata(path)
+    path = Path(path)
+    where = f"model file {str(path)!r}"
+    with _open_model(path) as archive:
+        info = _metadata(archive, where)
+        state = _read_weights(archive, where) if info is not None else {}
     if info is None:
         if not trust:
             raise ConfigError(
-                f"model file {str(path)!r} was not written by 'frontier-rl train'; loading it would unpickle "
+                f"{where} was not written by 'frontier-rl train'; loading it would unpickle "
                 "(and could run) code from the file. Pass --trust-model if you trust it"
             )
-        return _load_trusted(Path(path)), None
-    if info.format != FORMAT_VERSION:
-        raise ConfigError(f"model file {str(path)!r} has metadata format {info.format}, expected {FORMAT_VERSION}")
+        return _load_trusted(path), None
     policy_cls, kwargs = policy_setup(info.model, info.features_dim)
     obs_space, act_space = env_spaces(info.env_id)
     policy = policy_cls(obs_space, act_space, lambda _: 0.0, **kwargs)
-    try:
-        _, params, _ = load_from_zip_file(str(path), device="cpu", load_data=False)
-        state: dict[str, Any] = params["policy"]  # type: ignore[assignment]
-    except Exception as exc:
-        raise ConfigError(f"model file {str(path)!r} is corrupt: {exc}") from None
+    _check_fit(policy, state, info, where)
     try:
         policy.load_state_dict(state)
-    except RuntimeError as exc:
-        first = str(exc).strip().splitlines()[-1].strip()
-        raise ConfigError(f"model file {str(path)!r} does not fit {info.env_id} ({first})") from None
+    except Exception as exc:
+        raise ConfigError(f"{where} does not fit {info.env_id} ({_reason(exc)})") from None
     policy.set_training_mode(False)
     return policy, info
 
 
 def _load_trusted(path: Path) -> ActorCriticPolicy:
+    """SB3's own (unpickling) load, after the zip checks; tried as A2C, then PPO."""
+    with _open_model(path):
+        pass
     last: Exception | None = None
     for algo in ALGORITHMS.values():
         try:
-            policy = algo.load(str(path), device="cpu").policy
+            with warnings.catch_warnings():
+                warnings.simplefilter("ignore")
+                policy = algo.load(str(path), device="cpu").policy
         except Exception as exc:
             last = exc
             continue
         if isinstance(policy, ActorCriticPolicy):
             policy.set_training_mode(False)
             return policy
-    raise ConfigError(f"model file {str(path)!r} could not be loaded as an SB3 A2C or PPO model: {last}")
+    reason = f" ({_reason(last)})" if last is not None else ""
+    raise ConfigError(f"model file {str(path)!r} could not be loaded as an SB3 A2C or PPO model{reason}")
 
 
 def predict_action(policy: ActorCriticPolicy, observation: Any) -> int:

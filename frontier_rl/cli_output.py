@@ -1,0 +1,125 @@
+"""How the ``frontier-rl`` command line talks to its user: every message on one line, as plain
+text (user text such as ``[/x]`` is never read as Rich markup), usage errors and bad input as one
+``error:`` line with exit code 2, and the warnings of a command gathered and printed after it."""
+
+from __future__ import annotations
+
+import re
+import sys
+import warnings
+from collections.abc import Callable, Sequence
+from functools import wraps
+from typing import Any, TypeVar
+
+import typer
+from rich.console import Console
+from rich.text import Text
+from typer.core import TyperGroup
+
+from frontier_rl.errors import FrontierRLError
+
+#: Longest message the error printer writes (characters); the rest is cut.
+MESSAGE_LIMIT = 600
+#: Most distinct warnings printed at the end of a command (one line each).
+MAX_WARNINGS = 5
+
+# Messages carry user text (paths, names, values) and are printed as plain text: Rich markup and
+# emoji codes off, so "[/x]" or "[red]" in a name is printed as it is, never parsed.
+err_console = Console(stderr=True, soft_wrap=True, markup=False, emoji=False, highlight=False)
+F = TypeVar("F", bound=Callable[..., Any])
+_LINE_BREAKS = re.compile(r"[ \t]*[\r\n\t\v\f]+[ \t]*")
+_CONTROL = re.compile(r"[\x00-\x1f\x7f-\x9f]")
+# Click's exception base, found through a public Typer class: recent Typer vendors Click as
+# typer._click, older Typer uses the click package itself.
+_CLICK_EXCEPTION: type[Exception] = next(c for c in typer.BadParameter.__mro__ if c.__name__ == "ClickException")
+
+
+def stdout_console() -> Console:
+    """Standard output, with Rich markup and emoji codes off (names and paths print as they are)."""
+    return Console(markup=False, emoji=False)
+
+
+def one_line(text: str, limit: int = MESSAGE_LIMIT) -> str:
+    """``text`` as one line of at most ``limit`` characters: line breaks become spaces, other
+    control characters escapes (``\\x1b``), and a longer text is cut (an ellipsis marks the cut)."""
+    text = _CONTROL.sub(lambda m: f"\\x{ord(m.group()):02x}", _LINE_BREAKS.sub(" ", text.strip()))
+    return text if len(text) <= limit else text[: limit - 1] + "…"
+
+
+def print_error(message: str) -> None:
+    """``error: MESSAGE`` on standard error, on one line, as plain text (never Rich markup)."""
+    err_console.print(Text.assemble(("error:", "red"), " ", one_line(message)))
+
+
+def print_warning(message: str) -> None:
+    """``warning: MESSAGE`` on standard error, on one line, as plain text (never Rich markup)."""
+    err_console.print(Text.assemble(("warning:", "yellow"), " ", one_line(message)))
+
+
+def os_message(exc: OSError) -> str:
+    """What went wrong and with which file(s), from an OSError."""
+    what = exc.strerror or str(exc) or type(exc).__name__
+    names = [str(name) for name in (exc.filename, exc.filename2) if name is not None]
+    return f"{what}: {' -> '.join(names)}" if names else what
+
+
+def _print_warnings(caught: Sequence[warnings.WarningMessage]) -> None:
+    """Each distinct warning once, one line each, at most :data:`MAX_WARNINGS`."""
+    texts = list(dict.fromkeys(f"{w.category.__name__}: {w.message}" for w in caught))
+    for text in texts[:MAX_WARNINGS]:
+        print_warning(text)
+    if len(texts) > MAX_WARNINGS:
+        print_warning(f"{len(texts) - MAX_WARNINGS} more warning(s) not shown")
+
+
+class OneLineGroup(TyperGroup):
+    """Typer's command group with a usage error (an unknown option, a value that is not a number)
+    printed as one ``error:`` line, exit code 2, instead of a usage panel; warnings raised while a
+    command runs are gathered and printed after it, one line each (none after an error: the error
+    is the one line)."""
+
+    def main(
+        self,
+        args: Sequence[str] | None = None,
+        prog_name: str | None = None,
+        complete_var: str | None = None,
+        standalone_mode: bool = True,
+        windows_expand_args: bool = True,
+        **extra: Any,
+    ) -> Any:
+        """Run the command line; in standalone mode, exit with its code (see the class)."""
+        if not standalone_mode:
+            return super().main(args, prog_name, complete_var, False, windows_expand_args, **extra)
+        with warnings.catch_warnings(record=True) as caught:
+            try:
+                result = super().main(args, prog_name, complete_var, False, windows_expand_args, **extra)
+                code = result if isinstance(result, int) else 0
+            except _CLICK_EXCEPTION as exc:
+                code = int(getattr(exc, "exit_code", 2))
+                if type(exc).__name__ != "NoArgsIsHelpError":  # for that one typer has printed the help
+                    command = getattr(getattr(exc, "ctx", None), "command_path", None)
+                    hint = f" (see '{command} --help')" if command else ""
+                    print_error(f"{getattr(exc, 'format_message', exc.__str__)()}{hint}")
+            except typer.Abort:
+                print_error("aborted")
+                code = 1
+        if code == 0:
+            _print_warnings(caught)
+        sys.exit(code)
+
+
+def friendly_errors(func: F) -> F:
+    """Bad input ends the command with a one-line message and exit code 2, never a traceback."""
+
+    @wraps(func)
+    def wrapper(*args: Any, **kwargs: Any) -> Any:
+        try:
+            return func(*args, **kwargs)
+        except FrontierRLError as exc:
+            print_error(str(exc))
+            raise typer.Exit(2) from None
+        except OSError as exc:
+            print_error(os_message(exc))
+            raise typer.Exit(2) from None
+
+    return wrapper  # type: ignore[return-value]
