@@ -27,6 +27,7 @@ from dataclasses import asdict, dataclass
 import numba
 import numpy as np
 
+from frontier_rl.atomic_write import write_text_atomic
 from frontier_rl.core.episode import decision_context, run_episode
 from frontier_rl.core.frontiers import detect_frontiers
 from frontier_rl.core.grid import OccupancyGrid
@@ -322,7 +323,7 @@ def main(argv: list[str] | None = None) -> int:
     if args.json:
         payload = {"machine": info, "quick": args.quick, "runtime_s": total,
                    "results": [asdict(row) | {"ok": row.ok} for row in rows]}  # fmt: skip
-        args.json.write_text(json.dumps(payload, indent=2) + "\n")
+        write_text_atomic(args.json, json.dumps(payload, indent=2) + "\n")
     return 0
 
 

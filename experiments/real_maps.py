@@ -18,6 +18,8 @@ import sys
 from collections import defaultdict
 from pathlib import Path
 
+from frontier_rl.atomic_write import write_text_atomic
+
 FAMILIES = {"ros": ("turtlebot3_world", "aws_small_house", "nav2_depot", "nav2_warehouse", "lse_arena")}
 
 
@@ -95,7 +97,7 @@ def main() -> None:
             with path.open() as handle:
                 rows += list(csv.DictReader(handle))
     table = family_table(rows, family_of)
-    (args.out / "completion.md").write_text(table + "\n")
+    write_text_atomic(args.out / "completion.md", table + "\n")
     print(table)
 
 

@@ -18,6 +18,7 @@ from typing import Any
 
 import numpy as np
 
+from frontier_rl.atomic_write import write_text_atomic
 from frontier_rl.core.simulator import SimConfig
 from frontier_rl.evaluation.evaluate import evaluate
 from frontier_rl.evaluation.experiment import ORACLE, ExperimentConfig, expand_worlds, identity
@@ -68,7 +69,7 @@ def main() -> None:
     summary_path = args.out / "summary.json"
     summary = json.loads(summary_path.read_text())
     summary["sweep"] = sweep_analysis(store.rows, worlds, args.episodes)
-    summary_path.write_text(json.dumps(summary, indent=1) + "\n")
+    write_text_atomic(summary_path, json.dumps(summary, indent=1) + "\n")
     print(json.dumps(summary["sweep"], indent=1))
     print(f"report: {report}")
 

@@ -18,6 +18,7 @@ numbers as ``yaml-cpp`` reads them: ``6e2`` is 600.0); the image by :func:`~fron
 
 from __future__ import annotations
 
+import io
 import json
 import math
 import numbers
@@ -31,6 +32,7 @@ import yaml
 from numpy.typing import NDArray
 from PIL import Image
 
+from frontier_rl.atomic_write import write_bytes_atomic, write_text_atomic
 from frontier_rl.core.grid import CellState, OccupancyGrid
 from frontier_rl.errors import MapError, short_repr
 from frontier_rl.io._image import read_image
@@ -245,8 +247,10 @@ def save_ros_map(grid: OccupancyGrid, yaml_path: str | Path, image_format: str =
     )
     try:
         path.parent.mkdir(parents=True, exist_ok=True)
-        Image.fromarray(np.ascontiguousarray(np.flipud(pixels))).save(image_path, format=_IMAGE_FORMATS[fmt])
-        path.write_text(text, encoding="utf-8")
+        encoded = io.BytesIO()
+        Image.fromarray(np.ascontiguousarray(np.flipud(pixels))).save(encoded, format=_IMAGE_FORMATS[fmt])
+        write_bytes_atomic(image_path, encoded.getvalue())
+        write_text_atomic(path, text)
     except OSError as exc:
         raise MapError(f"cannot write map {path}: {exc}") from exc
     return path

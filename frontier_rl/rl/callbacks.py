@@ -11,6 +11,7 @@ import numpy as np
 from stable_baselines3.common.callbacks import BaseCallback
 
 from frontier_rl.envs.world_source import VALIDATION_SEED_LOW
+from frontier_rl.rl.model_file import save_model
 
 
 def run_validation(env: gym.Env[Any, Any], predict: Any, episodes: int) -> list[float]:
@@ -73,5 +74,5 @@ class ValidationCallback(BaseCallback):
             writer.writerow([self.num_timesteps, f"{mean:.3f}", " ".join(f"{t:.1f}" for t in times)])
         if mean < self.best:
             self.best, self.best_timesteps = mean, self.num_timesteps
-            self.model.save(self.best_path)
+            save_model(self.model, self.best_path)
         return True

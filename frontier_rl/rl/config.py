@@ -9,6 +9,7 @@ from typing import Any
 
 import yaml
 
+from frontier_rl.atomic_write import write_text_atomic
 from frontier_rl.config import coerce
 from frontier_rl.envs.rewards import REWARD_PRESETS, reward_preset
 from frontier_rl.envs.world_source import parse_world_list
@@ -135,7 +136,7 @@ class TrainConfig:
 
     def dump(self, path: Path) -> None:
         """Write the config as YAML."""
-        path.write_text(yaml.safe_dump(self.to_dict(), sort_keys=False))
+        write_text_atomic(path, yaml.safe_dump(self.to_dict(), sort_keys=False))
 
     @classmethod
     def load(cls, path: Path) -> TrainConfig:

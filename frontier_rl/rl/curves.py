@@ -12,6 +12,8 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt
 import numpy as np
 
+from frontier_rl.atomic_write import save_figure_atomic
+
 _MONITOR = re.compile(r"monitor_(\d+)\.monitor\.csv$")
 
 
@@ -64,6 +66,6 @@ def plot_learning_curve(run: Path, title: str = "") -> Path:
         ax.legend(loc="upper right")
     fig.tight_layout()
     out = run / "learning_curve.png"
-    fig.savefig(out)
+    save_figure_atomic(fig, out)
     plt.close(fig)
     return out

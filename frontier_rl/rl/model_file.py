@@ -39,6 +39,7 @@ from stable_baselines3.common.base_class import BaseAlgorithm
 from stable_baselines3.common.policies import ActorCriticCnnPolicy, ActorCriticPolicy
 
 import frontier_rl
+from frontier_rl.atomic_write import write_bytes_atomic
 from frontier_rl.errors import QUOTE_LIMIT, ConfigError, short_repr
 from frontier_rl.registration import ENV_IDS, MODELS, OBSERVATION_SIZES, env_id
 from frontier_rl.rl.config import MAX_FEATURES_DIM, MAX_TIMESTEPS
@@ -132,13 +133,34 @@ def policy_setup(model: int, features_dim: int) -> tuple[type[ActorCriticPolicy]
 
 
 def write_metadata(path: Path, info: ModelInfo) -> None:
-    """Add (or replace) the metadata entry of the SB3 zip at ``path``."""
+    """Add (or replace) the metadata entry of the SB3 zip at ``path`` (the file is replaced whole,
+    never left half written)."""
     with zipfile.ZipFile(path) as archive:
         entries = {name: archive.read(name) for name in archive.namelist() if name != METADATA_ENTRY}
-    with zipfile.ZipFile(path, "w", zipfile.ZIP_DEFLATED) as archive:
+    write_bytes_atomic(path, _zip_bytes(entries, info))
+
+
+def save_model(model: BaseAlgorithm, path: Path, info: ModelInfo | None = None) -> None:
+    """Save ``model`` as an SB3 zip at ``path``, with the metadata ``info`` when given; the file is
+    replaced whole or not at all (a full disk leaves the previous one)."""
+    buffer = io.BytesIO()
+    model.save(buffer)
+    if info is None:
+        write_bytes_atomic(path, buffer.getvalue())
+        return
+    with zipfile.ZipFile(buffer) as archive:
+        entries = {name: archive.read(name) for name in archive.namelist() if name != METADATA_ENTRY}
+    write_bytes_atomic(path, _zip_bytes(entries, info))
+
+
+def _zip_bytes(entries: dict[str, bytes], info: ModelInfo) -> bytes:
+    """A deflated zip of ``entries`` plus the metadata entry of ``info``."""
+    buffer = io.BytesIO()
+    with zipfile.ZipFile(buffer, "w", zipfile.ZIP_DEFLATED) as archive:
         for name, data in entries.items():
             archive.writestr(name, data)
         archive.writestr(METADATA_ENTRY, json.dumps(asdict(info), indent=2))
+    return buffer.getvalue()
 
 
 # ------------------------------------------------------------------------------ bounded zips

@@ -26,7 +26,7 @@ from frontier_rl.errors import ConfigError
 from frontier_rl.rl.callbacks import ValidationCallback
 from frontier_rl.rl.config import TrainConfig
 from frontier_rl.rl.curves import plot_learning_curve
-from frontier_rl.rl.model_file import ALGORITHMS, ModelInfo, policy_setup, write_metadata
+from frontier_rl.rl.model_file import ALGORITHMS, ModelInfo, policy_setup, save_model, write_metadata
 
 _CHECKPOINT = re.compile(r"model_(\d+)_steps\.zip$")
 
@@ -148,10 +148,9 @@ def train(
         if eval_env is not None:
             eval_env.close()
     final = out / "model.zip"
-    model.save(final)
     info = ModelInfo(config.model, config.env_id, config.observation_size, config.algo, config.features_dim,
                      int(model.num_timesteps))  # fmt: skip
-    write_metadata(final, info)
+    save_model(model, final, info)
     if validation is not None and (out / "best_model.zip").exists():
         write_metadata(out / "best_model.zip", replace(info, timesteps=validation.best_timesteps))
     elapsed = time.perf_counter() - started
