@@ -202,28 +202,8 @@ class ResultStore:
             row_numbers[key] = number
             self.rows[key] = row
             self._row_lines[key] = line
-        traces: dict[Key, tuple[int, str, dict[str, Any]]] = {}
-        for number, line in _complete_lines(self.trace_path):
-            try:
-                trace = json.loads(line)
-                key = (trace["method"], trace["world"], trace["episode"])
-                hash(key)
-            except (json.JSONDecodeError, TypeError, KeyError, RecursionError):
-                raise ConfigError(f"{self.trace_path} line {number} is not a trace: {short_repr(line)}") from None
-            traces[key] = (number, line, trace)  # a trace of an episode rerun after a kill: the last one wins
-        checksums: dict[Key, tuple[int, str, dict[str, Any]]] = {}
-        for number, line in _complete_lines(self.checksum_path):
-            try:
-                entry = json.loads(line)
-                key = (entry["method"], entry["world"], entry["episode"])
-                hash(key)
-                if not all(isinstance(entry.get(f), str) for f in ("row_sha256", "trace_sha256")):
-                    raise TypeError
-            except (json.JSONDecodeError, TypeError, KeyError, AttributeError, RecursionError):
-                raise ConfigError(
-                    f"{self.checksum_path} line {number} is not a row checksum: {short_repr(line)}"
-                ) from None
-            checksums[key] = (number, line, entry)  # an episode rerun after a kill: the last one wins
+        traces = _keyed_lines(self.trace_path, "a trace")
+        checksums = _keyed_lines(self.checksum_path, "a row checksum", ("row_sha256", "trace_sha256"))
         if self.rows and not self.checksum_path.exists():
             if adopt_unchecked:
                 checksums = self._adopt(row_numbers, traces)
@@ -547,6 +527,27 @@ def _decode(path: Path, data: bytes, first_line: int = 1) -> str:
             f"{path} line {line} holds bytes that are not UTF-8 (at character {column}): the file was edited or "
             "damaged; fix or delete that line, or choose another --out"
         ) from None
+
+
+def _keyed_lines(path: Path, what: str, strings: tuple[str, ...] = ()) -> dict[Key, tuple[int, str, dict[str, Any]]]:
+    """The JSON lines of ``path`` by episode key: (line number, line, object); the fields named in
+    ``strings`` must be strings. A later line of the same episode (rerun after a kill) wins.
+
+    Raises:
+        ConfigError: a line that is not such an object, named by file and line.
+    """
+    entries: dict[Key, tuple[int, str, dict[str, Any]]] = {}
+    for number, line in _complete_lines(path):
+        try:
+            entry = json.loads(line)
+            key = (entry["method"], entry["world"], entry["episode"])
+            hash(key)
+            if not all(isinstance(entry.get(f), str) for f in strings):
+                raise TypeError
+        except (json.JSONDecodeError, TypeError, KeyError, AttributeError, RecursionError):
+            raise ConfigError(f"{path} line {number} is not {what}: {short_repr(line)}") from None
+        entries[key] = (number, line, entry)
+    return entries
 
 
 def _complete_lines(path: Path) -> list[tuple[int, str]]:
