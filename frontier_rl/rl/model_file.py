@@ -2,9 +2,9 @@
 
 A model file is untrusted input. Loading one without ``trust``:
 
-1. checks the zip before anything in it is read: at most :data:`MAX_MEMBERS` members, each stored
-   or deflated, none over :data:`MAX_MEMBER_BYTES` uncompressed, all together at most
-   :data:`MAX_ARCHIVE_BYTES`, none compressed more than :data:`MAX_COMPRESSION_RATIO` to 1;
+1. checks the zip before anything in it is read (:mod:`frontier_rl.rl.bounded_zip`): at most
+   :data:`MAX_MEMBERS` members, each stored or deflated, none over 256 MiB uncompressed, all
+   together at most 1 GiB, none compressed more than 200 to 1;
 2. reads ``frontier_rl.json`` (at most :data:`MAX_METADATA_BYTES`) and checks every field against
    what ``frontier-rl train`` writes: a known model number, one of the project's own Gymnasium ids
    fitting that model and image size, a known algorithm, whole numbers in range, no other keys.
@@ -23,14 +23,13 @@ from __future__ import annotations
 import io
 import json
 import pickle
-import struct
 import warnings
 import zipfile
 from collections.abc import Iterator
 from contextlib import contextmanager
 from dataclasses import asdict, dataclass, fields
 from pathlib import Path
-from typing import IO, Any
+from typing import Any
 
 import gymnasium as gym
 import torch
@@ -42,6 +41,7 @@ import frontier_rl
 from frontier_rl.atomic_write import write_bytes_atomic
 from frontier_rl.errors import QUOTE_LIMIT, ConfigError, short_repr
 from frontier_rl.registration import ENV_IDS, MODELS, OBSERVATION_SIZES, env_id
+from frontier_rl.rl.bounded_zip import MAX_MEMBER_BYTES, first_line, open_checked_zip, read_member
 from frontier_rl.rl.config import MAX_FEATURES_DIM, MAX_TIMESTEPS
 from frontier_rl.rl.networks import FrontierScorer, GridCNN, PointerPolicy
 
@@ -53,35 +53,12 @@ ALGORITHMS: dict[str, type[BaseAlgorithm]] = {"a2c": A2C, "ppo": PPO}
 MAX_METADATA_BYTES = 64 * 1024
 """Largest ``frontier_rl.json`` read (bytes); ``frontier-rl train`` writes about 170."""
 
-MAX_MEMBER_BYTES = 256 * 1024**2
-"""Largest zip member, uncompressed (bytes). The largest network the metadata admits
-(:data:`MAX_FEATURES_DIM` features) has ~40 MB of weights and an optimizer state of one to two times
-that; the shipped ``policy.pth`` files are ~0.75 MB."""
-
-MAX_ARCHIVE_BYTES = 1024**3
-"""Largest sum of a zip's members, uncompressed (bytes): the zip of a model file, or the torch
-archive inside its ``policy.pth``. The shipped model files hold ~1.6 MB."""
-
 MAX_MEMBERS = 64
 """Most members in a model file's zip; SB3 writes 6 and ``frontier-rl train`` adds 1."""
 
 MAX_WEIGHT_RECORDS = 4096
 """Most records in the torch archive of ``policy.pth`` (one per tensor storage, plus 6); the
 shipped models have 24."""
-
-MAX_COMPRESSION_RATIO = 200
-"""Most a member over :data:`RATIO_FLOOR_BYTES` may be compressed (uncompressed / compressed).
-Weights deflate to ~1.1:1 and SB3's JSON ``data`` to ~12:1; only long runs of one byte (a zip
-bomb) go beyond ~200:1 (deflate's limit is ~1030:1)."""
-
-RATIO_FLOOR_BYTES = 1024**2
-"""Members up to this size (bytes, uncompressed) are exempt from :data:`MAX_COMPRESSION_RATIO`."""
-
-
-_STORED_OR_DEFLATED = (zipfile.ZIP_STORED, zipfile.ZIP_DEFLATED)
-_END_RECORD = struct.Struct("<4s4H2LH")  # end of central directory: signature ... comment length
-_ZIP64_LOCATOR = struct.Struct("<4sLQL")
-_ZIP64_END_RECORD = struct.Struct("<4sQ2H2L4Q")
 
 
 @dataclass(frozen=True)
@@ -108,13 +85,6 @@ class ModelInfo:
 
 
 _FIELDS: tuple[str, ...] = tuple(f.name for f in fields(ModelInfo))
-
-
-def _reason(exc: BaseException, limit: int = 120) -> str:
-    """The first line of an exception's message, cut to ``limit`` characters."""
-    lines = [line.strip() for line in str(exc).splitlines() if line.strip()]
-    text = lines[0] if lines else type(exc).__name__
-    return text if len(text) <= limit else text[: limit - 1] + "…"
 
 
 def policy_setup(model: int, features_dim: int) -> tuple[type[ActorCriticPolicy], dict[str, Any]]:
@@ -163,110 +133,17 @@ def _zip_bytes(entries: dict[str, bytes], info: ModelInfo) -> bytes:
     return buffer.getvalue()
 
 
-# ------------------------------------------------------------------------------ bounded zips
-def _directory_size(file: IO[bytes]) -> tuple[int, int] | None:
-    """(entries, bytes) of a zip's central directory, from its end record; None where there is no
-    end record (then :mod:`zipfile` says the file is not a zip)."""
-    file.seek(0, io.SEEK_END)
-    size = file.tell()
-    tail_start = max(0, size - _END_RECORD.size - 0xFFFF)
-    file.seek(tail_start)
-    tail = file.read()
-    at = tail.rfind(b"PK\x05\x06")
-    if at < 0 or len(tail) - at < _END_RECORD.size:
-        return None
-    *_, entries, directory_bytes, _offset, _comment = _END_RECORD.unpack_from(tail, at)
-    if entries != 0xFFFF and directory_bytes != 0xFFFFFFFF:
-        return entries, directory_bytes
-    locator_at = tail_start + at - _ZIP64_LOCATOR.size
-    if locator_at < 0:
-        return entries, directory_bytes
-    file.seek(locator_at)
-    signature, _disk, record_at, _disks = _ZIP64_LOCATOR.unpack(file.read(_ZIP64_LOCATOR.size))
-    if signature != b"PK\x06\x07" or record_at > size - _ZIP64_END_RECORD.size:
-        return entries, directory_bytes
-    file.seek(record_at)
-    record = _ZIP64_END_RECORD.unpack(file.read(_ZIP64_END_RECORD.size))
-    if record[0] != b"PK\x06\x06":
-        return entries, directory_bytes
-    return record[7], record[8]
-
-
-def _check_members(archive: zipfile.ZipFile, where: str, max_members: int) -> None:
-    """Refuse a zip whose members, as its directory declares them, are too many, too big, too
-    compressed, duplicated, or compressed other than stored or deflated; nothing is read."""
-    members = archive.infolist()
-    if len(members) > max_members:
-        raise ConfigError(f"{where} has {len(members)} members, more than the {max_members} allowed")
-    names: set[str] = set()
-    total = 0
-    for member in members:
-        name = short_repr(member.filename)
-        if member.filename in names:
-            raise ConfigError(f"{where} holds member {name} twice")
-        names.add(member.filename)
-        if member.compress_type not in _STORED_OR_DEFLATED:
-            raise ConfigError(f"{where}: member {name} uses compression method {member.compress_type}, "
-                              "not stored or deflated")  # fmt: skip
-        if member.file_size > MAX_MEMBER_BYTES:
-            raise ConfigError(f"{where}: member {name} unpacks to {member.file_size} bytes, "
-                              f"more than the {MAX_MEMBER_BYTES} allowed")  # fmt: skip
-        if member.file_size > RATIO_FLOOR_BYTES and member.file_size > MAX_COMPRESSION_RATIO * member.compress_size:
-            raise ConfigError(f"{where}: member {name} unpacks {member.compress_size} bytes to {member.file_size}, "
-                              f"more than {MAX_COMPRESSION_RATIO} times (a zip bomb?)")  # fmt: skip
-        total += member.file_size
-    if total > MAX_ARCHIVE_BYTES:
-        raise ConfigError(f"{where} unpacks to {total} bytes, more than the {MAX_ARCHIVE_BYTES} allowed")
-
-
-def _open_zip(file: IO[bytes], where: str, max_members: int, kind: str = "a frontier_rl model") -> zipfile.ZipFile:
-    """``file`` as a checked zip (:func:`_check_members`); its central directory is sized from the
-    end record before :mod:`zipfile` parses it. ``kind`` says what the file should be, in messages."""
-    directory = _directory_size(file)
-    if directory is not None:
-        entries, directory_bytes = directory
-        if entries > max_members or directory_bytes > 1024 * max_members:
-            raise ConfigError(f"{where} declares {entries} members in {directory_bytes} bytes of directory, "
-                              f"more than the {max_members} allowed")  # fmt: skip
-    file.seek(0)
-    try:
-        archive = zipfile.ZipFile(file)
-    except Exception as exc:  # BadZipFile, or what a malformed directory makes zipfile raise
-        raise ConfigError(f"{where} is corrupt or not {kind} ({_reason(exc)})") from None
-    try:
-        _check_members(archive, where, max_members)
-    except BaseException:
-        archive.close()
-        raise
-    return archive
-
-
 @contextmanager
 def _open_model(path: Path) -> Iterator[zipfile.ZipFile]:
-    """The model file at ``path`` as a checked zip (:func:`_open_zip`)."""
+    """The model file at ``path`` as a checked zip (:func:`~frontier_rl.rl.bounded_zip.open_checked_zip`)."""
     if not path.is_file():
         raise ConfigError(f"model file {str(path)!r} not found")
     try:
         file = path.open("rb")
     except OSError as exc:
-        raise ConfigError(f"model file {str(path)!r} cannot be read ({exc.strerror or _reason(exc)})") from None
-    with file, _open_zip(file, f"model file {str(path)!r}", MAX_MEMBERS) as archive:
+        raise ConfigError(f"model file {str(path)!r} cannot be read ({exc.strerror or first_line(exc)})") from None
+    with file, open_checked_zip(file, f"model file {str(path)!r}", MAX_MEMBERS, "a frontier_rl model") as archive:
         yield archive
-
-
-def _read_member(archive: zipfile.ZipFile, name: str, limit: int, where: str) -> bytes:
-    """Member ``name`` of a checked zip, refused if it unpacks to more than ``limit`` bytes."""
-    member = archive.getinfo(name)
-    if member.file_size > limit:
-        raise ConfigError(f"{where}: {name} unpacks to {member.file_size} bytes, more than the {limit} allowed")
-    try:
-        with archive.open(member) as stream:
-            data = stream.read(limit + 1)
-    except Exception as exc:  # BadZipFile (CRC), zlib.error, EOFError, encrypted members, ...
-        raise ConfigError(f"{where}: {name} is corrupt ({_reason(exc)})") from None
-    if len(data) > limit:
-        raise ConfigError(f"{where}: {name} unpacks to more than the {limit} bytes allowed")
-    return data
 
 
 # ------------------------------------------------------------------------------ metadata
@@ -313,7 +190,7 @@ def parse_metadata(raw: bytes, where: str) -> ModelInfo:
             raw.decode("utf-8"), object_pairs_hook=_object_without_duplicates, parse_constant=_reject_constant
         )
     except (ValueError, RecursionError) as exc:  # JSONDecodeError and UnicodeDecodeError are ValueErrors
-        raise ConfigError(f"{where}: {METADATA_ENTRY} is not valid JSON ({_reason(exc)})") from None
+        raise ConfigError(f"{where}: {METADATA_ENTRY} is not valid JSON ({first_line(exc)})") from None
     if not isinstance(values, dict):
         raise ConfigError(f"{where}: {METADATA_ENTRY} must hold a JSON object, got a {type(values).__name__}")
     unknown = [key for key in values if key not in _FIELDS]
@@ -345,7 +222,7 @@ def parse_metadata(raw: bytes, where: str) -> ModelInfo:
 def _metadata(archive: zipfile.ZipFile, where: str) -> ModelInfo | None:
     if METADATA_ENTRY not in archive.namelist():
         return None
-    return parse_metadata(_read_member(archive, METADATA_ENTRY, MAX_METADATA_BYTES, where), where)
+    return parse_metadata(read_member(archive, METADATA_ENTRY, MAX_METADATA_BYTES, where), where)
 
 
 def read_metadata(path: str | Path) -> ModelInfo | None:
@@ -376,9 +253,9 @@ def _read_weights(archive: zipfile.ZipFile, where: str) -> dict[str, torch.Tenso
     read with ``weights_only`` (no code runs); torch's messages and warnings become one line."""
     if WEIGHTS_ENTRY not in archive.namelist():
         raise ConfigError(f"{where} has no {WEIGHTS_ENTRY}")
-    raw = io.BytesIO(_read_member(archive, WEIGHTS_ENTRY, MAX_MEMBER_BYTES, where))
+    raw = io.BytesIO(read_member(archive, WEIGHTS_ENTRY, MAX_MEMBER_BYTES, where))
     inner = f"{where}: {WEIGHTS_ENTRY}"
-    _open_zip(raw, inner, MAX_WEIGHT_RECORDS, "a torch weights file (torch's zip format)").close()
+    open_checked_zip(raw, inner, MAX_WEIGHT_RECORDS, "a torch weights file (torch's zip format)").close()
     raw.seek(0)
     try:
         with warnings.catch_warnings():
@@ -390,7 +267,7 @@ def _read_weights(archive: zipfile.ZipFile, where: str) -> dict[str, torch.Tenso
         cut = f": {detail[:QUOTE_LIMIT]}" if detail else ""
         raise ConfigError(f"{inner} holds objects other than tensors, refused{cut}") from None
     except Exception as exc:
-        raise ConfigError(f"{inner} is corrupt ({_reason(exc)})") from None
+        raise ConfigError(f"{inner} is corrupt ({first_line(exc)})") from None
     if not isinstance(state, dict) or not all(
         isinstance(key, str) and isinstance(value, torch.Tensor) for key, value in state.items()
     ):
@@ -448,7 +325,7 @@ def load_policy(path: str | Path, trust: bool = False) -> tuple[ActorCriticPolic
     try:
         policy.load_state_dict(state)
     except Exception as exc:
-        raise ConfigError(f"{where} does not fit {info.env_id} ({_reason(exc)})") from None
+        raise ConfigError(f"{where} does not fit {info.env_id} ({first_line(exc)})") from None
     policy.set_training_mode(False)
     return policy, info
 
@@ -469,7 +346,7 @@ def _load_trusted(path: Path) -> ActorCriticPolicy:
         if isinstance(policy, ActorCriticPolicy):
             policy.set_training_mode(False)
             return policy
-    reason = f" ({_reason(last)})" if last is not None else ""
+    reason = f" ({first_line(last)})" if last is not None else ""
     raise ConfigError(f"model file {str(path)!r} could not be loaded as an SB3 A2C or PPO model{reason}")
 
 

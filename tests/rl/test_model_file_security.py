@@ -23,10 +23,9 @@ from typer.testing import CliRunner
 from frontier_rl.cli import app
 from frontier_rl.errors import ConfigError, FrontierRLError
 from frontier_rl.policies import make_policy
-from frontier_rl.rl import model_file
+from frontier_rl.rl import bounded_zip
+from frontier_rl.rl.bounded_zip import MAX_ARCHIVE_BYTES, MAX_MEMBER_BYTES
 from frontier_rl.rl.model_file import (
-    MAX_ARCHIVE_BYTES,
-    MAX_MEMBER_BYTES,
     MAX_METADATA_BYTES,
     METADATA_ENTRY,
     WEIGHTS_ENTRY,
@@ -348,14 +347,14 @@ def test_a_deflated_zeros_bomb_is_refused(tmp_path: Path, model4: dict[str, byte
 def test_the_member_limit_holds_whatever_the_ratio(
     tmp_path: Path, monkeypatch: pytest.MonkeyPatch, model4: dict[str, bytes]
 ) -> None:
-    monkeypatch.setattr(model_file, "MAX_MEMBER_BYTES", 1024**2)
-    monkeypatch.setattr(model_file, "MAX_COMPRESSION_RATIO", 10**9)
+    monkeypatch.setattr(bounded_zip, "MAX_MEMBER_BYTES", 1024**2)
+    monkeypatch.setattr(bounded_zip, "MAX_COMPRESSION_RATIO", 10**9)
     _refused(_model(tmp_path / "big.zip", model4, policy_pth=os.urandom(1024**2 + 1)), "1048576 allowed")
     _refused(_model(tmp_path / "zeros.zip", model4, policy_pth=bytes(2 * 1024**2)), "1048576 allowed")
 
 
 def test_the_archive_limit_holds(tmp_path: Path, monkeypatch: pytest.MonkeyPatch, model4: dict[str, bytes]) -> None:
-    monkeypatch.setattr(model_file, "MAX_ARCHIVE_BYTES", 2 * 1024**2)
+    monkeypatch.setattr(bounded_zip, "MAX_ARCHIVE_BYTES", 2 * 1024**2)
     _refused(_model(tmp_path / "many.zip", model4, extra_a=os.urandom(800_000), extra_b=os.urandom(800_000)),
              "unpacks to")  # fmt: skip
 
