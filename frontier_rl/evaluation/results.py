@@ -49,6 +49,7 @@ except ImportError:  # pragma: no cover - not POSIX
 from frontier_rl import atomic_write
 from frontier_rl.atomic_write import OutputWriteError, describe_os_error, write_text_atomic
 from frontier_rl.errors import ConfigError, short_repr, short_text
+from frontier_rl.evaluation.config_diff import ABSENT, contrast, describe_differences, differences_between
 from frontier_rl.evaluation.experiment import ROW_COLUMNS, EpisodeJob
 
 Key = tuple[str, str, int]
@@ -62,12 +63,6 @@ CHECKSUM_SCHEME = "frontier_rl episode row v1"
 
 _QUOTE_CHARS = 60
 """Values from files are quoted in messages up to this many characters."""
-
-_DIFFERENCES_SHOWN = 4
-"""A refused configuration names at most this many differing settings."""
-
-_VALUE_CHARS = 48
-"""A differing setting's value is shown up to about this many characters."""
 
 _MAX_DEPTH = 32
 """``experiment.json`` nests no deeper than this (the simulator's settings nest 3 levels)."""
@@ -160,8 +155,8 @@ class ResultStore:
         if stored is not None:
             parts = [*identity, *(part for part in stored if part not in identity)]
             differences = [
-                d for part in parts if part != "methods" for d in differences_between(stored.get(part, _ABSENT),
-                                                                                      identity.get(part, _ABSENT), part)
+                d for part in parts if part != "methods" for d in differences_between(stored.get(part, ABSENT),
+                                                                                      identity.get(part, ABSENT), part)
             ]  # fmt: skip
             if differences:
                 raise ConfigError(
@@ -414,73 +409,6 @@ def parse_row(line: str) -> dict[str, Any]:
             )
             raise ConfigError(f"{column} {short_repr(text)} is not valid (expected {kind})") from None
     return row
-
-
-# ---------------------------------------------------------------------- configuration differences
-class _Absent:
-    """A setting one side of a comparison does not have."""
-
-    def __repr__(self) -> str:
-        return "(absent)"
-
-
-_ABSENT: Any = _Absent()
-
-
-def differences_between(there: Any, now: Any, path: str) -> list[tuple[str, Any, Any]]:
-    """The settings that differ between two JSON values, as (dotted path, value there, value
-    now), down to the leaves of dicts and of lists of the same length; absent keys are
-    ``(absent)``. Values whose JSON texts agree count as equal."""
-    if isinstance(there, dict) and isinstance(now, dict):
-        keys = [*there, *(k for k in now if k not in there)]
-        return [d for k in keys for d in differences_between(there.get(k, _ABSENT), now.get(k, _ABSENT), f"{path}.{k}")]
-    if isinstance(there, list) and isinstance(now, list) and len(there) == len(now):
-        return [d for i, (a, b) in enumerate(zip(there, now, strict=True)) for d in
-                differences_between(a, b, f"{path}[{i}]")]  # fmt: skip
-    if there == now or _show(there) == _show(now):
-        return []
-    return [(path, there, now)]
-
-
-def describe_differences(differences: list[tuple[str, Any, Any]]) -> str:
-    """``path: A there, B now`` for the first few differences, each value cut to about
-    :data:`_VALUE_CHARS` characters around where the two differ (so they never read the same)."""
-    shown = []
-    for path, there, now in differences[:_DIFFERENCES_SHOWN]:
-        a, b = contrast(there, now)
-        shown.append(f"{_clip(path)}: {a} there, {b} now")
-    more = len(differences) - _DIFFERENCES_SHOWN
-    return "; ".join(shown) + (f"; and {more} more difference{'s' * (more > 1)}" if more > 0 else "")
-
-
-def contrast(there: Any, now: Any, width: int = _VALUE_CHARS) -> tuple[str, str]:
-    """Two values as JSON text, each cut to ``width`` characters around the first character where
-    they differ; a cut text is marked with "…" and its full length. Two different texts stay
-    different: the window holds the first differing character (or the end of the shorter text)."""
-    a, b = _show(there), _show(now)
-    if len(a) <= width and len(b) <= width:
-        return a, b
-    same = 0
-    while same < min(len(a), len(b)) and a[same] == b[same]:
-        same += 1
-    start = max(0, same - width // 3)
-    return _window(a, start, width), _window(b, start, width)
-
-
-def _window(text: str, start: int, width: int) -> str:
-    if len(text) <= width and start == 0:
-        return text
-    piece = text[start : start + width]
-    return f"{'…' * (start > 0)}{piece}{'…' * (start + width < len(text))} ({len(text)} chars)"
-
-
-def _show(value: Any) -> str:
-    if value is _ABSENT:
-        return "(absent)"
-    try:
-        return json.dumps(value, sort_keys=True)
-    except (TypeError, ValueError):
-        return repr(value)
 
 
 # ---------------------------------------------------------------------- files

@@ -23,9 +23,10 @@ from frontier_rl.atomic_write import OutputWriteError, write_text_atomic
 from frontier_rl.cli import app
 from frontier_rl.core.simulator import SimConfig
 from frontier_rl.errors import ConfigError
+from frontier_rl.evaluation.config_diff import contrast, differences_between
 from frontier_rl.evaluation.evaluate import evaluate
 from frontier_rl.evaluation.experiment import ROW_COLUMNS, ExperimentConfig, identity
-from frontier_rl.evaluation.results import ResultStore, adopt_rows, contrast, differences_between
+from frontier_rl.evaluation.results import ResultStore, adopt_rows
 
 SHORT = SimConfig(max_sim_time=40.0)  # a fraction of a second per episode
 METHODS = ("fixed:0.75", "nearest")
