@@ -7,11 +7,13 @@ Results are handed to ``on_result`` as episodes finish, in completion order.
 
 from __future__ import annotations
 
+import builtins
 import multiprocessing
 import os
 import socket
 import threading
 import time
+import warnings
 from collections.abc import Callable, Iterator
 from concurrent.futures import FIRST_COMPLETED, ProcessPoolExecutor, wait
 from typing import Any
@@ -21,6 +23,8 @@ from frontier_rl.evaluation.experiment import EpisodeJob, EpisodeSettings, run_j
 
 BACKENDS = ("serial", "process", "ray")
 ResultHandler = Callable[[dict[str, Any]], None]
+Caught = list[tuple[str, str]]
+"""Warnings an episode raised in another process: (category name, message)."""
 
 
 def default_workers() -> int:
@@ -109,6 +113,28 @@ def _serial(jobs: list[EpisodeJob], settings: EpisodeSettings) -> Iterator[tuple
             yield job, exc
 
 
+def run_job_catching_warnings(job: EpisodeJob, settings: EpisodeSettings) -> tuple[dict[str, Any], Caught]:
+    """:func:`run_job` in a worker, with the warnings it raised, to be raised again in the parent
+    (:func:`_warn_again`): a worker's stderr is not the command's, so they would go past the
+    command line's one-line warnings."""
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("default")
+        row = run_job(job, settings)
+    return row, [(w.category.__name__, str(w.message)) for w in caught]
+
+
+def _warn_again(outcome: tuple[dict[str, Any], Caught]) -> dict[str, Any]:
+    """The row of a worker's outcome, its warnings raised again here (as UserWarning when their
+    category is not a built-in one)."""
+    row, caught = outcome
+    for name, message in caught:
+        category = getattr(builtins, name, None)
+        if not (isinstance(category, type) and issubclass(category, Warning)):
+            category, message = UserWarning, f"{name}: {message}"
+        warnings.warn(message, category, stacklevel=2)
+    return row
+
+
 def _exit_with_parent(parent: int) -> None:
     """Pool initializer: end this worker when the process that started it is gone (killed with
     SIGKILL, it cannot shut the pool down), instead of waiting on its queue forever."""
@@ -127,14 +153,14 @@ def _process_pool(jobs: list[EpisodeJob], settings: EpisodeSettings, workers: in
     with ProcessPoolExecutor(
         min(workers, len(jobs)), mp_context=context, initializer=_exit_with_parent, initargs=(os.getpid(),)
     ) as pool:
-        pending = {pool.submit(run_job, job, settings): job for job in jobs}
+        pending = {pool.submit(run_job_catching_warnings, job, settings): job for job in jobs}
         try:
             while pending:
                 finished, _ = wait(pending, return_when=FIRST_COMPLETED)
                 for future in finished:
                     job = pending.pop(future)
                     exc = future.exception()
-                    yield job, exc if exc is not None else future.result()
+                    yield job, exc if exc is not None else _warn_again(future.result())
         finally:
             for future in pending:
                 future.cancel()
@@ -156,7 +182,7 @@ def _ray_tasks(
             where = address or "a local instance"
             raise ConfigError(f"Ray could not start or reach {where}: {str(exc).splitlines()[0]}") from None
     try:
-        remote_job = ray.remote(num_cpus=1, max_retries=2)(run_job)
+        remote_job = ray.remote(num_cpus=1, max_retries=2)(run_job_catching_warnings)
         settings_ref = ray.put(settings)
         pending = {remote_job.remote(job, settings_ref): job for job in jobs}
         while pending:
@@ -164,7 +190,7 @@ def _ray_tasks(
             for ref in finished:
                 job = pending.pop(ref)
                 try:
-                    yield job, ray.get(ref)
+                    yield job, _warn_again(ray.get(ref))
                 except Exception as exc:  # a task's error (RayTaskError): handed on like the others
                     yield job, exc
     finally:
