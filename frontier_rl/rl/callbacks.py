@@ -76,3 +76,22 @@ class ValidationCallback(BaseCallback):
             self.best, self.best_timesteps = mean, self.num_timesteps
             save_model(self.model, self.best_path)
         return True
+
+
+class AtomicCheckpoint(BaseCallback):
+    """SB3's ``CheckpointCallback`` (``model_<steps>_steps.zip`` in ``folder`` every ``every``
+    calls), each file written whole or not at all: a checkpoint cut short by a full disk would be
+    the newest, the one ``train --resume`` continues from."""
+
+    def __init__(self, every: int, folder: Path) -> None:
+        super().__init__()
+        self.every = every
+        self.folder = folder
+
+    def _init_callback(self) -> None:
+        self.folder.mkdir(parents=True, exist_ok=True)
+
+    def _on_step(self) -> bool:
+        if self.n_calls % self.every == 0:
+            save_model(self.model, self.folder / f"model_{self.num_timesteps}_steps.zip")
+        return True

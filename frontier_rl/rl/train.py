@@ -18,12 +18,12 @@ from typing import Any
 import gymnasium as gym
 import torch
 from stable_baselines3.common.base_class import BaseAlgorithm
-from stable_baselines3.common.callbacks import BaseCallback, CheckpointCallback
+from stable_baselines3.common.callbacks import BaseCallback
 from stable_baselines3.common.vec_env import DummyVecEnv, SubprocVecEnv, VecMonitor
 
 import frontier_rl
 from frontier_rl.errors import ConfigError
-from frontier_rl.rl.callbacks import ValidationCallback
+from frontier_rl.rl.callbacks import AtomicCheckpoint, ValidationCallback
 from frontier_rl.rl.config import TrainConfig
 from frontier_rl.rl.curves import plot_learning_curve
 from frontier_rl.rl.model_file import ALGORITHMS, ModelInfo, policy_setup, save_model, write_metadata
@@ -124,7 +124,7 @@ def train(
     callbacks: list[BaseCallback] = []
     if config.checkpoint_every:
         every = max(config.checkpoint_every // config.n_envs, 1)
-        callbacks.append(CheckpointCallback(every, str(out / "checkpoints"), name_prefix="model"))
+        callbacks.append(AtomicCheckpoint(every, out / "checkpoints"))
     eval_env = None
     validation = None
     if config.eval_every:
