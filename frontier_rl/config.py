@@ -12,12 +12,10 @@ import typing
 from pathlib import Path
 from typing import Any, TypeVar
 
-import yaml
-
 from frontier_rl.atomic_write import write_text_atomic
 from frontier_rl.core.simulator import SimConfig
 from frontier_rl.errors import ConfigError, FrontierRLError, short_repr
-from frontier_rl.safe_yaml import load_yaml_file
+from frontier_rl.safe_yaml import dump_yaml, load_yaml_file
 
 T = TypeVar("T")
 
@@ -89,5 +87,5 @@ def load_sim_config(path: str | Path) -> SimConfig:
 def dump_config(config: Any, path: str | Path) -> Path:
     """Write a dataclass config as YAML to ``path``."""
     path = Path(path)
-    write_text_atomic(path, yaml.safe_dump(to_dict(config), sort_keys=False))
+    write_text_atomic(path, dump_yaml(to_dict(config)))
     return path

@@ -108,6 +108,20 @@ _BoundedLoader.add_implicit_resolver(_FLOAT_TAG, _FLOAT_RE, _NUMBER_START)
 _BoundedLoader.add_constructor(_INT_TAG, _BoundedLoader.construct_yaml_int)
 
 
+class _Dumper(yaml.SafeDumper):
+    """SafeDumper that quotes a string wherever :class:`_BoundedLoader` would read a number (``"1e5"``,
+    ``"0o17"``), so that what the tool writes it reads back the same."""
+
+
+_Dumper.yaml_implicit_resolvers = {first: list(rs) for first, rs in _BoundedLoader.yaml_implicit_resolvers.items()}
+
+
+def dump_yaml(data: Any) -> str:
+    """``data`` (plain dicts, lists, strings and numbers) as YAML text that :func:`parse_yaml` reads
+    back equal, keys in their order."""
+    return yaml.dump(data, Dumper=_Dumper, sort_keys=False)
+
+
 def _describe(exc: yaml.YAMLError) -> str:
     """One bounded line for a PyYAML error: the problem and where it is (line, column; 1-based)."""
     if isinstance(exc, yaml.MarkedYAMLError):

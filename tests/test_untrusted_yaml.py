@@ -27,6 +27,7 @@ from frontier_rl.safe_yaml import (
     MAX_YAML_BYTES,
     MAX_YAML_DEPTH,
     MAX_YAML_NODES,
+    dump_yaml,
     parse_yaml,
 )
 
@@ -421,3 +422,12 @@ def test_the_cli_reports_a_harmless_alias_in_one_line(tmp_path: Path) -> None:
     assert result.exit_code == 2
     lines = [line for line in result.output.splitlines() if line.strip()]
     assert len(lines) == 1 and "not even a harmless one" in lines[0] and "sim.yaml" in lines[0], result.output
+
+
+@pytest.mark.parametrize(
+    "text", ["1e5", "0o17", "0x1F", "010", ".5", "1.", "6E2", "100_000", "yes", "1:30", "null", "~"]
+)
+def test_what_the_tool_writes_it_reads_back_the_same(text: str) -> None:
+    """A string that YAML 1.2 would read as a number (or a boolean, or null) is quoted when dumped."""
+    data = {"worlds": text, "nested": [text, {"k": text}], "number": 6e2}
+    assert parse_yaml(dump_yaml(data)) == data

@@ -228,13 +228,17 @@ class LogOddsMapper:
     def merge_from(self, other: LogOddsMapper, window: tuple[int, int, int, int] | None = None) -> int:
         """Fold ``other``'s map (the same world and frame: known relative start poses) into this
         one by multirobot_map_merge's rule, cell by cell occupied > free > unknown; a cell that
-        changes class takes ``other``'s log-odds. ``window`` (row0, row1, col0, col1; exclusive
-        ends) limits the merge to part of the map. Returns the explorable cells newly known here."""
+        changes class takes ``other``'s log-odds, and the walls ``other`` touched are known here
+        too. ``window`` (row0, row1, col0, col1; exclusive ends) limits the merge to part of the
+        map. Returns the explorable cells newly known here."""
         if other.state.shape != self.state.shape:
             raise ValueError(f"maps of shapes {self.state.shape} and {other.state.shape} cannot be merged")
         rows, cols = self.state.shape
+        r0, r1, c0, c1 = window if window is not None else (0, rows, 0, cols)
         gained = merge_window(self.state, self.logodds, self.seen, self.explorable, other.state, other.logodds,
-                              window if window is not None else (0, rows, 0, cols), self._bbox)  # fmt: skip
+                              (r0, r1, c0, c1), self._bbox)  # fmt: skip
+        # the walls the other robot touched are known walls here too (never thinned, core/thin_walls.py)
+        self.felt[r0:r1, c0:c1] |= other.felt[r0:r1, c0:c1]
         self.explored_cells += gained
         return int(gained)
 

@@ -222,6 +222,10 @@ def _clear(
     return bool(0 <= row < rows and 0 <= col < cols and clearance[row, col] >= radius)
 
 
+_ALIGNED = 1e-3
+"""Heading error (rad) below which a robot blocked by a wall counts as facing its waypoint."""
+
+
 @nb.njit(cache=True, fastmath=FASTMATH)
 def follow_path(
     path_x: NDArray[np.float64],
@@ -285,6 +289,12 @@ def follow_path(
         nx, ny, new_theta = _drive_step(x, y, theta, err, step, to_goal, v_max, w_max, k_w)
         if not _clear(nx, ny, clearance, origin_x, origin_y, resolution, radius):
             if careful[0]:
+                if abs(err) > _ALIGNED:
+                    # Face the waypoint on the spot first (a turn never collides): in a slot one
+                    # cell wide, driving on while turning would keep leaving it.
+                    theta, used = _turn(theta, err, step, w_max)
+                    elapsed += used
+                    continue
                 return x, y, theta, index, driven, min(next_tick, duration), 2
             # Steering at the lookahead point cuts corners; in a tight spot follow the waypoints
             # one by one from now on, which keeps the robot on the planned cells.

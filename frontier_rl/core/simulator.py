@@ -151,6 +151,7 @@ class _Candidates:
     costmap: Costmap
     reachable: NDArray[np.bool_]
     frontiers: Frontiers
+    tight: bool = False  # the costmap of the narrow-passage recovery (core/thin_walls.py)
 
 
 class ExplorationSimulator:
@@ -336,7 +337,7 @@ class ExplorationSimulator:
                 self.blacklist.retry()
                 kept = frontiers.subset(~self.blacklist.blocked(goals))
             frontiers = kept
-        return _Candidates(grid, costmap, reachable, frontiers)
+        return _Candidates(grid, costmap, reachable, frontiers, tight)
 
     def frontiers(self) -> Frontiers:
         """The current candidate frontiers."""
@@ -369,7 +370,7 @@ class ExplorationSimulator:
             frontier_xy = cand.grid.cells_to_world(cand.frontiers.cells_of(index))
             self.target = goal
             try:
-                return (yield from self._drive(path, goal, frontier_xy, index, weight))
+                return (yield from self._drive(path, goal, frontier_xy, index, weight, cand.tight))
             finally:
                 self.target = None
         self._candidates = None  # the blacklist changed
@@ -408,7 +409,7 @@ class ExplorationSimulator:
             return LegResult(LegOutcome.REACHED, -1, goal, self.sim_time - start_time, 0.0, new_free, new_occ)
         self.target = goal
         try:
-            return (yield from self._drive(path, goal, None, -1, weight))
+            return (yield from self._drive(path, goal, None, -1, weight, cand.tight))
         finally:
             self.target = None
 
@@ -435,8 +436,13 @@ class ExplorationSimulator:
         xy[-1] = cand.grid.cell_to_world(*goal_cell)
         return xy
 
-    def _replan(self, goal: tuple[float, float]) -> NDArray[np.float64] | None:
+    def _replan(self, goal: tuple[float, float], tight: bool) -> NDArray[np.float64] | None:
+        """A new path to ``goal`` on the current map, on the costmap the leg was planned on: a leg
+        through a passage opened by the narrow-passage recovery keeps to it (on the normal
+        costmap the robot inside the passage could not move)."""
         cand = self.candidates()
+        if tight and not cand.tight:
+            cand = self._candidates_on(cand.grid, tight=True)
         g = cand.grid
         row, col = g.world_to_cell(*goal)
         passable = cand.costmap.traversable
@@ -454,6 +460,7 @@ class ExplorationSimulator:
         frontier_xy: NDArray[np.float64] | None,
         index: int,
         weight: float | None,
+        tight: bool = False,
     ) -> Generator[None, None, LegResult]:
         cfg = self.config
         nav = cfg.navigation
@@ -531,16 +538,16 @@ class ExplorationSimulator:
                 self._bump()
             blocked = status == 2 or (
                 seen is not None  # only a map update can put a new obstacle on the path
-                and path_blocked(self.mapper.state, path_cells[:, 0], path_cells[:, 1], index_on_path, self._footprint)
+                and self._path_blocked(path_cells, index_on_path, tight)
             )
             if blocked:
-                new_path = self._replan(goal)
+                new_path = self._replan(goal, tight)
                 while new_path is None and recoveries < nav.max_recoveries and not self.truncated:
                     recoveries += 1
                     f, o = yield from self._rotate_steps()
                     new_free += f
                     new_occ += o
-                    new_path = self._replan(goal)
+                    new_path = self._replan(goal, tight)
                 if new_path is None:
                     outcome = LegOutcome.TIMEOUT if self.truncated else LegOutcome.ABORTED
                     break
@@ -566,6 +573,20 @@ class ExplorationSimulator:
         return LegResult(
             outcome, index, goal, self.sim_time - start_time, self.path_length - start_len, new_free, new_occ
         )
+
+    def _path_blocked(self, path_cells: NDArray[np.int64], first: int, tight: bool) -> bool:
+        """Whether the robot's map puts a wall on the path (world cells) from index ``first`` on;
+        for a leg of the narrow-passage recovery, the map with its walls thinned around the path,
+        as it was planned on."""
+        rows, cols = path_cells[first:, 0], path_cells[first:, 1]
+        state = self.mapper.state
+        if tight:
+            reach = int(np.abs(self._footprint).max()) + 2  # the peel looks two cells beyond a cell
+            r0, c0 = max(int(rows.min()) - reach, 0), max(int(cols.min()) - reach, 0)
+            r1, c1 = int(rows.max()) + reach + 1, int(cols.max()) + reach + 1
+            state = thin_walls(state[r0:r1, c0:c1], self.mapper.felt[r0:r1, c0:c1])
+            rows, cols = rows - r0, cols - c0
+        return path_blocked(state, rows, cols, 0, self._footprint)
 
     def _alive(self, cells: NDArray[np.int64] | None) -> bool:
         """:meth:`_frontier_alive` for a leg's frontier, False for a leg to a point."""

@@ -142,7 +142,7 @@ class ResultStore:
                 raise ConfigError(
                     f"{self.identity_path} is not valid JSON ({exc.msg} at line {exc.lineno}); choose another --out"
                 ) from None
-            except RecursionError:
+            except (RecursionError, ValueError):  # nested too deeply; an integer of more than 4300 digits
                 stored = None
             if (
                 not isinstance(stored, dict)
@@ -342,7 +342,7 @@ def adopt_rows(out: Path) -> int:
         raise ConfigError(f"{str(out)!r} has no experiment.json: it is not a results folder")
     try:
         stored = json.loads(_decode(path, path.read_bytes()))
-    except (json.JSONDecodeError, RecursionError):
+    except (ValueError, RecursionError):  # not JSON, an integer of more than 4300 digits, too deep
         stored = None
     if not isinstance(stored, dict):
         raise ConfigError(f"{path} is not an experiment description")
@@ -472,7 +472,7 @@ def _keyed_lines(path: Path, what: str, strings: tuple[str, ...] = ()) -> dict[K
             hash(key)
             if not all(isinstance(entry.get(f), str) for f in strings):
                 raise TypeError
-        except (json.JSONDecodeError, TypeError, KeyError, AttributeError, RecursionError):
+        except (ValueError, TypeError, KeyError, AttributeError, RecursionError):
             raise ConfigError(f"{path} line {number} is not {what}: {short_repr(line)}") from None
         entries[key] = (number, line, entry)
     return entries

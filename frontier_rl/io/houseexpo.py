@@ -61,7 +61,7 @@ def _read_verts(path: Path) -> NDArray[np.float64]:
         if size > MAX_FILE_BYTES:
             raise MapError(f"{path}: a HouseExpo file of {size} bytes is too large (at most {MAX_FILE_BYTES})")
         doc = json.loads(path.read_text(encoding="utf-8"))
-    except (OSError, UnicodeDecodeError, json.JSONDecodeError, RecursionError) as exc:
+    except (OSError, ValueError, RecursionError) as exc:  # ValueError: not UTF-8, not JSON, a 4300-digit integer
         reason = "nested too deeply" if isinstance(exc, RecursionError) else str(exc)[:200]
         raise MapError(f"cannot parse HouseExpo JSON {path}: {reason}") from None
     if not isinstance(doc, dict) or "verts" not in doc:

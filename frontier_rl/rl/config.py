@@ -7,15 +7,13 @@ from dataclasses import asdict, dataclass, fields
 from pathlib import Path
 from typing import Any
 
-import yaml
-
 from frontier_rl.atomic_write import write_text_atomic
 from frontier_rl.config import coerce
 from frontier_rl.envs.rewards import REWARD_PRESETS, reward_preset
 from frontier_rl.envs.world_source import parse_world_list
 from frontier_rl.errors import ConfigError, FrontierRLError, short_repr, short_text
 from frontier_rl.registration import MODELS, env_id
-from frontier_rl.safe_yaml import load_yaml_file
+from frontier_rl.safe_yaml import dump_yaml, load_yaml_file
 
 MAX_FEATURES_DIM = 8192
 """Largest ``features_dim`` a run may use and a model file may hold (the shipped models use 128)."""
@@ -136,7 +134,7 @@ class TrainConfig:
 
     def dump(self, path: Path) -> None:
         """Write the config as YAML."""
-        write_text_atomic(path, yaml.safe_dump(self.to_dict(), sort_keys=False))
+        write_text_atomic(path, dump_yaml(self.to_dict()))
 
     @classmethod
     def load(cls, path: Path) -> TrainConfig:

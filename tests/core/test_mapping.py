@@ -582,3 +582,16 @@ def test_mappers_merge_by_the_rule_and_count_what_they_gain() -> None:
     assert a.merge_from(b) == 0  # merging again changes nothing
     b.merge_from(a)
     assert np.array_equal(a.state, b.state)  # both robots now hold the same map
+
+
+@pytest.mark.parametrize("window", [None, (0, 40, 0, 60)])
+def test_walls_a_teammate_touched_are_merged_as_touched(window: tuple[int, int, int, int] | None) -> None:
+    """A wall a robot bumped into is never thinned by the narrow-passage recovery; after a merge
+    the other robot knows that too (within the merged window)."""
+    world = generate_world("office", 2)
+    a, b = LogOddsMapper(world.grid), LogOddsMapper(world.grid)
+    b.mark_occupied(np.array([10, 100]), np.array([20, 150]))
+    a.merge_from(b, window)
+    assert a.felt[10, 20]
+    assert a.felt[100, 150] == (window is None)  # outside the window: not merged
+    assert int(a.felt.sum()) == (2 if window is None else 1)

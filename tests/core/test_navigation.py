@@ -595,3 +595,20 @@ def test_every_reachable_cell_can_be_planned_to(seed: int) -> None:
     assert len(cells) > 20
     for goal in cells[rng.integers(len(cells), size=20)]:
         assert len(cm.plan(start, (int(goal[0]), int(goal[1])))) > 0
+
+
+@pytest.mark.parametrize("off", [0.3, -0.3, 0.45, -0.45])
+def test_a_robot_in_a_slot_one_cell_wide_turns_to_its_waypoint_and_gets_through(off: float) -> None:
+    """Only one column of a slot is far enough from both walls; the robot stands at its edge,
+    heading a little off the path (less than the turn-in-place angle). Driving on while turning
+    would leave the column at the first step; it must face the waypoint on the spot, then go. It
+    stood still for ever on stage/mbicp before."""
+    data = np.full((40, 9), FREE, np.int8)
+    data[:, [0, 1, 7, 8]] = OCC  # free columns 2-6; only column 4 is >= the radius from both walls
+    clearance = obstacle_distance(data == OCC, 0.05)
+    assert clearance[:, 4].min() >= ROBOT.radius and clearance[:, [3, 5]].max() < ROBOT.radius
+    x = 0.2499 if off > 0 else 0.2001  # column 4 spans [0.20, 0.25)
+    path = np.column_stack((np.full(30, 0.225), np.linspace(0.35, 1.8, 30)))
+    # heading off toward the near wall: a positive ``off`` points right, from the right edge
+    *_, status = drive(path, x, 0.3, math.pi / 2 - off, 30.0, params(), clearance, (0.0, 0.0))
+    assert status == 1  # reached

@@ -296,6 +296,8 @@ def test_rows_that_do_not_parse_name_the_line(complete: Path, tmp_path: Path, li
         ("traces.jsonl", b'{"method": "nearest"}\n', r"traces\.jsonl line 1 is not a trace"),
         ("checksums.jsonl", b'{"method": "nearest"}\n', r"checksums\.jsonl line 1 is not a row checksum"),
         ("checksums.jsonl", b"\n\n[1, 2]\n", r"checksums\.jsonl line 3 is not a row checksum"),
+        ("traces.jsonl", b'{"episode": ' + b"1" * 5000 + b"}\n", r"traces\.jsonl line 1 is not a trace"),
+        ("experiment.json", b'{"seed": ' + b"1" * 5000 + b"}", r"not an experiment description"),
     ],
 )
 def test_damaged_files_are_a_one_line_error(

@@ -216,3 +216,10 @@ def test_cli_refuses_a_crossing_outline_in_one_line(tmp_path: Path, name: str) -
 def test_load_map_refuses_a_crossing_outline(tmp_path: Path) -> None:
     with pytest.raises(MapError, match="crosses itself"):
         load_map(write(tmp_path / "bowtie.json", CROSSING["bow tie"]))
+
+
+def test_an_integer_too_long_to_read_is_a_map_error(tmp_path: Path) -> None:
+    path = tmp_path / "big.json"
+    path.write_text('{"verts": [[0, ' + "1" * 5000 + "], [1, 0], [1, 1]]}")
+    with pytest.raises(MapError, match="cannot parse HouseExpo JSON"):
+        load_map(path)

@@ -197,7 +197,7 @@ def test_what_a_failed_robot_had_not_shared_is_lost() -> None:
     result = run_team_episode(office(1), POLICY, team=team, seed=1)
     fell = np.flatnonzero(np.diff(result.coverage_curve) < 0)
     assert len(fell) == 1  # the team's coverage fell once: when robot 1 failed
-    assert 40.0 <= result.coverage_times_s[fell[0] + 1] <= 41.0
+    assert 40.0 <= result.coverage_times_s[fell[0] + 1] <= 41.0 + 1e-9  # sim time sums ticks: float noise
     assert result.end_reason in ("explored", "unreachable") and result.coverage >= 0.99  # robot 0 saw it all again
 
 
