@@ -103,7 +103,8 @@ def _read_verts(path: Path) -> NDArray[np.float64]:
 def _crossings(verts: NDArray[np.float64]) -> tuple[NDArray[np.int64], NDArray[np.int64]]:
     """The pairs (i, j), i < j, of edges of the closed polygon ``verts`` (edge k runs from vertex k
     to k + 1) that cross: each passes more than :data:`CROSSING_TOLERANCE_M` to either side of the
-    other's line. Edges that only touch or overlap along a line do not count.
+    other's line, or one ends on the inside of the other and the outline goes on to its other
+    side (it crosses through a vertex). Edges that only touch or overlap along a line do not count.
 
     A sweep along x: edges sorted by their left end are compared only with the edges that start
     before they end, at most :data:`_PAIRS_AT_ONCE` pairs at a time."""
@@ -128,6 +129,19 @@ def _crossings(verts: NDArray[np.float64]) -> tuple[NDArray[np.int64], NDArray[n
         tol = CROSSING_TOLERANCE_M
         return np.asarray(((s > tol) & (t < -tol)) | ((s < -tol) & (t > tol)))
 
+    def through_vertex(e: NDArray[np.int64], other: NDArray[np.int64]) -> NDArray[np.bool_]:
+        """Whether ``other`` ends on the inside of ``e`` and the outline passes from one side of
+        ``e``'s line to the other at that vertex."""
+        tol = CROSSING_TOLERANCE_M
+        crossing = np.zeros(len(e), np.bool_)
+        for vertex in (other, (other + 1) % n):  # each end of ``other``
+            point = a[vertex]
+            along = ((point - a[e]) * d[e]).sum(axis=1) / length[e]
+            on = (np.abs(offsets(e, point)) <= tol) & (along > tol) & (along < length[e] - tol)
+            before, after = offsets(e, a[(vertex - 1) % n]), offsets(e, a[(vertex + 1) % n])
+            crossing |= on & (((before > tol) & (after < -tol)) | ((before < -tol) & (after > tol)))
+        return crossing
+
     found: list[NDArray[np.int64]] = []
     first = 0
     while first < n:
@@ -141,11 +155,10 @@ def _crossings(verts: NDArray[np.float64]) -> tuple[NDArray[np.int64], NDArray[n
         keep = (j - i > 1) & ~((i == 0) & (j == n - 1))  # neither an edge's neighbour
         keep &= (lo[i, 1] <= hi[j, 1]) & (lo[j, 1] <= hi[i, 1])  # bounding boxes overlap in y
         i, j = i[keep], j[keep]
-        crossing = straddles(i, j) & straddles(j, i)
+        crossing = (straddles(i, j) & straddles(j, i)) | through_vertex(i, j) | through_vertex(j, i)
         found.append(np.column_stack((i[crossing], j[crossing])))
         first = last
-    pairs = np.concatenate(found).astype(np.int64).reshape(-1, 2)
-    pairs = pairs[np.lexsort((pairs[:, 1], pairs[:, 0]))]
+    pairs = np.unique(np.concatenate(found).astype(np.int64).reshape(-1, 2), axis=0)
     return pairs[:, 0], pairs[:, 1]
 
 

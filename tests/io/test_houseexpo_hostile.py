@@ -42,6 +42,8 @@ CROSSING = {
     "pentagram": [[np.cos(a) * 3, np.sin(a) * 3] for a in np.deg2rad([90, 234, 18, 162, 306])],
     "closing edge crosses": [[0, 0], [2, 0], [2, 2], [1, -1], [0, 2]],
     "figure eight": [[0, 0], [1, 1], [2, 0], [2, 2], [1, 1.5], [0, 2], [0.5, 1], [2.5, 1]],
+    "crossing through a vertex": [[0, 0], [1, 1], [3, 3], [2, 0], [0, 2]],
+    "grid-aligned edges crossing": [[0, 0], [4, 0], [4, 4], [2, 4], [2, 2], [2, -2], [0, -2]],
 }
 
 
@@ -97,8 +99,20 @@ def brute_force_crossings(verts: NDArray[np.float64], tol: float = 1e-6) -> list
         s, t = side(k, verts[m]), side(k, verts[(m + 1) % n])
         return (s > tol and t < -tol) or (s < -tol and t > tol)
 
+    def through_vertex(k: int, m: int) -> bool:  # m ends inside k and the outline crosses k's line there
+        a, b = verts[k], verts[(k + 1) % n]
+        length = float(np.hypot(*(b - a)))
+        for v in (m, (m + 1) % n):
+            along = float(np.dot(verts[v] - a, b - a)) / length
+            if abs(side(k, verts[v])) <= tol and tol < along < length - tol:
+                before, after = side(k, verts[(v - 1) % n]), side(k, verts[(v + 1) % n])
+                if (before > tol and after < -tol) or (before < -tol and after > tol):
+                    return True
+        return False
+
     return [(k, m) for k in range(n) for m in range(k + 2, n)
-            if not (k == 0 and m == n - 1) and straddles(k, m) and straddles(m, k)]  # fmt: skip
+            if not (k == 0 and m == n - 1)
+            and ((straddles(k, m) and straddles(m, k)) or through_vertex(k, m) or through_vertex(m, k))]  # fmt: skip
 
 
 def test_a_large_outline_is_checked_quickly(tmp_path: Path) -> None:
