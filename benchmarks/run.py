@@ -122,7 +122,7 @@ def partial_map(coverage: float) -> tuple[OccupancyGrid, Pose]:
     policy = make_policy(POLICY)
     sim = ExplorationSimulator(world, rng=np.random.default_rng(0))
     rng = np.random.default_rng(0)
-    while sim.coverage < coverage and not sim.done:
+    while sim.coverage < coverage and not sim.finished:
         sim.execute(policy.rank(decision_context(sim), rng).order)
     return OccupancyGrid(sim.mapper.state.copy(), world.grid.resolution, world.grid.origin), sim.pose
 

@@ -1,0 +1,33 @@
+"""The benchmark script keeps up with the engine's API (it is not run by the suite otherwise: its
+timings belong to ``make bench``). A smoke run of its cheapest parts."""
+
+from __future__ import annotations
+
+import importlib.util
+import sys
+from pathlib import Path
+from types import ModuleType
+
+import pytest
+
+SCRIPT = Path(__file__).resolve().parents[1] / "benchmarks" / "run.py"
+
+
+@pytest.fixture(scope="module")
+def bench() -> ModuleType:
+    spec = importlib.util.spec_from_file_location("frontier_rl_bench", SCRIPT)
+    assert spec is not None and spec.loader is not None
+    module = importlib.util.module_from_spec(spec)
+    sys.modules[spec.name] = module  # its dataclasses look their module up
+    spec.loader.exec_module(module)
+    return module
+
+
+def test_the_frontier_benchmark_runs_and_tabulates(bench: ModuleType) -> None:
+    rows = bench.bench_frontiers(1)
+    assert len(rows) == 4 and all(row.value > 0 for row in rows)
+    assert bench.table(rows).count("\n") == len(rows) + 1
+
+
+def test_the_large_map_rows_are_skipped_without_the_shared_maps(bench: ModuleType, tmp_path: Path) -> None:
+    assert bench.bench_large_map(1, tmp_path) == []
