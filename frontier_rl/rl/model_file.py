@@ -330,10 +330,16 @@ def load_policy(path: str | Path, trust: bool = False) -> tuple[ActorCriticPolic
     return policy, info
 
 
-def _load_trusted(path: Path) -> ActorCriticPolicy:
-    """SB3's own (unpickling) load, after the zip checks; tried as A2C, then PPO."""
+def check_model_zip(path: Path) -> None:
+    """Refuse the zip at ``path`` (a model file or a training checkpoint) before SB3 reads it, if
+    what its directory declares is too big or too compressed (:mod:`frontier_rl.rl.bounded_zip`)."""
     with _open_model(path):
         pass
+
+
+def _load_trusted(path: Path) -> ActorCriticPolicy:
+    """SB3's own (unpickling) load, after the zip checks; tried as A2C, then PPO."""
+    check_model_zip(path)
     last: Exception | None = None
     for algo in ALGORITHMS.values():
         try:

@@ -26,7 +26,7 @@ from frontier_rl.errors import ConfigError
 from frontier_rl.rl.callbacks import AtomicCheckpoint, ValidationCallback
 from frontier_rl.rl.config import TrainConfig
 from frontier_rl.rl.curves import plot_learning_curve
-from frontier_rl.rl.model_file import ALGORITHMS, ModelInfo, policy_setup, save_model, write_metadata
+from frontier_rl.rl.model_file import ALGORITHMS, ModelInfo, check_model_zip, policy_setup, save_model, write_metadata
 
 _CHECKPOINT = re.compile(r"model_(\d+)_steps\.zip$")
 
@@ -119,6 +119,7 @@ def train(
     if start:
         checkpoint = latest_checkpoint(out)
         assert checkpoint is not None
+        check_model_zip(checkpoint[0])  # bounded before SB3 reads it
         model.set_parameters(str(checkpoint[0]), device="cpu")  # weights and optimizer, no unpickling
         model.num_timesteps = start
     callbacks: list[BaseCallback] = []

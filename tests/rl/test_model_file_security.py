@@ -29,6 +29,7 @@ from frontier_rl.rl.model_file import (
     MAX_METADATA_BYTES,
     METADATA_ENTRY,
     WEIGHTS_ENTRY,
+    check_model_zip,
     env_spaces,
     load_policy,
     read_metadata,
@@ -329,6 +330,16 @@ def test_a_huge_value_is_quoted_cut(tmp_path: Path, model4: dict[str, bytes], me
 
 
 # ------------------------------------------------------------------------------ zip bombs and sizes
+def test_a_training_checkpoint_is_bounded_before_sb3_reads_it(tmp_path: Path, model4: dict[str, bytes]) -> None:
+    """``train --resume`` reads the newest checkpoint with SB3's ``set_parameters``; it is checked first."""
+    plain = _zip(tmp_path / "plain.zip", model4)
+    check_model_zip(plain)  # a checkpoint as SB3 writes it passes
+    bomb = tmp_path / "model_64_steps.zip"
+    bomb.write_bytes(_declare_size(plain.read_bytes(), "policy.optimizer.pth", 16 * 1024**3))
+    with pytest.raises(ConfigError, match="17179869184"):
+        check_model_zip(bomb)
+
+
 def test_a_member_declaring_16_gib_is_refused_before_it_is_read(tmp_path: Path, model4: dict[str, bytes]) -> None:
     for member in (WEIGHTS_ENTRY, METADATA_ENTRY, "data", "policy.optimizer.pth"):
         plain = _zip(tmp_path / "plain.zip", model4).read_bytes()
