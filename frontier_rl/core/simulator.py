@@ -308,7 +308,9 @@ class ExplorationSimulator:
         """The current map, its costmap and the reachable, non-blacklisted frontiers (cached).
 
         When the blacklist would leave none, the goals that may be retried are lifted once, so
-        that the episode never ends with a frontier it gave up on after a single failure."""
+        that the episode never ends with a frontier it gave up on after a single failure. When the
+        normal costmap leaves none, those of the narrow-passage recovery (``tight``: the map with
+        its walls a cell thinner, core/thin_walls.py) are the candidates if there are any."""
         if self._candidates is None:
             grid = self.mapper.occupancy_grid(margin=2)
             cand = self._candidates_on(grid, tight=False)
