@@ -15,7 +15,7 @@ import struct
 import zipfile
 from typing import IO
 
-from frontier_rl.errors import ConfigError, short_repr
+from frontier_rl.errors import ConfigError, short_repr, short_text
 
 MAX_MEMBER_BYTES = 256 * 1024**2
 """Largest zip member, uncompressed (bytes). The largest network the metadata admits
@@ -44,8 +44,7 @@ _ZIP64_END_RECORD = struct.Struct("<4sQ2H2L4Q")
 def first_line(exc: BaseException, limit: int = 120) -> str:
     """The first line of an exception's message, cut to ``limit`` characters."""
     lines = [line.strip() for line in str(exc).splitlines() if line.strip()]
-    text = lines[0] if lines else type(exc).__name__
-    return text if len(text) <= limit else text[: limit - 1] + "…"
+    return short_text(lines[0] if lines else type(exc).__name__, limit)
 
 
 def _directory_size(file: IO[bytes]) -> tuple[int, int] | None:
