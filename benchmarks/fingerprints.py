@@ -21,9 +21,9 @@ from pathlib import Path
 
 import numpy as np
 
-from frontier_rl.core.episode import run_episode
-from frontier_rl.core.metrics import EpisodeResult
-from frontier_rl.core.worlds import generate_world
+from frontier_rl.core.sim.episode import run_episode
+from frontier_rl.core.sim.metrics import EpisodeResult
+from frontier_rl.core.world.worlds import generate_world
 from frontier_rl.policies import make_policy
 from frontier_rl.swarm import Failure, Strategy, TeamConfig, run_team_episode
 

@@ -28,16 +28,16 @@ import numba
 import numpy as np
 
 from frontier_rl.atomic_write import write_text_atomic
-from frontier_rl.core.episode import decision_context, run_episode
-from frontier_rl.core.frontiers import detect_frontiers
-from frontier_rl.core.grid import OccupancyGrid
-from frontier_rl.core.lidar import Lidar
-from frontier_rl.core.mapping import LogOddsMapper
-from frontier_rl.core.planner import Costmap
-from frontier_rl.core.ranking import rank, weighted_cost
-from frontier_rl.core.robot import Pose
-from frontier_rl.core.simulator import ExplorationSimulator, SimConfig
-from frontier_rl.core.worlds import World, generate_world
+from frontier_rl.core.frontiers.detection import detect_frontiers
+from frontier_rl.core.frontiers.ranking import rank, weighted_cost
+from frontier_rl.core.mapping.mapper import LogOddsMapper
+from frontier_rl.core.navigation.costmap import Costmap
+from frontier_rl.core.sensing.lidar import Lidar
+from frontier_rl.core.sim.episode import decision_context, run_episode
+from frontier_rl.core.sim.simulator import ExplorationSimulator, SimConfig
+from frontier_rl.core.world.grid import OccupancyGrid
+from frontier_rl.core.world.robot import Pose
+from frontier_rl.core.world.worlds import World, generate_world
 from frontier_rl.policies import make_policy
 
 POLICY = "fixed:0.75"
@@ -185,7 +185,7 @@ def bench_episodes(n_seeds: int) -> list[Row]:
 def bench_large_map(n_seeds: int, maps: Path) -> list[Row]:
     """Whole episodes on ``nav2_warehouse`` (a 0.05 m SLAM map of about 1,000 × 1,000 cells) from
     random starts: wall time and wall time per decision. No rows without the shared maps."""
-    from frontier_rl.core.worlds import make_world
+    from frontier_rl.core.world.worlds import make_world
     from frontier_rl.io import load_map
 
     path = maps / "nav2_warehouse" / "warehouse.yaml"

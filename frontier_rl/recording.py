@@ -9,18 +9,18 @@ import numpy as np
 from numpy.typing import NDArray
 from PIL import Image, ImageDraw
 
-from frontier_rl.core.episode import DecisionContext, Ranking
-from frontier_rl.core.grid import OccupancyGrid
-from frontier_rl.core.metrics import EpisodeResult
-from frontier_rl.core.simulator import ExplorationSimulator
-from frontier_rl.core.worlds import World
+from frontier_rl.core.sim.episode import DecisionContext, Ranking
+from frontier_rl.core.sim.metrics import EpisodeResult
+from frontier_rl.core.sim.simulator import ExplorationSimulator
+from frontier_rl.core.world.grid import OccupancyGrid
+from frontier_rl.core.world.worlds import World
 from frontier_rl.render import FrameCanvas, save_gif, save_image, side_by_side
 from frontier_rl.swarm.result import TeamResult
 
 
 @dataclass
 class EpisodeRecorder:
-    """An ``on_decision`` hook for :func:`~frontier_rl.core.episode.run_episode` that keeps the
+    """An ``on_decision`` hook for :func:`~frontier_rl.core.sim.episode.run_episode` that keeps the
     last ranking (for the PNG) and, if ``frames`` is on, a GIF frame per decision.
 
     Attributes:

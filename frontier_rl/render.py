@@ -17,7 +17,7 @@ from numpy.typing import NDArray
 from PIL import Image, ImageDraw
 
 from frontier_rl.atomic_write import write_bytes_atomic
-from frontier_rl.core.grid import CellState, OccupancyGrid
+from frontier_rl.core.world.grid import CellState, OccupancyGrid
 from frontier_rl.errors import ConfigError, short_repr
 
 _COLOURS = {

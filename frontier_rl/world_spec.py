@@ -6,14 +6,14 @@ from pathlib import Path
 
 import numpy as np
 
-from frontier_rl.core.robot import Pose, checked_pose
-from frontier_rl.core.worlds import WORLD_GENERATORS, World, check_resolution, generate_world, make_world
+from frontier_rl.core.world.robot import Pose, checked_pose
+from frontier_rl.core.world.worlds import WORLD_GENERATORS, World, check_resolution, generate_world, make_world
 from frontier_rl.errors import ConfigError, MapError, UnknownNameError, short_repr
 from frontier_rl.io import load_map
 
 
 def checked_resolution(resolution: float | None, what: str = "--resolution") -> float | None:
-    """``resolution`` (m) if a world can use it (:func:`~frontier_rl.core.worlds.check_resolution`
+    """``resolution`` (m) if a world can use it (:func:`~frontier_rl.core.world.worlds.check_resolution`
     for the default robot: 0.0042 to 0.105 m), None for None.
 
     Raises:
@@ -60,7 +60,7 @@ def resolve_world(spec: str, seed: int, start: Pose | None = None, resolution: f
 
 def parse_pose(text: str) -> Pose:
     """A pose from "x,y" or "x,y,theta" (m, m, rad): finite, the heading within +-1e6 rad and
-    wrapped into [-pi, pi) (:func:`~frontier_rl.core.robot.checked_pose`).
+    wrapped into [-pi, pi) (:func:`~frontier_rl.core.world.robot.checked_pose`).
 
     Raises:
         ConfigError: anything else, quoting ``text`` (cut to 80 characters).

@@ -8,8 +8,8 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from frontier_rl.core.frontiers import Frontiers
-from frontier_rl.core.grid import CellState, OccupancyGrid
+from frontier_rl.core.frontiers.detection import Frontiers
+from frontier_rl.core.world.grid import CellState, OccupancyGrid
 
 _REPO_ROOT = Path(__file__).resolve().parents[1]
 #: Where the development maps live: beside the checkout, or inside it on some machines.

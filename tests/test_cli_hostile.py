@@ -18,9 +18,9 @@ from typer.testing import CliRunner
 import frontier_rl.cli as cli
 from frontier_rl.cli import MAX_SEED, app
 from frontier_rl.cli_output import one_line, print_error
-from frontier_rl.core.grid import CellState, OccupancyGrid
-from frontier_rl.core.robot import MAX_HEADING_RAD, Pose, checked_pose
-from frontier_rl.core.worlds import check_resolution, make_world, resolution_bounds
+from frontier_rl.core.world.grid import CellState, OccupancyGrid
+from frontier_rl.core.world.robot import MAX_HEADING_RAD, Pose, checked_pose
+from frontier_rl.core.world.worlds import check_resolution, make_world, resolution_bounds
 from frontier_rl.errors import ConfigError, MapError
 from frontier_rl.world_spec import parse_pose
 
@@ -176,7 +176,7 @@ def test_a_wrapped_heading_lets_the_robot_move(tmp_path: Path) -> None:
 
 # ------------------------------------------------------------------------- nothing to explore
 def test_a_world_with_nothing_to_explore_is_an_error(box: Path, monkeypatch: pytest.MonkeyPatch) -> None:
-    import frontier_rl.core.worlds as worlds
+    import frontier_rl.core.world.worlds as worlds
 
     monkeypatch.setattr(worlds, "visible_from", lambda inside, viewers, reach: np.zeros_like(inside))
     line = error_line(runner.invoke(app, ["explore", "--world", str(box)]), "nothing to explore")

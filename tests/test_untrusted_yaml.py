@@ -19,7 +19,7 @@ from typer.testing import CliRunner
 
 from frontier_rl.cli import app
 from frontier_rl.config import load_sim_config
-from frontier_rl.core.grid import OccupancyGrid
+from frontier_rl.core.world.grid import OccupancyGrid
 from frontier_rl.errors import ConfigError, FrontierRLError, MapError, short_repr, short_text
 from frontier_rl.io import load_map, save_ros_map
 from frontier_rl.rl.config import TrainConfig

@@ -10,10 +10,10 @@ import numpy as np
 from numpy.typing import NDArray
 from scipy import ndimage
 
-from frontier_rl.core.frontiers import Frontiers
-from frontier_rl.core.planner import Costmap
-from frontier_rl.core.robot import Pose
-from frontier_rl.core.simulator import LegResult
+from frontier_rl.core.frontiers.detection import Frontiers
+from frontier_rl.core.navigation.costmap import Costmap
+from frontier_rl.core.sim.simulator import LegResult
+from frontier_rl.core.world.robot import Pose
 from frontier_rl.envs.base import EnvConfig, ExplorationEnv
 from frontier_rl.envs.observation import FRONTIER_FEATURES, MapEncoder, frontier_features
 from frontier_rl.errors import ConfigError

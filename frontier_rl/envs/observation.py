@@ -15,10 +15,10 @@ from typing import TypeVar
 import numpy as np
 from numpy.typing import NDArray
 
-from frontier_rl.core.frontiers import Frontiers
-from frontier_rl.core.grid import CellState, OccupancyGrid
-from frontier_rl.core.mapping import downsample
-from frontier_rl.core.robot import Pose
+from frontier_rl.core.frontiers.detection import Frontiers
+from frontier_rl.core.mapping.mapper import downsample
+from frontier_rl.core.world.grid import CellState, OccupancyGrid
+from frontier_rl.core.world.robot import Pose
 from frontier_rl.errors import ConfigError
 
 ScalarT = TypeVar("ScalarT", bound=np.generic)

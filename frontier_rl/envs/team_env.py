@@ -20,8 +20,8 @@ import numpy as np
 from numpy.typing import NDArray
 from pettingzoo import ParallelEnv
 
-from frontier_rl.core.episode import Ranking
-from frontier_rl.core.ranking import rank, weighted_cost
+from frontier_rl.core.frontiers.ranking import rank, weighted_cost
+from frontier_rl.core.sim.episode import Ranking
 from frontier_rl.envs.base import EnvConfig
 from frontier_rl.envs.frontier_env import FEATURE_BOUND, frontier_observation, slot_order
 from frontier_rl.envs.observation import FRONTIER_FEATURES, MapEncoder

@@ -6,8 +6,8 @@ from typing import Any
 
 import gymnasium as gym
 
-from frontier_rl.core.ranking import rank, weighted_cost
-from frontier_rl.core.simulator import LegResult
+from frontier_rl.core.frontiers.ranking import rank, weighted_cost
+from frontier_rl.core.sim.simulator import LegResult
 from frontier_rl.envs.base import MapImageEnv
 
 WEIGHT_BINS = 100

@@ -17,10 +17,10 @@ from typing import Any
 import numpy as np
 
 from frontier_rl.config import to_dict
-from frontier_rl.core.episode import ExplorationPolicy, run_episode, warm_up
-from frontier_rl.core.metrics import sample_step
-from frontier_rl.core.simulator import SimConfig
-from frontier_rl.core.worlds import WORLD_GENERATORS, World, generate_world, make_world
+from frontier_rl.core.sim.episode import ExplorationPolicy, run_episode, warm_up
+from frontier_rl.core.sim.metrics import sample_step
+from frontier_rl.core.sim.simulator import SimConfig
+from frontier_rl.core.world.worlds import WORLD_GENERATORS, World, generate_world, make_world
 from frontier_rl.envs.world_source import parse_world_list
 from frontier_rl.errors import ConfigError
 from frontier_rl.io import LoadedMap, load_map
@@ -286,7 +286,7 @@ ROW_METRICS = (
     "sim_time_s", "path_length_m", "coverage", "t90_s", "t99_s", "decisions", "aborts", "done", "truncated",
     "end_reason", "free_coverage", "unknown_left_m2",
 )  # fmt: skip
-"""The episode metrics a row carries (see :class:`frontier_rl.core.metrics.EpisodeResult`)."""
+"""The episode metrics a row carries (see :class:`frontier_rl.core.sim.metrics.EpisodeResult`)."""
 
 ROW_COLUMNS = (
     "method", "world", "episode", "seed", "start_x_m", "start_y_m", "start_theta_rad", *ROW_METRICS,

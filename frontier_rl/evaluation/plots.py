@@ -16,7 +16,7 @@ import numpy as np
 from matplotlib.figure import Figure
 
 from frontier_rl.atomic_write import save_figure_atomic
-from frontier_rl.core.metrics import sample_step
+from frontier_rl.core.sim.metrics import sample_step
 
 _DPI = 110
 

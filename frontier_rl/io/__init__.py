@@ -19,7 +19,7 @@ from __future__ import annotations
 from dataclasses import replace
 from pathlib import Path
 
-from frontier_rl.core.grid import CellState
+from frontier_rl.core.world.grid import CellState
 from frontier_rl.errors import MapError, short_repr
 from frontier_rl.io._image import MAX_MAP_PIXELS
 from frontier_rl.io.dungeon import DUNGEON_RESOLUTION, is_dungeon_image, load_dungeon_map

@@ -14,8 +14,8 @@ from pathlib import Path
 import numpy as np
 from numpy.typing import NDArray
 
-from frontier_rl.core.grid import CellState, OccupancyGrid
-from frontier_rl.core.robot import Pose
+from frontier_rl.core.world.grid import CellState, OccupancyGrid
+from frontier_rl.core.world.robot import Pose
 from frontier_rl.errors import MapError
 from frontier_rl.io._image import RasterImage, read_image
 from frontier_rl.io.loaded_map import LoadedMap, positive_metres

@@ -24,7 +24,7 @@ from pathlib import Path
 import numpy as np
 from numpy.typing import NDArray
 
-from frontier_rl.core.grid import CellState, OccupancyGrid
+from frontier_rl.core.world.grid import CellState, OccupancyGrid
 from frontier_rl.errors import MapError
 from frontier_rl.io.loaded_map import LoadedMap, positive_metres
 

@@ -7,8 +7,8 @@ import numbers
 from dataclasses import dataclass
 from pathlib import Path
 
-from frontier_rl.core.grid import OccupancyGrid
-from frontier_rl.core.robot import Pose
+from frontier_rl.core.world.grid import OccupancyGrid
+from frontier_rl.core.world.robot import Pose
 from frontier_rl.errors import MapError, short_repr
 
 

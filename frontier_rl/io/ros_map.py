@@ -33,7 +33,7 @@ from numpy.typing import NDArray
 from PIL import Image
 
 from frontier_rl.atomic_write import write_bytes_atomic, write_text_atomic
-from frontier_rl.core.grid import CellState, OccupancyGrid
+from frontier_rl.core.world.grid import CellState, OccupancyGrid
 from frontier_rl.errors import MapError, short_repr
 from frontier_rl.io._image import read_image
 from frontier_rl.safe_yaml import load_yaml_file, parse_yaml

@@ -6,8 +6,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from frontier_rl.core.episode import DecisionContext, Ranking
-from frontier_rl.core.ranking import (
+from frontier_rl.core.frontiers.ranking import (
     ExploreLiteParams,
     check_weight,
     explore_lite_cost,
@@ -18,6 +17,7 @@ from frontier_rl.core.ranking import (
     rank,
     weighted_cost,
 )
+from frontier_rl.core.sim.episode import DecisionContext, Ranking
 
 
 @dataclass(frozen=True)

@@ -13,10 +13,10 @@ from typing import Any
 
 import numpy as np
 
-from frontier_rl.core.episode import DecisionContext, Ranking
-from frontier_rl.core.planner import Costmap
-from frontier_rl.core.ranking import rank, weighted_cost
-from frontier_rl.core.simulator import SimConfig
+from frontier_rl.core.frontiers.ranking import rank, weighted_cost
+from frontier_rl.core.navigation.costmap import Costmap
+from frontier_rl.core.sim.episode import DecisionContext, Ranking
+from frontier_rl.core.sim.simulator import SimConfig
 from frontier_rl.envs.frontier_env import frontier_observation, slot_order
 from frontier_rl.envs.observation import MapEncoder
 from frontier_rl.envs.weight_env import WEIGHT_BINS, bin_to_weight

@@ -5,7 +5,7 @@ from __future__ import annotations
 from collections.abc import Callable
 from pathlib import Path
 
-from frontier_rl.core.episode import ExplorationPolicy
+from frontier_rl.core.sim.episode import ExplorationPolicy
 from frontier_rl.errors import ConfigError, UnknownNameError, short_repr
 from frontier_rl.policies.baselines import (
     ExploreLite,

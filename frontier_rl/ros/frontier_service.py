@@ -12,10 +12,10 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from frontier_rl.core.episode import DecisionContext, ExplorationPolicy
-from frontier_rl.core.grid import CellState, OccupancyGrid
-from frontier_rl.core.robot import Pose
-from frontier_rl.core.simulator import SimConfig, reachable_frontiers
+from frontier_rl.core.sim.episode import DecisionContext, ExplorationPolicy
+from frontier_rl.core.sim.simulator import SimConfig, reachable_frontiers
+from frontier_rl.core.world.grid import CellState, OccupancyGrid
+from frontier_rl.core.world.robot import Pose
 from frontier_rl.errors import MapError
 
 

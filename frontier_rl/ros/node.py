@@ -25,7 +25,7 @@ import sys
 from pathlib import Path
 from typing import Any
 
-from frontier_rl.core.robot import Pose
+from frontier_rl.core.world.robot import Pose
 from frontier_rl.errors import FrontierRLError
 from frontier_rl.policies import make_policy
 from frontier_rl.ros.frontier_service import RankedFrontier, grid_from_message, rank_frontiers

@@ -8,9 +8,9 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from frontier_rl.core.episode import EpisodeAwarePolicy, ExplorationPolicy
-from frontier_rl.core.simulator import SimConfig
-from frontier_rl.core.worlds import World
+from frontier_rl.core.sim.episode import EpisodeAwarePolicy, ExplorationPolicy
+from frontier_rl.core.sim.simulator import SimConfig
+from frontier_rl.core.world.worlds import World
 from frontier_rl.errors import ConfigError
 from frontier_rl.policies.baselines import FixedWeight
 from frontier_rl.ros.frontier_service import RankedFrontier
@@ -29,7 +29,7 @@ def run_team_episode(
     """Explore ``world`` with a team whose every robot ranks with ``policy``, until no surviving
     robot has a frontier left, the sim-time cap, or no robot is left.
 
-    ``seed`` is used as :func:`~frontier_rl.core.episode.run_episode` uses it (robot 0 gets the
+    ``seed`` is used as :func:`~frontier_rl.core.sim.episode.run_episode` uses it (robot 0 gets the
     same noise and policy streams; the others' are spawned from them), so a one-robot team
     explores exactly as the single robot does.
     """

@@ -8,8 +8,8 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
-from frontier_rl.core.grid import OccupancyGrid
-from frontier_rl.core.metrics import EpisodeResult
+from frontier_rl.core.sim.metrics import EpisodeResult
+from frontier_rl.core.world.grid import OccupancyGrid
 
 
 @dataclass(frozen=True)

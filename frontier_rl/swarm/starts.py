@@ -6,10 +6,10 @@ from collections import deque
 
 import numpy as np
 
-from frontier_rl.core.grid import CellState
-from frontier_rl.core.navigation import obstacle_distance
-from frontier_rl.core.robot import Pose
-from frontier_rl.core.worlds import START_MARGIN_M, World
+from frontier_rl.core.navigation.follower import obstacle_distance
+from frontier_rl.core.world.grid import CellState
+from frontier_rl.core.world.robot import Pose
+from frontier_rl.core.world.worlds import START_MARGIN_M, World
 from frontier_rl.errors import ConfigError
 
 

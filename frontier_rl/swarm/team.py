@@ -1,6 +1,6 @@
 """A team of robots exploring one world on one shared clock.
 
-Every robot is an :class:`~frontier_rl.core.simulator.ExplorationSimulator` with its own LiDAR,
+Every robot is an :class:`~frontier_rl.core.sim.simulator.ExplorationSimulator` with its own LiDAR,
 noise stream and map; they share the ground truth. The scheduler always advances the robot whose
 clock is furthest behind by one step of its leg (up to its next map update, about 0.5 s), so the
 robots' clocks never drift apart by more than a step. Before its step a robot is told where the
@@ -19,12 +19,12 @@ from dataclasses import dataclass, replace
 import numpy as np
 from numpy.typing import NDArray
 
-from frontier_rl.core.episode import DecisionContext, Ranking, decision_context
-from frontier_rl.core.grid import CellState, OccupancyGrid
-from frontier_rl.core.mapping import LogOddsMapper
-from frontier_rl.core.metrics import FrontierLeft, time_to_coverage
-from frontier_rl.core.simulator import EndReason, ExplorationSimulator, SimConfig, unresolved
-from frontier_rl.core.worlds import World
+from frontier_rl.core.mapping.mapper import LogOddsMapper
+from frontier_rl.core.sim.episode import DecisionContext, Ranking, decision_context
+from frontier_rl.core.sim.metrics import FrontierLeft, time_to_coverage
+from frontier_rl.core.sim.simulator import EndReason, ExplorationSimulator, SimConfig, unresolved
+from frontier_rl.core.world.grid import CellState, OccupancyGrid
+from frontier_rl.core.world.worlds import World
 from frontier_rl.swarm.config import Strategy, TeamConfig
 from frontier_rl.swarm.coordination import coordinated_order
 from frontier_rl.swarm.rendezvous import Phase, RendezvousCycle

@@ -11,7 +11,7 @@ from gymnasium.utils.env_checker import check_env as gym_check_env
 from stable_baselines3.common.env_checker import check_env as sb3_check_env
 
 import frontier_rl
-from frontier_rl.core.worlds import generate_world
+from frontier_rl.core.world.worlds import generate_world
 from frontier_rl.envs import FrontierChoiceEnv, WeightEnv
 from frontier_rl.errors import ConfigError, UnknownNameError
 from frontier_rl.registration import ENV_IDS, env_id
@@ -170,7 +170,7 @@ def test_package_import_registers_without_loading_envs() -> None:
     import subprocess
     import sys
 
-    code = "import sys, frontier_rl; print('frontier_rl.core.simulator' in sys.modules, 'torch' in sys.modules)"
+    code = "import sys, frontier_rl; print('frontier_rl.core.sim.simulator' in sys.modules, 'torch' in sys.modules)"
     out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True).stdout.split()
     assert out == ["False", "False"]
     assert frontier_rl.ENV_IDS == ENV_IDS

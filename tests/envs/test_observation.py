@@ -7,9 +7,9 @@ from collections.abc import Callable
 import numpy as np
 import pytest
 
-from frontier_rl.core.frontiers import detect_frontiers
-from frontier_rl.core.grid import CellState, OccupancyGrid
-from frontier_rl.core.robot import Pose
+from frontier_rl.core.frontiers.detection import detect_frontiers
+from frontier_rl.core.world.grid import CellState, OccupancyGrid
+from frontier_rl.core.world.robot import Pose
 from frontier_rl.envs.observation import MAP_FREE, MAP_OCCUPIED, MAP_UNKNOWN, MARK, MapEncoder, frontier_features
 from frontier_rl.errors import ConfigError
 

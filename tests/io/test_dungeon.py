@@ -9,7 +9,7 @@ import pytest
 from numpy.typing import NDArray
 from PIL import Image
 
-from frontier_rl.core.grid import CellState
+from frontier_rl.core.world.grid import CellState
 from frontier_rl.errors import MapError
 from frontier_rl.io import LoadedMap
 from frontier_rl.io.dungeon import DUNGEON_RESOLUTION, is_dungeon_image, load_dungeon_map

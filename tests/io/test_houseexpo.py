@@ -11,7 +11,7 @@ from matplotlib.path import Path as PolygonPath
 from numpy.typing import NDArray
 from scipy import ndimage
 
-from frontier_rl.core.grid import CellState, OccupancyGrid
+from frontier_rl.core.world.grid import CellState, OccupancyGrid
 from frontier_rl.errors import MapError
 from frontier_rl.io import LoadedMap
 from frontier_rl.io.houseexpo import load_houseexpo

@@ -13,7 +13,7 @@ from typer.testing import CliRunner
 
 import frontier_rl.io.houseexpo as houseexpo
 from frontier_rl.cli import app
-from frontier_rl.core.grid import CellState
+from frontier_rl.core.world.grid import CellState
 from frontier_rl.errors import MapError
 from frontier_rl.io import load_map
 from frontier_rl.io.houseexpo import _crossings, load_houseexpo

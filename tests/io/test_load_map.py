@@ -10,7 +10,7 @@ import numpy as np
 import pytest
 from PIL import Image
 
-from frontier_rl.core.grid import CellState, OccupancyGrid
+from frontier_rl.core.world.grid import CellState, OccupancyGrid
 from frontier_rl.errors import MapError
 from frontier_rl.io import LoadedMap, load_map, load_ros_map, save_ros_map
 from frontier_rl.io.dungeon import DUNGEON_RESOLUTION

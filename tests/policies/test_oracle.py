@@ -1,4 +1,4 @@
-"""Tests of the full-knowledge ``oracle``: the coverage tour (frontier_rl.core.coverage_tour) and the
+"""Tests of the full-knowledge ``oracle``: the coverage tour (frontier_rl.policies.oracle_tour) and the
 policy that drives it (frontier_rl.policies.oracle)."""
 
 from __future__ import annotations
@@ -9,7 +9,18 @@ import numpy as np
 import pytest
 from numpy.typing import NDArray
 
-from frontier_rl.core.coverage_tour import (
+from frontier_rl.core.frontiers.detection import detect_frontiers
+from frontier_rl.core.navigation.costmap import Costmap
+from frontier_rl.core.navigation.path_costs import cost_field, descend, path_costs
+from frontier_rl.core.sim.episode import DecisionContext, EpisodeAwarePolicy, run_episode
+from frontier_rl.core.sim.metrics import EpisodeResult
+from frontier_rl.core.sim.simulator import SimConfig
+from frontier_rl.core.world.grid import CellState, OccupancyGrid
+from frontier_rl.core.world.robot import Pose
+from frontier_rl.core.world.worlds import World, generate_world, make_world
+from frontier_rl.errors import ConfigError
+from frontier_rl.policies import POLICY_NAMES, OracleTour, make_policy
+from frontier_rl.policies.oracle_tour import (
     CoverageTour,
     coverage_targets,
     insertion_cover,
@@ -17,17 +28,6 @@ from frontier_rl.core.coverage_tour import (
     two_opt,
     visibility,
 )
-from frontier_rl.core.episode import DecisionContext, EpisodeAwarePolicy, run_episode
-from frontier_rl.core.frontiers import detect_frontiers
-from frontier_rl.core.grid import CellState, OccupancyGrid
-from frontier_rl.core.metrics import EpisodeResult
-from frontier_rl.core.path_costs import cost_field, descend, path_costs
-from frontier_rl.core.planner import Costmap
-from frontier_rl.core.robot import Pose
-from frontier_rl.core.simulator import SimConfig
-from frontier_rl.core.worlds import World, generate_world, make_world
-from frontier_rl.errors import ConfigError
-from frontier_rl.policies import POLICY_NAMES, OracleTour, make_policy
 
 SEEDS = (0, 1, 2)  # office worlds raced against fixed:0.75
 

@@ -5,10 +5,10 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from frontier_rl.core.episode import DecisionContext
-from frontier_rl.core.frontiers import detect_frontiers
-from frontier_rl.core.grid import CellState, OccupancyGrid
-from frontier_rl.core.robot import Pose
+from frontier_rl.core.frontiers.detection import detect_frontiers
+from frontier_rl.core.sim.episode import DecisionContext
+from frontier_rl.core.world.grid import CellState, OccupancyGrid
+from frontier_rl.core.world.robot import Pose
 from frontier_rl.errors import ConfigError, UnknownNameError
 from frontier_rl.policies import (
     POLICY_NAMES,

@@ -18,12 +18,12 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from frontier_rl.core.frontiers import detect_frontiers
-from frontier_rl.core.grid import CellState, OccupancyGrid
-from frontier_rl.core.planner import Costmap
-from frontier_rl.core.ranking import rank, weighted_cost
-from frontier_rl.core.robot import Pose
-from frontier_rl.core.simulator import SimConfig
+from frontier_rl.core.frontiers.detection import detect_frontiers
+from frontier_rl.core.frontiers.ranking import rank, weighted_cost
+from frontier_rl.core.navigation.costmap import Costmap
+from frontier_rl.core.sim.simulator import SimConfig
+from frontier_rl.core.world.grid import CellState, OccupancyGrid
+from frontier_rl.core.world.robot import Pose
 from frontier_rl.errors import FrontierRLError, MapError
 from frontier_rl.io import load_map
 from frontier_rl.ros.frontier_service import grid_from_message

@@ -1,0 +1,233 @@
+"""The costmap: inflated obstacles on the current map, and the planner's entry points on it.
+
+Unknown cells are passable at an extra cost (as move_base's ``allow_unknown``); cells closer to a
+wall than the robot radius are not, and the cost decays away from walls so that paths keep clear
+of them when there is room.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+from functools import cached_property
+
+import numba as nb
+import numpy as np
+from numpy.typing import NDArray
+
+from frontier_rl.core.navigation.astar import SearchScratch, astar_padded
+from frontier_rl.core.navigation.distance import chamfer_distance_padded, flood_known
+from frontier_rl.core.navigation.follower import NavigationConfig
+from frontier_rl.core.navigation.path_costs import cost_field
+from frontier_rl.core.navigation.step_costs import inflation_table, step_costs
+from frontier_rl.core.world.grid import CellState, OccupancyGrid
+from frontier_rl.core.world.robot import RobotConfig
+
+_OCCUPIED = np.int8(CellState.OCCUPIED)
+_NO_COSTS = np.zeros(0)  # astar_padded works the step costs out itself
+ESCAPE_RADIUS_M = 0.25
+"""Around the robot, cells closer to a wall than the robot radius may be crossed within this
+distance (m), if no closer to a wall than the robot already is: so it can leave a wall it ended up
+against (move_base clears the robot's footprint for the same reason)."""
+
+
+@dataclass(frozen=True)
+class Costmap:
+    """Planning costs on one map, kept with a one-cell blocked border (so the compiled planner
+    needs no bounds checks); the properties give the unpadded views.
+
+    A cell's step cost factor follows from its clearance and state (:attr:`cost_padded`); the
+    planner works it out for the cells it reaches, so that a costmap costs no sweep for it.
+
+    Attributes:
+        grid: the map.
+        open_padded: traversable cells (not within the robot radius of a wall), padded.
+        clearance_padded: distance (cells) from each cell centre to the nearest occupied cell
+            centre, by a chamfer transform (exact or up to 8 % over), capped just above the
+            inflation radius, padded.
+        inflation_table: the inflation cost by clearance, in steps of 1/64 cell.
+        inflation_radius: clearance (cells) from which a cell has no inflation cost.
+        unknown_cost: extra cost factor of an unknown cell.
+        scratch: the planner's scratch arrays.
+    """
+
+    grid: OccupancyGrid
+    open_padded: NDArray[np.bool_] = field(repr=False)
+    clearance_padded: NDArray[np.float64] = field(repr=False)
+    inflation_table: NDArray[np.float64] = field(repr=False)
+    inflation_radius: float
+    unknown_cost: float
+    scratch: SearchScratch = field(default_factory=SearchScratch, repr=False, compare=False)
+
+    @classmethod
+    def build(
+        cls, grid: OccupancyGrid, robot: RobotConfig, config: NavigationConfig, scratch: SearchScratch | None = None
+    ) -> Costmap:
+        """Inflate the obstacles of ``grid`` for a robot of ``robot.radius``; its searches use
+        ``scratch`` (a new one by default: pass one to reuse it from map to map)."""
+        res = grid.resolution
+        lethal_below = (robot.radius + 0.5 * res) / res  # cell centre to wall surface, in cells
+        inflation_radius = config.inflation_radius / res
+        clearance_p, open_p = _inflate(grid.data, lethal_below, inflation_radius)
+        table = inflation_table(lethal_below, inflation_radius, config.cost_scaling * res, config.inflation_cost)
+        return cls(grid, open_p, clearance_p, table, inflation_radius, config.unknown_cost, scratch or SearchScratch())
+
+    @cached_property
+    def cost_padded(self) -> NDArray[np.float64]:
+        """Step cost factor per cell, 1 + inflation and unknown penalties, padded (made on first use)."""
+        return step_costs(self.grid.data, self.clearance_padded, self.inflation_table, self.inflation_radius,
+                           self.unknown_cost)  # fmt: skip
+
+    @property
+    def traversable(self) -> NDArray[np.bool_]:
+        """Cells the robot centre may occupy (a view)."""
+        return self.open_padded[1:-1, 1:-1]
+
+    @property
+    def penalty(self) -> NDArray[np.float64]:
+        """Extra cost factor per cell (inflation + unknown), >= 0."""
+        return self.cost_padded[1:-1, 1:-1] - 1.0
+
+    @property
+    def clearance(self) -> NDArray[np.float64]:
+        """Distance (m) from each cell centre to the nearest occupied cell centre (chamfer, capped)."""
+        return self.clearance_padded[1:-1, 1:-1] * self.grid.resolution
+
+    def with_discs_blocked(self, centres: NDArray[np.float64], radius: float) -> Costmap:
+        """A copy in which every cell whose centre lies within ``radius`` (m) of one of ``centres``
+        ((k, 2) world points, m) is blocked (and costed) like a wall: other robots, for planning
+        around them."""
+        open_p = self.open_padded.copy()
+        clear_p = self.clearance_padded.copy()
+        g = self.grid
+        reach = int(math.ceil(radius / g.resolution))
+        for x, y in centres:
+            row, col = g.world_to_cell(float(x), float(y))
+            r0, r1 = max(row - reach, 0), min(row + reach + 1, g.height)
+            c0, c1 = max(col - reach, 0), min(col + reach + 1, g.width)
+            if r0 >= r1 or c0 >= c1:
+                continue
+            cy = g.origin[1] + (np.arange(r0, r1) + 0.5) * g.resolution
+            cx = g.origin[0] + (np.arange(c0, c1) + 0.5) * g.resolution
+            inside = np.hypot(cx[None, :] - x, cy[:, None] - y) <= radius
+            open_p[r0 + 1 : r1 + 1, c0 + 1 : c1 + 1] &= ~inside
+            clear_p[r0 + 1 : r1 + 1, c0 + 1 : c1 + 1][inside] = 0.0  # so the start's escape zone stays shut
+        return Costmap(g, open_p, clear_p, self.inflation_table, self.inflation_radius, self.unknown_cost, self.scratch)
+
+    def reachable_known(self, start: tuple[int, int], escape_radius: float = ESCAPE_RADIUS_M) -> NDArray[np.bool_]:
+        """Known-free cells the robot at ``start`` (row, col) can drive to: traversable cells
+        connected (8-way) to it, through the cells within ``escape_radius`` (m) it may cross to
+        leave a wall as :meth:`plan` does; from the nearest traversable known-free cell within
+        0.5 m when the start itself is not known free."""
+        r, c = start
+        if not self.grid.in_bounds(r, c):
+            return np.zeros(self.grid.shape, np.bool_)
+        escape = escape_radius / self.grid.resolution
+        reach = flood_known(self.open_padded, self.grid.data, r, c, self.clearance_padded, escape)
+        if not reach[r, c]:
+            mask = self.traversable & (self.grid.data == CellState.FREE)
+            nearest = nearest_cell(mask, start, max_radius=int(round(0.5 / self.grid.resolution)))
+            if nearest is not None:
+                reach = flood_known(self.open_padded, self.grid.data, *nearest)
+        return reach
+
+    def cost_to_go(self, start: tuple[int, int]) -> NDArray[np.float64]:
+        """Planner path cost (m, weighted by the cell costs) from ``start`` (row, col) to every
+        traversable cell; inf where there is no path."""
+        if not self.grid.in_bounds(*start):
+            return np.full(self.grid.shape, np.inf)
+        return cost_field(self, start)
+
+    def plan(
+        self, start: tuple[int, int], goal: tuple[int, int], escape_radius: float = ESCAPE_RADIUS_M
+    ) -> NDArray[np.int64]:
+        """A* path (cells, (n, 2) rows and columns) from ``start`` to ``goal``; empty if none.
+
+        Cells within ``escape_radius`` (m) of the start may be crossed even if inflated (not if
+        occupied), so that a robot that ended up too close to a wall can still leave.
+        """
+        if not (self.grid.in_bounds(*start) and self.grid.in_bounds(*goal)):
+            return np.zeros((0, 2), np.int64)
+        escape = escape_radius / self.grid.resolution
+        scratch, stamp = self.scratch.next_search(self.open_padded.size)
+        costs = (self.grid.data, self.inflation_table, self.inflation_radius, self.unknown_cost)
+        return astar_padded(self.open_padded, self.clearance_padded, costs, _NO_COSTS, start[0], start[1], goal[0],
+                            goal[1], escape, scratch, stamp)  # fmt: skip
+
+
+@nb.njit(cache=True)
+def _inflate(
+    state: NDArray[np.int8], lethal_below: float, inflation_radius: float
+) -> tuple[NDArray[np.float64], NDArray[np.bool_]]:
+    """Clearance (cells) and traversable mask of a map, each with a one-cell border (not
+    traversable) so that the planner needs no bounds checks; lengths in cells."""
+    rows, cols = state.shape
+    occupied = np.empty((rows, cols), np.bool_)
+    for r in range(rows):
+        for c in range(cols):
+            occupied[r, c] = state[r, c] == _OCCUPIED
+    clearance = chamfer_distance_padded(occupied, inflation_radius + 1.0)
+    # Traversability must be exact, and the chamfer distance runs up to 8.24 % long: below the
+    # lethal distance it is surely lethal, 8.24 % above it surely clear, and the cells in between
+    # (if any: with the default radius no chamfer value falls there) get an exact look at the
+    # walls around them.
+    traversable = np.zeros((rows + 2, cols + 2), np.bool_)
+    surely_clear = lethal_below * 1.0825
+    undecided = 0
+    for r in range(1, rows + 1):
+        for c in range(1, cols + 1):
+            d = clearance[r, c]
+            traversable[r, c] = d >= surely_clear
+            undecided += (d >= lethal_below) & (d < surely_clear)
+    if undecided:
+        reach = int(math.ceil(lethal_below))
+        lethal2 = lethal_below * lethal_below
+        for r in range(1, rows + 1):
+            for c in range(1, cols + 1):
+                if not lethal_below <= clearance[r, c] < surely_clear:
+                    continue
+                clear = True
+                for rr in range(max(r - 1 - reach, 0), min(r + reach, rows)):
+                    for cc in range(max(c - 1 - reach, 0), min(c + reach, cols)):
+                        if occupied[rr, cc] and (rr - r + 1) ** 2 + (cc - c + 1) ** 2 < lethal2:
+                            clear = False
+                traversable[r, c] = clear
+    return clearance, traversable
+
+
+def nearest_cell(mask: NDArray[np.bool_], target: tuple[int, int], max_radius: int) -> tuple[int, int] | None:
+    """The True cell of ``mask`` nearest to ``target`` (row, col), searched in growing windows
+    up to ``max_radius`` cells; None if there is none that close."""
+    row, col = _nearest_cell(np.asarray(mask, np.bool_), int(target[0]), int(target[1]), int(max_radius))
+    return None if row < 0 else (int(row), int(col))
+
+
+@nb.njit(cache=True, inline="always")
+def _slice_stop(stop: int, size: int) -> int:
+    """Where a slice ``[...:stop]`` of an axis of ``size`` ends, as Python counts it."""
+    if stop < 0:
+        stop += size
+    return min(max(stop, 0), size)
+
+
+@nb.njit(cache=True)
+def _nearest_cell(mask: NDArray[np.bool_], r: int, c: int, max_radius: int) -> tuple[int, int]:
+    """:func:`nearest_cell`, (-1, -1) for None. Windows of radius 2, 4, 8, ... (capped): the first
+    with a True cell within the radius gives the nearest, ties to the first in row-major order."""
+    rows, cols = mask.shape
+    radius = min(2, max_radius)
+    while True:
+        r0, c0 = min(max(r - radius, 0), rows), min(max(c - radius, 0), cols)
+        r1, c1 = _slice_stop(r + radius + 1, rows), _slice_stop(c + radius + 1, cols)
+        best, best_row, best_col = -1, -1, -1
+        for rr in range(r0, r1):
+            for cc in range(c0, c1):
+                if mask[rr, cc]:
+                    d2 = (rr - r) ** 2 + (cc - c) ** 2
+                    if best < 0 or d2 < best:
+                        best, best_row, best_col = d2, rr, cc
+        if best >= 0 and best <= radius * radius:
+            return best_row, best_col
+        if radius >= max_radius:
+            return -1, -1
+        radius = min(radius * 2, max_radius)

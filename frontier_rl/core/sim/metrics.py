@@ -1,0 +1,160 @@
+"""Per-episode metrics: time, distance, coverage curve, decisions."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+from typing import Any
+
+import numpy as np
+from numpy.typing import ArrayLike, NDArray
+
+from frontier_rl.core.world.grid import OccupancyGrid
+
+
+@dataclass(frozen=True)
+class DecisionRecord:
+    """One decision: when, where the robot was, the goal it chose and the weight (if any).
+
+    Attributes:
+        time_s: sim time of the decision (s).
+        x, y: robot position (m).
+        goal_x, goal_y: chosen goal (m); NaN when no goal could be planned.
+        weight: the ranking weight in use, None for policies without one.
+        outcome: how the leg ended ("reached", "explored", "aborted", "timeout", "none").
+    """
+
+    time_s: float
+    x: float
+    y: float
+    goal_x: float
+    goal_y: float
+    weight: float | None
+    outcome: str
+
+
+@dataclass(frozen=True)
+class FrontierLeft:
+    """A frontier the episode ended without exploring.
+
+    Attributes:
+        x, y: its centre (m).
+        cells: its fringe cells.
+        unknown_cells: the unknown cells next to its cells (8-neighbours).
+        unseen_free_cells: those of them that are free in the true world: space left unseen (the
+            others are walls no beam reached, or noise).
+        unknown_m2: the area of the unseen free cells (m²).
+        failures: how often a leg to a goal of it failed (0: no reachable cell sees it, e.g. it lies
+            behind a gap narrower than the robot).
+    """
+
+    x: float
+    y: float
+    cells: int
+    unknown_cells: int
+    unseen_free_cells: int
+    unknown_m2: float
+    failures: int
+
+    def summary(self) -> dict[str, Any]:
+        """A JSON-ready dict."""
+        return {
+            "x": round(self.x, 3),
+            "y": round(self.y, 3),
+            "cells": self.cells,
+            "unknown_cells": self.unknown_cells,
+            "unseen_free_cells": self.unseen_free_cells,
+            "unknown_m2": round(self.unknown_m2, 4),
+            "failures": self.failures,
+        }
+
+
+@dataclass(frozen=True)
+class EpisodeResult:
+    """What one exploration episode did.
+
+    Attributes:
+        sim_time_s: simulated time until exploration ended or was cut off (s).
+        path_length_m: distance driven (m).
+        coverage: final fraction of the explorable free space that is mapped.
+        t90_s, t99_s: sim time at which coverage first reached 90 % / 99 % (s); None if never.
+        decisions: number of decisions taken.
+        aborts: goals given up (no progress, unreachable) and blacklisted.
+        done: the map is explored: no frontier is left that the robot could see from where it can go
+            (``end_reason == "explored"``).
+        truncated: the sim-time cap ended the episode.
+        wall_time_s: wall-clock time of the episode loop (s), without set-up and compilation.
+        end_reason: "explored", "unreachable" (frontiers are left, each failed its attempts or has
+            no reachable cell that sees it: see ``frontiers_left``) or "time_cap"; None while the
+            episode goes on.
+        free_coverage: share of all the world's free cells (connected to the start) that are
+            mapped, explorable or not.
+        unknown_left_m2: the unseen free area (m²) beside the frontiers left: free in the true
+            world, unknown in the map.
+        coverage_times_s, coverage_curve: coverage after every map update, and when (s).
+        trajectory: (n, 3) robot pose (x, y, theta) at every LiDAR tick.
+        decision_log: every decision, in order.
+        final_map: the robot's map at the end.
+        frontiers_left: the frontiers left at the end (none when explored).
+    """
+
+    sim_time_s: float
+    path_length_m: float
+    coverage: float
+    t90_s: float | None
+    t99_s: float | None
+    decisions: int
+    aborts: int
+    done: bool
+    truncated: bool
+    wall_time_s: float
+    end_reason: str | None
+    free_coverage: float
+    unknown_left_m2: float
+    coverage_times_s: NDArray[np.float64] = field(repr=False)
+    coverage_curve: NDArray[np.float64] = field(repr=False)
+    trajectory: NDArray[np.float64] = field(repr=False)
+    decision_log: tuple[DecisionRecord, ...] = field(repr=False, default=())
+    final_map: OccupancyGrid | None = field(repr=False, default=None)
+    frontiers_left: tuple[FrontierLeft, ...] = field(repr=False, default=())
+
+    @property
+    def real_time_factor(self) -> float:
+        """Simulated seconds per wall-clock second."""
+        return self.sim_time_s / self.wall_time_s if self.wall_time_s > 0 else float("inf")
+
+    def summary(self) -> dict[str, Any]:
+        """The scalar metrics as a JSON-ready dict."""
+        return {
+            "sim_time_s": round(self.sim_time_s, 3),
+            "path_length_m": round(self.path_length_m, 3),
+            "coverage": round(self.coverage, 5),
+            "t90_s": None if self.t90_s is None else round(self.t90_s, 3),
+            "t99_s": None if self.t99_s is None else round(self.t99_s, 3),
+            "decisions": self.decisions,
+            "aborts": self.aborts,
+            "done": self.done,
+            "truncated": self.truncated,
+            "end_reason": self.end_reason,
+            "free_coverage": round(self.free_coverage, 5),
+            "unknown_left_m2": round(self.unknown_left_m2, 4),
+            "wall_time_s": round(self.wall_time_s, 4),
+            "real_time_factor": round(self.real_time_factor, 1),
+        }
+
+
+def time_to_coverage(times: NDArray[np.float64], curve: NDArray[np.float64], level: float) -> float | None:
+    """First time (s) at which ``curve`` reaches ``level``; None if it never does."""
+    reached = np.flatnonzero(curve >= level - 1e-12)
+    return float(times[reached[0]]) if reached.size else None
+
+
+def sample_step(times: ArrayLike, values: ArrayLike, at: ArrayLike) -> NDArray[np.float64]:
+    """A step function that takes ``values[i]`` from ``times[i]`` (s, increasing) on, sampled at
+    ``at``: 0 before the first time, the last value after the last."""
+    t = np.asarray(times, dtype=np.float64)
+    v = np.asarray(values, dtype=np.float64)
+    where = np.asarray(at, dtype=np.float64)
+    if t.size == 0:
+        return np.zeros_like(where)
+    index = np.searchsorted(t, where, side="right") - 1
+    return np.where(index >= 0, v[np.maximum(index, 0)], 0.0)

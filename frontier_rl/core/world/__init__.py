@@ -1,0 +1,6 @@
+"""world: a layout (generated or loaded) → the ground truth :class:`~.worlds.World`: its occupancy grid, the
+robot's start pose and the explorable space (what the robot's sensor can see from where it can go).
+
+Also the grid geometry every later stage shares: walking a ray through cells (``raycast``) and line of
+sight from a set of cells (``visibility``).
+"""

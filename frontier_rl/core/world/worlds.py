@@ -1,0 +1,447 @@
+"""Ground-truth worlds: the :class:`World` type, its start pose and the procedural world registry.
+
+A world is an :class:`OccupancyGrid` holding only FREE and OCCUPIED cells (unknown cells of an input
+map and free cells cut off from the start count as walls), a start pose and the *explorable* mask:
+the free cells the robot's sensor could ever map, in line of sight and range of a pose the robot can
+reach from its start (:mod:`frontier_rl.core.world.visibility`), which is what exploration coverage is
+measured on.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Callable, Mapping
+from dataclasses import dataclass
+from types import MappingProxyType
+
+import numpy as np
+from numpy.typing import NDArray
+from scipy import ndimage
+
+from frontier_rl.core.world import generators as gen
+from frontier_rl.core.world.grid import CellState, OccupancyGrid
+from frontier_rl.core.world.robot import MAX_HEADING_RAD, Pose, checked_pose
+from frontier_rl.core.world.visibility import visible_from
+from frontier_rl.errors import ConfigError, MapError, UnknownNameError
+
+ROBOT_RADIUS_M = 0.105  # TurtleBot3 Burger footprint radius (m)
+# The range the robot's map learns cells within (m): the LDS-01's 3.5 m cropped at Gmapping's
+# maxUrange 3.0 m (min of LidarConfig.max_range and MapperConfig.usable_range).
+MAPPING_RANGE_M = 3.0
+START_MARGIN_M = 0.05  # extra clearance (m) of a randomly drawn start over the robot radius
+RUBBLE_M = (0.1, 0.8)  # rubble piece size range (m)
+RUBBLE_GAP_M = 0.5  # cluttered world: slots between rubble narrower than this are filled (m)
+# Cell sizes a world accepts (make_world, check_resolution): a cell at most as wide as the robot's
+# radius (coarser, the grid cannot say where the robot fits: 5 m cells ran and reported "done" at
+# 0 %) and at most a tenth of the mapping range; the radius at most MAX_RADIUS_CELLS cells and the
+# range at most MAX_RANGE_CELLS (the clearance disc, the line-of-sight fans and the memory grow
+# with these: 1e-5 m cells took the machine's memory). For the TurtleBot3 Burger (radius 0.105 m,
+# range 3 m): 0.0042 m to 0.105 m.
+MAX_RADIUS_CELLS = 25
+MIN_RANGE_CELLS = 10
+MAX_RANGE_CELLS = 2000
+
+
+@dataclass(frozen=True, eq=False)  # compared by identity: numpy fields have no boolean equality
+class World:
+    """A ground-truth world to explore.
+
+    Attributes:
+        name: world name (e.g. "office").
+        grid: ground truth; only ``CellState.FREE`` and ``CellState.OCCUPIED`` cells, all free cells
+            4-connected to the start. Its data array is read-only.
+        start: robot start pose (m, m, rad), on a cell the robot fits on.
+        explorable: read-only mask (grid shape) of the cells coverage is measured on: free cells in
+            line of sight, within ``sensor_range``, of a cell the robot's centre can reach from the
+            start (cells at least ``robot_radius`` from every wall, 4-connected to the start: the
+            planner cuts no corners).
+        robot_radius: the footprint radius (m) the mask was computed for.
+        sensor_range: the mapping range (m) the mask was computed for.
+    """
+
+    name: str
+    grid: OccupancyGrid
+    start: Pose
+    explorable: NDArray[np.bool_]
+    robot_radius: float = ROBOT_RADIUS_M
+    sensor_range: float = MAPPING_RANGE_M
+
+    def __post_init__(self) -> None:
+        if self.explorable.shape != self.grid.shape or self.explorable.dtype != np.bool_:
+            raise MapError(
+                f"explorable must be a bool mask of shape {self.grid.shape}, "
+                f"got {self.explorable.dtype} {self.explorable.shape}"
+            )
+
+    @property
+    def explorable_count(self) -> int:
+        """Number of explorable cells."""
+        return int(np.count_nonzero(self.explorable))
+
+
+def dilate(mask: NDArray[np.bool_], radius: float, strict: bool = False) -> NDArray[np.bool_]:
+    """Cells whose centre lies within ``radius`` cells (``< radius`` if strict) of a True cell.
+
+    ORs of shifted copies over the disc offsets: exact, and for the small discs used here about
+    10x faster than ``ndimage.binary_dilation`` or a distance transform."""
+    k = math.floor(radius)
+    dy, dx = np.mgrid[-k : k + 1, -k : k + 1]
+    d2 = dy * dy + dx * dx
+    keep = d2 < radius * radius - 1e-9 if strict else d2 <= radius * radius + 1e-9
+    rows, cols = mask.shape
+    padded = np.pad(mask, k)
+    out = np.zeros_like(mask)
+    for oy, ox in zip(dy[keep].tolist(), dx[keep].tolist(), strict=True):
+        out |= padded[k + oy : k + oy + rows, k + ox : k + ox + cols]
+    return out
+
+
+def _clearance(free: NDArray[np.bool_], resolution: float) -> NDArray[np.float64]:
+    """Distance (m) from each cell centre to the nearest non-free cell centre; ``free`` must have a
+    non-free rim. Only for error messages: the hot path thresholds with :func:`dilate`."""
+    return np.asarray(ndimage.distance_transform_edt(free) * resolution, dtype=np.float64)
+
+
+def _roomy(free: NDArray[np.bool_], clearance_cells: float) -> NDArray[np.bool_]:
+    """Free cells at least ``clearance_cells`` (centre to centre) from every non-free cell."""
+    return np.asarray(free & ~dilate(~free, clearance_cells, strict=True))
+
+
+def resolution_bounds(
+    robot_radius: float = ROBOT_RADIUS_M, sensor_range: float = MAPPING_RANGE_M
+) -> tuple[float, float]:
+    """The smallest and largest cell size (m) a world accepts for a robot of ``robot_radius`` (m)
+    mapping within ``sensor_range`` (m); see :data:`MAX_RADIUS_CELLS`."""
+    lo = max(robot_radius / MAX_RADIUS_CELLS, sensor_range / MAX_RANGE_CELLS)
+    return lo, min(robot_radius, sensor_range / MIN_RANGE_CELLS)
+
+
+def check_resolution(
+    resolution: object,
+    what: str = "resolution",
+    robot_radius: float = ROBOT_RADIUS_M,
+    sensor_range: float = MAPPING_RANGE_M,
+) -> float:
+    """``resolution`` as a cell size (m) that suits a robot of ``robot_radius`` (m) mapping within
+    ``sensor_range`` (m): finite and within :func:`resolution_bounds`.
+
+    Raises:
+        MapError: anything else, the message starting with ``what``.
+    """
+    if isinstance(resolution, bool) or not isinstance(resolution, int | float | np.integer | np.floating):
+        raise MapError(f"{what} must be a number of metres, got {_short(repr(resolution))}")
+    res = float(resolution)
+    if not (math.isfinite(res) and res > 0):
+        raise MapError(f"{what} must be a positive, finite number of metres, got {res!r}")
+    lo, hi = resolution_bounds(robot_radius, sensor_range)
+    if lo > hi:
+        raise MapError(
+            f"{what}: no cell size suits a robot of radius {robot_radius:g} m mapping within {sensor_range:g} m"
+        )
+    if not lo * (1 - 1e-9) <= res <= hi * (1 + 1e-9):  # admits the bounds as printed
+        raise MapError(
+            f"{what} {res:g} m does not suit a robot of radius {robot_radius:g} m mapping within "
+            f"{sensor_range:g} m: use {lo:.3g} to {hi:.3g} m"
+        )
+    return res
+
+
+def _short(text: str, limit: int = 80) -> str:
+    """``text`` cut to ``limit`` characters (an ellipsis marks the cut)."""
+    return text if len(text) <= limit else text[: limit - 1] + "…"
+
+
+def _start_name(start: Pose) -> str:
+    return f"start pose ({start.x:.2f}, {start.y:.2f})"
+
+
+def _check_start(grid: OccupancyGrid, start: Pose) -> tuple[int, int]:
+    """Cell of a given start pose, or MapError naming the pose if it is off the grid or not free."""
+    if not all(math.isfinite(v) for v in start):
+        raise MapError(f"{_start_name(start)} has a non-finite coordinate: {start}")
+    if abs(start.theta) > MAX_HEADING_RAD:
+        raise MapError(f"{_start_name(start)} has a heading beyond +-{MAX_HEADING_RAD:g} rad: {start.theta!r}")
+    (x0, y0), res = grid.origin, grid.resolution
+    far = not (math.isfinite((start.x - x0) / res) and math.isfinite((start.y - y0) / res))
+    row, col = (-1, -1) if far else grid.world_to_cell(start.x, start.y)  # far: no cell index at all
+    if not grid.in_bounds(row, col):
+        w, h = grid.size_m
+        raise MapError(
+            f"{_start_name(start)} is outside the grid (x in [{x0:.2f}, {x0 + w:.2f}), y in [{y0:.2f}, {y0 + h:.2f}) m)"
+        )
+    if grid.data[row, col] != CellState.FREE:
+        what = "inside a wall" if grid.data[row, col] == CellState.OCCUPIED else "on an unknown cell"
+        raise MapError(f"{_start_name(start)} is {what}")
+    return row, col
+
+
+def _random_cell(rng: np.random.Generator, roomy: NDArray[np.bool_], parts: NDArray[np.int32]) -> tuple[int, int]:
+    """Uniformly drawn ``roomy`` cell of the largest labelled part (of any part if that has none)."""
+    sizes = np.bincount(parts.ravel())
+    sizes[0] = 0
+    candidates = np.flatnonzero(roomy & (parts == int(np.argmax(sizes))))
+    if candidates.size == 0:
+        candidates = np.flatnonzero(roomy)
+    row, col = divmod(int(candidates[rng.integers(candidates.size)]), roomy.shape[1])
+    return row, col
+
+
+def make_world(
+    grid: OccupancyGrid,
+    name: str,
+    *,
+    start: Pose | None = None,
+    rng: np.random.Generator | None = None,
+    robot_radius: float = ROBOT_RADIUS_M,
+    sensor_range: float = MAPPING_RANGE_M,
+) -> World:
+    """Build a :class:`World` from any occupancy grid (unknown cells count as walls).
+
+    The robot's centre may stand on free cells at least ``robot_radius`` from every non-free cell
+    (centre to centre; outside the grid counts as non-free); those 4-connected to the start are
+    *reachable*. Explorable cells are the free cells in line of sight of a reachable one within
+    ``sensor_range`` (a room behind a door narrower than the robot counts as far as the robot can
+    see into it through the door).
+
+    Args:
+        grid: the map; its free cells 4-connected to the start stay free, all else becomes occupied.
+        name: world name.
+        start: start pose (m, m, rad); when ``None`` one is drawn with ``rng``: a uniform cell with
+            clearance >= robot_radius + 0.05 m in the largest reachable region, heading uniform
+            in [-pi, pi).
+        rng: generator for the random start (required when ``start`` is ``None``).
+        robot_radius: robot footprint radius (m).
+        sensor_range: range (m) within which the robot's map learns cells.
+
+    A given start's heading is wrapped into [-pi, pi).
+
+    Raises:
+        ConfigError: ``start`` and ``rng`` both missing, or a non-positive radius or range.
+        MapError: a cell size that does not suit the robot (:func:`check_resolution`), no free
+            cell with room for the robot, a start outside the grid, in a wall, too close to one or
+            with a non-finite or absurd heading, or nothing to explore.
+    """
+    if not (math.isfinite(robot_radius) and robot_radius > 0):
+        raise ConfigError(f"robot_radius must be a positive number of metres, got {robot_radius!r}")
+    if not (math.isfinite(sensor_range) and sensor_range > 0):
+        raise ConfigError(f"sensor_range must be a positive number of metres, got {sensor_range!r}")
+    if start is None and rng is None:
+        raise ConfigError(f"world {name!r}: pass a start pose or an rng to draw one (got start=None, rng=None)")
+    res = grid.resolution
+    free_all = grid.data == CellState.FREE
+    rows, cols = np.flatnonzero(free_all.any(axis=1)), np.flatnonzero(free_all.any(axis=0))
+    if rows.size == 0:
+        raise MapError("map has no free cell with clearance for the robot: it has no free cell at all")
+    cell = None if start is None else _check_start(grid, start)
+    check_resolution(res, f"world {_short(repr(name))}: cell size", robot_radius, sensor_range)
+    # Work on the free cells' bounding box with a one-cell non-free rim (cheap on big, mostly unknown maps).
+    top, left = int(rows[0]) - 1, int(cols[0]) - 1
+    free = np.pad(free_all[rows[0] : rows[-1] + 1, cols[0] : cols[-1] + 1], 1)
+    fits = _roomy(free, robot_radius / res)
+    if not fits.any():
+        raise MapError(
+            f"map has no free cell with clearance for the robot (radius {robot_radius:.3f} m; "
+            f"roomiest free cell {_clearance(free, res).max():.3f} m)"
+        )
+    parts, _ = ndimage.label(fits)
+    if start is None:
+        assert rng is not None
+        roomy = _roomy(free, (robot_radius + START_MARGIN_M) / res)
+        if not roomy.any():
+            raise MapError(
+                "map has no free cell with clearance for the robot: a random start needs "
+                f"{robot_radius + START_MARGIN_M:.3f} m, the roomiest free cell has "
+                f"{_clearance(free, res).max():.3f} m"
+            )
+        local = _random_cell(rng, roomy, parts)
+        x, y = grid.cell_to_world(local[0] + top, local[1] + left)
+        start = Pose(x, y, float(rng.uniform(-math.pi, math.pi)))
+    else:
+        assert cell is not None
+        local = (cell[0] - top, cell[1] - left)
+        if not fits[local]:
+            raise MapError(
+                f"{_start_name(start)} is too close to a wall: clearance "
+                f"{_clearance(free, res)[local]:.3f} m < robot radius {robot_radius:.3f} m"
+            )
+    # A digital disc is 4-connected, so clearances inside the start's free component do not change
+    # when the other components become walls: nothing needs recomputing.
+    components, _ = ndimage.label(free)
+    inside = components == components[local]
+    explorable_local = visible_from(inside, parts == parts[local], sensor_range / res)
+    window = (slice(top + 1, top + free.shape[0] - 1), slice(left + 1, left + free.shape[1] - 1))
+    data = np.full(grid.shape, CellState.OCCUPIED, dtype=np.int8)
+    data[window][inside[1:-1, 1:-1]] = CellState.FREE
+    explorable = np.zeros(grid.shape, dtype=np.bool_)
+    explorable[window] = explorable_local[1:-1, 1:-1]
+    if not explorable.any():
+        raise MapError(
+            f"world {_short(repr(name))} has nothing to explore: no free cell is in line of sight "
+            f"within {sensor_range:g} m of a place the robot can reach"
+        )
+    start = checked_pose(start, _start_name(start))
+    data.flags.writeable = False
+    explorable.flags.writeable = False
+    return World(name, OccupancyGrid(data, res, grid.origin), start, explorable, robot_radius, sensor_range)
+
+
+def _layout_grid(occ: NDArray[np.bool_], resolution: float) -> OccupancyGrid:
+    return OccupancyGrid(
+        np.where(occ, np.int8(CellState.OCCUPIED), np.int8(CellState.FREE)).astype(np.int8), resolution
+    )
+
+
+def _check_size(what: str, value: float) -> None:
+    if not (math.isfinite(value) and value > 0):
+        raise ConfigError(f"{what} must be a positive number of metres, got {value!r}")
+
+
+def office_world(rng: np.random.Generator, size_m: float = 12.5, resolution: float = 0.05) -> World:
+    """The thesis world: a ``size_m`` x ``size_m`` (m) office maze of branching hallways (>= 1.3 m)
+    with dead ends, rooms with 0.8-1.0 m doors, solid cores and 0.2-0.4 m square pillars."""
+    _check_size("office size_m", size_m)
+    _check_size("office resolution", resolution)
+    n = gen.cells(size_m, resolution)
+    return make_world(_layout_grid(gen.office_layout(rng, n, n, resolution), resolution), "office", rng=rng)
+
+
+def rooms_world(
+    rng: np.random.Generator, size_m: tuple[float, float] = (16.0, 12.0), resolution: float = 0.05
+) -> World:
+    """Rooms of 2.5 m and more joined by doors (0.8-1.2 m) and 1.2-1.8 m corridors, in a
+    ``size_m`` = (width x, height y) (m) building."""
+    _check_size("rooms width", size_m[0])
+    _check_size("rooms height", size_m[1])
+    _check_size("rooms resolution", resolution)
+    rows, cols = gen.cells(size_m[1], resolution), gen.cells(size_m[0], resolution)
+    return make_world(_layout_grid(gen.rooms_layout(rng, rows, cols, resolution), resolution), "rooms", rng=rng)
+
+
+def close_diagonal_contacts(occ: NDArray[np.bool_]) -> NDArray[np.bool_]:
+    """Copy of ``occ`` where no two walls touch only at a corner (a 2x2 checkerboard): one free
+    cell of each such pattern is filled, so no ray or robot slips through the corner."""
+    occ = occ.copy()
+    for _ in range(occ.size):
+        a, b, c, d = occ[:-1, :-1], occ[1:, 1:], occ[:-1, 1:], occ[1:, :-1]
+        main, anti = a & b & ~c & ~d, c & d & ~a & ~b
+        if not (main.any() or anti.any()):
+            break
+        occ[:-1, 1:] |= main
+        occ[:-1, :-1] |= anti
+    return occ
+
+
+def upsample(occ: NDArray[np.bool_], factor: int) -> NDArray[np.bool_]:
+    """Each cell of ``occ`` becomes a ``factor`` x ``factor`` block."""
+    return np.asarray(np.repeat(np.repeat(occ, factor, axis=0), factor, axis=1))
+
+
+def _piece(rng: np.random.Generator, res: float, yx: NDArray[np.float64]) -> NDArray[np.bool_]:
+    """One rubble piece (cells at ``res``): a block, a rotated slab or an irregular blob, drawn on
+    the centred cell coordinates ``yx`` (shape (2, n, n))."""
+    lo, hi = RUBBLE_M
+    kind = rng.random()
+    if kind < 0.3:
+        return np.ones((gen.cells(rng.uniform(lo, hi), res), gen.cells(rng.uniform(lo, hi), res)), dtype=np.bool_)
+    y, x = yx
+    if kind < 0.65:
+        length, width, angle = rng.uniform(0.3, hi) / res, rng.uniform(lo, 0.4) / res, rng.uniform(0, math.pi)
+        u = x * math.cos(angle) + y * math.sin(angle)
+        v = y * math.cos(angle) - x * math.sin(angle)
+        mask = (np.abs(u) <= length / 2) & (np.abs(v) <= width / 2)
+    else:
+        phi = np.arctan2(y, x)
+        radius = np.full_like(phi, rng.uniform(lo, hi) / (2 * res))
+        for k in (2, 3, 5):
+            radius *= 1.0 + rng.uniform(0.0, 0.25) * np.cos(k * phi + rng.uniform(0, 2 * math.pi))
+        mask = np.hypot(x, y) <= radius
+    half = y.shape[0] // 2
+    mask[half, half] = True
+    rows, cols = np.flatnonzero(mask.any(axis=1)), np.flatnonzero(mask.any(axis=0))
+    return np.asarray(mask[rows[0] : rows[-1] + 1, cols[0] : cols[-1] + 1])
+
+
+def rubble_layout(rng: np.random.Generator, n_rows: int, n_cols: int, resolution: float) -> NDArray[np.bool_]:
+    """USAR rubble field: a walled area with a few ruined (broken, some L-shaped) walls and 0.1-0.8 m
+    rubble pieces, scattered and heaped in clusters, some piled against the walls.
+
+    Raw pieces: narrow slots are left for the caller to close. One cell of ``resolution`` (about
+    0.1 m) is the wall thickness; upsample the result for a finer map."""
+    pad = gen.cells(RUBBLE_M[1], resolution) + 2
+    occ = np.zeros((n_rows + 2 * pad, n_cols + 2 * pad), dtype=np.bool_)  # padded: pieces may stick out
+    inner = occ[pad:-pad, pad:-pad]
+    inner[...] = gen.bordered((n_rows, n_cols), 1)
+    for _ in range(int(rng.integers(2, 6))):  # ruined walls: some L-shaped, some broken
+        a, b = gen.cells(rng.uniform(1.5, 4.0), resolution), gen.cells(rng.uniform(0.8, 2.0), resolution)
+        wall = np.zeros((b, a), dtype=np.bool_)
+        wall[0, :] = True
+        wall[:, 0] = rng.random() < 0.5
+        if rng.random() < 0.5:
+            hole = int(rng.integers(1, a))
+            wall[0, hole : hole + gen.cells(1.0, resolution)] = False
+        wall = np.rot90(wall, int(rng.integers(4)))
+        r, c = int(rng.integers(n_rows)), int(rng.integers(n_cols))
+        inner[r : r + wall.shape[0], c : c + wall.shape[1]] |= wall[: n_rows - r, : n_cols - c]
+    walls = np.flatnonzero(inner[1:-1, 1:-1])  # anchors of the rubble piled against walls
+    half = gen.cells(RUBBLE_M[1], resolution) // 2 + 1
+    yx = np.mgrid[-half : half + 1, -half : half + 1].astype(np.float64)
+    spread = 0.5 / resolution  # cluster radius (cells)
+    centres = [
+        (rng.uniform(0, n_rows), rng.uniform(0, n_cols), int(rng.integers(2, 7)))
+        for _ in range(int(rng.integers(8, 15)))
+    ]
+    centres += [(rng.uniform(0, n_rows), rng.uniform(0, n_cols), 1) for _ in range(int(rng.integers(25, 45)))]
+    if walls.size:
+        for idx in rng.choice(walls, size=int(rng.integers(4, 9))):
+            r, c = divmod(int(idx), n_cols - 2)
+            centres.append((r + 1.0, c + 1.0, int(rng.integers(1, 4))))
+    for cr, cc, count in centres:
+        for dr, dc in rng.normal(0.0, spread, size=(count, 2)) * (count > 1):
+            piece = _piece(rng, resolution, yx)
+            r = int(min(max(cr + dr, 0.0), n_rows - 1.0)) + pad - piece.shape[0] // 2
+            c = int(min(max(cc + dc, 0.0), n_cols - 1.0)) + pad - piece.shape[1] // 2
+            occ[r : r + piece.shape[0], c : c + piece.shape[1]] |= piece
+    return np.asarray(inner)
+
+
+def cluttered_world(rng: np.random.Generator, size_m: float = 12.0, resolution: float = 0.05) -> World:
+    """USAR rubble field, ``size_m`` x ``size_m`` (m): ruined walls and heaps of 0.1-0.8 m rubble.
+
+    Drawn on 2 x 2-cell blocks, so no wall is one cell thin. A closing fills the slots narrower than
+    RUBBLE_GAP_M; then every cell that a robot RUBBLE_GAP_M wide cannot get near is filled in, so
+    the whole floor is reached through passages at least that wide. A layout that would lose over
+    10 % of its free space so is redrawn (at most 5 times)."""
+    _check_size("cluttered size_m", size_m)
+    _check_size("cluttered resolution", resolution)
+    block, wide = 2, RUBBLE_GAP_M / 2  # wide: radius (m) of the robot every passage must admit
+    n, radius = gen.cells(size_m, block * resolution), wide / (block * resolution)
+    for _ in range(5):
+        raw = rubble_layout(rng, n, n, block * resolution)
+        coarse = close_diagonal_contacts(np.asarray(~dilate(~dilate(raw, radius), radius)))  # closing
+        world = make_world(_layout_grid(upsample(coarse, block), resolution), "cluttered", rng=rng, robot_radius=wide)
+        if world.explorable_count >= 0.9 * block * block * np.count_nonzero(~coarse):
+            break
+    kept = world.explorable.reshape(n, block, n, block).all(axis=(1, 3))
+    grid = _layout_grid(upsample(close_diagonal_contacts(np.asarray(~kept)), block), resolution)
+    try:
+        return make_world(grid, "cluttered", start=world.start)
+    except MapError:  # the start lost its clearance to a filled pocket: draw another one
+        return make_world(grid, "cluttered", rng=rng)
+
+
+WORLD_GENERATORS: Mapping[str, Callable[[np.random.Generator], World]] = MappingProxyType(
+    {"office": office_world, "rooms": rooms_world, "cluttered": cluttered_world}
+)
+"""Procedural worlds by name; each takes a ``numpy.random.Generator`` and uses default sizes."""
+
+
+def generate_world(name: str, seed: int | np.random.Generator) -> World:
+    """The procedural world ``name`` drawn from ``seed`` (an int or a Generator).
+
+    Raises:
+        UnknownNameError: ``name`` is not a key of :data:`WORLD_GENERATORS`.
+    """
+    if name not in WORLD_GENERATORS:
+        raise UnknownNameError(f"unknown world {name!r}; valid worlds: {', '.join(sorted(WORLD_GENERATORS))}")
+    rng = seed if isinstance(seed, np.random.Generator) else np.random.default_rng(seed)
+    return WORLD_GENERATORS[name](rng)

@@ -1,0 +1,305 @@
+"""Tests of frontier_rl.core.frontiers.detection on hand-made grids and against scipy.ndimage.label."""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Callable
+
+import numpy as np
+import pytest
+from numpy.typing import NDArray
+from scipy import ndimage
+
+from frontier_rl.core.frontiers.detection import Frontiers, count_fringe, detect_frontiers, fringe_mask
+from frontier_rl.core.mapping.mapper import LogOddsMapper
+from frontier_rl.core.sensing.lidar import Lidar
+from frontier_rl.core.world.grid import CellState, OccupancyGrid
+from frontier_rl.core.world.robot import Pose
+from frontier_rl.core.world.worlds import generate_world
+
+FREE, OCC, UNKNOWN = CellState.FREE.value, CellState.OCCUPIED.value, CellState.UNKNOWN.value
+EIGHT = np.ones((3, 3), dtype=bool)
+TextGrid = Callable[..., OccupancyGrid]
+
+
+def fringe_reference(state: NDArray[np.int8]) -> NDArray[np.bool_]:
+    """FREE cells with an UNKNOWN 4-neighbour; beyond the edge counts as not unknown."""
+    unknown = np.pad(state == UNKNOWN, 1, constant_values=False)
+    near = unknown[:-2, 1:-1] | unknown[2:, 1:-1] | unknown[1:-1, :-2] | unknown[1:-1, 2:]
+    return np.asarray((state == FREE) & near)
+
+
+def diagonal_grid(n: int, origin: tuple[float, float] = (0.0, 0.0), res: float = 0.1) -> OccupancyGrid:
+    """All unknown but n FREE cells on the diagonal (i + 1, i + 1): one 8-connected chain."""
+    data = np.full((n + 2, n + 2), UNKNOWN, np.int8)
+    idx = np.arange(1, n + 1)
+    data[idx, idx] = FREE
+    return OccupancyGrid(data, res, origin)
+
+
+# ------------------------------------------------------------------------------------- fringe
+def test_fringe_cells_by_hand(grid_from_text: TextGrid) -> None:
+    g = grid_from_text(
+        [
+            "#####?",  # row 4
+            "#...#?",  # row 3
+            "#.#.??",  # row 2
+            "?....#",  # row 1
+            "#.?.#.",  # row 0
+        ]
+    )
+    by_hand = np.zeros(g.shape, bool)
+    by_hand[1, 1] = True  # left neighbour (1, 0) is unknown
+    by_hand[0, 1] = True  # right neighbour (0, 2) is unknown
+    by_hand[0, 3] = True  # left neighbour (0, 2) is unknown
+    by_hand[1, 2] = True  # lower neighbour (0, 2) is unknown
+    by_hand[2, 3] = True  # right neighbour (2, 4) is unknown
+    by_hand[1, 4] = True  # upper neighbour (2, 4) is unknown
+    # not fringe: (1, 3) has only free 4-neighbours; (3, 1..3) have none unknown (the unknown
+    # (4, 5) and (3, 5) touch only walls); (0, 5) sits on the edge between two walls
+    np.testing.assert_array_equal(fringe_mask(g.data), by_hand)
+    np.testing.assert_array_equal(fringe_mask(g.data), fringe_reference(g.data))
+
+
+def test_only_free_cells_with_a_4_neighbour_unknown_are_fringe(grid_from_text: TextGrid) -> None:
+    g = grid_from_text(
+        [
+            "?#?",
+            "#.#",
+            "?#?",
+        ]
+    )
+    assert not fringe_mask(g.data).any()  # unknown only diagonally
+    g = grid_from_text(["?#", "#?"])
+    assert not fringe_mask(g.data).any()  # occupied cells next to unknown are not fringe
+    g = grid_from_text(["...", "...", "..."])
+    assert not fringe_mask(g.data).any()  # the grid's edge is not unknown
+
+
+@pytest.mark.parametrize("seed", range(5))
+def test_fringe_mask_matches_the_definition_on_random_grids(seed: int) -> None:
+    rng = np.random.default_rng(seed)
+    state = rng.choice(np.array([FREE, OCC, UNKNOWN], np.int8), size=(31, 47), p=[0.5, 0.2, 0.3])
+    np.testing.assert_array_equal(fringe_mask(state), fringe_reference(state))
+
+
+def test_count_fringe(grid_from_text: TextGrid) -> None:
+    g = grid_from_text(
+        [
+            "????",
+            "....",
+            "....",
+        ]
+    )
+    rows = np.array([0, 0, 1, 1, 2], np.int64)
+    cols = np.array([0, 3, 0, 3, 1], np.int64)
+    assert count_fringe(g.data, rows, cols) == 2  # row 1 borders the unknown row 2; row 2 is unknown
+    assert count_fringe(g.data, np.array([], np.int64), np.array([], np.int64)) == 0
+    data = g.data.copy()
+    data[2, :] = FREE  # the unknown got explored
+    assert count_fringe(data, rows, cols) == 0
+
+
+# ---------------------------------------------------------------------------------- clustering
+@pytest.mark.parametrize("n", range(1, 9))
+def test_clusters_of_4_cells_or_fewer_are_dropped(n: int) -> None:
+    f = detect_frontiers(diagonal_grid(n), Pose(0.0, 0.0), min_cells=4)
+    assert len(f) == (1 if n > 4 else 0)
+    if n > 4:
+        assert f.sizes.tolist() == [n]  # the diagonal chain is one 8-connected cluster
+
+
+@pytest.mark.parametrize(("n", "min_cells"), [(5, 5), (5, 0), (3, 2), (3, 3), (8, 7)])
+def test_min_cells_is_the_largest_size_dropped(n: int, min_cells: int) -> None:
+    f = detect_frontiers(diagonal_grid(n), Pose(0.0, 0.0), min_cells=min_cells)
+    assert len(f) == int(n > min_cells)
+
+
+def test_cluster_cells_are_the_chain(grid_from_text: TextGrid) -> None:
+    f = detect_frontiers(diagonal_grid(6), Pose(0.0, 0.0))
+    cells = {tuple(c) for c in f.cells[0].tolist()}
+    assert cells == {(i, i) for i in range(1, 7)}
+    assert f.cells[0].shape == (6, 2) and f.cells[0].dtype == np.int64
+
+
+def test_four_connected_neighbours_and_separate_clusters(grid_from_text: TextGrid) -> None:
+    # two rows of fringe cells split by a wall cell: two clusters (the unknown cell under the
+    # wall touches only walls)
+    g = grid_from_text(
+        [
+            "??????????????",
+            "......#.......",
+            "......#.......",
+            "######?#######",
+        ]
+    )
+    f = detect_frontiers(g, Pose(0.0, 0.0))
+    assert sorted(f.sizes.tolist()) == [6, 7]  # the top free row on each side of the wall
+    # a single free cell between them joins nothing: (1, 6) is occupied
+    g2 = grid_from_text(
+        [
+            "??????????????",
+            "..............",
+            "######?#######",
+        ]
+    )
+    f2 = detect_frontiers(g2, Pose(0.0, 0.0))
+    assert f2.sizes.tolist() == [14]
+
+
+@pytest.mark.parametrize("origin", [(0.0, 0.0), (-3.25, 7.5), (100.0, -42.0)])
+@pytest.mark.parametrize("res", [0.05, 0.1])
+def test_centres_sizes_and_distances_in_world_coordinates(origin: tuple[float, float], res: float) -> None:
+    n = 7
+    g = diagonal_grid(n, origin, res)
+    robot = Pose(origin[0] + 0.3, origin[1] - 0.2, 1.0)
+    f = detect_frontiers(g, robot)
+    assert len(f) == 1
+    cells = np.arange(1, n + 1)
+    cx = origin[0] + (cells + 0.5) * res  # cell centres: x from the column, y from the row
+    cy = origin[1] + (cells + 0.5) * res
+    assert f.centers.shape == (1, 2)
+    assert f.centers[0] == pytest.approx([cx.mean(), cy.mean()], abs=1e-9)
+    assert f.sizes.tolist() == [n]
+    assert f.distances[0] == pytest.approx(math.hypot(cx.mean() - robot.x, cy.mean() - robot.y), abs=1e-9)
+    assert f.min_distances[0] == pytest.approx(np.hypot(cx - robot.x, cy - robot.y).min(), abs=1e-9)
+    assert f.grid is g
+
+
+def test_centre_of_an_l_shaped_cluster(grid_from_text: TextGrid) -> None:
+    g = grid_from_text(
+        [
+            "#####",
+            "#?..#",
+            "#?..#",
+            "#?..#",
+            "#####",
+        ],
+        resolution=1.0,
+        origin=(10.0, 20.0),
+    )
+    f = detect_frontiers(g, Pose(10.0, 20.0), min_cells=0)
+    # fringe: column 2 (rows 1-3): three cells with unknown to the left; column 3 has none
+    assert f.sizes.tolist() == [3]
+    assert f.centers[0] == pytest.approx([10.0 + 2.5, 20.0 + 2.5])
+
+
+def test_reachability_filter(grid_from_text: TextGrid) -> None:
+    g = grid_from_text(
+        [
+            "?????#??????",
+            ".....#......",
+            ".....#......",
+        ]
+    )
+    robot = Pose(0.0, 0.0)
+    both = detect_frontiers(g, robot)
+    assert sorted(both.sizes.tolist()) == [5, 6]
+    reachable = np.zeros(g.shape, bool)
+    assert len(detect_frontiers(g, robot, reachable)) == 0  # nothing reachable: no candidate
+    reachable[0, :5] = True  # the left room's lower row sees the left fringe, not the right one behind the wall
+    left = detect_frontiers(g, robot, reachable)
+    assert left.sizes.tolist() == [5]
+    assert left.centers[0, 0] < 5 * g.resolution
+    assert left.goal_cells[0, 0] == 0 and left.goal_cells[0, 1] < 5  # its goal is a reachable cell
+    assert len(detect_frontiers(g, robot, reachable, goal_reach=0.0)) == 0  # too far for a goal at 0 m
+    reachable[1, 2] = True  # the fringe cell nearest the cluster's centre is reachable: the goal is on it
+    assert detect_frontiers(g, robot, reachable, goal_reach=0.0).sizes.tolist() == [5]
+    reachable[0, 11] = True
+    assert len(detect_frontiers(g, robot, reachable)) == 2
+
+
+def test_subset_keeps_parallel_arrays_in_order() -> None:
+    data = np.full((12, 30), UNKNOWN, np.int8)
+    data[1, 1:8] = FREE
+    data[5, 3:20] = FREE
+    data[9, 10:16] = FREE
+    f = detect_frontiers(OccupancyGrid(data, 0.05), Pose(0.0, 0.0))
+    assert len(f) == 3
+    sub = f.subset(np.array([True, False, True]))
+    assert len(sub) == 2
+    np.testing.assert_array_equal(sub.sizes, f.sizes[[0, 2]])
+    np.testing.assert_array_equal(sub.centers, f.centers[[0, 2]])
+    np.testing.assert_array_equal(sub.distances, f.distances[[0, 2]])
+    np.testing.assert_array_equal(sub.cells[1], f.cells[2])
+
+
+@pytest.mark.parametrize("seed", [0, 3])
+def test_detect_frontiers_matches_scipy_components_on_a_real_map(seed: int) -> None:
+    """After a few scans of an office world: unsplit, the clusters are exactly the 8-connected
+    components of the fringe mask with more than 4 cells."""
+    w = generate_world("office", seed)
+    lidar = Lidar(w.grid)
+    mapper = LogOddsMapper(w.grid, explorable=w.explorable)
+    rng = np.random.default_rng(seed)
+    free = np.argwhere(w.grid.data == FREE)
+    for k in range(6):
+        r, c = free[rng.integers(len(free))]
+        mapper.integrate_simulated(lidar, Pose(*w.grid.cell_to_world(r, c), 0.0), rng, float(k))
+    grid = mapper.occupancy_grid(margin=2)
+    robot = Pose(*grid.cell_to_world(grid.height // 2, grid.width // 2), 0.0)
+    f = detect_frontiers(grid, robot)  # every cluster, unsplit
+    labels, n = ndimage.label(fringe_reference(grid.data), structure=EIGHT)
+    expected = []
+    for k in range(1, n + 1):
+        comp = labels == k
+        if comp.sum() > 4:
+            expected.append(frozenset(map(tuple, np.argwhere(comp).tolist())))
+    got = [frozenset(map(tuple, cells.tolist())) for cells in f.cells]
+    assert len(got) > 0
+    assert sorted(got, key=sorted) == sorted(expected, key=sorted)
+    for cells, size, centre in zip(f.cells, f.sizes, f.centers, strict=True):
+        assert len(cells) == size
+        xs = grid.origin[0] + (cells[:, 1] + 0.5) * grid.resolution
+        ys = grid.origin[1] + (cells[:, 0] + 0.5) * grid.resolution
+        assert centre == pytest.approx([xs.mean(), ys.mean()], abs=1e-9)
+
+
+def test_a_map_without_unknown_cells_has_no_frontier() -> None:
+    data = np.full((20, 20), FREE, np.int8)
+    data[[0, -1], :] = OCC
+    f = detect_frontiers(OccupancyGrid(data, 0.05), Pose(0.5, 0.5))
+    assert len(f) == 0
+    assert f.centers.shape == (0, 2)
+    assert f.information_gain(3.5).shape == (0,)
+
+
+# ------------------------------------------------------------------------------ information gain
+def single_frontier(grid: OccupancyGrid, row: int, col: int, make: Callable[..., Frontiers]) -> Frontiers:
+    """Two one-cell 'frontiers' both centred on cell (row, col), for information-gain checks."""
+    x, y = grid.cell_to_world(row, col)
+    return make(grid, [[x, y], [x, y]], [1, 1])
+
+
+def test_information_gain_counts_unknown_cells_and_stops_at_walls(
+    grid_from_text: TextGrid, frontiers_from: Callable[..., Frontiers]
+) -> None:
+    walled = grid_from_text(["###########", "#.????#???#", "###########"], resolution=0.1, origin=(2.0, -1.0))
+    # from cell (1, 1), a corridor one cell high: only cells (1, 2..5) can be seen, (1, 7..9)
+    # lie behind the wall at (1, 6); every other ray ends in the corridor's walls
+    assert single_frontier(walled, 1, 1, frontiers_from).information_gain(10.0).tolist() == [
+        4,
+        4,
+    ]  # each centre counts alone
+    opened = grid_from_text(["###########", "#.???????##", "###########"], resolution=0.1, origin=(2.0, -1.0))
+    assert single_frontier(opened, 1, 1, frontiers_from).information_gain(10.0).tolist() == [7, 7]
+    # range 0.22 m = 2.2 cells: the ray enters (1, 2) at 0.5 cells, (1, 3) at 1.5, (1, 4) at 2.5
+    assert single_frontier(opened, 1, 1, frontiers_from).information_gain(0.22).tolist() == [2, 2]
+
+
+def test_information_gain_in_a_small_room(grid_from_text: TextGrid, frontiers_from: Callable[..., Frontiers]) -> None:
+    rows = [
+        "#######",
+        "#?????#",
+        "#?????#",
+        "#??.??#",
+        "#?????#",
+        "#?????#",
+        "#######",
+    ]
+    room = grid_from_text(rows, resolution=1.0)
+    assert single_frontier(room, 3, 3, frontiers_from).information_gain(10.0)[0] == 24  # every unknown cell of the room
+    # a wall segment at column 4, rows 2-4 hides the whole column 5 (rows 1-5) from the centre
+    blocked = [row[:4] + ("#" if 1 < i < 5 else row[4]) + row[5:] for i, row in enumerate(rows)]
+    g = grid_from_text(blocked, resolution=1.0)
+    assert single_frontier(g, 3, 3, frontiers_from).information_gain(10.0)[0] == 24 - 3 - 5
