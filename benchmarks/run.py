@@ -33,8 +33,9 @@ from frontier_rl.core.frontiers.ranking import rank, weighted_cost
 from frontier_rl.core.mapping.mapper import LogOddsMapper
 from frontier_rl.core.navigation.costmap import Costmap
 from frontier_rl.core.sensing.lidar import Lidar
+from frontier_rl.core.sim.config import SimConfig
 from frontier_rl.core.sim.episode import decision_context, run_episode
-from frontier_rl.core.sim.simulator import ExplorationSimulator, SimConfig
+from frontier_rl.core.sim.simulator import ExplorationSimulator
 from frontier_rl.core.world.grid import OccupancyGrid
 from frontier_rl.core.world.robot import Pose
 from frontier_rl.core.world.worlds import World, generate_world

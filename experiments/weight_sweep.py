@@ -19,7 +19,7 @@ from typing import Any
 import numpy as np
 
 from frontier_rl.atomic_write import write_text_atomic
-from frontier_rl.core.sim.simulator import SimConfig
+from frontier_rl.core.sim.config import SimConfig
 from frontier_rl.evaluation.evaluate import evaluate
 from frontier_rl.evaluation.experiment import ORACLE, ExperimentConfig, expand_worlds, identity
 from frontier_rl.evaluation.results import Key, ResultStore

@@ -16,9 +16,9 @@ from rich.text import Text
 
 from frontier_rl.cli_output import OneLineGroup, err_console, friendly_errors, one_line, stdout_console
 from frontier_rl.config import dump_config, load_sim_config
+from frontier_rl.core.sim.config import SimConfig
 from frontier_rl.core.sim.episode import run_episode, warm_up
 from frontier_rl.core.sim.metrics import EpisodeResult
-from frontier_rl.core.sim.simulator import SimConfig
 from frontier_rl.core.world.worlds import resolution_bounds
 from frontier_rl.errors import ConfigError, short_repr
 from frontier_rl.policies import POLICY_NAMES, make_policy

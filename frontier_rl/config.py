@@ -13,7 +13,7 @@ from pathlib import Path
 from typing import Any, TypeVar
 
 from frontier_rl.atomic_write import write_text_atomic
-from frontier_rl.core.sim.simulator import SimConfig
+from frontier_rl.core.sim.config import SimConfig
 from frontier_rl.errors import ConfigError, FrontierRLError, short_repr
 from frontier_rl.safe_yaml import dump_yaml, load_yaml_file
 

@@ -10,7 +10,9 @@ import gymnasium as gym
 import numpy as np
 from numpy.typing import NDArray
 
-from frontier_rl.core.sim.simulator import ExplorationSimulator, LegResult, SimConfig
+from frontier_rl.core.sim.config import SimConfig
+from frontier_rl.core.sim.leg import LegResult
+from frontier_rl.core.sim.simulator import ExplorationSimulator
 from frontier_rl.envs.observation import THESIS_INPUT_CELLS, MapEncoder
 from frontier_rl.envs.rewards import RewardConfig, reward_preset
 from frontier_rl.envs.world_source import WorldSource, parse_world_list, reset_world_seed

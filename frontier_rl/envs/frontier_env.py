@@ -12,7 +12,7 @@ from scipy import ndimage
 
 from frontier_rl.core.frontiers.detection import Frontiers
 from frontier_rl.core.navigation.costmap import Costmap
-from frontier_rl.core.sim.simulator import LegResult
+from frontier_rl.core.sim.leg import LegResult
 from frontier_rl.core.world.robot import Pose
 from frontier_rl.envs.base import EnvConfig, ExplorationEnv
 from frontier_rl.envs.observation import FRONTIER_FEATURES, MapEncoder, frontier_features

@@ -7,7 +7,7 @@ from typing import Any
 import gymnasium as gym
 
 from frontier_rl.core.frontiers.ranking import rank, weighted_cost
-from frontier_rl.core.sim.simulator import LegResult
+from frontier_rl.core.sim.leg import LegResult
 from frontier_rl.envs.base import MapImageEnv
 
 WEIGHT_BINS = 100
@@ -36,6 +36,6 @@ class WeightEnv(MapImageEnv):
 
     def _info(self, leg: LegResult | None) -> dict[str, Any]:
         info = super()._info(leg)
-        if leg is not None and self.sim.decisions:
-            info["weight"] = self.sim.decisions[-1].weight
+        if leg is not None and self.sim.log.decisions:
+            info["weight"] = self.sim.log.decisions[-1].weight
         return info

@@ -22,7 +22,7 @@ from typing import Any
 import numpy as np
 from scipy import stats as scipy_stats
 
-from frontier_rl.core.sim.simulator import EndReason
+from frontier_rl.core.sim.episode_log import EndReason
 from frontier_rl.evaluation.experiment import ORACLE, ExperimentConfig
 from frontier_rl.evaluation.statistics import compare_methods
 from frontier_rl.swarm.config import TeamMethod

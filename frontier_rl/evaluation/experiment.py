@@ -17,9 +17,9 @@ from typing import Any
 import numpy as np
 
 from frontier_rl.config import to_dict
+from frontier_rl.core.sim.config import SimConfig
 from frontier_rl.core.sim.episode import ExplorationPolicy, run_episode, warm_up
 from frontier_rl.core.sim.metrics import sample_step
-from frontier_rl.core.sim.simulator import SimConfig
 from frontier_rl.core.world.worlds import WORLD_GENERATORS, World, generate_world, make_world
 from frontier_rl.envs.world_source import parse_world_list
 from frontier_rl.errors import ConfigError

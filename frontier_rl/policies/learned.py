@@ -15,8 +15,8 @@ import numpy as np
 
 from frontier_rl.core.frontiers.ranking import rank, weighted_cost
 from frontier_rl.core.navigation.costmap import Costmap
+from frontier_rl.core.sim.config import SimConfig
 from frontier_rl.core.sim.episode import DecisionContext, Ranking
-from frontier_rl.core.sim.simulator import SimConfig
 from frontier_rl.envs.frontier_env import frontier_observation, slot_order
 from frontier_rl.envs.observation import MapEncoder
 from frontier_rl.envs.weight_env import WEIGHT_BINS, bin_to_weight

@@ -19,8 +19,8 @@ from numpy.typing import NDArray
 from frontier_rl.core.frontiers.ranking import nearest_cost, rank
 from frontier_rl.core.navigation.costmap import Costmap, nearest_cell
 from frontier_rl.core.navigation.path_costs import cost_field, descend
+from frontier_rl.core.sim.config import SimConfig
 from frontier_rl.core.sim.episode import DecisionContext, Ranking
-from frontier_rl.core.sim.simulator import SimConfig
 from frontier_rl.core.world.grid import CellState, OccupancyGrid
 from frontier_rl.core.world.worlds import World
 from frontier_rl.errors import ConfigError

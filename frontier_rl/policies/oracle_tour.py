@@ -32,7 +32,7 @@ from numpy.typing import NDArray
 
 from frontier_rl.core.navigation.costmap import Costmap
 from frontier_rl.core.navigation.path_costs import cost_field, path_costs
-from frontier_rl.core.sim.simulator import SimConfig
+from frontier_rl.core.sim.config import SimConfig
 from frontier_rl.core.world.grid import CellState
 from frontier_rl.core.world.raycast import FASTMATH, pad_blocked, ray_start
 from frontier_rl.core.world.worlds import World, dilate

@@ -12,8 +12,9 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from frontier_rl.core.sim.candidates import reachable_frontiers
+from frontier_rl.core.sim.config import SimConfig
 from frontier_rl.core.sim.episode import DecisionContext, ExplorationPolicy
-from frontier_rl.core.sim.simulator import SimConfig, reachable_frontiers
 from frontier_rl.core.world.grid import CellState, OccupancyGrid
 from frontier_rl.core.world.robot import Pose
 from frontier_rl.errors import MapError

@@ -8,8 +8,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from frontier_rl.core.sim.config import SimConfig
 from frontier_rl.core.sim.episode import EpisodeAwarePolicy, ExplorationPolicy
-from frontier_rl.core.sim.simulator import SimConfig
 from frontier_rl.core.world.worlds import World
 from frontier_rl.errors import ConfigError
 from frontier_rl.policies.baselines import FixedWeight

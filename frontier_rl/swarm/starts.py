@@ -6,7 +6,7 @@ from collections import deque
 
 import numpy as np
 
-from frontier_rl.core.navigation.follower import obstacle_distance
+from frontier_rl.core.sim.teammates import obstacle_distance
 from frontier_rl.core.world.grid import CellState
 from frontier_rl.core.world.robot import Pose
 from frontier_rl.core.world.worlds import START_MARGIN_M, World

@@ -20,9 +20,11 @@ import numpy as np
 from numpy.typing import NDArray
 
 from frontier_rl.core.mapping.mapper import LogOddsMapper
+from frontier_rl.core.sim.config import SimConfig
 from frontier_rl.core.sim.episode import DecisionContext, Ranking, decision_context
+from frontier_rl.core.sim.episode_log import EndReason, unresolved
 from frontier_rl.core.sim.metrics import FrontierLeft, time_to_coverage
-from frontier_rl.core.sim.simulator import EndReason, ExplorationSimulator, SimConfig, unresolved
+from frontier_rl.core.sim.simulator import ExplorationSimulator
 from frontier_rl.core.world.grid import CellState, OccupancyGrid
 from frontier_rl.core.world.worlds import World
 from frontier_rl.swarm.config import Strategy, TeamConfig
@@ -332,8 +334,8 @@ class TeamSimulator:
             coverage=self.coverage,
             t90_s=time_to_coverage(times, curve, 0.90),
             t99_s=time_to_coverage(times, curve, 0.99),
-            decisions=sum(len(s.decisions) for s in sims),
-            aborts=sum(s.aborts for s in sims),
+            decisions=sum(len(s.log.decisions) for s in sims),
+            aborts=sum(s.log.aborts for s in sims),
             done=self._done and reason == EndReason.EXPLORED.value,
             truncated=self.truncated,
             wall_time_s=wall,
@@ -370,7 +372,7 @@ class TeamSimulator:
             return None
         if not self.alive:
             return "failed"
-        reason = EndReason.UNREACHABLE if unresolved(left, self.config) else EndReason.EXPLORED
+        reason = EndReason.UNREACHABLE if unresolved(left, self.config.min_frontier_cells) else EndReason.EXPLORED
         return str(reason.value)
 
     def _free_coverage(self) -> float:

@@ -10,7 +10,7 @@ import numpy as np
 import pytest
 
 import frontier_rl  # noqa: F401  (registers the ids)
-from frontier_rl.core.sim.simulator import SimConfig
+from frontier_rl.core.sim.config import SimConfig
 from frontier_rl.envs.base import ExplorationEnv
 from frontier_rl.envs.team_env import parallel_env
 from frontier_rl.envs.world_source import RESET_OPTIONS, reset_world_seed

@@ -8,7 +8,7 @@ import numpy as np
 import pytest
 from pettingzoo.test import parallel_api_test
 
-from frontier_rl.core.sim.simulator import SimConfig
+from frontier_rl.core.sim.config import SimConfig
 from frontier_rl.envs.team_env import TeamExplorationEnv, parallel_env
 from frontier_rl.errors import ConfigError
 from frontier_rl.swarm import Failure, Strategy, TeamConfig

@@ -10,7 +10,7 @@ from typing import Any
 
 import pytest
 
-from frontier_rl.core.sim.simulator import SimConfig
+from frontier_rl.core.sim.config import SimConfig
 from frontier_rl.errors import ConfigError
 from frontier_rl.evaluation.analysis import end_reasons, summarise
 from frontier_rl.evaluation.evaluate import evaluate

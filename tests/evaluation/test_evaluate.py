@@ -16,7 +16,7 @@ import pytest
 from typer.testing import CliRunner
 
 from frontier_rl.cli import app
-from frontier_rl.core.sim.simulator import SimConfig
+from frontier_rl.core.sim.config import SimConfig
 from frontier_rl.errors import ConfigError, UnknownNameError
 from frontier_rl.evaluation import backends
 from frontier_rl.evaluation.backends import EpisodeFailedError

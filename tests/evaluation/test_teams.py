@@ -10,7 +10,7 @@ import pytest
 from typer.testing import CliRunner
 
 from frontier_rl.cli import app, team_methods
-from frontier_rl.core.sim.simulator import SimConfig
+from frontier_rl.core.sim.config import SimConfig
 from frontier_rl.errors import ConfigError
 from frontier_rl.evaluation.evaluate import evaluate
 from frontier_rl.evaluation.experiment import ExperimentConfig, identity

@@ -12,9 +12,9 @@ from numpy.typing import NDArray
 from frontier_rl.core.frontiers.detection import detect_frontiers
 from frontier_rl.core.navigation.costmap import Costmap
 from frontier_rl.core.navigation.path_costs import cost_field, descend, path_costs
+from frontier_rl.core.sim.config import SimConfig
 from frontier_rl.core.sim.episode import DecisionContext, EpisodeAwarePolicy, run_episode
 from frontier_rl.core.sim.metrics import EpisodeResult
-from frontier_rl.core.sim.simulator import SimConfig
 from frontier_rl.core.world.grid import CellState, OccupancyGrid
 from frontier_rl.core.world.robot import Pose
 from frontier_rl.core.world.worlds import World, generate_world, make_world

@@ -9,8 +9,8 @@ import numpy as np
 import pytest
 from stable_baselines3.common.callbacks import BaseCallback
 
+from frontier_rl.core.sim.config import SimConfig
 from frontier_rl.core.sim.episode import run_episode
-from frontier_rl.core.sim.simulator import SimConfig
 from frontier_rl.core.world.worlds import generate_world
 from frontier_rl.errors import ConfigError
 from frontier_rl.policies import make_policy

@@ -21,7 +21,7 @@ import pytest
 from frontier_rl.core.frontiers.detection import detect_frontiers
 from frontier_rl.core.frontiers.ranking import rank, weighted_cost
 from frontier_rl.core.navigation.costmap import Costmap
-from frontier_rl.core.sim.simulator import SimConfig
+from frontier_rl.core.sim.config import SimConfig
 from frontier_rl.core.world.grid import CellState, OccupancyGrid
 from frontier_rl.core.world.robot import Pose
 from frontier_rl.errors import FrontierRLError, MapError

@@ -118,9 +118,9 @@ def test_robots_plan_around_each_other() -> None:
     world = _room(40)  # 2 m wide: room to pass
     sim, closest = _drive_past(world, (1.5, world.start.y))
     assert closest >= 2 * 0.105 and math.dist((sim.pose.x, sim.pose.y), (2.7, world.start.y)) < 0.2
-    free = sim._teammates.true_clearance.copy()
+    free = sim.nearby_robots.true_clearance.copy()
     sim.set_teammates(np.zeros((0, 2)))
-    assert np.array_equal(sim._teammates.clearance, free)  # the teammate's stamp is gone once it has left
+    assert np.array_equal(sim.nearby_robots.clearance, free)  # the teammate's stamp is gone once it has left
 
 
 def test_a_blocked_robot_waits_then_squeezes_past() -> None:

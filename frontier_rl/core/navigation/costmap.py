@@ -16,8 +16,8 @@ import numpy as np
 from numpy.typing import NDArray
 
 from frontier_rl.core.navigation.astar import SearchScratch, astar_padded
+from frontier_rl.core.navigation.config import NavigationConfig
 from frontier_rl.core.navigation.distance import chamfer_distance_padded, flood_known
-from frontier_rl.core.navigation.follower import NavigationConfig
 from frontier_rl.core.navigation.path_costs import cost_field
 from frontier_rl.core.navigation.step_costs import inflation_table, step_costs
 from frontier_rl.core.world.grid import CellState, OccupancyGrid

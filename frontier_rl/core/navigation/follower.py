@@ -1,4 +1,4 @@
-"""move_base-like navigation settings, the path follower and path checks.
+"""The path follower and path checks.
 
 The follower drives a differential-drive robot along a planned path under its speed limits,
 turning in place when the heading error is large, so turning costs time; the costmap and the
@@ -8,133 +8,30 @@ A* planner are in :mod:`frontier_rl.core.navigation.costmap`.
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
+from enum import IntEnum
 
 import numba as nb
 import numpy as np
 from numpy.typing import NDArray
-from scipy import ndimage
 
 from frontier_rl.core.world.grid import CellState
 from frontier_rl.core.world.raycast import FASTMATH
-from frontier_rl.errors import ConfigError
 
 _OCCUPIED = np.int8(CellState.OCCUPIED)
 
 
-@dataclass(frozen=True)
-class NavigationConfig:
-    """Costmap, planner and controller settings (TurtleBot3 / move_base / explore_lite flavoured).
+class FollowStatus(IntEnum):
+    """How :func:`follow_path` stopped."""
 
-    Attributes:
-        inflation_radius: distance from obstacles (m) over which the extra cost decays.
-        cost_scaling: exponential decay rate of the inflation cost (1/m).
-        inflation_cost: extra cost factor of a cell at the robot radius from an obstacle.
-        unknown_cost: extra cost factor of an unknown cell (unknown is passable).
-        goal_tolerance: distance to the goal (m) at which it counts as reached.
-        lookahead: distance (m) of the path point the controller steers toward.
-        heading_gain: angular speed per rad of heading error (1/s) while driving.
-        control_dt: integration step of the robot motion (s).
-        progress_timeout: a goal without progress for this long (s) is aborted and blacklisted.
-        progress_distance: the remaining path must shrink by this much (m) to count as progress...
-        oscillation_distance: ... or the robot must move this far (m) (move_base's setting).
-        max_recoveries: in-place rotations tried when stuck before the goal is aborted.
-        blacklist_radius: frontiers whose goal lies this close (m) to a failed goal are skipped
-            (until the map around it changes, or it is retried before the episode would end).
-        max_goal_failures: a goal that failed this often is given up for good.
-        frontier_check_period: how often (s) the goal's frontier is checked for being explored.
-        teammate_margin: in a team, paths keep this much room (m) from other robots when they can.
-        teammate_range: ... from the robots within this distance (m); farther ones will have moved
-            by the time the robot gets there.
-        teammate_patience: in a team, a robot blocked by another one for this long (s) in a leg
-            squeezes past it for the rest of the leg, instead of both standing for ever (a
-            simplification: real teams need a traffic rule for narrow corridors).
-    """
-
-    inflation_radius: float = 0.55
-    cost_scaling: float = 5.0
-    inflation_cost: float = 3.0
-    unknown_cost: float = 1.0
-    goal_tolerance: float = 0.15
-    lookahead: float = 0.3
-    heading_gain: float = 3.0
-    control_dt: float = 0.05
-    progress_timeout: float = 30.0
-    progress_distance: float = 0.1
-    oscillation_distance: float = 0.5
-    max_recoveries: int = 2
-    blacklist_radius: float = 0.25
-    max_goal_failures: int = 2
-    frontier_check_period: float = 1.0
-    teammate_margin: float = 0.1
-    teammate_range: float = 1.5
-    teammate_patience: float = 5.0
-
-    def __post_init__(self) -> None:
-        if not (math.isfinite(self.teammate_margin) and self.teammate_margin >= 0):
-            raise ConfigError(f"NavigationConfig.teammate_margin must be >= 0, got {self.teammate_margin!r}")
-        for name in ("inflation_radius", "goal_tolerance", "lookahead", "control_dt", "progress_timeout",
-                     "teammate_patience", "teammate_range"):  # fmt: skip
-            value = getattr(self, name)
-            if not (math.isfinite(value) and value > 0):
-                raise ConfigError(f"NavigationConfig.{name} must be positive, got {value!r}")
-        if self.max_goal_failures < 1:
-            raise ConfigError(f"NavigationConfig.max_goal_failures must be >= 1, got {self.max_goal_failures!r}")
-        if self.max_recoveries < 0:
-            raise ConfigError(f"NavigationConfig.max_recoveries must be >= 0, got {self.max_recoveries!r}")
+    DRIVING = 0  # still on the way: the duration is over, or the scan gate opened
+    REACHED = 1  # within the goal tolerance (the time used is exact)
+    BLOCKED = 2  # a wall is in the way (the robot waits out the tick)
 
 
-def obstacle_distance(occupied: NDArray[np.bool_], resolution: float) -> NDArray[np.float64]:
-    """Distance (m) from each cell centre to the nearest occupied cell centre (``inf`` if none)."""
-    if not occupied.any():
-        return np.full(occupied.shape, np.inf)
-    return np.asarray(ndimage.distance_transform_edt(~occupied), dtype=np.float64) * resolution
-
-
-@nb.njit(cache=True)
-def stamp_discs(
-    clearance: NDArray[np.float64],
-    true_clearance: NDArray[np.float64],
-    blocked_padded: NDArray[np.bool_],
-    true_blocked_padded: NDArray[np.bool_],
-    boxes: NDArray[np.int64],
-    stamped: int,
-    xs: NDArray[np.float64],
-    ys: NDArray[np.float64],
-    occlude: NDArray[np.bool_],
-    radius: float,
-    reach: int,
-    origin_x: float,
-    origin_y: float,
-    resolution: float,
-) -> int:
-    """Take back the ``stamped`` discs of ``boxes`` (row0, row1, col0, col1 per disc) from
-    ``clearance`` and the LiDAR's ``blocked_padded``, then stamp a disc of ``radius`` (m) at every
-    point (xs, ys) (m): ``clearance`` is lowered to the distance (m) from each cell centre to the
-    disc, within ``reach`` cells, and, where ``occlude`` is set, the cells whose centre lies in the
-    disc stop beams. ``boxes`` is rewritten. Returns the number of discs stamped."""
-    rows, cols = clearance.shape
-    for k in range(stamped):
-        for r in range(boxes[k, 0], boxes[k, 1]):
-            for c in range(boxes[k, 2], boxes[k, 3]):
-                clearance[r, c] = true_clearance[r, c]
-                blocked_padded[r + 1, c + 1] = true_blocked_padded[r + 1, c + 1]
-    for k in range(xs.shape[0]):
-        row = int(math.floor((ys[k] - origin_y) / resolution))
-        col = int(math.floor((xs[k] - origin_x) / resolution))
-        r0, r1 = max(row - reach, 0), min(row + reach + 1, rows)
-        c0, c1 = max(col - reach, 0), min(col + reach + 1, cols)
-        boxes[k, 0], boxes[k, 1], boxes[k, 2], boxes[k, 3] = r0, max(r1, r0), c0, max(c1, c0)
-        for r in range(r0, r1):
-            cy = origin_y + (r + 0.5) * resolution
-            for c in range(c0, c1):
-                cx = origin_x + (c + 0.5) * resolution
-                d = math.hypot(cx - xs[k], cy - ys[k]) - radius
-                if d < clearance[r, c]:
-                    clearance[r, c] = d
-                if occlude[k] and d <= 0.0:
-                    blocked_padded[r + 1, c + 1] = True
-    return int(xs.shape[0])
+# the compiled follower returns plain ints
+_DRIVING = int(FollowStatus.DRIVING)
+_REACHED = int(FollowStatus.REACHED)
+_BLOCKED = int(FollowStatus.BLOCKED)
 
 
 @nb.njit(cache=True)
@@ -255,9 +152,8 @@ def follow_path(
     following the waypoints one by one; it is set the first time the lookahead cuts a corner into
     a wall.
 
-    Returns (x, y, theta, index, distance driven (m), time used (s), status) with status 0 =
-    still driving (duration over, or the gate opened), 1 = goal reached (time used exactly),
-    2 = blocked by a wall (the robot waits out the tick).
+    Returns (x, y, theta, index, distance driven (m), time used (s), status), the status a
+    :class:`FollowStatus`.
     """
     v_max, w_max, turn_angle, k_w, lookahead, tol, h, radius = (
         params[0], params[1], params[2], params[3], params[4], params[5], params[6], params[7],
@@ -271,11 +167,11 @@ def follow_path(
         if elapsed >= next_tick - 1e-9:
             turned = abs((theta - gate_theta + math.pi) % (2.0 * math.pi) - math.pi)
             if math.hypot(x - gate_x, y - gate_y) >= linear or turned >= angular:
-                return x, y, theta, index, driven, elapsed, 0
+                return x, y, theta, index, driven, elapsed, _DRIVING
             next_tick += tick
         to_goal = math.hypot(path_x[n - 1] - x, path_y[n - 1] - y)
         if to_goal <= tol:
-            return x, y, theta, n - 1, driven, elapsed, 1
+            return x, y, theta, n - 1, driven, elapsed, _REACHED
         while index < n - 1 and math.hypot(path_x[index] - x, path_y[index] - y) < lookahead:
             index += 1
         target = _next_waypoint(path_x, path_y, index, x, y) if careful[0] else index
@@ -295,7 +191,7 @@ def follow_path(
                     theta, used = _turn(theta, err, step, w_max)
                     elapsed += used
                     continue
-                return x, y, theta, index, driven, min(next_tick, duration), 2
+                return x, y, theta, index, driven, min(next_tick, duration), _BLOCKED
             # Steering at the lookahead point cuts corners; in a tight spot follow the waypoints
             # one by one from now on, which keeps the robot on the planned cells.
             careful[0] = True
@@ -303,4 +199,4 @@ def follow_path(
         driven += math.hypot(nx - x, ny - y)
         x, y, theta = nx, ny, new_theta
         elapsed += step
-    return x, y, theta, index, driven, elapsed, 0
+    return x, y, theta, index, driven, elapsed, _DRIVING

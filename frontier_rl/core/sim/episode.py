@@ -12,8 +12,9 @@ from numpy.typing import NDArray
 
 from frontier_rl.core.frontiers.detection import Frontiers
 from frontier_rl.core.navigation.costmap import Costmap
+from frontier_rl.core.sim.config import SimConfig
 from frontier_rl.core.sim.metrics import EpisodeResult
-from frontier_rl.core.sim.simulator import ExplorationSimulator, SimConfig
+from frontier_rl.core.sim.simulator import ExplorationSimulator
 from frontier_rl.core.world.grid import OccupancyGrid
 from frontier_rl.core.world.robot import Pose
 from frontier_rl.core.world.worlds import World

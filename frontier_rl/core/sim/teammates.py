@@ -6,10 +6,11 @@ from __future__ import annotations
 
 import math
 
+import numba as nb
 import numpy as np
 from numpy.typing import NDArray
+from scipy import ndimage
 
-from frontier_rl.core.navigation.follower import obstacle_distance, stamp_discs
 from frontier_rl.core.sensing.lidar import Lidar
 from frontier_rl.core.world.grid import CellState, OccupancyGrid
 
@@ -84,3 +85,56 @@ class Teammates:
     def laser_filter(self) -> tuple[NDArray[np.float64], float] | None:
         """The discs (centres (k, 2) and radius, m) a scan's marks are dropped in; None if none."""
         return (self.positions, self.radius + TEAMMATE_FILTER_MARGIN_M) if len(self) else None
+
+
+def obstacle_distance(occupied: NDArray[np.bool_], resolution: float) -> NDArray[np.float64]:
+    """Distance (m) from each cell centre to the nearest occupied cell centre (``inf`` if none)."""
+    if not occupied.any():
+        return np.full(occupied.shape, np.inf)
+    return np.asarray(ndimage.distance_transform_edt(~occupied), dtype=np.float64) * resolution
+
+
+@nb.njit(cache=True)
+def stamp_discs(
+    clearance: NDArray[np.float64],
+    true_clearance: NDArray[np.float64],
+    blocked_padded: NDArray[np.bool_],
+    true_blocked_padded: NDArray[np.bool_],
+    boxes: NDArray[np.int64],
+    stamped: int,
+    xs: NDArray[np.float64],
+    ys: NDArray[np.float64],
+    occlude: NDArray[np.bool_],
+    radius: float,
+    reach: int,
+    origin_x: float,
+    origin_y: float,
+    resolution: float,
+) -> int:
+    """Take back the ``stamped`` discs of ``boxes`` (row0, row1, col0, col1 per disc) from
+    ``clearance`` and the LiDAR's ``blocked_padded``, then stamp a disc of ``radius`` (m) at every
+    point (xs, ys) (m): ``clearance`` is lowered to the distance (m) from each cell centre to the
+    disc, within ``reach`` cells, and, where ``occlude`` is set, the cells whose centre lies in the
+    disc stop beams. ``boxes`` is rewritten. Returns the number of discs stamped."""
+    rows, cols = clearance.shape
+    for k in range(stamped):
+        for r in range(boxes[k, 0], boxes[k, 1]):
+            for c in range(boxes[k, 2], boxes[k, 3]):
+                clearance[r, c] = true_clearance[r, c]
+                blocked_padded[r + 1, c + 1] = true_blocked_padded[r + 1, c + 1]
+    for k in range(xs.shape[0]):
+        row = int(math.floor((ys[k] - origin_y) / resolution))
+        col = int(math.floor((xs[k] - origin_x) / resolution))
+        r0, r1 = max(row - reach, 0), min(row + reach + 1, rows)
+        c0, c1 = max(col - reach, 0), min(col + reach + 1, cols)
+        boxes[k, 0], boxes[k, 1], boxes[k, 2], boxes[k, 3] = r0, max(r1, r0), c0, max(c1, c0)
+        for r in range(r0, r1):
+            cy = origin_y + (r + 0.5) * resolution
+            for c in range(c0, c1):
+                cx = origin_x + (c + 0.5) * resolution
+                d = math.hypot(cx - xs[k], cy - ys[k]) - radius
+                if d < clearance[r, c]:
+                    clearance[r, c] = d
+                if occlude[k] and d <= 0.0:
+                    blocked_padded[r + 1, c + 1] = True
+    return int(xs.shape[0])

@@ -16,9 +16,11 @@ from scipy.sparse.csgraph import dijkstra
 
 from frontier_rl.core.navigation import astar as astar_module
 from frontier_rl.core.navigation.astar import SearchScratch, astar, astar_padded
+from frontier_rl.core.navigation.config import NavigationConfig
 from frontier_rl.core.navigation.costmap import Costmap, nearest_cell
-from frontier_rl.core.navigation.follower import NavigationConfig, follow_path, footprint_offsets, obstacle_distance
+from frontier_rl.core.navigation.follower import follow_path, footprint_offsets
 from frontier_rl.core.navigation.path_costs import cost_to_go_padded
+from frontier_rl.core.sim.teammates import obstacle_distance
 from frontier_rl.core.world.grid import CellState, OccupancyGrid
 from frontier_rl.core.world.robot import RobotConfig
 from frontier_rl.core.world.worlds import generate_world

@@ -6,7 +6,7 @@ import numpy as np
 import pytest
 
 from frontier_rl.core.navigation.thin_walls import thin_walls
-from frontier_rl.core.sim import simulator as simulator_module
+from frontier_rl.core.sim import candidates as candidates_module
 from frontier_rl.core.sim.simulator import ExplorationSimulator
 from frontier_rl.core.world.grid import CellState
 from frontier_rl.core.world.worlds import generate_world
@@ -75,9 +75,9 @@ def test_the_simulator_keeps_the_walls_the_robot_touched_on_its_cropped_map(monk
         seen.append(felt.copy())
         return thin_walls(state, felt)
 
-    monkeypatch.setattr(simulator_module, "thin_walls", spy)
+    monkeypatch.setattr(candidates_module, "thin_walls", spy)
     grid = sim.mapper.occupancy_grid(margin=2)
-    cand = sim._candidates_on(grid, tight=True)
+    cand = sim.candidates_on(grid, tight=True)
     assert cand.tight and len(seen) == 1
     top, left = world.grid.world_to_cell(*grid.cell_to_world(0, 0))
     assert np.argwhere(seen[0]).tolist() == [[row - top, col - left]]

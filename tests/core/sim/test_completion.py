@@ -11,8 +11,9 @@ import pytest
 
 from frontier_rl.core.frontiers.blacklist import Blacklist
 from frontier_rl.core.frontiers.detection import detect_frontiers
+from frontier_rl.core.sim.config import SimConfig
 from frontier_rl.core.sim.episode import run_episode
-from frontier_rl.core.sim.simulator import EndReason, SimConfig
+from frontier_rl.core.sim.episode_log import EndReason
 from frontier_rl.core.world.grid import CellState, OccupancyGrid
 from frontier_rl.core.world.robot import Pose
 from frontier_rl.core.world.worlds import make_world

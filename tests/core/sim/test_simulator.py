@@ -11,9 +11,11 @@ from pathlib import Path
 import numpy as np
 import pytest
 
+from frontier_rl.core.sim.config import SimConfig
 from frontier_rl.core.sim.episode import run_episode
+from frontier_rl.core.sim.leg import LegOutcome, run_leg
 from frontier_rl.core.sim.metrics import DecisionRecord, EpisodeResult
-from frontier_rl.core.sim.simulator import ExplorationSimulator, LegOutcome, SimConfig, run_leg
+from frontier_rl.core.sim.simulator import ExplorationSimulator
 from frontier_rl.core.world.grid import CellState, OccupancyGrid
 from frontier_rl.core.world.robot import Pose
 from frontier_rl.core.world.worlds import World, generate_world, make_world
@@ -163,7 +165,7 @@ def test_sim_time_cap_truncates(cap: float) -> None:
 
 def test_a_recovery_rotation_does_not_overshoot_the_sim_time_cap() -> None:
     sim = ExplorationSimulator(generated("office", 0), SimConfig(max_sim_time=1.1), np.random.default_rng(0))
-    run_leg(sim._rotate_steps())  # a full turn takes 12 periods (2.4 s), more than the cap
+    run_leg(sim.rotate_steps())  # a full turn takes 12 periods (2.4 s), more than the cap
     assert sim.truncated
     assert sim.sim_time <= sim.config.max_sim_time + 1e-9
 
@@ -226,7 +228,7 @@ def test_execute_drives_to_a_frontier_and_time_passes() -> None:
     assert leg.duration_s > 0 and leg.duration_s == pytest.approx(sim.sim_time)
     assert leg.distance_m == pytest.approx(sim.path_length)
     assert sim.coverage >= before
-    assert len(sim.decisions) == 1
+    assert len(sim.log.decisions) == 1
 
 
 def test_reset_starts_over() -> None:
@@ -234,7 +236,7 @@ def test_reset_starts_over() -> None:
     first = sim.coverage
     sim.execute([0])
     sim.reset()
-    assert sim.sim_time == 0.0 and sim.path_length == 0.0 and sim.decisions == []
+    assert sim.sim_time == 0.0 and sim.path_length == 0.0 and sim.log.decisions == []
     assert sim.pose == sim.world.start
     assert sim.trajectory().shape == (1, 3)
     assert sim.coverage > 0 and sim.coverage == pytest.approx(first, rel=0.2)

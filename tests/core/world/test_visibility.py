@@ -6,7 +6,8 @@ import numpy as np
 import pytest
 
 from frontier_rl.core.sensing.lidar import LidarConfig
-from frontier_rl.core.sim.simulator import ExplorationSimulator, SimConfig
+from frontier_rl.core.sim.config import SimConfig
+from frontier_rl.core.sim.simulator import ExplorationSimulator
 from frontier_rl.core.world.visibility import visible_from
 from frontier_rl.core.world.worlds import MAPPING_RANGE_M, ROBOT_RADIUS_M, generate_world
 

@@ -1,0 +1,71 @@
+"""Navigation settings: the costmap, planner and controller (TurtleBot3 / move_base / explore_lite
+flavoured)."""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+from frontier_rl.errors import ConfigError
+
+
+@dataclass(frozen=True)
+class NavigationConfig:
+    """Costmap, planner and controller settings (TurtleBot3 / move_base / explore_lite flavoured).
+
+    Attributes:
+        inflation_radius: distance from obstacles (m) over which the extra cost decays.
+        cost_scaling: exponential decay rate of the inflation cost (1/m).
+        inflation_cost: extra cost factor of a cell at the robot radius from an obstacle.
+        unknown_cost: extra cost factor of an unknown cell (unknown is passable).
+        goal_tolerance: distance to the goal (m) at which it counts as reached.
+        lookahead: distance (m) of the path point the controller steers toward.
+        heading_gain: angular speed per rad of heading error (1/s) while driving.
+        control_dt: integration step of the robot motion (s).
+        progress_timeout: a goal without progress for this long (s) is aborted and blacklisted.
+        progress_distance: the remaining path must shrink by this much (m) to count as progress...
+        oscillation_distance: ... or the robot must move this far (m) (move_base's setting).
+        max_recoveries: in-place rotations tried when stuck before the goal is aborted.
+        blacklist_radius: frontiers whose goal lies this close (m) to a failed goal are skipped
+            (until the map around it changes, or it is retried before the episode would end).
+        max_goal_failures: a goal that failed this often is given up for good.
+        frontier_check_period: how often (s) the goal's frontier is checked for being explored.
+        teammate_margin: in a team, paths keep this much room (m) from other robots when they can.
+        teammate_range: ... from the robots within this distance (m); farther ones will have moved
+            by the time the robot gets there.
+        teammate_patience: in a team, a robot blocked by another one for this long (s) in a leg
+            squeezes past it for the rest of the leg, instead of both standing for ever (a
+            simplification: real teams need a traffic rule for narrow corridors).
+    """
+
+    inflation_radius: float = 0.55
+    cost_scaling: float = 5.0
+    inflation_cost: float = 3.0
+    unknown_cost: float = 1.0
+    goal_tolerance: float = 0.15
+    lookahead: float = 0.3
+    heading_gain: float = 3.0
+    control_dt: float = 0.05
+    progress_timeout: float = 30.0
+    progress_distance: float = 0.1
+    oscillation_distance: float = 0.5
+    max_recoveries: int = 2
+    blacklist_radius: float = 0.25
+    max_goal_failures: int = 2
+    frontier_check_period: float = 1.0
+    teammate_margin: float = 0.1
+    teammate_range: float = 1.5
+    teammate_patience: float = 5.0
+
+    def __post_init__(self) -> None:
+        if not (math.isfinite(self.teammate_margin) and self.teammate_margin >= 0):
+            raise ConfigError(f"NavigationConfig.teammate_margin must be >= 0, got {self.teammate_margin!r}")
+        for name in ("inflation_radius", "goal_tolerance", "lookahead", "control_dt", "progress_timeout",
+                     "teammate_patience", "teammate_range"):  # fmt: skip
+            value = getattr(self, name)
+            if not (math.isfinite(value) and value > 0):
+                raise ConfigError(f"NavigationConfig.{name} must be positive, got {value!r}")
+        if self.max_goal_failures < 1:
+            raise ConfigError(f"NavigationConfig.max_goal_failures must be >= 1, got {self.max_goal_failures!r}")
+        if self.max_recoveries < 0:
+            raise ConfigError(f"NavigationConfig.max_recoveries must be >= 0, got {self.max_recoveries!r}")

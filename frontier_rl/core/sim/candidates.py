@@ -1,0 +1,93 @@
+"""What a decision chooses from: the current map, its costmap, the cells the robot can reach and
+the frontiers it may drive to."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+from numpy.typing import NDArray
+
+from frontier_rl.core.frontiers.blacklist import Blacklist
+from frontier_rl.core.frontiers.detection import Frontiers, detect_frontiers
+from frontier_rl.core.navigation.astar import SearchScratch
+from frontier_rl.core.navigation.costmap import Costmap
+from frontier_rl.core.navigation.thin_walls import thin_walls
+from frontier_rl.core.sim.config import SimConfig
+from frontier_rl.core.world.grid import CellState, OccupancyGrid
+from frontier_rl.core.world.robot import Pose
+
+
+@dataclass(frozen=True)
+class Candidates:
+    """The frontiers a decision chooses from, and what they were found on.
+
+    Attributes:
+        grid: the robot's map (cropped to the seen area, with a margin).
+        costmap: the navigator's costmap of ``grid``.
+        reachable: the known free cells of ``grid`` the robot can reach.
+        frontiers: the reachable frontiers that are not blacklisted.
+        tight: whether ``costmap`` is that of the narrow-passage recovery (the map with its walls a
+            cell thinner: :mod:`frontier_rl.core.navigation.thin_walls`).
+    """
+
+    grid: OccupancyGrid
+    costmap: Costmap
+    reachable: NDArray[np.bool_]
+    frontiers: Frontiers
+    tight: bool = False
+
+
+def reachable_frontiers(
+    grid: OccupancyGrid,
+    pose: Pose,
+    config: SimConfig,
+    min_cells: int | None = None,
+    scratch: SearchScratch | None = None,
+    thin_except: NDArray[np.bool_] | None = None,
+) -> tuple[Costmap, NDArray[np.bool_], Frontiers]:
+    """The navigator's costmap of ``grid`` (its searches using ``scratch``), the known free cells
+    the robot at ``pose`` can reach, and the frontier clusters larger than ``min_cells`` (default
+    ``config.min_frontier_cells``) that touch them: what a decision chooses from, before any
+    blacklist. With ``thin_except`` (a mask of ``grid``'s shape), the costmap is that of the
+    narrow-passage recovery: the map's walls thinned by a cell except at those cells
+    (:func:`~frontier_rl.core.navigation.thin_walls.thin_walls`)."""
+    if thin_except is None:
+        costmap = Costmap.build(grid, config.robot, config.navigation, scratch)
+        reachable = costmap.reachable_known(grid.world_to_cell(pose.x, pose.y))
+    else:
+        thinned = OccupancyGrid(thin_walls(grid.data, thin_except), grid.resolution, grid.origin)
+        costmap = Costmap.build(thinned, config.robot, config.navigation, scratch)
+        reachable = costmap.reachable_known(grid.world_to_cell(pose.x, pose.y)) & (grid.data == CellState.FREE)
+    cells = config.min_frontier_cells if min_cells is None else min_cells
+    frontiers = detect_frontiers(
+        grid, pose, reachable, cells, config.frontier_segment_length, config.frontier_goal_reach
+    )
+    return costmap, reachable, frontiers
+
+
+def find_candidates(
+    grid: OccupancyGrid,
+    pose: Pose,
+    config: SimConfig,
+    blacklist: Blacklist,
+    map_state: NDArray[np.int8],
+    scratch: SearchScratch | None = None,
+    felt: NDArray[np.bool_] | None = None,
+) -> Candidates:
+    """The candidates on ``grid`` for a robot at ``pose``: on the normal costmap, or with ``felt``
+    (the walls the robot touched, in ``grid``'s frame) on the narrow-passage recovery's, which
+    thins every other wall. Goals the ``blacklist`` blocks are left out (refreshed against the
+    robot's whole map ``map_state`` first); when that would leave none, the goals that may be
+    retried are lifted once, so that the episode never ends with a frontier it gave up on after a
+    single failure."""
+    costmap, reachable, frontiers = reachable_frontiers(grid, pose, config, scratch=scratch, thin_except=felt)
+    if blacklist.entries and len(frontiers):
+        blacklist.refresh(map_state)
+        goals = frontiers.goals
+        kept = frontiers.subset(~blacklist.blocked(goals))
+        if len(kept) == 0:
+            blacklist.retry()
+            kept = frontiers.subset(~blacklist.blocked(goals))
+        frontiers = kept
+    return Candidates(grid, costmap, reachable, frontiers, felt is not None)

@@ -1,0 +1,81 @@
+"""The settings of a simulated episode: the robot, its sensor, mapper and navigation, and the
+episode's limits."""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+
+from frontier_rl.core.mapping.mapper import MapperConfig
+from frontier_rl.core.navigation.config import NavigationConfig
+from frontier_rl.core.sensing.lidar import LidarConfig
+from frontier_rl.core.world.robot import RobotConfig
+from frontier_rl.core.world.worlds import World, make_world
+from frontier_rl.errors import ConfigError
+
+
+@dataclass(frozen=True)
+class SimConfig:
+    """Everything that defines a simulated episode besides the world and the seed.
+
+    Attributes:
+        robot: robot footprint and speed limits.
+        lidar: the range sensor.
+        mapper: the log-odds map update.
+        navigation: costmap, planner and controller.
+        min_frontier_cells: frontier clusters of this many cells or fewer are dropped.
+        max_sim_time: sim-time cap of an episode (s); the episode is truncated there. ``None``
+            (the default) scales it with the world: see :meth:`time_cap`.
+        sensor_noise: whether LiDAR ranges get noise.
+        time_per_area: the default cap allows this much sim time per m² of explorable space (s/m²).
+        min_time_cap: ... and never less than this (s).
+        frontier_segment_length: frontier clusters longer than this (m) are split into segments,
+            each a candidate with its own goal (about the mapping range: one view resolves one).
+        frontier_goal_reach: a frontier's goal is a reachable cell that sees it from at most this
+            far (m); a frontier with none is not a candidate.
+    """
+
+    robot: RobotConfig = field(default_factory=RobotConfig)
+    lidar: LidarConfig = field(default_factory=LidarConfig)
+    mapper: MapperConfig = field(default_factory=MapperConfig)
+    navigation: NavigationConfig = field(default_factory=NavigationConfig)
+    min_frontier_cells: int = 4
+    max_sim_time: float | None = None
+    sensor_noise: bool = True
+    time_per_area: float = 10.0
+    min_time_cap: float = 3600.0
+    frontier_segment_length: float = 3.0
+    frontier_goal_reach: float = 3.0
+
+    def __post_init__(self) -> None:
+        if self.min_frontier_cells < 0:
+            raise ConfigError(f"min_frontier_cells must be >= 0, got {self.min_frontier_cells!r}")
+        if self.max_sim_time is not None and not (self.max_sim_time > 0 and math.isfinite(self.max_sim_time)):
+            raise ConfigError(f"max_sim_time must be a positive number of seconds, got {self.max_sim_time!r}")
+        for name in ("time_per_area", "min_time_cap", "frontier_segment_length", "frontier_goal_reach"):
+            value = getattr(self, name)
+            if not (math.isfinite(value) and value > 0):
+                raise ConfigError(f"{name} must be a positive number, got {value!r}")
+
+    @property
+    def mapping_range(self) -> float:
+        """The range (m) within which a scan updates the map: the LiDAR's, cropped at the mapper's."""
+        return min(self.lidar.max_range, self.mapper.usable_range)
+
+    def fit_world(self, world: World) -> World:
+        """``world`` with its explorable space computed for this robot's radius and mapping range
+        (the same world when it already is)."""
+        if (world.robot_radius, world.sensor_range) == (self.robot.radius, self.mapping_range):
+            return world
+        return make_world(
+            world.grid, world.name, start=world.start, robot_radius=self.robot.radius, sensor_range=self.mapping_range
+        )
+
+    def time_cap(self, world: World) -> float:
+        """The sim-time cap (s) of an episode on ``world``: ``max_sim_time`` when set, else
+        ``time_per_area`` s per m² of its explorable space, at least ``min_time_cap`` (an office
+        of 12.5 m x 12.5 m gets 3,600 s; a 60 m x 50 m floor about 20,000 s)."""
+        if self.max_sim_time is not None:
+            return self.max_sim_time
+        area = world.explorable_count * world.grid.resolution**2
+        return max(self.min_time_cap, self.time_per_area * area)

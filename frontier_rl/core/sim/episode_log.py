@@ -1,0 +1,107 @@
+"""What an episode records as it goes (the decisions, the map updates, the poses), and the
+:class:`~frontier_rl.core.sim.metrics.EpisodeResult` made from it."""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+from enum import Enum
+
+import numpy as np
+from numpy.typing import NDArray
+
+from frontier_rl.core.sim.leg import LegResult
+from frontier_rl.core.sim.metrics import DecisionRecord, EpisodeResult, FrontierLeft, time_to_coverage
+from frontier_rl.core.world.grid import OccupancyGrid
+from frontier_rl.core.world.robot import Pose
+
+
+class EndReason(Enum):
+    """Why an episode ended."""
+
+    EXPLORED = "explored"  # no frontier left with free space behind it
+    UNREACHABLE = "unreachable"  # frontiers left with free space behind: every attempt failed, or no reachable view
+    TIME_CAP = "time_cap"  # the sim-time cap
+
+
+def unresolved(left: Sequence[FrontierLeft], min_frontier_cells: int) -> bool:
+    """Whether real space is left unseen beside the frontiers left: more than
+    ``min_frontier_cells`` cells that are unknown in the map and free in the true world, beside
+    one of them (fewer is a speck, as the thesis treats fringe clusters that small). A frontier
+    whose unknown side is all wall (cells no beam reached, or range noise that marked cells inside
+    a wall free) leaves nothing to explore."""
+    return any(f.unseen_free_cells > min_frontier_cells for f in left)
+
+
+class EpisodeLog:
+    """An episode's record: every decision, every map update (the coverage curve) and every pose.
+
+    Args:
+        explorable_cells: the world's explorable cells, the coverage curve's denominator.
+    """
+
+    def __init__(self, explorable_cells: int) -> None:
+        self._explorable = max(explorable_cells, 1)
+        self.decisions: list[DecisionRecord] = []
+        self.aborts = 0
+        self._times: list[float] = []
+        self._explored: list[int] = []
+        self._poses: list[tuple[float, float, float]] = []
+
+    def pose(self, pose: Pose) -> None:
+        """The robot is at ``pose`` (a LiDAR tick)."""
+        self._poses.append((pose.x, pose.y, pose.theta))
+
+    def map_update(self, time_s: float, explored_cells: int) -> None:
+        """The map was updated at ``time_s`` (s) and now has ``explored_cells`` explorable cells mapped."""
+        self._times.append(time_s)
+        self._explored.append(explored_cells)
+
+    def decision(self, leg: LegResult, weight: float | None) -> None:
+        """A decision, taken with ranking weight ``weight`` (None for a policy without one), drove ``leg``."""
+        (x, y), goal = leg.start_xy, leg.goal
+        self.decisions.append(
+            DecisionRecord(float(leg.start_s), float(x), float(y), float(goal[0]), float(goal[1]), weight,
+                           leg.outcome.value)
+        )  # fmt: skip
+
+    def trajectory(self) -> NDArray[np.float64]:
+        """(n, 3) robot poses (x, y, theta) so far."""
+        return np.asarray(self._poses, dtype=np.float64).reshape(-1, 3)
+
+    def result(
+        self,
+        *,
+        sim_time_s: float,
+        path_length_m: float,
+        coverage: float,
+        truncated: bool,
+        reason: EndReason | None,
+        left: tuple[FrontierLeft, ...],
+        free_coverage: float,
+        final_map: OccupancyGrid,
+        wall_time_s: float,
+    ) -> EpisodeResult:
+        """The episode's result from this log and the figures only the simulator knows."""
+        times = np.asarray(self._times, dtype=np.float64)
+        curve = np.asarray(self._explored, dtype=np.float64) / self._explorable
+        return EpisodeResult(
+            sim_time_s=sim_time_s,
+            path_length_m=path_length_m,
+            coverage=coverage,
+            t90_s=time_to_coverage(times, curve, 0.90),
+            t99_s=time_to_coverage(times, curve, 0.99),
+            decisions=len(self.decisions),
+            aborts=self.aborts,
+            done=reason is EndReason.EXPLORED,
+            truncated=truncated,
+            wall_time_s=wall_time_s,
+            end_reason=None if reason is None else reason.value,
+            free_coverage=free_coverage,
+            unknown_left_m2=sum(f.unknown_m2 for f in left),
+            coverage_times_s=times,
+            coverage_curve=curve,
+            trajectory=self.trajectory(),
+            decision_log=tuple(self.decisions),
+            final_map=final_map,
+            frontiers_left=left,
+        )

@@ -1,0 +1,318 @@
+"""A leg: one drive toward a chosen goal, from the decision to the moment the robot gets there, the
+goal's frontier is seen, or the goal is given up.
+
+The leg follows its path in map updates (the follower drives until the mapper wants the next
+scan), watches its progress, replans when a wall turns up on the path, turns on the spot to
+recover when no path is left, marks walls it bumps into, and in a team waits for, then squeezes
+past, a teammate in the way. It reaches the simulator only through :class:`LegPort`.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Generator
+from dataclasses import dataclass
+from enum import Enum
+from typing import Protocol, TypeVar
+
+import numpy as np
+from numpy.typing import NDArray
+
+from frontier_rl.core.navigation.follower import FollowStatus, follow_path
+from frontier_rl.core.sim.config import SimConfig
+from frontier_rl.core.sim.teammates import Teammates
+from frontier_rl.core.world.robot import Pose
+from frontier_rl.core.world.worlds import World
+
+
+class LegOutcome(Enum):
+    """How a drive toward a goal ended."""
+
+    REACHED = "reached"
+    EXPLORED = "explored"  # the goal's frontier was seen before the robot got there
+    ABORTED = "aborted"  # no progress, no path, or stuck: the goal is blacklisted
+    TIMEOUT = "timeout"  # the episode's sim-time cap
+    NONE = "none"  # no candidate could be planned to
+
+
+@dataclass(frozen=True)
+class LegResult:
+    """One decision's drive.
+
+    Attributes:
+        outcome: how it ended.
+        frontier: index of the frontier driven to (in the candidates), -1 for a point goal or none.
+        goal: the goal (m).
+        duration_s: sim time the leg took (s).
+        distance_m: distance driven (m).
+        new_free, new_occupied: cells first mapped free / occupied during the leg.
+        start_s: sim time of the decision (s).
+        start_xy: where the robot was at the decision (m).
+    """
+
+    outcome: LegOutcome
+    frontier: int
+    goal: tuple[float, float]
+    duration_s: float
+    distance_m: float
+    new_free: int
+    new_occupied: int
+    start_s: float
+    start_xy: tuple[float, float]
+
+
+class LegPort(Protocol):
+    """What a leg needs from the simulator: its clock and body, its map, and its blacklist."""
+
+    @property
+    def config(self) -> SimConfig: ...
+    @property
+    def world(self) -> World: ...
+    @property
+    def pose(self) -> Pose: ...
+    @property
+    def sim_time(self) -> float: ...
+    @property
+    def truncated(self) -> bool: ...
+    @property
+    def nearby_robots(self) -> Teammates: ...
+    @property
+    def follow_params(self) -> NDArray[np.float64]: ...
+
+    def advance(self, pose: Pose, driven: float, duration: float) -> tuple[int, int] | None:
+        """Move the clock on by ``duration`` (s), the robot to ``pose`` having driven ``driven`` (m),
+        and take a LiDAR tick: the cells first mapped free and occupied, or None (no map update)."""
+
+    def until_next_scan(self) -> tuple[float, NDArray[np.float64]]:
+        """How long (s) to drive before the mapper's next scan, and the follower's scan gate."""
+
+    def wait_steps(self) -> Generator[None, None, None]:
+        """Stand still until the next map update."""
+
+    def rotate_steps(self) -> Generator[None, None, tuple[int, int]]:
+        """A recovery rotation: the cells it first mapped free and occupied."""
+
+    def bump(self) -> None:
+        """Mark the walls the robot touches as occupied (its bumper)."""
+
+    def replan(self, goal: tuple[float, float], tight: bool) -> NDArray[np.float64] | None:
+        """A new path (n, 2) (m) to ``goal`` on the current map, or None."""
+
+    def path_blocked(self, path_cells: NDArray[np.int64], first: int, tight: bool) -> bool:
+        """Whether the map puts a wall on the path (world cells) from index ``first`` on."""
+
+    def frontier_alive(self, cells: NDArray[np.int64]) -> bool:
+        """Whether a frontier's cells (world cells) are still a frontier."""
+
+    def blacklist_goal(self, goal: tuple[float, float]) -> None:
+        """Record a failed attempt at ``goal`` (m)."""
+
+
+class ProgressWatchdog:
+    """move_base's progress check: a leg progresses while the way left gets shorter by
+    ``progress_distance`` or the robot gets ``oscillation_distance`` away from where it last
+    progressed (a replanned detour can make the way longer while the robot is doing fine)."""
+
+    def __init__(self, time_s: float, xy: tuple[float, float], progress_distance: float, oscillation: float) -> None:
+        self._best = math.inf
+        self._since = time_s
+        self._at = xy
+        self._step = progress_distance
+        self._oscillation = oscillation
+
+    def stalled_for(self, remaining: float, xy: tuple[float, float], time_s: float) -> float:
+        """Record the way ``remaining`` (m) from ``xy`` (m) at ``time_s`` (s); how long (s) the leg
+        has gone without progress (0 when it just made some)."""
+        moved = math.hypot(xy[0] - self._at[0], xy[1] - self._at[1]) >= self._oscillation
+        if remaining < self._best - self._step or moved:
+            self._best = min(self._best, remaining)
+            self._since = time_s
+            self._at = xy
+            return 0.0
+        return time_s - self._since
+
+
+class Leg:
+    """One drive along ``path`` (n, 2) (m) to ``goal`` (m): :meth:`run` it to its end.
+
+    Args:
+        port: the simulator.
+        path: the planned path, its last point the goal.
+        goal: the goal (m).
+        frontier_cells: the world cells of the goal's frontier, None for a point goal.
+        tight: the path was planned on the narrow-passage recovery's costmap, and replanning keeps
+            to it.
+    """
+
+    def __init__(
+        self,
+        port: LegPort,
+        path: NDArray[np.float64],
+        goal: tuple[float, float],
+        frontier_cells: NDArray[np.int64] | None,
+        tight: bool,
+    ) -> None:
+        self._port = port
+        self.goal = goal
+        self._frontier_cells = frontier_cells
+        self._tight = tight
+        self._params = port.follow_params
+        self._closing_in = False
+        self._clearance = port.nearby_robots.clearance
+        self._blocked_by_robot_since: float | None = None
+        nav = port.config.navigation
+        self._watchdog = ProgressWatchdog(
+            port.sim_time, (port.pose.x, port.pose.y), nav.progress_distance, nav.oscillation_distance
+        )
+        self._next_frontier_check = port.sim_time + nav.frontier_check_period
+        self._recoveries = 0
+        self.new_free = 0
+        self.new_occupied = 0
+        self._set_path(path)
+
+    def _set_path(self, path: NDArray[np.float64]) -> None:
+        self._path = path
+        self._path_cells = self._port.world.grid.world_to_cells(path)
+        self._tail = tail_lengths(path)
+        self._careful = np.zeros(1, np.bool_)  # the follower's waypoint-by-waypoint mode, per path
+        self._index = 0
+
+    def run(self) -> Generator[None, None, LegOutcome]:
+        """Drive until the leg ends, yielding after every map update (or LiDAR tick of a turn)."""
+        outcome = yield from self._drive()
+        yield from self._settle(outcome)
+        return outcome
+
+    def _drive(self) -> Generator[None, None, LegOutcome]:
+        port = self._port
+        nav = port.config.navigation
+        while not port.truncated:
+            status, seen = self._follow()
+            yield
+            self._count(seen)
+            if status == FollowStatus.BLOCKED and self._closing_in:
+                status = FollowStatus.REACHED  # closing in and a wall is in the way: as close as it gets
+            if status == FollowStatus.REACHED:
+                if self._closing_in or not self._frontier_alive():
+                    return LegOutcome.REACHED
+                self._close_in()
+                continue
+            if port.truncated:
+                break
+            if self._frontier_explored():
+                return LegOutcome.EXPLORED
+            here = (port.pose.x, port.pose.y)
+            if self._watchdog.stalled_for(self._remaining(), here, port.sim_time) > nav.progress_timeout:
+                return LegOutcome.ABORTED
+            if status == FollowStatus.BLOCKED and self._robot_in_the_way():
+                yield from self._wait_or_squeeze()
+                continue
+            if status == FollowStatus.BLOCKED:
+                port.bump()
+            # only a map update can put a new obstacle on the path
+            if status == FollowStatus.BLOCKED or (
+                seen is not None and port.path_blocked(self._path_cells, self._index, self._tight)
+            ):
+                path = yield from self._replan_or_recover()
+                if path is None:
+                    return LegOutcome.TIMEOUT if port.truncated else LegOutcome.ABORTED
+                self._set_path(path)
+        return LegOutcome.TIMEOUT
+
+    def _follow(self) -> tuple[int, tuple[int, int] | None]:
+        """Drive tick by tick until the mapper wants the next scan (nothing else changes before),
+        then scan: the follower's status and the scan's new cells."""
+        port = self._port
+        truth = port.world.grid
+        pose = port.pose
+        duration, gate = port.until_next_scan()
+        x, y, theta, self._index, driven, used, status = follow_path(
+            self._path[:, 0], self._path[:, 1], self._index, pose.x, pose.y, pose.theta, duration, self._params,
+            self._clearance, truth.origin[0], truth.origin[1], truth.resolution, gate, self._careful,
+        )  # fmt: skip
+        return status, port.advance(Pose(x, y, theta), driven, used)
+
+    def _count(self, seen: tuple[int, int] | None) -> None:
+        if seen is not None:
+            self.new_free += seen[0]
+            self.new_occupied += seen[1]
+
+    def _frontier_alive(self) -> bool:
+        return self._frontier_cells is not None and self._port.frontier_alive(self._frontier_cells)
+
+    def _close_in(self) -> None:
+        """Within the goal tolerance and the frontier is still there: close in on the goal cell
+        itself (a frontier seen through a gap needs the exact viewpoint)."""
+        self._params = self._params.copy()
+        self._params[5] = self._port.world.grid.resolution  # the goal tolerance
+        self._closing_in = True
+
+    def _frontier_explored(self) -> bool:
+        """Whether the periodic check finds the goal's frontier seen (never for a point goal)."""
+        port = self._port
+        if self._frontier_cells is None or port.sim_time < self._next_frontier_check:
+            return False
+        self._next_frontier_check = port.sim_time + port.config.navigation.frontier_check_period
+        return not port.frontier_alive(self._frontier_cells)
+
+    def _remaining(self) -> float:
+        """The way (m) left along the path from the robot."""
+        pose, i = self._port.pose, self._index
+        return float(math.hypot(self._path[i, 0] - pose.x, self._path[i, 1] - pose.y) + self._tail[i])
+
+    def _robot_in_the_way(self) -> bool:
+        """Whether a teammate the robot may not squeeze past blocks it."""
+        mates = self._port.nearby_robots
+        return self._clearance is not mates.true_clearance and mates.touching((self._port.pose.x, self._port.pose.y))
+
+    def _wait_or_squeeze(self) -> Generator[None, None, None]:
+        """Give a teammate in the way a moment to pass; after ``teammate_patience`` squeeze past it
+        for the rest of the leg, instead of both standing for ever."""
+        port = self._port
+        if self._blocked_by_robot_since is None:
+            self._blocked_by_robot_since = port.sim_time
+        if port.sim_time - self._blocked_by_robot_since >= port.config.navigation.teammate_patience:
+            self._clearance = port.nearby_robots.true_clearance
+        else:
+            yield from port.wait_steps()
+
+    def _replan_or_recover(self) -> Generator[None, None, NDArray[np.float64] | None]:
+        """A new path to the goal; while there is none, up to ``max_recoveries`` recovery
+        rotations, each followed by another try."""
+        port = self._port
+        path = port.replan(self.goal, self._tight)
+        while path is None and self._recoveries < port.config.navigation.max_recoveries and not port.truncated:
+            self._recoveries += 1
+            self._count((yield from port.rotate_steps()))
+            path = port.replan(self.goal, self._tight)
+        return path
+
+    def _settle(self, outcome: LegOutcome) -> Generator[None, None, None]:
+        """Blacklist a goal the leg gave up. At the goal the frontier may still be there (seen
+        edge-on, or hidden in the LiDAR's blind zone): wait for the next map update, and if it is
+        still there the robot cannot resolve it from here, so it is blacklisted too; otherwise the
+        same frontier would be chosen again and again, at no cost in time, for ever."""
+        if outcome is LegOutcome.REACHED and self._frontier_alive():
+            yield from self._port.wait_steps()
+            if self._frontier_alive():
+                self._port.blacklist_goal(self.goal)
+        if outcome is LegOutcome.ABORTED:
+            self._port.blacklist_goal(self.goal)
+
+
+def tail_lengths(path: NDArray[np.float64]) -> NDArray[np.float64]:
+    """For each waypoint, the length (m) of the path from it to the end."""
+    seg = np.hypot(*np.diff(path, axis=0).T)
+    return np.concatenate((np.cumsum(seg[::-1])[::-1], [0.0]))
+
+
+_T = TypeVar("_T")
+
+
+def run_leg(steps: Generator[None, None, _T]) -> _T:
+    """Run a stepwise leg (:meth:`ExplorationSimulator.execute_steps`, ...) to its end; its result."""
+    while True:
+        try:
+            next(steps)
+        except StopIteration as stop:
+            return stop.value  # type: ignore[no-any-return]
