@@ -17,18 +17,19 @@ import numpy as np
 from numpy.typing import NDArray
 
 from frontier_rl.core.frontiers.blacklist import Blacklist
-from frontier_rl.core.frontiers.detection import Frontiers, count_fringe, detect_frontiers, unknown_beside
+from frontier_rl.core.frontiers.detection import Frontiers, count_fringe
 from frontier_rl.core.mapping.mapper import LogOddsMapper
 from frontier_rl.core.navigation.astar import SearchScratch
 from frontier_rl.core.navigation.costmap import nearest_cell
-from frontier_rl.core.navigation.follower import footprint_offsets, path_blocked
-from frontier_rl.core.navigation.thin_walls import thin_walls
+from frontier_rl.core.navigation.follower import footprint_offsets
 from frontier_rl.core.sensing.lidar import Lidar
-from frontier_rl.core.sim.candidates import Candidates, find_candidates
+from frontier_rl.core.sim.body import touched_walls, until_next_scan
+from frontier_rl.core.sim.candidates import Candidates, find_candidates, frontiers_left
 from frontier_rl.core.sim.config import SimConfig
 from frontier_rl.core.sim.episode_log import EndReason, EpisodeLog, unresolved
 from frontier_rl.core.sim.leg import Leg, LegOutcome, LegResult, run_leg
 from frontier_rl.core.sim.metrics import EpisodeResult, FrontierLeft
+from frontier_rl.core.sim.paths import map_blocks_path, plan_path
 from frontier_rl.core.sim.teammates import Teammates
 from frontier_rl.core.world.grid import CellState, OccupancyGrid
 from frontier_rl.core.world.robot import Pose
@@ -43,6 +44,11 @@ class ExplorationSimulator:
         config: simulation settings.
         rng: the only source of randomness (sensor noise); the same seed gives the same episode.
         teammates: other robots' positions (k, 2) (m) at the start, for the first scan.
+
+    Attributes:
+        config, world: the settings, and the world with its explorable space fitted to the robot.
+        mapper, blacklist, log: the robot's map, its failed goals and the episode's record.
+        nearby_robots: the other robots, as obstacles; follow_params: the path follower's settings.
     """
 
     def __init__(
@@ -52,26 +58,25 @@ class ExplorationSimulator:
         rng: np.random.Generator | None = None,
         teammates: NDArray[np.float64] | None = None,
     ) -> None:
-        self._config = config or SimConfig()
-        self._world = world = self._config.fit_world(world)
+        self.config = config or SimConfig()
+        self.world = world = self.config.fit_world(world)  # its explorable space fitted to this robot
         self.rng = rng if rng is not None else np.random.default_rng(0)
-        self.max_sim_time = self._config.time_cap(world)
+        self.max_sim_time = self.config.time_cap(world)
         grid = world.grid
-        self._lidar = Lidar(grid, self._config.lidar)
-        self._teammates = Teammates(grid, self._lidar, self._config.robot.radius)
-        self._footprint = footprint_offsets(self._config.robot.radius, grid.resolution)
+        self._lidar = Lidar(grid, self.config.lidar)
+        self.nearby_robots = Teammates(grid, self._lidar, self.config.robot.radius)
+        self._footprint = footprint_offsets(self.config.robot.radius, grid.resolution)
         # the planner's, reused by every costmap of the episode: they are crops of the world, padded
         self._scratch = SearchScratch((grid.height + 2) * (grid.width + 2))
-        r = self._config.robot
-        n = self._config.navigation
-        self._follow_params = np.array(
+        r = self.config.robot
+        n = self.config.navigation
+        self.follow_params = np.array(
             [r.max_linear_speed, r.max_angular_speed, r.turn_in_place_angle, n.heading_gain, n.lookahead,
              n.goal_tolerance, n.control_dt, r.radius],
             dtype=np.float64,
         )  # fmt: skip
         self.reset(teammates)
 
-    # ------------------------------------------------------------------ state
     def reset(self, teammates: NDArray[np.float64] | None = None) -> None:
         """Put the robot back at the start with an empty map and take the first scan (with other
         robots standing at ``teammates``, (k, 2) m, see :meth:`set_teammates`)."""
@@ -93,16 +98,6 @@ class ExplorationSimulator:
         self._candidates = None
 
     @property
-    def config(self) -> SimConfig:
-        """The simulation settings."""
-        return self._config
-
-    @property
-    def world(self) -> World:
-        """The ground truth (its explorable space fitted to this robot)."""
-        return self._world
-
-    @property
     def pose(self) -> Pose:
         """The robot's pose now."""
         return self._pose
@@ -111,16 +106,6 @@ class ExplorationSimulator:
     def sim_time(self) -> float:
         """The simulated clock (s)."""
         return self._sim_time
-
-    @property
-    def follow_params(self) -> NDArray[np.float64]:
-        """The path follower's parameters (see :func:`~frontier_rl.core.navigation.follower.follow_path`)."""
-        return self._follow_params
-
-    @property
-    def nearby_robots(self) -> Teammates:
-        """The other robots, as obstacles."""
-        return self._teammates
 
     @property
     def coverage(self) -> float:
@@ -153,26 +138,7 @@ class ExplorationSimulator:
     def frontiers_left(self) -> tuple[FrontierLeft, ...]:
         """The frontiers of the current map that are not candidates (blacklisted after failed
         attempts, or with no reachable cell that sees them), with the unknown area beside each."""
-        cand = self.candidates()
-        every = detect_frontiers(
-            cand.grid, self.pose, None, self.config.min_frontier_cells, self.config.frontier_segment_length
-        )
-        res = cand.grid.resolution
-        top, left_col = self.world.grid.world_to_cell(*cand.grid.cell_to_world(0, 0))
-        truth = self.world.grid.data[top : top + cand.grid.height, left_col : left_col + cand.grid.width]
-        candidate_cells = np.zeros(cand.grid.shape[0] * cand.grid.shape[1], np.bool_)
-        for start, end in cand.frontiers.spans:
-            candidate_cells[cand.frontiers.flat_cells[start:end]] = True
-        left = []
-        for i in range(len(every)):
-            cells = every.cells_of(i)
-            if candidate_cells[cells[:, 0] * cand.grid.width + cells[:, 1]].any():
-                continue
-            x, y = (float(v) for v in every.centers[i])
-            failures = max((self.blacklist.failures_near(*g) for g in cand.grid.cells_to_world(cells)), default=0)
-            unknown, unseen = unknown_beside(cand.grid.data, cells[:, 0], cells[:, 1], truth)
-            left.append(FrontierLeft(x, y, int(every.sizes[i]), unknown, unseen, unseen * res * res, failures))
-        return tuple(left)
+        return frontiers_left(self.candidates(), self.world.grid, self.pose, self.config, self.blacklist)
 
     def trajectory(self) -> NDArray[np.float64]:
         """(n, 3) robot poses (x, y, theta) so far: after every drive step, at least at every map update."""
@@ -188,12 +154,12 @@ class ExplorationSimulator:
         them and the LiDAR's beams stop at them. The map leaves them out (a laser filter drops the
         scan's marks on and around them: they are passing, not walls)."""
         own_radius = self.config.robot.radius
-        self._teammates.place(positions, own_radius if radius is None else radius, (self.pose.x, self.pose.y))
+        self.nearby_robots.place(positions, own_radius if radius is None else radius, (self.pose.x, self.pose.y))
 
     @property
     def teammates(self) -> NDArray[np.float64]:
         """The other robots' positions, (k, 2) world points (m), as of :meth:`set_teammates`."""
-        return self._teammates.positions
+        return self.nearby_robots.positions
 
     # ----------------------------------------------------------- clock & body
     def advance(self, pose: Pose, driven: float, duration: float) -> tuple[int, int] | None:
@@ -211,33 +177,16 @@ class ExplorationSimulator:
         if not self.mapper.wants_scan(self.pose, self.sim_time):
             return None
         noise = self.rng if self.config.sensor_noise else None
-        filtered = self._teammates.laser_filter()
+        filtered = self.nearby_robots.laser_filter()
         update = self.mapper.integrate_simulated(self._lidar, self.pose, noise, self.sim_time, filtered)
         self.log.map_update(self.sim_time, self.mapper.explored_cells)
         self._candidates = None
         return update.new_free, update.new_occupied
 
     def until_next_scan(self) -> tuple[float, NDArray[np.float64]]:
-        """How long (s) to drive before the mapper's time trigger, in whole LiDAR ticks (at most
-        to the sim-time cap), and the ``gate`` of
-        :func:`~frontier_rl.core.navigation.follower.follow_path` for its motion triggers."""
-        period = self.config.lidar.period
-        mapper_cfg = self.config.mapper
-        left = self.max_sim_time - self.sim_time
-        last = self.mapper.last_update
-        if last is None:
-            return min(period, left), np.array([period, self.pose.x, self.pose.y, self.pose.theta, 0.0, 0.0])
-        last_pose, last_time = last
-        if mapper_cfg.temporal_update > 0:
-            wait = mapper_cfg.temporal_update - 1e-9 - (self.sim_time - last_time)
-            ticks = max(1, math.ceil(wait / period))
-            duration = min(ticks * period, left)
-        else:
-            duration = left
-        gate = np.array(
-            [period, last_pose.x, last_pose.y, last_pose.theta, mapper_cfg.linear_update, mapper_cfg.angular_update]
-        )
-        return duration, gate
+        """How long (s) to drive before the mapper's next scan, and the follower's scan gate
+        (see :func:`~frontier_rl.core.sim.body.until_next_scan`)."""
+        return until_next_scan(self.mapper, self.config, self.pose, self.sim_time, self.max_sim_time)
 
     def wait_steps(self) -> Generator[None, None, None]:
         """Stand still until the mapper has folded in the next scan (or the sim-time cap), yielding
@@ -271,17 +220,7 @@ class ExplorationSimulator:
     def bump(self) -> None:
         """The robot ran into a wall its map did not show (the LiDAR is blind closer than its
         minimum range): the wall cells it touches are marked occupied, as a bumper would."""
-        g = self.world.grid
-        reach = self.config.robot.radius + 1.5 * g.resolution
-        row, col = g.world_to_cell(self.pose.x, self.pose.y)
-        n = int(math.ceil(reach / g.resolution))
-        r0, c0 = max(row - n, 0), max(col - n, 0)
-        window = g.data[r0 : row + n + 1, c0 : col + n + 1] == CellState.OCCUPIED
-        rows, cols = np.nonzero(window)
-        centres_x = g.origin[0] + (cols + c0 + 0.5) * g.resolution
-        centres_y = g.origin[1] + (rows + r0 + 0.5) * g.resolution
-        near = np.hypot(centres_x - self.pose.x, centres_y - self.pose.y) <= reach
-        self.mapper.mark_occupied(rows[near] + r0, cols[near] + c0)
+        self.mapper.mark_occupied(*touched_walls(self.world.grid, self.pose, self.config.robot.radius))
         self._candidates = None
 
     # -------------------------------------------------------------- decisions
@@ -405,26 +344,8 @@ class ExplorationSimulator:
 
     # ------------------------------------------------------------- navigation
     def _plan(self, cand: Candidates, goal_cell: tuple[int, int]) -> NDArray[np.float64] | None:
-        """A world-frame path (n, 2) from the robot to ``goal_cell`` of ``cand.grid``, or None."""
-        start = cand.grid.world_to_cell(self.pose.x, self.pose.y)
-        cells = cand.costmap.plan(start, goal_cell)
-        if len(cells) == 0:
-            return None
-        xy = cand.grid.cells_to_world(cells)
-        nav = self.config.navigation
-        mates = self._teammates
-        here = (self.pose.x, self.pose.y)
-        close = mates.positions[mates.distances(here) <= nav.teammate_range]
-        if len(close):  # around nearby robots in the way, if there is a way round
-            keep_off = mates.radius + self.config.robot.radius + nav.teammate_margin
-            gap = np.hypot(xy[:, None, 0] - close[None, :, 0], xy[:, None, 1] - close[None, :, 1])
-            goal_xy = cand.grid.cell_to_world(*goal_cell)
-            if gap.min() <= keep_off and not mates.within(keep_off, here, goal_xy):
-                detour = cand.costmap.with_discs_blocked(close, keep_off).plan(start, goal_cell)
-                if len(detour):
-                    xy = cand.grid.cells_to_world(detour)
-        xy[-1] = cand.grid.cell_to_world(*goal_cell)
-        return xy
+        """A world-frame path (n, 2) from the robot to ``goal_cell`` of ``cand``'s map, or None."""
+        return plan_path(cand, self.pose, goal_cell, self.nearby_robots, self.config)
 
     def replan(self, goal: tuple[float, float], tight: bool) -> NDArray[np.float64] | None:
         """A new path to ``goal`` on the current map, on the costmap the leg was planned on: a leg
@@ -447,15 +368,8 @@ class ExplorationSimulator:
         """Whether the robot's map puts a wall on the path (world cells) from index ``first`` on;
         for a leg of the narrow-passage recovery, the map with its walls thinned around the path,
         as it was planned on."""
-        rows, cols = path_cells[first:, 0], path_cells[first:, 1]
-        state = self.mapper.state
-        if tight:
-            reach = int(np.abs(self._footprint).max()) + 2  # the peel looks two cells beyond a cell
-            r0, c0 = max(int(rows.min()) - reach, 0), max(int(cols.min()) - reach, 0)
-            r1, c1 = int(rows.max()) + reach + 1, int(cols.max()) + reach + 1
-            state = thin_walls(state[r0:r1, c0:c1], self.mapper.felt[r0:r1, c0:c1])
-            rows, cols = rows - r0, cols - c0
-        return path_blocked(state, rows, cols, 0, self._footprint)
+        felt = self.mapper.felt if tight else None
+        return map_blocks_path(self.mapper.state, path_cells[first:], self._footprint, felt)
 
     def frontier_alive(self, cells: NDArray[np.int64]) -> bool:
         """Whether more than ``min_frontier_cells`` of a frontier's cells (world cells) are still fringe cells."""

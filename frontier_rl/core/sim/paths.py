@@ -1,0 +1,59 @@
+"""The paths a leg drives: planned on the candidates' costmap (round teammates in the way, when
+there is a way round), and checked against the robot's map as it grows."""
+
+from __future__ import annotations
+
+import numpy as np
+from numpy.typing import NDArray
+
+from frontier_rl.core.navigation.follower import path_blocked
+from frontier_rl.core.navigation.thin_walls import thin_walls
+from frontier_rl.core.sim.candidates import Candidates
+from frontier_rl.core.sim.config import SimConfig
+from frontier_rl.core.sim.teammates import Teammates
+from frontier_rl.core.world.robot import Pose
+
+
+def plan_path(
+    cand: Candidates, pose: Pose, goal_cell: tuple[int, int], mates: Teammates, config: SimConfig
+) -> NDArray[np.float64] | None:
+    """A world-frame path (n, 2) (m) from ``pose`` to ``goal_cell`` of ``cand.grid``, or None. It
+    keeps ``teammate_margin`` off the robots within ``teammate_range`` when a path that does exists."""
+    start = cand.grid.world_to_cell(pose.x, pose.y)
+    cells = cand.costmap.plan(start, goal_cell)
+    if len(cells) == 0:
+        return None
+    xy = cand.grid.cells_to_world(cells)
+    nav = config.navigation
+    here = (pose.x, pose.y)
+    close = mates.positions[mates.distances(here) <= nav.teammate_range]
+    if len(close):  # around nearby robots in the way, if there is a way round
+        keep_off = mates.radius + config.robot.radius + nav.teammate_margin
+        gap = np.hypot(xy[:, None, 0] - close[None, :, 0], xy[:, None, 1] - close[None, :, 1])
+        goal_xy = cand.grid.cell_to_world(*goal_cell)
+        if gap.min() <= keep_off and not mates.within(keep_off, here, goal_xy):
+            detour = cand.costmap.with_discs_blocked(close, keep_off).plan(start, goal_cell)
+            if len(detour):
+                xy = cand.grid.cells_to_world(detour)
+    xy[-1] = cand.grid.cell_to_world(*goal_cell)
+    return xy
+
+
+def map_blocks_path(
+    state: NDArray[np.int8],
+    path_cells: NDArray[np.int64],
+    footprint: NDArray[np.int64],
+    felt: NDArray[np.bool_] | None = None,
+) -> bool:
+    """Whether the map ``state`` puts a wall within the robot's ``footprint`` (cell offsets) of a
+    cell of ``path_cells`` ((n, 2) map cells). With ``felt`` (the walls the robot touched), the map
+    is first thinned around the path as the narrow-passage recovery planned it
+    (:func:`~frontier_rl.core.navigation.thin_walls.thin_walls`)."""
+    rows, cols = path_cells[:, 0], path_cells[:, 1]
+    if felt is not None:
+        reach = int(np.abs(footprint).max()) + 2  # the peel looks two cells beyond a cell
+        r0, c0 = max(int(rows.min()) - reach, 0), max(int(cols.min()) - reach, 0)
+        r1, c1 = int(rows.max()) + reach + 1, int(cols.max()) + reach + 1
+        state = thin_walls(state[r0:r1, c0:c1], felt[r0:r1, c0:c1])
+        rows, cols = rows - r0, cols - c0
+    return path_blocked(state, rows, cols, 0, footprint)
