@@ -8,7 +8,7 @@ ROS_APT := ros-core python3-rospy python3-nav-msgs python3-geometry-msgs python3
            python3-std-msgs python3-tf2-ros
 ROS_CHECK := command -v roscore >/dev/null && /usr/bin/python3 -c "import rospy, nav_msgs.msg, geometry_msgs.msg, visualization_msgs.msg" 2>/dev/null
 
-.PHONY: setup ros-deps demo test lint typecheck pytest bench clean
+.PHONY: setup ros-deps demo test test-fast lint typecheck pytest bench clean
 
 $(STAMP): pyproject.toml
 	$(PYTHON) -m venv $(VENV)
@@ -31,6 +31,7 @@ demo: $(STAMP)
 lint: $(STAMP)
 	$(BIN)/ruff check frontier_rl tests benchmarks experiments
 	$(BIN)/ruff format --check frontier_rl tests benchmarks experiments
+	$(BIN)/lint-imports --no-cache
 
 typecheck: $(STAMP)
 	$(BIN)/mypy
@@ -39,6 +40,10 @@ pytest: $(STAMP) ros-deps
 	$(BIN)/pytest -q
 
 test: lint typecheck pytest
+
+# the same checks without the tests marked slow (real maps, training, the ROS node, whole experiments)
+test-fast: lint typecheck
+	$(BIN)/pytest -q -m "not slow"
 
 bench: $(STAMP)
 	$(BIN)/python benchmarks/run.py

@@ -241,7 +241,7 @@ def bench_envs(n_episodes: int) -> list[Row]:
     the action fixed at bin 75 (w = 0.75); episode resets are included."""
     import gymnasium as gym
 
-    import frontier_rl
+    import frontier_rl.envs
 
     rows = []
     for model, size, target in ((4, 64, 100.0), (4, 250, None), (3, 64, None), (5, 64, None)):

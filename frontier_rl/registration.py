@@ -1,15 +1,11 @@
-"""Gymnasium ids of the frontier_rl environments, registered on ``import frontier_rl``.
-
-Registration imports nothing heavy: the env classes are named by entry-point strings and loaded
-by ``gymnasium.make``.
+"""Gymnasium ids of the frontier_rl environments and the thesis models behind them, without
+Gymnasium: ``import frontier_rl.envs`` registers them (:func:`frontier_rl.envs.register_envs`).
 """
 
 from __future__ import annotations
 
 from dataclasses import dataclass
 from typing import Any
-
-import gymnasium as gym
 
 from frontier_rl.errors import ConfigError, short_repr
 
@@ -56,17 +52,3 @@ def env_id(model: int, observation_size: int = 250) -> str:
 
 ENV_IDS: tuple[str, ...] = tuple(env_id(m, s) for m in MODELS for s in OBSERVATION_SIZES)
 """Every registered id."""
-
-
-def register_envs() -> None:
-    """Register every id (idempotent)."""
-    for model, spec in MODELS.items():
-        for size in OBSERVATION_SIZES:
-            name = env_id(model, size)
-            if name not in gym.registry:
-                gym.register(
-                    id=name,
-                    entry_point=spec.entry_point,
-                    kwargs={**spec.kwargs, "observation_size": size},
-                    disable_env_checker=True,
-                )

@@ -1,27 +1,48 @@
 """Gymnasium environments for the thesis's models: weight (3, 4), point (1, 2), frontier choice (5);
-and the PettingZoo team environment (:mod:`frontier_rl.envs.team_env`)."""
+and the PettingZoo team environment (:mod:`frontier_rl.envs.team_env`).
+
+Importing this package registers every id of :data:`frontier_rl.registration.ENV_IDS` with
+Gymnasium (``gym.make("frontier_rl.envs:FrontierRL/WeightMap-v0")`` imports it on the way).
+"""
+
+import gymnasium as gym
 
 from frontier_rl.envs.base import EnvConfig, ExplorationEnv
 from frontier_rl.envs.frontier_env import FrontierChoiceEnv
-from frontier_rl.envs.observation import MapEncoder
 from frontier_rl.envs.point_env import PointEnv
 from frontier_rl.envs.rewards import REWARD_PRESETS, RewardConfig, reward_preset
-from frontier_rl.envs.weight_env import WEIGHT_BINS, WeightEnv, bin_to_weight
+from frontier_rl.envs.weight_env import WeightEnv
 from frontier_rl.envs.world_source import TRAIN_SEED_LOW, WorldSource, parse_world_list
+from frontier_rl.registration import MODELS, OBSERVATION_SIZES, env_id
 
 __all__ = [
     "REWARD_PRESETS",
     "TRAIN_SEED_LOW",
-    "WEIGHT_BINS",
     "EnvConfig",
     "ExplorationEnv",
     "FrontierChoiceEnv",
-    "MapEncoder",
     "PointEnv",
     "RewardConfig",
     "WeightEnv",
     "WorldSource",
-    "bin_to_weight",
     "parse_world_list",
+    "register_envs",
     "reward_preset",
 ]
+
+
+def register_envs() -> None:
+    """Register every id (idempotent)."""
+    for model, spec in MODELS.items():
+        for size in OBSERVATION_SIZES:
+            name = env_id(model, size)
+            if name not in gym.registry:
+                gym.register(
+                    id=name,
+                    entry_point=spec.entry_point,
+                    kwargs={**spec.kwargs, "observation_size": size},
+                    disable_env_checker=True,
+                )
+
+
+register_envs()

@@ -13,10 +13,10 @@ from numpy.typing import NDArray
 from frontier_rl.core.sim.config import SimConfig
 from frontier_rl.core.sim.leg import LegResult
 from frontier_rl.core.sim.simulator import ExplorationSimulator
-from frontier_rl.envs.observation import THESIS_INPUT_CELLS, MapEncoder
 from frontier_rl.envs.rewards import RewardConfig, reward_preset
 from frontier_rl.envs.world_source import WorldSource, parse_world_list, reset_world_seed
 from frontier_rl.errors import ConfigError
+from frontier_rl.observation.map_image import THESIS_INPUT_CELLS, MapEncoder
 from frontier_rl.render import FrameCanvas, side_by_side
 
 ObsT = TypeVar("ObsT")

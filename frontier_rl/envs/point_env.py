@@ -9,7 +9,7 @@ from numpy.typing import NDArray
 from frontier_rl.core.sim.leg import LegResult
 from frontier_rl.core.world.grid import CellState
 from frontier_rl.envs.base import MapImageEnv
-from frontier_rl.envs.observation import MAP_FREE, MAP_OCCUPIED
+from frontier_rl.observation.map_image import MAP_FREE, MAP_OCCUPIED
 
 
 class PointEnv(MapImageEnv):

@@ -23,12 +23,12 @@ from pettingzoo import ParallelEnv
 from frontier_rl.core.frontiers.ranking import rank, weighted_cost
 from frontier_rl.core.sim.episode import Ranking
 from frontier_rl.envs.base import EnvConfig
-from frontier_rl.envs.frontier_env import FEATURE_BOUND, frontier_observation, slot_order
-from frontier_rl.envs.observation import FRONTIER_FEATURES, MapEncoder
 from frontier_rl.envs.rewards import RewardConfig, reward_preset
-from frontier_rl.envs.weight_env import WEIGHT_BINS, bin_to_weight
 from frontier_rl.envs.world_source import WorldSource, reset_world_seed
 from frontier_rl.errors import ConfigError
+from frontier_rl.observation.frontier_table import FEATURE_BOUND, frontier_observation, slot_order
+from frontier_rl.observation.map_image import FRONTIER_FEATURES, MapEncoder
+from frontier_rl.observation.weight_bins import WEIGHT_BINS, bin_to_weight
 from frontier_rl.render import FrameCanvas, side_by_side
 from frontier_rl.swarm import TeamConfig, TeamSimulator
 

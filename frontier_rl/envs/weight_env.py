@@ -9,14 +9,7 @@ import gymnasium as gym
 from frontier_rl.core.frontiers.ranking import rank, weighted_cost
 from frontier_rl.core.sim.leg import LegResult
 from frontier_rl.envs.base import MapImageEnv
-
-WEIGHT_BINS = 100
-"""Number of discrete weights: action a means w = a / 100 (the thesis's output layer)."""
-
-
-def bin_to_weight(action: int) -> float:
-    """The ranking weight of action bin ``action`` (0 ≤ w ≤ 0.99)."""
-    return action / WEIGHT_BINS
+from frontier_rl.observation.weight_bins import WEIGHT_BINS, bin_to_weight
 
 
 class WeightEnv(MapImageEnv):

@@ -51,7 +51,7 @@ def _is_number(value: object) -> bool:
     return isinstance(value, int | float) and not isinstance(value, bool)
 
 
-def _read_verts(path: Path) -> NDArray[np.float64]:
+def _read_verts(path: Path) -> NDArray[np.float64]:  # noqa: C901 (a validator: one branch per malformed-input case, each with its own error)
     """The polygon of a HouseExpo JSON as an (n, 2) array (m): repeated consecutive vertices (a
     repeated closing vertex included) dropped, checked not to cross itself and to have an area."""
     if not path.is_file():

@@ -17,10 +17,10 @@ from frontier_rl.core.frontiers.ranking import rank, weighted_cost
 from frontier_rl.core.navigation.costmap import Costmap
 from frontier_rl.core.sim.config import SimConfig
 from frontier_rl.core.sim.episode import DecisionContext, Ranking
-from frontier_rl.envs.frontier_env import frontier_observation, slot_order
-from frontier_rl.envs.observation import MapEncoder
-from frontier_rl.envs.weight_env import WEIGHT_BINS, bin_to_weight
 from frontier_rl.errors import ConfigError, short_repr
+from frontier_rl.observation.frontier_table import frontier_observation, slot_order
+from frontier_rl.observation.map_image import MapEncoder
+from frontier_rl.observation.weight_bins import WEIGHT_BINS, bin_to_weight
 
 
 @dataclass

@@ -88,7 +88,7 @@ def candidate_cells(reachable: NDArray[np.bool_], spacing_cells: int) -> NDArray
 
 
 @nb.njit(cache=True, fastmath=FASTMATH)
-def _scan_cells(
+def _scan_cells(  # noqa: C901 (numba kernel: the ray walk written out)
     occupied_padded: NDArray[np.bool_],
     near_padded: NDArray[np.bool_],
     target: NDArray[np.bool_],

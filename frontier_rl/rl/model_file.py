@@ -37,7 +37,7 @@ from stable_baselines3 import A2C, PPO
 from stable_baselines3.common.base_class import BaseAlgorithm
 from stable_baselines3.common.policies import ActorCriticCnnPolicy, ActorCriticPolicy
 
-import frontier_rl
+import frontier_rl.envs
 from frontier_rl.atomic_write import write_bytes_atomic
 from frontier_rl.errors import QUOTE_LIMIT, ConfigError, short_repr
 from frontier_rl.registration import ENV_IDS, MODELS, OBSERVATION_SIZES, env_id
@@ -239,7 +239,7 @@ def env_spaces(env_id: str) -> tuple[gym.Space[Any], gym.Space[Any]]:
     reset); any other id is refused, so no module it names is imported."""
     if env_id not in ENV_IDS:
         raise ConfigError(f"{short_repr(env_id)} is not a frontier_rl environment id such as {ENV_IDS[-1]!r}")
-    frontier_rl.register_envs()
+    frontier_rl.envs.register_envs()
     env = gym.make(env_id)
     try:
         return env.observation_space, env.action_space

@@ -10,7 +10,7 @@ from stable_baselines3.common.policies import ActorCriticPolicy
 from stable_baselines3.common.torch_layers import BaseFeaturesExtractor
 from torch import nn
 
-from frontier_rl.envs.observation import FRONTIER_FEATURES
+from frontier_rl.observation.map_image import FRONTIER_FEATURES
 
 MASKED_LOGIT = -1.0e4
 """Logit given to an empty frontier slot: its probability is exp(−10⁴) ≈ 0."""

@@ -21,7 +21,7 @@ from stable_baselines3.common.base_class import BaseAlgorithm
 from stable_baselines3.common.callbacks import BaseCallback
 from stable_baselines3.common.vec_env import DummyVecEnv, SubprocVecEnv, VecMonitor
 
-import frontier_rl
+import frontier_rl.envs
 from frontier_rl.errors import ConfigError
 from frontier_rl.rl.callbacks import AtomicCheckpoint, ValidationCallback
 from frontier_rl.rl.config import TrainConfig
@@ -34,7 +34,7 @@ _CHECKPOINT = re.compile(r"model_(\d+)_steps\.zip$")
 def make_env(env_id: str, **kwargs: Any) -> gym.Env[Any, Any]:
     """``gymnasium.make`` after registering the frontier_rl ids: picklable by reference, so that
     subprocess environments can build it in a fresh interpreter."""
-    frontier_rl.register_envs()
+    frontier_rl.envs.register_envs()
     return gym.make(env_id, **kwargs)
 
 
@@ -104,7 +104,7 @@ def train(
     checkpoint and validation callbacks.
     """
     start = _check_run_dir(config, out, resume)
-    frontier_rl.register_envs()
+    frontier_rl.envs.register_envs()
     env_kwargs: dict[str, Any] = {
         "worlds": config.worlds,
         "reward": config.reward,

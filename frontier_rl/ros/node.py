@@ -28,7 +28,7 @@ from typing import Any
 from frontier_rl.core.world.robot import Pose
 from frontier_rl.errors import FrontierRLError
 from frontier_rl.policies import make_policy
-from frontier_rl.ros.frontier_service import RankedFrontier, grid_from_message, rank_frontiers
+from frontier_rl.policies.frontier_request import RankedFrontier, grid_from_message, rank_frontiers
 
 _SYSTEM_PACKAGES = Path("/usr/lib/python3/dist-packages")
 

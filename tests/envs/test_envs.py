@@ -166,11 +166,31 @@ def test_frontier_choice_mask_and_masked_actions() -> None:
         assert info["sim_time_s"] > 0
 
 
-def test_package_import_registers_without_loading_envs() -> None:
+def _fresh_import(code: str) -> list[str]:
     import subprocess
     import sys
 
-    code = "import sys, frontier_rl; print('frontier_rl.core.sim.simulator' in sys.modules, 'torch' in sys.modules)"
-    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True).stdout.split()
-    assert out == ["False", "False"]
+    return subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True).stdout.split()
+
+
+@pytest.mark.parametrize(
+    "module", ["frontier_rl", "frontier_rl.core.sim.episode", "frontier_rl.policies", "frontier_rl.ros.node",
+               "frontier_rl.observation.frontier_table", "frontier_rl.swarm"]
+)  # fmt: skip
+def test_the_engine_policies_and_ros_node_import_without_gymnasium_or_torch(module: str) -> None:
+    loaded = _fresh_import(f"import sys, {module}; print('gymnasium' in sys.modules, 'torch' in sys.modules)")
+    assert loaded == ["False", "False"]
+
+
+def test_importing_the_envs_registers_every_id_without_torch() -> None:
+    code = (
+        "import sys, gymnasium as gym, frontier_rl.envs; from frontier_rl import ENV_IDS; "
+        "print(all(i in gym.registry for i in ENV_IDS), 'torch' in sys.modules)"
+    )
+    assert _fresh_import(code) == ["True", "False"]
     assert frontier_rl.ENV_IDS == ENV_IDS
+
+
+def test_make_with_the_module_prefix_registers_on_the_way() -> None:
+    code = "import gymnasium as gym; print(gym.make('frontier_rl.envs:FrontierRL/WeightMap64-v0').spec.id)"
+    assert _fresh_import(code) == ["FrontierRL/WeightMap64-v0"]

@@ -26,7 +26,7 @@ from frontier_rl.core.world.grid import CellState, OccupancyGrid
 from frontier_rl.core.world.robot import Pose
 from frontier_rl.errors import FrontierRLError, MapError
 from frontier_rl.io import load_map
-from frontier_rl.ros.frontier_service import grid_from_message
+from frontier_rl.policies.frontier_request import grid_from_message
 
 WEIGHT = 0.6
 CLIENT = Path(__file__).with_name("ros_client.py")
@@ -165,7 +165,7 @@ def test_learned_models_rank_a_map_message(model: str, shared_maps: Path, tmp_pa
     if not Path(model).exists():
         pytest.skip("shipped model missing")
     from frontier_rl.policies import make_policy
-    from frontier_rl.ros.frontier_service import rank_frontiers
+    from frontier_rl.policies.frontier_request import rank_frontiers
 
     _, arrays = _scene(shared_maps, tmp_path)
     grid = grid_from_message(int(arrays["width"]), int(arrays["height"]), float(arrays["resolution"]), arrays["data"])

@@ -190,7 +190,7 @@ def visible_unknown(
 
 
 @nb.njit(cache=True)
-def split_segments(
+def split_segments(  # noqa: C901 (numba kernel: one compiled pass, written out)
     flat: NDArray[np.int64], sizes: NDArray[np.int64], min_cells: int, cols: int, radius: float
 ) -> tuple[NDArray[np.int64], NDArray[np.int64]]:
     """Split the clusters larger than ``min_cells`` into segments of cells within ``radius``

@@ -106,7 +106,7 @@ def _heap_pop(heap_f: NDArray[np.float64], heap_i: NDArray[np.int32], size: int)
 
 
 @nb.njit(cache=True)
-def astar_padded(
+def astar_padded(  # noqa: C901 (numba kernel: the search loop with its neighbour steps written out)
     open_padded: NDArray[np.bool_],
     clearance_padded: NDArray[np.float64],
     costs: tuple[NDArray[np.int8], NDArray[np.float64], float, float],

@@ -42,7 +42,7 @@ def _backward_cell(d: NDArray[np.float64], r: int, c: int) -> None:
 
 
 @nb.njit(cache=True, fastmath=FASTMATH)
-def chamfer_distance_padded(seeds: NDArray[np.bool_], cap: float) -> NDArray[np.float64]:
+def chamfer_distance_padded(seeds: NDArray[np.bool_], cap: float) -> NDArray[np.float64]:  # noqa: C901 (numba kernel: four-row sweeps written out)
     """Distance (cells) from each cell centre to the nearest seed, by the two-pass 3 × 3 chamfer
     transform (steps 1 and sqrt 2), capped at ``cap``, with a one-cell border of ``cap`` around.
 
@@ -87,7 +87,7 @@ def chamfer_distance_padded(seeds: NDArray[np.bool_], cap: float) -> NDArray[np.
 
 
 @nb.njit(cache=True)
-def flood_known(
+def flood_known(  # noqa: C901 (numba kernel: the scanline fill written out)
     open_padded: NDArray[np.bool_],
     state: NDArray[np.int8],
     start_row: int,

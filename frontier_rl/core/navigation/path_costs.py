@@ -23,7 +23,7 @@ _SQRT2 = math.sqrt(2.0)
 
 
 @nb.njit(cache=True)
-def _path_costs(
+def _path_costs(  # noqa: C901 (numba kernel: Dijkstra with its neighbour steps written out)
     open_padded: NDArray[np.bool_],
     cost_padded: NDArray[np.float64],
     sources: NDArray[np.int64],

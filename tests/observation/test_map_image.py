@@ -10,8 +10,8 @@ import pytest
 from frontier_rl.core.frontiers.detection import detect_frontiers
 from frontier_rl.core.world.grid import CellState, OccupancyGrid
 from frontier_rl.core.world.robot import Pose
-from frontier_rl.envs.observation import MAP_FREE, MAP_OCCUPIED, MAP_UNKNOWN, MARK, MapEncoder, frontier_features
 from frontier_rl.errors import ConfigError
+from frontier_rl.observation.map_image import MAP_FREE, MAP_OCCUPIED, MAP_UNKNOWN, MARK, MapEncoder, frontier_features
 
 
 def _room(rows: int = 40, cols: int = 60) -> OccupancyGrid:

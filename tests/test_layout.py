@@ -1,0 +1,60 @@
+"""The layout rules of issue 16, checked: module and function sizes and no import cycle (the layers
+themselves are import-linter contracts in pyproject.toml, run by ``make lint``)."""
+
+from __future__ import annotations
+
+import ast
+from pathlib import Path
+
+import grimp
+import pytest
+
+PACKAGE = Path(__file__).resolve().parent.parent / "frontier_rl"
+MODULES = sorted(PACKAGE.rglob("*.py"))
+MAX_MODULE_LINES = 400
+MAX_FUNCTION_LINES = 60
+# Modules and functions over the bounds, left for a later split (issue 16's note); none may grow.
+OVERSIZED = {"evaluation/results.py": 515, "core/world/worlds.py": 447, "core/frontiers/detection.py": 491,
+             "cli.py": 405}  # fmt: skip
+LONG_FUNCTIONS = {"cli.py:explore": 67, "cli.py:evaluate": 67, "core/world/worlds.py:make_world": 97,
+                  "policies/oracle_tour.py:insertion_cover": 63, "policies/oracle_tour.py:plan_coverage_tour": 61,
+                  "rl/train.py:train": 69}  # fmt: skip
+
+
+def _name(path: Path) -> str:
+    return path.relative_to(PACKAGE).as_posix()
+
+
+@pytest.mark.parametrize("path", MODULES, ids=_name)
+def test_no_module_is_over_400_lines(path: Path) -> None:
+    lines = len(path.read_text().splitlines())
+    assert lines <= OVERSIZED.get(_name(path), MAX_MODULE_LINES), f"{_name(path)}: {lines} lines"
+
+
+def _is_numba_kernel(node: ast.FunctionDef) -> bool:
+    """Compiled kernels are written out on purpose (no calls into Python, few helpers)."""
+    return any("njit" in ast.unparse(d) or "jit(" in ast.unparse(d) for d in node.decorator_list)
+
+
+@pytest.mark.parametrize("path", MODULES, ids=_name)
+def test_no_function_is_over_60_lines_outside_the_numba_kernels(path: Path) -> None:
+    long = [
+        f"{node.name} ({node.end_lineno - node.lineno + 1} lines)"  # type: ignore[operator]
+        for node in ast.walk(ast.parse(path.read_text()))
+        if isinstance(node, ast.FunctionDef | ast.AsyncFunctionDef)
+        and not _is_numba_kernel(node)  # type: ignore[arg-type]
+        and node.end_lineno - node.lineno + 1  # type: ignore[operator]
+        > LONG_FUNCTIONS.get(f"{_name(path)}:{node.name}", MAX_FUNCTION_LINES)
+    ]
+    assert not long, f"{_name(path)}: {', '.join(long)}"
+
+
+def test_no_import_cycle() -> None:
+    graph = grimp.build_graph("frontier_rl", exclude_type_checking_imports=True)
+    cycles = []
+    for module in sorted(graph.modules):
+        for imported in sorted(graph.find_modules_directly_imported_by(module)):
+            back = graph.find_shortest_chain(importer=imported, imported=module)
+            if back is not None:
+                cycles.append(" -> ".join((module, *back)))
+    assert not cycles, "import cycles:\n" + "\n".join(cycles)
