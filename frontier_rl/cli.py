@@ -16,6 +16,7 @@ from rich.text import Text
 
 from frontier_rl.cli_output import OneLineGroup, err_console, friendly_errors, one_line, stdout_console
 from frontier_rl.config import dump_config, load_sim_config
+from frontier_rl.core.frontiers.ranking import THESIS_BASELINE
 from frontier_rl.core.sim.config import SimConfig
 from frontier_rl.core.sim.episode import run_episode, warm_up
 from frontier_rl.core.sim.metrics import EpisodeResult
@@ -131,7 +132,7 @@ def explore(
     seed: Annotated[
         int, typer.Option(help=f"Seeds the world generator, the start and the sensor noise (0 to {MAX_SEED}).")
     ] = 0,
-    policy: Annotated[str, typer.Option(help=f"One of: {', '.join(POLICY_NAMES)} (W in [0, 1]).")] = "fixed:0.75",
+    policy: Annotated[str, typer.Option(help=f"One of: {', '.join(POLICY_NAMES)} (W in [0, 1]).")] = THESIS_BASELINE,
     png: Annotated[Path | None, typer.Option(help="Write a picture of the episode to this .png file.")] = None,
     gif: Annotated[
         Path | None, typer.Option(help="Write an animation, one frame per decision, to this .gif file.")
@@ -235,7 +236,7 @@ def demo(
 
     _seed(seed)
     _output_folder(out)
-    methods = ("fixed:0.75", "nearest", *(f"learned:{path}" for path in SHIPPED_MODELS if path.exists()), ORACLE)
+    methods = (THESIS_BASELINE, "nearest", *(f"learned:{path}" for path in SHIPPED_MODELS if path.exists()), ORACLE)
     sim = _sim_config(None, max_time)
     experiment = ExperimentConfig(methods=methods, worlds=DEMO_WORLDS, episodes=episodes, seed=seed, sim=sim)
     out.mkdir(parents=True, exist_ok=True)
@@ -250,7 +251,7 @@ def demo(
     for world_name in DEMO_WORLDS:
         world = resolve_world(world_name, seed)
         for method in methods:
-            animate = world_name == "office" and method == "fixed:0.75"
+            animate = world_name == "office" and method == THESIS_BASELINE
             recorder = EpisodeRecorder(world, frames=animate)
             result = run_episode(world, make_policy(method), sim, seed=seed, on_decision=recorder)
             stem = f"{world_name}_{re.sub(r'[^A-Za-z0-9.]+', '_', method.removesuffix('.zip'))}"
@@ -299,7 +300,7 @@ def evaluate(
     worlds: Annotated[str, typer.Option(help="Comma-separated generators, map files and folders of maps.")] = "office",
     episodes: Annotated[int, typer.Option(help="Episodes per world; episode i uses seed SEED + i.")] = 120,
     seed: Annotated[int, typer.Option(help="Seed of the first episode.")] = 0,
-    baseline: Annotated[str, typer.Option(help="The method every other is compared with.")] = "fixed:0.75",
+    baseline: Annotated[str, typer.Option(help="The method every other is compared with.")] = THESIS_BASELINE,
     oracle: Annotated[bool, typer.Option(help="Also run the full-knowledge oracle tour (reference).")] = True,
     workers: Annotated[int | None, typer.Option(help="Episodes run at once (default: every core).")] = None,
     backend: Annotated[str, typer.Option(help="serial, process or ray.")] = "process",

@@ -16,6 +16,29 @@ _REPO_ROOT = Path(__file__).resolve().parents[1]
 _SHARED_MAPS_CANDIDATES = (_REPO_ROOT.parent / "shared" / "maps", _REPO_ROOT / "shared" / "maps")
 
 
+#: Whole experiments, training runs, the ROS node against a roscore, real maps, subprocesses: the
+#: tests ``make test-fast`` (``pytest -m "not slow"``) leaves out.
+_SLOW_MODULES = frozenset(
+    {
+        "test_evaluate.py",
+        "test_training.py",
+        "test_node.py",
+        "test_teams.py",
+        "test_experiments.py",
+        "test_benchmarks.py",
+        "test_model_file_security.py",
+        "test_results_integrity.py",
+    }
+)
+
+
+def pytest_collection_modifyitems(items: list[pytest.Item]) -> None:
+    """Mark every test of :data:`_SLOW_MODULES` and every test that reads the shared maps ``slow``."""
+    for item in items:
+        if item.path.name in _SLOW_MODULES or "shared_maps" in getattr(item, "fixturenames", ()):
+            item.add_marker(pytest.mark.slow)
+
+
 @pytest.fixture(scope="session")
 def shared_maps() -> Path:
     """The folder of real maps (``../shared/maps``); skips the test where it is missing."""

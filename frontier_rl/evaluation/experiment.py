@@ -17,6 +17,7 @@ from typing import Any
 import numpy as np
 
 from frontier_rl.config import to_dict
+from frontier_rl.core.frontiers.ranking import THESIS_BASELINE
 from frontier_rl.core.sim.config import SimConfig
 from frontier_rl.core.sim.episode import ExplorationPolicy, run_episode, warm_up
 from frontier_rl.core.sim.metrics import sample_step
@@ -57,7 +58,7 @@ class ExperimentConfig:
     worlds: tuple[str, ...]
     episodes: int
     seed: int = 0
-    baseline: str = "fixed:0.75"
+    baseline: str = THESIS_BASELINE
     sim: SimConfig = field(default_factory=SimConfig)
     resolution: float | None = None
     trust_model: bool = False

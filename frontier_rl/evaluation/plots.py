@@ -16,6 +16,7 @@ import numpy as np
 from matplotlib.figure import Figure
 
 from frontier_rl.atomic_write import save_figure_atomic
+from frontier_rl.core.frontiers.ranking import THESIS_WEIGHT
 from frontier_rl.core.sim.metrics import sample_step
 
 _DPI = 110
@@ -101,7 +102,7 @@ def weight_plot(traces: dict[str, list[dict[str, Any]]], path: Path) -> Path:
                 centres.append(0.5 * (edges[b] + edges[b + 1]))
                 means.append(float(w[which == b].mean()))
         ax.plot(centres, means, lw=1.8, color=colour, label=method)
-    ax.axhline(0.75, color="0.6", lw=1, ls="--", label="w = 0.75 (thesis baseline)")
+    ax.axhline(THESIS_WEIGHT, color="0.6", lw=1, ls="--", label=f"w = {THESIS_WEIGHT} (thesis baseline)")
     ax.set_ylim(-0.02, 1.02)
     ax.set_xlabel("sim time (s)")
     ax.set_ylabel("weight w of eq. 3.1")

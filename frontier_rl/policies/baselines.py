@@ -7,6 +7,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from frontier_rl.core.frontiers.ranking import (
+    THESIS_WEIGHT,
     ExploreLiteParams,
     check_weight,
     explore_lite_cost,
@@ -46,7 +47,7 @@ class LargestFrontier:
 class FixedWeight:
     """Thesis eq. 3.1 with a fixed weight ``w`` (0.75 is the thesis's baseline)."""
 
-    weight: float = 0.75
+    weight: float = THESIS_WEIGHT
     name: str = field(default="", compare=False)
 
     def __post_init__(self) -> None:

@@ -25,6 +25,7 @@ import sys
 from pathlib import Path
 from typing import Any
 
+from frontier_rl.core.frontiers.ranking import THESIS_WEIGHT
 from frontier_rl.core.world.robot import Pose
 from frontier_rl.errors import FrontierRLError
 from frontier_rl.policies import make_policy
@@ -85,7 +86,9 @@ class FrontierNode:
         self.min_cells = int(rospy.get_param("~min_cluster_size", 4))
         self.base_frame = str(rospy.get_param("~base_frame", "base_footprint"))
         model = str(rospy.get_param("~model", ""))
-        self.policy = make_policy(f"learned:{model}" if model else f"fixed:{float(rospy.get_param('~weight', 0.75))}")
+        self.policy = make_policy(
+            f"learned:{model}" if model else f"fixed:{float(rospy.get_param('~weight', THESIS_WEIGHT))}"
+        )
         self.maps: dict[str, Any] = {}  # namespace -> (grid, frame) or None after a malformed map
         self.poses: dict[str, tuple[float, float, float]] = {}  # namespace -> (x, y, yaw) in the map frame
         pose_topic = str(rospy.get_param("~pose_topic", "robot_pose"))

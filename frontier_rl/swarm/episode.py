@@ -8,6 +8,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from frontier_rl.core.frontiers.ranking import THESIS_WEIGHT
 from frontier_rl.core.sim.config import SimConfig
 from frontier_rl.core.sim.episode import EpisodeAwarePolicy, ExplorationPolicy
 from frontier_rl.core.world.worlds import World
@@ -87,7 +88,7 @@ def frontier_request(
     frame = f"robot_{robot}/map"
     if len(context.frontiers) == 0:
         return FrontierList(robot, frame, (), None)
-    ranking = (policy or FixedWeight(0.75)).rank(context, rng or np.random.default_rng(0))
+    ranking = (policy or FixedWeight(THESIS_WEIGHT)).rank(context, rng or np.random.default_rng(0))
     start = member.sim.world.start
     cos_t, sin_t = math.cos(start.theta), math.sin(start.theta)
     answer = []
