@@ -23,8 +23,12 @@ WORKER = r"""
 import json, os, sys
 os.environ.update(dict.fromkeys(("NUMBA_NUM_THREADS", "OMP_NUM_THREADS", "OPENBLAS_NUM_THREADS"), "1"))
 sys.path.insert(0, os.getcwd())
-from frontier_rl.core.sim.episode import run_episode
-from frontier_rl.core.world.worlds import generate_world
+try:
+    from frontier_rl.core.sim.episode import run_episode
+    from frontier_rl.core.world.worlds import generate_world
+except ImportError:  # a checkout from before core/ had its stage sub-packages
+    from frontier_rl.core.episode import run_episode
+    from frontier_rl.core.worlds import generate_world
 from frontier_rl.policies import make_policy
 run_episode(generate_world("office", 10_000), make_policy("fixed:0.75"), seed=10_000)  # compile
 print("ready", flush=True)
