@@ -28,8 +28,7 @@ from frontier_rl.render import check_output_file
 from frontier_rl.swarm import Failure, Strategy, TeamConfig, TeamMethod, parse_strategy, run_team_episode
 from frontier_rl.world_spec import checked_resolution, parse_pose, resolve_world
 
-#: Largest seed a command accepts (seeds are 0 to 2**32 - 1: NumPy's legacy seeding, which
-#: Stable-Baselines3 uses, takes no more).
+#: Largest seed a command accepts (0 to 2**32 - 1: NumPy's legacy seeding, which SB3 uses, takes no more).
 MAX_SEED = 2**32 - 1
 
 app = typer.Typer(
