@@ -25,7 +25,10 @@ os.environ.update(dict.fromkeys(("NUMBA_NUM_THREADS", "OMP_NUM_THREADS", "OPENBL
 sys.path.insert(0, os.getcwd())
 try:
     from frontier_rl.core.sim.episode import run_episode
-    from frontier_rl.core.world.worlds import generate_world
+    try:
+        from frontier_rl.core.world.catalog import generate_world
+    except ImportError:  # before the named worlds had a module of their own
+        from frontier_rl.core.world.worlds import generate_world
 except ImportError:  # a checkout from before core/ had its stage sub-packages
     from frontier_rl.core.episode import run_episode
     from frontier_rl.core.worlds import generate_world

@@ -23,7 +23,7 @@ import numpy as np
 
 from frontier_rl.core.sim.episode import run_episode
 from frontier_rl.core.sim.metrics import EpisodeResult
-from frontier_rl.core.world.worlds import generate_world
+from frontier_rl.core.world.catalog import generate_world
 from frontier_rl.policies import make_policy
 from frontier_rl.swarm import Failure, Strategy, TeamConfig, run_team_episode
 

@@ -28,17 +28,20 @@ import numba
 import numpy as np
 
 from frontier_rl.atomic_write import write_text_atomic
+from frontier_rl.core.frontiers.blacklist import Blacklist
 from frontier_rl.core.frontiers.detection import detect_frontiers
 from frontier_rl.core.frontiers.ranking import rank, weighted_cost
 from frontier_rl.core.mapping.mapper import LogOddsMapper
 from frontier_rl.core.navigation.costmap import Costmap
 from frontier_rl.core.sensing.lidar import Lidar
+from frontier_rl.core.sim.candidates import find_candidates
 from frontier_rl.core.sim.config import SimConfig
-from frontier_rl.core.sim.episode import decision_context, run_episode
+from frontier_rl.core.sim.episode import DecisionContext, ExplorationPolicy, Ranking, decision_context, run_episode
 from frontier_rl.core.sim.simulator import ExplorationSimulator
+from frontier_rl.core.world.catalog import building_world, generate_world
 from frontier_rl.core.world.grid import OccupancyGrid
 from frontier_rl.core.world.robot import Pose
-from frontier_rl.core.world.worlds import World, generate_world
+from frontier_rl.core.world.worlds import World
 from frontier_rl.policies import make_policy
 
 POLICY = "fixed:0.75"
@@ -209,6 +212,54 @@ def bench_large_map(n_seeds: int, maps: Path) -> list[Row]:
     ]  # fmt: skip
 
 
+def decision_snapshots(world: World, count: int) -> list[tuple[OccupancyGrid, Pose]]:
+    """``count`` (map, pose) states spread over a ``nearest`` episode on ``world``: the robot's
+    cropped map at a decision, and where it stood."""
+    states: list[tuple[OccupancyGrid, Pose]] = []
+
+    def keep(sim: ExplorationSimulator, ctx: DecisionContext, _: Ranking) -> None:
+        states.append((ctx.grid, ctx.pose))
+
+    run_episode(world, make_policy("nearest"), seed=0, on_decision=keep)
+    step = max(1, len(states) // count)
+    return states[step // 2 :: step][:count]
+
+
+def bench_decisions(n_states: int, repeats: int, model: Path) -> list[Row]:
+    """The work of one decision (the candidates on the robot's map, then the policy's ranking) for
+    ``nearest`` and the frontier-choice model, on office maps and on a 1,000 × 1,000 building
+    (50 m × 50 m), each over ``n_states`` map states of a ``nearest`` episode (median)."""
+    if not model.is_file():
+        print(f"- decision rows skipped: {model} not found")
+        return []
+    config = SimConfig()
+    policies = {"nearest": make_policy("nearest"), "model 5": make_policy(f"learned:{model}")}
+    worlds = {"office": generate_world("office", 0),
+              "1,000² building": building_world(np.random.default_rng(0), (50.0, 50.0))}  # fmt: skip
+    rows: list[Row] = []
+    for label, world in worlds.items():
+        states = decision_snapshots(world, n_states)
+        ms: dict[str, float] = {}
+        for name, policy in policies.items():
+
+            def decide(policy: ExplorationPolicy = policy, states: list[tuple[OccupancyGrid, Pose]] = states) -> None:
+                for grid, pose in states:
+                    nav = config.navigation
+                    blacklist = Blacklist(nav.blacklist_radius, nav.max_goal_failures, grid.resolution, grid.origin)
+                    cand = find_candidates(grid, pose, config, blacklist, grid.data)
+                    if len(cand.frontiers):
+                        ctx = DecisionContext(grid, cand.frontiers, pose, 0.0, config.lidar.max_range, cand.costmap)
+                        policy.rank(ctx, np.random.default_rng(0))
+
+            ms[name] = 1e3 * statistics.median(timed(decide, repeats)) / len(states)
+        rows.append(Row(f"`nearest` decision, {label} (mean of {len(states)} map states)", ms["nearest"], "ms",
+                        higher_is_better=False))  # fmt: skip
+        large = world.grid.shape[0] * world.grid.shape[1] >= 1_000_000  # the bound is for large maps
+        rows.append(Row(f"Model-5 decision, {label}" + (" (aim ≤ 2 × `nearest`)" if large else ""), ms["model 5"],
+                        "ms", 2 * ms["nearest"] if large else None, higher_is_better=False))  # fmt: skip
+    return rows
+
+
 def bench_teams(n_seeds: int) -> list[Row]:
     """Team episodes on office worlds: the wall time of a 4-robot coordinated episode over a
     1-robot episode of the same world and seed (median of the per-seed ratios)."""
@@ -299,6 +350,8 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument("--json", type=Path, metavar="PATH", help="also write the results as JSON")
     parser.add_argument("--maps", type=Path, default=Path(__file__).resolve().parents[2] / "shared" / "maps",
                         help="the shared maps folder, for the large-map rows (default ../shared/maps)")  # fmt: skip
+    parser.add_argument("--model", type=Path, default=Path(__file__).resolve().parents[1] / "models" / "model5.zip",
+                        help="the frontier-choice model of the decision rows (default models/model5.zip)")  # fmt: skip
     args = parser.parse_args(argv)
     if hasattr(os, "sched_setaffinity"):
         os.sched_setaffinity(0, {min(os.sched_getaffinity(0))})
@@ -311,6 +364,7 @@ def main(argv: list[str] | None = None) -> int:
         + bench_frontiers(20 if args.quick else 200)
         + rows
         + bench_large_map(1 if args.quick else 3, args.maps)
+        + bench_decisions(6 if args.quick else 20, 3 if args.quick else 9, args.model)
         + bench_teams(3 if args.quick else 10)
         + bench_envs(2 if args.quick else 10)
     )

@@ -6,8 +6,9 @@ from pathlib import Path
 
 import numpy as np
 
+from frontier_rl.core.world.catalog import WORLD_GENERATORS, generate_world
 from frontier_rl.core.world.robot import Pose, checked_pose
-from frontier_rl.core.world.worlds import WORLD_GENERATORS, World, check_resolution, generate_world, make_world
+from frontier_rl.core.world.worlds import World, check_resolution, make_world
 from frontier_rl.errors import ConfigError, MapError, UnknownNameError, short_repr
 from frontier_rl.io import load_map
 

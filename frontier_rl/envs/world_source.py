@@ -10,7 +10,8 @@ from typing import Any
 
 import numpy as np
 
-from frontier_rl.core.world.worlds import WORLD_GENERATORS, World, generate_world, make_world
+from frontier_rl.core.world.catalog import WORLD_GENERATORS, generate_world
+from frontier_rl.core.world.worlds import World, make_world
 from frontier_rl.errors import ConfigError, UnknownNameError, short_repr
 from frontier_rl.io import LoadedMap, load_map
 

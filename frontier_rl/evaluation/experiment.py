@@ -21,7 +21,8 @@ from frontier_rl.core.frontiers.ranking import THESIS_BASELINE
 from frontier_rl.core.sim.config import SimConfig
 from frontier_rl.core.sim.episode import ExplorationPolicy, run_episode, warm_up
 from frontier_rl.core.sim.metrics import sample_step
-from frontier_rl.core.world.worlds import WORLD_GENERATORS, World, generate_world, make_world
+from frontier_rl.core.world.catalog import WORLD_GENERATORS, generate_world
+from frontier_rl.core.world.worlds import World, make_world
 from frontier_rl.envs.world_source import parse_world_list
 from frontier_rl.errors import ConfigError
 from frontier_rl.io import LoadedMap, load_map

@@ -8,12 +8,12 @@ from typing import Any
 
 import numpy as np
 from numpy.typing import NDArray
-from scipy import ndimage
 
 from frontier_rl.core.frontiers.detection import Frontiers
 from frontier_rl.core.navigation.costmap import Costmap
+from frontier_rl.core.navigation.group_costs import group_path_costs
 from frontier_rl.core.world.robot import Pose
-from frontier_rl.observation.map_image import FRONTIER_FEATURES, MapEncoder, frontier_features
+from frontier_rl.observation.map_image import FRONTIER_FEATURES, MapEncoder, frontier_cells, frontier_features
 
 FEATURE_BOUND = 10.0
 """Frontier features are clipped to ±FEATURE_BOUND (they are scaled to about ±1)."""
@@ -22,18 +22,25 @@ UNREACHABLE_COST_M = 100.0
 """Path cost (m) given to a frontier the planner finds no path to."""
 
 
-def frontier_path_costs(costmap: Costmap, pose: Pose, frontiers: Frontiers, robot_radius: float) -> NDArray[np.float64]:
+def frontier_path_costs(
+    costmap: Costmap, pose: Pose, frontiers: Frontiers, robot_radius: float, want: int | None = None
+) -> NDArray[np.float64]:
     """Planner path cost (m) from the robot to each frontier: the cheapest cell within the robot's
-    radius of one of its fringe cells (fringe cells hug walls, where the robot centre cannot go)."""
+    radius (a square window) of one of its fringe cells (fringe cells hug walls, where the robot
+    centre cannot go); :data:`UNREACHABLE_COST_M` where there is no path. With ``want``, only the
+    ``want`` cheapest are searched for (exact, and with them any tied): the others are inf unless
+    the search covered all it could reach, so a decision's work grows with the distance to its
+    nearest frontiers, not with the size of the map. On a map of more than
+    :data:`~frontier_rl.core.navigation.group_costs.MAX_SEARCH_CELLS` cells the costs are
+    estimated on blocks of cells (:func:`~frontier_rl.core.navigation.group_costs.group_path_costs`)."""
     grid = costmap.grid
-    field = costmap.cost_to_go(grid.world_to_cell(pose.x, pose.y))
     reach = max(1, math.ceil(robot_radius / grid.resolution) + 1)
-    near = ndimage.minimum_filter(field, size=2 * reach + 1, mode="constant", cval=np.inf).reshape(-1)
-    costs = np.full(len(frontiers), UNREACHABLE_COST_M)
-    for i, (start, end) in enumerate(frontiers.spans):
-        best = near[frontiers.flat_cells[start:end]].min()
-        if np.isfinite(best):
-            costs[i] = best
+    members, groups = frontier_cells(frontiers)
+    costs, exhausted = group_path_costs(
+        costmap, grid.world_to_cell(pose.x, pose.y), members, groups, len(frontiers), reach, want
+    )
+    if exhausted:
+        costs[np.isinf(costs)] = UNREACHABLE_COST_M
     return costs
 
 
@@ -50,10 +57,11 @@ def frontier_observation(
     table = np.zeros((top_k, len(FRONTIER_FEATURES)), np.float32)
     slots = np.zeros(0, np.int64)
     if len(frontiers):
-        costs = frontier_path_costs(costmap, pose, frontiers, robot_radius)
+        costs = frontier_path_costs(costmap, pose, frontiers, robot_radius, want=top_k)
         slots = np.argsort(costs, kind="stable")[:top_k].astype(np.int64)
-        feats = frontier_features(frontiers, pose, costs, sensor_range)
-        table[: len(slots)] = np.clip(feats[slots], -FEATURE_BOUND, FEATURE_BOUND)
+        chosen = frontiers.subset(slots)
+        feats = frontier_features(chosen, pose, costs[slots], sensor_range)
+        table[: len(slots)] = np.clip(feats, -FEATURE_BOUND, FEATURE_BOUND)
     mask = np.zeros(top_k, np.float32)
     mask[: len(slots)] = 1.0
     obs: dict[str, NDArray[Any]] = {

@@ -114,14 +114,22 @@ class MapEncoder:
         if self.frontier_channel:
             if frontiers is None:
                 raise ConfigError("this encoder has a frontier channel: pass the frontiers")
-            marks = np.zeros(grid.shape, np.bool_).reshape(-1)
-            for start, end in frontiers.spans:
-                marks[frontiers.flat_cells[start:end]] = True
-            out[channel] = _pool_marks(_crop(marks.reshape(grid.shape), row0, col0, self.window, False), self.factor)
+            out[channel] = self._frontier_marks(grid, frontiers, row0, col0)
             channel += 1
         if self.pose_channel:
             out[channel] = _pool_marks(self._pose_disc(grid, pose, row0, col0), self.factor)
         return out
+
+    def _frontier_marks(self, grid: OccupancyGrid, frontiers: Frontiers, row0: int, col0: int) -> NDArray[np.uint8]:
+        """The frontier channel: :data:`MARK` on each pixel whose cells hold a frontier cell (only
+        the frontiers' cells are visited, not the map)."""
+        cells, _ = frontier_cells(frontiers)
+        rows, cols = np.divmod(cells, grid.width)
+        rows, cols = rows - row0, cols - col0
+        inside = (rows >= 0) & (rows < self.window) & (cols >= 0) & (cols < self.window)
+        channel = np.zeros((self.size, self.size), np.uint8)
+        channel[rows[inside] // self.factor, cols[inside] // self.factor] = MARK
+        return channel
 
     def _pose_disc(self, grid: OccupancyGrid, pose: Pose, row0: int, col0: int) -> NDArray[np.bool_]:
         radius = max(POSE_RADIUS_M / grid.resolution, 1.0)
@@ -130,6 +138,14 @@ class MapEncoder:
         r = (pose.y - grid.origin[1]) / grid.resolution
         c = (pose.x - grid.origin[0]) / grid.resolution
         return np.asarray((rows - r) ** 2 + (cols - c) ** 2 <= radius * radius, dtype=np.bool_)
+
+
+def frontier_cells(frontiers: Frontiers) -> tuple[NDArray[np.int64], NDArray[np.int64]]:
+    """The cells of all ``frontiers`` (flat indices into their grid), each frontier's together,
+    and the frontier of each."""
+    lengths = frontiers.spans[:, 1] - frontiers.spans[:, 0]
+    cells = [frontiers.flat_cells[a:b] for a, b in frontiers.spans]
+    return np.concatenate(cells or [np.zeros(0, np.int64)]), np.repeat(np.arange(len(frontiers)), lengths)
 
 
 def _crop(data: NDArray[ScalarT], row0: int, col0: int, size: int, fill: object) -> NDArray[ScalarT]:

@@ -11,7 +11,7 @@ from gymnasium.utils.env_checker import check_env as gym_check_env
 from stable_baselines3.common.env_checker import check_env as sb3_check_env
 
 import frontier_rl
-from frontier_rl.core.world.worlds import generate_world
+from frontier_rl.core.world.catalog import generate_world
 from frontier_rl.envs import FrontierChoiceEnv, WeightEnv
 from frontier_rl.errors import ConfigError, UnknownNameError
 from frontier_rl.registration import ENV_IDS, env_id

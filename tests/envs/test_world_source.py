@@ -7,7 +7,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from frontier_rl.core.world.worlds import generate_world
+from frontier_rl.core.world.catalog import generate_world
 from frontier_rl.envs.world_source import TRAIN_SEED_LOW, WorldSource, parse_world_list
 from frontier_rl.errors import ConfigError, MapError, UnknownNameError
 

@@ -15,9 +15,10 @@ from frontier_rl.core.navigation.path_costs import cost_field, descend, path_cos
 from frontier_rl.core.sim.config import SimConfig
 from frontier_rl.core.sim.episode import DecisionContext, EpisodeAwarePolicy, run_episode
 from frontier_rl.core.sim.metrics import EpisodeResult
+from frontier_rl.core.world.catalog import generate_world
 from frontier_rl.core.world.grid import CellState, OccupancyGrid
 from frontier_rl.core.world.robot import Pose
-from frontier_rl.core.world.worlds import World, generate_world, make_world
+from frontier_rl.core.world.worlds import World, make_world
 from frontier_rl.errors import ConfigError
 from frontier_rl.policies import POLICY_NAMES, OracleTour, make_policy
 from frontier_rl.policies.oracle_tour import (

@@ -11,7 +11,7 @@ from stable_baselines3.common.callbacks import BaseCallback
 
 from frontier_rl.core.sim.config import SimConfig
 from frontier_rl.core.sim.episode import run_episode
-from frontier_rl.core.world.worlds import generate_world
+from frontier_rl.core.world.catalog import generate_world
 from frontier_rl.errors import ConfigError
 from frontier_rl.policies import make_policy
 from frontier_rl.rl.config import TrainConfig

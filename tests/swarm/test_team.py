@@ -11,9 +11,10 @@ import pytest
 
 from frontier_rl.core.sim.episode import run_episode
 from frontier_rl.core.sim.simulator import ExplorationSimulator
+from frontier_rl.core.world.catalog import generate_world
 from frontier_rl.core.world.grid import CellState, OccupancyGrid
 from frontier_rl.core.world.robot import Pose
-from frontier_rl.core.world.worlds import World, generate_world, make_world
+from frontier_rl.core.world.worlds import World, make_world
 from frontier_rl.errors import ConfigError
 from frontier_rl.policies import FixedWeight, NearestFrontier
 from frontier_rl.swarm import (

@@ -420,9 +420,9 @@ class Frontiers:
         """Per frontier, the (row, col) indices of its cells in ``grid``, shape (size, 2)."""
         return tuple(self.cells_of(i) for i in range(len(self)))
 
-    def subset(self, keep: NDArray[np.bool_]) -> Frontiers:
-        """The frontiers where ``keep`` is True, in the same order."""
-        idx = np.flatnonzero(keep)
+    def subset(self, idx: NDArray[np.bool_] | NDArray[np.int64]) -> Frontiers:
+        """The frontiers where a boolean mask ``idx`` is True (in the same order), or at indices
+        ``idx`` (in that order)."""
         return Frontiers(
             self.grid,
             self.centers[idx],

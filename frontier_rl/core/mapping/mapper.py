@@ -10,6 +10,7 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass
 
+import numba as nb
 import numpy as np
 from numpy.typing import NDArray
 
@@ -18,6 +19,8 @@ from frontier_rl.core.sensing.lidar import Lidar, Scan
 from frontier_rl.core.world.grid import CellState, OccupancyGrid
 from frontier_rl.core.world.robot import Pose, wrap_angle
 from frontier_rl.errors import ConfigError
+
+_OCCUPIED, _FREE, _UNKNOWN = np.int8(CellState.OCCUPIED), np.int8(CellState.FREE), np.int8(CellState.UNKNOWN)
 
 
 @dataclass(frozen=True)
@@ -305,10 +308,22 @@ def downsample(data: NDArray[np.int8], factor: int) -> NDArray[np.int8]:
     rows, cols = data.shape
     if factor < 1 or rows % factor or cols % factor:
         raise ConfigError(f"downsample factor {factor!r} must be >= 1 and divide the shape {data.shape}")
-    blocks = data.reshape(rows // factor, factor, cols // factor, factor)
-    occupied = (blocks == CellState.OCCUPIED).any(axis=(1, 3))
-    free = (blocks == CellState.FREE).sum(axis=(1, 3)) * 2 >= factor * factor
-    out = np.full(occupied.shape, CellState.UNKNOWN, dtype=np.int8)
-    out[free] = CellState.FREE
-    out[occupied] = CellState.OCCUPIED
+    return _downsample(np.ascontiguousarray(data, np.int8), factor)
+
+
+@nb.njit(cache=True)
+def _downsample(data: NDArray[np.int8], factor: int) -> NDArray[np.int8]:
+    """:func:`downsample` in one pass over the cells."""
+    rows, cols = data.shape[0] // factor, data.shape[1] // factor
+    out = np.empty((rows, cols), np.int8)
+    half = factor * factor
+    for br in range(rows):
+        for bc in range(cols):
+            occupied, free = False, 0
+            for r in range(br * factor, br * factor + factor):
+                for c in range(bc * factor, bc * factor + factor):
+                    value = data[r, c]
+                    occupied |= value == _OCCUPIED
+                    free += value == _FREE
+            out[br, bc] = _OCCUPIED if occupied else _FREE if 2 * free >= half else _UNKNOWN
     return out

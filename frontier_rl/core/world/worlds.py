@@ -1,4 +1,5 @@
-"""Ground-truth worlds: the :class:`World` type, its start pose and the procedural world registry.
+"""Ground-truth worlds: the :class:`World` type and how one is made from a grid (its start pose and
+explorable space); the named procedural worlds are in :mod:`frontier_rl.core.world.catalog`.
 
 A world is an :class:`OccupancyGrid` holding only FREE and OCCUPIED cells (unknown cells of an input
 map and free cells cut off from the start count as walls), a start pose and the *explorable* mask:
@@ -10,27 +11,22 @@ measured on.
 from __future__ import annotations
 
 import math
-from collections.abc import Callable, Mapping
 from dataclasses import dataclass
-from types import MappingProxyType
 
 import numpy as np
 from numpy.typing import NDArray
 from scipy import ndimage
 
-from frontier_rl.core.world import generators as gen
 from frontier_rl.core.world.grid import CellState, OccupancyGrid
 from frontier_rl.core.world.robot import MAX_HEADING_RAD, Pose, checked_pose
 from frontier_rl.core.world.visibility import visible_from
-from frontier_rl.errors import ConfigError, MapError, UnknownNameError
+from frontier_rl.errors import ConfigError, MapError
 
 ROBOT_RADIUS_M = 0.105  # TurtleBot3 Burger footprint radius (m)
 # The range the robot's map learns cells within (m): the LDS-01's 3.5 m cropped at Gmapping's
 # maxUrange 3.0 m (min of LidarConfig.max_range and MapperConfig.usable_range).
 MAPPING_RANGE_M = 3.0
 START_MARGIN_M = 0.05  # extra clearance (m) of a randomly drawn start over the robot radius
-RUBBLE_M = (0.1, 0.8)  # rubble piece size range (m)
-RUBBLE_GAP_M = 0.5  # cluttered world: slots between rubble narrower than this are filled (m)
 # Cell sizes a world accepts (make_world, check_resolution): a cell at most as wide as the robot's
 # radius (coarser, the grid cannot say where the robot fits: 5 m cells ran and reported "done" at
 # 0 %) and at most a tenth of the mapping range; the radius at most MAX_RADIUS_CELLS cells and the
@@ -283,165 +279,3 @@ def make_world(
     data.flags.writeable = False
     explorable.flags.writeable = False
     return World(name, OccupancyGrid(data, res, grid.origin), start, explorable, robot_radius, sensor_range)
-
-
-def _layout_grid(occ: NDArray[np.bool_], resolution: float) -> OccupancyGrid:
-    return OccupancyGrid(
-        np.where(occ, np.int8(CellState.OCCUPIED), np.int8(CellState.FREE)).astype(np.int8), resolution
-    )
-
-
-def _check_size(what: str, value: float) -> None:
-    if not (math.isfinite(value) and value > 0):
-        raise ConfigError(f"{what} must be a positive number of metres, got {value!r}")
-
-
-def office_world(rng: np.random.Generator, size_m: float = 12.5, resolution: float = 0.05) -> World:
-    """The thesis world: a ``size_m`` x ``size_m`` (m) office maze of branching hallways (>= 1.3 m)
-    with dead ends, rooms with 0.8-1.0 m doors, solid cores and 0.2-0.4 m square pillars."""
-    _check_size("office size_m", size_m)
-    _check_size("office resolution", resolution)
-    n = gen.cells(size_m, resolution)
-    return make_world(_layout_grid(gen.office_layout(rng, n, n, resolution), resolution), "office", rng=rng)
-
-
-def rooms_world(
-    rng: np.random.Generator, size_m: tuple[float, float] = (16.0, 12.0), resolution: float = 0.05
-) -> World:
-    """Rooms of 2.5 m and more joined by doors (0.8-1.2 m) and 1.2-1.8 m corridors, in a
-    ``size_m`` = (width x, height y) (m) building."""
-    _check_size("rooms width", size_m[0])
-    _check_size("rooms height", size_m[1])
-    _check_size("rooms resolution", resolution)
-    rows, cols = gen.cells(size_m[1], resolution), gen.cells(size_m[0], resolution)
-    return make_world(_layout_grid(gen.rooms_layout(rng, rows, cols, resolution), resolution), "rooms", rng=rng)
-
-
-def close_diagonal_contacts(occ: NDArray[np.bool_]) -> NDArray[np.bool_]:
-    """Copy of ``occ`` where no two walls touch only at a corner (a 2x2 checkerboard): one free
-    cell of each such pattern is filled, so no ray or robot slips through the corner."""
-    occ = occ.copy()
-    for _ in range(occ.size):
-        a, b, c, d = occ[:-1, :-1], occ[1:, 1:], occ[:-1, 1:], occ[1:, :-1]
-        main, anti = a & b & ~c & ~d, c & d & ~a & ~b
-        if not (main.any() or anti.any()):
-            break
-        occ[:-1, 1:] |= main
-        occ[:-1, :-1] |= anti
-    return occ
-
-
-def upsample(occ: NDArray[np.bool_], factor: int) -> NDArray[np.bool_]:
-    """Each cell of ``occ`` becomes a ``factor`` x ``factor`` block."""
-    return np.asarray(np.repeat(np.repeat(occ, factor, axis=0), factor, axis=1))
-
-
-def _piece(rng: np.random.Generator, res: float, yx: NDArray[np.float64]) -> NDArray[np.bool_]:
-    """One rubble piece (cells at ``res``): a block, a rotated slab or an irregular blob, drawn on
-    the centred cell coordinates ``yx`` (shape (2, n, n))."""
-    lo, hi = RUBBLE_M
-    kind = rng.random()
-    if kind < 0.3:
-        return np.ones((gen.cells(rng.uniform(lo, hi), res), gen.cells(rng.uniform(lo, hi), res)), dtype=np.bool_)
-    y, x = yx
-    if kind < 0.65:
-        length, width, angle = rng.uniform(0.3, hi) / res, rng.uniform(lo, 0.4) / res, rng.uniform(0, math.pi)
-        u = x * math.cos(angle) + y * math.sin(angle)
-        v = y * math.cos(angle) - x * math.sin(angle)
-        mask = (np.abs(u) <= length / 2) & (np.abs(v) <= width / 2)
-    else:
-        phi = np.arctan2(y, x)
-        radius = np.full_like(phi, rng.uniform(lo, hi) / (2 * res))
-        for k in (2, 3, 5):
-            radius *= 1.0 + rng.uniform(0.0, 0.25) * np.cos(k * phi + rng.uniform(0, 2 * math.pi))
-        mask = np.hypot(x, y) <= radius
-    half = y.shape[0] // 2
-    mask[half, half] = True
-    rows, cols = np.flatnonzero(mask.any(axis=1)), np.flatnonzero(mask.any(axis=0))
-    return np.asarray(mask[rows[0] : rows[-1] + 1, cols[0] : cols[-1] + 1])
-
-
-def rubble_layout(rng: np.random.Generator, n_rows: int, n_cols: int, resolution: float) -> NDArray[np.bool_]:
-    """USAR rubble field: a walled area with a few ruined (broken, some L-shaped) walls and 0.1-0.8 m
-    rubble pieces, scattered and heaped in clusters, some piled against the walls.
-
-    Raw pieces: narrow slots are left for the caller to close. One cell of ``resolution`` (about
-    0.1 m) is the wall thickness; upsample the result for a finer map."""
-    pad = gen.cells(RUBBLE_M[1], resolution) + 2
-    occ = np.zeros((n_rows + 2 * pad, n_cols + 2 * pad), dtype=np.bool_)  # padded: pieces may stick out
-    inner = occ[pad:-pad, pad:-pad]
-    inner[...] = gen.bordered((n_rows, n_cols), 1)
-    for _ in range(int(rng.integers(2, 6))):  # ruined walls: some L-shaped, some broken
-        a, b = gen.cells(rng.uniform(1.5, 4.0), resolution), gen.cells(rng.uniform(0.8, 2.0), resolution)
-        wall = np.zeros((b, a), dtype=np.bool_)
-        wall[0, :] = True
-        wall[:, 0] = rng.random() < 0.5
-        if rng.random() < 0.5:
-            hole = int(rng.integers(1, a))
-            wall[0, hole : hole + gen.cells(1.0, resolution)] = False
-        wall = np.rot90(wall, int(rng.integers(4)))
-        r, c = int(rng.integers(n_rows)), int(rng.integers(n_cols))
-        inner[r : r + wall.shape[0], c : c + wall.shape[1]] |= wall[: n_rows - r, : n_cols - c]
-    walls = np.flatnonzero(inner[1:-1, 1:-1])  # anchors of the rubble piled against walls
-    half = gen.cells(RUBBLE_M[1], resolution) // 2 + 1
-    yx = np.mgrid[-half : half + 1, -half : half + 1].astype(np.float64)
-    spread = 0.5 / resolution  # cluster radius (cells)
-    centres = [
-        (rng.uniform(0, n_rows), rng.uniform(0, n_cols), int(rng.integers(2, 7)))
-        for _ in range(int(rng.integers(8, 15)))
-    ]
-    centres += [(rng.uniform(0, n_rows), rng.uniform(0, n_cols), 1) for _ in range(int(rng.integers(25, 45)))]
-    if walls.size:
-        for idx in rng.choice(walls, size=int(rng.integers(4, 9))):
-            r, c = divmod(int(idx), n_cols - 2)
-            centres.append((r + 1.0, c + 1.0, int(rng.integers(1, 4))))
-    for cr, cc, count in centres:
-        for dr, dc in rng.normal(0.0, spread, size=(count, 2)) * (count > 1):
-            piece = _piece(rng, resolution, yx)
-            r = int(min(max(cr + dr, 0.0), n_rows - 1.0)) + pad - piece.shape[0] // 2
-            c = int(min(max(cc + dc, 0.0), n_cols - 1.0)) + pad - piece.shape[1] // 2
-            occ[r : r + piece.shape[0], c : c + piece.shape[1]] |= piece
-    return np.asarray(inner)
-
-
-def cluttered_world(rng: np.random.Generator, size_m: float = 12.0, resolution: float = 0.05) -> World:
-    """USAR rubble field, ``size_m`` x ``size_m`` (m): ruined walls and heaps of 0.1-0.8 m rubble.
-
-    Drawn on 2 x 2-cell blocks, so no wall is one cell thin. A closing fills the slots narrower than
-    RUBBLE_GAP_M; then every cell that a robot RUBBLE_GAP_M wide cannot get near is filled in, so
-    the whole floor is reached through passages at least that wide. A layout that would lose over
-    10 % of its free space so is redrawn (at most 5 times)."""
-    _check_size("cluttered size_m", size_m)
-    _check_size("cluttered resolution", resolution)
-    block, wide = 2, RUBBLE_GAP_M / 2  # wide: radius (m) of the robot every passage must admit
-    n, radius = gen.cells(size_m, block * resolution), wide / (block * resolution)
-    for _ in range(5):
-        raw = rubble_layout(rng, n, n, block * resolution)
-        coarse = close_diagonal_contacts(np.asarray(~dilate(~dilate(raw, radius), radius)))  # closing
-        world = make_world(_layout_grid(upsample(coarse, block), resolution), "cluttered", rng=rng, robot_radius=wide)
-        if world.explorable_count >= 0.9 * block * block * np.count_nonzero(~coarse):
-            break
-    kept = world.explorable.reshape(n, block, n, block).all(axis=(1, 3))
-    grid = _layout_grid(upsample(close_diagonal_contacts(np.asarray(~kept)), block), resolution)
-    try:
-        return make_world(grid, "cluttered", start=world.start)
-    except MapError:  # the start lost its clearance to a filled pocket: draw another one
-        return make_world(grid, "cluttered", rng=rng)
-
-
-WORLD_GENERATORS: Mapping[str, Callable[[np.random.Generator], World]] = MappingProxyType(
-    {"office": office_world, "rooms": rooms_world, "cluttered": cluttered_world}
-)
-"""Procedural worlds by name; each takes a ``numpy.random.Generator`` and uses default sizes."""
-
-
-def generate_world(name: str, seed: int | np.random.Generator) -> World:
-    """The procedural world ``name`` drawn from ``seed`` (an int or a Generator).
-
-    Raises:
-        UnknownNameError: ``name`` is not a key of :data:`WORLD_GENERATORS`.
-    """
-    if name not in WORLD_GENERATORS:
-        raise UnknownNameError(f"unknown world {name!r}; valid worlds: {', '.join(sorted(WORLD_GENERATORS))}")
-    rng = seed if isinstance(seed, np.random.Generator) else np.random.default_rng(seed)
-    return WORLD_GENERATORS[name](rng)

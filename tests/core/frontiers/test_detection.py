@@ -13,9 +13,9 @@ from scipy import ndimage
 from frontier_rl.core.frontiers.detection import Frontiers, count_fringe, detect_frontiers, fringe_mask
 from frontier_rl.core.mapping.mapper import LogOddsMapper
 from frontier_rl.core.sensing.lidar import Lidar
+from frontier_rl.core.world.catalog import generate_world
 from frontier_rl.core.world.grid import CellState, OccupancyGrid
 from frontier_rl.core.world.robot import Pose
-from frontier_rl.core.world.worlds import generate_world
 
 FREE, OCC, UNKNOWN = CellState.FREE.value, CellState.OCCUPIED.value, CellState.UNKNOWN.value
 EIGHT = np.ones((3, 3), dtype=bool)

@@ -13,9 +13,10 @@ from numpy.typing import NDArray
 
 from frontier_rl.core.mapping.mapper import LogOddsMapper, MapperConfig, downsample, fit_to_size, merge_states
 from frontier_rl.core.sensing.lidar import Lidar, LidarConfig, Scan
+from frontier_rl.core.world.catalog import generate_world
 from frontier_rl.core.world.grid import CellState, OccupancyGrid
 from frontier_rl.core.world.robot import Pose
-from frontier_rl.core.world.worlds import World, generate_world
+from frontier_rl.core.world.worlds import World
 from frontier_rl.errors import ConfigError
 
 RES = 0.05
@@ -514,7 +515,7 @@ def test_grid_from_text_fixture_round_trip(grid_from_text: Callable[..., Occupan
 def test_fused_scan_matches_scan_then_integrate_even_with_huge_undershoots(noise_rel: float) -> None:
     """With 75 % range noise, readings fall metres short of the wall: the fused kernel must take
     back every mark beyond them (also past its ring of recent cells) exactly as the plain path."""
-    from frontier_rl.core.world.worlds import generate_world
+    from frontier_rl.core.world.catalog import generate_world
 
     world = generate_world("office", 5)
     lidar = Lidar(world.grid, LidarConfig(noise_rel=noise_rel, noise_abs=0.2))

@@ -21,9 +21,9 @@ from frontier_rl.core.navigation.costmap import Costmap, nearest_cell
 from frontier_rl.core.navigation.follower import follow_path, footprint_offsets
 from frontier_rl.core.navigation.path_costs import cost_to_go_padded
 from frontier_rl.core.sim.teammates import obstacle_distance
+from frontier_rl.core.world.catalog import generate_world
 from frontier_rl.core.world.grid import CellState, OccupancyGrid
 from frontier_rl.core.world.robot import RobotConfig
-from frontier_rl.core.world.worlds import generate_world
 from frontier_rl.errors import ConfigError
 
 FREE, OCC, UNKNOWN = CellState.FREE.value, CellState.OCCUPIED.value, CellState.UNKNOWN.value

@@ -8,8 +8,8 @@ import pytest
 from frontier_rl.core.navigation.thin_walls import thin_walls
 from frontier_rl.core.sim import candidates as candidates_module
 from frontier_rl.core.sim.simulator import ExplorationSimulator
+from frontier_rl.core.world.catalog import generate_world
 from frontier_rl.core.world.grid import CellState
-from frontier_rl.core.world.worlds import generate_world
 
 FREE, OCC, UNKNOWN = (np.int8(v) for v in (CellState.FREE, CellState.OCCUPIED, CellState.UNKNOWN))
 

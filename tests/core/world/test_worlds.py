@@ -10,22 +10,11 @@ import pytest
 from numpy.typing import NDArray
 from scipy import ndimage
 
+from frontier_rl.core.world.catalog import WORLD_GENERATORS, cluttered_world, generate_world, office_world, rooms_world
 from frontier_rl.core.world.grid import CellState, OccupancyGrid
 from frontier_rl.core.world.robot import Pose
 from frontier_rl.core.world.visibility import visible_from
-from frontier_rl.core.world.worlds import (
-    MAPPING_RANGE_M,
-    ROBOT_RADIUS_M,
-    START_MARGIN_M,
-    WORLD_GENERATORS,
-    World,
-    cluttered_world,
-    dilate,
-    generate_world,
-    make_world,
-    office_world,
-    rooms_world,
-)
+from frontier_rl.core.world.worlds import MAPPING_RANGE_M, ROBOT_RADIUS_M, START_MARGIN_M, World, dilate, make_world
 from frontier_rl.errors import ConfigError, MapError, UnknownNameError
 
 NAMES = sorted(WORLD_GENERATORS)
@@ -212,7 +201,7 @@ def test_unknown_world_name() -> None:
 
 
 def test_registry_is_read_only() -> None:
-    assert set(WORLD_GENERATORS) == {"office", "rooms", "cluttered"}
+    assert set(WORLD_GENERATORS) == {"office", "rooms", "cluttered", "building"}
     with pytest.raises(TypeError):
         WORLD_GENERATORS["forest"] = office_world  # type: ignore[index]
 

@@ -1,0 +1,197 @@
+"""Planner path costs from the robot to groups of cells (the frontiers), in work bounded at any
+map size: the search stops once the wanted number of groups is reached, and on a map of more than
+:data:`MAX_SEARCH_CELLS` cells it runs on blocks of f × f cells.
+
+The costs are the global planner's (:mod:`frontier_rl.core.navigation.costmap`): a step costs its
+length times the cost factor of the cell it enters, diagonals may not cut a corner. On blocks a
+block is open when any of its cells is, and costs the least factor among its open cells, so a
+path cost on blocks is an estimate (a door narrower than a block stays open; a path's length is
+measured on block centres), where on cells it is exact.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numba as nb
+import numpy as np
+from numpy.typing import NDArray
+
+from frontier_rl.core.navigation.costmap import Costmap
+from frontier_rl.core.navigation.step_costs import step_cost
+from frontier_rl.core.world.grid import CellState
+
+MAX_SEARCH_CELLS = 300 * 300
+"""Maps of up to this many cells (15 m × 15 m at 0.05 m) are searched cell by cell; larger ones on
+blocks of the smallest f × f cells that bring the search within it."""
+
+_SQRT2 = math.sqrt(2.0)
+_UNKNOWN = np.int8(CellState.UNKNOWN)
+
+
+def block_factor(shape: tuple[int, int]) -> int:
+    """The edge f (cells) of the blocks a map of ``shape`` is searched on: 1 up to
+    :data:`MAX_SEARCH_CELLS` cells."""
+    return max(1, math.ceil(math.sqrt(shape[0] * shape[1] / MAX_SEARCH_CELLS)))
+
+
+@nb.njit(cache=True)
+def _blocks(
+    open_padded: NDArray[np.bool_],
+    clearance_padded: NDArray[np.float64],
+    costs: tuple[NDArray[np.int8], NDArray[np.float64], float, float],
+    f: int,
+) -> tuple[NDArray[np.bool_], NDArray[np.float64]]:
+    """The padded open mask and step cost factors of the map on blocks of ``f`` × ``f`` cells:
+    a block is open when any of its cells is, at the least factor of its open cells."""
+    state, table, inflation_radius, unknown_cost = costs
+    rows, cols = state.shape
+    brows, bcols = -(-rows // f), -(-cols // f)
+    open_b = np.zeros((brows + 2, bcols + 2), np.bool_)
+    cost_b = np.ones((brows + 2, bcols + 2))
+    for br in range(brows):
+        for bc in range(bcols):
+            least = np.inf
+            for r in range(br * f, min(br * f + f, rows)):
+                for c in range(bc * f, min(bc * f + f, cols)):
+                    if open_padded[r + 1, c + 1]:
+                        unknown = state[r, c] == _UNKNOWN
+                        least = min(least, step_cost(clearance_padded[r + 1, c + 1], unknown, table,
+                                                     inflation_radius, unknown_cost))  # fmt: skip
+                if least == 1.0:  # the least a step can cost
+                    break
+            if least < np.inf:
+                open_b[br + 1, bc + 1] = True
+                cost_b[br + 1, bc + 1] = least
+    return open_b, cost_b
+
+
+@nb.njit(cache=True)
+def _group_costs(  # noqa: C901 (numba kernel: Dijkstra with its neighbour steps written out)
+    open_padded: NDArray[np.bool_],
+    cost_padded: NDArray[np.float64],
+    source: int,
+    member_cells: NDArray[np.int64],
+    member_groups: NDArray[np.int64],
+    reach: int,
+    n_groups: int,
+    want: int,
+) -> tuple[NDArray[np.float64], bool]:
+    """Path cost (cells) from ``source`` (an unpadded flat index) to each group: the least cost of
+    any cell within ``reach`` cells (a square) of one of its members (unpadded flat indices, with
+    their groups, a group's members one after another); inf for a group not reached. Dial's
+    bucket queue of width 1 as in
+    :func:`~frontier_rl.core.navigation.path_costs.path_costs` (every step costs at least 1), which
+    stops after the bucket in which ``want`` groups were reached: those, and any tied with them,
+    are exact. The flag is True when the search ran out of cells instead."""
+    prows, pcols = open_padded.shape
+    rows, cols = prows - 2, pcols - 2
+    open_ok = open_padded.reshape(-1)
+    cost = cost_padded.reshape(-1)
+    first = np.full(open_ok.size, -1, np.int64)  # per cell its first group entry, the rest in ``also``
+    n_entries = member_cells.shape[0] * (2 * reach + 1) ** 2
+    also = np.empty(n_entries, np.int64)
+    entry_group = np.empty(n_entries, np.int64)
+    n = 0
+    for m in range(member_cells.shape[0]):
+        row, col = member_cells[m] // cols, member_cells[m] % cols
+        for r in range(max(row - reach, 0), min(row + reach + 1, rows)):
+            for c in range(max(col - reach, 0), min(col + reach + 1, cols)):
+                cell = (r + 1) * pcols + c + 1
+                if first[cell] >= 0 and entry_group[first[cell]] == member_groups[m]:
+                    continue  # the cell is already in this group (members of a group come together)
+                also[n], entry_group[n] = first[cell], member_groups[m]
+                first[cell] = n
+                n += 1
+    offsets = np.array([-pcols, pcols, -1, 1, -pcols - 1, -pcols + 1, pcols - 1, pcols + 1])
+    side_row = np.array([0, 0, 0, 0, -pcols, -pcols, pcols, pcols])
+    side_col = np.array([0, 0, 0, 0, -1, 1, -1, 1])
+    n_buckets = int(math.ceil(_SQRT2 * max(cost.max(), 1.0))) + 2  # a step spans fewer buckets
+    head = np.full(n_buckets, -1, np.int64)
+    node = np.empty(8 * open_ok.size + 1, np.int64)  # entry pool: one entry per improvement
+    link = np.empty(8 * open_ok.size + 1, np.int64)
+    g = np.full(open_ok.size, np.inf)
+    closed = np.zeros(open_ok.size, np.bool_)
+    best = np.full(n_groups, np.inf)
+    start = (source // cols + 1) * pcols + source % cols + 1
+    g[start] = 0.0
+    node[0], link[0], head[0] = start, -1, 0
+    used, live, bucket, found = 1, 1, 0, 0
+    while live > 0:
+        slot = bucket % n_buckets
+        entry = head[slot]
+        if entry < 0:
+            if found >= want:
+                break
+            bucket += 1
+            continue
+        head[slot] = link[entry]
+        live -= 1
+        cur = node[entry]
+        if closed[cur]:
+            continue
+        closed[cur] = True
+        j = first[cur]
+        while j >= 0:
+            group = entry_group[j]
+            if best[group] == np.inf:
+                found += 1
+            best[group] = min(best[group], g[cur])
+            j = also[j]
+        for k in range(8):
+            nxt = cur + offsets[k]
+            if closed[nxt] or not open_ok[nxt]:
+                continue
+            if k < 4:
+                step = 1.0
+            elif open_ok[cur + side_row[k]] and open_ok[cur + side_col[k]]:
+                step = _SQRT2
+            else:
+                continue  # a diagonal step may not cut a corner
+            new_g = g[cur] + step * cost[nxt]
+            if new_g < g[nxt]:
+                g[nxt] = new_g
+                into = int(new_g) % n_buckets
+                node[used], link[used] = nxt, head[into]
+                head[into] = used
+                used += 1
+                live += 1
+    return best, live == 0
+
+
+def group_path_costs(
+    costmap: Costmap,
+    start: tuple[int, int],
+    member_cells: NDArray[np.int64],
+    member_groups: NDArray[np.int64],
+    n_groups: int,
+    reach: int,
+    want: int | None = None,
+) -> tuple[NDArray[np.float64], bool]:
+    """Planner path cost (m) from ``start`` (row, col) to each of ``n_groups`` groups of cells:
+    the least cost of any cell within ``reach`` cells (a square window) of a member of the group
+    (``member_cells``, flat indices into the map, ``member_groups`` their groups); inf for a group
+    not reached. With ``want``, the search stops once the ``want`` cheapest groups are known, so
+    its work grows with their distance, not with the map. On a map of more than
+    :data:`MAX_SEARCH_CELLS` cells the search runs on blocks (:func:`block_factor`). The flag is
+    True when the search covered all it could reach: the groups still at inf have no path."""
+    grid = costmap.grid
+    if not grid.in_bounds(*start) or n_groups == 0:
+        return np.full(n_groups, np.inf), True
+    cells = np.ascontiguousarray(member_cells, np.int64).reshape(-1)
+    groups = np.ascontiguousarray(member_groups, np.int64).reshape(-1)
+    f = block_factor(grid.shape)
+    if f == 1:
+        open_p, cost_p = costmap.open_padded, costmap.cost_padded
+        source = start[0] * grid.width + start[1]
+    else:
+        costs = (grid.data, costmap.inflation_table, costmap.inflation_radius, costmap.unknown_cost)
+        open_p, cost_p = _blocks(costmap.open_padded, costmap.clearance_padded, costs, f)
+        bcols = open_p.shape[1] - 2
+        rows, cols = np.divmod(cells, grid.width)
+        cells = (rows // f) * bcols + cols // f  # repeats are dropped by the search's entry lists
+        source = (start[0] // f) * bcols + start[1] // f
+        reach = math.ceil(reach / f)
+    best, exhausted = _group_costs(open_p, cost_p, int(source), cells, groups, int(reach), int(n_groups),
+                                   n_groups if want is None else int(want))  # fmt: skip
+    return best * (f * grid.resolution), bool(exhausted)

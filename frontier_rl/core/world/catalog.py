@@ -1,0 +1,111 @@
+"""The named procedural worlds (``office``, ``rooms``, ``cluttered``, ``building``) and the
+registry that draws one from a seed."""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Callable, Mapping
+from types import MappingProxyType
+
+import numpy as np
+from numpy.typing import NDArray
+
+from frontier_rl.core.world import generators as gen
+from frontier_rl.core.world.building import building_layout
+from frontier_rl.core.world.grid import CellState, OccupancyGrid
+from frontier_rl.core.world.rubble import RUBBLE_GAP_M, close_diagonal_contacts, rubble_layout, upsample
+from frontier_rl.core.world.worlds import World, dilate, make_world
+from frontier_rl.errors import ConfigError, MapError, UnknownNameError
+
+
+def _layout_grid(occ: NDArray[np.bool_], resolution: float) -> OccupancyGrid:
+    return OccupancyGrid(
+        np.where(occ, np.int8(CellState.OCCUPIED), np.int8(CellState.FREE)).astype(np.int8), resolution
+    )
+
+
+def _check_size(what: str, value: float) -> None:
+    if not (math.isfinite(value) and value > 0):
+        raise ConfigError(f"{what} must be a positive number of metres, got {value!r}")
+
+
+def office_world(rng: np.random.Generator, size_m: float = 12.5, resolution: float = 0.05) -> World:
+    """The thesis world: a ``size_m`` x ``size_m`` (m) office maze of branching hallways (>= 1.3 m)
+    with dead ends, rooms with 0.8-1.0 m doors, solid cores and 0.2-0.4 m square pillars."""
+    _check_size("office size_m", size_m)
+    _check_size("office resolution", resolution)
+    n = gen.cells(size_m, resolution)
+    return make_world(_layout_grid(gen.office_layout(rng, n, n, resolution), resolution), "office", rng=rng)
+
+
+def rooms_world(
+    rng: np.random.Generator, size_m: tuple[float, float] = (16.0, 12.0), resolution: float = 0.05
+) -> World:
+    """Rooms of 2.5 m and more joined by doors (0.8-1.2 m) and 1.2-1.8 m corridors, in a
+    ``size_m`` = (width x, height y) (m) building."""
+    _check_size("rooms width", size_m[0])
+    _check_size("rooms height", size_m[1])
+    _check_size("rooms resolution", resolution)
+    rows, cols = gen.cells(size_m[1], resolution), gen.cells(size_m[0], resolution)
+    return make_world(_layout_grid(gen.rooms_layout(rng, rows, cols, resolution), resolution), "rooms", rng=rng)
+
+
+def cluttered_world(rng: np.random.Generator, size_m: float = 12.0, resolution: float = 0.05) -> World:
+    """USAR rubble field, ``size_m`` x ``size_m`` (m): ruined walls and heaps of 0.1-0.8 m rubble.
+
+    Drawn on 2 x 2-cell blocks, so no wall is one cell thin. A closing fills the slots narrower than
+    RUBBLE_GAP_M; then every cell that a robot RUBBLE_GAP_M wide cannot get near is filled in, so
+    the whole floor is reached through passages at least that wide. A layout that would lose over
+    10 % of its free space so is redrawn (at most 5 times)."""
+    _check_size("cluttered size_m", size_m)
+    _check_size("cluttered resolution", resolution)
+    block, wide = 2, RUBBLE_GAP_M / 2  # wide: radius (m) of the robot every passage must admit
+    n, radius = gen.cells(size_m, block * resolution), wide / (block * resolution)
+    for _ in range(5):
+        raw = rubble_layout(rng, n, n, block * resolution)
+        coarse = close_diagonal_contacts(np.asarray(~dilate(~dilate(raw, radius), radius)))  # closing
+        world = make_world(_layout_grid(upsample(coarse, block), resolution), "cluttered", rng=rng, robot_radius=wide)
+        if world.explorable_count >= 0.9 * block * block * np.count_nonzero(~coarse):
+            break
+    kept = world.explorable.reshape(n, block, n, block).all(axis=(1, 3))
+    grid = _layout_grid(upsample(close_diagonal_contacts(np.asarray(~kept)), block), resolution)
+    try:
+        return make_world(grid, "cluttered", start=world.start)
+    except MapError:  # the start lost its clearance to a filled pocket: draw another one
+        return make_world(grid, "cluttered", rng=rng)
+
+
+def building_world(
+    rng: np.random.Generator, size_m: tuple[float, float] | None = None, resolution: float = 0.05
+) -> World:
+    """A large building (:mod:`frontier_rl.core.world.building`) of ``size_m`` = (width x, height
+    y) (m); by default the longer side is drawn from 30-60 m and the shorter from 20-35 m (never
+    longer than the other), in either orientation."""
+    if size_m is None:
+        long_m = float(rng.uniform(30.0, 60.0))
+        short_m = min(float(rng.uniform(20.0, 35.0)), long_m)
+        size_m = (long_m, short_m) if rng.random() < 0.5 else (short_m, long_m)
+    _check_size("building width", size_m[0])
+    _check_size("building height", size_m[1])
+    _check_size("building resolution", resolution)
+    rows, cols = gen.cells(size_m[1], resolution), gen.cells(size_m[0], resolution)
+    layout = building_layout(rng, rows, cols, resolution)
+    return make_world(_layout_grid(layout, resolution), "building", rng=rng)
+
+
+WORLD_GENERATORS: Mapping[str, Callable[[np.random.Generator], World]] = MappingProxyType(
+    {"office": office_world, "rooms": rooms_world, "cluttered": cluttered_world, "building": building_world}
+)
+"""Procedural worlds by name; each takes a ``numpy.random.Generator`` and uses default sizes."""
+
+
+def generate_world(name: str, seed: int | np.random.Generator) -> World:
+    """The procedural world ``name`` drawn from ``seed`` (an int or a Generator).
+
+    Raises:
+        UnknownNameError: ``name`` is not a key of :data:`WORLD_GENERATORS`.
+    """
+    if name not in WORLD_GENERATORS:
+        raise UnknownNameError(f"unknown world {name!r}; valid worlds: {', '.join(sorted(WORLD_GENERATORS))}")
+    rng = seed if isinstance(seed, np.random.Generator) else np.random.default_rng(seed)
+    return WORLD_GENERATORS[name](rng)

@@ -1,0 +1,139 @@
+"""Path costs to groups of cells (model 5's per-frontier path costs): exact against the cost
+field and a window minimum, bounded by ``want``, and on blocks for large maps."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+from numpy.typing import NDArray
+from scipy import ndimage
+
+from frontier_rl.core.navigation import group_costs
+from frontier_rl.core.navigation.config import NavigationConfig
+from frontier_rl.core.navigation.costmap import Costmap
+from frontier_rl.core.navigation.group_costs import MAX_SEARCH_CELLS, block_factor, group_path_costs
+from frontier_rl.core.world.catalog import generate_world
+from frontier_rl.core.world.grid import CellState, OccupancyGrid
+from frontier_rl.core.world.robot import RobotConfig
+
+REACH = 4
+
+
+def costmap_of(data: NDArray[np.int8]) -> Costmap:
+    return Costmap.build(OccupancyGrid(data, 0.05), RobotConfig(), NavigationConfig())
+
+
+def reference(
+    costmap: Costmap, start: tuple[int, int], cells: NDArray[np.int64], groups: NDArray[np.int64], n: int
+) -> NDArray[np.float64]:
+    """The definition: the cost field from ``start``, its minimum over a square window, the least
+    of that over each group's cells."""
+    field = costmap.cost_to_go(start)
+    near = ndimage.minimum_filter(field, size=2 * REACH + 1, mode="constant", cval=np.inf).reshape(-1)
+    out = np.full(n, np.inf)
+    np.minimum.at(out, groups, near[cells])
+    return out
+
+
+def random_groups(rng: np.random.Generator, data: NDArray[np.int8], n: int) -> tuple[NDArray[np.int64], ...]:
+    """``n`` groups of 1-40 cells each, drawn along random short lines of the map."""
+    rows, cols = data.shape
+    cells, groups = [], []
+    for g in range(n):
+        r, c = int(rng.integers(rows)), int(rng.integers(cols))
+        length = int(rng.integers(1, 40))
+        horizontal = rng.random() < 0.5
+        rr = np.full(length, r) if horizontal else np.clip(np.arange(r, r + length), 0, rows - 1)
+        cc = np.clip(np.arange(c, c + length), 0, cols - 1) if horizontal else np.full(length, c)
+        cells.append(rr * cols + cc)
+        groups.append(np.full(length, g))
+    return np.concatenate(cells).astype(np.int64), np.concatenate(groups).astype(np.int64)
+
+
+def a_map(seed: int) -> NDArray[np.int8]:
+    """An office world's grid with an unknown band (passable at extra cost) and a walled-off box."""
+    data = generate_world("office", seed).grid.data.copy()
+    data[100:140, :] = np.where(data[100:140, :] == CellState.FREE, np.int8(CellState.UNKNOWN), data[100:140, :])
+    data[20:40, 20:24] = CellState.OCCUPIED
+    return data
+
+
+@pytest.mark.parametrize("seed", range(5))
+def test_exact_on_a_map_searched_cell_by_cell(seed: int) -> None:
+    data = a_map(seed)
+    costmap = costmap_of(data)
+    assert block_factor(data.shape) == 1
+    rng = np.random.default_rng(seed)
+    free = np.argwhere(costmap.traversable)
+    row, col = free[rng.integers(len(free))]
+    start = (int(row), int(col))
+    cells, groups = random_groups(rng, data, 30)
+    expected = reference(costmap, start, cells, groups, 30)
+    costs, exhausted = group_path_costs(costmap, start, cells, groups, 30, REACH)
+    if np.isinf(expected).any():  # a group it could not reach: the search ran out of cells
+        assert exhausted
+    np.testing.assert_array_equal(costs, expected)
+
+
+@pytest.mark.parametrize("want", [1, 3, 8])
+def test_want_gives_the_cheapest_groups_exactly_and_stops_early(want: int) -> None:
+    data = a_map(7)
+    costmap = costmap_of(data)
+    rng = np.random.default_rng(want)
+    free = np.argwhere(costmap.traversable)
+    start = (int(free[0][0]), int(free[0][1]))
+    cells, groups = random_groups(rng, data, 25)
+    expected = reference(costmap, start, cells, groups, 25)
+    costs, exhausted = group_path_costs(costmap, start, cells, groups, 25, REACH, want=want)
+    found = np.isfinite(costs)
+    assert not exhausted
+    assert found.sum() >= want
+    np.testing.assert_array_equal(costs[found], expected[found])
+    cheapest = np.sort(expected)[:want]
+    np.testing.assert_array_equal(np.sort(costs[found])[:want], cheapest)
+    assert costs[found].max() <= np.sort(expected[np.isfinite(expected)])[found.sum() - 1]  # no gaps
+
+
+def test_groups_without_a_path_are_inf_and_the_search_says_it_ran_out() -> None:
+    data = np.full((60, 60), CellState.FREE, np.int8)
+    data[:, 28:32] = CellState.OCCUPIED  # a wall from edge to edge
+    costmap = costmap_of(data)
+    cells = np.array([10 * 60 + 5, 10 * 60 + 55], np.int64)
+    costs, exhausted = group_path_costs(costmap, (10, 10), cells, np.array([0, 1]), 2, REACH)
+    assert exhausted and math.isfinite(costs[0]) and costs[1] == math.inf
+
+
+def test_large_maps_are_searched_on_blocks_close_to_the_exact_cost(monkeypatch: pytest.MonkeyPatch) -> None:
+    """A 600 x 600 map: blocks of 2 x 2 cells; on open floor with pillars the block estimate of a
+    far group lies within 10 % of the exact cost."""
+    data = np.full((600, 600), CellState.FREE, np.int8)
+    data[:4], data[-4:], data[:, :4], data[:, -4:] = (CellState.OCCUPIED,) * 4
+    for r in range(50, 560, 60):
+        for c in range(50, 560, 60):
+            data[r : r + 8, c : c + 8] = CellState.OCCUPIED
+    costmap = costmap_of(data)
+    assert block_factor(data.shape) == 2 and MAX_SEARCH_CELLS < 600 * 600
+    rng = np.random.default_rng(0)
+    cells, groups = random_groups(rng, data, 20)
+    blocked, _ = group_path_costs(costmap, (20, 20), cells, groups, 20, REACH)
+    monkeypatch.setattr(group_costs, "MAX_SEARCH_CELLS", 10**9)
+    exact, _ = group_path_costs(costmap, (20, 20), cells, groups, 20, REACH)
+    far = np.isfinite(exact) & (exact > 5.0)
+    assert far.sum() >= 10
+    assert np.all(np.abs(blocked[far] - exact[far]) <= 0.1 * exact[far])
+
+
+@pytest.mark.parametrize(("shape", "factor"), [((250, 250), 1), ((300, 300), 1), ((301, 300), 2), ((1000, 1000), 4)])
+def test_block_factor_keeps_the_search_within_its_bound(shape: tuple[int, int], factor: int) -> None:
+    assert block_factor(shape) == factor
+    assert math.ceil(shape[0] / factor) * math.ceil(shape[1] / factor) <= MAX_SEARCH_CELLS * 1.01
+
+
+def test_a_start_off_the_map_or_no_groups() -> None:
+    costmap = costmap_of(np.full((30, 30), CellState.FREE, np.int8))
+    costs, exhausted = group_path_costs(costmap, (40, 5), np.array([3], np.int64), np.array([0]), 1, REACH)
+    assert exhausted and costs[0] == math.inf
+    costs, _ = group_path_costs(costmap, (5, 5), np.zeros(0, np.int64), np.zeros(0, np.int64), 0, REACH)
+    assert costs.shape == (0,)
