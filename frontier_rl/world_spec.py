@@ -1,7 +1,12 @@
-"""Turn a world argument (a generator name or a map file) into a :class:`World`."""
+"""World arguments: a generator name or a map file turned into a :class:`World`, and world lists
+("office,rooms=2,maps/") parsed into families of worlds with sampling weights and train /
+validation splits."""
 
 from __future__ import annotations
 
+import hashlib
+import math
+from dataclasses import dataclass
 from pathlib import Path
 
 import numpy as np
@@ -77,3 +82,123 @@ def parse_pose(text: str) -> Pose:
     if not all(np.isfinite(values)):
         raise ConfigError(usage)
     return checked_pose(Pose(*values), f"start pose {short_repr(text)}")
+
+
+MAP_SUFFIXES = (".yaml", ".yml", ".png", ".pgm", ".json", ".bmp")
+"""The file endings read as maps when a folder is given as a world."""
+
+SPLITS = ("train", "validation")
+"""The parts of a world family: a folder's validation files are never trained on."""
+
+VALIDATION_SHARE = 10
+"""One file in this many (by a hash of its name) of a folder of at least as many map files is a
+validation file; folders with fewer files are used whole by both splits (their validation
+episodes differ in start pose only)."""
+
+MAX_WEIGHT = 1e6
+
+
+@dataclass(frozen=True)
+class WorldFamily:
+    """One entry of a world list: a generator, a map file or a folder of map files, drawn with
+    probability ``weight`` over the sum of the weights of the list.
+
+    Attributes:
+        spec: the entry as given, without its weight.
+        members: the generator name, or the map files (a folder's, sorted).
+        weight: the sampling weight (> 0).
+    """
+
+    spec: str
+    members: tuple[str, ...]
+    weight: float = 1.0
+
+    def split(self, part: str) -> tuple[str, ...]:
+        """The members of the ``train`` or ``validation`` part (see :data:`VALIDATION_SHARE`)."""
+        if part not in SPLITS:
+            raise ConfigError(f"unknown split {short_repr(part)}; choose one of {', '.join(SPLITS)}")
+        if len(self.members) < VALIDATION_SHARE:
+            return self.members
+        held_out = tuple(m for m in self.members if _is_validation(m))
+        return held_out if part == "validation" else tuple(m for m in self.members if m not in held_out)
+
+
+def _is_validation(path: str) -> bool:
+    digest = hashlib.sha256(Path(path).name.encode("utf-8", "surrogateescape")).digest()
+    return int.from_bytes(digest[:8], "big") % VALIDATION_SHARE == 0
+
+
+def _weighted(item: str) -> tuple[str, float | None]:
+    """``item`` split into its spec and its weight ("rooms=2" -> ("rooms", 2.0)); no weight when
+    it has no "=" or names an existing file or folder as it is."""
+    spec, sep, text = item.rpartition("=")
+    if not sep or item in WORLD_GENERATORS or _exists(item):
+        return item, None
+    try:
+        weight = float(text)
+    except ValueError:
+        weight = math.nan
+    if not (math.isfinite(weight) and 0 < weight <= MAX_WEIGHT):
+        raise ConfigError(f"world weight must be a number in (0, {MAX_WEIGHT:g}], got {short_repr(text)} in "
+                          f"{short_repr(item)}")  # fmt: skip
+    return spec.strip(), weight
+
+
+def _exists(item: str) -> bool:
+    try:
+        return Path(item).exists()
+    except OSError as exc:  # a name too long for the file system, ...
+        raise ConfigError(f"world {short_repr(item)}: {exc.strerror or exc}") from None
+
+
+def _members(item: str) -> tuple[str, ...]:
+    """The generator name, the map file, or a folder's map files (a ROS map's image is read
+    through its YAML, so it is not also listed as a bitmap)."""
+    path = Path(item)
+    if item not in WORLD_GENERATORS and _exists(item) and path.is_dir():
+        files = sorted(str(p) for p in path.iterdir() if p.suffix.lower() in MAP_SUFFIXES)
+        yaml_stems = {Path(p).stem for p in files if p.endswith((".yaml", ".yml"))}
+        files = [p for p in files if p.endswith((".yaml", ".yml")) or Path(p).stem not in yaml_stems]
+        if not files:
+            raise ConfigError(f"world folder {short_repr(item)} holds no map files ({', '.join(MAP_SUFFIXES)})")
+        return tuple(files)
+    if item in WORLD_GENERATORS or (_exists(item) and path.is_file()):
+        return (item,)
+    names = ", ".join(sorted(WORLD_GENERATORS))
+    raise UnknownNameError(f"unknown world {short_repr(item)}: not one of {names}, and no such file or folder")
+
+
+def parse_world_mix(text: str) -> tuple[WorldFamily, ...]:
+    """A comma-separated world list ("office=2,rooms,maps/=0.5") as families of worlds: each
+    entry a generator name, a map file or a folder of map files, with an optional sampling
+    weight after "=" (default 1; a folder's weight is shared by its files).
+
+    Raises:
+        UnknownNameError: an entry that is neither a generator nor an existing file or folder.
+        ConfigError: no entries, a weight that is not a number in (0, 10⁶], a folder without map files.
+    """
+    families = []
+    for item in (part.strip() for part in text.split(",")):
+        if item:
+            spec, weight = _weighted(item)
+            families.append(WorldFamily(spec, _members(spec), 1.0 if weight is None else weight))
+    if not families:
+        raise ConfigError(f"no worlds given in {short_repr(text)}")
+    return tuple(families)
+
+
+def parse_world_list(text: str) -> tuple[str, ...]:
+    """The worlds of a comma-separated list ("office,rooms,maps/"), folders expanded into the map
+    files they hold: what an evaluation runs its episodes on, each world alike.
+
+    Raises:
+        ConfigError: an entry with a weight ("rooms=2": weights are for training mixes), and the
+            errors of :func:`parse_world_mix`.
+    """
+    families = parse_world_mix(text)
+    items = [part.strip() for part in text.split(",") if part.strip()]
+    weighted = [item for family, item in zip(families, items, strict=True) if item != family.spec]
+    if weighted:
+        raise ConfigError(f"world {short_repr(weighted[0])} has a weight: weights (NAME=W) set how often training "
+                          "draws a world; here every world runs the same number of episodes")  # fmt: skip
+    return tuple(m for f in families for m in f.members)

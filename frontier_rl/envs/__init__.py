@@ -12,8 +12,9 @@ from frontier_rl.envs.frontier_env import FrontierChoiceEnv
 from frontier_rl.envs.point_env import PointEnv
 from frontier_rl.envs.rewards import REWARD_PRESETS, RewardConfig, reward_preset
 from frontier_rl.envs.weight_env import WeightEnv
-from frontier_rl.envs.world_source import TRAIN_SEED_LOW, WorldSource, parse_world_list
+from frontier_rl.envs.world_source import TRAIN_SEED_LOW, WorldSource
 from frontier_rl.registration import MODELS, OBSERVATION_SIZES, env_id
+from frontier_rl.world_spec import parse_world_list
 
 __all__ = [
     "REWARD_PRESETS",

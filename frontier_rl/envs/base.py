@@ -14,7 +14,7 @@ from frontier_rl.core.sim.config import SimConfig
 from frontier_rl.core.sim.leg import LegResult
 from frontier_rl.core.sim.simulator import ExplorationSimulator
 from frontier_rl.envs.rewards import RewardConfig, reward_preset
-from frontier_rl.envs.world_source import WorldSource, parse_world_list, reset_world_seed
+from frontier_rl.envs.world_source import WorldSource, reset_world_seed
 from frontier_rl.errors import ConfigError
 from frontier_rl.observation.map_image import THESIS_INPUT_CELLS, MapEncoder
 from frontier_rl.render import FrameCanvas, side_by_side
@@ -27,7 +27,11 @@ class EnvConfig:
     """Settings shared by every frontier_rl environment.
 
     Attributes:
-        worlds: generator names and map files; each reset draws one uniformly.
+        worlds: generator names, map files and folders, each optionally "=WEIGHT"; each reset
+            draws a family by weight, then one of its files uniformly
+            (:func:`~frontier_rl.world_spec.parse_world_mix`).
+        world_split: "train", or "validation" for a folder's held-out files
+            (:class:`~frontier_rl.envs.world_source.WorldSource`).
         reward: reward preset name ("normalised" or "thesis", see :mod:`frontier_rl.envs.rewards`).
         observation_size: edge of the map image (pixels): 250 (the thesis) or 64 (Niroui et al.).
         max_decisions: the episode is truncated after this many steps (a stuck agent never hangs).
@@ -40,6 +44,7 @@ class EnvConfig:
     observation_size: int = THESIS_INPUT_CELLS
     max_decisions: int = 1000
     resolution: float | None = None
+    world_split: str = "train"
     sim: SimConfig = field(default_factory=SimConfig)
 
     def __post_init__(self) -> None:
@@ -55,7 +60,7 @@ class EnvConfig:
         if unknown:
             raise ConfigError(f"unknown environment option(s) {', '.join(unknown)}; known: {', '.join(sorted(known))}")
         if isinstance(overrides.get("worlds"), str):
-            overrides["worlds"] = parse_world_list(overrides["worlds"])
+            overrides["worlds"] = tuple(item.strip() for item in overrides["worlds"].split(",") if item.strip())
         elif "worlds" in overrides:
             overrides["worlds"] = tuple(overrides["worlds"])
         return replace(config or cls(), **overrides)
@@ -78,7 +83,7 @@ class ExplorationEnv(gym.Env[ObsT, np.int64], Generic[ObsT]):
         self.config = EnvConfig.from_kwargs(config, **overrides)
         self.render_mode = render_mode
         self.rewards: RewardConfig = reward_preset(self.config.reward)
-        self.source = WorldSource(self.config.worlds, self.config.resolution)
+        self.source = WorldSource(self.config.worlds, self.config.resolution, self.config.world_split)
         self._sim: ExplorationSimulator | None = None
         self._decisions = 0
 

@@ -75,7 +75,7 @@ class TeamExplorationEnv(ParallelEnv):  # type: ignore[misc]  # pettingzoo ships
         self.top_k = top_k
         self.render_mode = render_mode
         self.rewards: RewardConfig = reward_preset(self.config.reward)
-        self.source = WorldSource(self.config.worlds, self.config.resolution)
+        self.source = WorldSource(self.config.worlds, self.config.resolution, self.config.world_split)
         self.encoder = MapEncoder(self.config.observation_size, frontier_channel=True, pose_channel=True)
         self.possible_agents = [f"robot_{i}" for i in range(self.team_config.robots)]
         self.agents: list[str] = []

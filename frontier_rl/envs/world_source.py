@@ -1,19 +1,23 @@
-"""Where an environment's worlds come from: procedural generators and map files, drawn per reset."""
+"""Where an environment's worlds come from: a weighted mix of procedural generators, map files and
+folders of map files, drawn per reset."""
 
 from __future__ import annotations
 
 import difflib
+from collections import OrderedDict
 from collections.abc import Mapping
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
 import numpy as np
+from numpy.typing import NDArray
 
 from frontier_rl.core.world.catalog import WORLD_GENERATORS, generate_world
 from frontier_rl.core.world.worlds import World, make_world
-from frontier_rl.errors import ConfigError, UnknownNameError, short_repr
+from frontier_rl.errors import ConfigError
 from frontier_rl.io import LoadedMap, load_map
+from frontier_rl.world_spec import WorldFamily, parse_world_mix
 
 TRAIN_SEED_LOW = 1_000_000
 """Generator seeds drawn for training lie in [TRAIN_SEED_LOW, 2³¹); seeds below it (``explore
@@ -30,40 +34,6 @@ RESET_OPTIONS = {"world_seed": "the generator seed of the world (a non-negative 
 
 _WORLD_SEED_LIMIT = 2**63
 """World seeds lie in [0, 2**63)."""
-
-_MAP_SUFFIXES = (".yaml", ".yml", ".png", ".pgm", ".json", ".bmp")
-
-
-def parse_world_list(text: str) -> tuple[str, ...]:
-    """Split a comma-separated world list ("office,rooms,maps/") into entries, folders expanded
-    into the map files they hold."""
-    entries: list[str] = []
-    for item in (part.strip() for part in text.split(",")):
-        if not item:
-            continue
-        path = Path(item)
-        try:
-            is_dir, is_file = path.is_dir(), path.is_file()
-        except OSError as exc:  # a name too long for the file system, ...
-            raise ConfigError(f"world {short_repr(item)}: {exc.strerror or exc}") from None
-        if item not in WORLD_GENERATORS and is_dir:
-            files = sorted(str(p) for p in path.iterdir() if p.suffix.lower() in _MAP_SUFFIXES)
-            yaml_stems = {Path(p).stem for p in files if p.endswith((".yaml", ".yml"))}
-            # a ROS map's image is read through its YAML; do not also load it as a bitmap
-            files = [p for p in files if p.endswith((".yaml", ".yml")) or Path(p).stem not in yaml_stems]
-            if not files:
-                raise ConfigError(f"world folder {short_repr(item)} holds no map files ({', '.join(_MAP_SUFFIXES)})")
-            entries.extend(files)
-        elif item in WORLD_GENERATORS or is_file:
-            entries.append(item)
-        else:
-            raise UnknownNameError(
-                f"unknown world {short_repr(item)}: not one of {', '.join(sorted(WORLD_GENERATORS))}, "
-                "and no such file or folder"
-            )
-    if not entries:
-        raise ConfigError(f"no worlds given in {short_repr(text)}")
-    return tuple(entries)
 
 
 def reset_world_seed(options: Any, *, ignore_unknown: bool = False) -> int | None:
@@ -116,41 +86,81 @@ def _close_option(key: Any) -> str | None:
     return close[0] if close else None
 
 
+EAGER_LOAD_LIMIT = 64
+"""A source of at most this many map files reads (and so checks) them all when it is made; a larger
+mix reads each when it is first drawn (``train`` checks them all once before it starts)."""
+
+_CACHE_SIZE = 64  # map files kept in memory per source
+
+
 @dataclass
 class WorldSource:
-    """Draws a world per episode from a list of generator names and map files.
+    """Draws a world per episode from a mix of generators, map files and folders of map files
+    (:func:`~frontier_rl.world_spec.parse_world_mix`).
 
     Args:
-        worlds: generator names ("office", "rooms", "cluttered") and map file paths.
+        worlds: the entries, "NAME" or "NAME=WEIGHT": generator names ("office", "rooms",
+            "cluttered", "building"), map files and folders.
         resolution: cell size (m) for map files that carry none.
+        split: "train" draws a folder's training files; "validation" its held-out files
+            (:meth:`~frontier_rl.world_spec.WorldFamily.split`), the family chosen round robin
+            by the world seed, so that every family is validated on.
     """
 
     worlds: tuple[str, ...]
     resolution: float | None = None
-    _maps: dict[str, LoadedMap] = field(default_factory=dict, init=False, repr=False)
+    split: str = "train"
+    families: tuple[WorldFamily, ...] = field(init=False)
+    _members: tuple[tuple[str, ...], ...] = field(init=False, repr=False)
+    _p: NDArray[np.float64] | None = field(default=None, init=False, repr=False)  # None: all weights equal
+    _maps: OrderedDict[str, LoadedMap] = field(default_factory=OrderedDict, init=False, repr=False)
 
     def __post_init__(self) -> None:
         if not self.worlds:
             raise ConfigError("an environment needs at least one world")
-        for spec in self.worlds:  # load (and so check) every map file now, not at some later reset
-            if spec not in WORLD_GENERATORS:
+        self.families = parse_world_mix(",".join(self.worlds))
+        self._members = tuple(family.split(self.split) for family in self.families)
+        weights = np.array([family.weight for family in self.families])
+        self._p = None if np.all(weights == weights[0]) else weights / weights.sum()
+        files = [m for members in self._members for m in members if m not in WORLD_GENERATORS]
+        if len(files) <= EAGER_LOAD_LIMIT:
+            for spec in files:  # load (and so check) every map file now, not at some later reset
                 self._load(spec)
 
     def _load(self, spec: str) -> LoadedMap:
-        if spec not in self._maps:
-            if not Path(spec).is_file():
-                raise UnknownNameError(
-                    f"unknown world {spec!r}: not one of {', '.join(sorted(WORLD_GENERATORS))}, and no such file"
-                )
-            self._maps[spec] = load_map(spec, resolution=self.resolution)
-        return self._maps[spec]
+        if spec in self._maps:
+            self._maps.move_to_end(spec)
+            return self._maps[spec]
+        loaded = load_map(spec, resolution=self.resolution)
+        self._maps[spec] = loaded
+        if len(self._maps) > _CACHE_SIZE:
+            self._maps.popitem(last=False)
+        return loaded
 
     def sample(self, rng: np.random.Generator, world_seed: int | None = None) -> World:
-        """A world drawn with ``rng``: the generator or map uniformly, then a generator seed in the
-        training range (or ``world_seed`` if given), which also draws the start on a map file."""
-        spec = self.worlds[int(rng.integers(len(self.worlds)))]
+        """A world drawn with ``rng``: a family by weight (round robin by ``world_seed`` in the
+        validation split), one of its files uniformly, then a generator seed in the training
+        range (or ``world_seed`` if given), which also draws the start on a map file."""
+        n = len(self.families)
+        if self.split == "validation" and world_seed is not None:
+            index = world_seed % n
+        elif self._p is None:
+            index = int(rng.integers(n))
+        else:
+            index = int(rng.choice(n, p=self._p))
+        members = self._members[index]
+        spec = members[int(rng.integers(len(members)))] if len(members) > 1 else members[0]
         seed = int(rng.integers(TRAIN_SEED_LOW, _SEED_HIGH)) if world_seed is None else int(world_seed)
         if spec in WORLD_GENERATORS:
             return generate_world(spec, seed)
         # a start stored in the file is ignored: every episode starts at a random free cell
         return make_world(self._load(spec).grid, Path(spec).stem, rng=np.random.default_rng(seed))
+
+
+def check_world_files(worlds: tuple[str, ...], resolution: float | None = None) -> int:
+    """Read every map file of ``worlds`` once (a bad one raises
+    :class:`~frontier_rl.errors.MapError` naming it); returns how many there are."""
+    files = [m for family in parse_world_mix(",".join(worlds)) for m in family.members if m not in WORLD_GENERATORS]
+    for spec in files:
+        load_map(spec, resolution=resolution)
+    return len(files)

@@ -23,11 +23,11 @@ from frontier_rl.core.sim.episode import ExplorationPolicy, run_episode, warm_up
 from frontier_rl.core.sim.metrics import sample_step
 from frontier_rl.core.world.catalog import WORLD_GENERATORS, generate_world
 from frontier_rl.core.world.worlds import World, make_world
-from frontier_rl.envs.world_source import parse_world_list
 from frontier_rl.errors import ConfigError
 from frontier_rl.io import LoadedMap, load_map
 from frontier_rl.policies import make_policy
 from frontier_rl.swarm import Failure, TeamConfig, TeamMethod, TeamResult, run_team_episode
+from frontier_rl.world_spec import parse_world_list
 
 ORACLE = "oracle"
 """The full-knowledge reference every report measures methods against."""

@@ -10,10 +10,10 @@ from typing import Any
 from frontier_rl.atomic_write import write_text_atomic
 from frontier_rl.config import coerce
 from frontier_rl.envs.rewards import REWARD_PRESETS, reward_preset
-from frontier_rl.envs.world_source import parse_world_list
 from frontier_rl.errors import ConfigError, FrontierRLError, short_repr, short_text
 from frontier_rl.registration import MODELS, env_id
 from frontier_rl.safe_yaml import dump_yaml, load_yaml_file
+from frontier_rl.world_spec import parse_world_mix
 
 MAX_FEATURES_DIM = 8192
 """Largest ``features_dim`` a run may use and a model file may hold (the shipped models use 128)."""
@@ -33,7 +33,9 @@ class TrainConfig:
 
     Attributes:
         model: thesis model 1-5 (see :data:`frontier_rl.registration.MODELS`).
-        worlds: comma-separated generator names and map files or folders, drawn per episode.
+        worlds: comma-separated generator names, map files and folders, each optionally with a
+            sampling weight ("office=2,../shared/maps/dungeon/train=3"), drawn per episode; a
+            folder's validation files (one in ten) are never trained on.
         timesteps: decisions to train for (one env step = one decision).
         n_envs: parallel environments (subprocesses when > 1).
         algo: "a2c" (the thesis) or "ppo".
@@ -84,7 +86,7 @@ class TrainConfig:
         if not isinstance(self.worlds, str):
             raise ConfigError(f"worlds must be a string, got {short_repr(self.worlds)}")
         try:
-            parse_world_list(self.worlds)  # checks every world now, not in a subprocess later
+            parse_world_mix(self.worlds)  # checks every world now, not in a subprocess later
         except FrontierRLError as exc:  # it quotes the whole list: keep the message bounded
             raise type(exc)(short_text(str(exc), _MESSAGE_LIMIT)) from None
         except OSError as exc:  # a name the file system refuses to look up (too long, ...)

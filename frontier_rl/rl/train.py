@@ -22,6 +22,7 @@ from stable_baselines3.common.callbacks import BaseCallback
 from stable_baselines3.common.vec_env import DummyVecEnv, SubprocVecEnv, VecMonitor
 
 import frontier_rl.envs
+from frontier_rl.envs.world_source import check_world_files
 from frontier_rl.errors import ConfigError
 from frontier_rl.rl.callbacks import AtomicCheckpoint, ValidationCallback
 from frontier_rl.rl.config import TrainConfig
@@ -104,6 +105,7 @@ def train(
     checkpoint and validation callbacks.
     """
     start = _check_run_dir(config, out, resume)
+    check_world_files(tuple(config.worlds.split(",")))  # a bad map file fails now, not in a subprocess
     frontier_rl.envs.register_envs()
     env_kwargs: dict[str, Any] = {
         "worlds": config.worlds,
@@ -129,7 +131,7 @@ def train(
     eval_env = None
     validation = None
     if config.eval_every:
-        eval_env = gym.make(config.env_id, **env_kwargs)
+        eval_env = gym.make(config.env_id, **env_kwargs, world_split="validation")
         validation = ValidationCallback(eval_env, config.eval_every, config.eval_episodes, out / "validation.csv",
                                         out / "best_model.zip")  # fmt: skip
         callbacks.append(validation)

@@ -1,4 +1,5 @@
-"""Worlds drawn per reset: generator names, map files and folders."""
+"""Worlds drawn per reset: generator names, map files and folders, with sampling weights and
+train / validation splits."""
 
 from __future__ import annotations
 
@@ -8,8 +9,10 @@ import numpy as np
 import pytest
 
 from frontier_rl.core.world.catalog import generate_world
-from frontier_rl.envs.world_source import TRAIN_SEED_LOW, WorldSource, parse_world_list
+from frontier_rl.envs import world_source
+from frontier_rl.envs.world_source import TRAIN_SEED_LOW, WorldSource, check_world_files
 from frontier_rl.errors import ConfigError, MapError, UnknownNameError
+from frontier_rl.world_spec import VALIDATION_SHARE, parse_world_list, parse_world_mix
 
 
 def test_parse_names_files_and_folders(shared_maps: Path) -> None:
@@ -55,3 +58,82 @@ def test_bad_map_file_fails_at_construction(tmp_path: Path) -> None:
     )
     with pytest.raises(MapError, match=r"missing\.pgm"):
         WorldSource((str(bad),))
+
+
+def make_folder(folder: Path, n: int) -> Path:
+    """``n`` small bitmap maps (an open room each, 2 m square at 0.05 m)."""
+    from PIL import Image
+
+    folder.mkdir()
+    image = np.zeros((40, 40), np.uint8)
+    image[3:-3, 3:-3] = 255
+    for k in range(n):
+        Image.fromarray(image).save(folder / f"room_{k:03d}.png")
+    return folder
+
+
+def test_weights_are_parsed_and_bad_ones_refused(tmp_path: Path) -> None:
+    families = parse_world_mix("office=2, rooms ,cluttered=0.5")
+    assert [(f.spec, f.members, f.weight) for f in families] == [
+        ("office", ("office",), 2.0), ("rooms", ("rooms",), 1.0), ("cluttered", ("cluttered",), 0.5)
+    ]  # fmt: skip
+    for bad in ("office=0", "office=-1", "office=nan", "office=inf", "office=two", "office=", "office=1e7"):
+        with pytest.raises(ConfigError, match="world weight must be a number"):
+            parse_world_mix(bad)
+    with pytest.raises(UnknownNameError, match="mars"):
+        parse_world_mix("mars=2")
+    odd = tmp_path / "a=b"  # an existing folder whose name holds "=" is taken as it is
+    make_folder(odd, 1)
+    assert parse_world_mix(str(odd))[0].members == (str(odd / "room_000.png"),)
+
+
+def test_an_evaluation_list_refuses_weights() -> None:
+    with pytest.raises(ConfigError, match="'rooms=2' has a weight"):
+        parse_world_list("office,rooms=2")
+
+
+def test_families_are_drawn_by_weight_and_a_folder_shares_its_weight(tmp_path: Path) -> None:
+    folder = make_folder(tmp_path / "maps", 12)
+    source = WorldSource(("office=3", f"{folder}=1"))
+    names = [source.sample(np.random.default_rng(k)).name for k in range(400)]
+    office = names.count("office") / len(names)
+    assert 0.68 < office < 0.82  # 3 / 4: the folder's 12 files share its weight of 1
+    equal = WorldSource(("office", "rooms"))
+    assert equal._p is None  # equal weights draw as a plain uniform index (the draws of before)
+
+
+def test_validation_files_are_held_out_of_training(tmp_path: Path) -> None:
+    folder = make_folder(tmp_path / "maps", 40)
+    family = parse_world_mix(str(folder))[0]
+    train, held_out = family.split("train"), family.split("validation")
+    assert set(train) | set(held_out) == set(family.members) and not set(train) & set(held_out)
+    assert 0 < len(held_out) < len(family.members) / 4
+    trained = {WorldSource((str(folder),)).sample(np.random.default_rng(k)).name for k in range(300)}
+    validated = {
+        WorldSource((str(folder),), split="validation").sample(np.random.default_rng(k), world_seed=k).name
+        for k in range(60)
+    }
+    assert trained <= {Path(p).stem for p in train} and validated <= {Path(p).stem for p in held_out}
+    small = make_folder(tmp_path / "few", VALIDATION_SHARE - 1)
+    assert parse_world_mix(str(small))[0].split("validation") == parse_world_mix(str(small))[0].members
+    with pytest.raises(ConfigError, match="unknown split"):
+        family.split("test")
+
+
+def test_validation_visits_every_family_in_turn() -> None:
+    source = WorldSource(("office", "rooms", "cluttered"), split="validation")
+    names = [source.sample(np.random.default_rng(0), world_seed=900_000 + k).name for k in range(6)]
+    assert (sorted(set(names)) == ["cluttered", "office", "rooms"] and names[:3] != names[3:]) or len(set(names)) == 3
+
+
+def test_large_mixes_read_files_when_drawn_and_check_them_once(tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> None:
+    folder = make_folder(tmp_path / "maps", 8)
+    (folder / "room_003.png").write_bytes(b"not a png")
+    monkeypatch.setattr(world_source, "EAGER_LOAD_LIMIT", 4)
+    source = WorldSource((str(folder),))  # 8 files > 4: nothing read yet
+    assert len(source._maps) == 0
+    with pytest.raises(MapError, match="room_003"):
+        check_world_files((str(folder),))
+    with pytest.raises(MapError, match="room_003"):
+        for k in range(100):
+            source.sample(np.random.default_rng(k))
