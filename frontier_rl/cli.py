@@ -14,6 +14,7 @@ import typer
 from rich.table import Table
 from rich.text import Text
 
+from frontier_rl.cli_benchmark import benchmark_app
 from frontier_rl.cli_output import OneLineGroup, err_console, friendly_errors, one_line, stdout_console
 from frontier_rl.config import dump_config, load_sim_config
 from frontier_rl.core.frontiers.ranking import THESIS_BASELINE
@@ -25,7 +26,7 @@ from frontier_rl.errors import ConfigError, short_repr
 from frontier_rl.policies import POLICY_NAMES, make_policy
 from frontier_rl.recording import EpisodeRecorder, save_team_png
 from frontier_rl.render import check_output_file
-from frontier_rl.swarm import Failure, Strategy, TeamConfig, TeamMethod, parse_strategy, run_team_episode
+from frontier_rl.swarm import Failure, TeamConfig, parse_strategy, run_team_episode
 from frontier_rl.world_spec import checked_resolution, parse_pose, resolve_world
 
 #: Largest seed a command accepts (0 to 2**32 - 1: NumPy's legacy seeding, which SB3 uses, takes no more).
@@ -34,6 +35,7 @@ MAX_SEED = 2**32 - 1
 app = typer.Typer(
     add_completion=False, no_args_is_help=True, help="Frontier exploration for search and rescue.", cls=OneLineGroup
 )
+app.add_typer(benchmark_app, name="benchmark")
 
 _RES_LO, _RES_HI = resolution_bounds()
 DEMO_WORLDS = ("office", "rooms", "cluttered")
@@ -93,24 +95,6 @@ def _int_list(option: str, text: str) -> list[int]:
     if not values:
         raise ConfigError(f"{option} needs at least one value, got {text!r}")
     return values
-
-
-def team_methods(methods: list[str], robots: list[int], strategies: list[Strategy]) -> list[str]:
-    """Every method run by every team size (a size of 1 is the method alone) and, above 1, every
-    strategy; methods already written as POLICY@N[:STRATEGY] are kept as they are."""
-    out: list[str] = []
-    for method in methods:
-        if TeamMethod.parse(method).robots is not None:
-            out.append(method)
-            continue
-        for n in robots:
-            if n == 1:
-                out.append(method)
-            else:
-                out += [str(TeamMethod(method, n, s)) for s in strategies or [Strategy.UNCOORDINATED]]
-    for n in robots:
-        TeamConfig(robots=n)  # a size out of range fails here, named
-    return list(dict.fromkeys(out))
 
 
 def _sim_config(config: Path | None, max_time: float | None) -> SimConfig:
@@ -334,7 +318,7 @@ def evaluate(
     coverage."""
     from frontier_rl.evaluation.evaluate import evaluate as run_evaluation
     from frontier_rl.evaluation.evaluate import parse_thresholds
-    from frontier_rl.evaluation.experiment import ORACLE, ExperimentConfig, expand_worlds
+    from frontier_rl.evaluation.experiment import ORACLE, ExperimentConfig, expand_worlds, team_methods
 
     _seed(seed)
     _output_folder(out)
@@ -367,7 +351,7 @@ def evaluate(
 def train(
     out: Annotated[Path, typer.Option(help="Run directory: config, checkpoints, logs, model.zip, learning curve.")],
     model: Annotated[int, typer.Option(help="Thesis model: 1, 2 (point), 3, 4 (weight), 5 (frontier choice).")] = 4,
-    worlds: Annotated[str, typer.Option(help="Comma-separated generators and map files or folders.")] = "office",
+    worlds: Annotated[str, typer.Option(help="Generators, map files or folders, each optionally =WEIGHT.")] = "office",
     timesteps: Annotated[int, typer.Option(help="Decisions to train for.")] = 100_000,
     n_envs: Annotated[int, typer.Option(help="Parallel environments (subprocesses).")] = 2,
     algo: Annotated[str, typer.Option(help="a2c (the thesis) or ppo.")] = "a2c",

@@ -26,7 +26,7 @@ from frontier_rl.core.world.worlds import World, make_world
 from frontier_rl.errors import ConfigError
 from frontier_rl.io import LoadedMap, load_map
 from frontier_rl.policies import make_policy
-from frontier_rl.swarm import Failure, TeamConfig, TeamMethod, TeamResult, run_team_episode
+from frontier_rl.swarm import Failure, Strategy, TeamConfig, TeamMethod, TeamResult, run_team_episode
 from frontier_rl.world_spec import parse_world_list
 
 ORACLE = "oracle"
@@ -304,3 +304,21 @@ def _thin_curve(times: np.ndarray, curve: np.ndarray, end: float) -> tuple[list[
     grid = np.linspace(0.0, max(end, float(times[-1])), _TRACE_POINTS)
     values = sample_step(times, curve, grid)
     return [round(float(t), 2) for t in grid], [round(float(v), 5) for v in values]
+
+
+def team_methods(methods: list[str], robots: list[int], strategies: list[Strategy]) -> list[str]:
+    """Every method run by every team size (a size of 1 is the method alone) and, above 1, every
+    strategy; methods already written as POLICY@N[:STRATEGY] are kept as they are."""
+    out: list[str] = []
+    for method in methods:
+        if TeamMethod.parse(method).robots is not None:
+            out.append(method)
+            continue
+        for n in robots:
+            if n == 1:
+                out.append(method)
+            else:
+                out += [str(TeamMethod(method, n, s)) for s in strategies or [Strategy.UNCOORDINATED]]
+    for n in robots:
+        TeamConfig(robots=n)  # a size out of range fails here, named
+    return list(dict.fromkeys(out))

@@ -99,3 +99,17 @@ def load_dungeon_map(png_path: str | Path, resolution: float = DUNGEON_RESOLUTIO
     rows, cols = np.nonzero(np.flipud(start))
     x, y = grid.cell_to_world(float(rows.mean()), float(cols.mean()))
     return LoadedMap(grid=grid, start=Pose(float(x), float(y), 0.0), source=path)
+
+
+def marker_pixels(png_path: str | Path) -> NDArray[np.int64]:
+    """The start marker's pixels of a DungeonMaps PNG as (row, col) in image order (row 0 at the
+    top), row-major: as ``np.nonzero`` lists them for the published planners' start.
+
+    Raises:
+        MapError: an unreadable image or one without a start marker.
+    """
+    path = Path(png_path)
+    _, start = _grey_and_start(read_image(path))
+    if not start.any():
+        raise MapError(f"{path}: no start marker (greyscale {START_GREY:g} or RGB {START_RGB}) in the image")
+    return np.argwhere(start).astype(np.int64)

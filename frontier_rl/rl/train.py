@@ -107,11 +107,8 @@ def train(
     start = _check_run_dir(config, out, resume)
     check_world_files(tuple(config.worlds.split(",")))  # a bad map file fails now, not in a subprocess
     frontier_rl.envs.register_envs()
-    env_kwargs: dict[str, Any] = {
-        "worlds": config.worlds,
-        "reward": config.reward,
-        "max_decisions": config.max_decisions,
-    }
+    env_kwargs: dict[str, Any] = {"worlds": config.worlds, "reward": config.reward}
+    env_kwargs["max_decisions"] = config.max_decisions
     vec_cls = SubprocVecEnv if config.n_envs > 1 else DummyVecEnv
     envs = vec_cls([partial(make_env, config.env_id, **env_kwargs) for _ in range(config.n_envs)])
     # a resumed run must not replay the episodes it already saw: offset the env seeds by the start step

@@ -9,11 +9,11 @@ from pathlib import Path
 import pytest
 from typer.testing import CliRunner
 
-from frontier_rl.cli import app, team_methods
+from frontier_rl.cli import app
 from frontier_rl.core.sim.config import SimConfig
 from frontier_rl.errors import ConfigError
 from frontier_rl.evaluation.evaluate import evaluate
-from frontier_rl.evaluation.experiment import ExperimentConfig, identity
+from frontier_rl.evaluation.experiment import ExperimentConfig, identity, team_methods
 from frontier_rl.swarm import Failure, Strategy, TeamMethod
 
 SHORT = SimConfig(max_sim_time=120.0)

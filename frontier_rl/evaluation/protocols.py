@@ -1,0 +1,158 @@
+"""Published evaluation protocols, run as their papers' code runs them, with their metric printed
+beside ours.
+
+``ariadne``: the test driver of ARiADNE (Cao et al., ICRA 2023; github.com/marmotlab/ARiADNE,
+``test_driver.py``, ``env.py``): every DungeonMaps test map once, the robot starting at the 128th
+pixel of the start marker (row-major, as ``np.nonzero`` lists them), a sensor range of 80 px, and
+a run that ends when at most 250 of the map's free pixels are unseen; its metric is the distance
+travelled in pixels, printed as the mean and the (population) standard deviation over the maps.
+
+What our simulator does differently, and how the protocol is met on it: our robot drives with the
+navigator, the follower and the LiDAR of every other episode (it turns, keeps clear of walls and
+sees along 360 beams), where ARiADNE's moves straight between graph nodes and senses a disc of
+rays; the distance is the one our robot drove until the map update at which the 250-pixel rule was
+first met, summed over the LiDAR ticks (every scan is folded into the map, as ARiADNE updates its
+belief at every step; Gmapping's update thresholds are off). The free pixels counted are those the
+robot could see from where it can go (the world's explorable space; on DungeonMaps nearly all).
+A run whose robot ends (no frontier left) before the rule is met counts with its whole distance,
+as ARiADNE counts a run that ends with no utility left.
+"""
+
+from __future__ import annotations
+
+import math
+import os
+from collections.abc import Sequence
+from concurrent.futures import ProcessPoolExecutor
+from dataclasses import dataclass, replace
+from pathlib import Path
+
+import numpy as np
+
+from frontier_rl.core.sim.config import SimConfig
+from frontier_rl.core.sim.episode import run_episode
+from frontier_rl.core.world.robot import Pose
+from frontier_rl.core.world.worlds import World, make_world
+from frontier_rl.errors import ConfigError, MapError, short_repr
+from frontier_rl.io.dungeon import DUNGEON_RESOLUTION, load_dungeon_map, marker_pixels
+from frontier_rl.policies import make_policy
+
+ARIADNE_SENSOR_PX = 80
+"""ARiADNE's sensor range (pixels)."""
+
+ARIADNE_UNSEEN_PX = 250
+"""A test run ends when at most this many free pixels are unseen."""
+
+ARIADNE_START_INDEX = 127
+"""The start is this entry of the marker's pixels in row-major order."""
+
+
+@dataclass(frozen=True)
+class ProtocolRun:
+    """One (method, map) run of a protocol.
+
+    Attributes:
+        method: the policy.
+        map_name: the map file's name.
+        distance_px: ARiADNE's metric: pixels travelled until the 250-pixel rule was met.
+        rule_met: whether the rule was met (else the run ended with no frontier left first).
+        sim_time_s: our metric: the time until our episode ended (s).
+        path_length_m: the distance our robot drove in the whole episode (m).
+        explored: our episode ended with the map explored.
+    """
+
+    method: str
+    map_name: str
+    distance_px: float
+    rule_met: bool
+    sim_time_s: float
+    path_length_m: float
+    explored: bool
+
+
+def ariadne_config(resolution: float = DUNGEON_RESOLUTION, config: SimConfig | None = None) -> SimConfig:
+    """``config`` with ARiADNE's sensor: 80 px of range for the LiDAR and the mapper, and every
+    scan folded into the map."""
+    base = config or SimConfig()
+    reach = ARIADNE_SENSOR_PX * resolution
+    lidar = replace(base.lidar, max_range=reach)
+    mapper = replace(base.mapper, usable_range=reach, temporal_update=1e-6)
+    return replace(base, lidar=lidar, mapper=mapper)
+
+
+def ariadne_world(path: Path, resolution: float = DUNGEON_RESOLUTION) -> World:
+    """The DungeonMaps test map at ``path`` with ARiADNE's start pixel (the marker's centre where
+    that pixel leaves our robot no room), explorable space seen with its 80 px range."""
+    loaded = load_dungeon_map(path, resolution)
+    pixels = marker_pixels(path)
+    row, col = pixels[min(ARIADNE_START_INDEX, len(pixels) - 1)]
+    grid, reach = loaded.grid, ARIADNE_SENSOR_PX * resolution
+    x, y = grid.cell_to_world(grid.height - 1 - int(row), int(col))
+    try:
+        return make_world(grid, path.stem, start=Pose(x, y, 0.0), sensor_range=reach)
+    except MapError:  # that pixel is too close to a wall for our robot: the marker's centre
+        return make_world(grid, path.stem, start=loaded.start, sensor_range=reach)
+
+
+def run_ariadne(method: str, path: Path, resolution: float = DUNGEON_RESOLUTION) -> ProtocolRun:
+    """One ARiADNE test run of ``method`` on the map at ``path`` (seed 0: one noise stream)."""
+    world = ariadne_world(path, resolution)
+    result = run_episode(world, make_policy(method), ariadne_config(resolution), seed=0)
+    poses = np.asarray(result.trajectory)[:, :2]
+    coverage = np.asarray(result.coverage_curve)
+    if len(coverage) != len(poses):  # every tick folds its scan in: one map update per pose
+        raise RuntimeError(f"{len(coverage)} map updates for {len(poses)} poses on {path.name}")
+    unseen = world.explorable_count - np.rint(coverage * world.explorable_count)
+    met = np.flatnonzero(unseen <= ARIADNE_UNSEEN_PX)
+    last = int(met[0]) if met.size else len(poses) - 1
+    steps = np.hypot(*np.diff(poses[: last + 1], axis=0).T)
+    return ProtocolRun(method, path.name, float(steps.sum()) / resolution, bool(met.size), result.sim_time_s,
+                       result.path_length_m, result.done)  # fmt: skip
+
+
+def _run(job: tuple[str, Path, float]) -> ProtocolRun:
+    return run_ariadne(*job)
+
+
+def ariadne_maps(folder: Path, limit: int | None = None) -> list[Path]:
+    """The test maps of ``folder`` in ARiADNE's order (file names sorted in reverse), at most ``limit``."""
+    if not folder.is_dir():
+        raise ConfigError(f"--maps {short_repr(str(folder))} is not a folder")
+    maps = sorted((p for p in folder.iterdir() if p.suffix.lower() == ".png"), key=lambda p: p.name, reverse=True)
+    if not maps:
+        raise ConfigError(f"--maps {short_repr(str(folder))} holds no PNG maps")
+    return maps[:limit] if limit else maps
+
+
+def run_protocol(
+    methods: Sequence[str], maps: Sequence[Path], workers: int | None = None, resolution: float = DUNGEON_RESOLUTION
+) -> list[ProtocolRun]:
+    """Every method on every map, in ``workers`` processes (default: every core)."""
+    for method in methods:
+        make_policy(method)  # an unknown method or a bad model file fails before any work
+    jobs = [(m, p, resolution) for m in methods for p in maps]
+    workers = max(1, min(workers or os.cpu_count() or 1, len(jobs)))
+    if workers == 1:
+        return [_run(job) for job in jobs]
+    with ProcessPoolExecutor(workers) as pool:
+        return list(pool.map(_run, jobs))
+
+
+def summary_rows(runs: Sequence[ProtocolRun], methods: Sequence[str]) -> list[dict[str, float | str | int]]:
+    """Per method: ARiADNE's numbers (``#Average length``, ``#Length std``: NumPy's population
+    std, as its driver prints) and ours (mean time and path length, runs explored)."""
+    rows: list[dict[str, float | str | int]] = []
+    for method in methods:
+        mine = [r for r in runs if r.method == method]
+        lengths = np.array([r.distance_px for r in mine])
+        rows.append({
+            "method": method,
+            "tests": len(mine),
+            "average_length_px": float(lengths.mean()) if mine else math.nan,
+            "length_std_px": float(lengths.std()) if mine else math.nan,
+            "rule_met": sum(r.rule_met for r in mine),
+            "mean_time_s": float(np.mean([r.sim_time_s for r in mine])) if mine else math.nan,
+            "mean_path_m": float(np.mean([r.path_length_m for r in mine])) if mine else math.nan,
+            "explored": sum(r.explored for r in mine),
+        })  # fmt: skip
+    return rows
