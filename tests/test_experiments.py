@@ -2,10 +2,18 @@
 
 from __future__ import annotations
 
+import copy
+import importlib.util
 import json
 import subprocess
 import sys
 from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+from frontier_rl.core.sim.simulator import ExplorationSimulator
+from frontier_rl.core.world.catalog import generate_world
 
 SCRIPT = Path(__file__).resolve().parents[1] / "experiments" / "weight_sweep.py"
 
@@ -23,3 +31,54 @@ def test_sweep_analysis_matches_the_rows(tmp_path: Path) -> None:
     assert sum(sweep["per_world_best_weight_counts"].values()) == 2
     assert sweep["per_world_oracle_mean_time_s"] <= sweep["best_mean_time_s"]
     assert (out / "report.html").exists()
+
+
+GENERALISATION = SCRIPT.parent / "generalisation.py"
+
+
+def test_generalisation_table_per_family(tmp_path: Path) -> None:
+    """Two families, two episodes: one evaluate folder each and a table row per method."""
+    out = tmp_path / "gen"
+    args = [sys.executable, str(GENERALISATION), "--methods", "fixed:0.75", "--episodes", "2", "--families",
+            "office,rooms", "--workers", "2", "--out", str(out)]  # fmt: skip
+    run = subprocess.run(args, capture_output=True, text=True, check=True, timeout=300)
+    table = json.loads((out / "generalisation.json").read_text())
+    assert set(table) == {"office", "rooms"}
+    for family, rows in table.items():
+        assert [r["method"] for r in rows] == ["nearest", "fixed:0.75", "oracle"]
+        assert rows[0]["reduction_vs_nearest_pct"] == 0.0 and rows[0]["n"] == 2
+        summary = json.loads((out / family / "summary.json").read_text())
+        assert rows[1]["mean_time_s"] == summary["methods"]["fixed:0.75"]["mean_time_s"]
+        assert family in run.stdout
+
+
+def _script(name: str) -> Any:
+    spec = importlib.util.spec_from_file_location(name, SCRIPT.parent / f"{name}.py")
+    assert spec is not None and spec.loader is not None
+    module = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(module)
+    return module
+
+
+def test_a_copied_simulator_replays_the_episode_exactly() -> None:
+    """The headroom probe rests on this: a deep copy explores on exactly as the original would."""
+    headroom = _script("weight_headroom")
+    sim = ExplorationSimulator(generate_world("office", 3), rng=np.random.default_rng(3))
+    for _ in range(5):
+        headroom._take(sim, 0.95)
+    twin = copy.deepcopy(sim)
+    assert headroom.finish(twin, 0.95) == headroom.finish(sim, 0.95)
+    assert np.array_equal(twin.map().data, sim.map().data)
+
+
+def test_headroom_summary_counts_savings() -> None:
+    headroom = _script("weight_headroom")
+    probes = [
+        {"end_times_s": {"0.50": 90.0, "0.95": 100.0}},
+        {"end_times_s": {"0.50": 120.0, "0.95": 100.0}},
+        {"end_times_s": {"0.50": 100.0, "0.95": 100.0}},
+    ]
+    summary = headroom.summarise(probes, 0.95)
+    assert summary["share_where_another_weight_saves_time"] == 1 / 3
+    assert summary["mean_saving_s"] == 10.0 / 3 and summary["max_saving_s"] == 10.0
+    assert summary["best_weight_counts"] == {"0.50": 1, "0.95": 2}  # a tie goes to the constant

@@ -1,0 +1,90 @@
+"""Does a learned policy hold in buildings it never saw? One paired experiment per family of worlds
+against ``nearest``, with the oracle as the reference.
+
+Families: the generators' held-out seeds (``office``, ``rooms``, ``cluttered``, ``building``:
+seeds from 0 up; training draws seeds from 10⁶ up) and the DungeonMaps test folders ``easy``,
+``medium`` and ``complex`` (never trained on: training reads ``dungeon/train`` only), the first
+``--maps`` files of each by name, one episode each from a random start. Each family's results go
+to ``OUT/FAMILY`` (a ``frontier-rl evaluate`` folder: rerunning continues it); the table printed
+and written to ``OUT/generalisation.json`` holds, per family and method, the mean time, the
+reduction against ``nearest`` with its one-tailed paired t-test, and the time over the oracle's.
+
+    .venv/bin/python experiments/generalisation.py --methods learned:models/model5.zip \
+        --episodes 30 --maps 30 --out results/generalisation
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+from pathlib import Path
+from typing import Any
+
+from frontier_rl.atomic_write import write_text_atomic
+from frontier_rl.evaluation.evaluate import evaluate
+from frontier_rl.evaluation.experiment import ORACLE, ExperimentConfig, expand_worlds
+
+GENERATORS = ("office", "rooms", "cluttered", "building")
+DUNGEON_TESTS = ("easy", "medium", "complex")
+BASELINE = "nearest"
+
+
+def families(dungeon: Path, maps: int, only: set[str] | None) -> dict[str, tuple[str, ...]]:
+    """Family name -> the worlds of its experiment."""
+    out: dict[str, tuple[str, ...]] = {name: (name,) for name in GENERATORS}
+    for level in DUNGEON_TESTS:
+        folder = dungeon / level
+        if folder.is_dir():
+            out[f"dungeon-{level}"] = expand_worlds(str(folder))[:maps]
+        else:
+            print(f"- {folder} not found: dungeon-{level} skipped")
+    return {k: v for k, v in out.items() if only is None or k in only}
+
+
+def family_rows(summary: dict[str, Any], methods: list[str]) -> list[dict[str, Any]]:
+    """The table rows of one family's ``summary.json``."""
+    table = summary["methods"]
+    rows = []
+    for method in methods:
+        entry = table[method]
+        rows.append({
+            "method": method, "n": entry["n"], "mean_time_s": entry["mean_time_s"],
+            "reduction_vs_nearest_pct": entry["reduction_pct"], "p_one_tailed": entry["p_one_tailed"],
+            "oracle_ratio": entry["oracle_ratio"], "explored": entry["end_reasons"]["explored"],
+        })  # fmt: skip
+    return rows
+
+
+def main() -> None:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--methods", required=True, help="comma-separated policies to test against nearest")
+    parser.add_argument("--episodes", type=int, default=30, help="episodes (seeds 0..N-1) per generator")
+    parser.add_argument("--building-episodes", type=int, default=10, help="episodes of the large buildings")
+    parser.add_argument("--maps", type=int, default=30, help="DungeonMaps test maps per level (first by name)")
+    parser.add_argument("--dungeon", type=Path, default=Path("../shared/maps/dungeon"))
+    parser.add_argument("--families", default="", help="comma-separated subset of the families")
+    parser.add_argument("--workers", type=int, default=None)
+    parser.add_argument("--out", type=Path, required=True)
+    args = parser.parse_args()
+
+    tested = [m.strip() for m in args.methods.split(",") if m.strip()]
+    methods = [BASELINE, *tested, ORACLE]
+    only = {f.strip() for f in args.families.split(",") if f.strip()} or None
+    results: dict[str, list[dict[str, Any]]] = {}
+    for family, worlds in families(args.dungeon, args.maps, only).items():
+        episodes = 1 if family.startswith("dungeon") else args.episodes
+        episodes = args.building_episodes if family == "building" else episodes
+        config = ExperimentConfig(methods=tuple(methods), worlds=worlds, episodes=episodes, baseline=BASELINE)
+        out = args.out / family
+        evaluate(config, out, workers=args.workers, command=f"experiments/generalisation.py ({family})")
+        results[family] = family_rows(json.loads((out / "summary.json").read_text()), methods)
+        for row in results[family]:
+            p = "" if row["p_one_tailed"] is None else f"{row['p_one_tailed']:.2g}"
+            print(f"{family:16s} {row['method']:40s} n={row['n']:3d} {row['mean_time_s']:8.1f} s "
+                  f"{row['reduction_vs_nearest_pct']:6.1f} % p={p:8s} ×oracle {row['oracle_ratio']:.2f} "
+                  f"explored {row['explored']}/{row['n']}")  # fmt: skip
+    write_text_atomic(args.out / "generalisation.json", json.dumps(results, indent=1) + "\n")
+
+
+if __name__ == "__main__":
+    main()
