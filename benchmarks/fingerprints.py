@@ -42,11 +42,12 @@ TEAMS = (
 )
 
 
-def fingerprint(result: EpisodeResult) -> str:
-    """A SHA-256 of every field of ``result`` except its wall time."""
+def fingerprint(result: EpisodeResult, skip: frozenset[str] = frozenset()) -> str:
+    """A SHA-256 of every field of ``result`` except its wall time and the fields in ``skip`` (a
+    field added since the baseline was taken)."""
     digest = hashlib.sha256()
     for f in fields(result):
-        if f.name == "wall_time_s":
+        if f.name == "wall_time_s" or f.name in skip:
             continue
         digest.update(f.name.encode())
         _feed(digest, getattr(result, f.name))
@@ -102,10 +103,12 @@ def main(argv: list[str] | None = None) -> int:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0] if __doc__ else None)
     parser.add_argument("--out", type=Path, help="write the fingerprints here (JSON)")
     parser.add_argument("--check", type=Path, help="compare with fingerprints an earlier checkout wrote")
+    parser.add_argument("--skip", action="append", default=[], metavar="FIELD",
+                        help="leave a result field out (one added since the baseline); repeatable")  # fmt: skip
     args = parser.parse_args(argv)
     hashes = {}
     for name, run in episodes():
-        hashes[name] = fingerprint(run())
+        hashes[name] = fingerprint(run(), frozenset(args.skip))
         print(f"{hashes[name][:16]}  {name}", flush=True)
     if args.out:
         args.out.write_text(json.dumps(hashes, indent=1) + "\n")

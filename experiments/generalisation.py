@@ -79,10 +79,10 @@ def main() -> None:
         evaluate(config, out, workers=args.workers, command=f"experiments/generalisation.py ({family})")
         results[family] = family_rows(json.loads((out / "summary.json").read_text()), methods)
         for row in results[family]:
-            p = "" if row["p_one_tailed"] is None else f"{row['p_one_tailed']:.2g}"
-            print(f"{family:16s} {row['method']:40s} n={row['n']:3d} {row['mean_time_s']:8.1f} s "
-                  f"{row['reduction_vs_nearest_pct']:6.1f} % p={p:8s} ×oracle {row['oracle_ratio']:.2f} "
-                  f"explored {row['explored']}/{row['n']}")  # fmt: skip
+            shown = {k: "—" if v is None else f"{v:.3g}" for k, v in row.items() if isinstance(v, float | None)}
+            print(f"{family:16s} {row['method']:40s} n={row['n']:3d} {shown['mean_time_s']:>8s} s "
+                  f"{shown['reduction_vs_nearest_pct']:>6s} % p={shown['p_one_tailed']:8s} "
+                  f"×oracle {shown['oracle_ratio']} explored {row['explored']}/{row['n']}")  # fmt: skip
     write_text_atomic(args.out / "generalisation.json", json.dumps(results, indent=1) + "\n")
 
 

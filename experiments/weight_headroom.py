@@ -18,6 +18,7 @@ from __future__ import annotations
 import argparse
 import copy
 import json
+import math
 from pathlib import Path
 from typing import Any
 
@@ -26,16 +27,18 @@ import numpy as np
 from frontier_rl.atomic_write import write_text_atomic
 from frontier_rl.core.frontiers.ranking import rank, weighted_cost
 from frontier_rl.core.sim.episode import decision_context
+from frontier_rl.core.sim.episode_log import EndReason
 from frontier_rl.core.sim.simulator import ExplorationSimulator
 from frontier_rl.core.world.catalog import generate_world
 
 
 def finish(sim: ExplorationSimulator, weight: float) -> float:
-    """Explore on with the constant ``weight``; the time (s) when the episode ends."""
+    """Explore on with the constant ``weight``; the time (s) when the map is explored, inf when the
+    episode ended otherwise (frontiers given up, the time cap): a weight must not win by giving up."""
     while not sim.truncated and not sim.finished:
         context = decision_context(sim)
         sim.execute(rank(weighted_cost(context.frontiers, weight)), weight)
-    return sim.sim_time
+    return sim.sim_time if sim.end_reason() is EndReason.EXPLORED else math.inf
 
 
 def probe_episode(seed: int, constant: float, weights: list[float], every: int) -> list[dict[str, Any]]:
@@ -50,8 +53,9 @@ def probe_episode(seed: int, constant: float, weights: list[float], every: int) 
             probes.append({"seed": seed, "decision": decision, "time_s": sim.sim_time, "end_times_s": times})
         _take(sim, constant)
         decision += 1
+    end = sim.sim_time if sim.end_reason() is EndReason.EXPLORED else math.inf
     for probe in probes:  # the constant's own end time is the same from every probe: the episode's
-        probe["end_times_s"][f"{constant:.2f}"] = sim.sim_time
+        probe["end_times_s"][f"{constant:.2f}"] = end
     return probes
 
 
@@ -64,6 +68,9 @@ def _take(sim: ExplorationSimulator, weight: float) -> ExplorationSimulator:
 def summarise(probes: list[dict[str, Any]], constant: float) -> dict[str, Any]:
     """The share of decisions where another weight saves time, and how much (s), in hindsight."""
     key = f"{constant:.2f}"
+    probes = [p for p in probes if math.isfinite(p["end_times_s"][key])]  # the constant explored
+    if not probes:
+        return {"constant": constant, "probed_decisions": 0}
     savings = np.array([p["end_times_s"][key] - min(p["end_times_s"].values()) for p in probes])
     best = [min(p["end_times_s"], key=lambda w: (p["end_times_s"][w], w != key)) for p in probes]
     return {

@@ -32,6 +32,7 @@ def ariadne(
     json_out: Annotated[Path | None, typer.Option("--json", help="Also write every run and the summary here.")] = None,
 ) -> None:
     """ARiADNE's test protocol (80 px sensor, a run ends at <= 250 unseen free px, distance in px)."""
+    from frontier_rl.evaluation.backends import EpisodeFailedError
     from frontier_rl.evaluation.protocols import ariadne_maps, run_protocol, summary_rows
 
     names = [m.strip() for m in methods.split(",") if m.strip()]
@@ -40,7 +41,7 @@ def ariadne(
     if limit < 0 or workers < 0:
         raise ConfigError(f"--limit and --workers must be >= 0, got {limit} and {workers}")
     files = ariadne_maps(maps, limit or None)
-    runs = run_protocol(names, files, workers or None)
+    runs, failures = run_protocol(names, files, workers or None)
     rows = summary_rows(runs, names)
     table = Table(title=f"ARiADNE protocol on {maps} ({len(files)} maps)")
     for column in ("method", "tests", "average length (px)", "length std (px)", "rule met", "ours: time (s)",
@@ -57,5 +58,10 @@ def ariadne(
         console.print(f"{row['method']}: |#Total test: {row['tests']} |#Average length: {row['average_length_px']:.2f} "
                       f"|#Length std: {row['length_std_px']:.2f}")  # fmt: skip
     if json_out is not None:
-        payload = {"protocol": "ariadne", "maps": str(maps), "summary": rows, "runs": [vars(r) for r in runs]}
+        payload = {"protocol": "ariadne", "maps": str(maps), "summary": rows, "runs": [vars(r) for r in runs],
+                   "failures": failures}  # fmt: skip
         write_text_atomic(json_out, json.dumps(payload, indent=2) + "\n")
+    if failures:
+        raise EpisodeFailedError(
+            f"{len(failures)} run(s) failed (the table leaves them out): {'; '.join(failures[:3])}"
+        )

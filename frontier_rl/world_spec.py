@@ -91,9 +91,9 @@ SPLITS = ("train", "validation")
 """The parts of a world family: a folder's validation files are never trained on."""
 
 VALIDATION_SHARE = 10
-"""One file in this many (by a hash of its name) of a folder of at least as many map files is a
-validation file; folders with fewer files are used whole by both splits (their validation
-episodes differ in start pose only)."""
+"""About one file in this many (those whose name hashes to 0 modulo it, and at least one) of a
+folder of at least as many map files is a validation file; folders with fewer files are used whole
+by both splits (their validation episodes differ in start pose only)."""
 
 MAX_WEIGHT = 1e6
 
@@ -119,13 +119,17 @@ class WorldFamily:
             raise ConfigError(f"unknown split {short_repr(part)}; choose one of {', '.join(SPLITS)}")
         if len(self.members) < VALIDATION_SHARE:
             return self.members
-        held_out = tuple(m for m in self.members if _is_validation(m))
+        held_out = tuple(m for m in self.members if _name_hash(m) % VALIDATION_SHARE == 0)
+        if not held_out:  # no name drew a validation hash: the least hash, so that neither part is empty
+            held_out = (min(self.members, key=_name_hash),)
+        if len(held_out) == len(self.members):
+            return self.members
         return held_out if part == "validation" else tuple(m for m in self.members if m not in held_out)
 
 
-def _is_validation(path: str) -> bool:
+def _name_hash(path: str) -> int:
     digest = hashlib.sha256(Path(path).name.encode("utf-8", "surrogateescape")).digest()
-    return int.from_bytes(digest[:8], "big") % VALIDATION_SHARE == 0
+    return int.from_bytes(digest[:8], "big")
 
 
 def _weighted(item: str) -> tuple[str, float | None]:
@@ -134,6 +138,8 @@ def _weighted(item: str) -> tuple[str, float | None]:
     spec, sep, text = item.rpartition("=")
     if not sep or item in WORLD_GENERATORS or _exists(item):
         return item, None
+    if not spec.strip():
+        raise ConfigError(f"world {short_repr(item)} names no world before its weight")
     try:
         weight = float(text)
     except ValueError:
@@ -177,14 +183,17 @@ def parse_world_mix(text: str) -> tuple[WorldFamily, ...]:
         UnknownNameError: an entry that is neither a generator nor an existing file or folder.
         ConfigError: no entries, a weight that is not a number in (0, 10⁶], a folder without map files.
     """
-    families = []
-    for item in (part.strip() for part in text.split(",")):
-        if item:
-            spec, weight = _weighted(item)
-            families.append(WorldFamily(spec, _members(spec), 1.0 if weight is None else weight))
+    families = tuple(world_family(item) for item in (part.strip() for part in text.split(",")) if item)
     if not families:
         raise ConfigError(f"no worlds given in {short_repr(text)}")
-    return tuple(families)
+    return families
+
+
+def world_family(item: str) -> WorldFamily:
+    """One entry of a world list ("rooms=2", "maps/", a file name that may hold commas) as a
+    family (see :func:`parse_world_mix`)."""
+    spec, weight = _weighted(item.strip())
+    return WorldFamily(spec, _members(spec), 1.0 if weight is None else weight)
 
 
 def parse_world_list(text: str) -> tuple[str, ...]:

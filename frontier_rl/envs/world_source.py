@@ -17,7 +17,10 @@ from frontier_rl.core.world.catalog import WORLD_GENERATORS, generate_world
 from frontier_rl.core.world.worlds import World, make_world
 from frontier_rl.errors import ConfigError
 from frontier_rl.io import LoadedMap, load_map
-from frontier_rl.world_spec import WorldFamily, parse_world_mix
+from frontier_rl.world_spec import WorldFamily, parse_world_list, world_family
+
+__all__ = ["EAGER_LOAD_LIMIT", "RESET_OPTIONS", "TRAIN_SEED_LOW", "VALIDATION_SEED_LOW", "WorldSource",
+           "check_world_files", "parse_world_list", "reset_world_seed"]  # fmt: skip
 
 TRAIN_SEED_LOW = 1_000_000
 """Generator seeds drawn for training lie in [TRAIN_SEED_LOW, 2³¹); seeds below it (``explore
@@ -118,7 +121,7 @@ class WorldSource:
     def __post_init__(self) -> None:
         if not self.worlds:
             raise ConfigError("an environment needs at least one world")
-        self.families = parse_world_mix(",".join(self.worlds))
+        self.families = tuple(world_family(entry) for entry in self.worlds)
         self._members = tuple(family.split(self.split) for family in self.families)
         weights = np.array([family.weight for family in self.families])
         self._p = None if np.all(weights == weights[0]) else weights / weights.sum()
@@ -160,7 +163,7 @@ class WorldSource:
 def check_world_files(worlds: tuple[str, ...], resolution: float | None = None) -> int:
     """Read every map file of ``worlds`` once (a bad one raises
     :class:`~frontier_rl.errors.MapError` naming it); returns how many there are."""
-    files = [m for family in parse_world_mix(",".join(worlds)) for m in family.members if m not in WORLD_GENERATORS]
+    files = [m for entry in worlds for m in world_family(entry).members if m not in WORLD_GENERATORS]
     for spec in files:
         load_map(spec, resolution=resolution)
     return len(files)

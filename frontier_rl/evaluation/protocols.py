@@ -11,8 +11,8 @@ What our simulator does differently, and how the protocol is met on it: our robo
 navigator, the follower and the LiDAR of every other episode (it turns, keeps clear of walls and
 sees along 360 beams), where ARiADNE's moves straight between graph nodes and senses a disc of
 rays; the distance is the one our robot drove until the map update at which the 250-pixel rule was
-first met, summed over the LiDAR ticks (every scan is folded into the map, as ARiADNE updates its
-belief at every step; Gmapping's update thresholds are off). The free pixels counted are those the
+first met (every scan is folded into the map, as ARiADNE updates its belief at every step;
+Gmapping's time threshold is off). The free pixels counted are those the
 robot could see from where it can go (the world's explorable space; on DungeonMaps nearly all).
 A run whose robot ends (no frontier left) before the rule is met counts with its whole distance,
 as ARiADNE counts a run that ends with no utility left.
@@ -98,20 +98,20 @@ def run_ariadne(method: str, path: Path, resolution: float = DUNGEON_RESOLUTION)
     """One ARiADNE test run of ``method`` on the map at ``path`` (seed 0: one noise stream)."""
     world = ariadne_world(path, resolution)
     result = run_episode(world, make_policy(method), ariadne_config(resolution), seed=0)
-    poses = np.asarray(result.trajectory)[:, :2]
-    coverage = np.asarray(result.coverage_curve)
-    if len(coverage) != len(poses):  # every tick folds its scan in: one map update per pose
-        raise RuntimeError(f"{len(coverage)} map updates for {len(poses)} poses on {path.name}")
-    unseen = world.explorable_count - np.rint(coverage * world.explorable_count)
+    assert result.coverage_path_m is not None  # a single robot's episode
+    unseen = world.explorable_count - np.rint(np.asarray(result.coverage_curve) * world.explorable_count)
     met = np.flatnonzero(unseen <= ARIADNE_UNSEEN_PX)
-    last = int(met[0]) if met.size else len(poses) - 1
-    steps = np.hypot(*np.diff(poses[: last + 1], axis=0).T)
-    return ProtocolRun(method, path.name, float(steps.sum()) / resolution, bool(met.size), result.sim_time_s,
+    driven = float(result.coverage_path_m[met[0]]) if met.size else result.path_length_m
+    return ProtocolRun(method, path.name, driven / resolution, bool(met.size), result.sim_time_s,
                        result.path_length_m, result.done)  # fmt: skip
 
 
-def _run(job: tuple[str, Path, float]) -> ProtocolRun:
-    return run_ariadne(*job)
+def _run(job: tuple[str, Path, float]) -> ProtocolRun | str:
+    """A run, or the one-line reason it failed (one map must not cost the others' results)."""
+    try:
+        return run_ariadne(*job)
+    except Exception as exc:  # reported with the map's name; the other runs go on
+        return f"{job[0]} on {job[1].name}: {type(exc).__name__}: {exc}"
 
 
 def ariadne_maps(folder: Path, limit: int | None = None) -> list[Path]:
@@ -126,16 +126,19 @@ def ariadne_maps(folder: Path, limit: int | None = None) -> list[Path]:
 
 def run_protocol(
     methods: Sequence[str], maps: Sequence[Path], workers: int | None = None, resolution: float = DUNGEON_RESOLUTION
-) -> list[ProtocolRun]:
-    """Every method on every map, in ``workers`` processes (default: every core)."""
+) -> tuple[list[ProtocolRun], list[str]]:
+    """Every method on every map, in ``workers`` processes (default: every core): the runs, and a
+    line for each run that failed (the others are kept)."""
     for method in methods:
         make_policy(method)  # an unknown method or a bad model file fails before any work
     jobs = [(m, p, resolution) for m in methods for p in maps]
     workers = max(1, min(workers or os.cpu_count() or 1, len(jobs)))
     if workers == 1:
-        return [_run(job) for job in jobs]
-    with ProcessPoolExecutor(workers) as pool:
-        return list(pool.map(_run, jobs))
+        outcomes = [_run(job) for job in jobs]
+    else:
+        with ProcessPoolExecutor(workers) as pool:
+            outcomes = list(pool.map(_run, jobs))
+    return [o for o in outcomes if isinstance(o, ProtocolRun)], [o for o in outcomes if isinstance(o, str)]
 
 
 def summary_rows(runs: Sequence[ProtocolRun], methods: Sequence[str]) -> list[dict[str, float | str | int]]:

@@ -36,9 +36,8 @@ def frontier_path_costs(
     grid = costmap.grid
     reach = max(1, math.ceil(robot_radius / grid.resolution) + 1)
     members, groups = frontier_cells(frontiers)
-    costs, exhausted = group_path_costs(
-        costmap, grid.world_to_cell(pose.x, pose.y), members, groups, len(frontiers), reach, want
-    )
+    start = grid.world_to_cell(pose.x, pose.y)
+    costs, exhausted = group_path_costs(costmap, start, members, groups, len(frontiers), reach, robot_radius, want)
     if exhausted:
         costs[np.isinf(costs)] = UNREACHABLE_COST_M
     return costs

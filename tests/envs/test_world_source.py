@@ -60,15 +60,15 @@ def test_bad_map_file_fails_at_construction(tmp_path: Path) -> None:
         WorldSource((str(bad),))
 
 
-def make_folder(folder: Path, n: int) -> Path:
-    """``n`` small bitmap maps (an open room each, 2 m square at 0.05 m)."""
+def make_folder(folder: Path, n: int, pattern: str = "room_{:03d}.png") -> Path:
+    """``n`` small bitmap maps (an open room each, 2 m square at 0.05 m), named by ``pattern``."""
     from PIL import Image
 
     folder.mkdir()
     image = np.zeros((40, 40), np.uint8)
     image[3:-3, 3:-3] = 255
     for k in range(n):
-        Image.fromarray(image).save(folder / f"room_{k:03d}.png")
+        Image.fromarray(image).save(folder / pattern.format(k))
     return folder
 
 
@@ -137,3 +137,25 @@ def test_large_mixes_read_files_when_drawn_and_check_them_once(tmp_path: Path, m
     with pytest.raises(MapError, match="room_003"):
         for k in range(100):
             source.sample(np.random.default_rng(k))
+
+
+def test_a_folder_of_ten_or_more_always_keeps_a_validation_file(tmp_path: Path) -> None:
+    """map_0 ... map_14: no name hashes to the validation residue, so the least hash is held out."""
+    for n in (10, 15, 20):
+        folder = make_folder(tmp_path / f"n{n}", n, "map_{}.png")
+        family = parse_world_mix(str(folder))[0]
+        held_out, train = family.split("validation"), family.split("train")
+        assert held_out and train and not set(held_out) & set(train) and len(held_out) + len(train) == n
+    assert len(parse_world_mix(str(tmp_path / "n15"))[0].split("validation")) == 1  # the fallback
+
+
+def test_an_entry_without_a_name_is_refused() -> None:
+    with pytest.raises(ConfigError, match="names no world"):
+        parse_world_mix("=2")
+
+
+def test_tuple_entries_are_taken_whole(tmp_path: Path) -> None:
+    """A map file whose name holds a comma works as a tuple entry (a string list splits at commas)."""
+    folder = make_folder(tmp_path / "a,b", 1)
+    source = WorldSource((str(folder / "room_000.png"), "office=2"))
+    assert [f.spec for f in source.families] == [str(folder / "room_000.png"), "office"]

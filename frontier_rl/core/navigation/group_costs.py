@@ -23,16 +23,29 @@ from frontier_rl.core.world.grid import CellState
 
 MAX_SEARCH_CELLS = 300 * 300
 """Maps of up to this many cells (15 m × 15 m at 0.05 m) are searched cell by cell; larger ones on
-blocks of the smallest f × f cells that bring the search within it."""
+blocks of the smallest f × f cells that bring the search within it, but no larger than a wall's
+closed band allows (:func:`max_block_factor`: 3 cells for the TurtleBot3 at 0.05 m, so a map of
+more than 810,000 cells is searched on more blocks than this)."""
 
 _SQRT2 = math.sqrt(2.0)
 _UNKNOWN = np.int8(CellState.UNKNOWN)
 
 
-def block_factor(shape: tuple[int, int]) -> int:
+def block_factor(shape: tuple[int, int], resolution: float, robot_radius: float) -> int:
     """The edge f (cells) of the blocks a map of ``shape`` is searched on: 1 up to
-    :data:`MAX_SEARCH_CELLS` cells."""
-    return max(1, math.ceil(math.sqrt(shape[0] * shape[1] / MAX_SEARCH_CELLS)))
+    :data:`MAX_SEARCH_CELLS` cells, never more than :func:`max_block_factor`."""
+    wanted = max(1, math.ceil(math.sqrt(shape[0] * shape[1] / MAX_SEARCH_CELLS)))
+    return min(wanted, max_block_factor(resolution, robot_radius))
+
+
+def max_block_factor(resolution: float, robot_radius: float) -> int:
+    """The largest block edge (cells) at which no search crosses a wall: beside a wall one cell
+    thick the robot's centre may not stand on k cells either side (k = 2 for the TurtleBot3 at
+    0.05 m), so the closed band is 2k + 1 cells; blocks of f cells with 2f - 1 <= 2k + 1 always
+    have a whole closed block inside it. Larger blocks could join open cells on both sides of it."""
+    lethal = (robot_radius + 0.5 * resolution) / resolution  # the costmap's lethal clearance (cells)
+    k = max(math.ceil(lethal) - 1, 0)
+    return max(1, (2 * k + 2) // 2)
 
 
 @nb.njit(cache=True)
@@ -166,6 +179,7 @@ def group_path_costs(
     member_groups: NDArray[np.int64],
     n_groups: int,
     reach: int,
+    robot_radius: float,
     want: int | None = None,
 ) -> tuple[NDArray[np.float64], bool]:
     """Planner path cost (m) from ``start`` (row, col) to each of ``n_groups`` groups of cells:
@@ -173,14 +187,15 @@ def group_path_costs(
     (``member_cells``, flat indices into the map, ``member_groups`` their groups); inf for a group
     not reached. With ``want``, the search stops once the ``want`` cheapest groups are known, so
     its work grows with their distance, not with the map. On a map of more than
-    :data:`MAX_SEARCH_CELLS` cells the search runs on blocks (:func:`block_factor`). The flag is
-    True when the search covered all it could reach: the groups still at inf have no path."""
+    :data:`MAX_SEARCH_CELLS` cells the search runs on blocks (:func:`block_factor`, for a robot of
+    ``robot_radius`` m, the costmap's). The flag is True when the search covered all it could
+    reach: the groups still at inf have no path."""
     grid = costmap.grid
     if not grid.in_bounds(*start) or n_groups == 0:
         return np.full(n_groups, np.inf), True
     cells = np.ascontiguousarray(member_cells, np.int64).reshape(-1)
     groups = np.ascontiguousarray(member_groups, np.int64).reshape(-1)
-    f = block_factor(grid.shape)
+    f = block_factor(grid.shape, grid.resolution, robot_radius)
     if f == 1:
         open_p, cost_p = costmap.open_padded, costmap.cost_padded
         source = start[0] * grid.width + start[1]

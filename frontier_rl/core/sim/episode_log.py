@@ -45,16 +45,19 @@ class EpisodeLog:
         self.aborts = 0
         self._times: list[float] = []
         self._explored: list[int] = []
+        self._paths: list[float] = []
         self._poses: list[tuple[float, float, float]] = []
 
     def pose(self, pose: Pose) -> None:
         """The robot is at ``pose`` (a LiDAR tick)."""
         self._poses.append((pose.x, pose.y, pose.theta))
 
-    def map_update(self, time_s: float, explored_cells: int) -> None:
-        """The map was updated at ``time_s`` (s) and now has ``explored_cells`` explorable cells mapped."""
+    def map_update(self, time_s: float, explored_cells: int, path_m: float) -> None:
+        """The map was updated at ``time_s`` (s), after the robot drove ``path_m`` (m) in all, and
+        now has ``explored_cells`` explorable cells mapped."""
         self._times.append(time_s)
         self._explored.append(explored_cells)
+        self._paths.append(path_m)
 
     def decision(self, leg: LegResult, weight: float | None) -> None:
         """A decision, taken with ranking weight ``weight`` (None for a policy without one), drove ``leg``."""
@@ -100,6 +103,7 @@ class EpisodeLog:
             unknown_left_m2=sum(f.unknown_m2 for f in left),
             coverage_times_s=times,
             coverage_curve=curve,
+            coverage_path_m=np.asarray(self._paths, dtype=np.float64),
             trajectory=self.trajectory(),
             decision_log=tuple(self.decisions),
             final_map=final_map,

@@ -91,6 +91,8 @@ class EpisodeResult:
         unknown_left_m2: the unseen free area (m²) beside the frontiers left: free in the true
             world, unknown in the map.
         coverage_times_s, coverage_curve: coverage after every map update, and when (s).
+        coverage_path_m: the distance driven (m) by each map update of ``coverage_curve`` (a
+            single robot's episode; None for a team).
         trajectory: (n, 3) robot pose (x, y, theta) at every LiDAR tick.
         decision_log: every decision, in order.
         final_map: the robot's map at the end.
@@ -116,6 +118,7 @@ class EpisodeResult:
     decision_log: tuple[DecisionRecord, ...] = field(repr=False, default=())
     final_map: OccupancyGrid | None = field(repr=False, default=None)
     frontiers_left: tuple[FrontierLeft, ...] = field(repr=False, default=())
+    coverage_path_m: NDArray[np.float64] | None = field(repr=False, default=None)
 
     @property
     def real_time_factor(self) -> float:

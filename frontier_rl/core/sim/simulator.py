@@ -179,7 +179,7 @@ class ExplorationSimulator:
         noise = self.rng if self.config.sensor_noise else None
         filtered = self.nearby_robots.laser_filter()
         update = self.mapper.integrate_simulated(self._lidar, self.pose, noise, self.sim_time, filtered)
-        self.log.map_update(self.sim_time, self.mapper.explored_cells)
+        self.log.map_update(self.sim_time, self.mapper.explored_cells, self.path_length)
         self._candidates = None
         return update.new_free, update.new_occupied
 

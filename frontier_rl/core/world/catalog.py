@@ -75,6 +75,10 @@ def cluttered_world(rng: np.random.Generator, size_m: float = 12.0, resolution: 
         return make_world(grid, "cluttered", rng=rng)
 
 
+BUILDING_MIN_M = 12.0
+"""The shortest side (m) of a building: the main corridor and a zone of 4 m on each side of it."""
+
+
 def building_world(
     rng: np.random.Generator, size_m: tuple[float, float] | None = None, resolution: float = 0.05
 ) -> World:
@@ -88,6 +92,9 @@ def building_world(
     _check_size("building width", size_m[0])
     _check_size("building height", size_m[1])
     _check_size("building resolution", resolution)
+    if min(size_m) < BUILDING_MIN_M:
+        raise ConfigError(f"a building needs both sides of at least {BUILDING_MIN_M:g} m (a corridor with a zone of "
+                          f"4 m on each side), got {size_m[0]!r} x {size_m[1]!r}")  # fmt: skip
     rows, cols = gen.cells(size_m[1], resolution), gen.cells(size_m[0], resolution)
     layout = building_layout(rng, rows, cols, resolution)
     return make_world(_layout_grid(layout, resolution), "building", rng=rng)

@@ -13,12 +13,13 @@ from scipy import ndimage
 from frontier_rl.core.navigation import group_costs
 from frontier_rl.core.navigation.config import NavigationConfig
 from frontier_rl.core.navigation.costmap import Costmap
-from frontier_rl.core.navigation.group_costs import MAX_SEARCH_CELLS, block_factor, group_path_costs
+from frontier_rl.core.navigation.group_costs import MAX_SEARCH_CELLS, block_factor, group_path_costs, max_block_factor
 from frontier_rl.core.world.catalog import generate_world
 from frontier_rl.core.world.grid import CellState, OccupancyGrid
 from frontier_rl.core.world.robot import RobotConfig
 
 REACH = 4
+RADIUS = RobotConfig().radius
 
 
 def costmap_of(data: NDArray[np.int8]) -> Costmap:
@@ -64,14 +65,14 @@ def a_map(seed: int) -> NDArray[np.int8]:
 def test_exact_on_a_map_searched_cell_by_cell(seed: int) -> None:
     data = a_map(seed)
     costmap = costmap_of(data)
-    assert block_factor(data.shape) == 1
+    assert block_factor(data.shape, 0.05, RADIUS) == 1
     rng = np.random.default_rng(seed)
     free = np.argwhere(costmap.traversable)
     row, col = free[rng.integers(len(free))]
     start = (int(row), int(col))
     cells, groups = random_groups(rng, data, 30)
     expected = reference(costmap, start, cells, groups, 30)
-    costs, exhausted = group_path_costs(costmap, start, cells, groups, 30, REACH)
+    costs, exhausted = group_path_costs(costmap, start, cells, groups, 30, REACH, RADIUS)
     if np.isinf(expected).any():  # a group it could not reach: the search ran out of cells
         assert exhausted
     np.testing.assert_array_equal(costs, expected)
@@ -86,7 +87,7 @@ def test_want_gives_the_cheapest_groups_exactly_and_stops_early(want: int) -> No
     start = (int(free[0][0]), int(free[0][1]))
     cells, groups = random_groups(rng, data, 25)
     expected = reference(costmap, start, cells, groups, 25)
-    costs, exhausted = group_path_costs(costmap, start, cells, groups, 25, REACH, want=want)
+    costs, exhausted = group_path_costs(costmap, start, cells, groups, 25, REACH, RADIUS, want=want)
     found = np.isfinite(costs)
     assert not exhausted
     assert found.sum() >= want
@@ -101,7 +102,7 @@ def test_groups_without_a_path_are_inf_and_the_search_says_it_ran_out() -> None:
     data[:, 28:32] = CellState.OCCUPIED  # a wall from edge to edge
     costmap = costmap_of(data)
     cells = np.array([10 * 60 + 5, 10 * 60 + 55], np.int64)
-    costs, exhausted = group_path_costs(costmap, (10, 10), cells, np.array([0, 1]), 2, REACH)
+    costs, exhausted = group_path_costs(costmap, (10, 10), cells, np.array([0, 1]), 2, REACH, RADIUS)
     assert exhausted and math.isfinite(costs[0]) and costs[1] == math.inf
 
 
@@ -114,26 +115,44 @@ def test_large_maps_are_searched_on_blocks_close_to_the_exact_cost(monkeypatch: 
         for c in range(50, 560, 60):
             data[r : r + 8, c : c + 8] = CellState.OCCUPIED
     costmap = costmap_of(data)
-    assert block_factor(data.shape) == 2 and MAX_SEARCH_CELLS < 600 * 600
+    assert block_factor(data.shape, 0.05, RADIUS) == 2 and MAX_SEARCH_CELLS < 600 * 600
     rng = np.random.default_rng(0)
     cells, groups = random_groups(rng, data, 20)
-    blocked, _ = group_path_costs(costmap, (20, 20), cells, groups, 20, REACH)
+    blocked, _ = group_path_costs(costmap, (20, 20), cells, groups, 20, REACH, RADIUS)
     monkeypatch.setattr(group_costs, "MAX_SEARCH_CELLS", 10**9)
-    exact, _ = group_path_costs(costmap, (20, 20), cells, groups, 20, REACH)
+    exact, _ = group_path_costs(costmap, (20, 20), cells, groups, 20, REACH, RADIUS)
     far = np.isfinite(exact) & (exact > 5.0)
     assert far.sum() >= 10
     assert np.all(np.abs(blocked[far] - exact[far]) <= 0.1 * exact[far])
 
 
-@pytest.mark.parametrize(("shape", "factor"), [((250, 250), 1), ((300, 300), 1), ((301, 300), 2), ((1000, 1000), 4)])
+@pytest.mark.parametrize(("shape", "factor"), [((250, 250), 1), ((300, 300), 1), ((301, 300), 2), ((600, 600), 2)])
 def test_block_factor_keeps_the_search_within_its_bound(shape: tuple[int, int], factor: int) -> None:
-    assert block_factor(shape) == factor
+    assert block_factor(shape, 0.05, RADIUS) == factor
     assert math.ceil(shape[0] / factor) * math.ceil(shape[1] / factor) <= MAX_SEARCH_CELLS * 1.01
+
+
+@pytest.mark.parametrize(("resolution", "largest"), [(0.05, 3), (0.1, 2), (0.03, 4)])
+def test_blocks_never_grow_past_a_walls_closed_band(resolution: float, largest: int) -> None:
+    assert max_block_factor(resolution, RADIUS) == largest
+    assert block_factor((4000, 4000), resolution, RADIUS) == largest
+
+
+@pytest.mark.parametrize("wall_col", [500, 501, 502, 503, 504])
+def test_a_wall_without_a_door_stays_shut_on_blocks(wall_col: int) -> None:
+    """A 1,000 x 1,000 map split by a wall two cells thick, wherever it falls on the blocks: the
+    other side has no path (a block of four cells could join open cells across its closed band)."""
+    data = np.full((1000, 1000), CellState.FREE, np.int8)
+    data[:, wall_col : wall_col + 2] = CellState.OCCUPIED
+    costmap = costmap_of(data)
+    cells = np.array([500 * 1000 + 900], np.int64)
+    costs, exhausted = group_path_costs(costmap, (500, 100), cells, np.array([0]), 1, REACH, RADIUS)
+    assert exhausted and costs[0] == math.inf
 
 
 def test_a_start_off_the_map_or_no_groups() -> None:
     costmap = costmap_of(np.full((30, 30), CellState.FREE, np.int8))
-    costs, exhausted = group_path_costs(costmap, (40, 5), np.array([3], np.int64), np.array([0]), 1, REACH)
+    costs, exhausted = group_path_costs(costmap, (40, 5), np.array([3], np.int64), np.array([0]), 1, REACH, RADIUS)
     assert exhausted and costs[0] == math.inf
-    costs, _ = group_path_costs(costmap, (5, 5), np.zeros(0, np.int64), np.zeros(0, np.int64), 0, REACH)
+    costs, _ = group_path_costs(costmap, (5, 5), np.zeros(0, np.int64), np.zeros(0, np.int64), 0, REACH, RADIUS)
     assert costs.shape == (0,)
