@@ -135,7 +135,7 @@ def _warn_again(outcome: tuple[dict[str, Any], Caught]) -> dict[str, Any]:
     return row
 
 
-def _exit_with_parent(parent: int) -> None:
+def exit_with_parent(parent: int) -> None:
     """Pool initializer: end this worker when the process that started it is gone (killed with
     SIGKILL, it cannot shut the pool down), instead of waiting on its queue forever."""
 
@@ -151,7 +151,7 @@ def _process_pool(jobs: list[EpisodeJob], settings: EpisodeSettings, workers: in
     # spawn: the parent may hold torch's and numba's threads, which fork does not copy safely
     context = multiprocessing.get_context("spawn")
     with ProcessPoolExecutor(
-        min(workers, len(jobs)), mp_context=context, initializer=_exit_with_parent, initargs=(os.getpid(),)
+        min(workers, len(jobs)), mp_context=context, initializer=exit_with_parent, initargs=(os.getpid(),)
     ) as pool:
         pending = {pool.submit(run_job_catching_warnings, job, settings): job for job in jobs}
         try:

@@ -191,7 +191,7 @@ def identity(config: ExperimentConfig) -> dict[str, Any]:
 def check_methods(config: ExperimentConfig) -> None:
     """Build every method once, so a bad name or model file fails before any episode runs."""
     for method in config.methods:
-        _policy(TeamMethod.parse(method).policy, config.trust_model)
+        episode_policy(TeamMethod.parse(method).policy, config.trust_model)
 
 
 def _load_map(path: str, resolution: float | None) -> LoadedMap:
@@ -214,7 +214,7 @@ def make_episode_world(world: str, seed: int, resolution: float | None) -> World
     return make_world(loaded.grid, Path(world).stem, start=loaded.start, rng=np.random.default_rng(seed))
 
 
-def _policy(method: str, trust_model: bool) -> ExplorationPolicy:
+def episode_policy(method: str, trust_model: bool) -> ExplorationPolicy:
     """One policy object per method, process and version of its model file: loading a model takes
     longer than an episode."""
     name, _, arg = method.partition(":")
@@ -247,7 +247,7 @@ def run_job(job: EpisodeJob, settings: EpisodeSettings) -> dict[str, Any]:
     name, _, model = method.policy.partition(":")
     spec = f"learned:{base / model}" if name == "learned" else method.policy
     world = make_episode_world(world_spec, job.seed, settings.resolution)
-    policy = _policy(spec, settings.trust_model)
+    policy = episode_policy(spec, settings.trust_model)
     team = team_config(method, settings.comm_range, settings.failures)
     if team is None:
         result = run_episode(world, policy, settings.sim, seed=job.seed)

@@ -21,6 +21,7 @@ as ARiADNE counts a run that ends with no utility left.
 from __future__ import annotations
 
 import math
+import multiprocessing
 import os
 from collections.abc import Sequence
 from concurrent.futures import ProcessPoolExecutor
@@ -34,6 +35,8 @@ from frontier_rl.core.sim.episode import run_episode
 from frontier_rl.core.world.robot import Pose
 from frontier_rl.core.world.worlds import World, make_world
 from frontier_rl.errors import ConfigError, MapError, short_repr
+from frontier_rl.evaluation.backends import exit_with_parent
+from frontier_rl.evaluation.experiment import episode_policy
 from frontier_rl.io.dungeon import DUNGEON_RESOLUTION, load_dungeon_map, marker_pixels
 from frontier_rl.policies import make_policy
 
@@ -97,7 +100,7 @@ def ariadne_world(path: Path, resolution: float = DUNGEON_RESOLUTION) -> World:
 def run_ariadne(method: str, path: Path, resolution: float = DUNGEON_RESOLUTION) -> ProtocolRun:
     """One ARiADNE test run of ``method`` on the map at ``path`` (seed 0: one noise stream)."""
     world = ariadne_world(path, resolution)
-    result = run_episode(world, make_policy(method), ariadne_config(resolution), seed=0)
+    result = run_episode(world, episode_policy(method, False), ariadne_config(resolution), seed=0)
     assert result.coverage_path_m is not None  # a single robot's episode
     unseen = world.explorable_count - np.rint(np.asarray(result.coverage_curve) * world.explorable_count)
     met = np.flatnonzero(unseen <= ARIADNE_UNSEEN_PX)
@@ -135,8 +138,11 @@ def run_protocol(
     workers = max(1, min(workers or os.cpu_count() or 1, len(jobs)))
     if workers == 1:
         outcomes = [_run(job) for job in jobs]
-    else:
-        with ProcessPoolExecutor(workers) as pool:
+    else:  # spawn, as evaluate does: the parent holds torch's and numba's threads, which fork copies unsafely
+        context = multiprocessing.get_context("spawn")
+        with ProcessPoolExecutor(
+            workers, mp_context=context, initializer=exit_with_parent, initargs=(os.getpid(),)
+        ) as pool:
             outcomes = list(pool.map(_run, jobs))
     return [o for o in outcomes if isinstance(o, ProtocolRun)], [o for o in outcomes if isinstance(o, str)]
 

@@ -279,16 +279,3 @@ def make_world(
     data.flags.writeable = False
     explorable.flags.writeable = False
     return World(name, OccupancyGrid(data, res, grid.origin), start, explorable, robot_radius, sensor_range)
-
-
-_MOVED_TO_CATALOG = frozenset({"WORLD_GENERATORS", "generate_world", "office_world", "rooms_world", "cluttered_world"})
-
-
-def __getattr__(name: str) -> object:
-    """The named worlds moved to :mod:`frontier_rl.core.world.catalog` (which imports this module,
-    so they are looked up on first use): ``worlds.generate_world`` keeps working."""
-    if name in _MOVED_TO_CATALOG:
-        from frontier_rl.core.world import catalog
-
-        return getattr(catalog, name)
-    raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
