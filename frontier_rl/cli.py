@@ -15,7 +15,7 @@ from rich.table import Table
 from rich.text import Text
 
 from frontier_rl.cli_benchmark import benchmark_app
-from frontier_rl.cli_output import OneLineGroup, err_console, friendly_errors, one_line, stdout_console
+from frontier_rl.cli_output import OneLineGroup, comma_list, err_console, friendly_errors, one_line, stdout_console
 from frontier_rl.config import dump_config, load_sim_config
 from frontier_rl.core.frontiers.ranking import THESIS_BASELINE
 from frontier_rl.core.sim.config import SimConfig
@@ -83,13 +83,9 @@ def _comm_range(value: float | None) -> float | None:
     return value
 
 
-def _text_list(text: str) -> list[str]:
-    return [part.strip() for part in text.split(",") if part.strip()]
-
-
 def _int_list(option: str, text: str) -> list[int]:
     try:
-        values = [int(part) for part in _text_list(text)]
+        values = [int(part) for part in comma_list(text)]
     except ValueError:
         raise ConfigError(f"{option} must be a comma list of whole numbers, got {text!r}") from None
     if not values:
@@ -323,8 +319,8 @@ def evaluate(
     _seed(seed)
     _output_folder(out)
     resolution = checked_resolution(resolution)
-    names = [m.strip() for m in methods.split(",") if m.strip()]
-    names = team_methods(names, _int_list("--robots", robots), [parse_strategy(s) for s in _text_list(strategy)])
+    names = comma_list(methods)
+    names = team_methods(names, _int_list("--robots", robots), [parse_strategy(s) for s in comma_list(strategy)])
     ordered = list(dict.fromkeys([baseline, *names, *([ORACLE] if oracle else [])]))
     experiment = ExperimentConfig(
         methods=tuple(ordered), worlds=expand_worlds(worlds), episodes=episodes, seed=seed, baseline=baseline,

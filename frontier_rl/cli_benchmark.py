@@ -11,7 +11,7 @@ import typer
 from rich.table import Table
 
 from frontier_rl.atomic_write import write_text_atomic
-from frontier_rl.cli_output import OneLineGroup, friendly_errors, stdout_console
+from frontier_rl.cli_output import OneLineGroup, comma_list, friendly_errors, stdout_console
 from frontier_rl.errors import ConfigError, short_repr
 
 benchmark_app = typer.Typer(
@@ -35,7 +35,7 @@ def ariadne(
     from frontier_rl.evaluation.backends import EpisodeFailedError
     from frontier_rl.evaluation.protocols import ariadne_maps, run_protocol, summary_rows
 
-    names = [m.strip() for m in methods.split(",") if m.strip()]
+    names = comma_list(methods)
     if not names:
         raise ConfigError(f"--methods names no policy: {short_repr(methods)}")
     if limit < 0 or workers < 0:

@@ -46,6 +46,11 @@ def one_line(text: str, limit: int = MESSAGE_LIMIT) -> str:
     return text if len(text) <= limit else text[: limit - 1] + "…"
 
 
+def comma_list(text: str) -> list[str]:
+    """The items of a comma-separated option, stripped, empty ones dropped."""
+    return [part.strip() for part in text.split(",") if part.strip()]
+
+
 def print_error(message: str) -> None:
     """``error: MESSAGE`` on standard error, on one line, as plain text (never Rich markup)."""
     err_console.print(Text.assemble(("error:", "red"), " ", one_line(message)))

@@ -183,10 +183,15 @@ def parse_world_mix(text: str) -> tuple[WorldFamily, ...]:
         UnknownNameError: an entry that is neither a generator nor an existing file or folder.
         ConfigError: no entries, a weight that is not a number in (0, 10⁶], a folder without map files.
     """
-    families = tuple(world_family(item) for item in (part.strip() for part in text.split(",")) if item)
+    families = tuple(world_family(item) for item in world_entries(text))
     if not families:
         raise ConfigError(f"no worlds given in {short_repr(text)}")
     return families
+
+
+def world_entries(text: str) -> tuple[str, ...]:
+    """The entries of a comma-separated world list, stripped, empty ones dropped."""
+    return tuple(item for item in (part.strip() for part in text.split(",")) if item)
 
 
 def world_family(item: str) -> WorldFamily:
@@ -205,8 +210,7 @@ def parse_world_list(text: str) -> tuple[str, ...]:
             errors of :func:`parse_world_mix`.
     """
     families = parse_world_mix(text)
-    items = [part.strip() for part in text.split(",") if part.strip()]
-    weighted = [item for family, item in zip(families, items, strict=True) if item != family.spec]
+    weighted = [item for family, item in zip(families, world_entries(text), strict=True) if item != family.spec]
     if weighted:
         raise ConfigError(f"world {short_repr(weighted[0])} has a weight: weights (NAME=W) set how often training "
                           "draws a world; here every world runs the same number of episodes")  # fmt: skip

@@ -18,6 +18,7 @@ from frontier_rl.envs.world_source import WorldSource, reset_world_seed
 from frontier_rl.errors import ConfigError
 from frontier_rl.observation.map_image import THESIS_INPUT_CELLS, MapEncoder
 from frontier_rl.render import FrameCanvas, side_by_side
+from frontier_rl.world_spec import world_entries
 
 ObsT = TypeVar("ObsT")
 
@@ -60,7 +61,7 @@ class EnvConfig:
         if unknown:
             raise ConfigError(f"unknown environment option(s) {', '.join(unknown)}; known: {', '.join(sorted(known))}")
         if isinstance(overrides.get("worlds"), str):
-            overrides["worlds"] = tuple(item.strip() for item in overrides["worlds"].split(",") if item.strip())
+            overrides["worlds"] = world_entries(overrides["worlds"])
         elif "worlds" in overrides:
             overrides["worlds"] = tuple(overrides["worlds"])
         return replace(config or cls(), **overrides)

@@ -147,12 +147,16 @@ def exit_with_parent(parent: int) -> None:
     threading.Thread(target=watch, daemon=True).start()
 
 
-def _process_pool(jobs: list[EpisodeJob], settings: EpisodeSettings, workers: int) -> Iterator[tuple[EpisodeJob, Any]]:
-    # spawn: the parent may hold torch's and numba's threads, which fork does not copy safely
+def spawn_pool(workers: int) -> ProcessPoolExecutor:
+    """A pool of ``workers`` spawned processes that end with this one. Spawned, not forked: the
+    parent may hold torch's and numba's threads, which fork does not copy safely (forked workers
+    were seen to hang)."""
     context = multiprocessing.get_context("spawn")
-    with ProcessPoolExecutor(
-        min(workers, len(jobs)), mp_context=context, initializer=exit_with_parent, initargs=(os.getpid(),)
-    ) as pool:
+    return ProcessPoolExecutor(workers, mp_context=context, initializer=exit_with_parent, initargs=(os.getpid(),))
+
+
+def _process_pool(jobs: list[EpisodeJob], settings: EpisodeSettings, workers: int) -> Iterator[tuple[EpisodeJob, Any]]:
+    with spawn_pool(min(workers, len(jobs))) as pool:
         pending = {pool.submit(run_job_catching_warnings, job, settings): job for job in jobs}
         try:
             while pending:

@@ -21,10 +21,8 @@ as ARiADNE counts a run that ends with no utility left.
 from __future__ import annotations
 
 import math
-import multiprocessing
 import os
 from collections.abc import Sequence
-from concurrent.futures import ProcessPoolExecutor
 from dataclasses import dataclass, replace
 from pathlib import Path
 
@@ -35,7 +33,7 @@ from frontier_rl.core.sim.episode import run_episode
 from frontier_rl.core.world.robot import Pose
 from frontier_rl.core.world.worlds import World, make_world
 from frontier_rl.errors import ConfigError, MapError, short_repr
-from frontier_rl.evaluation.backends import exit_with_parent
+from frontier_rl.evaluation.backends import spawn_pool
 from frontier_rl.evaluation.experiment import episode_policy
 from frontier_rl.io.dungeon import DUNGEON_RESOLUTION, load_dungeon_map, marker_pixels
 from frontier_rl.policies import make_policy
@@ -138,11 +136,8 @@ def run_protocol(
     workers = max(1, min(workers or os.cpu_count() or 1, len(jobs)))
     if workers == 1:
         outcomes = [_run(job) for job in jobs]
-    else:  # spawn, as evaluate does: the parent holds torch's and numba's threads, which fork copies unsafely
-        context = multiprocessing.get_context("spawn")
-        with ProcessPoolExecutor(
-            workers, mp_context=context, initializer=exit_with_parent, initargs=(os.getpid(),)
-        ) as pool:
+    else:
+        with spawn_pool(workers) as pool:
             outcomes = list(pool.map(_run, jobs))
     return [o for o in outcomes if isinstance(o, ProtocolRun)], [o for o in outcomes if isinstance(o, str)]
 

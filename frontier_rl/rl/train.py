@@ -28,6 +28,7 @@ from frontier_rl.rl.callbacks import AtomicCheckpoint, ValidationCallback
 from frontier_rl.rl.config import TrainConfig
 from frontier_rl.rl.curves import plot_learning_curve
 from frontier_rl.rl.model_file import ALGORITHMS, ModelInfo, check_model_zip, policy_setup, save_model, write_metadata
+from frontier_rl.world_spec import world_entries
 
 _CHECKPOINT = re.compile(r"model_(\d+)_steps\.zip$")
 
@@ -105,7 +106,7 @@ def train(
     checkpoint and validation callbacks.
     """
     start = _check_run_dir(config, out, resume)
-    check_world_files(tuple(config.worlds.split(",")))  # a bad map file fails now, not in a subprocess
+    check_world_files(world_entries(config.worlds))  # a bad map file fails now, not in a subprocess
     frontier_rl.envs.register_envs()
     env_kwargs: dict[str, Any] = {"worlds": config.worlds, "reward": config.reward}
     env_kwargs["max_decisions"] = config.max_decisions
