@@ -7,8 +7,11 @@ STAMP  := $(VENV)/.installed
 ROS_APT := ros-core python3-rospy python3-nav-msgs python3-geometry-msgs python3-visualization-msgs \
            python3-std-msgs python3-tf2-ros
 ROS_CHECK := command -v roscore >/dev/null && /usr/bin/python3 -c "import rospy, nav_msgs.msg, geometry_msgs.msg, visualization_msgs.msg" 2>/dev/null
+# Chromium from Debian, for the test that renders the HTML report as a reader's browser does
+BROWSER_APT := chromium chromium-driver
+BROWSER_CHECK := command -v chromium >/dev/null && command -v chromedriver >/dev/null
 
-.PHONY: setup ros-deps demo test test-fast lint typecheck pytest bench clean
+.PHONY: setup ros-deps browser-deps demo test test-fast lint typecheck pytest bench clean
 
 $(STAMP): pyproject.toml
 	$(PYTHON) -m venv $(VENV)
@@ -25,6 +28,13 @@ ros-deps:
 		(apt-get update -q && DEBIAN_FRONTEND=noninteractive apt-get install -y -q $(ROS_APT)) >/dev/null; \
 	else echo "ROS 1 is not installed and apt-get as root is not available: the ROS node test will be skipped"; fi
 
+browser-deps:
+	@if $(BROWSER_CHECK); then :; \
+	elif command -v apt-get >/dev/null && [ "$$(id -u)" = 0 ]; then \
+		echo "installing Chromium from Debian: $(BROWSER_APT)"; \
+		(apt-get update -q && DEBIAN_FRONTEND=noninteractive apt-get install -y -q $(BROWSER_APT)) >/dev/null; \
+	else echo "Chromium is not installed and apt-get as root is not available: the report's browser test will be skipped"; fi
+
 demo: $(STAMP)
 	$(BIN)/frontier-rl demo --out demo_output
 
@@ -36,7 +46,7 @@ lint: $(STAMP)
 typecheck: $(STAMP)
 	$(BIN)/mypy
 
-pytest: $(STAMP) ros-deps
+pytest: $(STAMP) ros-deps browser-deps
 	$(BIN)/pytest -q
 
 test: lint typecheck pytest

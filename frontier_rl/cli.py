@@ -5,7 +5,6 @@ from __future__ import annotations
 import dataclasses
 import json
 import os
-import re
 import sys
 from pathlib import Path
 from typing import Annotated, Any, NoReturn
@@ -51,6 +50,13 @@ def _seed(value: int, option: str = "--seed") -> int:
     """A seed option, checked: a whole number from 0 to :data:`MAX_SEED`."""
     if not 0 <= value <= MAX_SEED:
         _fail(f"{option} must be a whole number from 0 to {MAX_SEED}, got {short_repr(value)}")
+    return value
+
+
+def _count(option: str, value: int) -> int:
+    """A count option, checked: a whole number of at least 0."""
+    if value < 0:
+        _fail(f"{option} must be 0 or more, got {short_repr(value)}")
     return value
 
 
@@ -224,20 +230,12 @@ def demo(
         shutil.rmtree(results)
     dump_config(experiment.sim, out / "config.yaml")
     command = "frontier-rl demo " + " ".join(sys.argv[2:]) if len(sys.argv) > 2 else "frontier-rl demo"
-    report = run_evaluation(experiment, results, "process", workers, None, DEFAULT_OUTLIERS_S, progress, command)
+    report = run_evaluation(experiment, results, "process", workers, None, DEFAULT_OUTLIERS_S, progress, command,
+                            pictures=len(DEMO_WORLDS), animate=("office", THESIS_BASELINE))  # fmt: skip
     _print_summary(report, f"{episodes} episode(s) per world on {', '.join(DEMO_WORLDS)}", experiment.baseline)
-    warm_up()
-    for world_name in DEMO_WORLDS:
-        world = resolve_world(world_name, seed)
-        for method in methods:
-            animate = world_name == "office" and method == THESIS_BASELINE
-            recorder = EpisodeRecorder(world, frames=animate)
-            result = run_episode(world, make_policy(method), sim, seed=seed, on_decision=recorder)
-            stem = f"{world_name}_{re.sub(r'[^A-Za-z0-9.]+', '_', method.removesuffix('.zip'))}"
-            recorder.save_png(out / f"{stem}.png", result, f"{world_name} / {method}")
-            if animate:
-                recorder.save_gif(out / f"{stem}.gif", result, f"{world_name} / {method}")
-    stdout_console().print(f"report: {report} and {report.with_suffix('.html')}; pictures of seed {seed} in {out}/")
+    stdout_console().print(
+        f"report: {report.with_suffix('.html')} (and .md); pictures of seed {seed} in {results}/pictures/"
+    )
 
 
 def _print_summary(report: Path, title: str, baseline: str) -> None:
@@ -307,6 +305,7 @@ def evaluate(
     fail: Annotated[
         list[str] | None, typer.Option(help="ROBOT@SECONDS: a failure in every team episode (repeatable).")
     ] = None,
+    pictures: Annotated[int, typer.Option(help="Draw each method's first episode on this many worlds.")] = 3,
 ) -> None:
     """The paired experiment: every method on the same worlds, starts and noise; statistics against
     the baseline, plots, and a Markdown and HTML report in --out. With --robots, teams of each size
@@ -330,9 +329,8 @@ def evaluate(
     )  # fmt: skip
     command = "frontier-rl evaluate " + " ".join(sys.argv[2:]) if len(sys.argv) > 2 else "frontier-rl evaluate"
     try:
-        report = run_evaluation(
-            experiment, out, backend, workers, ray_address, parse_thresholds(outliers), progress, command
-        )
+        report = run_evaluation(experiment, out, backend, workers, ray_address, parse_thresholds(outliers), progress,
+                                command, pictures=_count("--pictures", pictures))  # fmt: skip
     except KeyboardInterrupt:
         err_console.print(
             Text(one_line(f"interrupted: finished episodes are saved in {out}/; rerun the same command to resume"))

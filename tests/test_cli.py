@@ -174,8 +174,13 @@ def test_demo_runs_the_compact_experiment_and_draws_every_method(tmp_path: Path)
     assert capped >= 1  # 60 s is too short for these worlds
     assert f"nearest {capped} time_cap" in " ".join(result.output.split())  # the terminal summary names them
     assert (out / "experiment" / "boxplot.png").stat().st_size > 0
-    assert len(list(out.glob("*.png"))) == 3 * len(methods)
-    assert (out / "office_fixed_0.75.gif").exists()
+    pictures = out / "experiment" / "pictures"
+    assert len(list(pictures.glob("*.png"))) == 3 * len(methods)
+    assert (pictures / "office_fixed_0.75.gif").exists()
+    page = (out / "experiment" / "report.html").read_text()
+    charts = len(list((out / "experiment").glob("*.png")))  # box plot, scatter, coverage (and weights)
+    assert charts >= 3 and page.count("data:image/png;base64,") == charts + 3 * len(methods)
+    assert page.count("data:image/gif;base64,") == 1
 
 
 def test_explore_with_a_team_reports_every_robot(tmp_path: Path) -> None:

@@ -5,6 +5,8 @@ The summary is what ``summary.json`` holds and what the report lays out:
     {"baseline": ..., "reference": "oracle" | null, "worlds": [...], "episodes": N, "seed": S,
      "methods": {NAME: {"n", "mean_time_s", "var_time_s", "mean_diff_s", "ci95_s", "p_one_tailed",
                         "p_two_tailed", "p_wilcoxon", "reduction_pct", "oracle_ratio",
+                        "std_time_s", "p_holm" (Holm-adjusted one-tailed p over the methods tested:
+                        all but the baseline and the oracle),
                         "end_reasons": {"explored": n, "unreachable": n, "time_cap": n, ...},
                         "mean_coverage", "min_coverage", "mean_free_coverage", "mean_unknown_left_m2", ...}},
      "outliers": {"1000": {"methods": {NAME: {..., "excluded"}}}, ...},
@@ -24,7 +26,7 @@ from scipy import stats as scipy_stats
 
 from frontier_rl.core.sim.episode_log import EndReason
 from frontier_rl.evaluation.experiment import ORACLE, ExperimentConfig
-from frontier_rl.evaluation.statistics import compare_methods
+from frontier_rl.evaluation.statistics import compare_methods, holm_adjust
 from frontier_rl.swarm.config import TeamMethod
 
 Rows = dict[tuple[str, str, int], dict[str, Any]]
@@ -95,10 +97,14 @@ def _method_table(rows: Rows, config: ExperimentConfig, worlds: tuple[str, ...])
     times = paired_times(rows, config.methods, worlds, config.episodes)
     stats = compare_methods(times, config.baseline)
     oracle_mean = float(np.mean(times[ORACLE])) if ORACLE in times else math.nan
+    tested = {m: _finite(stats[m].p_one_tailed) for m in config.methods if m not in (config.baseline, ORACLE)}
+    holm = holm_adjust(tested)
     table: dict[str, dict[str, Any]] = {}
     for method in config.methods:
         own = [rows[(method, w, e)] for e in range(config.episodes) for w in worlds]
         entry = stats[method].to_dict()
+        entry["std_time_s"] = _finite(math.sqrt(entry["var_time_s"])) if entry["var_time_s"] is not None else None
+        entry["p_holm"] = holm.get(method)
         entry["median_time_s"] = float(np.median(times[method]))
         entry["oracle_ratio"] = _ratio(float(np.mean(times[method])), oracle_mean)
         entry["episodes_done"] = sum(bool(r["done"]) for r in own)

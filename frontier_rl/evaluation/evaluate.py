@@ -16,9 +16,13 @@ from frontier_rl.evaluation.backends import EpisodeFailedError, check_backend, d
 from frontier_rl.evaluation.experiment import ExperimentConfig, check_methods, identity
 from frontier_rl.evaluation.report import write_report
 from frontier_rl.evaluation.results import ResultStore
+from frontier_rl.evaluation.run_pictures import draw_runs
 
 DEFAULT_OUTLIERS_S = (1000.0, 2000.0)
 """The thesis's outlier thresholds (s)."""
+
+DEFAULT_PICTURE_WORLDS = 3
+"""The report draws each method's first episode on this many worlds (the first ones)."""
 
 
 def parse_thresholds(text: str) -> tuple[float, ...]:
@@ -46,10 +50,14 @@ def evaluate(
     outliers: tuple[float, ...] = DEFAULT_OUTLIERS_S,
     progress: bool = True,
     command: str = "",
+    pictures: int = DEFAULT_PICTURE_WORLDS,
+    animate: tuple[str, str] | None = None,
 ) -> Path:
     """Run the episodes of ``config`` not yet in ``out``, then write ``out``'s summary, figures and
     reports; returns the Markdown report's path. Each finished episode is on disk before the next
-    is recorded, so an interrupted run resumes where it stopped when called again.
+    is recorded, so an interrupted run resumes where it stopped when called again. The report
+    shows the first episode of every method on the first ``pictures`` worlds, drawn again, and
+    ``animate`` = (world, method) adds a GIF of that one.
 
     Raises:
         ConfigError: bad settings, or ``out`` holds another experiment or edited or damaged rows.
@@ -67,7 +75,8 @@ def evaluate(
     try:
         _run_missing(store, config, backend, workers, ray_address, progress)
         store.finalise(config.jobs())
-        return write_report(store, config, outliers, command)
+        drawn = draw_runs(config, out, pictures, animate)
+        return write_report(store, config, outliers, command, drawn)
     except OutputWriteError as exc:  # a full disk: say what could not be written and what is kept
         raise exc.with_note(
             f"the {len(store.rows)} finished episodes are kept in {str(store.csv_path)!r}; free some space and "

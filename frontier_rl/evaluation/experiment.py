@@ -238,17 +238,26 @@ def _warm() -> None:
     warm_up(make_policy(ORACLE))
 
 
-def run_job(job: EpisodeJob, settings: EpisodeSettings) -> dict[str, Any]:
-    """Run one episode; its result row (scalars) and ``trace`` (coverage curve and weights)."""
-    _warm()
+def job_parts(job: EpisodeJob, settings: EpisodeSettings) -> tuple[World, ExplorationPolicy, TeamConfig | None]:
+    """The world, policy and team (None for one robot) of ``job``; relative paths resolve against
+    ``settings.base_dir``."""
     base = Path(settings.base_dir)
     world_spec = job.world if job.world in WORLD_GENERATORS else str(base / job.world)
     method = TeamMethod.parse(job.method)
     name, _, model = method.policy.partition(":")
     spec = f"learned:{base / model}" if name == "learned" else method.policy
     world = make_episode_world(world_spec, job.seed, settings.resolution)
-    policy = episode_policy(spec, settings.trust_model)
-    team = team_config(method, settings.comm_range, settings.failures)
+    return (
+        world,
+        episode_policy(spec, settings.trust_model),
+        team_config(method, settings.comm_range, settings.failures),
+    )
+
+
+def run_job(job: EpisodeJob, settings: EpisodeSettings) -> dict[str, Any]:
+    """Run one episode; its result row (scalars) and ``trace`` (coverage curve and weights)."""
+    _warm()
+    world, policy, team = job_parts(job, settings)
     if team is None:
         result = run_episode(world, policy, settings.sim, seed=job.seed)
     else:

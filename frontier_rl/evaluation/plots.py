@@ -23,34 +23,41 @@ _DPI = 110
 
 
 def box_plot(times: Mapping[str, Sequence[float]], path: Path, title: str) -> Path:
-    """Box-and-whisker plot of exploration time (s) per method; the triangle marks the mean."""
-    fig = Figure(figsize=(1.6 + 1.3 * len(times), 4.2), dpi=_DPI)
+    """Box-and-whisker plot of exploration time (s) per method, one row per method (the first on
+    top, so that any number of methods stays legible); the triangle marks the mean."""
+    names = list(times)[::-1]
+    fig = Figure(figsize=(6.4, 1.3 + 0.42 * len(names)), dpi=_DPI)
     ax = fig.subplots()
-    ax.boxplot(list(times.values()), showmeans=True, widths=0.55)
-    ax.set_xticks(range(1, len(times) + 1), list(times), rotation=20, ha="right")
-    ax.set_ylabel("exploration time (s)")
+    ax.boxplot([times[n] for n in names], orientation="horizontal", showmeans=True, widths=0.55)
+    ax.set_yticks(range(1, len(names) + 1), names)
+    ax.set_xlabel("exploration time (s)")
     ax.set_title(title)
-    ax.grid(axis="y", alpha=0.3)
+    ax.grid(axis="x", alpha=0.3)
     fig.tight_layout()
     return save_figure_atomic(fig, path)
 
 
 def paired_scatter(times: Mapping[str, Sequence[float]], baseline: str, path: Path) -> Path:
     """Each episode's time with a method (y) against the baseline's time in it (x); points under
-    the diagonal are episodes the method explored faster."""
-    fig = Figure(figsize=(5.2, 4.8), dpi=_DPI)
+    the diagonal are episodes the method explored faster. Both axes span the times measured (with
+    a margin), the same on both so that the diagonal is the line of equal time."""
+    fig = Figure(figsize=(5.6, 5.2), dpi=_DPI)
     ax = fig.subplots()
     base = np.asarray(times[baseline])
-    top = max(float(np.max(v)) for v in times.values()) * 1.05
-    ax.plot([0, top], [0, top], color="0.6", lw=1, ls="--", label="equal time")
-    for method, values in times.items():
+    values = np.concatenate([np.asarray(v, dtype=np.float64) for v in times.values()])
+    low, high = float(np.min(values)), float(np.max(values))
+    margin = max(0.05 * (high - low), 1.0)
+    low, high = max(0.0, low - margin), high + margin
+    ax.plot([low, high], [low, high], color="0.6", lw=1, ls="--", label="equal time")
+    for method, method_times in times.items():
         if method != baseline:
-            ax.scatter(base, values, s=12, alpha=0.7, label=method)
-    ax.set_xlim(0, top)
-    ax.set_ylim(0, top)
+            ax.scatter(base, method_times, s=14, alpha=0.7, label=method)
+    ax.set_xlim(low, high)
+    ax.set_ylim(low, high)
+    ax.set_aspect("equal")
     ax.set_xlabel(f"{baseline}: exploration time (s)")
     ax.set_ylabel("method: exploration time (s)")
-    ax.set_title("Paired episodes")
+    ax.set_title("Paired episodes (below the diagonal: faster)")
     ax.legend(fontsize=8)
     fig.tight_layout()
     return save_figure_atomic(fig, path)

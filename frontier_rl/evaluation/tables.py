@@ -24,30 +24,35 @@ class Table:
         rows: the cells, one list per row, as many as ``header``.
         title: shown above the table (may be empty).
         note: shown below it (may be empty).
+        wrap: cells of prose that wrap and align left (in HTML), not figures kept on one line.
     """
 
     header: tuple[str, ...]
     rows: list[list[str]] = field(default_factory=list)
     title: str = ""
     note: str = ""
+    wrap: bool = False
 
     def markdown(self) -> str:
         """GitHub-flavoured Markdown."""
         lines = [f"**{self.title}**", ""] if self.title else []
         lines.append("| " + " | ".join(self.header) + " |")
-        lines.append("|---|" + "---:|" * (len(self.header) - 1))
-        lines += ["| " + " | ".join(row) + " |" for row in self.rows]
+        lines.append("|---|" + ("---|" if self.wrap else "---:|") * (len(self.header) - 1))
+        lines += ["| " + " | ".join(cell.replace("|", "\\|") for cell in row) + " |" for row in self.rows]
         if self.note:
             lines += ["", self.note]
         return "\n".join(lines) + "\n"
 
     def html(self) -> str:
-        """An HTML ``<table>`` with the title as caption."""
+        """An HTML ``<table>`` with the title as caption, in a box that scrolls sideways on its own
+        when the table is wider than the page, and the note below it."""
         caption = f"<caption>{html.escape(self.title)}</caption>" if self.title else ""
         head = "".join(f"<th>{html.escape(h)}</th>" for h in self.header)
         body = "".join("<tr>" + "".join(f"<td>{html.escape(c)}</td>" for c in row) + "</tr>" for row in self.rows)
         note = f'<p class="note">{html.escape(self.note)}</p>' if self.note else ""
-        return f"<table>{caption}<thead><tr>{head}</tr></thead><tbody>{body}</tbody></table>{note}"
+        kind = ' class="prose"' if self.wrap else ""
+        table = f"<table{kind}>{caption}<thead><tr>{head}</tr></thead><tbody>{body}</tbody></table>"
+        return f'<div class="scroll">{table}</div>{note}'
 
 
 def short_labels(names: Iterable[str]) -> dict[str, str]:
@@ -85,7 +90,7 @@ def p_value(value: float | None) -> str:
 
 
 TABLE_4_1_HEADER = (
-    "method", "n", "mean time (s)", "variance (s²)", "mean saving (s)", "95 % CI (s)", "p one-tailed",
+    "method", "n", "mean time (s)", "variance (s²)", "sd (s)", "mean saving (s)", "95 % CI (s)", "p one-tailed",
     "p two-tailed", "p Wilcoxon", "reduction",
 )  # fmt: skip
 
@@ -93,12 +98,16 @@ TABLE_4_1_HEADER = (
 def table_4_1_row(name: str, s: PairedStats, is_baseline: bool) -> list[str]:
     """One row of :func:`table_4_1`; the baseline's has no comparison cells."""
     if is_baseline:
-        return [f"{name} (baseline)", str(s.n), number(s.mean_time_s), number(s.var_time_s), *[""] * 6]
+        return [f"{name} (baseline)", str(s.n), number(s.mean_time_s), number(s.var_time_s), _sd(s), *[""] * 6]
     ci = f"{number(s.ci95_s[0])} … {number(s.ci95_s[1])}"
     return [
-        name, str(s.n), number(s.mean_time_s), number(s.var_time_s), number(s.mean_diff_s), ci,
+        name, str(s.n), number(s.mean_time_s), number(s.var_time_s), _sd(s), number(s.mean_diff_s), ci,
         p_value(s.p_one_tailed), p_value(s.p_two_tailed), p_value(s.p_wilcoxon), number(s.reduction_pct, unit=" %"),
     ]  # fmt: skip
+
+
+def _sd(s: PairedStats) -> str:
+    return number(math.sqrt(s.var_time_s)) if math.isfinite(s.var_time_s) and s.var_time_s >= 0 else "n/a"
 
 
 def table_4_1(results: dict[str, PairedStats], baseline: str, title: str = "") -> Table:

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import shlex
 import typing
 from dataclasses import asdict, dataclass, fields
 from pathlib import Path
@@ -25,6 +26,13 @@ MAX_TIMESTEPS = 10**12
 ALGOS = ("a2c", "ppo")
 #: Longest error message passed on from a check of ``worlds`` (characters).
 _MESSAGE_LIMIT = 300
+
+
+_CLI_OPTIONS = (
+    "model", "worlds", "timesteps", "n_envs", "algo", "observation_size", "reward", "learning_rate", "n_steps",
+    "seed", "eval_every", "checkpoint_every",
+)  # fmt: skip
+"""The fields ``frontier-rl train`` sets by an option of the same name."""
 
 
 @dataclass(frozen=True)
@@ -133,6 +141,20 @@ class TrainConfig:
             raise ConfigError(f"unknown training option(s) {', '.join(unknown[:5])}")
         hints = typing.get_type_hints(cls)
         return cls(**{key: coerce(hints[key], value, key) for key, value in values.items()})
+
+    def command(self) -> str:
+        """The ``frontier-rl train`` options that give this config (without ``--out``): the model,
+        worlds and timesteps always, every other option only where it differs from its default;
+        fields the command line has no option for are added as ``(also name=value)``."""
+        default = TrainConfig()
+        parts = ["frontier-rl train"]
+        for name in _CLI_OPTIONS:
+            value = getattr(self, name)
+            if name in ("model", "worlds", "timesteps") or value != getattr(default, name):
+                parts.append(f"--{name.replace('_', '-')} {shlex.quote(str(value))}")
+        other = [f"{f.name}={getattr(self, f.name)}" for f in fields(self)
+                 if f.name not in _CLI_OPTIONS and getattr(self, f.name) != getattr(default, f.name)]  # fmt: skip
+        return " ".join(parts) + (f" (also {', '.join(other)})" if other else "")
 
     def dump(self, path: Path) -> None:
         """Write the config as YAML."""

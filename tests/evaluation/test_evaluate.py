@@ -102,7 +102,7 @@ def test_report_files_hold_the_table(serial_run: Path) -> None:
     for name in ("report.md", "report.html", "boxplot.png", "scatter.png", "coverage.png", "summary.json"):
         assert (serial_run / name).stat().st_size > 0, name
     markdown = (serial_run / "report.md").read_text()
-    assert "| method | n | mean time (s) | variance (s²) | mean saving (s)" in markdown
+    assert "| method | n | mean time (s) | variance (s²) | sd (s) | mean saving (s)" in markdown
     assert "| fixed:0.75 (baseline) | 2 |" in markdown and "| nearest | 2 |" in markdown
     assert "![Exploration time per method](boxplot.png)" in markdown
     header = "| method | episodes | explored | unreachable | time cap | mean coverage | min coverage"
@@ -112,7 +112,7 @@ def test_report_files_hold_the_table(serial_run: Path) -> None:
     page = (serial_run / "report.html").read_text()
     assert page.count("<table>") >= 3 and "fixed:0.75 (baseline)" in page
     assert "<caption>Completion</caption>" in page
-    assert page.count("data:image/png;base64,") == 3  # figures embedded: no weight plot without learned methods
+    assert page.count("data:image/png;base64,") == 3 + 2  # 3 charts (no weight plot without learned methods), 2 runs
 
 
 def test_rerun_skips_finished_episodes_and_methods_can_be_added(serial_run: Path, tmp_path: Path) -> None:
@@ -134,11 +134,11 @@ def test_rerun_skips_finished_episodes_and_methods_can_be_added(serial_run: Path
 def test_a_different_configuration_is_refused_and_nothing_is_lost(
     serial_run: Path, change: dict[str, object], needle: str
 ) -> None:
-    files = {p.name: p.read_bytes() for p in serial_run.iterdir()}
+    files = {p.name: p.read_bytes() for p in serial_run.iterdir() if p.is_file()}
     kwargs = {"methods": ("fixed:0.75", "nearest"), "worlds": ("office",), "episodes": 2, "sim": SHORT} | change
     with pytest.raises(ConfigError, match=f"different configuration \\({needle}"):
         evaluate(ExperimentConfig(**kwargs), serial_run, backend="serial", progress=False)  # type: ignore[arg-type]
-    assert {p.name: p.read_bytes() for p in serial_run.iterdir()} == files
+    assert {p.name: p.read_bytes() for p in serial_run.iterdir() if p.is_file()} == files
 
 
 def test_a_changed_model_file_is_refused(tmp_path: Path) -> None:

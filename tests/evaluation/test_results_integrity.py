@@ -72,7 +72,7 @@ def _write_lines(path: Path, lines: list[str]) -> None:
 
 
 def _snapshot(folder: Path) -> dict[str, bytes]:
-    return {p.name: p.read_bytes() for p in sorted(folder.iterdir()) if p.name != ".lock"}
+    return {p.name: p.read_bytes() for p in sorted(folder.iterdir()) if p.name != ".lock" and p.is_file()}
 
 
 def _open(out: Path, seed: int = 0) -> None:

@@ -10,6 +10,7 @@ from scipy import stats
 
 from frontier_rl.errors import ConfigError
 from frontier_rl.evaluation import compare_methods, paired_stats, table_4_1
+from frontier_rl.evaluation.statistics import holm_adjust
 
 BASE = [10.0, 12.0, 14.0, 16.0]
 FAST = [9.0, 11.0, 12.0, 15.0]  # savings 1, 1, 2, 1
@@ -77,6 +78,19 @@ def test_table_4_1_layout() -> None:
     table = table_4_1(results, "fixed:0.75", title="office, 4 episodes").markdown()
     lines = table.strip().splitlines()
     assert lines[0] == "**office, 4 episodes**"
-    assert lines[2].startswith("| method | n | mean time (s) | variance (s²) | mean saving (s)")
-    assert lines[4].startswith("| fixed:0.75 (baseline) | 4 | 13.0 |")
+    assert lines[2].startswith("| method | n | mean time (s) | variance (s²) | sd (s) | mean saving (s)")
+    assert lines[4].startswith("| fixed:0.75 (baseline) | 4 | 13.0 | 6.7 | 2.6 |")  # var of 10..16: 20 / 3
     assert lines[5].startswith("| learned | 4 | 11.8 |") and "9.6 %" in lines[5]
+
+
+def test_holm_adjustment_by_hand() -> None:
+    # sorted 0.01, 0.02, 0.04 of m = 3: 3 × 0.01 = 0.03, max(0.03, 2 × 0.02) = 0.04, max(0.04, 1 × 0.04) = 0.04
+    adjusted = holm_adjust({"a": 0.04, "b": 0.01, "c": 0.02, "baseline": None})
+    assert adjusted["baseline"] is None
+    assert adjusted["a"] == pytest.approx(0.04) and adjusted["b"] == pytest.approx(0.03)
+    assert adjusted["c"] == pytest.approx(0.04)
+    # monotone and capped at 1
+    capped = holm_adjust({"x": 0.6, "y": 0.5})
+    assert capped == {"x": 1.0, "y": 1.0}
+    assert holm_adjust({"only": 0.2}) == {"only": 0.2}
+    assert holm_adjust({"nan": math.nan, "p": 0.1}) == {"nan": None, "p": 0.1}

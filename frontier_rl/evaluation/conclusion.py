@@ -1,0 +1,130 @@
+"""The report's first paragraph, generated from ``summary.json``: which method was fastest against
+the baseline, by how much and how surely, how far from the oracle, and how the episodes ended."""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+from typing import Any
+
+from frontier_rl.evaluation.experiment import ORACLE
+from frontier_rl.evaluation.tables import number, p_value
+
+_SIGNIFICANCE = 0.05
+"""The level the sentence calls a saving significant at."""
+
+_REASONS = {
+    "unreachable": "unreachable: frontiers were left, none of them reachable for a robot of this size",
+    "time_cap": "time cap: cut at the sim-time cap, with the cap as its time",
+}
+"""What each end reason other than "explored" means, said once when it occurs."""
+
+_MAX_WORLDS_NAMED = 12
+"""The fastest method per world is named for at most this many worlds."""
+
+
+@dataclass(frozen=True)
+class Conclusion:
+    """The generated summary.
+
+    Attributes:
+        headline: the sentence naming the fastest method (or saying none beat the baseline).
+        best: the fastest tested method (None when only the baseline and the oracle ran).
+        details: further sentences: multiple comparisons, the fastest per world, how episodes ended.
+    """
+
+    headline: str
+    best: str | None
+    details: tuple[str, ...]
+
+
+def conclude(summary: dict[str, Any], labels: dict[str, str]) -> Conclusion:
+    """The conclusion of ``summary`` (see :mod:`frontier_rl.evaluation.analysis`), methods named by
+    ``labels``; every number is formatted as the report's tables format it."""
+    methods = summary["methods"]
+    baseline = summary["baseline"]
+    tested = [m for m in methods if m not in (baseline, ORACLE) and _finite(methods[m]["mean_time_s"])]
+    best = min(tested, key=lambda m: methods[m]["mean_time_s"]) if tested else None
+    headline = _headline(methods, baseline, best, labels, len(tested))
+    details = []
+    if len(tested) > 1:
+        details.append(
+            f"{len(tested)} methods were tested against the baseline; p Holm is each one-tailed p adjusted by "
+            f"Holm's method over all {len(tested)}, so that the chance of calling any of them faster by luck "
+            f"stays at {100 * _SIGNIFICANCE:.0f} % or less."
+        )
+    per_world = summary.get("per_world", {})
+    if tested and 1 < len(per_world) <= _MAX_WORLDS_NAMED:
+        parts = []
+        for world, part in per_world.items():
+            entries = part["methods"]
+            fastest = min(tested, key=lambda m: entries[m]["mean_time_s"])
+            if entries[fastest]["mean_diff_s"] > 0:
+                parts.append(f"{labels.get(world, world)}: {labels[fastest]} ({_change(entries[fastest])})")
+            else:
+                parts.append(f"{labels.get(world, world)}: none faster than the baseline")
+        details.append("Fastest per world, against the baseline there: " + "; ".join(parts) + ".")
+    details.append(_completion(methods, labels))
+    return Conclusion(headline, best, tuple(details))
+
+
+def _headline(
+    methods: dict[str, dict[str, Any]], baseline: str, best: str | None, labels: dict[str, str], family: int
+) -> str:
+    base = methods[baseline]
+    oracle = methods.get(ORACLE)
+    if best is None:
+        if oracle is None:
+            return f"Only the baseline {labels[baseline]} ran: {number(base['mean_time_s'])} s on average."
+        return (f"The baseline {labels[baseline]} took {number(base['mean_time_s'])} s on average, "
+                f"{number(base['oracle_ratio'], 2)} × the oracle's {number(oracle['mean_time_s'])} s.")  # fmt: skip
+    entry = methods[best]
+    name = labels[best]
+    ratio = f", {number(entry['oracle_ratio'], 2)} × the time of the oracle that knows the map" if oracle else ""
+    if not entry["mean_diff_s"] > 0:
+        return (
+            f"No method was faster than the baseline {labels[baseline]} ({number(base['mean_time_s'])} s on average): "
+            f"the fastest, {name}, took {number(entry['mean_time_s'])} s ({_change(entry)}){ratio}."
+        )
+    low, high = entry["ci95_s"]
+    tests = f"one-tailed paired t-test p = {p_value(entry['p_one_tailed'])}"
+    decisive = entry["p_one_tailed"]
+    if family > 1:
+        tests += f", p Holm = {p_value(entry['p_holm'])}"
+        decisive = entry["p_holm"]
+    verdict = "significant" if decisive is not None and decisive < _SIGNIFICANCE else "not significant"
+    return (
+        f"{name} explored fastest: {number(entry['mean_time_s'])} s on average against "
+        f"{number(base['mean_time_s'])} s for the baseline {labels[baseline]}, "
+        f"{number(entry['reduction_pct'])} % less time (mean saving {number(entry['mean_diff_s'])} s, 95 % CI "
+        f"{number(low)} to {number(high)} s; {tests}; {verdict} at the {100 * _SIGNIFICANCE:.0f} % level){ratio}."
+    )
+
+
+def _change(entry: dict[str, Any]) -> str:
+    reduction = entry["reduction_pct"]
+    if reduction is None or not math.isfinite(reduction):
+        return "no paired comparison"
+    return f"{number(reduction)} % less time" if reduction >= 0 else f"{number(-reduction)} % more time"
+
+
+def _completion(methods: dict[str, dict[str, Any]], labels: dict[str, str]) -> str:
+    total = sum(e["n"] for e in methods.values())
+    explored = sum(e["end_reasons"].get("explored", 0) for e in methods.values())
+    if explored == total:
+        return f"All {total} episodes ended with the map explored."
+    parts = []
+    for method, entry in methods.items():
+        ends = [f"{n} {reason.replace('_', ' ')}" for reason, n in entry["end_reasons"].items()
+                if n and reason != "explored"]  # fmt: skip
+        if ends:
+            parts.append(f"{labels[method]} {', '.join(ends)}")
+    reasons = {r for e in methods.values() for r, n in e["end_reasons"].items() if n and r != "explored"}
+    meaning = [_REASONS[r] for r in sorted(reasons) if r in _REASONS]
+    return f"{explored} of {total} episodes ended with the map explored; the others: {'; '.join(parts)}" + (
+        f" ({'; '.join(meaning)})." if meaning else "."
+    )
+
+
+def _finite(value: float | None) -> bool:
+    return value is not None and math.isfinite(value)

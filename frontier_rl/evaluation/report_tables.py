@@ -1,0 +1,175 @@
+"""The report's tables, from ``summary.json``: Table 4.1 of all episodes (with the oracle ratio
+and, when several methods are tested, Holm's adjusted p), of the outlier cuts that excluded an
+episode, of each world; the other metrics, how episodes ended, the team methods and the methods
+themselves."""
+
+from __future__ import annotations
+
+from typing import Any
+
+import numpy as np
+
+from frontier_rl.evaluation.experiment import ORACLE, ExperimentConfig
+from frontier_rl.evaluation.method_notes import describe_method
+from frontier_rl.evaluation.statistics import stats_from_dict
+from frontier_rl.evaluation.tables import (
+    TABLE_4_1_HEADER,
+    Table,
+    completion_table,
+    number,
+    p_value,
+    short_labels,
+    table_4_1_row,
+)
+from frontier_rl.swarm.config import TeamMethod
+
+_MAX_WORLD_TABLES = 12
+"""Per-world tables are written for at most this many worlds (a folder of maps can hold hundreds)."""
+
+
+def report_tables(
+    summary: dict[str, Any], config: ExperimentConfig, teams_traces: dict[str, list[dict[str, Any]]] | None = None
+) -> list[Table]:
+    """:func:`time_tables` then :func:`outcome_tables`."""
+    return [*time_tables(summary, config), *outcome_tables(summary, config, teams_traces)]
+
+
+def time_tables(summary: dict[str, Any], config: ExperimentConfig) -> list[Table]:
+    """Table 4.1 of all episodes (with the ratio to the oracle and Holm's p), of each outlier cut
+    that left an episode out, and of each world."""
+    labels = short_labels(config.methods)
+    world_labels = short_labels(config.worlds)
+    main = _table_4_1(summary["methods"], config, labels, "Exploration time, all episodes", oracle=True)
+    capped = {m: e["end_reasons"]["time_cap"] for m, e in summary["methods"].items() if e["end_reasons"]["time_cap"]}
+    if capped:
+        note = ", ".join(f"{labels[m]} {k}" for m, k in capped.items())
+        note = f"{main.note} Episodes cut at the sim-time cap (their time counts as the cap): {note}.".strip()
+        main = Table(main.header, main.rows, main.title, note)
+    tables = [main, *outlier_tables(summary, config, labels)]
+    per_world = summary.get("per_world", {})
+    for world, part in list(per_world.items())[:_MAX_WORLD_TABLES]:
+        tables.append(_table_4_1(part["methods"], config, labels, f"World {world_labels[world]}", oracle=True))
+    if len(per_world) > _MAX_WORLD_TABLES:
+        tables[-1] = Table(tables[-1].header, tables[-1].rows, tables[-1].title,
+                           f"Tables of the other {len(per_world) - _MAX_WORLD_TABLES} worlds: per_world in "
+                           "summary.json.")  # fmt: skip
+    return tables
+
+
+def outcome_tables(
+    summary: dict[str, Any], config: ExperimentConfig, teams_traces: dict[str, list[dict[str, Any]]] | None = None
+) -> list[Table]:
+    """How the episodes ended, the other metrics, and the team methods (``teams_traces``: their
+    traces, for the per-robot coverage)."""
+    labels = short_labels(config.methods)
+    metrics = Table(
+        ("method", "episodes done", "coverage", "path (m)", "t90 (s)", "t99 (s)", "aborts", "mean weight",
+         "wall per episode (s)"),
+        title="Other metrics (means over episodes; t90 and t99 over the episodes that reached them)",
+    )  # fmt: skip
+    for method, e in summary["methods"].items():
+        metrics.rows.append([
+            labels[method], f"{e['episodes_done']} / {e['n']}", number(100 * e["mean_coverage"], 2, " %"),
+            number(e["mean_path_length_m"]), number(e["mean_t90_s"]), number(e["mean_t99_s"]),
+            number(e["mean_aborts"], 2), number(e["mean_weight"], 3), number(e["mean_wall_time_s"], 2),
+        ])  # fmt: skip
+    tables = [completion_table(summary["methods"], labels), metrics]
+    if "teams" in summary:
+        tables.append(_team_table(summary, labels, teams_traces or {}))
+    return tables
+
+
+def outlier_tables(summary: dict[str, Any], config: ExperimentConfig, labels: dict[str, str]) -> list[Table]:
+    """Table 4.1 without the episodes above each outlier threshold, for the thresholds that left an
+    episode out (the others would repeat the table of all episodes)."""
+    tables = []
+    for threshold, cut in summary["outliers"].items():
+        if not any(e["excluded"] for e in cut["methods"].values()):
+            continue
+        table = _table_4_1(cut["methods"], config, labels, f"Without episodes above {threshold} s")
+        extra = [
+            ["" if m == config.baseline else number(e["baseline_mean_time_s"]), str(e["excluded"])]
+            for m, e in cut["methods"].items()
+        ]
+        tables.append(Table(
+            (*table.header, "paired baseline mean (s)", "excluded"),
+            [[*row, *more] for row, more in zip(table.rows, extra, strict=True)],
+            table.title,
+            "Each method against the baseline on the episodes where neither took longer than the threshold; the "
+            "baseline's own row drops only its own long episodes.",
+        ))  # fmt: skip
+    return tables
+
+
+def outlier_note(summary: dict[str, Any]) -> str:
+    """One line naming the outlier thresholds that left no episode out ("" if there are none)."""
+    clean = [
+        f"{t} s" for t, cut in summary["outliers"].items() if not any(e["excluded"] for e in cut["methods"].values())
+    ]
+    if not clean:
+        return ""
+    return (f"No episode took longer than {' or '.join(clean)} (the thesis's outlier thresholds), so the tables "
+            "without outliers would repeat the one above and are left out.")  # fmt: skip
+
+
+def methods_table(methods: tuple[str, ...]) -> Table:
+    """What every method of the run is and its parameters."""
+    labels = short_labels(methods)
+    table = Table(("method", "what it does", "parameters"), wrap=True)
+    for method in methods:
+        note = describe_method(method)
+        table.rows.append([labels[method], note.description, note.parameters or "none"])
+    return table
+
+
+def _team_table(summary: dict[str, Any], labels: dict[str, str], traces: dict[str, list[dict[str, Any]]]) -> Table:
+    """Team methods: size, speed-up over the same policy alone, overlap, per-robot coverage, failures."""
+    table = Table(
+        ("method", "robots", "mean time (s)", "speed-up over 1 robot", "overlap", "coverage per robot",
+         "robots failed"),
+        title="Teams (speed-up: the policy's one-robot mean time over the team's)",
+        note="overlap: share of the cells the robots' own sensors reached that more than one robot's did; "
+        "coverage per robot: the share of the explorable space each robot's own sensor reached (mean, min - max "
+        "over robots, averaged over episodes).",
+    )  # fmt: skip
+    methods = summary["methods"]
+    for method, entry in methods.items():
+        team = TeamMethod.parse(method)
+        if team.robots is None:
+            continue
+        alone = methods.get(team.policy)
+        speedup = alone["mean_time_s"] / entry["mean_time_s"] if alone and entry["mean_time_s"] > 0 else None
+        own = traces.get(method, [])
+        per_robot = [t["robot_coverage"] for t in own if t.get("robot_coverage")]
+        coverage = "n/a"
+        if per_robot:
+            mean, low, high = (float(np.mean([f(c) for c in per_robot])) for f in (np.mean, np.min, np.max))
+            coverage = f"{100 * mean:.0f} % ({100 * low:.0f} - {100 * high:.0f} %)"
+        failed = sum(sum(f is not None for f in t.get("failed_at_s", [])) for t in own)
+        table.rows.append([labels[method], str(team.robots), number(entry["mean_time_s"]),
+                           number(speedup, 2, " ×"), number(100 * entry["mean_overlap"], 0, " %"), coverage,
+                           f"{failed} in {len(own)} episodes"])  # fmt: skip
+    return table
+
+
+def _table_4_1(
+    entries: dict[str, dict[str, Any]], config: ExperimentConfig, labels: dict[str, str], title: str,
+    oracle: bool = False,
+) -> Table:  # fmt: skip
+    rows = [table_4_1_row(labels[m], stats_from_dict(e), m == config.baseline) for m, e in entries.items()]
+    header: tuple[str, ...] = TABLE_4_1_HEADER
+    notes = []
+    tested = [m for m in entries if m not in (config.baseline, ORACLE)]
+    if len(tested) > 1 and all("p_holm" in entries[m] for m in tested):
+        at = header.index("p one-tailed") + 1
+        header = (*header[:at], "p Holm", *header[at:])
+        holm = ["" if m not in tested else p_value(e["p_holm"]) for m, e in entries.items()]
+        rows = [[*row[:at], cell, *row[at:]] for row, cell in zip(rows, holm, strict=True)]
+        notes.append(f"p Holm: the one-tailed p adjusted by Holm's method over the {len(tested)} methods tested "
+                     "(the oracle is a reference, not tested).")  # fmt: skip
+    if oracle and ORACLE in entries:
+        header = (*header, "time / oracle")
+        rows = [[*row, number(e["oracle_ratio"], 2, " ×")] for row, e in zip(rows, entries.values(), strict=True)]
+        notes.append("time / oracle: mean exploration time over the full-knowledge coverage tour's (1.00 × would be "
+                     "as fast as a robot that knows the map).")  # fmt: skip
+    return Table(header, rows, title, " ".join(notes))
