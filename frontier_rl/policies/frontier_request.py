@@ -9,8 +9,10 @@ from __future__ import annotations
 import math
 from collections.abc import Sequence
 from dataclasses import dataclass
+from typing import Any
 
 import numpy as np
+from numpy.typing import NDArray
 
 from frontier_rl.core.sim.candidates import reachable_frontiers
 from frontier_rl.core.sim.config import SimConfig
@@ -46,7 +48,7 @@ def grid_from_message(
     width: int,
     height: int,
     resolution: float,
-    data: Sequence[int],
+    data: Sequence[int] | NDArray[np.integer[Any]],
     thresholds: MapThresholds | None = None,
 ) -> OccupancyGrid:
     """A grid (origin 0, 0: the map's own cell frame) from a ``nav_msgs/OccupancyGrid``'s size,

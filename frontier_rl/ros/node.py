@@ -3,71 +3,55 @@
 Subscribes to each robot's map (``/<ns>/map``, ``nav_msgs/OccupancyGrid``) and pose
 (``/<ns>/robot_pose``, ``geometry_msgs/PoseStamped`` in the map frame; or, without it, the TF
 transform map → ``~base_frame`` when tf2_ros is installed). A ``std_msgs/String`` on
-``/frontier_request`` naming a namespace is answered on ``/frontier_list`` with that robot's top
-frontier centres as a ``geometry_msgs/PoseArray`` in its map frame; ``/frontier_markers``
-(``visualization_msgs/MarkerArray``) shows them in RViz and ``/frontier_weight`` (``std_msgs/Float32``)
-the weight in use. A request for an unknown namespace, before a map arrived, or on a malformed map
-is logged and answered with an empty list; the node keeps serving.
+``/frontier_request`` naming a namespace (optionally followed by a request id) is answered on
+``/frontier_list`` with that robot's top frontier centres as a ``geometry_msgs/PoseArray`` in its
+map frame, stamped with the stamp of the map they were computed on. Every request is answered, an
+empty list when it cannot be ranked, and each answer is followed by a JSON line on
+``/frontier_status`` (robot, request id, frontiers, reason, policy, weight, map stamp and age,
+latency); ``/frontier_weight`` (``std_msgs/Float32``) carries the weight of every answer (NaN for a
+frontier-choice model) and ``/frontier_markers`` shows the answer in RViz.
+
+Each robot's map and ranking live in a worker process of its own (:mod:`frontier_rl.ros.robot_worker`),
+so one robot's large map or slow model does not delay another. A malformed map is rejected and the
+robot's last good map kept (``~keep_last_map``). When the master is restarted under it, the node
+exits with status 3 (:mod:`frontier_rl.ros.master_watch`) so that ``respawn`` starts it again.
 
 Parameters (private): ``~robots`` (namespaces, a list or a comma string; default one robot with no
-namespace), ``~weight`` (eq. 3.1's w, default 0.75), ``~model`` (a model file of ``frontier-rl train``;
-replaces the weight), ``~top_k`` (10), ``~min_cluster_size`` (cells, 4), ``~pose_topic``
-(``robot_pose``), ``~base_frame`` (``base_footprint``).
+namespace), ``~weight`` (eq. 3.1's w, default 0.75), ``~model`` (a model file of ``frontier-rl
+train``; replaces the weight), ``~top_k`` (10), ``~min_cluster_size`` (cells, 4), ``~pose_topic``
+(``robot_pose``), ``~base_frame`` (``base_footprint``), ``~max_map_age`` (s, 30; 0: any age),
+``~stale_map`` (``stale``: rank it and say so, or ``empty``), ``~keep_last_map`` (true),
+``~max_pending`` (requests queued per robot, 8), ``~master_check_period`` (s, 1.0).
 
-Run: ``python -m frontier_rl.ros.node _robots:=tb3_0,tb3_1 _weight:=0.75``. rospy comes from the
-system's ROS (Debian's python3-rospy) when the environment has none of its own.
+Run: ``python -m frontier_rl.ros.node _robots:=tb3_0,tb3_1 _weight:=0.75``.
 """
 
 from __future__ import annotations
 
 import math
-import sys
-from pathlib import Path
+import os
+import threading
+import time
 from typing import Any
 
 from frontier_rl.core.frontiers.ranking import THESIS_WEIGHT
-from frontier_rl.core.world.robot import Pose
-from frontier_rl.errors import FrontierRLError
+from frontier_rl.errors import FrontierRLError, MapError
 from frontier_rl.policies import make_policy
-from frontier_rl.policies.frontier_request import RankedFrontier, grid_from_message, rank_frontiers
+from frontier_rl.ros.answers import (
+    MapFrame,
+    MapInfo,
+    StaleMapAnswer,
+    Status,
+    ThrottledLog,
+    check_request,
+    parse_request,
+)
+from frontier_rl.ros.master_watch import EXIT_MASTER_RESTARTED, MasterWatch
+from frontier_rl.ros.robot_worker import RankJob, RankResult, RobotWorker
+from frontier_rl.ros.ros_messages import answer_markers, import_rospy, map_cells, yaw
 
-_SYSTEM_PACKAGES = Path("/usr/lib/python3/dist-packages")
-
-
-def import_rospy() -> Any:
-    """rospy, from this environment or else from the system's ROS packages."""
-    try:
-        import rospy
-    except ImportError:
-        if _SYSTEM_PACKAGES.is_dir() and str(_SYSTEM_PACKAGES) not in sys.path:
-            sys.path.append(str(_SYSTEM_PACKAGES))  # after the environment's own packages
-        try:
-            import rospy
-        except ImportError:
-            raise FrontierRLError(
-                "rospy not found: install ROS 1 (Debian: apt-get install ros-core python3-rospy python3-nav-msgs "
-                "python3-geometry-msgs python3-visualization-msgs python3-std-msgs)"
-            ) from None
-    return rospy
-
-
-def _yaw(q: Any) -> float:
-    return math.atan2(2.0 * (q.w * q.z + q.x * q.y), 1.0 - 2.0 * (q.y * q.y + q.z * q.z))
-
-
-class _Frame:
-    """A map's placement: origin (m) and yaw (rad) of its cell (0, 0) corner in its frame."""
-
-    def __init__(self, frame_id: str, x: float, y: float, yaw: float) -> None:
-        self.frame_id, self.x, self.y = frame_id, x, y
-        self.cos, self.sin = math.cos(yaw), math.sin(yaw)
-
-    def to_grid(self, x: float, y: float) -> tuple[float, float]:
-        dx, dy = x - self.x, y - self.y
-        return self.cos * dx + self.sin * dy, -self.sin * dx + self.cos * dy
-
-    def to_map(self, x: float, y: float) -> tuple[float, float]:
-        return self.x + self.cos * x - self.sin * y, self.y + self.sin * x + self.cos * y
+_WORKER_START_S = 120.0
+"""How long the node waits for its workers to load their policy and kernels (s)."""
 
 
 class FrontierNode:
@@ -76,38 +60,52 @@ class FrontierNode:
     def __init__(self) -> None:
         self.rospy = rospy = import_rospy()
         from geometry_msgs.msg import PoseArray, PoseStamped
-        from nav_msgs.msg import OccupancyGrid as MapMessage
+        from nav_msgs.msg import OccupancyGrid
+        from rospy.numpy_msg import numpy_msg
         from std_msgs.msg import Float32, String
         from visualization_msgs.msg import MarkerArray
 
         robots = rospy.get_param("~robots", [""])
         self.robots = [r.strip().strip("/") for r in (robots.split(",") if isinstance(robots, str) else robots)]
         self.top_k = int(rospy.get_param("~top_k", 10))
-        self.min_cells = int(rospy.get_param("~min_cluster_size", 4))
+        min_cells = int(rospy.get_param("~min_cluster_size", 4))
         self.base_frame = str(rospy.get_param("~base_frame", "base_footprint"))
-        model = str(rospy.get_param("~model", ""))
-        self.policy = make_policy(
-            f"learned:{model}" if model else f"fixed:{float(rospy.get_param('~weight', THESIS_WEIGHT))}"
-        )
-        self.maps: dict[str, Any] = {}  # namespace -> (grid, frame) or None after a malformed map
-        self.poses: dict[str, tuple[float, float, float]] = {}  # namespace -> (x, y, yaw) in the map frame
+        self.max_map_age = float(rospy.get_param("~max_map_age", 30.0))
+        try:
+            self.stale = StaleMapAnswer(str(rospy.get_param("~stale_map", "stale")))
+        except ValueError:
+            raise FrontierRLError("~stale_map must be 'stale' or 'empty'") from None
+        self.keep_last_map = bool(rospy.get_param("~keep_last_map", True))
+        self.max_pending = int(rospy.get_param("~max_pending", 8))
+        model = rospy.get_param("~model", "") or ""
+        spec = f"learned:{model}" if model else f"fixed:{float(rospy.get_param('~weight', THESIS_WEIGHT))}"
+        policy = make_policy(spec)  # a bad weight or model file fails here, once, with its message
+        self.policy_name = policy.name
+        fixed = getattr(policy, "weight", None)
+        self.fixed_weight = float(fixed) if isinstance(fixed, float) else None
+        self.maps: dict[str, MapInfo | None] = dict.fromkeys(self.robots)
+        self.poses: dict[str, tuple[float, float, float]] = {}
+        self.jobs: dict[int, tuple[str, str, MapInfo, str, float]] = {}
+        self._job_count = self._request_count = 0
+        self._lock = threading.Lock()  # the job table and the publishers' order (answer, then status)
+        self.log = ThrottledLog()
+        self.workers = {ns: RobotWorker(spec, self.top_k, min_cells, self._on_result) for ns in self.robots}
+        for ns, worker in self.workers.items():
+            if not worker.ready.wait(_WORKER_START_S):
+                raise FrontierRLError(f"the worker of robot {ns!r} did not start within {_WORKER_START_S:g} s")
+        self.list_pub = rospy.Publisher("/frontier_list", PoseArray, queue_size=100)
+        self.marker_pub = rospy.Publisher("/frontier_markers", MarkerArray, queue_size=10)
+        self.weight_pub = rospy.Publisher("/frontier_weight", Float32, queue_size=100, latch=True)
+        self.status_pub = rospy.Publisher("/frontier_status", String, queue_size=100)
+        self.weight_pub.publish(Float32(math.nan if self.fixed_weight is None else self.fixed_weight))
+        self.tf_buffer = self._tf_buffer()
         pose_topic = str(rospy.get_param("~pose_topic", "robot_pose"))
         for ns in self.robots:
-            rospy.Subscriber(self._topic(ns, "map"), MapMessage, self._on_map, callback_args=ns, queue_size=1)
-            rospy.Subscriber(self._topic(ns, pose_topic), PoseStamped, self._on_pose, callback_args=ns, queue_size=1)
-        self.list_pub = rospy.Publisher("/frontier_list", PoseArray, queue_size=10)
-        self.marker_pub = rospy.Publisher("/frontier_markers", MarkerArray, queue_size=10)
-        self.weight_pub = rospy.Publisher("/frontier_weight", Float32, queue_size=10, latch=True)
-        weight = getattr(self.policy, "weight", None)
-        if isinstance(weight, float):  # a fixed weight is known before any request; a model's comes with each
-            self.weight_pub.publish(Float32(weight))
-        self.tf_buffer = self._tf_buffer()
-        rospy.Subscriber("/frontier_request", String, self._on_request, queue_size=10)
-        rospy.loginfo("frontier_rl node: robots %s, policy %s, top %d", self.robots, self.policy.name, self.top_k)
-
-    @staticmethod
-    def _topic(ns: str, name: str) -> str:
-        return f"/{ns}/{name}" if ns else f"/{name}"
+            rospy.Subscriber(_topic(ns, "map"), numpy_msg(OccupancyGrid), self._on_map, callback_args=ns,
+                             queue_size=1, buff_size=2**26)  # fmt: skip
+            rospy.Subscriber(_topic(ns, pose_topic), PoseStamped, self._on_pose, callback_args=ns, queue_size=1)
+        rospy.Subscriber("/frontier_request", String, self._on_request, queue_size=100)
+        rospy.loginfo("frontier_rl node: robots %s, policy %s, top %d", self.robots, self.policy_name, self.top_k)
 
     def _tf_buffer(self) -> Any:
         try:
@@ -118,90 +116,117 @@ class FrontierNode:
         tf2_ros.TransformListener(buffer)
         return buffer
 
+    def _warn(self, ns: str, kind: str, text: str) -> None:
+        if self.log.due(ns, kind, time.monotonic()):
+            self.rospy.logwarn("frontier_rl: %s", text)
+
     def _on_map(self, msg: Any, ns: str) -> None:
-        info = msg.info
         try:
-            grid = grid_from_message(int(info.width), int(info.height), float(info.resolution), msg.data)
-        except FrontierRLError as exc:
-            self.rospy.logwarn("frontier_rl: map of %r rejected: %s", ns, exc)
-            self.maps[ns] = None
+            cells, resolution = map_cells(msg)
+        except MapError as exc:
+            kept = self.keep_last_map and self.maps[ns] is not None
+            then = "the last good map is kept" if kept else "no map until a good one arrives"
+            self._warn(ns, "map", f"map of {ns!r} rejected ({exc}); {then}")
+            if not self.keep_last_map:
+                self.maps[ns] = None
             return
-        origin = info.origin
-        frame = _Frame(msg.header.frame_id, origin.position.x, origin.position.y, _yaw(origin.orientation))
-        self.maps[ns] = (grid, frame)
+        origin = msg.info.origin
+        stamp = msg.header.stamp.to_sec() or self.rospy.get_time()
+        frame = MapFrame(msg.header.frame_id, origin.position.x, origin.position.y, yaw(origin.orientation))
+        previous = self.maps[ns]
+        self.workers[ns].send_map(cells)
+        self.maps[ns] = MapInfo(frame, cells.width, cells.height, resolution, stamp,
+                                0 if previous is None else previous.sequence + 1)  # fmt: skip
 
     def _on_pose(self, msg: Any, ns: str) -> None:
         p = msg.pose
-        self.poses[ns] = (p.position.x, p.position.y, _yaw(p.orientation))
+        self.poses[ns] = (p.position.x, p.position.y, yaw(p.orientation))
 
-    def _pose(self, ns: str, frame: _Frame) -> tuple[float, float, float] | None:
-        if ns in self.poses:
-            return self.poses[ns]
-        if self.tf_buffer is None:
-            return None
+    def _pose(self, ns: str, info: MapInfo | None) -> tuple[float, float, float] | None:
+        if ns in self.poses or info is None or self.tf_buffer is None:
+            return self.poses.get(ns)
         base = f"{ns}/{self.base_frame}" if ns else self.base_frame
         try:
-            t = self.tf_buffer.lookup_transform(frame.frame_id, base, self.rospy.Time(0)).transform
-        except Exception as exc:  # tf2's lookup errors share no base class worth naming here
-            self.rospy.logwarn("frontier_rl: no pose of %r (%s)", ns, exc)
+            t = self.tf_buffer.lookup_transform(info.frame.frame_id, base, self.rospy.Time(0)).transform
+        except Exception:  # tf2's lookup errors share no base class worth naming here; no pose is the answer
             return None
-        return t.translation.x, t.translation.y, _yaw(t.rotation)
+        return t.translation.x, t.translation.y, yaw(t.rotation)
 
     def _on_request(self, msg: Any) -> None:
-        from geometry_msgs.msg import Pose as PoseMessage
-        from geometry_msgs.msg import PoseArray
+        arrived = time.monotonic()
+        with self._lock:
+            self._request_count += 1
+            ns, request = parse_request(str(msg.data), self._request_count)
+        try:
+            info = self.maps.get(ns)
+            verdict = check_request(ns, self.robots, info, self._pose(ns, info), self.rospy.get_time(),
+                                    self.max_map_age, self.stale)  # fmt: skip
+            if not verdict.rank or info is None:
+                self._answer(ns, request, info, (), None, verdict.reason, arrived)
+                return
+            if self.workers[ns].pending >= self.max_pending:
+                busy = f"robot {ns!r} has {self.max_pending} requests queued (~max_pending)"
+                self._answer(ns, request, info, (), None, busy, arrived)
+                return
+            x, y, _ = self._pose(ns, info) or (math.nan, math.nan, 0.0)
+            gx, gy = info.frame.to_grid(x, y)
+            with self._lock:
+                self._job_count += 1
+                job = self._job_count
+                self.jobs[job] = (ns, request, info, verdict.reason, arrived)
+            self.workers[ns].submit(RankJob(job, gx, gy))
+        except Exception as exc:  # every request gets an answer, whatever failed in preparing it
+            self._answer(
+                ns, request, self.maps.get(ns), (), None, f"request failed: {type(exc).__name__}: {exc}", arrived
+            )
 
-        ns = str(msg.data).strip().strip("/")
+    def _on_result(self, result: RankResult) -> None:
+        with self._lock:
+            ns, request, info, reason, arrived = self.jobs.pop(result.job)
+        centres = tuple(info.frame.to_map(x, y) for x, y in result.centres)
+        notes = "; ".join(part for part in (reason, result.error) if part)
+        self._answer(ns, request, info, centres, result.weight, notes, arrived)
+
+    def _answer(
+        self, ns: str, request: str, info: MapInfo | None, centres: tuple[tuple[float, float], ...],
+        weight: float | None, reason: str, arrived: float,
+    ) -> None:  # fmt: skip
+        """Publish the answer, its markers, the weight and the status line (in that order)."""
+        from geometry_msgs.msg import Pose, PoseArray
+        from std_msgs.msg import Float32, String
+
+        if reason and not centres:
+            self._warn(ns, reason.split(":")[0][:40], f"request {request} of {ns!r} answered empty: {reason}")
+        elif reason:
+            self._warn(ns, reason.split(":")[0][:40], f"request {request} of {ns!r}: {reason}")
         answer = PoseArray()
-        answer.header.stamp = self.rospy.Time.now()
-        ranked: list[RankedFrontier] = []
-        frame = _Frame("", 0.0, 0.0, 0.0)
-        if ns not in self.robots:
-            self.rospy.logwarn("frontier_rl: request for unknown robot %r (known: %s)", ns, self.robots)
-        elif self.maps.get(ns) is None:
-            self.rospy.logwarn("frontier_rl: no usable map of %r yet", ns)
-        else:
-            grid, frame = self.maps[ns]
-            answer.header.frame_id = frame.frame_id
-            pose = self._pose(ns, frame)
-            if pose is None:
-                self.rospy.logwarn("frontier_rl: no pose of %r yet", ns)
-            else:
-                gx, gy = frame.to_grid(pose[0], pose[1])
-                try:
-                    ranked, weight = rank_frontiers(grid, Pose(gx, gy, 0.0), self.policy, self.top_k, self.min_cells)
-                except FrontierRLError as exc:
-                    self.rospy.logwarn("frontier_rl: ranking for %r failed: %s", ns, exc)
-                    ranked, weight = [], None
-                if weight is not None:
-                    from std_msgs.msg import Float32
+        if info is not None:
+            answer.header.frame_id = info.frame.frame_id
+            answer.header.stamp = self.rospy.Time.from_sec(info.stamp_s)
+        for x, y in centres:
+            pose = Pose()
+            pose.position.x, pose.position.y = x, y
+            pose.orientation.w = 1.0
+            answer.poses.append(pose)
+        used = weight if weight is not None else (self.fixed_weight if centres else None)
+        status = Status(ns, request, len(centres), reason, self.policy_name, used,
+                        None if info is None else info.stamp_s,
+                        None if info is None else info.age_s(self.rospy.get_time()),
+                        time.monotonic() - arrived)  # fmt: skip
+        with self._lock:
+            self.list_pub.publish(answer)
+            self.marker_pub.publish(answer_markers(answer))
+            self.weight_pub.publish(Float32(math.nan if used is None else used))
+            self.status_pub.publish(String(status.to_json()))
 
-                    self.weight_pub.publish(Float32(weight))
-        for f in ranked:
-            p = PoseMessage()
-            p.position.x, p.position.y = frame.to_map(f.x, f.y)
-            p.orientation.w = 1.0
-            answer.poses.append(p)
-        self.list_pub.publish(answer)
-        self.marker_pub.publish(self._markers(answer))
+    def on_master_restart(self, description: str) -> None:
+        """Log and exit at once with :data:`EXIT_MASTER_RESTARTED`; the workers end with the pipe."""
+        self.rospy.logfatal("frontier_rl: %s; exiting so that respawn registers the node again", description)
+        os._exit(EXIT_MASTER_RESTARTED)  # rospy's threads would keep a normal exit waiting
 
-    def _markers(self, answer: Any) -> Any:
-        from visualization_msgs.msg import Marker, MarkerArray
 
-        markers = MarkerArray()
-        clear = Marker()
-        clear.action = Marker.DELETEALL
-        markers.markers.append(clear)
-        n = len(answer.poses)
-        for i, pose in enumerate(answer.poses):
-            m = Marker()
-            m.header = answer.header
-            m.ns, m.id, m.type, m.action = "frontiers", i, Marker.SPHERE, Marker.ADD
-            m.pose = pose
-            m.scale.x = m.scale.y = m.scale.z = 0.25 if i == 0 else 0.15
-            m.color.a, m.color.g, m.color.r = 0.9, 1.0 - i / max(n, 1), i / max(n, 1)  # best green, worst red
-            markers.markers.append(m)
-        return markers
+def _topic(ns: str, name: str) -> str:
+    return f"/{ns}/{name}" if ns else f"/{name}"
 
 
 def main() -> None:
@@ -209,11 +234,17 @@ def main() -> None:
     rospy = import_rospy()
     rospy.init_node("frontier_rl")
     try:
-        FrontierNode()
+        node = FrontierNode()
     except FrontierRLError as exc:  # a bad parameter: one line, not a traceback
         rospy.logfatal("frontier_rl: %s", exc)
         raise SystemExit(2) from None
+    import rosgraph
+
+    period = float(rospy.get_param("~master_check_period", 1.0))
+    MasterWatch(rosgraph.get_master_uri(), rospy.get_name(), period, node.on_master_restart).start()
     rospy.spin()
+    for worker in node.workers.values():
+        worker.close()
 
 
 if __name__ == "__main__":

@@ -15,7 +15,7 @@ import time
 
 import numpy as np
 
-from frontier_rl.ros.node import import_rospy
+from frontier_rl.ros.ros_messages import import_rospy
 
 rospy = import_rospy()
 from geometry_msgs.msg import PoseArray, PoseStamped  # noqa: E402

@@ -1,6 +1,7 @@
 """The ROS frontier node against a real roscore: its answer equals frontier_rl's own ranking of
 the map at that weight, in the map frame; bad maps, unknown robots and early requests get empty
-answers and the node keeps serving. Plus the ROS-free conversion of map messages."""
+answers, a malformed map leaves the last good one in use, and the node keeps serving. Plus the
+ROS-free conversion of map messages."""
 
 from __future__ import annotations
 
@@ -39,7 +40,7 @@ def _free_port() -> int:
 
 
 def _ros_available() -> bool:
-    from frontier_rl.ros.node import import_rospy
+    from frontier_rl.ros.ros_messages import import_rospy
 
     try:
         import_rospy()
@@ -127,10 +128,10 @@ def test_node_answers_with_frontier_rls_own_ranking(ros_env: dict[str, str], sha
         assert client.returncode == 0, client.stderr[-2000:]
         weight, early, answer, unknown, malformed, again = (json.loads(line) for line in client.stdout.splitlines())
         assert weight["weight"] == pytest.approx(WEIGHT)
-        assert early["poses"] == [] and unknown["poses"] == [] and malformed["poses"] == []
+        assert early["poses"] == [] and unknown["poses"] == []
         assert answer["frame"] == "tb3_0/map"
         assert np.allclose(answer["poses"], expected, atol=1e-6)
-        assert again == answer  # the node kept serving after the malformed map
+        assert malformed == answer and again == answer  # the malformed map was refused, the good one kept
         assert node.poll() is None, "the node must still be running"
     finally:
         node.terminate()
@@ -177,9 +178,9 @@ def test_learned_models_rank_a_map_message(model: str, shared_maps: Path, tmp_pa
 
 
 def test_map_frames_with_a_rotated_origin_round_trip() -> None:
-    from frontier_rl.ros.node import _Frame
+    from frontier_rl.ros.answers import MapFrame
 
-    frame = _Frame("map", 2.0, -1.0, 0.7)
+    frame = MapFrame("map", 2.0, -1.0, 0.7)
     gx, gy = frame.to_grid(3.5, 4.25)
     assert frame.to_map(gx, gy) == pytest.approx((3.5, 4.25))
     assert frame.to_map(0.0, 0.0) == pytest.approx((2.0, -1.0))

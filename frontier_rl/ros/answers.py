@@ -1,0 +1,163 @@
+"""What the frontier node decides before and after ranking, without ROS: where a map lies, whether
+a request can be answered (robot known, map there and fresh enough, pose finite and on the map),
+the status line that goes with every answer, and how often a repeated warning is logged."""
+
+from __future__ import annotations
+
+import json
+import math
+from dataclasses import asdict, dataclass, field
+from enum import StrEnum
+
+
+class StaleMapAnswer(StrEnum):
+    """What the node answers on a map older than ``~max_map_age``."""
+
+    STALE = "stale"
+    """Rank the old map anyway, saying so in the status (the answer's stamp shows its age)."""
+    EMPTY = "empty"
+    """Answer with an empty list."""
+
+
+@dataclass(frozen=True)
+class MapFrame:
+    """A map's placement: its frame and the origin (m) and yaw (rad) of its cell (0, 0) corner."""
+
+    frame_id: str
+    x: float
+    y: float
+    yaw: float
+
+    def to_grid(self, x: float, y: float) -> tuple[float, float]:
+        """A point of the map frame in the grid's own frame (m from the corner, along its axes)."""
+        dx, dy = x - self.x, y - self.y
+        c, s = math.cos(self.yaw), math.sin(self.yaw)
+        return c * dx + s * dy, -s * dx + c * dy
+
+    def to_map(self, x: float, y: float) -> tuple[float, float]:
+        """A point of the grid's frame in the map frame."""
+        c, s = math.cos(self.yaw), math.sin(self.yaw)
+        return self.x + c * x - s * y, self.y + s * x + c * y
+
+
+@dataclass(frozen=True)
+class MapInfo:
+    """The last good map of a robot, as the node keeps it beside the cells its worker holds.
+
+    Attributes:
+        frame: where the map lies.
+        width, height: cells.
+        resolution: m per cell.
+        stamp_s: the map message's stamp (s); the time it arrived when the stamp is zero.
+        sequence: how many good maps of this robot came before it.
+    """
+
+    frame: MapFrame
+    width: int
+    height: int
+    resolution: float
+    stamp_s: float
+    sequence: int = 0
+
+    def contains(self, x: float, y: float) -> bool:
+        """Whether the map-frame point (m) lies on the map."""
+        gx, gy = self.frame.to_grid(x, y)
+        return 0.0 <= gx < self.width * self.resolution and 0.0 <= gy < self.height * self.resolution
+
+    def age_s(self, now_s: float) -> float:
+        """Seconds since the map's stamp."""
+        return max(0.0, now_s - self.stamp_s)
+
+
+@dataclass(frozen=True)
+class Verdict:
+    """Whether to rank: ``reason`` says what is wrong or notable ("" if nothing); ``rank`` whether
+    the map is ranked all the same (a stale map served as configured)."""
+
+    rank: bool
+    reason: str = ""
+
+
+def check_request(
+    robot: str,
+    robots: list[str],
+    info: MapInfo | None,
+    pose: tuple[float, float, float] | None,
+    now_s: float,
+    max_map_age_s: float,
+    stale: StaleMapAnswer,
+) -> Verdict:
+    """Whether ``robot``'s request can be ranked: a known robot with a map, a finite pose on the
+    map, and a map no older than ``max_map_age_s`` (0: any age), or one served stale as configured."""
+    if robot not in robots:
+        return Verdict(False, f"unknown robot {robot!r} (known: {', '.join(map(repr, robots))})")
+    if info is None:
+        return Verdict(False, f"no usable map of {robot!r} yet")
+    if pose is None:
+        return Verdict(False, f"no pose of {robot!r} yet")
+    if not all(math.isfinite(v) for v in pose):
+        return Verdict(False, f"pose of {robot!r} is not finite: {pose[0]!r}, {pose[1]!r}, yaw {pose[2]!r}")
+    if not info.contains(pose[0], pose[1]):
+        return Verdict(False, f"pose of {robot!r} ({pose[0]:.2f}, {pose[1]:.2f}) lies outside its map")
+    age = info.age_s(now_s)
+    if max_map_age_s > 0 and age > max_map_age_s:
+        reason = f"map of {robot!r} is stale: {age:.1f} s old, more than ~max_map_age {max_map_age_s:g} s"
+        return Verdict(stale is StaleMapAnswer.STALE, reason)
+    return Verdict(True)
+
+
+@dataclass(frozen=True)
+class Status:
+    """The line published on ``/frontier_status`` with every answer (as JSON).
+
+    Attributes:
+        robot: the namespace asked for.
+        request: the request's own id (the word after the namespace) or the node's count of requests.
+        frontiers: how many frontiers the answer holds.
+        reason: why the answer is empty, or what to know about it ("" when all is well).
+        policy: the ranking policy (``fixed:0.75``, a model's file name).
+        weight: the weight of eq. 3.1 used, or None (a frontier-choice model, or no ranking).
+        map_stamp_s: the stamp of the map the answer was computed on (s), or None.
+        map_age_s: that map's age when the request was taken (s), or None.
+        latency_s: from the request's arrival to the answer (s).
+    """
+
+    robot: str
+    request: str
+    frontiers: int
+    reason: str
+    policy: str
+    weight: float | None = None
+    map_stamp_s: float | None = None
+    map_age_s: float | None = None
+    latency_s: float = 0.0
+
+    def to_json(self) -> str:
+        """One JSON object (NaN and infinities as null)."""
+        values = {k: (None if isinstance(v, float) and not math.isfinite(v) else v) for k, v in asdict(self).items()}
+        return json.dumps(values, sort_keys=True)
+
+
+def parse_request(text: str, count: int) -> tuple[str, str]:
+    """(namespace, request id) from a request's text: ``tb3_0`` or ``tb3_0 17``; the id defaults to
+    the node's running ``count``."""
+    words = text.strip().split()
+    robot = words[0].strip("/") if words else ""
+    return robot, (words[1] if len(words) > 1 else str(count))
+
+
+@dataclass
+class ThrottledLog:
+    """Says whether a warning is due: each key (robot and kind of problem) at most once per
+    ``period_s``."""
+
+    period_s: float = 10.0
+    _last: dict[tuple[str, str], float] = field(default_factory=dict)
+
+    def due(self, robot: str, kind: str, now_s: float) -> bool:
+        """Whether to log (and, if so, start the key's quiet period now)."""
+        last = self._last.get((robot, kind))
+        if last is not None and now_s - last < self.period_s:
+            return False
+        self._last[(robot, kind)] = now_s
+        return True

@@ -1,0 +1,165 @@
+"""One process per robot that holds its last good map and ranks its frontiers, so that a large map
+or a slow model for one robot never delays another (the engine's compiled kernels hold Python's
+global lock while they run, so threads would not do). Free of ROS: the node sends it map cells and
+rank jobs through a pipe and gets results back on a reader thread."""
+
+from __future__ import annotations
+
+import multiprocessing
+import threading
+from collections.abc import Callable
+from dataclasses import dataclass
+from multiprocessing.connection import Connection
+from typing import Any
+
+import numpy as np
+from numpy.typing import NDArray
+
+from frontier_rl.core.world.robot import Pose
+from frontier_rl.policies import make_policy
+from frontier_rl.policies.frontier_request import grid_from_message, rank_frontiers
+
+
+@dataclass(frozen=True)
+class MapCells:
+    """A map's cells as the message carried them (row-major, -1 unknown, 0-100 occupancy)."""
+
+    width: int
+    height: int
+    resolution: float
+    data: NDArray[np.int8]
+
+
+@dataclass(frozen=True)
+class RankJob:
+    """Rank the frontiers of the current map for a robot at (x, y), grid frame (m)."""
+
+    job: int
+    x: float
+    y: float
+
+
+@dataclass(frozen=True)
+class RankResult:
+    """A job's answer: frontier centres (grid frame, m) best first and the weight used, or the
+    error that stopped it."""
+
+    job: int
+    centres: tuple[tuple[float, float], ...] = ()
+    weight: float | None = None
+    error: str = ""
+
+
+def _serve(conn: Connection, policy_spec: str, top_k: int, min_cells: int) -> None:
+    """The worker process: maps replace the current one, jobs are answered in order; it ends when
+    the node's end of the pipe closes (the node exited, however)."""
+    policy = make_policy(policy_spec)
+    _warm_up(policy, top_k, min_cells)
+    conn.send(READY)
+    grid = None
+    while True:
+        try:
+            message = conn.recv()
+        except (EOFError, OSError):
+            return
+        if isinstance(message, MapCells):
+            grid = grid_from_message(message.width, message.height, message.resolution, message.data)
+            continue
+        if grid is None:  # the node sends a map before any job; kept as a guard
+            conn.send(RankResult(message.job, error="no map in the worker"))
+            continue
+        try:
+            ranked, weight = rank_frontiers(grid, Pose(message.x, message.y, 0.0), policy, top_k, min_cells)
+            conn.send(RankResult(message.job, tuple((f.x, f.y) for f in ranked), weight))
+        except Exception as exc:  # a model or map problem must come back as an answer, not end the worker
+            conn.send(RankResult(message.job, error=f"ranking failed: {type(exc).__name__}: {exc}"))
+
+
+READY = "ready"
+"""What a worker sends once its policy is loaded and its kernels compiled."""
+
+
+def _warm_up(policy: Any, top_k: int, min_cells: int) -> None:
+    """Rank a small room once, so that the first real request does not pay for loading the kernels."""
+    cells = np.full((40, 40), -1, np.int8)
+    cells[5:35, 5:20] = 0
+    ranked = grid_from_message(40, 40, 0.05, cells.reshape(-1))
+    rank_frontiers(ranked, Pose(0.6, 1.0, 0.0), policy, top_k, min_cells)
+
+
+class RobotWorker:
+    """The node's handle on one robot's worker process.
+
+    ``on_result`` is called on a reader thread with every :class:`RankResult`; if the process dies
+    (killed, out of memory), the jobs it held are answered with an error and a new process starts
+    with the last map.
+    """
+
+    def __init__(self, policy_spec: str, top_k: int, min_cells: int, on_result: Callable[[RankResult], None]) -> None:
+        self._args = (policy_spec, top_k, min_cells)
+        self._on_result = on_result
+        self._lock = threading.Lock()
+        self._pending: set[int] = set()
+        self._last_map: MapCells | None = None
+        self._closing = False
+        self.ready = threading.Event()
+        """Set once the worker process has loaded its policy (again after a restart)."""
+        self._start()
+
+    def _start(self) -> None:
+        self.ready.clear()
+        context = multiprocessing.get_context("spawn")  # no fork of a process that runs rospy's threads
+        self._conn, child = context.Pipe()
+        self._process = context.Process(target=_serve, args=(child, *self._args), daemon=True)
+        self._process.start()
+        child.close()
+        if self._last_map is not None:
+            self._conn.send(self._last_map)
+        threading.Thread(target=self._read, args=(self._conn,), daemon=True).start()
+
+    @property
+    def pending(self) -> int:
+        """Jobs sent and not yet answered."""
+        return len(self._pending)
+
+    def send_map(self, cells: MapCells) -> None:
+        """Make ``cells`` the map every later job is ranked on."""
+        with self._lock:
+            self._last_map = cells
+            self._conn.send(cells)
+
+    def submit(self, job: RankJob) -> None:
+        """Queue ``job``; its result comes to ``on_result``."""
+        with self._lock:
+            self._pending.add(job.job)
+            self._conn.send(job)
+
+    def close(self) -> None:
+        """Stop the process (its reader thread then ends on the closed pipe)."""
+        self._closing = True
+        self._process.terminate()
+        self._process.join(timeout=5)
+        if self._process.is_alive():
+            self._process.kill()
+
+    def _read(self, conn: Connection) -> None:
+        while True:
+            try:
+                result: Any = conn.recv()
+            except (EOFError, OSError):
+                break
+            if isinstance(result, str) and result == READY:
+                self.ready.set()
+                continue
+            self._pending.discard(result.job)
+            self._on_result(result)
+        conn.close()
+        if self._closing:
+            return
+        self._process.join(timeout=5)
+        code = self._process.exitcode
+        with self._lock:
+            lost, self._pending = sorted(self._pending), set()
+            self._start()
+        for job in lost:
+            self._on_result(RankResult(job, error=f"the robot's worker process ended (exit code {code}); restarted"))

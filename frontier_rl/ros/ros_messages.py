@@ -1,0 +1,75 @@
+"""The node's side of ROS messages: importing rospy, map messages to cells, quaternions to yaw, an
+answer to RViz markers. rospy and the message packages come from the system's ROS (Debian's
+python3-rospy and friends) when the environment has none of its own."""
+
+from __future__ import annotations
+
+import math
+import sys
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+from frontier_rl.errors import FrontierRLError, MapError
+from frontier_rl.ros.robot_worker import MapCells
+
+_SYSTEM_PACKAGES = Path("/usr/lib/python3/dist-packages")
+
+
+def import_rospy() -> Any:
+    """rospy, from this environment or else from the system's ROS packages."""
+    try:
+        import rospy
+    except ImportError:
+        if _SYSTEM_PACKAGES.is_dir() and str(_SYSTEM_PACKAGES) not in sys.path:
+            sys.path.append(str(_SYSTEM_PACKAGES))  # after the environment's own packages
+        try:
+            import rospy
+        except ImportError:
+            raise FrontierRLError(
+                "rospy not found: install ROS 1 (Debian: apt-get install ros-core python3-rospy python3-nav-msgs "
+                "python3-geometry-msgs python3-visualization-msgs python3-std-msgs)"
+            ) from None
+    return rospy
+
+
+def yaw(q: Any) -> float:
+    """The yaw (rad) of a ``geometry_msgs/Quaternion``."""
+    return math.atan2(2.0 * (q.w * q.z + q.x * q.y), 1.0 - 2.0 * (q.y * q.y + q.z * q.z))
+
+
+def map_cells(msg: Any) -> tuple[MapCells, float]:
+    """The cells and resolution (m) of a ``nav_msgs/OccupancyGrid`` (its data a NumPy array with
+    ``numpy_msg``, or a sequence); a map of zero size, a resolution that is not a positive number
+    or data that is not width × height long is a :class:`MapError`."""
+    info = msg.info
+    width, height, resolution = int(info.width), int(info.height), float(info.resolution)
+    if width <= 0 or height <= 0:
+        raise MapError(f"map of size {width} × {height} has no cells")
+    if not (math.isfinite(resolution) and resolution > 0):
+        raise MapError(f"map resolution must be a positive number of metres, got {resolution!r}")
+    data = np.asarray(msg.data, dtype=np.int8).reshape(-1)
+    if data.size != width * height:
+        raise MapError(f"map data has {data.size} values, expected width × height = {width * height}")
+    return MapCells(width, height, resolution, data), resolution
+
+
+def answer_markers(answer: Any) -> Any:
+    """The answer's poses as RViz spheres, green (best) to red, after a marker that clears the old ones."""
+    from visualization_msgs.msg import Marker, MarkerArray
+
+    markers = MarkerArray()
+    clear = Marker()
+    clear.action = Marker.DELETEALL
+    markers.markers.append(clear)
+    n = len(answer.poses)
+    for i, pose in enumerate(answer.poses):
+        m = Marker()
+        m.header = answer.header
+        m.ns, m.id, m.type, m.action = "frontiers", i, Marker.SPHERE, Marker.ADD
+        m.pose = pose
+        m.scale.x = m.scale.y = m.scale.z = 0.25 if i == 0 else 0.15
+        m.color.a, m.color.g, m.color.r = 0.9, 1.0 - i / max(n, 1), i / max(n, 1)  # best green, worst red
+        markers.markers.append(m)
+    return markers

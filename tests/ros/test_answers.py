@@ -1,0 +1,130 @@
+"""The frontier node's decisions without ROS: which requests are ranked and why not, the status
+line, request ids, throttled warnings, the master watch, and a worker process that dies."""
+
+from __future__ import annotations
+
+import json
+import math
+import os
+import signal
+import threading
+import time
+
+import numpy as np
+import pytest
+
+from frontier_rl.ros.answers import (
+    MapFrame,
+    MapInfo,
+    StaleMapAnswer,
+    Status,
+    ThrottledLog,
+    check_request,
+    parse_request,
+)
+from frontier_rl.ros.master_watch import MasterWatch
+from frontier_rl.ros.robot_worker import MapCells, RankJob, RankResult, RobotWorker
+
+INFO = MapInfo(MapFrame("map", -2.0, -1.0, 0.0), width=100, height=50, resolution=0.05, stamp_s=100.0)
+ROBOTS = ["tb3_0", "tb3_1"]
+
+
+@pytest.mark.parametrize(
+    ("robot", "info", "pose", "now", "rank", "needle"),
+    [
+        ("tb3_0", INFO, (0.0, 0.0, 0.0), 101.0, True, ""),
+        ("nobody", INFO, (0.0, 0.0, 0.0), 101.0, False, "unknown robot 'nobody'"),
+        ("tb3_0", None, (0.0, 0.0, 0.0), 101.0, False, "no usable map"),
+        ("tb3_0", INFO, None, 101.0, False, "no pose"),
+        ("tb3_0", INFO, (math.nan, 0.0, 0.0), 101.0, False, "not finite"),
+        ("tb3_0", INFO, (0.0, math.inf, 0.0), 101.0, False, "not finite"),
+        ("tb3_0", INFO, (0.0, 0.0, -math.inf), 101.0, False, "not finite"),
+        ("tb3_0", INFO, (3.1, 0.0, 0.0), 101.0, False, "outside its map"),  # the map ends at x = 3.0
+        ("tb3_0", INFO, (0.0, -1.01, 0.0), 101.0, False, "outside its map"),
+        ("tb3_0", INFO, (0.0, 0.0, 0.0), 131.0, True, "stale: 31.0 s old"),
+    ],
+)
+def test_which_requests_are_ranked(
+    robot: str, info: MapInfo | None, pose: tuple[float, float, float] | None, now: float, rank: bool, needle: str
+) -> None:
+    verdict = check_request(robot, ROBOTS, info, pose, now, 30.0, StaleMapAnswer.STALE)
+    assert verdict.rank is rank
+    assert needle in verdict.reason if needle else verdict.reason == ""
+
+
+def test_a_stale_map_is_answered_empty_when_so_configured_and_any_age_passes_at_zero() -> None:
+    assert not check_request("tb3_0", ROBOTS, INFO, (0.0, 0.0, 0.0), 500.0, 30.0, StaleMapAnswer.EMPTY).rank
+    assert check_request("tb3_0", ROBOTS, INFO, (0.0, 0.0, 0.0), 1e9, 0.0, StaleMapAnswer.EMPTY).reason == ""
+
+
+def test_a_rotated_map_contains_points_in_its_own_frame() -> None:
+    info = MapInfo(MapFrame("map", 1.0, 1.0, math.pi / 2), width=20, height=10, resolution=0.1, stamp_s=0.0)
+    assert info.contains(0.5, 2.5)  # 1.5 m along the map's x axis (world +y), 0.5 m along its y axis (world -x)
+    assert not info.contains(1.5, 2.5)
+
+
+def test_request_ids_and_the_status_line() -> None:
+    assert parse_request(" /tb3_0 17 ", 3) == ("tb3_0", "17")
+    assert parse_request("tb3_1", 3) == ("tb3_1", "3")
+    assert parse_request("", 4) == ("", "4")
+    line = json.loads(Status("tb3_0", "17", 0, "no pose", "fixed:0.75", math.nan, 1.5, math.inf).to_json())
+    assert line == {"robot": "tb3_0", "request": "17", "frontiers": 0, "reason": "no pose", "policy": "fixed:0.75",
+                    "weight": None, "map_stamp_s": 1.5, "map_age_s": None, "latency_s": 0.0}  # fmt: skip
+
+
+def test_warnings_are_throttled_per_robot_and_kind() -> None:
+    log = ThrottledLog(period_s=10.0)
+    assert log.due("tb3_0", "pose", 0.0) and not log.due("tb3_0", "pose", 9.9)
+    assert log.due("tb3_1", "pose", 1.0) and log.due("tb3_0", "map", 1.0)
+    assert log.due("tb3_0", "pose", 10.0)
+
+
+def test_the_master_watch_reports_a_new_master_once_and_not_a_lost_one() -> None:
+    pids = iter([100, 100, OSError("refused"), 100, 200, 300])
+    restarts: list[str] = []
+    lost: list[str] = []
+
+    def pid(uri: str, caller: str) -> int:
+        value = next(pids)
+        if isinstance(value, Exception):
+            raise value
+        return value
+
+    watch = MasterWatch("http://localhost:1", "/node", 0.0, restarts.append, lost.append, pid=pid)
+    watch.run()  # returns after the restart
+    assert lost == ["refused"]
+    assert restarts == ["the ROS master at http://localhost:1 was restarted (pid 100, now 200)"]
+
+
+def _room() -> MapCells:
+    cells = np.full((60, 60), -1, np.int8)
+    cells[10:50, 10:30] = 0
+    return MapCells(60, 60, 0.05, cells.reshape(-1))
+
+
+def test_a_worker_ranks_and_comes_back_after_it_is_killed() -> None:
+    results: list[RankResult] = []
+    arrived = threading.Event()
+
+    def on_result(result: RankResult) -> None:
+        results.append(result)
+        arrived.set()
+
+    worker = RobotWorker("fixed:0.75", 10, 4, on_result)
+    try:
+        assert worker.ready.wait(120)
+        worker.send_map(_room())
+        worker.submit(RankJob(1, 1.0, 1.5))
+        assert arrived.wait(30) and results[-1].job == 1 and results[-1].centres and not results[-1].error
+        arrived.clear()
+        pid = worker._process.pid
+        assert pid is not None
+        os.kill(pid, signal.SIGKILL)
+        deadline = time.monotonic() + 120
+        while worker._process.pid == pid and time.monotonic() < deadline:
+            time.sleep(0.05)
+        assert worker.ready.wait(120)
+        worker.submit(RankJob(2, 1.0, 1.5))  # the new process has the last map
+        assert arrived.wait(30) and results[-1].job == 2 and results[-1].centres == results[0].centres
+    finally:
+        worker.close()
