@@ -21,19 +21,20 @@ $(STAMP): pyproject.toml
 
 setup: $(STAMP)
 
-ros-deps:
-	@if $(ROS_CHECK); then :; \
+# $(call apt_deps,CHECK,PACKAGES,WHAT,WHICH TEST): install Debian packages unless CHECK passes, where apt-get runs as root
+define apt_deps
+	@if $(1); then :; \
 	elif command -v apt-get >/dev/null && [ "$$(id -u)" = 0 ]; then \
-		echo "installing ROS 1 from Debian: $(ROS_APT)"; \
-		(apt-get update -q && DEBIAN_FRONTEND=noninteractive apt-get install -y -q $(ROS_APT)) >/dev/null; \
-	else echo "ROS 1 is not installed and apt-get as root is not available: the ROS node test will be skipped"; fi
+		echo "installing $(3) from Debian: $(2)"; \
+		(apt-get update -q && DEBIAN_FRONTEND=noninteractive apt-get install -y -q $(2)) >/dev/null; \
+	else echo "$(3) is not installed and apt-get as root is not available: $(4) will be skipped"; fi
+endef
+
+ros-deps:
+	$(call apt_deps,$(ROS_CHECK),$(ROS_APT),ROS 1,the ROS node test)
 
 browser-deps:
-	@if $(BROWSER_CHECK); then :; \
-	elif command -v apt-get >/dev/null && [ "$$(id -u)" = 0 ]; then \
-		echo "installing Chromium from Debian: $(BROWSER_APT)"; \
-		(apt-get update -q && DEBIAN_FRONTEND=noninteractive apt-get install -y -q $(BROWSER_APT)) >/dev/null; \
-	else echo "Chromium is not installed and apt-get as root is not available: the report's browser test will be skipped"; fi
+	$(call apt_deps,$(BROWSER_CHECK),$(BROWSER_APT),Chromium,the report's browser test)
 
 demo: $(STAMP)
 	$(BIN)/frontier-rl demo --out demo_output

@@ -159,17 +159,16 @@ class FrontierNode:
             ns, request = parse_request(str(msg.data), self._request_count)
         try:
             info = self.maps.get(ns)
-            verdict = check_request(ns, self.robots, info, self._pose(ns, info), self.rospy.get_time(),
-                                    self.max_map_age, self.stale)  # fmt: skip
-            if not verdict.rank or info is None:
+            pose = self._pose(ns, info)  # once: a new pose may arrive while the request is checked
+            verdict = check_request(ns, self.robots, info, pose, self.rospy.get_time(), self.max_map_age, self.stale)
+            if not verdict.rank or info is None or pose is None:
                 self._answer(ns, request, info, (), None, verdict.reason, arrived)
                 return
             if self.workers[ns].pending >= self.max_pending:
                 busy = f"robot {ns!r} has {self.max_pending} requests queued (~max_pending)"
                 self._answer(ns, request, info, (), None, busy, arrived)
                 return
-            x, y, _ = self._pose(ns, info) or (math.nan, math.nan, 0.0)
-            gx, gy = info.frame.to_grid(x, y)
+            gx, gy = info.frame.to_grid(pose[0], pose[1])
             with self._lock:
                 self._job_count += 1
                 job = self._job_count

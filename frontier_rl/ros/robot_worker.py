@@ -5,8 +5,10 @@ rank jobs through a pipe and gets results back on a reader thread."""
 
 from __future__ import annotations
 
+import contextlib
 import multiprocessing
 import threading
+import time
 from collections.abc import Callable
 from dataclasses import dataclass
 from multiprocessing.connection import Connection
@@ -16,6 +18,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from frontier_rl.core.world.robot import Pose
+from frontier_rl.errors import FrontierRLError
 from frontier_rl.policies import make_policy
 from frontier_rl.policies.frontier_request import grid_from_message, rank_frontiers
 
@@ -63,7 +66,8 @@ def _serve(conn: Connection, policy_spec: str, top_k: int, min_cells: int) -> No
         except (EOFError, OSError):
             return
         if isinstance(message, MapCells):
-            grid = grid_from_message(message.width, message.height, message.resolution, message.data)
+            with contextlib.suppress(FrontierRLError):  # the node checks maps first; keep the last good one regardless
+                grid = grid_from_message(message.width, message.height, message.resolution, message.data)
             continue
         if grid is None:  # the node sends a map before any job; kept as a guard
             conn.send(RankResult(message.job, error="no map in the worker"))
@@ -74,6 +78,9 @@ def _serve(conn: Connection, policy_spec: str, top_k: int, min_cells: int) -> No
         except Exception as exc:  # a model or map problem must come back as an answer, not end the worker
             conn.send(RankResult(message.job, error=f"ranking failed: {type(exc).__name__}: {exc}"))
 
+
+_RESTART_DELAY_S = 0.5
+"""Pause before a dead worker is started again (s)."""
 
 READY = "ready"
 """What a worker sends once its policy is loaded and its kernels compiled."""
@@ -126,13 +133,15 @@ class RobotWorker:
         """Make ``cells`` the map every later job is ranked on."""
         with self._lock:
             self._last_map = cells
-            self._conn.send(cells)
+            with contextlib.suppress(OSError):  # a dead worker: its restart sends the last map
+                self._conn.send(cells)
 
     def submit(self, job: RankJob) -> None:
-        """Queue ``job``; its result comes to ``on_result``."""
+        """Queue ``job``; its result comes to ``on_result`` (an error result if the worker dies first)."""
         with self._lock:
             self._pending.add(job.job)
-            self._conn.send(job)
+            with contextlib.suppress(OSError):  # a dead worker: the restart answers the pending jobs
+                self._conn.send(job)
 
     def close(self) -> None:
         """Stop the process (its reader thread then ends on the closed pipe)."""
@@ -156,6 +165,7 @@ class RobotWorker:
         conn.close()
         if self._closing:
             return
+        time.sleep(_RESTART_DELAY_S)  # a worker that cannot start must not make a hot loop
         self._process.join(timeout=5)
         code = self._process.exitcode
         with self._lock:

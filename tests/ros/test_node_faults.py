@@ -106,19 +106,28 @@ def _stop(node: subprocess.Popen[str]) -> str:
     return log
 
 
+@contextlib.contextmanager
+def _core_and_node(env: dict[str, str], port: int, *params: str) -> Iterator[list[str]]:
+    """A roscore and the node with ``params``; yields a list that holds the node's log afterwards."""
+    core = _start_core(port, env)
+    node = _node(env, *params)
+    log: list[str] = []
+    try:
+        yield log
+        assert node.poll() is None, "the node must still be running"
+    finally:
+        log.append(_stop(node))
+        _kill(core)
+
+
 def test_every_request_is_answered_with_a_reason(
     ros_master: tuple[dict[str, str], int], shared_maps: Path, tmp_path: Path
 ) -> None:
     env, port = ros_master
-    core = _start_core(port, env)
     scene, _ = _scene(shared_maps, tmp_path)
-    node = _node(env, "_robots:=tb3_0", "_max_map_age:=5")
-    try:
+    with _core_and_node(env, port, "_robots:=tb3_0", "_max_map_age:=5") as logs:
         r = _client(env, "faults", str(scene))
-        assert node.poll() is None, "the node must still be running"
-    finally:
-        log = _stop(node)
-        _kill(core)
+    log = logs[0]
     good = r["good"]
     assert len(good["poses"]) >= 2 and good["status"] == {**good["status"], "robot": "tb3_0", "request": "good",
                                                           "reason": "", "frontiers": len(good["poses"])}  # fmt: skip
@@ -139,23 +148,26 @@ def test_one_robots_large_map_does_not_delay_another(
     ros_master: tuple[dict[str, str], int], shared_maps: Path, tmp_path: Path
 ) -> None:
     env, port = ros_master
-    core = _start_core(port, env)
     scene, _ = _scene(shared_maps, tmp_path)
-    node = _node(env, "_robots:=tb3_0,tb3_1")
-    big = subprocess.Popen([sys.executable, str(CLIENT), "big_maps", str(scene)], env=env, cwd=REPO,
-                           stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)  # fmt: skip
-    try:
-        assert big.stdout is not None and "started" in big.stdout.readline()
-        r = _client(env, "latency", str(scene))
-        out, err = big.communicate(timeout=120)
-    finally:
-        big.kill()
-        _stop(node)
-        _kill(core)
+    with _core_and_node(env, port, "_robots:=tb3_0,tb3_1"):
+        # the second robot's SLAM runs on that robot in the field, not beside the node: here it yields the CPU
+        big = subprocess.Popen([sys.executable, str(CLIENT), "big_maps", str(scene)], env=env, cwd=REPO,
+                               stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True,
+                               preexec_fn=lambda: os.nice(10))  # fmt: skip
+        try:
+            assert big.stdout is not None and "started" in big.stdout.readline()
+            r = _client(env, "latency", str(scene))
+            out, err = big.communicate(timeout=120)
+        finally:
+            big.kill()
     assert json.loads(out.splitlines()[-1])["big_answered"], err[-2000:]  # the robot with the large map too
     latencies_ms = 1000 * np.asarray(r["latencies"])
     assert len(latencies_ms) == r["asked"], "every request of the other robot must be answered"
-    slowest = f"slowest {latencies_ms.max():.1f} ms, median {np.median(latencies_ms):.1f} ms"
+    node_ms = 1000 * np.asarray(r["node_latencies"])
+    slow = np.flatnonzero(latencies_ms >= OTHER_ROBOT_MS)
+    slowest = (f"slowest {latencies_ms.max():.1f} ms, median {np.median(latencies_ms):.1f} ms; over "
+               f"{OTHER_ROBOT_MS:g} ms: requests {slow.tolist()} of {len(latencies_ms)}, in the node "
+               f"{np.round(node_ms[slow], 1).tolist()} ms")  # fmt: skip
     assert latencies_ms.max() < OTHER_ROBOT_MS, slowest
 
 
