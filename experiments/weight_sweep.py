@@ -22,7 +22,8 @@ from frontier_rl.atomic_write import write_text_atomic
 from frontier_rl.core.sim.config import SimConfig
 from frontier_rl.evaluation.evaluate import evaluate
 from frontier_rl.evaluation.experiment import ORACLE, ExperimentConfig, expand_worlds, identity
-from frontier_rl.evaluation.results import Key, ResultStore
+from frontier_rl.evaluation.result_rows import Key
+from frontier_rl.evaluation.results import ResultStore
 
 SWEEP = tuple(f"fixed:{0.05 * i:.2f}" for i in range(21))
 

@@ -12,10 +12,11 @@ interrupted and resumed run ends with the same ``episodes.csv`` and ``traces.jso
 uninterrupted one (up to the wall times, and so the checksums).
 
 Row checksums: each line of ``checksums.jsonl`` holds a row's key (method, world, episode), the
-SHA-256 of its trace line in ``traces.jsonl`` and the SHA-256 of (:data:`CHECKSUM_SCHEME`, the
-experiment id, the method's fingerprint, the row's CSV line as written, the trace's SHA-256).
-The experiment id is the SHA-256 of ``experiment.json`` without its methods (seed, worlds with
-their map hashes, resolution, simulator and team settings), so a row binds to this experiment's
+SHA-256 of its trace line in ``traces.jsonl`` and the SHA-256 of (the scheme's name
+:data:`~frontier_rl.evaluation.result_rows.CHECKSUM_SCHEME`, the experiment id, the method's
+fingerprint, the row's CSV line as written, the trace's SHA-256). The experiment id is the SHA-256
+of ``experiment.json`` without its methods (seed, worlds with their map hashes, resolution,
+simulator and team settings), so a row binds to this experiment's
 configuration, its method's model file and its trace. Reopening a folder checks every row: a row
 that was edited (a changed time, a renamed method, a changed seed), copied from another
 experiment or repeated, a row without a checksum and a trace that was edited are refused with an
@@ -32,12 +33,7 @@ previous end of the file, and rewrites go through a temporary file renamed into 
 
 from __future__ import annotations
 
-import contextlib
-import csv
-import hashlib
-import io
 import json
-import os
 from pathlib import Path
 from typing import IO, Any
 
@@ -46,20 +42,12 @@ try:
 except ImportError:  # pragma: no cover - not POSIX
     fcntl = None  # type: ignore[assignment]
 
-from frontier_rl import atomic_write
-from frontier_rl.atomic_write import OutputWriteError, describe_os_error, write_text_atomic
+from frontier_rl.atomic_write import write_text_atomic
 from frontier_rl.errors import ConfigError, short_repr, short_text
 from frontier_rl.evaluation.config_diff import ABSENT, contrast, describe_differences, differences_between
 from frontier_rl.evaluation.experiment import ROW_COLUMNS, EpisodeJob
-
-Key = tuple[str, str, int]
-_INT_COLUMNS = ("episode", "seed", "decisions", "aborts", "robots")
-_BOOL_COLUMNS = ("done", "truncated")
-_TEXT_COLUMNS = ("method", "world")
-_OPTIONAL_TEXT_COLUMNS = ("end_reason",)  # an empty field is None
-
-CHECKSUM_SCHEME = "frontier_rl episode row v1"
-"""Hashed first into every row checksum: a later scheme changes it."""
+from frontier_rl.evaluation.result_files import append_synced, complete_lines, decode_utf8, keyed_lines
+from frontier_rl.evaluation.result_rows import Key, experiment_id, format_row, parse_row, row_checksum, sha256_hex
 
 _QUOTE_CHARS = 60
 """Values from files are quoted in messages up to this many characters."""
@@ -135,7 +123,7 @@ class ResultStore:
         identity = json.loads(json.dumps(identity))  # tuples become lists, as in the stored file
         stored: dict[str, Any] | None = None
         if self.identity_path.exists():
-            text = _decode(self.identity_path, self.identity_path.read_bytes())
+            text = decode_utf8(self.identity_path, self.identity_path.read_bytes())
             try:
                 stored = json.loads(text)
             except json.JSONDecodeError as exc:
@@ -177,7 +165,7 @@ class ResultStore:
 
     # ------------------------------------------------------------------ reading
     def _load(self, adopt_unchecked: bool = False) -> None:
-        lines = _complete_lines(self.csv_path)
+        lines = complete_lines(self.csv_path)
         if lines and lines[0][1] != ",".join(ROW_COLUMNS):
             raise ConfigError(
                 f"{self.csv_path} has the columns of another version of frontier_rl; choose another --out"
@@ -197,8 +185,8 @@ class ResultStore:
             row_numbers[key] = number
             self.rows[key] = row
             self._row_lines[key] = line
-        traces = _keyed_lines(self.trace_path, "a trace")
-        checksums = _keyed_lines(self.checksum_path, "a row checksum", ("row_sha256", "trace_sha256"))
+        traces = keyed_lines(self.trace_path, "a trace")
+        checksums = keyed_lines(self.checksum_path, "a row checksum", ("row_sha256", "trace_sha256"))
         if self.rows and not self.checksum_path.exists():
             if adopt_unchecked:
                 checksums = self._adopt(row_numbers, traces)
@@ -226,7 +214,7 @@ class ResultStore:
             if not isinstance(fingerprint, str) or key not in traces:
                 what = "is not a method of this experiment" if not isinstance(fingerprint, str) else "has no trace"
                 raise ConfigError(f"{self.csv_path} line {row_numbers[key]} ({_describe(key)}) {what}; {_FIX_ROW}")
-            trace_sha256 = _sha256(traces[key][1])
+            trace_sha256 = sha256_hex(traces[key][1])
             entry = {
                 "method": key[0],
                 "world": key[1],
@@ -267,7 +255,7 @@ class ResultStore:
             )
         if trace is None:
             raise ConfigError(f"{where} has no trace in {self.trace_path.name}; {_FIX_ROW}")
-        if _sha256(trace[1]) != entry["trace_sha256"]:
+        if sha256_hex(trace[1]) != entry["trace_sha256"]:
             raise ConfigError(
                 f"{self.trace_path} line {trace[0]} (the trace of {_describe(key)}) does not match its checksum: it "
                 f"was edited or copied from another experiment; delete it and line {number} of "
@@ -293,15 +281,15 @@ class ResultStore:
             raise ConfigError(f"method {short_repr(row['method'])} is not in {self.identity_path}")
         trace_line = json.dumps(trace, separators=(",", ":"))
         row_line = format_row(row)
-        trace_sha256 = _sha256(trace_line)
+        trace_sha256 = sha256_hex(trace_line)
         entry = {"method": key[0], "world": key[1], "episode": key[2], "trace_sha256": trace_sha256,
                  "row_sha256": row_checksum(self.experiment_id, fingerprint, row_line, trace_sha256)}  # fmt: skip
         checksum_line = json.dumps(entry, separators=(",", ":"))
-        _append(self.trace_path, trace_line + "\n")
-        _append(self.checksum_path, checksum_line + "\n")
+        append_synced(self.trace_path, trace_line + "\n")
+        append_synced(self.checksum_path, checksum_line + "\n")
         if not self.csv_path.exists() or self.csv_path.stat().st_size == 0:
-            _append(self.csv_path, ",".join(ROW_COLUMNS) + "\n")
-        _append(self.csv_path, row_line + "\n")
+            append_synced(self.csv_path, ",".join(ROW_COLUMNS) + "\n")
+        append_synced(self.csv_path, row_line + "\n")
         self.rows[key] = parse_row(row_line)
         self._row_lines[key] = row_line
         self.traces[key] = trace
@@ -341,7 +329,7 @@ def adopt_rows(out: Path) -> int:
     if not path.is_file():
         raise ConfigError(f"{str(out)!r} has no experiment.json: it is not a results folder")
     try:
-        stored = json.loads(_decode(path, path.read_bytes()))
+        stored = json.loads(decode_utf8(path, path.read_bytes()))
     except (ValueError, RecursionError):  # not JSON, an integer of more than 4300 digits, too deep
         stored = None
     if not isinstance(stored, dict):
@@ -349,66 +337,6 @@ def adopt_rows(out: Path) -> int:
     store = ResultStore(out, stored, adopt_unchecked=True)
     store.close()
     return len(store.rows)
-
-
-def experiment_id(identity: dict[str, Any]) -> str:
-    """The SHA-256 (hex) of an experiment's identity without its methods: what rows of every
-    method share (seed, worlds and their map hashes, resolution, simulator and team settings)."""
-    parts = {part: value for part, value in identity.items() if part != "methods"}
-    return _sha256(json.dumps(parts, sort_keys=True, separators=(",", ":")))
-
-
-def row_checksum(experiment: str, method_fingerprint: str, row_line: str, trace_sha256: str) -> str:
-    """The SHA-256 (hex) binding a row's CSV line to its experiment id, its method's fingerprint
-    (the model file's hash for learned methods) and its trace's SHA-256."""
-    digest = hashlib.sha256()
-    for part in (CHECKSUM_SCHEME, experiment, method_fingerprint, row_line, trace_sha256):
-        data = part.encode("utf-8")
-        digest.update(f"{len(data)}:".encode())  # length-prefixed: no two part lists hash alike
-        digest.update(data)
-    return digest.hexdigest()
-
-
-def format_row(row: dict[str, Any]) -> str:
-    """One CSV line (no newline) of ``row``'s :data:`ROW_COLUMNS`; None is an empty field."""
-    buffer = io.StringIO()
-    csv.writer(buffer, lineterminator="").writerow(["" if row[c] is None else row[c] for c in ROW_COLUMNS])
-    return buffer.getvalue()
-
-
-def parse_row(line: str) -> dict[str, Any]:
-    """A row from one CSV line, with its numbers and booleans typed (an empty field is None).
-
-    Raises:
-        ConfigError: the line is not a row (wrong field count, a value of the wrong kind).
-    """
-    try:
-        values = next(csv.reader([line]), [])
-    except csv.Error as exc:
-        raise ConfigError(f"not a CSV row ({exc})") from None
-    if len(values) != len(ROW_COLUMNS):
-        raise ConfigError(f"a row has {len(values)} fields, expected {len(ROW_COLUMNS)}: {short_repr(line)}")
-    row: dict[str, Any] = {}
-    for column, text in zip(ROW_COLUMNS, values, strict=True):
-        try:
-            if column in _TEXT_COLUMNS:
-                row[column] = text
-            elif text == "":
-                row[column] = None
-            elif column in _INT_COLUMNS:
-                row[column] = int(text)
-            elif column in _BOOL_COLUMNS:
-                row[column] = {"True": True, "False": False}[text]
-            elif column in _OPTIONAL_TEXT_COLUMNS:
-                row[column] = text
-            else:
-                row[column] = float(text)
-        except (ValueError, KeyError):
-            kind = (
-                "an integer" if column in _INT_COLUMNS else "True or False" if column in _BOOL_COLUMNS else "a number"
-            )
-            raise ConfigError(f"{column} {short_repr(text)} is not valid (expected {kind})") from None
-    return row
 
 
 # ---------------------------------------------------------------------- files
@@ -434,81 +362,7 @@ def _depth(value: Any) -> int:
     return deepest
 
 
-def _sha256(text: str) -> str:
-    return hashlib.sha256(text.encode("utf-8")).hexdigest()
-
-
 def _ours(name: str) -> bool:
     """Files the store itself leaves in a folder before experiment.json: the lock and the
     temporary file of a write that was killed."""
     return name == ".lock" or (name.startswith(".") and name.endswith(".tmp"))
-
-
-def _decode(path: Path, data: bytes, first_line: int = 1) -> str:
-    """``data`` as UTF-8, or a one-line error naming the line of ``path`` that is not."""
-    try:
-        return data.decode("utf-8")
-    except UnicodeDecodeError as exc:
-        line = first_line + data.count(b"\n", 0, exc.start)
-        column = exc.start - (data.rfind(b"\n", 0, exc.start) + 1) + 1
-        raise ConfigError(
-            f"{path} line {line} holds bytes that are not UTF-8 (at character {column}): the file was edited or "
-            "damaged; fix or delete that line, or choose another --out"
-        ) from None
-
-
-def _keyed_lines(path: Path, what: str, strings: tuple[str, ...] = ()) -> dict[Key, tuple[int, str, dict[str, Any]]]:
-    """The JSON lines of ``path`` by episode key: (line number, line, object); the fields named in
-    ``strings`` must be strings. A later line of the same episode (rerun after a kill) wins.
-
-    Raises:
-        ConfigError: a line that is not such an object, named by file and line.
-    """
-    entries: dict[Key, tuple[int, str, dict[str, Any]]] = {}
-    for number, line in _complete_lines(path):
-        try:
-            entry = json.loads(line)
-            key = (entry["method"], entry["world"], entry["episode"])
-            hash(key)
-            if not all(isinstance(entry.get(f), str) for f in strings):
-                raise TypeError
-        except (ValueError, TypeError, KeyError, AttributeError, RecursionError):
-            raise ConfigError(f"{path} line {number} is not {what}: {short_repr(line)}") from None
-        entries[key] = (number, line, entry)
-    return entries
-
-
-def _complete_lines(path: Path) -> list[tuple[int, str]]:
-    """The file's complete, non-blank lines with their numbers (from 1; a Windows line end is
-    dropped); a torn last line (no newline: the writer was killed) is cut off the file, so that
-    the next append starts on a fresh line."""
-    if not path.exists():
-        return []
-    data = path.read_bytes()
-    end = data.rfind(b"\n") + 1
-    if end < len(data):
-        with path.open("r+b") as handle:
-            handle.truncate(end)
-    text = _decode(path, data[:end])
-    return [(i, line.removesuffix("\r")) for i, line in enumerate(text.split("\n"), start=1) if line.strip()]
-
-
-def _append(path: Path, text: str) -> None:
-    """Append ``text`` and sync it; if that fails (a full disk), cut the file back to where it
-    ended so no partial line is left, and raise :class:`OutputWriteError`."""
-    data = text.encode("utf-8")
-    try:
-        fd = os.open(path, os.O_WRONLY | os.O_APPEND | os.O_CREAT | getattr(os, "O_BINARY", 0), 0o666)
-    except OSError as exc:
-        raise OutputWriteError(path, describe_os_error(exc)) from None
-    try:
-        start = os.lseek(fd, 0, os.SEEK_END)
-        try:
-            atomic_write.write_all(fd, data)
-            os.fsync(fd)
-        except OSError as exc:
-            with contextlib.suppress(OSError):
-                os.ftruncate(fd, start)
-            raise OutputWriteError(path, describe_os_error(exc)) from None
-    finally:
-        os.close(fd)

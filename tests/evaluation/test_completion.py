@@ -16,7 +16,7 @@ from frontier_rl.evaluation.analysis import end_reasons, summarise
 from frontier_rl.evaluation.evaluate import evaluate
 from frontier_rl.evaluation.experiment import ROW_COLUMNS, ExperimentConfig
 from frontier_rl.evaluation.report_tables import report_tables
-from frontier_rl.evaluation.results import format_row, parse_row
+from frontier_rl.evaluation.result_rows import format_row, parse_row
 from frontier_rl.evaluation.tables import completion_table
 from tests.evaluation.maps import write_slit_map
 

@@ -1,0 +1,86 @@
+"""The line files of a results folder (``episodes.csv``, ``traces.jsonl``, ``checksums.jsonl``):
+read as UTF-8 with every problem named by file and line, a torn last line cut off, appends synced
+to disk and cut back when they fail."""
+
+from __future__ import annotations
+
+import contextlib
+import json
+import os
+from pathlib import Path
+from typing import Any
+
+from frontier_rl import atomic_write
+from frontier_rl.atomic_write import OutputWriteError, describe_os_error
+from frontier_rl.errors import ConfigError, short_repr
+from frontier_rl.evaluation.result_rows import Key
+
+
+def decode_utf8(path: Path, data: bytes, first_line: int = 1) -> str:
+    """``data`` as UTF-8, or a one-line error naming the line of ``path`` that is not."""
+    try:
+        return data.decode("utf-8")
+    except UnicodeDecodeError as exc:
+        line = first_line + data.count(b"\n", 0, exc.start)
+        column = exc.start - (data.rfind(b"\n", 0, exc.start) + 1) + 1
+        raise ConfigError(
+            f"{path} line {line} holds bytes that are not UTF-8 (at character {column}): the file was edited or "
+            "damaged; fix or delete that line, or choose another --out"
+        ) from None
+
+
+def keyed_lines(path: Path, what: str, strings: tuple[str, ...] = ()) -> dict[Key, tuple[int, str, dict[str, Any]]]:
+    """The JSON lines of ``path`` by episode key: (line number, line, object); the fields named in
+    ``strings`` must be strings. A later line of the same episode (rerun after a kill) wins.
+
+    Raises:
+        ConfigError: a line that is not such an object, named by file and line.
+    """
+    entries: dict[Key, tuple[int, str, dict[str, Any]]] = {}
+    for number, line in complete_lines(path):
+        try:
+            entry = json.loads(line)
+            key = (entry["method"], entry["world"], entry["episode"])
+            hash(key)
+            if not all(isinstance(entry.get(f), str) for f in strings):
+                raise TypeError
+        except (ValueError, TypeError, KeyError, AttributeError, RecursionError):
+            raise ConfigError(f"{path} line {number} is not {what}: {short_repr(line)}") from None
+        entries[key] = (number, line, entry)
+    return entries
+
+
+def complete_lines(path: Path) -> list[tuple[int, str]]:
+    """The file's complete, non-blank lines with their numbers (from 1; a Windows line end is
+    dropped); a torn last line (no newline: the writer was killed) is cut off the file, so that
+    the next append starts on a fresh line."""
+    if not path.exists():
+        return []
+    data = path.read_bytes()
+    end = data.rfind(b"\n") + 1
+    if end < len(data):
+        with path.open("r+b") as handle:
+            handle.truncate(end)
+    text = decode_utf8(path, data[:end])
+    return [(i, line.removesuffix("\r")) for i, line in enumerate(text.split("\n"), start=1) if line.strip()]
+
+
+def append_synced(path: Path, text: str) -> None:
+    """Append ``text`` and sync it; if that fails (a full disk), cut the file back to where it
+    ended so no partial line is left, and raise :class:`OutputWriteError`."""
+    data = text.encode("utf-8")
+    try:
+        fd = os.open(path, os.O_WRONLY | os.O_APPEND | os.O_CREAT | getattr(os, "O_BINARY", 0), 0o666)
+    except OSError as exc:
+        raise OutputWriteError(path, describe_os_error(exc)) from None
+    try:
+        start = os.lseek(fd, 0, os.SEEK_END)
+        try:
+            atomic_write.write_all(fd, data)
+            os.fsync(fd)
+        except OSError as exc:
+            with contextlib.suppress(OSError):
+                os.ftruncate(fd, start)
+            raise OutputWriteError(path, describe_os_error(exc)) from None
+    finally:
+        os.close(fd)
