@@ -66,6 +66,8 @@ class FrontierNode:
         from visualization_msgs.msg import MarkerArray
 
         robots = rospy.get_param("~robots", [""])
+        if not isinstance(robots, str | list) or not all(isinstance(r, str) for r in robots):
+            raise FrontierRLError(f"~robots must be namespaces such as tb3_0,tb3_1, got {robots!r}")
         self.robots = [r.strip().strip("/") for r in (robots.split(",") if isinstance(robots, str) else robots)]
         self.top_k = int(rospy.get_param("~top_k", 10))
         min_cells = int(rospy.get_param("~min_cluster_size", 4))
