@@ -261,11 +261,9 @@ def _print_summary(report: Path, title: str, baseline: str) -> None:
 def _not_explored(methods: dict[str, dict[str, Any]], labels: dict[str, str]) -> str | None:
     """The episodes each method ended otherwise than explored, by reason ("not explored: nearest
     1 unreachable, 2 time_cap; ..."); None if every episode was explored."""
-    parts = []
-    for name, entry in methods.items():
-        ends = [f"{n} {reason}" for reason, n in entry["end_reasons"].items() if n and reason != "explored"]
-        if ends:
-            parts.append(f"{labels[name]} {', '.join(ends)}")
+    from frontier_rl.evaluation.conclusion import unfinished
+
+    parts = unfinished(methods, labels)
     return "not explored: " + "; ".join(parts) if parts else None
 
 

@@ -4,6 +4,7 @@ the baseline, by how much and how surely, how far from the oracle, and how the e
 from __future__ import annotations
 
 import math
+from collections.abc import Callable
 from dataclasses import dataclass
 from typing import Any
 
@@ -108,17 +109,26 @@ def _change(entry: dict[str, Any]) -> str:
     return f"{number(reduction)} % less time" if reduction >= 0 else f"{number(-reduction)} % more time"
 
 
+def unfinished(
+    methods: dict[str, dict[str, Any]], labels: dict[str, str], reason_text: Callable[[str], str] = str
+) -> list[str]:
+    """Per method with episodes that did not end explored: "LABEL N REASON, N REASON" (each
+    reason as ``reason_text`` writes it), from ``summary.json``'s method entries."""
+    parts = []
+    for method, entry in methods.items():
+        ends = [f"{n} {reason_text(reason)}" for reason, n in entry["end_reasons"].items()
+                if n and reason != "explored"]  # fmt: skip
+        if ends:
+            parts.append(f"{labels[method]} {', '.join(ends)}")
+    return parts
+
+
 def _completion(methods: dict[str, dict[str, Any]], labels: dict[str, str]) -> str:
     total = sum(e["n"] for e in methods.values())
     explored = sum(e["end_reasons"].get("explored", 0) for e in methods.values())
     if explored == total:
         return f"All {total} episodes ended with the map explored."
-    parts = []
-    for method, entry in methods.items():
-        ends = [f"{n} {reason.replace('_', ' ')}" for reason, n in entry["end_reasons"].items()
-                if n and reason != "explored"]  # fmt: skip
-        if ends:
-            parts.append(f"{labels[method]} {', '.join(ends)}")
+    parts = unfinished(methods, labels, lambda reason: reason.replace("_", " "))
     reasons = {r for e in methods.values() for r, n in e["end_reasons"].items() if n and r != "explored"}
     meaning = [_REASONS[r] for r in sorted(reasons) if r in _REASONS]
     return f"{explored} of {total} episodes ended with the map explored; the others: {'; '.join(parts)}" + (

@@ -160,7 +160,12 @@ def method_fingerprint(method: str) -> str:
     path = Path(arg)
     if not path.is_file():
         raise ConfigError(f"model file {arg!r} of method {method!r} does not exist")
-    return f"{method}#sha256:{hashlib.sha256(path.read_bytes()).hexdigest()[:16]}"
+    return f"{method}#sha256:{file_sha256(path)}"
+
+
+def file_sha256(path: Path) -> str:
+    """The first 16 hex digits of the SHA-256 of a file's content (how experiment.json names a model file)."""
+    return hashlib.sha256(path.read_bytes()).hexdigest()[:16]
 
 
 def world_fingerprint(world: str, resolution: float | None) -> str:

@@ -3,13 +3,12 @@ report's "Methods" table (a learned model's file, hash, metadata and training co
 
 from __future__ import annotations
 
-import hashlib
 from dataclasses import dataclass
 from pathlib import Path
 
 from frontier_rl.core.frontiers.ranking import THESIS_WEIGHT
 from frontier_rl.errors import FrontierRLError, short_repr
-from frontier_rl.evaluation.experiment import ORACLE
+from frontier_rl.evaluation.experiment import ORACLE, file_sha256
 from frontier_rl.registration import MODELS
 from frontier_rl.swarm.config import Strategy, TeamMethod
 
@@ -72,7 +71,7 @@ def _learned(path: Path) -> tuple[str, str]:
     from frontier_rl.rl.model_file import read_metadata
 
     try:
-        digest = hashlib.sha256(path.read_bytes()).hexdigest()[:16]  # as in experiment.json
+        digest = file_sha256(path)
         info = read_metadata(path)
     except (OSError, FrontierRLError) as exc:
         return "A learned policy whose model file could not be read now.", f"file {path.name}: {exc}"

@@ -84,7 +84,7 @@ def outlier_tables(summary: dict[str, Any], config: ExperimentConfig, labels: di
     episode out (the others would repeat the table of all episodes)."""
     tables = []
     for threshold, cut in summary["outliers"].items():
-        if not any(e["excluded"] for e in cut["methods"].values()):
+        if not _left_out(cut):
             continue
         table = _table_4_1(cut["methods"], config, labels, f"Without episodes above {threshold} s")
         extra = [
@@ -103,13 +103,16 @@ def outlier_tables(summary: dict[str, Any], config: ExperimentConfig, labels: di
 
 def outlier_note(summary: dict[str, Any]) -> str:
     """One line naming the outlier thresholds that left no episode out ("" if there are none)."""
-    clean = [
-        f"{t} s" for t, cut in summary["outliers"].items() if not any(e["excluded"] for e in cut["methods"].values())
-    ]
+    clean = [f"{t} s" for t, cut in summary["outliers"].items() if not _left_out(cut)]
     if not clean:
         return ""
     return (f"No episode took longer than {' or '.join(clean)} (the thesis's outlier thresholds), so the tables "
             "without outliers would repeat the one above and are left out.")  # fmt: skip
+
+
+def _left_out(cut: dict[str, Any]) -> bool:
+    """Whether an outlier cut of ``summary.json`` left any episode out."""
+    return any(e["excluded"] for e in cut["methods"].values())
 
 
 def methods_table(methods: tuple[str, ...]) -> Table:

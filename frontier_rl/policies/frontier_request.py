@@ -44,6 +44,17 @@ class RankedFrontier:
     size: int
 
 
+def check_map_message(width: int, height: int, resolution: float, values: int) -> None:
+    """Raise :class:`MapError` for a ``nav_msgs/OccupancyGrid`` of zero size, a resolution (m) that
+    is not a positive number, or ``values`` data values that are not width × height."""
+    if width <= 0 or height <= 0:
+        raise MapError(f"map of size {width} × {height} has no cells")
+    if not (math.isfinite(resolution) and resolution > 0):
+        raise MapError(f"map resolution must be a positive number of metres, got {resolution!r}")
+    if values != width * height:
+        raise MapError(f"map data has {values} values, expected width × height = {width * height}")
+
+
 def grid_from_message(
     width: int,
     height: int,
@@ -55,12 +66,7 @@ def grid_from_message(
     resolution (m) and row-major data; probabilities are thresholded, not rejected. A map of zero
     size, a resolution that is not positive, or data of the wrong length is a :class:`MapError`."""
     t = thresholds or MapThresholds()
-    if width <= 0 or height <= 0:
-        raise MapError(f"map of size {width} × {height} has no cells")
-    if not (math.isfinite(resolution) and resolution > 0):
-        raise MapError(f"map resolution must be a positive number of metres, got {resolution!r}")
-    if len(data) != width * height:
-        raise MapError(f"map data has {len(data)} values, expected width × height = {width * height}")
+    check_map_message(width, height, resolution, len(data))
     values = np.asarray(data, dtype=np.int16).reshape(height, width)
     cells = np.full(values.shape, CellState.UNKNOWN, np.int8)
     known = values >= 0

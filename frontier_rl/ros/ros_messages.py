@@ -11,7 +11,8 @@ from typing import Any
 
 import numpy as np
 
-from frontier_rl.errors import FrontierRLError, MapError
+from frontier_rl.errors import FrontierRLError
+from frontier_rl.policies.frontier_request import check_map_message
 from frontier_rl.ros.robot_worker import MapCells
 
 _SYSTEM_PACKAGES = Path("/usr/lib/python3/dist-packages")
@@ -45,13 +46,8 @@ def map_cells(msg: Any) -> tuple[MapCells, float]:
     or data that is not width × height long is a :class:`MapError`."""
     info = msg.info
     width, height, resolution = int(info.width), int(info.height), float(info.resolution)
-    if width <= 0 or height <= 0:
-        raise MapError(f"map of size {width} × {height} has no cells")
-    if not (math.isfinite(resolution) and resolution > 0):
-        raise MapError(f"map resolution must be a positive number of metres, got {resolution!r}")
     data = np.asarray(msg.data, dtype=np.int8).reshape(-1)
-    if data.size != width * height:
-        raise MapError(f"map data has {data.size} values, expected width × height = {width * height}")
+    check_map_message(width, height, resolution, data.size)
     return MapCells(width, height, resolution, data), resolution
 
 
