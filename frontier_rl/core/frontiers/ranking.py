@@ -106,11 +106,3 @@ def rank(costs: NDArray[np.float64]) -> NDArray[np.int64]:
     costs = np.asarray(costs, dtype=np.float64)
     order = np.argsort(costs, kind="stable")
     return order[np.isfinite(costs[order])].astype(np.int64)
-
-
-def top_k(frontiers: Frontiers, costs: NDArray[np.float64], k: int = 10) -> list[tuple[float, float, float]]:
-    """The ``k`` best frontiers as (x, y, cost), centres in the map frame (m)."""
-    if k < 1:
-        raise ConfigError(f"k must be >= 1, got {k!r}")
-    order = rank(costs)[:k]
-    return [(float(frontiers.centers[i, 0]), float(frontiers.centers[i, 1]), float(costs[i])) for i in order]

@@ -269,36 +269,6 @@ class LogOddsMapper:
         )
 
 
-def merge_states(mine: NDArray[np.int8], theirs: NDArray[np.int8]) -> NDArray[np.int8]:
-    """Two maps of one frame merged cell by cell as multirobot_map_merge does: occupied where
-    either is occupied, else free where either is free, else unknown."""
-    merged = mine.copy()
-    merged[(mine == CellState.UNKNOWN) & (theirs == CellState.FREE)] = CellState.FREE
-    merged[theirs == CellState.OCCUPIED] = CellState.OCCUPIED
-    return merged
-
-
-def fit_to_size(data: NDArray[np.int8], size: int, center: tuple[int, int] | None = None) -> NDArray[np.int8]:
-    """A ``size`` × ``size`` window of ``data`` centred on ``center`` (row, col), unknown outside.
-
-    Args:
-        data: a grid of :class:`CellState` values.
-        size: edge of the output (cells).
-        center: the cell placed at the window's centre; the grid's own centre when ``None``.
-    """
-    if size < 1:
-        raise ConfigError(f"size must be >= 1, got {size!r}")
-    rows, cols = data.shape
-    cr, cc = (rows // 2, cols // 2) if center is None else center
-    out = np.full((size, size), CellState.UNKNOWN, dtype=np.int8)
-    r0, c0 = cr - size // 2, cc - size // 2
-    src_r0, src_c0 = max(r0, 0), max(c0, 0)
-    src_r1, src_c1 = min(r0 + size, rows), min(c0 + size, cols)
-    if src_r1 > src_r0 and src_c1 > src_c0:
-        out[src_r0 - r0 : src_r1 - r0, src_c0 - c0 : src_c1 - c0] = data[src_r0:src_r1, src_c0:src_c1]
-    return out
-
-
 def downsample(data: NDArray[np.int8], factor: int) -> NDArray[np.int8]:
     """Shrink a grid by an integer ``factor`` (the shape must divide).
 

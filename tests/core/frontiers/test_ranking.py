@@ -8,7 +8,7 @@ from collections.abc import Callable
 import numpy as np
 import pytest
 
-from frontier_rl.core.frontiers.detection import Frontiers, detect_frontiers
+from frontier_rl.core.frontiers.detection import Frontiers
 from frontier_rl.core.frontiers.ranking import (
     ExploreLiteParams,
     check_weight,
@@ -19,11 +19,9 @@ from frontier_rl.core.frontiers.ranking import (
     normalise,
     random_cost,
     rank,
-    top_k,
     weighted_cost,
 )
 from frontier_rl.core.world.grid import CellState, OccupancyGrid
-from frontier_rl.core.world.robot import Pose
 from frontier_rl.errors import ConfigError
 
 Make = Callable[..., Frontiers]
@@ -199,32 +197,3 @@ def test_rank_is_stable_and_drops_non_finite(costs: list[float], expected: list[
 def test_rank_ties_in_eq_3_1_keep_the_frontier_order(frontiers_from: Make) -> None:
     f = hand_frontiers(frontiers_from, [1.0, 2.0, 1.0, 2.0], [10, 10, 10, 10])
     assert rank(weighted_cost(f, 0.5)).tolist() == [0, 2, 1, 3]
-
-
-# -------------------------------------------------------------------------------------- top_k
-def test_top_k_returns_map_frame_centres_best_first() -> None:
-    origin = (-12.5, 3.75)
-    data = np.full((12, 30), UNKNOWN, np.int8)
-    data[1, 1:8] = FREE  # 7 cells
-    data[5, 3:20] = FREE  # 17 cells
-    data[9, 10:16] = FREE  # 6 cells
-    grid = OccupancyGrid(data, 0.05, origin)
-    f = detect_frontiers(grid, Pose(origin[0], origin[1]))
-    costs = largest_cost(f)
-    best = top_k(f, costs, k=2)
-    assert len(best) == 2
-    (x0, y0, c0), (x1, y1, c1) = best
-    assert (c0, c1) == (-17.0, -7.0)
-    assert (x0, y0) == pytest.approx((origin[0] + (11 + 0.5) * 0.05, origin[1] + 5.5 * 0.05))
-    assert (x1, y1) == pytest.approx((origin[0] + (4 + 0.5) * 0.05, origin[1] + 1.5 * 0.05))
-    assert all(isinstance(v, float) for item in best for v in item)
-    assert len(top_k(f, costs)) == 3  # k defaults to 10: all three
-    costs[2] = math.inf
-    assert [c for _, _, c in top_k(f, costs, k=10)] == [-17.0, -7.0]
-
-
-@pytest.mark.parametrize("k", [0, -1])
-def test_top_k_rejects_k_below_one(frontiers_from: Make, k: int) -> None:
-    f = hand_frontiers(frontiers_from, [1.0], [5])
-    with pytest.raises(ConfigError, match=str(k)):
-        top_k(f, nearest_cost(f), k)

@@ -11,7 +11,7 @@ import numpy as np
 import pytest
 from numpy.typing import NDArray
 
-from frontier_rl.core.mapping.mapper import LogOddsMapper, MapperConfig, downsample, fit_to_size, merge_states
+from frontier_rl.core.mapping.mapper import LogOddsMapper, MapperConfig, downsample
 from frontier_rl.core.sensing.lidar import Lidar, LidarConfig, Scan
 from frontier_rl.core.world.catalog import generate_world
 from frontier_rl.core.world.grid import CellState, OccupancyGrid
@@ -395,43 +395,6 @@ def test_mark_occupied_overrides_a_free_cell() -> None:
     assert mapper.explored_cells == explored  # already seen
 
 
-# ------------------------------------------------------------------------------- fixed-size helpers
-def test_fit_to_size_pads_a_small_map_with_unknown_around_its_centre() -> None:
-    data = np.arange(24, dtype=np.int8).reshape(4, 6)
-    out = fit_to_size(data, 8)
-    assert out.shape == (8, 8) and out.dtype == np.int8
-    # the grid's centre (2, 3) goes to the window's centre (4, 4)
-    np.testing.assert_array_equal(out[2:6, 1:7], data)
-    mask = np.ones((8, 8), bool)
-    mask[2:6, 1:7] = False
-    assert np.all(out[mask] == UNKNOWN)
-
-
-@pytest.mark.parametrize("size", [4, 5])
-def test_fit_to_size_crops_around_a_given_centre(size: int) -> None:
-    data = (np.arange(100).reshape(10, 10) % 100).astype(np.int8)
-    out = fit_to_size(data, size, center=(5, 6))
-    r0, c0 = 5 - size // 2, 6 - size // 2
-    np.testing.assert_array_equal(out, data[r0 : r0 + size, c0 : c0 + size])
-    assert out[size // 2, size // 2] == data[5, 6]
-
-
-def test_fit_to_size_near_the_edge_and_far_outside() -> None:
-    data = (np.arange(100).reshape(10, 10)).astype(np.int8)
-    out = fit_to_size(data, 4, center=(0, 0))
-    np.testing.assert_array_equal(out[2:, 2:], data[:2, :2])
-    assert np.all(out[:2, :] == UNKNOWN) and np.all(out[:, :2] == UNKNOWN)
-    far = fit_to_size(data, 4, center=(50, -50))
-    assert np.all(far == UNKNOWN)
-    big = fit_to_size(data, 250)
-    assert big.shape == (250, 250) and np.count_nonzero(big != UNKNOWN) == np.count_nonzero(data != UNKNOWN)
-
-
-def test_fit_to_size_rejects_a_bad_size() -> None:
-    with pytest.raises(ConfigError, match="0"):
-        fit_to_size(np.zeros((3, 3), np.int8), 0)
-
-
 def _downsample_reference(data: NDArray[np.int8], f: int) -> NDArray[np.int8]:
     rows, cols = data.shape
     out = np.empty((rows // f, cols // f), np.int8)
@@ -554,9 +517,21 @@ UNK, FREE, OCC = CellState.UNKNOWN, CellState.FREE, CellState.OCCUPIED
     ],
 )
 def test_merge_rule_is_occupied_over_free_over_unknown(mine: int, theirs: int, merged: int) -> None:
-    a = np.full((2, 3), mine, np.int8)
-    b = np.full((2, 3), theirs, np.int8)
-    assert np.all(merge_states(a, b) == merged)
+    grid = OccupancyGrid(np.full((2, 3), FREE, np.int8), 0.05)
+    a, b = LogOddsMapper(grid), LogOddsMapper(grid)
+    a.state[:] = mine
+    b.state[:] = theirs
+    a.merge_from(b)
+    assert np.all(a.state == merged)
+
+
+def _merge_states(mine: NDArray[np.int8], theirs: NDArray[np.int8]) -> NDArray[np.int8]:
+    """multirobot_map_merge's rule, cell by cell: occupied where either is, else free where
+    either is, else unknown (the reference for the mapper's merge)."""
+    merged = mine.copy()
+    merged[(mine == UNK) & (theirs == FREE)] = FREE
+    merged[theirs == OCC] = OCC
+    return merged
 
 
 def _scanned(world: World, pose: Pose) -> LogOddsMapper:
@@ -571,7 +546,7 @@ def test_mappers_merge_by_the_rule_and_count_what_they_gain() -> None:
     first = world.grid.cell_to_world(*free[0])
     last = world.grid.cell_to_world(*free[-1])
     a, b = _scanned(world, Pose(*first, 0.0)), _scanned(world, Pose(*last, 0.0))
-    expected = merge_states(a.state, b.state)
+    expected = _merge_states(a.state, b.state)
     before = a.explored_cells
     gained = a.merge_from(b)
     assert np.array_equal(a.state, expected)

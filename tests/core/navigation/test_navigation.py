@@ -414,7 +414,7 @@ def test_footprint_offsets_are_the_cells_within_radius_plus_half_a_cell(radius: 
     offsets = footprint_offsets(radius, res)
     assert {tuple(o) for o in offsets.tolist()} == expected
     assert len(offsets) == len(expected)
-    assert (0, 0) in expected
+    assert [0, 0] in offsets.tolist()  # the robot's own cell
 
 
 # ------------------------------------------------------------------------------- path following
