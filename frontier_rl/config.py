@@ -21,24 +21,35 @@ T = TypeVar("T")
 
 
 def from_dict(cls: type[T], data: Any, where: str = "") -> T:
-    """Build dataclass ``cls`` from a (nested) mapping; missing fields keep their defaults."""
-    name = where or cls.__name__
+    """Build dataclass ``cls`` from a (nested) mapping; missing fields keep their defaults.
+
+    Args:
+        cls: a (frozen) dataclass; fields that are dataclasses are built from nested mappings.
+        data: the mapping, as read from YAML.
+        where: the dotted name errors give ``cls`` ("SimConfig": "SimConfig.lidar.max_range
+            must be a number"); fields are named bare when empty.
+
+    Raises:
+        ConfigError: not a mapping, a key that is not a field (named, with the valid keys), or a
+            value of the wrong type (:func:`coerce`).
+    """
     if not isinstance(data, dict):
-        raise ConfigError(f"{name} must be a mapping, got {type(data).__name__}")
+        raise ConfigError(f"{where or cls.__name__} must be a mapping, got {type(data).__name__}")
     if not dataclasses.is_dataclass(cls):
         raise TypeError(f"{cls!r} is not a dataclass")
     hints = typing.get_type_hints(cls)
     fields = {f.name: f for f in dataclasses.fields(cls)}
     unknown = sorted((key for key in data if key not in fields), key=str)
     if unknown:
-        raise ConfigError(f"unknown key {short_repr(unknown[0])} in {name}; valid keys: {', '.join(fields)}")
+        raise ConfigError(f"unknown key {short_repr(unknown[0])} in {where or cls.__name__}; "
+                          f"valid keys: {', '.join(fields)}")  # fmt: skip
     kwargs: dict[str, Any] = {}
     for key, value in data.items():
-        hint = hints[key]
+        hint, name = hints[key], f"{where}.{key}" if where else key
         if dataclasses.is_dataclass(hint) and isinstance(hint, type):
-            kwargs[key] = from_dict(hint, value, f"{name}.{key}")
+            kwargs[key] = from_dict(hint, value, name)
         else:
-            kwargs[key] = coerce(hint, value, f"{name}.{key}")
+            kwargs[key] = coerce(hint, value, name)
     return cls(**kwargs)
 
 
@@ -74,18 +85,31 @@ def to_dict(config: Any) -> dict[str, Any]:
     return dataclasses.asdict(config)
 
 
-def load_sim_config(path: str | Path) -> SimConfig:
-    """Read a :class:`SimConfig` from a YAML file (any subset of its fields; see :mod:`frontier_rl.safe_yaml`
-    for the limits on the file)."""
-    data = load_yaml_file(path, ConfigError, "config file")
+def load_config(cls: type[T], path: str | Path, what: str, where: str = "", *, allow_empty: bool = True) -> T:
+    """Read dataclass ``cls`` from a YAML file: any subset of its fields, an empty file for the
+    defaults unless ``allow_empty`` is false (see :mod:`frontier_rl.safe_yaml` for the limits on
+    the file).
+
+    Raises:
+        ConfigError: an unreadable file or a bad field (:func:`from_dict`), prefixed with ``what``
+            and the path ("config file sim.yaml: ...").
+    """
+    data = load_yaml_file(path, ConfigError, what)
+    if data is None and not allow_empty:
+        raise ConfigError(f"{what} {path} is empty")
     try:
-        return from_dict(SimConfig, {} if data is None else data, "SimConfig")
+        return from_dict(cls, {} if data is None else data, where)
     except FrontierRLError as exc:
-        raise type(exc)(f"config file {path}: {exc}") from None
+        raise type(exc)(f"{what} {path}: {exc}") from None
+
+
+def load_sim_config(path: str | Path) -> SimConfig:
+    """Read a :class:`SimConfig` from a YAML file (:func:`load_config`)."""
+    return load_config(SimConfig, path, "config file", "SimConfig")
 
 
 def dump_config(config: Any, path: str | Path) -> Path:
-    """Write a dataclass config as YAML to ``path``."""
+    """Write a dataclass config as YAML to ``path`` (atomically: a reader never sees half a file)."""
     path = Path(path)
     write_text_atomic(path, dump_yaml(to_dict(config)))
     return path

@@ -19,6 +19,7 @@ from typer.testing import CliRunner
 
 from frontier_rl.cli import app
 from frontier_rl.config import load_sim_config
+from frontier_rl.core.sim.config import SimConfig
 from frontier_rl.core.world.grid import OccupancyGrid
 from frontier_rl.errors import ConfigError, FrontierRLError, MapError, short_repr, short_text
 from frontier_rl.io import load_map, save_ros_map
@@ -431,3 +432,22 @@ def test_what_the_tool_writes_it_reads_back_the_same(text: str) -> None:
     """A string that YAML 1.2 would read as a number (or a boolean, or null) is quoted when dumped."""
     data = {"worlds": text, "nested": [text, {"k": text}], "number": 6e2}
     assert parse_yaml(dump_yaml(data)) == data
+
+
+def test_an_empty_training_config_is_refused_but_an_empty_sim_config_is_the_defaults(tmp_path: Path) -> None:
+    empty = tmp_path / "config.yaml"
+    empty.write_text("# nothing\n")
+    with pytest.raises(ConfigError, match="is empty"):
+        TrainConfig.load(empty)
+    assert load_sim_config(empty) == SimConfig()
+
+
+def test_config_errors_name_the_field_and_the_file(tmp_path: Path) -> None:
+    sim = tmp_path / "sim.yaml"
+    sim.write_text("lidar: {max_range: fast}\n")
+    with pytest.raises(ConfigError, match=r"sim\.yaml: SimConfig\.lidar\.max_range must be a number"):
+        load_sim_config(sim)
+    training = tmp_path / "config.yaml"
+    training.write_text("timestep: 5\n")
+    with pytest.raises(ConfigError, match=r"unknown key 'timestep' in TrainConfig; valid keys: model, worlds"):
+        TrainConfig.load(training)

@@ -3,17 +3,14 @@
 from __future__ import annotations
 
 import shlex
-import typing
-from dataclasses import asdict, dataclass, fields
+from dataclasses import dataclass, fields
 from pathlib import Path
 from typing import Any
 
-from frontier_rl.atomic_write import write_text_atomic
-from frontier_rl.config import coerce
+from frontier_rl.config import coerce, dump_config, from_dict, load_config, to_dict
 from frontier_rl.envs.rewards import REWARD_PRESETS, reward_preset
 from frontier_rl.errors import ConfigError, FrontierRLError, short_repr, short_text
 from frontier_rl.registration import MODELS, env_id
-from frontier_rl.safe_yaml import dump_yaml, load_yaml_file
 from frontier_rl.world_spec import parse_world_mix
 
 MAX_FEATURES_DIM = 8192
@@ -130,17 +127,12 @@ class TrainConfig:
 
     def to_dict(self) -> dict[str, Any]:
         """Plain values, for YAML."""
-        return asdict(self)
+        return to_dict(self)
 
     @classmethod
     def from_dict(cls, values: dict[str, Any]) -> TrainConfig:
         """A config from plain values; unknown keys and values of the wrong type are errors."""
-        known = {f.name for f in fields(cls)}
-        unknown = sorted(short_repr(key) for key in values if key not in known)
-        if unknown:
-            raise ConfigError(f"unknown training option(s) {', '.join(unknown[:5])}")
-        hints = typing.get_type_hints(cls)
-        return cls(**{key: coerce(hints[key], value, key) for key, value in values.items()})
+        return from_dict(cls, values)
 
     def command(self) -> str:
         """The ``frontier-rl train`` options that give this config (without ``--out``): the model,
@@ -158,15 +150,10 @@ class TrainConfig:
 
     def dump(self, path: Path) -> None:
         """Write the config as YAML."""
-        write_text_atomic(path, dump_yaml(self.to_dict()))
+        dump_config(self, path)
 
     @classmethod
     def load(cls, path: Path) -> TrainConfig:
-        """Read a config written by :meth:`dump` (see :mod:`frontier_rl.safe_yaml` for the limits)."""
-        values = load_yaml_file(path, ConfigError, "training config")
-        if not isinstance(values, dict):
-            raise ConfigError(f"training config {path} is not a mapping")
-        try:
-            return cls.from_dict(values)
-        except FrontierRLError as exc:
-            raise type(exc)(f"training config {path}: {exc}") from None
+        """Read a config written by :meth:`dump` (:func:`~frontier_rl.config.load_config`); an
+        empty file is an error, not the defaults: it would claim a training run never made."""
+        return load_config(cls, path, "training config", allow_empty=False)
