@@ -7,6 +7,7 @@ from __future__ import annotations
 import hashlib
 import math
 from dataclasses import dataclass
+from functools import lru_cache
 from pathlib import Path
 
 import numpy as np
@@ -15,7 +16,7 @@ from frontier_rl.core.world.catalog import WORLD_GENERATORS, generate_world
 from frontier_rl.core.world.robot import Pose, checked_pose
 from frontier_rl.core.world.worlds import World, check_resolution, make_world
 from frontier_rl.errors import ConfigError, MapError, UnknownNameError, short_repr
-from frontier_rl.io import load_map
+from frontier_rl.io import LoadedMap, load_map
 
 
 def checked_resolution(resolution: float | None, what: str = "--resolution") -> float | None:
@@ -33,9 +34,13 @@ def checked_resolution(resolution: float | None, what: str = "--resolution") -> 
         raise ConfigError(str(exc)) from None
 
 
-def resolve_world(spec: str, seed: int, start: Pose | None = None, resolution: float | None = None) -> World:
-    """The world named by ``spec``: a procedural generator ("office", "rooms", "cluttered") drawn
-    with ``seed``, or a map file (ROS YAML, DungeonMaps PNG, HouseExpo JSON, bitmap).
+def resolve_world(
+    spec: str, seed: int, start: Pose | None = None, resolution: float | None = None, *, stored_start: bool = True
+) -> World:
+    """The world named by ``spec``: a procedural generator ("office", "rooms", "cluttered", ...)
+    drawn with ``seed``, or a map file (ROS YAML, DungeonMaps PNG, HouseExpo JSON, bitmap) read
+    once per process and version of the file (:func:`read_map`). The one resolver of the CLI,
+    the evaluation's episodes and the environments' worlds.
 
     Args:
         spec: generator name or path.
@@ -43,6 +48,8 @@ def resolve_world(spec: str, seed: int, start: Pose | None = None, resolution: f
         start: a start pose that replaces the generated / stored one.
         resolution: cell size (m) for map files that carry none (bitmaps, HouseExpo); checked
             (:func:`checked_resolution`) before the file is read, whatever the world.
+        stored_start: keep a start stored in the map file; False draws one with ``seed`` all the
+            same (training starts every episode at a random free cell).
 
     Raises:
         UnknownNameError: neither a generator nor an existing file.
@@ -60,8 +67,22 @@ def resolve_world(spec: str, seed: int, start: Pose | None = None, resolution: f
         raise UnknownNameError(
             f"unknown world {short_repr(spec)}: not one of {', '.join(sorted(WORLD_GENERATORS))}, and no such file"
         )
-    loaded = load_map(path, resolution=resolution)
-    return make_world(loaded.grid, path.stem, start=start or loaded.start, rng=np.random.default_rng(seed))
+    loaded = read_map(spec, resolution)
+    start = start or (loaded.start if stored_start else None)
+    return make_world(loaded.grid, path.stem, start=start, rng=np.random.default_rng(seed))
+
+
+def read_map(path: str, resolution: float | None = None) -> LoadedMap:
+    """The map file ``path`` (:func:`~frontier_rl.io.load_map`), read once per process and
+    version of the file (its size and modification time): reading can take longer than an episode."""
+    resolved = Path(path).resolve()
+    stat = resolved.stat()
+    return _read_map_version(str(resolved), resolution, stat.st_size, stat.st_mtime_ns)
+
+
+@lru_cache(maxsize=64)
+def _read_map_version(path: str, resolution: float | None, size: int, mtime_ns: int) -> LoadedMap:
+    return load_map(path, resolution=resolution)
 
 
 def parse_pose(text: str) -> Pose:

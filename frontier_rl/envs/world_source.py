@@ -4,20 +4,18 @@ folders of map files, drawn per reset."""
 from __future__ import annotations
 
 import difflib
-from collections import OrderedDict
 from collections.abc import Mapping
 from dataclasses import dataclass, field
-from pathlib import Path
 from typing import Any
 
 import numpy as np
 from numpy.typing import NDArray
 
-from frontier_rl.core.world.catalog import WORLD_GENERATORS, generate_world
-from frontier_rl.core.world.worlds import World, make_world
+from frontier_rl.core.world.catalog import WORLD_GENERATORS
+from frontier_rl.core.world.worlds import World
 from frontier_rl.errors import ConfigError
-from frontier_rl.io import LoadedMap, load_map
-from frontier_rl.world_spec import WorldFamily, parse_world_list, world_family
+from frontier_rl.io import load_map
+from frontier_rl.world_spec import WorldFamily, parse_world_list, read_map, resolve_world, world_family
 
 __all__ = ["EAGER_LOAD_LIMIT", "RESET_OPTIONS", "TRAIN_SEED_LOW", "VALIDATION_SEED_LOW", "WorldSource",
            "check_world_files", "parse_world_list", "reset_world_seed"]  # fmt: skip
@@ -91,9 +89,8 @@ def _close_option(key: Any) -> str | None:
 
 EAGER_LOAD_LIMIT = 64
 """A source of at most this many map files reads (and so checks) them all when it is made; a larger
-mix reads each when it is first drawn (``train`` checks them all once before it starts)."""
-
-_CACHE_SIZE = 64  # map files kept in memory per source
+mix reads each when it is drawn, keeping the last 64 read (:func:`~frontier_rl.world_spec.read_map`;
+``train`` checks them all once before it starts)."""
 
 
 @dataclass
@@ -116,7 +113,6 @@ class WorldSource:
     families: tuple[WorldFamily, ...] = field(init=False)
     _members: tuple[tuple[str, ...], ...] = field(init=False, repr=False)
     _p: NDArray[np.float64] | None = field(default=None, init=False, repr=False)  # None: all weights equal
-    _maps: OrderedDict[str, LoadedMap] = field(default_factory=OrderedDict, init=False, repr=False)
 
     def __post_init__(self) -> None:
         if not self.worlds:
@@ -127,18 +123,8 @@ class WorldSource:
         self._p = None if np.all(weights == weights[0]) else weights / weights.sum()
         files = [m for members in self._members for m in members if m not in WORLD_GENERATORS]
         if len(files) <= EAGER_LOAD_LIMIT:
-            for spec in files:  # load (and so check) every map file now, not at some later reset
-                self._load(spec)
-
-    def _load(self, spec: str) -> LoadedMap:
-        if spec in self._maps:
-            self._maps.move_to_end(spec)
-            return self._maps[spec]
-        loaded = load_map(spec, resolution=self.resolution)
-        self._maps[spec] = loaded
-        if len(self._maps) > _CACHE_SIZE:
-            self._maps.popitem(last=False)
-        return loaded
+            for spec in files:  # read (and so check) every map file now, not at some later reset
+                read_map(spec, self.resolution)
 
     def sample(self, rng: np.random.Generator, world_seed: int | None = None) -> World:
         """A world drawn with ``rng``: a family by weight (round robin by ``world_seed`` in the
@@ -154,10 +140,8 @@ class WorldSource:
         members = self._members[index]
         spec = members[int(rng.integers(len(members)))] if len(members) > 1 else members[0]
         seed = int(rng.integers(TRAIN_SEED_LOW, _SEED_HIGH)) if world_seed is None else int(world_seed)
-        if spec in WORLD_GENERATORS:
-            return generate_world(spec, seed)
-        # a start stored in the file is ignored: every episode starts at a random free cell
-        return make_world(self._load(spec).grid, Path(spec).stem, rng=np.random.default_rng(seed))
+        # a start stored in a map file is ignored: every episode starts at a random free cell
+        return resolve_world(spec, seed, resolution=self.resolution, stored_start=False)
 
 
 def check_world_files(worlds: tuple[str, ...], resolution: float | None = None) -> int:

@@ -21,13 +21,12 @@ from frontier_rl.core.frontiers.ranking import THESIS_BASELINE
 from frontier_rl.core.sim.config import SimConfig
 from frontier_rl.core.sim.episode import ExplorationPolicy, run_episode, warm_up
 from frontier_rl.core.sim.metrics import sample_step
-from frontier_rl.core.world.catalog import WORLD_GENERATORS, generate_world
-from frontier_rl.core.world.worlds import World, make_world
+from frontier_rl.core.world.catalog import WORLD_GENERATORS
+from frontier_rl.core.world.worlds import World
 from frontier_rl.errors import ConfigError
-from frontier_rl.io import LoadedMap, load_map
 from frontier_rl.policies import make_policy
 from frontier_rl.swarm import Failure, Strategy, TeamConfig, TeamMethod, TeamResult, run_team_episode
-from frontier_rl.world_spec import parse_world_list
+from frontier_rl.world_spec import parse_world_list, read_map, resolve_world
 
 ORACLE = "oracle"
 """The full-knowledge reference every report measures methods against."""
@@ -172,7 +171,7 @@ def world_fingerprint(world: str, resolution: float | None) -> str:
     """A generator's name, or a map file's name with a hash of the grid it loads as."""
     if world in WORLD_GENERATORS:
         return world
-    loaded = _load_map(str(Path(world).resolve()), resolution)
+    loaded = read_map(world, resolution)
     digest = hashlib.sha256(loaded.grid.data.tobytes())
     digest.update(repr((loaded.grid.shape, loaded.grid.resolution, loaded.grid.origin, loaded.start)).encode())
     return f"{world}#sha256:{digest.hexdigest()[:16]}"
@@ -197,26 +196,6 @@ def check_methods(config: ExperimentConfig) -> None:
     """Build every method once, so a bad name or model file fails before any episode runs."""
     for method in config.methods:
         episode_policy(TeamMethod.parse(method).policy, config.trust_model)
-
-
-def _load_map(path: str, resolution: float | None) -> LoadedMap:
-    """``path`` loaded, once per process and version of the file (its size and modification time)."""
-    stat = Path(path).stat()
-    return _load_map_version(path, resolution, stat.st_size, stat.st_mtime_ns)
-
-
-@lru_cache(maxsize=64)
-def _load_map_version(path: str, resolution: float | None, size: int, mtime_ns: int) -> LoadedMap:
-    return load_map(path, resolution=resolution)
-
-
-def make_episode_world(world: str, seed: int, resolution: float | None) -> World:
-    """Episode ``seed``'s world: the generator drawn with it, or the map file with a start drawn
-    with it (a start stored in the file is kept)."""
-    if world in WORLD_GENERATORS:
-        return generate_world(world, seed)
-    loaded = _load_map(str(Path(world).resolve()), resolution)
-    return make_world(loaded.grid, Path(world).stem, start=loaded.start, rng=np.random.default_rng(seed))
 
 
 def episode_policy(method: str, trust_model: bool) -> ExplorationPolicy:
@@ -251,7 +230,7 @@ def job_parts(job: EpisodeJob, settings: EpisodeSettings) -> tuple[World, Explor
     method = TeamMethod.parse(job.method)
     name, _, model = method.policy.partition(":")
     spec = f"learned:{base / model}" if name == "learned" else method.policy
-    world = make_episode_world(world_spec, job.seed, settings.resolution)
+    world = resolve_world(world_spec, job.seed, resolution=settings.resolution)
     return (
         world,
         episode_policy(spec, settings.trust_model),

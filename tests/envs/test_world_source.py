@@ -8,10 +8,12 @@ from pathlib import Path
 import numpy as np
 import pytest
 
+from frontier_rl import world_spec
 from frontier_rl.core.world.catalog import generate_world
 from frontier_rl.envs import world_source
 from frontier_rl.envs.world_source import TRAIN_SEED_LOW, WorldSource, check_world_files
 from frontier_rl.errors import ConfigError, MapError, UnknownNameError
+from frontier_rl.io import LoadedMap, load_map
 from frontier_rl.world_spec import VALIDATION_SHARE, parse_world_list, parse_world_mix
 
 
@@ -130,13 +132,21 @@ def test_large_mixes_read_files_when_drawn_and_check_them_once(tmp_path: Path, m
     folder = make_folder(tmp_path / "maps", 8)
     (folder / "room_003.png").write_bytes(b"not a png")
     monkeypatch.setattr(world_source, "EAGER_LOAD_LIMIT", 4)
+    read: list[str] = []
+
+    def spy(path: str, resolution: float | None) -> LoadedMap:
+        read.append(path)
+        return load_map(path, resolution=resolution)
+
+    monkeypatch.setattr(world_spec, "load_map", spy)
     source = WorldSource((str(folder),))  # 8 files > 4: nothing read yet
-    assert len(source._maps) == 0
+    assert read == []
     with pytest.raises(MapError, match="room_003"):
         check_world_files((str(folder),))
     with pytest.raises(MapError, match="room_003"):
         for k in range(100):
             source.sample(np.random.default_rng(k))
+    assert read and len(read) == len(set(read))  # each file read once, when first drawn
 
 
 def test_a_folder_of_ten_or_more_always_keeps_a_validation_file(tmp_path: Path) -> None:

@@ -1,0 +1,75 @@
+"""The one world resolver: generators, map files with and without a stored start, and the
+per-version cache of map files."""
+
+from __future__ import annotations
+
+import os
+import shutil
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from frontier_rl.core.world.catalog import generate_world
+from frontier_rl.core.world.grid import CellState, OccupancyGrid
+from frontier_rl.core.world.robot import Pose
+from frontier_rl.core.world.worlds import make_world
+from frontier_rl.errors import ConfigError, UnknownNameError
+from frontier_rl.io import load_map, save_ros_map
+from frontier_rl.world_spec import read_map, resolve_world
+
+
+def test_a_generator_is_drawn_with_the_seed_and_a_start_replaces_its_own() -> None:
+    world = resolve_world("office", 3)
+    assert np.array_equal(world.grid.data, generate_world("office", 3).grid.data)
+    assert world.start == generate_world("office", 3).start
+    moved = resolve_world("office", 3, start=world.start._replace(theta=1.0))
+    assert moved.start.theta == 1.0 and np.array_equal(moved.grid.data, world.grid.data)
+
+
+def test_a_stored_start_is_kept_unless_the_caller_draws_one(shared_maps: Path) -> None:
+    dungeon = shared_maps / "dungeon" / "easy" / "img_1.png"
+    stored = load_map(dungeon).start
+    assert stored is not None
+    assert resolve_world(str(dungeon), 0).start == stored == resolve_world(str(dungeon), 5).start
+    drawn = {resolve_world(str(dungeon), seed, stored_start=False).start for seed in range(4)}
+    assert stored not in drawn and len(drawn) == 4
+    assert resolve_world(str(dungeon), 2, stored_start=False).start == resolve_world(
+        str(dungeon), 2, stored_start=False
+    ).start  # drawn with the seed
+
+
+def _room(path: Path, wall_col: int) -> Path:
+    data = np.full((30, 40), CellState.FREE, np.int8)
+    data[[0, -1], :] = CellState.OCCUPIED
+    data[:, [0, -1, wall_col]] = CellState.OCCUPIED
+    return save_ros_map(OccupancyGrid(data, 0.05), path)
+
+
+def test_a_map_file_is_read_once_per_version(tmp_path: Path) -> None:
+    path = _room(tmp_path / "room.yaml", 20)
+    first = read_map(str(path))
+    assert read_map(str(path)) is first  # cached
+    assert read_map(str(tmp_path / "." / "room.yaml")) is first  # one file, one entry
+    image = path.with_suffix(".pgm")
+    shutil.copy(_room(tmp_path / "other.yaml", 30).with_suffix(".pgm"), image)
+    os.utime(path, ns=(1, 1))  # the YAML's version changes: read again, with the new image
+    changed = read_map(str(path))
+    assert changed is not first and not np.array_equal(changed.grid.data, first.grid.data)
+    world = resolve_world(str(path), 0)
+    expected = make_world(changed.grid, "room", rng=np.random.default_rng(0))
+    assert world.name == "room" and np.array_equal(world.grid.data, expected.grid.data)
+    assert world.start == expected.start
+
+
+@pytest.mark.parametrize(
+    ("spec", "kwargs", "error", "needle"),
+    [
+        ("mars", {}, UnknownNameError, "mars"),
+        ("office", {"resolution": 0.5}, ConfigError, "resolution"),
+        ("office", {"start": Pose(float("nan"), 0.0)}, ConfigError, "start pose"),
+    ],
+)
+def test_bad_worlds_are_named(spec: str, kwargs: dict[str, object], error: type[Exception], needle: str) -> None:
+    with pytest.raises(error, match=needle):
+        resolve_world(spec, 0, **kwargs)  # type: ignore[arg-type]
