@@ -3,14 +3,13 @@
 from __future__ import annotations
 
 import math
-import time
 from dataclasses import dataclass
 
 import numpy as np
 
 from frontier_rl.core.frontiers.ranking import THESIS_WEIGHT
 from frontier_rl.core.sim.config import SimConfig
-from frontier_rl.core.sim.episode import EpisodeAwarePolicy, ExplorationPolicy
+from frontier_rl.core.sim.episode import EpisodeAwarePolicy, ExplorationPolicy, drive_episode
 from frontier_rl.core.world.worlds import World
 from frontier_rl.errors import ConfigError
 from frontier_rl.policies.baselines import FixedWeight
@@ -37,16 +36,10 @@ def run_team_episode(
     team = team or TeamConfig()
     if isinstance(policy, EpisodeAwarePolicy) and team.robots > 1:
         raise ConfigError(f"policy {policy.name!r} plans one robot's tour of the true map; it cannot run in a team")
-    root = seed if isinstance(seed, np.random.Generator) else np.random.default_rng(seed)
-    sim_rng, policy_rng = root.spawn(2)
-    started = time.perf_counter()
-    sim = TeamSimulator(world, config, team, sim_rng)
-    if isinstance(policy, EpisodeAwarePolicy):
-        policy.begin_episode(world, sim.config)
-    policy_rngs = [policy_rng, *policy_rng.spawn(team.robots - 1)]
-    while (index := sim.next_decision()) is not None:
-        sim.assign(index, policy.rank(sim.context(index), policy_rngs[index]))
-    return sim.result(time.perf_counter() - started)
+    loop, wall_time = drive_episode(
+        lambda rng: TeamSimulator(world, config, team, rng), world, policy, seed, team.robots
+    )
+    return loop.result(wall_time)
 
 
 @dataclass(frozen=True)

@@ -5,7 +5,7 @@ from __future__ import annotations
 import time
 from collections.abc import Callable
 from dataclasses import dataclass
-from typing import Protocol, runtime_checkable
+from typing import Protocol, TypeVar, runtime_checkable
 
 import numpy as np
 from numpy.typing import NDArray
@@ -83,6 +83,107 @@ def decision_context(sim: ExplorationSimulator) -> DecisionContext:
     return DecisionContext(cand.grid, cand.frontiers, sim.pose, sim.sim_time, sim.config.lidar.max_range, cand.costmap)
 
 
+class DecisionLoop(Protocol):
+    """A simulation as the episode runner drives it: one robot (:class:`SingleRobotLoop`) or a
+    team (:class:`~frontier_rl.swarm.team.TeamSimulator`). Each guards against decisions that take
+    no simulated time in its own way (a team's robots may decide at one instant)."""
+
+    @property
+    def config(self) -> SimConfig:
+        """The settings the simulation runs with (after fitting the world)."""
+        ...
+
+    def next_decision(self) -> int | None:
+        """Run the clock until a robot must decide: its index, or None when the episode is over."""
+        ...
+
+    def context(self, index: int) -> DecisionContext:
+        """What robot ``index``'s policy sees."""
+        ...
+
+    def assign(self, index: int, ranking: Ranking) -> None:
+        """Start robot ``index`` on ``ranking``'s choice."""
+        ...
+
+
+LoopT = TypeVar("LoopT", bound=DecisionLoop)
+
+
+def drive_episode(
+    make_loop: Callable[[np.random.Generator], LoopT],
+    world: World,
+    policy: ExplorationPolicy,
+    seed: int | np.random.Generator = 0,
+    robots: int = 1,
+    on_decision: Callable[[LoopT, DecisionContext, Ranking], None] | None = None,
+) -> tuple[LoopT, float]:
+    """The episode runner of single robots and teams: ask ``policy`` at every decision of the loop
+    ``make_loop`` builds, until the loop ends. Returns the loop and the wall time (s), less the
+    hook's time, for the loop's result.
+
+    ``seed`` gives two independent streams, the simulation's (handed to ``make_loop``) and the
+    policy's; robot 0 ranks with the policy's stream and the others with streams spawned from it,
+    so the same seed gives the same episode bit for bit, and a one-robot team the single robot's.
+    ``on_decision`` is called at every decision, before the robot drives.
+    """
+    root = seed if isinstance(seed, np.random.Generator) else np.random.default_rng(seed)
+    sim_rng, policy_rng = root.spawn(2)
+    started = time.perf_counter()
+    hook_time = 0.0
+    loop = make_loop(sim_rng)
+    if isinstance(policy, EpisodeAwarePolicy):
+        policy.begin_episode(world, loop.config)
+    policy_rngs = [policy_rng, *policy_rng.spawn(robots - 1)]
+    while (index := loop.next_decision()) is not None:
+        context = loop.context(index)
+        ranking = policy.rank(context, policy_rngs[index])
+        if on_decision is not None:
+            hook_started = time.perf_counter()
+            on_decision(loop, context, ranking)
+            hook_time += time.perf_counter() - hook_started
+        loop.assign(index, ranking)
+    return loop, time.perf_counter() - started - hook_time
+
+
+class SingleRobotLoop:
+    """One robot's simulator as a :class:`DecisionLoop`."""
+
+    def __init__(self, sim: ExplorationSimulator) -> None:
+        self.sim = sim
+        self._stalled = 0  # decisions in a row that took no simulated time: a bug guard, never a hang
+
+    @property
+    def config(self) -> SimConfig:
+        """The simulator's settings."""
+        return self.sim.config
+
+    def next_decision(self) -> int | None:
+        """0 while the robot has frontiers left and time, else None."""
+        return None if self.sim.truncated or self.sim.finished else 0
+
+    def context(self, index: int) -> DecisionContext:
+        """The robot's view (:func:`decision_context`)."""
+        return decision_context(self.sim)
+
+    def assign(self, index: int, ranking: Ranking) -> None:
+        """Drive the leg ``ranking`` chooses to its end.
+
+        Raises:
+            RuntimeError: more than 1000 decisions in a row took no simulated time.
+        """
+        before = self.sim.sim_time
+        if ranking.goal is not None:
+            self.sim.go_to(*ranking.goal, ranking.weight)
+        else:
+            self.sim.execute(ranking.order, ranking.weight)
+        self._stalled = self._stalled + 1 if self.sim.sim_time == before else 0
+        if self._stalled > _MAX_STALLED_DECISIONS:
+            raise RuntimeError(
+                f"episode on {self.sim.world.name!r} stalled: {self._stalled} decisions in a row took no "
+                f"simulated time at t = {self.sim.sim_time:.1f} s"
+            )
+
+
 def run_episode(
     world: World,
     policy: ExplorationPolicy,
@@ -93,37 +194,22 @@ def run_episode(
     """Explore ``world`` with ``policy`` until no frontier is left or the sim-time cap.
 
     ``seed`` drives the sensor noise and any randomness of the policy (two independent streams
-    spawned from it), so the same seed gives the same episode bit for bit. ``on_decision`` is
-    called at every decision, before the robot drives (to record frames, log weights, ...); its
-    time is not counted in the episode's wall time.
+    spawned from it, :func:`drive_episode`), so the same seed gives the same episode bit for bit.
+    ``on_decision`` is called at every decision, before the robot drives (to record frames, log
+    weights, ...); its time is not counted in the episode's wall time.
     """
-    root = seed if isinstance(seed, np.random.Generator) else np.random.default_rng(seed)
-    sim_rng, policy_rng = root.spawn(2)
-    started = time.perf_counter()
-    hook_time = 0.0
-    sim = ExplorationSimulator(world, config, sim_rng)
-    if isinstance(policy, EpisodeAwarePolicy):
-        policy.begin_episode(world, sim.config)
-    stalled = 0  # decisions in a row that took no simulated time: a bug guard, never a hang
-    while not sim.truncated and not sim.finished:
-        if stalled > _MAX_STALLED_DECISIONS:
-            raise RuntimeError(
-                f"episode on {world.name!r} stalled: {stalled} decisions in a row took no simulated time "
-                f"at t = {sim.sim_time:.1f} s"
-            )
-        before = sim.sim_time
-        context = decision_context(sim)
-        ranking = policy.rank(context, policy_rng)
-        if on_decision is not None:
-            hook_started = time.perf_counter()
-            on_decision(sim, context, ranking)
-            hook_time += time.perf_counter() - hook_started
-        if ranking.goal is not None:
-            sim.go_to(*ranking.goal, ranking.weight)
-        else:
-            sim.execute(ranking.order, ranking.weight)
-        stalled = stalled + 1 if sim.sim_time == before else 0
-    return sim.result(time.perf_counter() - started - hook_time)
+
+    def single_robot(rng: np.random.Generator) -> SingleRobotLoop:
+        return SingleRobotLoop(ExplorationSimulator(world, config, rng))
+
+    def hook(loop: SingleRobotLoop, context: DecisionContext, ranking: Ranking) -> None:
+        assert on_decision is not None
+        on_decision(loop.sim, context, ranking)
+
+    loop, wall_time = drive_episode(
+        single_robot, world, policy, seed, on_decision=None if on_decision is None else hook
+    )
+    return loop.sim.result(wall_time)
 
 
 def warm_up(policy: ExplorationPolicy | None = None) -> None:
