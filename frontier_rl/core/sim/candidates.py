@@ -9,7 +9,8 @@ import numpy as np
 from numpy.typing import NDArray
 
 from frontier_rl.core.frontiers.blacklist import Blacklist
-from frontier_rl.core.frontiers.detection import Frontiers, detect_frontiers, unknown_beside
+from frontier_rl.core.frontiers.detection import Frontiers, detect_frontiers
+from frontier_rl.core.frontiers.fringe import unknown_beside
 from frontier_rl.core.navigation.astar import SearchScratch
 from frontier_rl.core.navigation.costmap import Costmap
 from frontier_rl.core.navigation.thin_walls import thin_walls

@@ -2,10 +2,9 @@
 
 :class:`ExplorationSimulator` is a state machine with one entry point per decision, so that an
 episode runner and a Gymnasium env drive it the same way: :meth:`candidates` gives the current
-frontiers, :meth:`execute` drives to the first of a ranked list that can be planned to (or
-:meth:`go_to` to any point), simulating LiDAR, mapping and navigation until the leg ends. The
-drive itself is a :class:`~frontier_rl.core.sim.leg.Leg`; the record, an
-:class:`~frontier_rl.core.sim.episode_log.EpisodeLog`.
+frontiers, :meth:`execute` drives to the first of a ranked list that can be planned to (or :meth:`go_to`
+to any point), simulating LiDAR, mapping and navigation until the leg ends. The drive itself is a
+:class:`~frontier_rl.core.sim.leg.Leg`; the record, an :class:`~frontier_rl.core.sim.episode_log.EpisodeLog`.
 """
 
 from __future__ import annotations
@@ -17,7 +16,8 @@ import numpy as np
 from numpy.typing import NDArray
 
 from frontier_rl.core.frontiers.blacklist import Blacklist
-from frontier_rl.core.frontiers.detection import Frontiers, count_fringe
+from frontier_rl.core.frontiers.detection import Frontiers
+from frontier_rl.core.frontiers.fringe import count_fringe
 from frontier_rl.core.mapping.mapper import LogOddsMapper
 from frontier_rl.core.navigation.astar import SearchScratch
 from frontier_rl.core.navigation.costmap import nearest_cell

@@ -10,7 +10,8 @@ import pytest
 from numpy.typing import NDArray
 from scipy import ndimage
 
-from frontier_rl.core.frontiers.detection import Frontiers, count_fringe, detect_frontiers, fringe_mask
+from frontier_rl.core.frontiers.detection import Frontiers, detect_frontiers
+from frontier_rl.core.frontiers.fringe import count_fringe, fringe_mask
 from frontier_rl.core.mapping.mapper import LogOddsMapper
 from frontier_rl.core.sensing.lidar import Lidar
 from frontier_rl.core.world.catalog import generate_world
