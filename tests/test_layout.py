@@ -15,7 +15,7 @@ MAX_MODULE_LINES = 400
 MAX_FUNCTION_LINES = 60
 # Modules and functions over the bounds, left for a later split (issue 16's note); none may grow.
 OVERSIZED: dict[str, int] = {}
-LONG_FUNCTIONS = {"cli.py:explore": 67, "cli.py:evaluate": 67, "core/world/worlds.py:make_world": 97,
+LONG_FUNCTIONS = {"cli.py:explore": 67, "cli.py:evaluate": 67,
                   "policies/oracle_tour.py:insertion_cover": 63, "policies/oracle_tour.py:plan_coverage_tour": 61,
                   "rl/train.py:train": 69}  # fmt: skip
 

@@ -202,14 +202,12 @@ def make_world(
     Args:
         grid: the map; its free cells 4-connected to the start stay free, all else becomes occupied.
         name: world name.
-        start: start pose (m, m, rad); when ``None`` one is drawn with ``rng``: a uniform cell with
-            clearance >= robot_radius + 0.05 m in the largest reachable region, heading uniform
-            in [-pi, pi).
+        start: start pose (m, m, rad), its heading wrapped into [-pi, pi); when ``None`` one is
+            drawn with ``rng``: a uniform cell with clearance >= robot_radius + 0.05 m in the
+            largest reachable region, heading uniform in [-pi, pi).
         rng: generator for the random start (required when ``start`` is ``None``).
         robot_radius: robot footprint radius (m).
         sensor_range: range (m) within which the robot's map learns cells.
-
-    A given start's heading is wrapped into [-pi, pi).
 
     Raises:
         ConfigError: ``start`` and ``rng`` both missing, or a non-positive radius or range.
@@ -217,22 +215,12 @@ def make_world(
             cell with room for the robot, a start outside the grid, in a wall, too close to one or
             with a non-finite or absurd heading, or nothing to explore.
     """
-    if not (math.isfinite(robot_radius) and robot_radius > 0):
-        raise ConfigError(f"robot_radius must be a positive number of metres, got {robot_radius!r}")
-    if not (math.isfinite(sensor_range) and sensor_range > 0):
-        raise ConfigError(f"sensor_range must be a positive number of metres, got {sensor_range!r}")
-    if start is None and rng is None:
-        raise ConfigError(f"world {name!r}: pass a start pose or an rng to draw one (got start=None, rng=None)")
+    _check_arguments(name, start, rng, robot_radius, sensor_range)
     res = grid.resolution
-    free_all = grid.data == CellState.FREE
-    rows, cols = np.flatnonzero(free_all.any(axis=1)), np.flatnonzero(free_all.any(axis=0))
-    if rows.size == 0:
-        raise MapError("map has no free cell with clearance for the robot: it has no free cell at all")
-    cell = None if start is None else _check_start(grid, start)
+    free, (top, left) = _free_window(grid)
+    if start is not None:
+        _check_start(grid, start)
     check_resolution(res, f"world {_short(repr(name))}: cell size", robot_radius, sensor_range)
-    # Work on the free cells' bounding box with a one-cell non-free rim (cheap on big, mostly unknown maps).
-    top, left = int(rows[0]) - 1, int(cols[0]) - 1
-    free = np.pad(free_all[rows[0] : rows[-1] + 1, cols[0] : cols[-1] + 1], 1)
     fits = _roomy(free, robot_radius / res)
     if not fits.any():
         raise MapError(
@@ -240,6 +228,72 @@ def make_world(
             f"roomiest free cell {_clearance(free, res).max():.3f} m)"
         )
     parts, _ = ndimage.label(fits)
+    local, start = _place_start(grid, free, (fits, parts), (top, left), start, rng, robot_radius)
+    # A digital disc is 4-connected, so clearances inside the start's free component do not change
+    # when the other components become walls: nothing needs recomputing.
+    components, _ = ndimage.label(free)
+    inside = components == components[local]
+    explorable_local = visible_from(inside, parts == parts[local], sensor_range / res)
+    data, explorable = _full_size(grid.shape, (top, left), inside, explorable_local)
+    if not explorable.any():
+        raise MapError(
+            f"world {_short(repr(name))} has nothing to explore: no free cell is in line of sight "
+            f"within {sensor_range:g} m of a place the robot can reach"
+        )
+    start = checked_pose(start, _start_name(start))
+    return World(name, OccupancyGrid(data, res, grid.origin), start, explorable, robot_radius, sensor_range)
+
+
+def _free_window(grid: OccupancyGrid) -> tuple[NDArray[np.bool_], tuple[int, int]]:
+    """The free cells' bounding box with a one-cell non-free rim (cheap on big, mostly unknown
+    maps), and the grid cell of its (0, 0) corner (which may lie one cell outside the grid)."""
+    free_all = grid.data == CellState.FREE
+    rows, cols = np.flatnonzero(free_all.any(axis=1)), np.flatnonzero(free_all.any(axis=0))
+    if rows.size == 0:
+        raise MapError("map has no free cell with clearance for the robot: it has no free cell at all")
+    return np.pad(free_all[rows[0] : rows[-1] + 1, cols[0] : cols[-1] + 1], 1), (int(rows[0]) - 1, int(cols[0]) - 1)
+
+
+def _check_arguments(
+    name: str, start: Pose | None, rng: np.random.Generator | None, robot_radius: float, sensor_range: float
+) -> None:
+    if not (math.isfinite(robot_radius) and robot_radius > 0):
+        raise ConfigError(f"robot_radius must be a positive number of metres, got {robot_radius!r}")
+    if not (math.isfinite(sensor_range) and sensor_range > 0):
+        raise ConfigError(f"sensor_range must be a positive number of metres, got {sensor_range!r}")
+    if start is None and rng is None:
+        raise ConfigError(f"world {name!r}: pass a start pose or an rng to draw one (got start=None, rng=None)")
+
+
+def _full_size(
+    shape: tuple[int, int], corner: tuple[int, int], inside: NDArray[np.bool_], explorable: NDArray[np.bool_]
+) -> tuple[NDArray[np.int8], NDArray[np.bool_]]:
+    """The world's grid (``inside`` free, all else occupied) and explorable cells at the map's
+    full ``shape``, read-only, from the padded window whose (1, 1) is cell ``corner`` + (1, 1)."""
+    top, left = corner
+    window = (slice(top + 1, top + inside.shape[0] - 1), slice(left + 1, left + inside.shape[1] - 1))
+    data = np.full(shape, CellState.OCCUPIED, dtype=np.int8)
+    data[window][inside[1:-1, 1:-1]] = CellState.FREE
+    full = np.zeros(shape, dtype=np.bool_)
+    full[window] = explorable[1:-1, 1:-1]
+    data.flags.writeable = False
+    full.flags.writeable = False
+    return data, full
+
+
+def _place_start(
+    grid: OccupancyGrid,
+    free: NDArray[np.bool_],
+    room: tuple[NDArray[np.bool_], NDArray[np.int32]],
+    corner: tuple[int, int],
+    start: Pose | None,
+    rng: np.random.Generator | None,
+    robot_radius: float,
+) -> tuple[tuple[int, int], Pose]:
+    """The start's cell in the padded window ``free`` whose (1, 1) is grid cell ``corner`` + (1, 1),
+    and the start pose: ``start`` checked for room, or one drawn with ``rng`` on a roomy cell of
+    the largest region. ``room`` holds the cells the robot fits on and their regions (labels)."""
+    res, (top, left), (fits, parts) = grid.resolution, corner, room
     if start is None:
         assert rng is not None
         roomy = _roomy(free, (robot_radius + START_MARGIN_M) / res)
@@ -251,31 +305,12 @@ def make_world(
             )
         local = _random_cell(rng, roomy, parts)
         x, y = grid.cell_to_world(local[0] + top, local[1] + left)
-        start = Pose(x, y, float(rng.uniform(-math.pi, math.pi)))
-    else:
-        assert cell is not None
-        local = (cell[0] - top, cell[1] - left)
-        if not fits[local]:
-            raise MapError(
-                f"{_start_name(start)} is too close to a wall: clearance "
-                f"{_clearance(free, res)[local]:.3f} m < robot radius {robot_radius:.3f} m"
-            )
-    # A digital disc is 4-connected, so clearances inside the start's free component do not change
-    # when the other components become walls: nothing needs recomputing.
-    components, _ = ndimage.label(free)
-    inside = components == components[local]
-    explorable_local = visible_from(inside, parts == parts[local], sensor_range / res)
-    window = (slice(top + 1, top + free.shape[0] - 1), slice(left + 1, left + free.shape[1] - 1))
-    data = np.full(grid.shape, CellState.OCCUPIED, dtype=np.int8)
-    data[window][inside[1:-1, 1:-1]] = CellState.FREE
-    explorable = np.zeros(grid.shape, dtype=np.bool_)
-    explorable[window] = explorable_local[1:-1, 1:-1]
-    if not explorable.any():
+        return local, Pose(x, y, float(rng.uniform(-math.pi, math.pi)))
+    row, col = grid.world_to_cell(start.x, start.y)
+    local = (row - top, col - left)
+    if not fits[local]:
         raise MapError(
-            f"world {_short(repr(name))} has nothing to explore: no free cell is in line of sight "
-            f"within {sensor_range:g} m of a place the robot can reach"
+            f"{_start_name(start)} is too close to a wall: clearance "
+            f"{_clearance(free, res)[local]:.3f} m < robot radius {robot_radius:.3f} m"
         )
-    start = checked_pose(start, _start_name(start))
-    data.flags.writeable = False
-    explorable.flags.writeable = False
-    return World(name, OccupancyGrid(data, res, grid.origin), start, explorable, robot_radius, sensor_range)
+    return local, start
