@@ -37,6 +37,16 @@ app = typer.Typer(
 app.add_typer(benchmark_app, name="benchmark")
 
 _RES_LO, _RES_HI = resolution_bounds()
+
+# Options that several commands share
+ResolutionOption = Annotated[
+    float | None,
+    typer.Option(help=f"Cell size (m) for map files, {_RES_LO:.2g} to {_RES_HI:.3g} (the robot's radius)."),
+]
+TrustModelOption = Annotated[
+    bool, typer.Option(help="Allow learned:PATH to be an SB3 zip from elsewhere (unpickles it: runs its code).")
+]
+SimConfigOption = Annotated[Path | None, typer.Option(help="SimConfig YAML (any subset of its fields).")]
 DEMO_WORLDS = ("office", "rooms", "cluttered")
 SHIPPED_MODELS = (Path("models/model4.zip"), Path("models/model5.zip"))
 """Trained models in the repository; the demo runs them too when run from the checkout."""
@@ -114,9 +124,7 @@ def explore(
     world: Annotated[
         str, typer.Option(help="office | rooms | cluttered | a map file (ROS .yaml, Dungeon .png, HouseExpo .json)")
     ] = "office",
-    seed: Annotated[
-        int, typer.Option(help=f"Seeds the world generator, the start and the sensor noise (0 to {MAX_SEED}).")
-    ] = 0,
+    seed: Annotated[int, typer.Option(help=f"Seeds the world, the start and the sensor noise (0 to {MAX_SEED}).")] = 0,
     policy: Annotated[str, typer.Option(help=f"One of: {', '.join(POLICY_NAMES)} (W in [0, 1]).")] = THESIS_BASELINE,
     png: Annotated[Path | None, typer.Option(help="Write a picture of the episode to this .png file.")] = None,
     gif: Annotated[
@@ -124,15 +132,10 @@ def explore(
     ] = None,
     as_json: Annotated[bool, typer.Option("--json", help="Print the metrics as one JSON object.")] = False,
     start: Annotated[str | None, typer.Option(help="Start pose 'x,y[,theta]' (m, rad; |theta| <= 1e6).")] = None,
-    resolution: Annotated[
-        float | None,
-        typer.Option(help=f"Cell size (m) for map files, {_RES_LO:.2g} to {_RES_HI:.3g} (the robot's radius)."),
-    ] = None,
-    config: Annotated[Path | None, typer.Option(help="SimConfig YAML (any subset of its fields).")] = None,
+    resolution: ResolutionOption = None,
+    config: SimConfigOption = None,
     max_time: Annotated[float | None, typer.Option(help="Sim-time cap of the episode (s).")] = None,
-    trust_model: Annotated[
-        bool, typer.Option(help="Allow learned:PATH to be an SB3 zip from elsewhere (unpickles it: runs its code).")
-    ] = False,
+    trust_model: TrustModelOption = False,
     robots: Annotated[int, typer.Option(help="Team size, 1 to 8; robot 0 starts on the start pose.")] = 1,
     strategy: Annotated[
         str, typer.Option(help="Team coordination: uncoordinated | coordinated | rendezvous.")
@@ -281,15 +284,10 @@ def evaluate(
     backend: Annotated[str, typer.Option(help="serial, process or ray.")] = "process",
     ray_address: Annotated[str | None, typer.Option(help="Ray head host:port (default: a local Ray).")] = None,
     outliers: Annotated[str, typer.Option(help="Also compare without episodes above these times (s).")] = "1000,2000",
-    config: Annotated[Path | None, typer.Option(help="SimConfig YAML (any subset of its fields).")] = None,
+    config: SimConfigOption = None,
     max_time: Annotated[float | None, typer.Option(help="Sim-time cap of every episode (s).")] = None,
-    resolution: Annotated[
-        float | None,
-        typer.Option(help=f"Cell size (m) for map files, {_RES_LO:.2g} to {_RES_HI:.3g} (the robot's radius)."),
-    ] = None,
-    trust_model: Annotated[
-        bool, typer.Option(help="Allow learned:PATH to be an SB3 zip from elsewhere (unpickles it: runs its code).")
-    ] = False,
+    resolution: ResolutionOption = None,
+    trust_model: TrustModelOption = False,
     progress: Annotated[bool, typer.Option(help="Show a progress bar.")] = True,
     robots: Annotated[
         str, typer.Option(help="Team sizes to run every method with, e.g. 1,2,4 (a method POLICY@N runs as given).")
@@ -298,17 +296,16 @@ def evaluate(
         str, typer.Option(help="Team strategies for sizes above 1: uncoordinated, coordinated, rendezvous (a list).")
     ] = "uncoordinated",
     comm_range: Annotated[
-        float | None, typer.Option(help="Communication range (m) of the teams (default: unlimited; rendezvous 2 m).")
+        float | None, typer.Option(help="Teams' communication range (m); default unlimited, rendezvous 2.")
     ] = None,
     fail: Annotated[
         list[str] | None, typer.Option(help="ROBOT@SECONDS: a failure in every team episode (repeatable).")
     ] = None,
     pictures: Annotated[int, typer.Option(help="Draw each method's first episode on this many worlds.")] = 3,
 ) -> None:
-    """The paired experiment: every method on the same worlds, starts and noise; statistics against
-    the baseline, plots, and a Markdown and HTML report in --out. With --robots, teams of each size
-    run each method, and the report adds exploration time against team size, overlap and per-robot
-    coverage."""
+    """The paired experiment: every method on the same worlds, starts and noise; statistics against the
+    baseline, plots, and a Markdown and HTML report in --out. With --robots, teams of each size run each
+    method, and the report adds exploration time against team size, overlap and per-robot coverage."""
     from frontier_rl.evaluation.evaluate import evaluate as run_evaluation
     from frontier_rl.evaluation.evaluate import parse_thresholds
     from frontier_rl.evaluation.experiment import ORACLE, ExperimentConfig, expand_worlds, team_methods
@@ -330,9 +327,7 @@ def evaluate(
         report = run_evaluation(experiment, out, backend, workers, ray_address, parse_thresholds(outliers), progress,
                                 command, pictures=_count("--pictures", pictures))  # fmt: skip
     except KeyboardInterrupt:
-        err_console.print(
-            Text(one_line(f"interrupted: finished episodes are saved in {out}/; rerun the same command to resume"))
-        )
+        err_console.print(Text(one_line(f"interrupted: finished episodes are saved in {out}/; rerun to resume")))
         raise typer.Exit(130) from None
     _print_summary(report, f"{episodes} episode(s) per world on {', '.join(experiment.worlds)}", baseline)
     stdout_console().print(f"report: {report} and {report.with_suffix('.html')}")

@@ -250,7 +250,6 @@ def insertion_cover(
     route (candidate indices) and the symmetric matrix (m) of path costs between its nodes (pairs
     farther apart than searched: a huge cost)."""
     indptr, indices = csr
-    n = cand.shape[0]
     covered = np.zeros(costmap.grid.data.size, np.bool_)
     covered[indices[indptr[0] : indptr[1]]] = True
     bound = np.diff(indptr).astype(np.float64)  # upper bounds of the gains: they only shrink
@@ -258,18 +257,7 @@ def insertion_cover(
     route = [0]
     rows = [path_costs(costmap, cand[:1], cand, max_m=reach_m)[0]]  # from each route node to every candidate
     while True:
-        costs = np.array(rows)
-        insert = costs[-1].copy()  # after the last node
-        place = np.full(n, len(route))
-        if len(route) > 1:
-            edges = costs[np.arange(len(route) - 1), route[1:]]
-            with np.errstate(invalid="ignore"):  # inf - inf where an edge was never searched
-                between = costs[:-1] + costs[1:] - edges[:, None]
-            between[~np.isfinite(edges)] = np.inf  # no detour is known for an edge of unknown length
-            best_between = between.argmin(axis=0)
-            better = between[best_between, np.arange(n)] < insert
-            insert[better] = between[best_between, np.arange(n)][better]
-            place[better] = best_between[better] + 1
+        insert, place = _cheapest_insertion(np.array(rows), route)
         denom = np.maximum(insert, 0.0) + detour_m
         # a candidate no route node has a known path to yet cannot be placed: it waits for the wider search
         reachable = np.isfinite(insert)
@@ -297,6 +285,53 @@ def insertion_cover(
     back = there.T
     dist = np.where(np.isfinite(there) & np.isfinite(back), 0.5 * (there + back), np.fmin(there, back))
     return route, np.where(np.isfinite(dist), dist, _FAR)
+
+
+def _cheapest_insertion(costs: NDArray[np.float64], route: list[int]) -> tuple[NDArray[np.float64], NDArray[np.int64]]:
+    """Per candidate, the least path cost (m) its insertion into ``route`` adds, and where it goes
+    (the index in the route); ``costs`` holds a row of path costs from each route node."""
+    n = costs.shape[1]
+    insert = costs[-1].copy()  # after the last node
+    place = np.full(n, len(route))
+    if len(route) > 1:
+        edges = costs[np.arange(len(route) - 1), route[1:]]
+        with np.errstate(invalid="ignore"):  # inf - inf where an edge was never searched
+            between = costs[:-1] + costs[1:] - edges[:, None]
+        between[~np.isfinite(edges)] = np.inf  # no detour is known for an edge of unknown length
+        best_between = between.argmin(axis=0)
+        better = between[best_between, np.arange(n)] < insert
+        insert[better] = between[best_between, np.arange(n)][better]
+        place[better] = best_between[better] + 1
+    return insert, place
+
+
+def _drop_weak_viewpoints(
+    order: NDArray[np.int64],
+    route: list[int],
+    csr: tuple[NDArray[np.int64], NDArray[np.int32]],
+    dist: NDArray[np.float64],
+    min_gain: int,
+    n_cells: int,
+) -> tuple[NDArray[np.int64], list[NDArray[np.int32]], NDArray[np.bool_]]:
+    """What each viewpoint adds to the start and the ones before it on the tour ``order``;
+    re-ordering can leave one adding too little: it is dropped and the rest re-ordered. Returns
+    the order kept, each viewpoint's new cells (flat indices) and every cell seen."""
+    indptr, indices = csr
+    while True:
+        seen = np.zeros(n_cells, np.bool_)
+        targets: list[NDArray[np.int32]] = []
+        keep = []
+        for pos, k in enumerate(order.tolist()):
+            vis = indices[indptr[route[k]] : indptr[route[k] + 1]]
+            new = vis[~seen[vis]]
+            seen[vis] = True
+            if pos == 0 or new.size >= min_gain:
+                keep.append(pos)
+                targets.append(new)
+        if len(keep) == order.size:
+            return order, targets, seen
+        order = order[keep]
+        order = order[two_opt(np.arange(order.size, dtype=np.int64), dist[np.ix_(order, order)])]
 
 
 def plan_coverage_tour(
@@ -332,23 +367,7 @@ def plan_coverage_tour(
     min_gain = max(int(min_gain_cells), 1)
     route, dist = insertion_cover(costmap, cand, (indptr, indices), min_gain, detour_m, reach_m)
     order = two_opt(np.arange(len(route), dtype=np.int64), dist)
-    # What each viewpoint adds to the start and the ones before it on the tour; re-ordering can
-    # leave one adding too little: it is dropped and the rest re-ordered.
-    while True:
-        seen = np.zeros(grid.data.size, np.bool_)
-        targets: list[NDArray[np.int32]] = []
-        keep = []
-        for pos, k in enumerate(order.tolist()):
-            vis = indices[indptr[route[k]] : indptr[route[k] + 1]]
-            new = vis[~seen[vis]]
-            seen[vis] = True
-            if pos == 0 or new.size >= min_gain:
-                keep.append(pos)
-                targets.append(new)
-        if len(keep) == order.size:
-            break
-        order = order[keep]
-        order = order[two_opt(np.arange(order.size, dtype=np.int64), dist[np.ix_(order, order)])]
+    order, targets, seen = _drop_weak_viewpoints(order, route, (indptr, indices), dist, min_gain, grid.data.size)
     tour_cells = cand[np.array(route)[order[1:]]]
     coverable = np.zeros(grid.data.size, np.bool_)
     coverable[indices] = True

@@ -92,6 +92,25 @@ def build_model(config: TrainConfig, env: object, out: Path) -> BaseAlgorithm:
     return ALGORITHMS[config.algo](policy_cls, env, **common)  # type: ignore[arg-type]
 
 
+def _training_envs(config: TrainConfig, out: Path, start: int, env_kwargs: dict[str, Any]) -> VecMonitor:
+    """``config.n_envs`` training envs (subprocesses when more than one), logged to ``out``."""
+    vec_cls = SubprocVecEnv if config.n_envs > 1 else DummyVecEnv
+    envs = vec_cls([partial(make_env, config.env_id, **env_kwargs) for _ in range(config.n_envs)])
+    # a resumed run must not replay the episodes it already saw: offset the env seeds by the start step
+    envs.seed(config.seed + start)
+    return VecMonitor(envs, str(out / f"monitor_{start}"), info_keywords=("sim_time_s", "coverage"))
+
+
+def _restore_checkpoint(model: BaseAlgorithm, out: Path, start: int) -> None:
+    """Load the last checkpoint of ``out`` (``start`` steps) into ``model``: weights and optimizer,
+    no unpickling, the file's size bounded before SB3 reads it."""
+    checkpoint = latest_checkpoint(out)
+    assert checkpoint is not None
+    check_model_zip(checkpoint[0])
+    model.set_parameters(str(checkpoint[0]), device="cpu")
+    model.num_timesteps = start
+
+
 def train(
     config: TrainConfig,
     out: Path,
@@ -110,18 +129,10 @@ def train(
     frontier_rl.envs.register_envs()
     env_kwargs: dict[str, Any] = {"worlds": config.worlds, "reward": config.reward}
     env_kwargs["max_decisions"] = config.max_decisions
-    vec_cls = SubprocVecEnv if config.n_envs > 1 else DummyVecEnv
-    envs = vec_cls([partial(make_env, config.env_id, **env_kwargs) for _ in range(config.n_envs)])
-    # a resumed run must not replay the episodes it already saw: offset the env seeds by the start step
-    envs.seed(config.seed + start)
-    venv = VecMonitor(envs, str(out / f"monitor_{start}"), info_keywords=("sim_time_s", "coverage"))
+    venv = _training_envs(config, out, start, env_kwargs)
     model = build_model(config, venv, out)
     if start:
-        checkpoint = latest_checkpoint(out)
-        assert checkpoint is not None
-        check_model_zip(checkpoint[0])  # bounded before SB3 reads it
-        model.set_parameters(str(checkpoint[0]), device="cpu")  # weights and optimizer, no unpickling
-        model.num_timesteps = start
+        _restore_checkpoint(model, out, start)
     callbacks: list[BaseCallback] = []
     if config.checkpoint_every:
         every = max(config.checkpoint_every // config.n_envs, 1)
