@@ -48,22 +48,33 @@ def max_block_factor(resolution: float, robot_radius: float) -> int:
     return max(1, (2 * k + 2) // 2)
 
 
+BlockSource = tuple[NDArray[np.bool_], NDArray[np.float64], NDArray[np.int8], NDArray[np.float64], float, float, int]
+"""What a block is worked out from: the cells' padded open mask and clearance (cells), the map's
+states, the inflation table and radius (cells), the unknown cells' extra cost and the block edge f."""
+
+
+TILE = 16
+"""Blocks are worked out in tiles of TILE × TILE blocks, when the search first comes next to one
+(one at a time would cost more in calls than it saves)."""
+
+
 @nb.njit(cache=True)
-def _blocks(
-    open_padded: NDArray[np.bool_],
-    clearance_padded: NDArray[np.float64],
-    costs: tuple[NDArray[np.int8], NDArray[np.float64], float, float],
-    f: int,
-) -> tuple[NDArray[np.bool_], NDArray[np.float64]]:
-    """The padded open mask and step cost factors of the map on blocks of ``f`` × ``f`` cells:
-    a block is open when any of its cells is, at the least factor of its open cells."""
-    state, table, inflation_radius, unknown_cost = costs
+def _fill_tile(
+    block: int, open_b: NDArray[np.bool_], cost_b: NDArray[np.float64], pending: NDArray[np.bool_], src: BlockSource
+) -> None:
+    """Work out the tile of TILE × TILE blocks that holds ``block`` (a flat index into the padded
+    block grid ``open_b``): a block is open when any of its f × f cells is, at the least step cost
+    factor of its open cells; the grid's rim stays closed. Its blocks are no longer ``pending``."""
+    open_padded, clearance_padded, state, table, inflation_radius, unknown_cost, f = src
     rows, cols = state.shape
-    brows, bcols = -(-rows // f), -(-cols // f)
-    open_b = np.zeros((brows + 2, bcols + 2), np.bool_)
-    cost_b = np.ones((brows + 2, bcols + 2))
-    for br in range(brows):
-        for bc in range(bcols):
+    prows, pcols = open_b.shape
+    top, left = (block // pcols) // TILE * TILE, (block % pcols) // TILE * TILE
+    for pr in range(top, min(top + TILE, prows)):
+        for pc in range(left, min(left + TILE, pcols)):
+            pending[pr, pc] = False
+            if pr == 0 or pc == 0 or pr == prows - 1 or pc == pcols - 1:
+                continue
+            br, bc = pr - 1, pc - 1
             least = np.inf
             for r in range(br * f, min(br * f + f, rows)):
                 for c in range(bc * f, min(bc * f + f, cols)):
@@ -74,33 +85,38 @@ def _blocks(
                 if least == 1.0:  # the least a step can cost
                     break
             if least < np.inf:
-                open_b[br + 1, bc + 1] = True
-                cost_b[br + 1, bc + 1] = least
-    return open_b, cost_b
+                open_b[pr, pc] = True
+                cost_b[pr, pc] = least
 
 
 @nb.njit(cache=True)
 def _group_costs(  # noqa: C901 (numba kernel: Dijkstra with its neighbour steps written out)
     open_padded: NDArray[np.bool_],
     cost_padded: NDArray[np.float64],
+    pending: NDArray[np.bool_],
+    src: BlockSource,
     source: int,
-    member_cells: NDArray[np.int64],
-    member_groups: NDArray[np.int64],
+    members: tuple[NDArray[np.int64], NDArray[np.int64]],
     reach: int,
     n_groups: int,
     want: int,
+    max_cost: float,
 ) -> tuple[NDArray[np.float64], bool]:
     """Path cost (cells) from ``source`` (an unpadded flat index) to each group: the least cost of
-    any cell within ``reach`` cells (a square) of one of its members (unpadded flat indices, with
-    their groups, a group's members one after another); inf for a group not reached. Dial's
-    bucket queue of width 1 as in
-    :func:`~frontier_rl.core.navigation.path_costs.path_costs` (every step costs at least 1), which
-    stops after the bucket in which ``want`` groups were reached: those, and any tied with them,
-    are exact. The flag is True when the search ran out of cells instead."""
+    any cell within ``reach`` cells (a square) of one of its members (``members``: unpadded flat
+    indices and their groups, a group's members one after another); inf for a group not reached.
+    Dial's bucket queue of width 1 as in :func:`~frontier_rl.core.navigation.path_costs.path_costs`
+    (every step costs at least 1 and at most ``max_cost``), which stops after the bucket in which
+    ``want`` groups were reached: those, and any tied with them, are exact. On blocks, ``pending``
+    marks the blocks not yet worked out from ``src``; a tile of them is worked out when the search
+    first comes next to one (:func:`_fill_tile`), so its work does not grow with the map. The flag is True when
+    the search ran out of cells instead."""
+    member_cells, member_groups = members
     prows, pcols = open_padded.shape
     rows, cols = prows - 2, pcols - 2
     open_ok = open_padded.reshape(-1)
     cost = cost_padded.reshape(-1)
+    todo = pending.reshape(-1)
     first = np.full(open_ok.size, -1, np.int64)  # per cell its first group entry, the rest in ``also``
     n_entries = member_cells.shape[0] * (2 * reach + 1) ** 2
     also = np.empty(n_entries, np.int64)
@@ -119,7 +135,7 @@ def _group_costs(  # noqa: C901 (numba kernel: Dijkstra with its neighbour steps
     offsets = np.array([-pcols, pcols, -1, 1, -pcols - 1, -pcols + 1, pcols - 1, pcols + 1])
     side_row = np.array([0, 0, 0, 0, -pcols, -pcols, pcols, pcols])
     side_col = np.array([0, 0, 0, 0, -1, 1, -1, 1])
-    n_buckets = int(math.ceil(_SQRT2 * max(cost.max(), 1.0))) + 2  # a step spans fewer buckets
+    n_buckets = int(math.ceil(_SQRT2 * max(max_cost, 1.0))) + 2  # a step spans fewer buckets
     head = np.full(n_buckets, -1, np.int64)
     node = np.empty(8 * open_ok.size + 1, np.int64)  # entry pool: one entry per improvement
     link = np.empty(8 * open_ok.size + 1, np.int64)
@@ -151,6 +167,10 @@ def _group_costs(  # noqa: C901 (numba kernel: Dijkstra with its neighbour steps
                 found += 1
             best[group] = min(best[group], g[cur])
             j = also[j]
+        if todo.size:  # on blocks: the neighbours (the diagonals' sides among them) worked out first
+            for k in range(8):
+                if todo[cur + offsets[k]]:
+                    _fill_tile(cur + offsets[k], open_padded, cost_padded, pending, src)
         for k in range(8):
             nxt = cur + offsets[k]
             if closed[nxt] or not open_ok[nxt]:
@@ -196,17 +216,20 @@ def group_path_costs(
     cells = np.ascontiguousarray(member_cells, np.int64).reshape(-1)
     groups = np.ascontiguousarray(member_groups, np.int64).reshape(-1)
     f = block_factor(grid.shape, grid.resolution, robot_radius)
+    src: BlockSource = (costmap.open_padded, costmap.clearance_padded, grid.data, costmap.inflation_table,
+                        costmap.inflation_radius, costmap.unknown_cost, f)  # fmt: skip
     if f == 1:
-        open_p, cost_p = costmap.open_padded, costmap.cost_padded
-        source = start[0] * grid.width + start[1]
-    else:
-        costs = (grid.data, costmap.inflation_table, costmap.inflation_radius, costmap.unknown_cost)
-        open_p, cost_p = _blocks(costmap.open_padded, costmap.clearance_padded, costs, f)
-        bcols = open_p.shape[1] - 2
+        open_p, cost_p, pending = costmap.open_padded, costmap.cost_padded, np.zeros((0, 0), np.bool_)
+        source, max_cost = start[0] * grid.width + start[1], float(cost_p.max())
+    else:  # blocks, each worked out when the search first touches it
+        shape = (-(-grid.shape[0] // f) + 2, -(-grid.shape[1] // f) + 2)
+        open_p, cost_p, pending = np.zeros(shape, np.bool_), np.ones(shape), np.ones(shape, np.bool_)
+        bcols = shape[1] - 2
         rows, cols = np.divmod(cells, grid.width)
         cells = (rows // f) * bcols + cols // f  # repeats are dropped by the search's entry lists
         source = (start[0] // f) * bcols + start[1] // f
         reach = math.ceil(reach / f)
-    best, exhausted = _group_costs(open_p, cost_p, int(source), cells, groups, int(reach), int(n_groups),
-                                   n_groups if want is None else int(want))  # fmt: skip
+        max_cost = 1.0 + float(costmap.inflation_table.max()) + costmap.unknown_cost  # bounds every block's factor
+    best, exhausted = _group_costs(open_p, cost_p, pending, src, int(source), (cells, groups), int(reach),
+                                   int(n_groups), n_groups if want is None else int(want), max_cost)  # fmt: skip
     return best * (f * grid.resolution), bool(exhausted)

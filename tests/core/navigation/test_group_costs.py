@@ -156,3 +156,40 @@ def test_a_start_off_the_map_or_no_groups() -> None:
     assert exhausted and costs[0] == math.inf
     costs, _ = group_path_costs(costmap, (5, 5), np.zeros(0, np.int64), np.zeros(0, np.int64), 0, REACH, RADIUS)
     assert costs.shape == (0,)
+
+
+def test_blocks_are_worked_out_only_where_the_search_goes(monkeypatch: pytest.MonkeyPatch) -> None:
+    """A 1,000 x 1,000 map whose start is in a walled 100 x 100 room: the search works out the
+    room's tiles of blocks and their neighbours, not the map; the costs are those of a search that
+    works out every block first."""
+    data = np.full((1000, 1000), CellState.FREE, np.int8)
+    data[100:104, 100:204] = data[200:204, 100:204] = CellState.OCCUPIED
+    data[100:204, 100:104] = data[100:204, 200:204] = CellState.OCCUPIED
+    costmap = costmap_of(data)
+    cells = np.array([150 * 1000 + 190, 900 * 1000 + 900], np.int64)
+    worked: list[float] = []
+    search = group_costs._group_costs
+
+    def spy(*args: object) -> tuple[NDArray[np.float64], bool]:
+        pending = args[2]
+        assert isinstance(pending, np.ndarray)
+        pending_before = pending.copy()
+        result = search(*args)  # type: ignore[arg-type]
+        worked.append(float(np.mean(pending_before & ~pending)))
+        return result
+
+    monkeypatch.setattr(group_costs, "_group_costs", spy)
+    costs, exhausted = group_path_costs(costmap, (150, 150), cells, np.array([0, 1]), 2, REACH, RADIUS)
+    assert exhausted and math.isfinite(costs[0]) and costs[1] == math.inf
+    assert 0 < worked[0] < 0.03  # the room is 1 % of the map
+
+    def eager(*args: object) -> tuple[NDArray[np.float64], bool]:
+        open_p, cost_p, pending, src = args[:4]
+        for block in range(pending.size):  # type: ignore[attr-defined]
+            if pending.reshape(-1)[block]:  # type: ignore[attr-defined]
+                group_costs._fill_tile(block, open_p, cost_p, pending, src)  # type: ignore[arg-type]
+        return search(*args)  # type: ignore[arg-type]
+
+    monkeypatch.setattr(group_costs, "_group_costs", eager)
+    every, _ = group_path_costs(costmap, (150, 150), cells, np.array([0, 1]), 2, REACH, RADIUS)
+    np.testing.assert_array_equal(costs, every)
