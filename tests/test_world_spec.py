@@ -34,9 +34,10 @@ def test_a_stored_start_is_kept_unless_the_caller_draws_one(shared_maps: Path) -
     assert resolve_world(str(dungeon), 0).start == stored == resolve_world(str(dungeon), 5).start
     drawn = {resolve_world(str(dungeon), seed, stored_start=False).start for seed in range(4)}
     assert stored not in drawn and len(drawn) == 4
-    assert resolve_world(str(dungeon), 2, stored_start=False).start == resolve_world(
-        str(dungeon), 2, stored_start=False
-    ).start  # drawn with the seed
+    assert (
+        resolve_world(str(dungeon), 2, stored_start=False).start
+        == resolve_world(str(dungeon), 2, stored_start=False).start
+    )  # drawn with the seed
 
 
 def _room(path: Path, wall_col: int) -> Path:
