@@ -23,7 +23,6 @@ import statistics
 import time
 from collections.abc import Callable
 from dataclasses import asdict, dataclass
-from functools import partial
 
 import numba
 import numpy as np
@@ -252,10 +251,18 @@ def bench_decisions(n_states: int, repeats: int, model: Path) -> list[Row]:
                     ctx = DecisionContext(grid, cand.frontiers, pose, 0.0, config.lidar.max_range, cand.costmap)
                     policy.rank(ctx, np.random.default_rng(0))
 
-        # timed() warms each up once per call: the pair runs back to back, on a machine in one state
-        times = [[timed(partial(decide, p), 1)[0] for p in policies.values()] for _ in range(repeats)]
-        ms = {name: 1e3 * statistics.median(t[i] for t in times) / len(states) for i, name in enumerate(policies)}
-        ratio = statistics.median(t[1] / t[0] for t in times)
+        for policy in policies.values():
+            decide(policy)  # warm-up
+        times: list[dict[str, float]] = []
+        for k in range(repeats):  # the pair back to back, on a machine in one state; the order alternates
+            pair: dict[str, float] = {}
+            for name in list(policies)[:: 1 if k % 2 == 0 else -1]:
+                start = time.perf_counter()
+                decide(policies[name])
+                pair[name] = time.perf_counter() - start
+            times.append(pair)
+        ms = {name: 1e3 * statistics.median(t[name] for t in times) / len(states) for name in policies}
+        ratio = statistics.median(t["model 5"] / t["nearest"] for t in times)
         large = world.grid.shape[0] * world.grid.shape[1] >= 1_000_000  # the bound is for large maps
         rows += [
             Row(f"`nearest` decision, {label} (mean of {len(states)} map states)", ms["nearest"], "ms",

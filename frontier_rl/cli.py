@@ -46,6 +46,8 @@ ResolutionOption = Annotated[
 TrustModelOption = Annotated[
     bool, typer.Option(help="Allow learned:PATH to be an SB3 zip from elsewhere (unpickles it: runs its code).")
 ]
+_INTERRUPTED = "interrupted: finished episodes are saved in {out}/; rerun the same command to resume"
+
 SimConfigOption = Annotated[Path | None, typer.Option(help="SimConfig YAML (any subset of its fields).")]
 DEMO_WORLDS = ("office", "rooms", "cluttered")
 SHIPPED_MODELS = (Path("models/model4.zip"), Path("models/model5.zip"))
@@ -296,7 +298,7 @@ def evaluate(
         str, typer.Option(help="Team strategies for sizes above 1: uncoordinated, coordinated, rendezvous (a list).")
     ] = "uncoordinated",
     comm_range: Annotated[
-        float | None, typer.Option(help="Teams' communication range (m); default unlimited, rendezvous 2.")
+        float | None, typer.Option(help="Teams' communication range (m); default unlimited, rendezvous 2 m.")
     ] = None,
     fail: Annotated[
         list[str] | None, typer.Option(help="ROBOT@SECONDS: a failure in every team episode (repeatable).")
@@ -327,7 +329,7 @@ def evaluate(
         report = run_evaluation(experiment, out, backend, workers, ray_address, parse_thresholds(outliers), progress,
                                 command, pictures=_count("--pictures", pictures))  # fmt: skip
     except KeyboardInterrupt:
-        err_console.print(Text(one_line(f"interrupted: finished episodes are saved in {out}/; rerun to resume")))
+        err_console.print(Text(one_line(_INTERRUPTED.format(out=out))))
         raise typer.Exit(130) from None
     _print_summary(report, f"{episodes} episode(s) per world on {', '.join(experiment.worlds)}", baseline)
     stdout_console().print(f"report: {report} and {report.with_suffix('.html')}")

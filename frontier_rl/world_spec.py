@@ -6,7 +6,7 @@ from __future__ import annotations
 
 import hashlib
 import math
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from functools import lru_cache
 from pathlib import Path
 
@@ -73,16 +73,29 @@ def resolve_world(
 
 
 def read_map(path: str, resolution: float | None = None) -> LoadedMap:
-    """The map file ``path`` (:func:`~frontier_rl.io.load_map`), read once per process and
-    version of the file (its size and modification time): reading can take longer than an episode."""
+    """The map file ``path`` (:func:`~frontier_rl.io.load_map`), read once per process and version
+    of the file (its resolved path, size and modification time; for a ROS map, the YAML's: an
+    image rewritten without its YAML is not noticed), the last 128 kept: reading can take longer
+    than an episode. Errors name ``path`` as given."""
     resolved = Path(path).resolve()
     stat = resolved.stat()
-    return _read_map_version(str(resolved), resolution, stat.st_size, stat.st_mtime_ns)
+    return _read_map_version(_MapVersion(str(resolved), resolution, stat.st_size, stat.st_mtime_ns, path))
 
 
-@lru_cache(maxsize=64)
-def _read_map_version(path: str, resolution: float | None, size: int, mtime_ns: int) -> LoadedMap:
-    return load_map(path, resolution=resolution)
+@dataclass(frozen=True)
+class _MapVersion:
+    """A map file's cache key; ``given`` (the path as the caller wrote it) is not part of it."""
+
+    resolved: str
+    resolution: float | None
+    size: int
+    mtime_ns: int
+    given: str = field(compare=False, hash=False)
+
+
+@lru_cache(maxsize=128)
+def _read_map_version(version: _MapVersion) -> LoadedMap:
+    return load_map(version.given, resolution=version.resolution)
 
 
 def parse_pose(text: str) -> Pose:

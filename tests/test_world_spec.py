@@ -14,7 +14,7 @@ from frontier_rl.core.world.catalog import generate_world
 from frontier_rl.core.world.grid import CellState, OccupancyGrid
 from frontier_rl.core.world.robot import Pose
 from frontier_rl.core.world.worlds import make_world
-from frontier_rl.errors import ConfigError, UnknownNameError
+from frontier_rl.errors import ConfigError, MapError, UnknownNameError
 from frontier_rl.io import load_map, save_ros_map
 from frontier_rl.world_spec import read_map, resolve_world
 
@@ -74,3 +74,14 @@ def test_a_map_file_is_read_once_per_version(tmp_path: Path) -> None:
 def test_bad_worlds_are_named(spec: str, kwargs: dict[str, object], error: type[Exception], needle: str) -> None:
     with pytest.raises(error, match=needle):
         resolve_world(spec, 0, **kwargs)  # type: ignore[arg-type]
+
+
+def test_map_errors_name_the_path_as_given(tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> None:
+    monkeypatch.chdir(tmp_path)
+    Path("broken.yaml").write_text(
+        "image: missing.pgm\nresolution: 0.05\norigin: [0, 0, 0]\n"
+        "negate: 0\noccupied_thresh: 0.65\nfree_thresh: 0.196\n"
+    )
+    with pytest.raises(MapError) as raised:
+        resolve_world("broken.yaml", 0)
+    assert str(tmp_path) not in str(raised.value) and "missing.pgm" in str(raised.value)

@@ -15,7 +15,14 @@ from frontier_rl.core.world.catalog import WORLD_GENERATORS
 from frontier_rl.core.world.worlds import World
 from frontier_rl.errors import ConfigError
 from frontier_rl.io import load_map
-from frontier_rl.world_spec import WorldFamily, parse_world_list, read_map, resolve_world, world_family
+from frontier_rl.world_spec import (
+    WorldFamily,
+    checked_resolution,
+    parse_world_list,
+    read_map,
+    resolve_world,
+    world_family,
+)
 
 __all__ = ["EAGER_LOAD_LIMIT", "RESET_OPTIONS", "TRAIN_SEED_LOW", "VALIDATION_SEED_LOW", "WorldSource",
            "check_world_files", "parse_world_list", "reset_world_seed"]  # fmt: skip
@@ -89,7 +96,7 @@ def _close_option(key: Any) -> str | None:
 
 EAGER_LOAD_LIMIT = 64
 """A source of at most this many map files reads (and so checks) them all when it is made; a larger
-mix reads each when it is drawn, keeping the last 64 read (:func:`~frontier_rl.world_spec.read_map`;
+mix reads each when it is drawn, keeping the last 128 read (:func:`~frontier_rl.world_spec.read_map`;
 ``train`` checks them all once before it starts)."""
 
 
@@ -117,6 +124,7 @@ class WorldSource:
     def __post_init__(self) -> None:
         if not self.worlds:
             raise ConfigError("an environment needs at least one world")
+        checked_resolution(self.resolution, "resolution")  # now, not at the first reset
         self.families = tuple(world_family(entry) for entry in self.worlds)
         self._members = tuple(family.split(self.split) for family in self.families)
         weights = np.array([family.weight for family in self.families])

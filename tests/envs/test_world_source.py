@@ -169,3 +169,8 @@ def test_tuple_entries_are_taken_whole(tmp_path: Path) -> None:
     folder = make_folder(tmp_path / "a,b", 1)
     source = WorldSource((str(folder / "room_000.png"), "office=2"))
     assert [f.spec for f in source.families] == [str(folder / "room_000.png"), "office"]
+
+
+def test_a_resolution_no_world_can_use_is_refused_when_the_source_is_made() -> None:
+    with pytest.raises(ConfigError, match="resolution"):
+        WorldSource(("office",), resolution=0.5)

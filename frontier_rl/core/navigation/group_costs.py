@@ -109,7 +109,8 @@ def _group_costs(  # noqa: C901 (numba kernel: Dijkstra with its neighbour steps
     (every step costs at least 1 and at most ``max_cost``), which stops after the bucket in which
     ``want`` groups were reached: those, and any tied with them, are exact. On blocks, ``pending``
     marks the blocks not yet worked out from ``src``; a tile of them is worked out when the search
-    first comes next to one (:func:`_fill_tile`), so its work does not grow with the map. The flag is True when
+    first comes next to one (:func:`_fill_tile`), so its step-cost work grows with the area
+    searched, not with the map (its arrays still span the block grid). The flag is True when
     the search ran out of cells instead."""
     member_cells, member_groups = members
     prows, pcols = open_padded.shape

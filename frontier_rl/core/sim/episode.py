@@ -169,7 +169,8 @@ class SingleRobotLoop:
         """Drive the leg ``ranking`` chooses to its end.
 
         Raises:
-            RuntimeError: more than 1000 decisions in a row took no simulated time.
+            RuntimeError: more than 1000 decisions in a row took no simulated time, and the
+                episode is not over.
         """
         before = self.sim.sim_time
         if ranking.goal is not None:
@@ -177,7 +178,7 @@ class SingleRobotLoop:
         else:
             self.sim.execute(ranking.order, ranking.weight)
         self._stalled = self._stalled + 1 if self.sim.sim_time == before else 0
-        if self._stalled > _MAX_STALLED_DECISIONS:
+        if self._stalled > _MAX_STALLED_DECISIONS and self.next_decision() is not None:
             raise RuntimeError(
                 f"episode on {self.sim.world.name!r} stalled: {self._stalled} decisions in a row took no "
                 f"simulated time at t = {self.sim.sim_time:.1f} s"

@@ -193,3 +193,55 @@ def test_blocks_are_worked_out_only_where_the_search_goes(monkeypatch: pytest.Mo
     monkeypatch.setattr(group_costs, "_group_costs", eager)
     every, _ = group_path_costs(costmap, (150, 150), cells, np.array([0, 1]), 2, REACH, RADIUS)
     np.testing.assert_array_equal(costs, every)
+
+
+def _blocks_by_numpy(costmap: Costmap, f: int) -> tuple[NDArray[np.bool_], NDArray[np.float64]]:
+    """The definition of the block grid, padded: a block is open when any of its cells is, at the
+    least step cost factor of its open cells."""
+    rows, cols = costmap.grid.shape
+    brows, bcols = -(-rows // f), -(-cols // f)
+    cell_open = np.zeros((brows * f, bcols * f), np.bool_)
+    cell_cost = np.full((brows * f, bcols * f), np.inf)
+    cell_open[:rows, :cols] = costmap.open_padded[1:-1, 1:-1]
+    cell_cost[:rows, :cols] = np.where(cell_open[:rows, :cols], costmap.cost_padded[1:-1, 1:-1], np.inf)
+    least = cell_cost.reshape(brows, f, bcols, f).min(axis=(1, 3))
+    open_b = np.zeros((brows + 2, bcols + 2), np.bool_)
+    cost_b = np.ones((brows + 2, bcols + 2))
+    open_b[1:-1, 1:-1] = np.isfinite(least)
+    cost_b[1:-1, 1:-1] = np.where(np.isfinite(least), least, 1.0)
+    return open_b, cost_b
+
+
+@pytest.mark.parametrize("shape", [(1000, 1000), (1003, 1001), (1019, 977)])
+def test_the_lazy_blocks_equal_the_definition_up_to_the_maps_edges(shape: tuple[int, int]) -> None:
+    """Maps whose edges cut a block and a tile of blocks: the search from a corner, to groups at
+    the far edges and everywhere, gives the costs of a search on the block grid worked out by its
+    definition beforehand."""
+    rng = np.random.default_rng(shape[0])
+    data = np.full(shape, CellState.FREE, np.int8)
+    for _ in range(150):  # pillars and an unknown patch
+        r, c = rng.integers(0, shape[0] - 20), rng.integers(0, shape[1] - 20)
+        data[r : r + rng.integers(3, 20), c : c + rng.integers(3, 20)] = CellState.OCCUPIED
+    data[400:500, 300:700] = np.where(data[400:500, 300:700] == CellState.FREE, np.int8(CellState.UNKNOWN),
+                                      data[400:500, 300:700])  # fmt: skip
+    data[:2], data[:, :2] = CellState.OCCUPIED, CellState.OCCUPIED
+    costmap = costmap_of(data)
+    free = np.argwhere(costmap.traversable)
+    start = tuple(int(v) for v in free[np.argmax(free.sum(axis=1))])  # the bottom-right corner
+    cells, groups = random_groups(rng, data, 30)
+    edge = np.array([(shape[0] - 3) * shape[1] + shape[1] // 2, (shape[0] // 2) * shape[1] + shape[1] - 3])
+    cells, groups = np.concatenate((cells, edge)), np.concatenate((groups, [30, 31]))
+    f = block_factor(shape, 0.05, RADIUS)
+    assert f == 3
+    lazy, _ = group_path_costs(costmap, start, cells, groups, 32, REACH, RADIUS)  # type: ignore[arg-type]
+    open_b, cost_b = _blocks_by_numpy(costmap, f)
+    bcols = open_b.shape[1] - 2
+    rows_, cols_ = np.divmod(cells, shape[1])
+    src = (costmap.open_padded, costmap.clearance_padded, costmap.grid.data, costmap.inflation_table,
+           costmap.inflation_radius, costmap.unknown_cost, f)  # fmt: skip
+    best, _ = group_costs._group_costs(
+        open_b, cost_b, np.zeros(open_b.shape, np.bool_), src, int((start[0] // f) * bcols + start[1] // f),
+        ((rows_ // f) * bcols + cols_ // f, groups), math.ceil(REACH / f), 32, 32, float(cost_b.max()),
+    )  # fmt: skip
+    np.testing.assert_array_equal(lazy, best * (f * 0.05))
+    assert np.isfinite(lazy[30:]).all()  # the groups at the far edges were reached
