@@ -4,8 +4,9 @@
 from __future__ import annotations
 
 import json
+import math
 from pathlib import Path
-from typing import Annotated
+from typing import Annotated, Any
 
 import typer
 from rich.table import Table
@@ -32,7 +33,6 @@ def ariadne(
     json_out: Annotated[Path | None, typer.Option("--json", help="Also write every run and the summary here.")] = None,
 ) -> None:
     """ARiADNE's test protocol (80 px sensor, a run ends at <= 250 unseen free px, distance in px)."""
-    from frontier_rl.evaluation.backends import EpisodeFailedError
     from frontier_rl.evaluation.protocols import ariadne_maps, run_protocol, summary_rows
 
     names = comma_list(methods)
@@ -57,10 +57,71 @@ def ariadne(
     for row in rows:  # as ARiADNE's test driver prints them
         console.print(f"{row['method']}: |#Total test: {row['tests']} |#Average length: {row['average_length_px']:.2f} "
                       f"|#Length std: {row['length_std_px']:.2f}")  # fmt: skip
+    _finish(json_out, {"protocol": "ariadne", "maps": str(maps), "summary": rows, "runs": [vars(r) for r in runs]},
+            failures)  # fmt: skip
+
+
+DEFAULT_BLUEPRINTS = "../shared/maps/turtlebot3_world,../shared/maps/aws_small_house,../shared/maps/nav2_depot"
+
+
+@benchmark_app.command("explore-bench")
+@friendly_errors
+def explore_bench(
+    methods: Annotated[str, typer.Option(help="Comma-separated policies (as for explore --policy).")] = "nearest",
+    maps: Annotated[str, typer.Option(help="ROS maps (YAML) or folders of them: the blueprints.")] = DEFAULT_BLUEPRINTS,
+    robots: Annotated[str, typer.Option(help="Team sizes, e.g. 1,2 (Explore-Bench runs one and two).")] = "1,2",
+    seeds: Annotated[int, typer.Option(help="Starts per map and team size: seeds 0..N-1.")] = 5,
+    workers: Annotated[int, typer.Option(help="Processes (0: every core).")] = 0,
+    json_out: Annotated[Path | None, typer.Option("--json", help="Also write every run and the summary here.")] = None,
+) -> None:
+    """Explore-Bench's metrics (T_90, T_total at a 0.99 exploration rate, path; for teams the
+    coverage std and the overlap rate) on ROS maps, beside our time to explore."""
+    from frontier_rl.evaluation.explore_bench import explore_bench_maps, explore_bench_rows, run_explore_bench_all
+
+    names = comma_list(methods)
+    sizes = [_team_size(text) for text in comma_list(robots)]
+    if not names or not sizes:
+        raise ConfigError(f"--methods and --robots must name at least one each, got {short_repr(methods)}, "
+                          f"{short_repr(robots)}")  # fmt: skip
+    if not 1 <= seeds <= 10_000 or workers < 0:
+        raise ConfigError(f"--seeds must be in 1..10000 and --workers >= 0, got {seeds} and {workers}")
+    runs, failures = run_explore_bench_all(names, explore_bench_maps(maps), seeds, sizes, workers or None)
+    rows = explore_bench_rows(runs)
+    table = Table(title=f"Explore-Bench metrics, {seeds} start(s) per map and team size")
+    for column in ("method", "robots", "ended / runs", "T_90 (s)", "T_total (s)", "path (m)", "coverage std",
+                   "overlap rate", "final rate", "ours: time (s)"):  # fmt: skip
+        table.add_column(column, justify="left" if column == "method" else "right")
+    for row in rows:
+        table.add_row(str(row["method"]), str(row["robots"]), f"{row['ended']} / {row['runs']}",
+                      *(_shown(row[k]) for k in ("t90_s", "t_total_s", "path_m", "coverage_std", "overlap_rate",
+                                                 "final_rate", "ours_time_s")))  # fmt: skip
+    stdout_console().print(table)
+    _finish(json_out, {"protocol": "explore-bench", "maps": maps, "summary": rows, "runs": [vars(r) for r in runs]},
+            failures)  # fmt: skip
+
+
+def _shown(value: float | str | int) -> str:
+    """A table cell: 3 significant digits, a dash where there is no value (NaN)."""
+    return "—" if isinstance(value, float) and math.isnan(value) else f"{value:.3g}"
+
+
+def _team_size(text: str) -> int:
+    try:
+        size = int(text)
+    except ValueError:
+        size = 0
+    if not 1 <= size <= 8:
+        raise ConfigError(f"--robots takes team sizes 1 to 8, got {short_repr(text)}")
+    return size
+
+
+def _finish(json_out: Path | None, payload: dict[str, Any], failures: list[str]) -> None:
+    """Write the runs and the summary to ``json_out`` (if given), then fail if any run did: the
+    table and the file keep the runs that finished."""
+    from frontier_rl.evaluation.backends import EpisodeFailedError
+
     if json_out is not None:
-        payload = {"protocol": "ariadne", "maps": str(maps), "summary": rows, "runs": [vars(r) for r in runs],
-                   "failures": failures}  # fmt: skip
-        write_text_atomic(json_out, json.dumps(payload, indent=2) + "\n")
+        write_text_atomic(json_out, json.dumps(payload | {"failures": failures}, indent=2) + "\n")
     if failures:
         raise EpisodeFailedError(
             f"{len(failures)} run(s) failed (the table leaves them out): {'; '.join(failures[:3])}"

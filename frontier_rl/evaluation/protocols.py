@@ -22,9 +22,10 @@ from __future__ import annotations
 
 import math
 import os
-from collections.abc import Sequence
+from collections.abc import Callable, Sequence
 from dataclasses import dataclass, replace
 from pathlib import Path
+from typing import Any, Generic, TypeVar
 
 import numpy as np
 
@@ -37,6 +38,8 @@ from frontier_rl.evaluation.backends import spawn_pool
 from frontier_rl.evaluation.experiment import episode_policy
 from frontier_rl.io.dungeon import DUNGEON_RESOLUTION, load_dungeon_map, marker_pixels
 from frontier_rl.policies import make_policy
+
+R = TypeVar("R")
 
 ARIADNE_SENSOR_PX = 80
 """ARiADNE's sensor range (pixels)."""
@@ -107,12 +110,34 @@ def run_ariadne(method: str, path: Path, resolution: float = DUNGEON_RESOLUTION)
                        result.path_length_m, result.done)  # fmt: skip
 
 
-def _run(job: tuple[str, Path, float]) -> ProtocolRun | str:
-    """A run, or the one-line reason it failed (one map must not cost the others' results)."""
-    try:
-        return run_ariadne(*job)
-    except Exception as exc:  # reported with the map's name; the other runs go on
-        return f"{job[0]} on {job[1].name}: {type(exc).__name__}: {exc}"
+@dataclass(frozen=True)
+class _Catching(Generic[R]):
+    """``run`` on a job's arguments, or the one-line reason it failed (one map must not cost the
+    others' results). A job's first two arguments are the method and the map file."""
+
+    run: Callable[..., R]
+
+    def __call__(self, job: tuple[Any, ...]) -> R | str:
+        try:
+            return self.run(*job)
+        except Exception as exc:  # reported with the map's name; the other runs go on
+            return f"{job[0]} on {Path(job[1]).name}: {type(exc).__name__}: {exc}"
+
+
+def run_jobs(
+    run: Callable[..., R], jobs: Sequence[tuple[Any, ...]], workers: int | None = None
+) -> tuple[list[R], list[str]]:
+    """``run(*job)`` for every job, in ``workers`` spawned processes (default: every core; ``run``
+    must be a module-level function): the results in job order, and a line for each job that
+    failed (the others are kept)."""
+    workers = max(1, min(workers or os.cpu_count() or 1, len(jobs)))
+    catching = _Catching(run)
+    if workers == 1:
+        outcomes = [catching(job) for job in jobs]
+    else:
+        with spawn_pool(workers) as pool:
+            outcomes = list(pool.map(catching, jobs))
+    return [o for o in outcomes if not isinstance(o, str)], [o for o in outcomes if isinstance(o, str)]
 
 
 def ariadne_maps(folder: Path, limit: int | None = None) -> list[Path]:
@@ -132,14 +157,7 @@ def run_protocol(
     line for each run that failed (the others are kept)."""
     for method in methods:
         make_policy(method)  # an unknown method or a bad model file fails before any work
-    jobs = [(m, p, resolution) for m in methods for p in maps]
-    workers = max(1, min(workers or os.cpu_count() or 1, len(jobs)))
-    if workers == 1:
-        outcomes = [_run(job) for job in jobs]
-    else:
-        with spawn_pool(workers) as pool:
-            outcomes = list(pool.map(_run, jobs))
-    return [o for o in outcomes if isinstance(o, ProtocolRun)], [o for o in outcomes if isinstance(o, str)]
+    return run_jobs(run_ariadne, [(m, p, resolution) for m in methods for p in maps], workers)
 
 
 def summary_rows(runs: Sequence[ProtocolRun], methods: Sequence[str]) -> list[dict[str, float | str | int]]:
