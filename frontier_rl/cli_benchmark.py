@@ -88,11 +88,11 @@ def explore_bench(
     runs, failures = run_explore_bench_all(names, explore_bench_maps(maps), seeds, sizes, workers or None)
     rows = explore_bench_rows(runs)
     table = Table(title=f"Explore-Bench metrics, {seeds} start(s) per map and team size")
-    for column in ("method", "robots", "ended / runs", "T_90 (s)", "T_total (s)", "path (m)", "coverage std",
+    for column in ("method", "robots", "map", "ended / runs", "T_90 (s)", "T_total (s)", "path (m)", "coverage std",
                    "overlap rate", "final rate", "ours: time (s)"):  # fmt: skip
-        table.add_column(column, justify="left" if column == "method" else "right")
+        table.add_column(column, justify="left" if column in ("method", "map") else "right")
     for row in rows:
-        table.add_row(str(row["method"]), str(row["robots"]), f"{row['ended']} / {row['runs']}",
+        table.add_row(str(row["method"]), str(row["robots"]), str(row["map"]), f"{row['ended']} / {row['runs']}",
                       *(_shown(row[k]) for k in ("t90_s", "t_total_s", "path_m", "coverage_std", "overlap_rate",
                                                  "final_rate", "ours_time_s")))  # fmt: skip
     stdout_console().print(table)

@@ -173,28 +173,29 @@ def run_explore_bench_all(
 
 
 def explore_bench_rows(runs: Sequence[ExploreBenchRun]) -> list[dict[str, float | str | int]]:
-    """Per (method, team size): runs, how many reached ``T_total``, and the means of ``T_90``,
-    ``T_total`` and the path over the runs that reached them (NaN where none did), the team
-    figures' means, and our mean time."""
+    """Per (method, team size, map): runs, how many reached ``T_total``, the means of ``T_90``
+    (over the runs that reached it), ``T_total`` and the path (over the runs that ended; NaN where
+    none did), the team figures' means, the mean final rate and our mean time."""
 
     def mean(values: list[float | None]) -> float:
         kept = [v for v in values if v is not None]
         return float(np.mean(kept)) if kept else math.nan
 
     rows: list[dict[str, float | str | int]] = []
-    for method, robots in dict.fromkeys((r.method, r.robots) for r in runs):
-        mine = [r for r in runs if r.method == method and r.robots == robots]
+    for method, robots, map_name in dict.fromkeys((r.method, r.robots, r.map_name) for r in runs):
+        mine = [r for r in runs if (r.method, r.robots, r.map_name) == (method, robots, map_name)]
         ended = [r for r in mine if r.t_total_s is not None]
         rows.append({
             "method": method,
             "robots": robots,
+            "map": map_name,
             "runs": len(mine),
             "ended": len(ended),
             "t90_s": mean([r.t90_s for r in mine]),
             "t_total_s": mean([r.t_total_s for r in ended]),
             "path_m": mean([r.path_m for r in ended]),
-            "coverage_std": mean([r.coverage_std for r in mine]),
-            "overlap_rate": mean([r.overlap_rate for r in mine]),
+            "coverage_std": mean([r.coverage_std for r in ended]),
+            "overlap_rate": mean([r.overlap_rate for r in ended]),
             "final_rate": mean([r.final_rate for r in mine]),
             "ours_time_s": mean([r.sim_time_s for r in mine]),
         })  # fmt: skip
