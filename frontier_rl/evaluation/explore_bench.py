@@ -36,6 +36,7 @@ from frontier_rl.evaluation.experiment import episode_policy
 from frontier_rl.evaluation.protocols import run_jobs
 from frontier_rl.policies import make_policy
 from frontier_rl.swarm import TeamConfig, TeamResult
+from frontier_rl.swarm.episode import check_team_policy
 from frontier_rl.swarm.team import TeamSimulator
 from frontier_rl.world_spec import parse_world_list, read_map, resolve_world
 
@@ -120,6 +121,7 @@ def run_explore_bench(
     known = blueprint_known_cells(read_map(str(map_file)).grid)
     world = resolve_world(str(map_file), seed)
     policy: ExplorationPolicy = episode_policy(method, False)
+    check_team_policy(policy, robots)
     team = TeamConfig(robots=robots)
     sim_config = config or SimConfig()
 

@@ -34,12 +34,21 @@ def run_team_episode(
     explores exactly as the single robot does.
     """
     team = team or TeamConfig()
-    if isinstance(policy, EpisodeAwarePolicy) and team.robots > 1:
-        raise ConfigError(f"policy {policy.name!r} plans one robot's tour of the true map; it cannot run in a team")
+    check_team_policy(policy, team.robots)
     loop, wall_time = drive_episode(
         lambda rng: TeamSimulator(world, config, team, rng), world, policy, seed, team.robots
     )
     return loop.result(wall_time)
+
+
+def check_team_policy(policy: ExplorationPolicy, robots: int) -> None:
+    """Refuse a policy that plans one robot's tour of the true map (the oracle) for a team.
+
+    Raises:
+        ConfigError: naming the policy.
+    """
+    if isinstance(policy, EpisodeAwarePolicy) and robots > 1:
+        raise ConfigError(f"policy {policy.name!r} plans one robot's tour of the true map; it cannot run in a team")
 
 
 @dataclass(frozen=True)

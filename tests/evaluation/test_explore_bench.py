@@ -96,3 +96,10 @@ def test_the_command_prints_the_table_and_writes_every_run(tmp_path: Path) -> No
     for args, needle in bad_options:
         bad = CliRunner().invoke(app, ["benchmark", "explore-bench", "--maps", str(room), *args])
         assert bad.exit_code != 0 and needle in bad.output and "Traceback" not in bad.output
+
+
+def test_the_oracle_runs_alone_but_not_in_a_team(tmp_path: Path) -> None:
+    room = _blueprint(tmp_path, "room", hidden=False)
+    assert run_explore_bench("oracle", room, 0, 1).t_total_s is not None
+    with pytest.raises(ConfigError, match="cannot run in a team"):
+        run_explore_bench("oracle", room, 0, 2)
