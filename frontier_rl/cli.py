@@ -14,7 +14,15 @@ from rich.table import Table
 from rich.text import Text
 
 from frontier_rl.cli_benchmark import benchmark_app
-from frontier_rl.cli_output import OneLineGroup, comma_list, err_console, friendly_errors, one_line, stdout_console
+from frontier_rl.cli_output import (
+    OneLineGroup,
+    comma_list,
+    err_console,
+    friendly_errors,
+    int_list,
+    one_line,
+    stdout_console,
+)
 from frontier_rl.config import dump_config, load_sim_config
 from frontier_rl.core.frontiers.ranking import THESIS_BASELINE
 from frontier_rl.core.sim.config import SimConfig
@@ -46,9 +54,9 @@ ResolutionOption = Annotated[
 TrustModelOption = Annotated[
     bool, typer.Option(help="Allow learned:PATH to be an SB3 zip from elsewhere (unpickles it: runs its code).")
 ]
-_INTERRUPTED = "interrupted: finished episodes are saved in {out}/; rerun the same command to resume"
-
 SimConfigOption = Annotated[Path | None, typer.Option(help="SimConfig YAML (any subset of its fields).")]
+
+_INTERRUPTED = "interrupted: finished episodes are saved in {out}/; rerun the same command to resume"
 DEMO_WORLDS = ("office", "rooms", "cluttered")
 SHIPPED_MODELS = (Path("models/model4.zip"), Path("models/model5.zip"))
 """Trained models in the repository; the demo runs them too when run from the checkout."""
@@ -99,16 +107,6 @@ def _comm_range(value: float | None) -> float | None:
     if value is not None and not value >= 0:
         raise ConfigError(f"--comm-range must be >= 0 m, got {value!r}")
     return value
-
-
-def _int_list(option: str, text: str) -> list[int]:
-    try:
-        values = [int(part) for part in comma_list(text)]
-    except ValueError:
-        raise ConfigError(f"{option} must be a comma list of whole numbers, got {text!r}") from None
-    if not values:
-        raise ConfigError(f"{option} needs at least one value, got {text!r}")
-    return values
 
 
 def _sim_config(config: Path | None, max_time: float | None) -> SimConfig:
@@ -316,7 +314,7 @@ def evaluate(
     _output_folder(out)
     resolution = checked_resolution(resolution)
     names = comma_list(methods)
-    names = team_methods(names, _int_list("--robots", robots), [parse_strategy(s) for s in comma_list(strategy)])
+    names = team_methods(names, int_list("--robots", robots), [parse_strategy(s) for s in comma_list(strategy)])
     ordered = list(dict.fromkeys([baseline, *names, *([ORACLE] if oracle else [])]))
     experiment = ExperimentConfig(
         methods=tuple(ordered), worlds=expand_worlds(worlds), episodes=episodes, seed=seed, baseline=baseline,

@@ -12,8 +12,9 @@ import typer
 from rich.table import Table
 
 from frontier_rl.atomic_write import write_text_atomic
-from frontier_rl.cli_output import OneLineGroup, comma_list, friendly_errors, stdout_console
+from frontier_rl.cli_output import OneLineGroup, comma_list, friendly_errors, int_list, stdout_console
 from frontier_rl.errors import ConfigError, short_repr
+from frontier_rl.swarm.config import MAX_ROBOTS
 
 benchmark_app = typer.Typer(
     no_args_is_help=True, cls=OneLineGroup, help="Run a published evaluation protocol, its metric beside ours."
@@ -35,9 +36,7 @@ def ariadne(
     """ARiADNE's test protocol (80 px sensor, a run ends at <= 250 unseen free px, distance in px)."""
     from frontier_rl.evaluation.protocols import ariadne_maps, run_protocol, summary_rows
 
-    names = comma_list(methods)
-    if not names:
-        raise ConfigError(f"--methods names no policy: {short_repr(methods)}")
+    names = _methods(methods)
     if limit < 0 or workers < 0:
         raise ConfigError(f"--limit and --workers must be >= 0, got {limit} and {workers}")
     files = ariadne_maps(maps, limit or None)
@@ -78,11 +77,10 @@ def explore_bench(
     coverage std and the overlap rate) on ROS maps, beside our time to explore."""
     from frontier_rl.evaluation.explore_bench import explore_bench_maps, explore_bench_rows, run_explore_bench_all
 
-    names = comma_list(methods)
-    sizes = [_team_size(text) for text in comma_list(robots)]
-    if not names or not sizes:
-        raise ConfigError(f"--methods and --robots must name at least one each, got {short_repr(methods)}, "
-                          f"{short_repr(robots)}")  # fmt: skip
+    names = _methods(methods)
+    sizes = int_list("--robots", robots)
+    if not all(1 <= n <= MAX_ROBOTS for n in sizes):
+        raise ConfigError(f"--robots takes team sizes 1 to {MAX_ROBOTS}, got {short_repr(robots)}")
     if not 1 <= seeds <= 10_000 or workers < 0:
         raise ConfigError(f"--seeds must be in 1..10000 and --workers >= 0, got {seeds} and {workers}")
     runs, failures = run_explore_bench_all(names, explore_bench_maps(maps), seeds, sizes, workers or None)
@@ -100,19 +98,17 @@ def explore_bench(
             failures)  # fmt: skip
 
 
+def _methods(text: str) -> list[str]:
+    """The policies of ``--methods``; none is an error."""
+    names = comma_list(text)
+    if not names:
+        raise ConfigError(f"--methods names no policy: {short_repr(text)}")
+    return names
+
+
 def _shown(value: float | str | int) -> str:
     """A table cell: 3 significant digits, a dash where there is no value (NaN)."""
     return "—" if isinstance(value, float) and math.isnan(value) else f"{value:.3g}"
-
-
-def _team_size(text: str) -> int:
-    try:
-        size = int(text)
-    except ValueError:
-        size = 0
-    if not 1 <= size <= 8:
-        raise ConfigError(f"--robots takes team sizes 1 to 8, got {short_repr(text)}")
-    return size
 
 
 def _finish(json_out: Path | None, payload: dict[str, Any], failures: list[str]) -> None:

@@ -16,7 +16,7 @@ from rich.console import Console
 from rich.text import Text
 from typer.core import TyperGroup
 
-from frontier_rl.errors import FrontierRLError
+from frontier_rl.errors import ConfigError, FrontierRLError
 
 #: Longest message the error printer writes (characters); the rest is cut.
 MESSAGE_LIMIT = 600
@@ -49,6 +49,21 @@ def one_line(text: str, limit: int = MESSAGE_LIMIT) -> str:
 def comma_list(text: str) -> list[str]:
     """The items of a comma-separated option, stripped, empty ones dropped."""
     return [part.strip() for part in text.split(",") if part.strip()]
+
+
+def int_list(option: str, text: str) -> list[int]:
+    """The whole numbers of a comma list given to ``option``.
+
+    Raises:
+        ConfigError: a part that is not a whole number, or no part at all.
+    """
+    try:
+        values = [int(part) for part in comma_list(text)]
+    except ValueError:
+        raise ConfigError(f"{option} must be a comma list of whole numbers, got {text!r}") from None
+    if not values:
+        raise ConfigError(f"{option} needs at least one value, got {text!r}")
+    return values
 
 
 def print_error(message: str) -> None:

@@ -34,7 +34,6 @@ from frontier_rl.core.world.worlds import World
 from frontier_rl.errors import ConfigError, short_repr
 from frontier_rl.evaluation.experiment import episode_policy
 from frontier_rl.evaluation.protocols import run_jobs
-from frontier_rl.policies import make_policy
 from frontier_rl.swarm import TeamConfig, TeamResult
 from frontier_rl.swarm.episode import check_team_policy
 from frontier_rl.swarm.team import TeamSimulator
@@ -168,8 +167,6 @@ def run_explore_bench_all(
 ) -> tuple[list[ExploreBenchRun], list[str]]:
     """Every method with every team size on every map from starts 0..seeds-1, in ``workers``
     processes: the runs, and a line for each run that failed (the others are kept)."""
-    for method in methods:
-        make_policy(method)  # an unknown method or a bad model file fails before any work
     jobs = [(m, p, s, n) for m in methods for n in robots for p in maps for s in range(seeds)]
     return run_jobs(run_explore_bench, jobs, workers)
 

@@ -129,7 +129,10 @@ def run_jobs(
 ) -> tuple[list[R], list[str]]:
     """``run(*job)`` for every job, in ``workers`` spawned processes (default: every core; ``run``
     must be a module-level function): the results in job order, and a line for each job that
-    failed (the others are kept)."""
+    failed (the others are kept). A job's first argument is its method: every method is built
+    once first, so that an unknown one or a bad model file fails before any work."""
+    for method in dict.fromkeys(job[0] for job in jobs):
+        make_policy(method)
     workers = max(1, min(workers or os.cpu_count() or 1, len(jobs)))
     catching = _Catching(run)
     if workers == 1:
@@ -155,8 +158,6 @@ def run_protocol(
 ) -> tuple[list[ProtocolRun], list[str]]:
     """Every method on every map, in ``workers`` processes (default: every core): the runs, and a
     line for each run that failed (the others are kept)."""
-    for method in methods:
-        make_policy(method)  # an unknown method or a bad model file fails before any work
     return run_jobs(run_ariadne, [(m, p, resolution) for m in methods for p in maps], workers)
 
 
