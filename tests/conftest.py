@@ -22,6 +22,7 @@ _SLOW_MODULES = frozenset(
     {
         "test_evaluate.py",
         "test_training.py",
+        "test_imitation.py",
         "test_node.py",
         "test_teams.py",
         "test_experiments.py",

@@ -82,3 +82,15 @@ def test_headroom_summary_counts_savings() -> None:
     assert summary["share_where_another_weight_saves_time"] == 1 / 3
     assert summary["mean_saving_s"] == 10.0 / 3 and summary["max_saving_s"] == 10.0
     assert summary["best_weight_counts"] == {"0.50": 1, "0.95": 2}  # a tie goes to the constant
+
+
+def test_teacher_summary_is_relative_to_nearest() -> None:
+    teacher = _script("lookahead_teacher")
+    rows = [
+        {"nearest": 400.0, "greedy": 380.0, "teacher": 300.0, "oracle": 320.0},
+        {"nearest": 200.0, "greedy": 220.0, "teacher": 150.0, "oracle": 160.0},
+    ]
+    summary = teacher.family_summary(rows)
+    assert summary["nearest"] == {"mean_s": 300.0, "less_than_nearest_pct": 0.0}
+    assert summary["teacher"]["mean_s"] == 225.0 and summary["teacher"]["less_than_nearest_pct"] == 25.0
+    assert summary["greedy"]["less_than_nearest_pct"] == 0.0

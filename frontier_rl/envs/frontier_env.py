@@ -10,6 +10,7 @@ from numpy.typing import NDArray
 
 from frontier_rl.core.sim.leg import LegResult
 from frontier_rl.envs.base import EnvConfig, ExplorationEnv
+from frontier_rl.envs.lookahead import LOOKAHEAD_WIDTH, lookahead_slot
 from frontier_rl.errors import ConfigError
 from frontier_rl.observation.frontier_table import FEATURE_BOUND, frontier_observation, slot_order
 from frontier_rl.observation.map_image import FRONTIER_FEATURES, MapEncoder
@@ -55,6 +56,11 @@ class FrontierChoiceEnv(ExplorationEnv[dict[str, NDArray[Any]]]):
         mask = np.zeros(self.top_k, np.bool_)
         mask[: len(self._slots)] = True
         return mask
+
+    def expert_action(self, width: int = LOOKAHEAD_WIDTH) -> int:
+        """The privileged teacher's action for the current decision (:func:`lookahead_slot`: one
+        step of lookahead on copies of the simulator; it sees the true world), for imitation."""
+        return lookahead_slot(self.sim, self.top_k, width)
 
     def _observe(self) -> dict[str, NDArray[Any]]:
         sim = self.sim

@@ -20,7 +20,7 @@ MAX_TIMESTEPS = 10**12
 """Largest ``timesteps`` a run may use and a model file may hold (decisions; 10¹² is ~30 years at 1000 per second)."""
 
 
-ALGOS = ("a2c", "ppo")
+ALGOS = ("a2c", "ppo", "dagger")
 #: Longest error message passed on from a check of ``worlds`` (characters).
 _MESSAGE_LIMIT = 300
 
@@ -43,7 +43,8 @@ class TrainConfig:
             folder's validation files (one in ten) are never trained on.
         timesteps: decisions to train for (one env step = one decision).
         n_envs: parallel environments (subprocesses when > 1).
-        algo: "a2c" (the thesis) or "ppo".
+        algo: "a2c" (the thesis), "ppo", or "dagger" (model 5 only: imitation of a teacher that
+            looks ahead on copies of the simulator, :mod:`frontier_rl.rl.imitation`).
         observation_size: map image edge, 64 (Niroui et al., the default: 15× fewer pixels) or 250.
         reward: reward preset, "normalised" (trains well) or "thesis" (tables 3.1 / 3.2).
         learning_rate: optimizer step size; SB3's A2C default 7e-4 (RMSprop), 3e-4 for PPO (Adam).
@@ -85,6 +86,8 @@ class TrainConfig:
             raise ConfigError(f"unknown model {short_repr(self.model)}; choose one of {', '.join(map(str, MODELS))}")
         if self.algo not in ALGOS:
             raise ConfigError(f"unknown algorithm {short_repr(self.algo)}; choose one of {', '.join(ALGOS)}")
+        if self.algo == "dagger" and self.model != 5:
+            raise ConfigError(f"algorithm 'dagger' trains model 5 (frontier choice) only, got model {self.model!r}")
         if not isinstance(self.observation_size, int) or isinstance(self.observation_size, bool):
             raise ConfigError(f"observation_size must be an integer, got {short_repr(self.observation_size)}")
         env_id(self.model, self.observation_size)  # checks the size

@@ -48,7 +48,8 @@ from frontier_rl.rl.networks import FrontierScorer, GridCNN, PointerPolicy
 METADATA_ENTRY = "frontier_rl.json"
 WEIGHTS_ENTRY = "policy.pth"
 FORMAT_VERSION = 1
-ALGORITHMS: dict[str, type[BaseAlgorithm]] = {"a2c": A2C, "ppo": PPO}
+ALGORITHMS: dict[str, type[BaseAlgorithm]] = {"a2c": A2C, "ppo": PPO, "dagger": A2C}
+"""SB3 class of each ``algo``; a DAgger policy is kept in an A2C container (no optimizer of its own)."""
 
 MAX_METADATA_BYTES = 64 * 1024
 """Largest ``frontier_rl.json`` read (bytes); ``frontier-rl train`` writes about 170."""
@@ -69,7 +70,7 @@ class ModelInfo:
         model: thesis model number 1-5.
         env_id: the Gymnasium id it was trained on.
         observation_size: map image edge (pixels).
-        algo: "a2c" or "ppo".
+        algo: "a2c", "ppo" or "dagger".
         features_dim: CNN feature size.
         timesteps: decisions it was trained for.
         format: version of this metadata.

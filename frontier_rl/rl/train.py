@@ -1,4 +1,4 @@
-"""``frontier-rl train``: Stable-Baselines3 A2C (or PPO) on a frontier_rl env, resumable.
+"""``frontier-rl train``: Stable-Baselines3 A2C (or PPO, or DAgger for model 5) on a frontier_rl env, resumable.
 
 A run directory holds ``config.yaml``, ``model.zip`` (the final model), ``best_model.zip`` (best on
 the validation worlds), ``checkpoints/``, ``monitor_<start>.monitor.csv`` (one per started segment),
@@ -19,6 +19,7 @@ import gymnasium as gym
 import torch
 from stable_baselines3.common.base_class import BaseAlgorithm
 from stable_baselines3.common.callbacks import BaseCallback
+from stable_baselines3.common.logger import configure as configure_logger
 from stable_baselines3.common.vec_env import DummyVecEnv, SubprocVecEnv, VecMonitor
 
 import frontier_rl.envs
@@ -27,6 +28,7 @@ from frontier_rl.errors import ConfigError
 from frontier_rl.rl.callbacks import AtomicCheckpoint, ValidationCallback
 from frontier_rl.rl.config import TrainConfig
 from frontier_rl.rl.curves import plot_learning_curve
+from frontier_rl.rl.imitation import dagger
 from frontier_rl.rl.model_file import ALGORITHMS, ModelInfo, check_model_zip, policy_setup, save_model, write_metadata
 from frontier_rl.world_spec import world_entries
 
@@ -124,6 +126,8 @@ def train(
     and step count); its configuration must be the same. ``extra_callbacks`` run after the
     checkpoint and validation callbacks.
     """
+    if resume and config.algo == "dagger":
+        raise ConfigError("a dagger run cannot be resumed: its labelled decisions are not checkpointed")
     start = _check_run_dir(config, out, resume)
     check_world_files(world_entries(config.worlds))  # a bad map file fails now, not in a subprocess
     frontier_rl.envs.register_envs()
@@ -148,13 +152,17 @@ def train(
     torch.set_num_threads(1 if config.n_envs > 1 else torch.get_num_threads())
     started = time.perf_counter()
     try:
-        model.learn(
-            total_timesteps=max(config.timesteps - start, 0),
-            callback=callbacks,
-            progress_bar=progress,
-            reset_num_timesteps=start == 0,
-            tb_log_name=config.algo,
-        )
+        if config.algo == "dagger":
+            model.set_logger(configure_logger(str(out / "tb" / "dagger"), ["tensorboard"]))
+            dagger(model, venv, config.timesteps, config.learning_rate, callbacks, config.seed, progress)
+        else:
+            model.learn(
+                total_timesteps=max(config.timesteps - start, 0),
+                callback=callbacks,
+                progress_bar=progress,
+                reset_num_timesteps=start == 0,
+                tb_log_name=config.algo,
+            )
     finally:
         venv.close()
         if eval_env is not None:

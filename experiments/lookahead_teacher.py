@@ -1,0 +1,83 @@
+"""How good is the teacher that ``train --algo dagger`` imitates? Paired episodes per world of
+``nearest``, the greedy frontier choice (always the cheapest path), the lookahead teacher
+(:func:`~frontier_rl.envs.lookahead.lookahead_slot`) and the oracle.
+
+The teacher sees the simulator's future, so it is a reference like the oracle, never a method; a
+teacher much faster than ``nearest`` is what makes imitating it worth trying. Every method explores
+the same world from the same start with the same noise.
+
+    .venv/bin/python experiments/lookahead_teacher.py --worlds office,../shared/maps/dungeon/easy \\
+        --episodes 4 --out results/lookahead_teacher.json
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import time
+from pathlib import Path
+
+import numpy as np
+
+from frontier_rl.atomic_write import write_text_atomic
+from frontier_rl.core.sim.episode import run_episode
+from frontier_rl.core.sim.simulator import ExplorationSimulator
+from frontier_rl.core.world.worlds import World
+from frontier_rl.envs.lookahead import LOOKAHEAD_WIDTH, greedy_finish, lookahead_slot, take_slot
+from frontier_rl.evaluation.experiment import expand_worlds
+from frontier_rl.policies import make_policy
+from frontier_rl.world_spec import resolve_world
+
+TOP_K = 16  # model 5's slots
+
+
+def teacher_time(world: World, seed: int, width: int) -> float:
+    """Sim time (s) of an episode in which the teacher takes every decision."""
+    sim = ExplorationSimulator(world, rng=np.random.default_rng(seed))
+    while not sim.truncated and not sim.finished:
+        take_slot(sim, lookahead_slot(sim, TOP_K, width), TOP_K)
+    return sim.sim_time
+
+
+def world_times(world: World, seed: int, width: int) -> dict[str, float]:
+    """Each method's time (s) on ``world`` from the same start and noise stream."""
+    times = {name: run_episode(world, make_policy(name), seed=seed).sim_time_s for name in ("nearest", "oracle")}
+    times["greedy"] = greedy_finish(ExplorationSimulator(world, rng=np.random.default_rng(seed)), TOP_K)
+    times["teacher"] = teacher_time(world, seed, width)
+    return times
+
+
+def family_summary(rows: list[dict[str, float]]) -> dict[str, dict[str, float]]:
+    """Per method: the mean time (s) over ``rows`` and how much less it is than ``nearest``'s (%)."""
+    base = float(np.mean([r["nearest"] for r in rows]))
+    means = {m: float(np.mean([r[m] for r in rows])) for m in ("nearest", "greedy", "teacher", "oracle")}
+    return {m: {"mean_s": v, "less_than_nearest_pct": 100 * (1 - v / base)} for m, v in means.items()}
+
+
+def main() -> None:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--worlds", required=True, help="comma-separated generators and folders of map files")
+    parser.add_argument("--episodes", type=int, default=4, help="seeds 0.. per generator, first files per folder")
+    parser.add_argument("--width", type=int, default=LOOKAHEAD_WIDTH, help="cheapest frontiers the teacher tries")
+    parser.add_argument("--out", type=Path, required=True, help="JSON file of the results")
+    args = parser.parse_args()
+    rows = []
+    for entry in args.worlds.split(","):
+        cases = [(f, 0) for f in expand_worlds(entry)[: args.episodes]] if "/" in entry else [
+            (entry, k) for k in range(args.episodes)
+        ]  # fmt: skip
+        for spec, seed in cases:
+            started = time.perf_counter()
+            times = world_times(resolve_world(spec, seed), seed, args.width)
+            rows.append({"family": entry, "world": spec, "seed": seed, **times})
+            print(spec, seed, {k: round(v, 1) for k, v in times.items()}, f"{time.perf_counter() - started:.0f} s wall")
+    summary = {family: family_summary([r for r in rows if r["family"] == family]) for family in dict.fromkeys(
+        r["family"] for r in rows
+    )}  # fmt: skip
+    for family, methods in summary.items():
+        print(family, {m: f"{v['mean_s']:.1f} s ({v['less_than_nearest_pct']:+.1f} %)" for m, v in methods.items()})
+    write_text_atomic(args.out, json.dumps({"rows": rows, "summary": summary}, indent=1))
+
+
+if __name__ == "__main__":
+    main()
