@@ -20,7 +20,7 @@ import torch
 from stable_baselines3.common.base_class import BaseAlgorithm
 from stable_baselines3.common.callbacks import BaseCallback
 from stable_baselines3.common.logger import configure as configure_logger
-from stable_baselines3.common.vec_env import DummyVecEnv, SubprocVecEnv, VecMonitor
+from stable_baselines3.common.vec_env import DummyVecEnv, SubprocVecEnv, VecEnv, VecMonitor
 
 import frontier_rl.envs
 from frontier_rl.envs.world_source import check_world_files
@@ -113,6 +113,22 @@ def _restore_checkpoint(model: BaseAlgorithm, out: Path, start: int) -> None:
     model.num_timesteps = start
 
 
+def _learn(model: BaseAlgorithm, venv: VecEnv, config: TrainConfig, out: Path, start: int,
+           callbacks: list[BaseCallback], progress: bool) -> None:  # fmt: skip
+    """Run the configured algorithm from step ``start`` to ``config.timesteps``."""
+    if config.algo == "dagger":
+        model.set_logger(configure_logger(str(out / "tb" / "dagger"), ["tensorboard"]))
+        dagger(model, venv, config.timesteps, config.learning_rate, callbacks, config.seed, progress)
+        return
+    model.learn(
+        total_timesteps=max(config.timesteps - start, 0),
+        callback=callbacks,
+        progress_bar=progress,
+        reset_num_timesteps=start == 0,
+        tb_log_name=config.algo,
+    )
+
+
 def train(
     config: TrainConfig,
     out: Path,
@@ -152,17 +168,7 @@ def train(
     torch.set_num_threads(1 if config.n_envs > 1 else torch.get_num_threads())
     started = time.perf_counter()
     try:
-        if config.algo == "dagger":
-            model.set_logger(configure_logger(str(out / "tb" / "dagger"), ["tensorboard"]))
-            dagger(model, venv, config.timesteps, config.learning_rate, callbacks, config.seed, progress)
-        else:
-            model.learn(
-                total_timesteps=max(config.timesteps - start, 0),
-                callback=callbacks,
-                progress_bar=progress,
-                reset_num_timesteps=start == 0,
-                tb_log_name=config.algo,
-            )
+        _learn(model, venv, config, out, start, callbacks, progress)
     finally:
         venv.close()
         if eval_env is not None:
