@@ -349,6 +349,7 @@ def train(
     seed: Annotated[int, typer.Option(help="Seeds the envs and the network.")] = 0,
     eval_every: Annotated[int, typer.Option(help="Decisions between validations (0: none).")] = 10_000,
     checkpoint_every: Annotated[int, typer.Option(help="Decisions between checkpoints (0: none).")] = 10_000,
+    init: Annotated[str, typer.Option(help="Model file whose weights start the run (same model).")] = "",
     resume: Annotated[bool, typer.Option(help="Continue the run in --out from its last checkpoint.")] = False,
     progress: Annotated[bool, typer.Option(help="Show a progress bar.")] = True,
 ) -> None:
@@ -361,7 +362,7 @@ def train(
     config = TrainConfig(
         model=model, worlds=worlds, timesteps=timesteps, n_envs=n_envs, algo=algo,
         observation_size=observation_size, reward=reward, learning_rate=learning_rate, n_steps=n_steps,
-        seed=seed, eval_every=eval_every, checkpoint_every=checkpoint_every,
+        seed=seed, eval_every=eval_every, checkpoint_every=checkpoint_every, init=init,
     )  # fmt: skip
     final = run_training(config, out, resume=resume, progress=progress)
     stdout_console().print(f"model: {final}   learning curve: {out / 'learning_curve.png'}")

@@ -27,7 +27,7 @@ _MESSAGE_LIMIT = 300
 
 _CLI_OPTIONS = (
     "model", "worlds", "timesteps", "n_envs", "algo", "observation_size", "reward", "learning_rate", "n_steps",
-    "seed", "eval_every", "checkpoint_every",
+    "seed", "eval_every", "checkpoint_every", "init",
 )  # fmt: skip
 """The fields ``frontier-rl train`` sets by an option of the same name."""
 
@@ -60,6 +60,9 @@ class TrainConfig:
         eval_episodes: validation episodes per evaluation.
         checkpoint_every: decisions between checkpoints (0: only the final model).
         seed: seeds the envs, the network and the update order.
+        init: a model file (written by ``frontier-rl train``, same model, observation size and
+            ``features_dim``) whose policy weights start the run; "" starts from random weights.
+            Only the weights are taken, never an optimizer state or a step count.
     """
 
     model: int = 4
@@ -80,6 +83,7 @@ class TrainConfig:
     eval_episodes: int = 6
     checkpoint_every: int = 10_000
     seed: int = 0
+    init: str = ""
 
     def __post_init__(self) -> None:  # noqa: C901 (a validator: one check per field)
         if self.model not in MODELS:
@@ -91,8 +95,9 @@ class TrainConfig:
         if not isinstance(self.observation_size, int) or isinstance(self.observation_size, bool):
             raise ConfigError(f"observation_size must be an integer, got {short_repr(self.observation_size)}")
         env_id(self.model, self.observation_size)  # checks the size
-        if not isinstance(self.worlds, str):
-            raise ConfigError(f"worlds must be a string, got {short_repr(self.worlds)}")
+        for name in ("worlds", "init"):
+            if not isinstance(getattr(self, name), str):
+                raise ConfigError(f"{name} must be a string, got {short_repr(getattr(self, name))}")
         try:
             parse_world_mix(self.worlds)  # checks every world now, not in a subprocess later
         except FrontierRLError as exc:  # it quotes the whole list: keep the message bounded

@@ -20,16 +20,25 @@ import torch
 from stable_baselines3.common.base_class import BaseAlgorithm
 from stable_baselines3.common.callbacks import BaseCallback
 from stable_baselines3.common.logger import configure as configure_logger
+from stable_baselines3.common.policies import ActorCriticPolicy
 from stable_baselines3.common.vec_env import DummyVecEnv, SubprocVecEnv, VecEnv, VecMonitor
 
 import frontier_rl.envs
 from frontier_rl.envs.world_source import check_world_files
-from frontier_rl.errors import ConfigError
+from frontier_rl.errors import ConfigError, short_repr
 from frontier_rl.rl.callbacks import AtomicCheckpoint, ValidationCallback
 from frontier_rl.rl.config import TrainConfig
 from frontier_rl.rl.curves import plot_learning_curve
 from frontier_rl.rl.imitation import dagger
-from frontier_rl.rl.model_file import ALGORITHMS, ModelInfo, check_model_zip, policy_setup, save_model, write_metadata
+from frontier_rl.rl.model_file import (
+    ALGORITHMS,
+    ModelInfo,
+    check_model_zip,
+    load_policy,
+    policy_setup,
+    save_model,
+    write_metadata,
+)
 from frontier_rl.world_spec import world_entries
 
 _CHECKPOINT = re.compile(r"model_(\d+)_steps\.zip$")
@@ -113,6 +122,21 @@ def _restore_checkpoint(model: BaseAlgorithm, out: Path, start: int) -> None:
     model.num_timesteps = start
 
 
+def _initial_policy(config: TrainConfig) -> ActorCriticPolicy:
+    """The policy of model file ``config.init`` (read without unpickling,
+    :func:`~frontier_rl.rl.model_file.load_policy`), checked to be the kind this run trains."""
+    policy, info = load_policy(config.init)
+    assert info is not None  # load_policy refuses a file without metadata unless trusted
+    ours = (config.model, config.env_id, config.features_dim)
+    theirs = (info.model, info.env_id, info.features_dim)
+    if theirs != ours:
+        raise ConfigError(
+            f"init {short_repr(config.init)} holds model {info.model} on {info.env_id} with features_dim "
+            f"{info.features_dim}; this run trains model {config.model} on {config.env_id} with {config.features_dim}"
+        )
+    return policy
+
+
 def _learn(model: BaseAlgorithm, venv: VecEnv, config: TrainConfig, out: Path, start: int,
            callbacks: list[BaseCallback], progress: bool) -> None:  # fmt: skip
     """Run the configured algorithm from step ``start`` to ``config.timesteps``."""
@@ -144,8 +168,10 @@ def train(
     """
     if resume and config.algo == "dagger":
         raise ConfigError("a dagger run cannot be resumed: its labelled decisions are not checkpointed")
+    # a bad map file or --init fails now, before the run directory is written or a subprocess started
+    check_world_files(world_entries(config.worlds))
+    initial = _initial_policy(config) if config.init else None
     start = _check_run_dir(config, out, resume)
-    check_world_files(world_entries(config.worlds))  # a bad map file fails now, not in a subprocess
     frontier_rl.envs.register_envs()
     env_kwargs: dict[str, Any] = {"worlds": config.worlds, "reward": config.reward}
     env_kwargs["max_decisions"] = config.max_decisions
@@ -153,6 +179,8 @@ def train(
     model = build_model(config, venv, out)
     if start:
         _restore_checkpoint(model, out, start)
+    elif initial is not None:
+        model.policy.load_state_dict(initial.state_dict())
     callbacks: list[BaseCallback] = []
     if config.checkpoint_every:
         every = max(config.checkpoint_every // config.n_envs, 1)

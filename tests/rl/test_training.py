@@ -7,6 +7,7 @@ from pathlib import Path
 
 import numpy as np
 import pytest
+import torch
 from stable_baselines3.common.callbacks import BaseCallback
 
 from frontier_rl.core.sim.config import SimConfig
@@ -15,7 +16,7 @@ from frontier_rl.core.world.catalog import generate_world
 from frontier_rl.errors import ConfigError
 from frontier_rl.policies import make_policy
 from frontier_rl.rl.config import TrainConfig
-from frontier_rl.rl.model_file import METADATA_ENTRY, read_metadata
+from frontier_rl.rl.model_file import METADATA_ENTRY, load_policy, read_metadata
 from frontier_rl.rl.train import latest_checkpoint, train
 
 SHORT = SimConfig(max_sim_time=120.0)
@@ -98,7 +99,7 @@ def test_resume_without_a_run_is_an_error(tmp_path: Path) -> None:
     ("changes", "match"),
     [({"model": 6}, "model 6"), ({"algo": "dqn"}, "dqn"), ({"observation_size": 128}, "128"),
      ({"worlds": "office,venus"}, "venus"), ({"reward": "gold"}, "gold"), ({"timesteps": 0}, "timesteps"),
-     ({"learning_rate": -1.0}, "learning_rate"), ({"gamma": 1.5}, "gamma")],
+     ({"learning_rate": -1.0}, "learning_rate"), ({"gamma": 1.5}, "gamma"), ({"init": 3}, "init")],
 )  # fmt: skip
 def test_bad_training_options_are_named(changes: dict[str, object], match: str) -> None:
     values = {"model": 4, **changes}
@@ -161,6 +162,42 @@ def test_learned_weight_is_deterministic(trained: Path) -> None:
     assert runs[0].sim_time_s == runs[1].sim_time_s
     assert [d.weight for d in runs[0].decision_log] == [d.weight for d in runs[1].decision_log]
     assert np.isfinite(runs[0].sim_time_s)
+
+
+class _FirstWeights(BaseCallback):
+    """Keeps a copy of the policy's weights as training starts."""
+
+    def __init__(self) -> None:
+        super().__init__()
+        self.weights: dict[str, torch.Tensor] = {}
+
+    def _on_training_start(self) -> None:
+        self.weights = {k: v.clone() for k, v in self.model.policy.state_dict().items()}
+
+    def _on_step(self) -> bool:
+        return True
+
+
+def test_init_starts_the_run_from_a_model_files_weights(tmp_path: Path, trained: Path) -> None:
+    first = _FirstWeights()
+    config = _config(4, timesteps=8, eval_every=0, checkpoint_every=0, init=str(trained))
+    train(config, tmp_path / "run", progress=False, extra_callbacks=[first])
+    source = load_policy(trained)[0].state_dict()
+    assert source.keys() == first.weights.keys()
+    assert all(torch.equal(source[k], first.weights[k]) for k in source)
+    assert TrainConfig.load(tmp_path / "run" / "config.yaml").init == str(trained)
+    assert f"--init {trained}" in config.command()
+
+
+def test_init_of_another_kind_or_origin_is_refused_before_any_output(tmp_path: Path, trained: Path) -> None:
+    foreign = tmp_path / "foreign.zip"
+    _rewrite(trained, foreign, None)
+    cases = [(_config(5, init=str(trained)), "holds model 4"), (_config(4, init=str(foreign)), "--trust-model"),
+             (_config(4, init=str(tmp_path / "none.zip")), "not found")]  # fmt: skip
+    for config, match in cases:
+        with pytest.raises(ConfigError, match=match):
+            train(config, tmp_path / "run", progress=False)
+        assert not (tmp_path / "run").exists()
 
 
 def test_sb3_stock_cnn_policy_takes_the_map_image() -> None:
