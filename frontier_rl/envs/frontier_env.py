@@ -57,10 +57,10 @@ class FrontierChoiceEnv(ExplorationEnv[dict[str, NDArray[Any]]]):
         mask[: len(self._slots)] = True
         return mask
 
-    def expert_action(self, width: int = LOOKAHEAD_WIDTH) -> int:
+    def expert_action(self, width: int = LOOKAHEAD_WIDTH, margin: float = 0.0) -> int:
         """The privileged teacher's action for the current decision (:func:`lookahead_slot`: one
         step of lookahead on copies of the simulator; it sees the true world), for imitation."""
-        return lookahead_slot(self.sim, self.top_k, width)
+        return lookahead_slot(self.sim, self.top_k, width, margin)
 
     def _observe(self) -> dict[str, NDArray[Any]]:
         sim = self.sim

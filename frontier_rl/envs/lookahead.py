@@ -52,16 +52,21 @@ def greedy_finish(sim: ExplorationSimulator, top_k: int, bound_s: float = math.i
     return sim.sim_time if sim.end_reason() is EndReason.EXPLORED else math.inf
 
 
-def lookahead_slot(sim: ExplorationSimulator, top_k: int, width: int = LOOKAHEAD_WIDTH) -> int:
+def lookahead_slot(sim: ExplorationSimulator, top_k: int, width: int = LOOKAHEAD_WIDTH, margin: float = 0.0) -> int:
     """The slot (0 = cheapest) among the ``width`` cheapest whose copy of ``sim``, finished
-    greedily, explores the map first; ties and all-inf go to the cheaper slot. ``sim`` is not
-    changed."""
+    greedily, explores the map first; ties and all-inf go to the cheaper slot. Another slot than
+    the cheapest is named only if its copy is faster by more than ``margin`` (a share of the
+    cheapest slot's time). ``sim`` is not changed."""
+    if not 0.0 <= margin < 1.0:
+        raise ValueError(f"margin must be in [0, 1), got {margin!r}")
     n = min(width, len(cheapest_slots(sim, top_k)))
-    best, best_time = 0, math.inf
+    best, bound = 0, math.inf  # a copy must end before ``bound`` to be named
     for slot in range(n):
         trial = copy.deepcopy(sim)
         take_slot(trial, slot, top_k)
-        end = greedy_finish(trial, top_k, best_time)
-        if end < best_time:
-            best, best_time = slot, end
+        end = greedy_finish(trial, top_k, bound)
+        if slot == 0:
+            bound = end * (1.0 - margin)
+        elif end < bound:
+            best, bound = slot, end
     return best

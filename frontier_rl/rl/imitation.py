@@ -2,7 +2,8 @@
 
 DAgger (Ross et al., AISTATS 2011) in rounds of :data:`ROUND_DECISIONS` decisions: the teacher
 (:func:`~frontier_rl.envs.lookahead.lookahead_slot`, which tries the cheapest frontiers on copies
-of the simulator) labels every decision; in round r the teacher's own choice is driven with
+of the simulator) labels every decision, naming another frontier than the cheapest only when it
+saves more than :data:`LABEL_MARGIN`; in round r the teacher's own choice is driven with
 probability ``0.5 ** r`` and the learner's otherwise, so later rounds label the states the learner
 reaches. After each round the policy's frontier scores are fitted to all labels so far by
 cross-entropy (:data:`EPOCHS` passes, minibatches of :data:`BATCH`, Adam at the run's learning rate).
@@ -25,6 +26,8 @@ from stable_baselines3.common.distributions import CategoricalDistribution
 from stable_baselines3.common.policies import ActorCriticPolicy
 from stable_baselines3.common.vec_env import VecEnv
 
+from frontier_rl.envs.lookahead import LOOKAHEAD_WIDTH
+
 ROUND_DECISIONS = 512
 """Decisions labelled between two fits of the policy."""
 
@@ -36,6 +39,11 @@ BATCH = 64
 
 TEACHER_DECAY = 0.5
 """The teacher drives round r's decisions with probability TEACHER_DECAY ** r."""
+
+LABEL_MARGIN = 0.02
+"""A label names another frontier than the cheapest only if the teacher's copy that took it
+explored the map more than this share sooner: smaller gains come from one rollout's luck (one
+draw of the noise, one path) as much as from the choice, and would teach the student noise."""
 
 
 class LabelledDecisions:
@@ -53,6 +61,10 @@ class LabelledDecisions:
         for key, value in obs.items():
             self._obs.setdefault(key, []).append(np.array(value, copy=True))
         self._labels.append(np.asarray(labels, np.int64).copy())
+
+    def not_cheapest(self) -> float:
+        """Share of the labels that name another frontier than the cheapest (slot 0)."""
+        return float(np.mean(np.concatenate(self._labels) != 0)) if self._labels else 0.0
 
     def arrays(self) -> tuple[dict[str, NDArray[Any]], NDArray[np.int64]]:
         """All observations (stacked per key) and labels."""
@@ -115,7 +127,7 @@ def dagger(
         task = bar.add_task("DAgger decisions", total=timesteps)
         while model.num_timesteps < timesteps:
             teacher_share = TEACHER_DECAY ** (model.num_timesteps // ROUND_DECISIONS)
-            labels = np.asarray(venv.env_method("expert_action"), np.int64)
+            labels = np.asarray(venv.env_method("expert_action", LOOKAHEAD_WIDTH, LABEL_MARGIN), np.int64)
             data.add(obs, labels)  # type: ignore[arg-type]
             learner, _ = model.policy.predict(obs, deterministic=True)  # type: ignore[arg-type]
             teacher_drives = rng.random(venv.num_envs) < teacher_share
@@ -126,6 +138,7 @@ def dagger(
                 losses.append(fit(model, data, rng, optimizer))
                 model.logger.record("dagger/loss", losses[-1])
                 model.logger.record("dagger/decisions", len(data))
+                model.logger.record("dagger/not_cheapest", data.not_cheapest())
                 model.logger.dump(model.num_timesteps)
             for callback in callbacks:
                 callback.on_step()

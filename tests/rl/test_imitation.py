@@ -14,7 +14,7 @@ from frontier_rl.core.world.grid import CellState, OccupancyGrid
 from frontier_rl.core.world.robot import Pose
 from frontier_rl.core.world.worlds import World, make_world
 from frontier_rl.envs.frontier_env import FrontierChoiceEnv
-from frontier_rl.envs.lookahead import cheapest_slots, greedy_finish, lookahead_slot, take_slot
+from frontier_rl.envs.lookahead import LOOKAHEAD_WIDTH, cheapest_slots, greedy_finish, lookahead_slot, take_slot
 from frontier_rl.errors import ConfigError
 from frontier_rl.io.ros_map import save_ros_map
 from frontier_rl.policies import make_policy
@@ -64,6 +64,23 @@ def test_teacher_leaves_the_simulator_as_it_was_and_is_never_slower_than_greedy(
     assert checked == 6
 
 
+def test_teacher_names_another_slot_only_past_its_margin() -> None:
+    sim = ExplorationSimulator(_world(), rng=np.random.default_rng(5))
+    for _ in range(4):
+        ends = []
+        for slot in range(min(LOOKAHEAD_WIDTH, len(cheapest_slots(sim, TOP_K)))):
+            trial = copy.deepcopy(sim)
+            take_slot(trial, slot, TOP_K)
+            ends.append(greedy_finish(trial, TOP_K))
+        for margin in (0.0, 0.02, 0.5):
+            faster = [i for i in range(1, len(ends)) if ends[i] < ends[0] * (1 - margin)]
+            want = min(faster, key=lambda i: (ends[i], i)) if faster else 0
+            assert lookahead_slot(sim, TOP_K, margin=margin) == want
+        take_slot(sim, 0, TOP_K)
+    with pytest.raises(ValueError, match="margin"):
+        lookahead_slot(sim, TOP_K, margin=1.0)
+
+
 def test_greedy_finish_gives_up_past_its_bound() -> None:
     sim = ExplorationSimulator(_world(), rng=np.random.default_rng(0))
     assert greedy_finish(copy.deepcopy(sim), TOP_K, bound_s=1.0) == float("inf")
@@ -103,6 +120,7 @@ def test_fit_learns_the_labels(map_file: Path, tmp_path: Path) -> None:
         last = fit(model, data, rng, optimizer)
     assert last < 0.5 * first
     stacked, labels = data.arrays()
+    assert data.not_cheapest() == pytest.approx(float(np.mean(labels != 0)))
     predicted, _ = model.policy.predict(stacked, deterministic=True)  # type: ignore[arg-type]
     assert (np.asarray(predicted) == labels).mean() >= 0.9
 
