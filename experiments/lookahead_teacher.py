@@ -4,7 +4,8 @@
 
 The teacher sees the simulator's future, so it is a reference like the oracle, never a method; a
 teacher much faster than ``nearest`` is what makes imitating it worth trying. Every method explores
-the same world from the same start with the same noise.
+the same world from the same start with the same sensor noise; each row gives every method's end
+reason beside its time.
 
     .venv/bin/python experiments/lookahead_teacher.py --worlds office,../shared/maps/dungeon/easy \\
         --episodes 4 --out results/lookahead_teacher.json
@@ -15,6 +16,7 @@ from __future__ import annotations
 import argparse
 import json
 import time
+from collections.abc import Callable
 from pathlib import Path
 
 import numpy as np
@@ -23,7 +25,7 @@ from frontier_rl.atomic_write import write_text_atomic
 from frontier_rl.core.sim.episode import run_episode
 from frontier_rl.core.sim.simulator import ExplorationSimulator
 from frontier_rl.core.world.worlds import World
-from frontier_rl.envs.lookahead import LOOKAHEAD_WIDTH, greedy_finish, lookahead_slot, take_slot
+from frontier_rl.envs.lookahead import LOOKAHEAD_WIDTH, lookahead_slot, take_slot
 from frontier_rl.evaluation.experiment import expand_worlds
 from frontier_rl.policies import make_policy
 from frontier_rl.world_spec import resolve_world
@@ -31,20 +33,31 @@ from frontier_rl.world_spec import resolve_world
 TOP_K = 16  # model 5's slots
 
 
-def teacher_time(world: World, seed: int, width: int) -> float:
-    """Sim time (s) of an episode in which the teacher takes every decision."""
-    sim = ExplorationSimulator(world, rng=np.random.default_rng(seed))
+def _simulator(world: World, seed: int) -> ExplorationSimulator:
+    """The simulator ``run_episode(world, policy, seed=seed)`` builds: the same sensor-noise
+    stream (the first of the two it spawns from ``seed``), so that every method is paired."""
+    return ExplorationSimulator(world, rng=np.random.default_rng(seed).spawn(2)[0])
+
+
+def episode_time(world: World, seed: int, choose: Callable[[ExplorationSimulator], int]) -> tuple[float, str | None]:
+    """Sim time (s) and end reason of an episode in which ``choose(sim)`` names every decision's slot."""
+    sim = _simulator(world, seed)
     while not sim.truncated and not sim.finished:
-        take_slot(sim, lookahead_slot(sim, TOP_K, width), TOP_K)
-    return sim.sim_time
+        take_slot(sim, choose(sim), TOP_K)
+    reason = sim.end_reason()
+    return sim.sim_time, None if reason is None else reason.value
 
 
-def world_times(world: World, seed: int, width: int) -> dict[str, float]:
-    """Each method's time (s) on ``world`` from the same start and noise stream."""
-    times = {name: run_episode(world, make_policy(name), seed=seed).sim_time_s for name in ("nearest", "oracle")}
-    times["greedy"] = greedy_finish(ExplorationSimulator(world, rng=np.random.default_rng(seed)), TOP_K)
-    times["teacher"] = teacher_time(world, seed, width)
-    return times
+def world_times(world: World, seed: int, width: int) -> tuple[dict[str, float], dict[str, str | None]]:
+    """Each method's time (s) and end reason on ``world``, from the same start and noise stream."""
+    times: dict[str, float] = {}
+    ends: dict[str, str | None] = {}
+    for name in ("nearest", "oracle"):
+        result = run_episode(world, make_policy(name), seed=seed)
+        times[name], ends[name] = result.sim_time_s, result.end_reason
+    times["greedy"], ends["greedy"] = episode_time(world, seed, lambda sim: 0)
+    times["teacher"], ends["teacher"] = episode_time(world, seed, lambda sim: lookahead_slot(sim, TOP_K, width))
+    return times, ends
 
 
 def family_summary(rows: list[dict[str, float]]) -> dict[str, dict[str, float]]:
@@ -68,9 +81,10 @@ def main() -> None:
         ]  # fmt: skip
         for spec, seed in cases:
             started = time.perf_counter()
-            times = world_times(resolve_world(spec, seed), seed, args.width)
-            rows.append({"family": entry, "world": spec, "seed": seed, **times})
-            print(spec, seed, {k: round(v, 1) for k, v in times.items()}, f"{time.perf_counter() - started:.0f} s wall")
+            times, ends = world_times(resolve_world(spec, seed), seed, args.width)
+            rows.append({"family": entry, "world": spec, "seed": seed, **times, "ends": ends})
+            print(spec, seed, {k: round(v, 1) for k, v in times.items()}, ends,
+                  f"{time.perf_counter() - started:.0f} s wall")  # fmt: skip
     summary = {family: family_summary([r for r in rows if r["family"] == family]) for family in dict.fromkeys(
         r["family"] for r in rows
     )}  # fmt: skip

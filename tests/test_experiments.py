@@ -12,8 +12,11 @@ from typing import Any
 
 import numpy as np
 
+from frontier_rl.core.sim.config import SimConfig
+from frontier_rl.core.sim.episode import run_episode
 from frontier_rl.core.sim.simulator import ExplorationSimulator
 from frontier_rl.core.world.catalog import generate_world
+from frontier_rl.policies import make_policy
 
 SCRIPT = Path(__file__).resolve().parents[1] / "experiments" / "weight_sweep.py"
 
@@ -94,3 +97,20 @@ def test_teacher_summary_is_relative_to_nearest() -> None:
     assert summary["nearest"] == {"mean_s": 300.0, "less_than_nearest_pct": 0.0}
     assert summary["teacher"]["mean_s"] == 225.0 and summary["teacher"]["less_than_nearest_pct"] == 25.0
     assert summary["greedy"]["less_than_nearest_pct"] == 0.0
+
+
+def test_teacher_experiment_pairs_its_noise_with_run_episode() -> None:
+    """Greedy and the teacher run on the sensor-noise stream that ``run_episode`` gives the
+    simulator of the same seed: the first scan's map and the stream's next state are the same."""
+    teacher = _script("lookahead_teacher")
+    world = generate_world("rooms", 2)
+    seen: list[tuple[object, ...]] = []
+
+    def first(sim: ExplorationSimulator, *_: object) -> None:
+        if not seen:
+            seen.append((sim.rng.bit_generator.state, sim.map().data.tobytes()))
+
+    run_episode(world, make_policy("nearest"), SimConfig(max_sim_time=30.0), seed=7, on_decision=first)
+    ours = teacher._simulator(world, 7)
+    assert seen == [(ours.rng.bit_generator.state, ours.map().data.tobytes())]
+    assert teacher._simulator(world, 8).rng.bit_generator.state != seen[0][0]

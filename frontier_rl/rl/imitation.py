@@ -21,7 +21,7 @@ from numpy.typing import NDArray
 from rich.console import Console
 from rich.progress import Progress
 from stable_baselines3.common.base_class import BaseAlgorithm
-from stable_baselines3.common.callbacks import BaseCallback
+from stable_baselines3.common.callbacks import BaseCallback, CallbackList
 from stable_baselines3.common.distributions import CategoricalDistribution
 from stable_baselines3.common.policies import ActorCriticPolicy
 from stable_baselines3.common.vec_env import VecEnv
@@ -101,6 +101,16 @@ def fit(
     return loss_sum / max(count, 1)
 
 
+def _fit_round(model: BaseAlgorithm, data: LabelledDecisions, rng: np.random.Generator,
+               optimizer: torch.optim.Optimizer) -> float:  # fmt: skip
+    """Fit the policy to every label so far (:func:`fit`) and record the round for the logger."""
+    loss = fit(model, data, rng, optimizer)
+    model.logger.record("dagger/loss", loss)
+    model.logger.record("dagger/decisions", len(data))
+    model.logger.record("dagger/not_cheapest", data.not_cheapest())
+    return loss
+
+
 def dagger(
     model: BaseAlgorithm,
     venv: VecEnv,
@@ -112,15 +122,15 @@ def dagger(
 ) -> list[float]:
     """Train ``model``'s policy by DAgger on ``venv`` (FrontierChoice envs, whose
     ``expert_action`` is the teacher) for ``timesteps`` labelled decisions, Adam at
-    ``learning_rate``; returns each round's loss. The ``callbacks`` (checkpoints, validation) are
-    called after every vectorised step as SB3's ``learn`` calls them; ``model.num_timesteps``
-    counts the decisions labelled."""
+    ``learning_rate``; returns each round's loss. The ``callbacks`` (checkpoints, validation) get
+    SB3's training start, a step after every vectorised step (one that returns False stops the
+    run, as in ``learn``) and training end; ``model.num_timesteps`` counts the decisions labelled."""
     rng = np.random.default_rng(seed)
     optimizer = torch.optim.Adam(model.policy.parameters(), lr=learning_rate)
     data = LabelledDecisions()
-    for callback in callbacks:
-        callback.init_callback(model)
-        callback.on_training_start(locals(), globals())
+    callback = CallbackList(list(callbacks))
+    callback.init_callback(model)
+    callback.on_training_start(locals(), globals())
     obs = venv.reset()
     losses: list[float] = []
     with Progress(console=Console(stderr=True), disable=not progress) as bar:
@@ -135,12 +145,12 @@ def dagger(
             before = model.num_timesteps
             model.num_timesteps += venv.num_envs
             if model.num_timesteps // ROUND_DECISIONS > before // ROUND_DECISIONS or model.num_timesteps >= timesteps:
-                losses.append(fit(model, data, rng, optimizer))
-                model.logger.record("dagger/loss", losses[-1])
-                model.logger.record("dagger/decisions", len(data))
-                model.logger.record("dagger/not_cheapest", data.not_cheapest())
+                losses.append(_fit_round(model, data, rng, optimizer))
+            go_on = callback.on_step()
+            if model.logger.name_to_value:  # the round's records, the callbacks' (validation)
                 model.logger.dump(model.num_timesteps)
-            for callback in callbacks:
-                callback.on_step()
             bar.update(task, completed=model.num_timesteps)
+            if not go_on:
+                break
+    callback.on_training_end()
     return losses

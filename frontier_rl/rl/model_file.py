@@ -137,13 +137,14 @@ def _zip_bytes(entries: dict[str, bytes], info: ModelInfo) -> bytes:
 @contextmanager
 def _open_model(path: Path) -> Iterator[zipfile.ZipFile]:
     """The model file at ``path`` as a checked zip (:func:`~frontier_rl.rl.bounded_zip.open_checked_zip`)."""
-    if not path.is_file():
-        raise ConfigError(f"model file {str(path)!r} not found")
+    where = f"model file {short_repr(str(path))}"
     try:
+        if not path.is_file():
+            raise ConfigError(f"{where} not found")
         file = path.open("rb")
-    except OSError as exc:
-        raise ConfigError(f"model file {str(path)!r} cannot be read ({exc.strerror or first_line(exc)})") from None
-    with file, open_checked_zip(file, f"model file {str(path)!r}", MAX_MEMBERS, "a frontier_rl model") as archive:
+    except OSError as exc:  # also a name the file system refuses to look up (too long, ...)
+        raise ConfigError(f"{where} cannot be read ({exc.strerror or first_line(exc)})") from None
+    with file, open_checked_zip(file, where, MAX_MEMBERS, "a frontier_rl model") as archive:
         yield archive
 
 
@@ -342,7 +343,7 @@ def _load_trusted(path: Path) -> ActorCriticPolicy:
     """SB3's own (unpickling) load, after the zip checks; tried as A2C, then PPO."""
     check_model_zip(path)
     last: Exception | None = None
-    for algo in ALGORITHMS.values():
+    for algo in dict.fromkeys(ALGORITHMS.values()):  # each class once (a DAgger file is an A2C one)
         try:
             with warnings.catch_warnings():
                 warnings.simplefilter("ignore")

@@ -36,6 +36,7 @@ from frontier_rl.rl.model_file import (
     check_model_zip,
     load_policy,
     policy_setup,
+    read_metadata,
     save_model,
     write_metadata,
 )
@@ -125,8 +126,11 @@ def _restore_checkpoint(model: BaseAlgorithm, out: Path, start: int) -> None:
 def _initial_policy(config: TrainConfig) -> ActorCriticPolicy:
     """The policy of model file ``config.init`` (read without unpickling,
     :func:`~frontier_rl.rl.model_file.load_policy`), checked to be the kind this run trains."""
+    if read_metadata(config.init) is None:
+        where = f"init {short_repr(config.init)}"
+        raise ConfigError(f"{where} was not written by 'frontier-rl train'; only such files start a run")
     policy, info = load_policy(config.init)
-    assert info is not None  # load_policy refuses a file without metadata unless trusted
+    assert info is not None
     ours = (config.model, config.env_id, config.features_dim)
     theirs = (info.model, info.env_id, info.features_dim)
     if theirs != ours:
@@ -135,6 +139,18 @@ def _initial_policy(config: TrainConfig) -> ActorCriticPolicy:
             f"{info.features_dim}; this run trains model {config.model} on {config.env_id} with {config.features_dim}"
         )
     return policy
+
+
+def _start(config: TrainConfig, out: Path, resume: bool) -> tuple[int, ActorCriticPolicy | None]:
+    """The step to start from and the ``--init`` policy to start with, if any; a bad map file or
+    ``--init`` fails before the run directory is written or a subprocess started, and a resumed
+    run that has a checkpoint never reads ``--init``."""
+    check_world_files(world_entries(config.worlds))
+    initial = _initial_policy(config) if config.init and not resume else None
+    start = _check_run_dir(config, out, resume)
+    if config.init and resume and not start:
+        initial = _initial_policy(config)
+    return start, initial
 
 
 def _learn(model: BaseAlgorithm, venv: VecEnv, config: TrainConfig, out: Path, start: int,
@@ -168,10 +184,7 @@ def train(
     """
     if resume and config.algo == "dagger":
         raise ConfigError("a dagger run cannot be resumed: its labelled decisions are not checkpointed")
-    # a bad map file or --init fails now, before the run directory is written or a subprocess started
-    check_world_files(world_entries(config.worlds))
-    initial = _initial_policy(config) if config.init else None
-    start = _check_run_dir(config, out, resume)
+    start, initial = _start(config, out, resume)
     frontier_rl.envs.register_envs()
     env_kwargs: dict[str, Any] = {"worlds": config.worlds, "reward": config.reward}
     env_kwargs["max_decisions"] = config.max_decisions

@@ -1,91 +1,27 @@
-"""DAgger for model 5 and its lookahead teacher."""
+"""DAgger for model 5 (``train --algo dagger``); its teacher is tested in tests/envs/test_lookahead.py."""
 
 from __future__ import annotations
 
-import copy
 from pathlib import Path
 
 import numpy as np
 import pytest
 import torch
+from stable_baselines3.common.callbacks import BaseCallback
+from stable_baselines3.common.logger import configure as configure_logger
+from stable_baselines3.common.vec_env import DummyVecEnv, VecEnv, VecEnvWrapper
+from stable_baselines3.common.vec_env.base_vec_env import VecEnvObs, VecEnvStepReturn
 
-from frontier_rl.core.sim.simulator import ExplorationSimulator
-from frontier_rl.core.world.grid import CellState, OccupancyGrid
-from frontier_rl.core.world.robot import Pose
-from frontier_rl.core.world.worlds import World, make_world
 from frontier_rl.envs.frontier_env import FrontierChoiceEnv
-from frontier_rl.envs.lookahead import LOOKAHEAD_WIDTH, cheapest_slots, greedy_finish, lookahead_slot, take_slot
 from frontier_rl.errors import ConfigError
 from frontier_rl.io.ros_map import save_ros_map
 from frontier_rl.policies import make_policy
+from frontier_rl.rl import imitation
 from frontier_rl.rl.config import TrainConfig
 from frontier_rl.rl.imitation import LabelledDecisions, fit
 from frontier_rl.rl.model_file import read_metadata
 from frontier_rl.rl.train import build_model, train
-
-TOP_K = 16
-
-
-def _rooms() -> OccupancyGrid:
-    """A 4 m x 3 m floor: a corridor along the bottom and three rooms above it with doors."""
-    data = np.full((60, 80), CellState.FREE, np.int8)
-    data[[0, -1], :] = CellState.OCCUPIED
-    data[:, [0, -1]] = CellState.OCCUPIED
-    data[20, :] = CellState.OCCUPIED
-    for wall in (27, 54):
-        data[20:, wall] = CellState.OCCUPIED
-    for door in (10, 40, 66):
-        data[20, door : door + 8] = CellState.FREE
-    return OccupancyGrid(data, 0.05)
-
-
-def _world() -> World:
-    return make_world(_rooms(), "rooms", start=Pose(0.5, 0.5, 0.0))
-
-
-def test_teacher_leaves_the_simulator_as_it_was_and_is_never_slower_than_greedy() -> None:
-    sim = ExplorationSimulator(_world(), rng=np.random.default_rng(3))
-    checked = 0
-    while not sim.finished and not sim.truncated and checked < 6:
-        before = (sim.sim_time, sim.pose, sim.coverage)
-        slot = lookahead_slot(sim, TOP_K)
-        assert (sim.sim_time, sim.pose, sim.coverage) == before
-        n = len(cheapest_slots(sim, TOP_K))
-        assert 0 <= slot < max(n, 1)
-        assert lookahead_slot(sim, TOP_K, width=1) == 0
-        ends = []
-        for choice in (0, slot):  # a copy replays the same noise: the teacher's pick finishes no later
-            trial = copy.deepcopy(sim)
-            take_slot(trial, choice, TOP_K)
-            ends.append(greedy_finish(trial, TOP_K))
-        assert ends[1] <= ends[0]
-        take_slot(sim, slot, TOP_K)
-        checked += 1
-    assert checked == 6
-
-
-def test_teacher_names_another_slot_only_past_its_margin() -> None:
-    sim = ExplorationSimulator(_world(), rng=np.random.default_rng(5))
-    for _ in range(4):
-        ends = []
-        for slot in range(min(LOOKAHEAD_WIDTH, len(cheapest_slots(sim, TOP_K)))):
-            trial = copy.deepcopy(sim)
-            take_slot(trial, slot, TOP_K)
-            ends.append(greedy_finish(trial, TOP_K))
-        for margin in (0.0, 0.02, 0.5):
-            faster = [i for i in range(1, len(ends)) if ends[i] < ends[0] * (1 - margin)]
-            want = min(faster, key=lambda i: (ends[i], i)) if faster else 0
-            assert lookahead_slot(sim, TOP_K, margin=margin) == want
-        take_slot(sim, 0, TOP_K)
-    with pytest.raises(ValueError, match="margin"):
-        lookahead_slot(sim, TOP_K, margin=1.0)
-
-
-def test_greedy_finish_gives_up_past_its_bound() -> None:
-    sim = ExplorationSimulator(_world(), rng=np.random.default_rng(0))
-    assert greedy_finish(copy.deepcopy(sim), TOP_K, bound_s=1.0) == float("inf")
-    end = greedy_finish(sim, TOP_K)
-    assert np.isfinite(end) and end == sim.sim_time
+from tests.envs.test_lookahead import _rooms, _world
 
 
 def _config(map_file: Path, **changes: object) -> TrainConfig:
@@ -125,9 +61,67 @@ def test_fit_learns_the_labels(map_file: Path, tmp_path: Path) -> None:
     assert (np.asarray(predicted) == labels).mean() >= 0.9
 
 
+class _Stop(BaseCallback):
+    """Asks the run to stop once ``at`` decisions are labelled; notes the training end."""
+
+    def __init__(self, at: int) -> None:
+        super().__init__()
+        self.at = at
+        self.ended = False
+
+    def _on_step(self) -> bool:
+        return self.num_timesteps < self.at
+
+    def _on_training_end(self) -> None:
+        self.ended = True
+
+
+class _Spy(VecEnvWrapper):
+    """Records the teacher's labels and the actions driven, per vectorised step."""
+
+    def __init__(self, venv: VecEnv) -> None:
+        super().__init__(venv)
+        self.labels: list[list[int]] = []
+        self.actions: list[list[int]] = []
+
+    def env_method(self, name: str, *args: object, indices: object = None, **kwargs: object) -> list[object]:
+        answer = self.venv.env_method(name, *args, indices=indices, **kwargs)  # type: ignore[arg-type]
+        self.labels.append([int(a) for a in answer])  # type: ignore[call-overload]
+        return answer
+
+    def step_async(self, actions: np.ndarray) -> None:
+        self.actions.append([int(a) for a in actions])
+        self.venv.step_async(actions)
+
+    def step_wait(self) -> VecEnvStepReturn:
+        return self.venv.step_wait()
+
+    def reset(self) -> VecEnvObs:
+        return self.venv.reset()
+
+
+def test_dagger_rounds_teacher_schedule_and_callbacks(
+    map_file: Path, tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    monkeypatch.setattr(imitation, "ROUND_DECISIONS", 8)
+    monkeypatch.setattr(imitation, "TEACHER_DECAY", 0.0)  # the teacher drives round 0 only
+    config = _config(map_file, n_envs=2)
+    venv = _Spy(DummyVecEnv([lambda: FrontierChoiceEnv(worlds=(str(map_file),), max_decisions=24)] * 2))
+    model = build_model(config, venv, tmp_path)
+    model.set_logger(configure_logger(None, [""]))
+    losses = imitation.dagger(model, venv, 32, 1e-3, progress=False)
+    assert len(losses) == 4 and all(np.isfinite(losses)) and model.num_timesteps == 32
+    assert venv.actions[:4] == venv.labels[:4]  # round 0: 4 steps of 2 envs, the teacher's labels
+    model = build_model(config, venv, tmp_path)
+    model.set_logger(configure_logger(None, [""]))
+    stop = _Stop(12)
+    losses = imitation.dagger(model, venv, 32, 1e-3, callbacks=[stop], progress=False)
+    assert model.num_timesteps == 12 and len(losses) == 1 and stop.ended
+
+
 def test_dagger_run_writes_a_model_that_explores(map_file: Path, tmp_path: Path) -> None:
     run = tmp_path / "dagger"
-    final = train(_config(map_file), run, progress=False)
+    final = train(_config(map_file, n_envs=2), run, progress=False)  # subprocess envs: the teacher over pipes
     info = read_metadata(final)
     assert info is not None and info.algo == "dagger" and info.model == 5 and info.timesteps >= 24
     assert (run / "validation.csv").read_text().count("\n") == 3  # header + 2 validations

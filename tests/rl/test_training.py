@@ -192,12 +192,26 @@ def test_init_starts_the_run_from_a_model_files_weights(tmp_path: Path, trained:
 def test_init_of_another_kind_or_origin_is_refused_before_any_output(tmp_path: Path, trained: Path) -> None:
     foreign = tmp_path / "foreign.zip"
     _rewrite(trained, foreign, None)
-    cases = [(_config(5, init=str(trained)), "holds model 4"), (_config(4, init=str(foreign)), "--trust-model"),
-             (_config(4, init=str(tmp_path / "none.zip")), "not found")]  # fmt: skip
+    cases = [(_config(5, init=str(trained)), "holds model 4"),
+             (_config(4, init=str(foreign)), "not written by 'frontier-rl train'"),
+             (_config(4, init=str(tmp_path / "none.zip")), "not found"),
+             (_config(4, init="m" * 5000), "cannot be read")]  # fmt: skip
     for config, match in cases:
         with pytest.raises(ConfigError, match=match):
             train(config, tmp_path / "run", progress=False)
         assert not (tmp_path / "run").exists()
+
+
+def test_a_resumed_run_with_a_checkpoint_does_not_read_init(tmp_path: Path, trained: Path) -> None:
+    init = tmp_path / "init.zip"
+    init.write_bytes(trained.read_bytes())
+    run = tmp_path / "run"
+    config = _config(4, timesteps=48, eval_every=0, checkpoint_every=16, init=str(init))
+    with pytest.raises(KeyboardInterrupt):
+        train(config, run, progress=False, extra_callbacks=[_Interrupt(20)])
+    init.unlink()  # moved away after the run started: its checkpoint holds the weights now
+    info = read_metadata(train(config, run, resume=True, progress=False))
+    assert info is not None and info.timesteps == 48
 
 
 def test_sb3_stock_cnn_policy_takes_the_map_image() -> None:
