@@ -158,7 +158,8 @@ def _learn(model: BaseAlgorithm, venv: VecEnv, config: TrainConfig, out: Path, s
     """Run the configured algorithm from step ``start`` to ``config.timesteps``."""
     if config.algo == "dagger":
         model.set_logger(configure_logger(str(out / "tb" / "dagger"), ["tensorboard"]))
-        dagger(model, venv, config.timesteps, config.learning_rate, callbacks, config.seed, progress)
+        labels = out / "labels.npz"
+        dagger(model, venv, config.timesteps, config.learning_rate, callbacks, config.seed, progress, labels)
         return
     model.learn(
         total_timesteps=max(config.timesteps - start, 0),
