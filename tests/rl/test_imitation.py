@@ -38,7 +38,8 @@ def map_file(tmp_path_factory: pytest.TempPathFactory) -> Path:
     return save_ros_map(_rooms(), tmp_path_factory.mktemp("map") / "rooms.yaml")
 
 
-def test_fit_learns_the_labels(map_file: Path, tmp_path: Path) -> None:
+def test_fit_learns_the_labels(map_file: Path, tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> None:
+    monkeypatch.setattr(imitation, "EPOCHS", 10)
     env = FrontierChoiceEnv(worlds=(str(map_file),), observation_size=64)
     model = build_model(_config(map_file), env, tmp_path)
     data = LabelledDecisions()
@@ -57,6 +58,11 @@ def test_fit_learns_the_labels(map_file: Path, tmp_path: Path) -> None:
     assert last < 0.5 * first
     stacked, labels = data.arrays()
     assert data.not_cheapest() == pytest.approx(float(np.mean(labels != 0)))
+    data.save(tmp_path / "labels.npz")
+    with np.load(tmp_path / "labels.npz", allow_pickle=False) as saved:
+        assert sorted(saved.files) == sorted(["labels", *(f"obs_{k}" for k in stacked)])
+        assert np.array_equal(saved["labels"], labels)
+        assert all(np.array_equal(saved[f"obs_{k}"], v) for k, v in stacked.items())
     predicted, _ = model.policy.predict(stacked, deterministic=True)  # type: ignore[arg-type]
     assert (np.asarray(predicted) == labels).mean() >= 0.9
 
@@ -126,6 +132,8 @@ def test_dagger_run_writes_a_model_that_explores(map_file: Path, tmp_path: Path)
     assert info is not None and info.algo == "dagger" and info.model == 5 and info.timesteps >= 24
     assert (run / "validation.csv").read_text().count("\n") == 3  # header + 2 validations
     assert (run / "best_model.zip").exists() and (run / "learning_curve.png").exists()
+    with np.load(run / "labels.npz", allow_pickle=False) as saved:
+        assert len(saved["labels"]) == 24
     from frontier_rl.core.sim.episode import run_episode
 
     result = run_episode(_world(), make_policy(f"learned:{final}"), seed=0)
