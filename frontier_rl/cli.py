@@ -29,7 +29,7 @@ from frontier_rl.core.sim.config import SimConfig
 from frontier_rl.core.sim.episode import run_episode, warm_up
 from frontier_rl.core.sim.metrics import EpisodeResult
 from frontier_rl.core.world.worlds import resolution_bounds
-from frontier_rl.errors import ConfigError, short_repr
+from frontier_rl.errors import ConfigError, short_path, short_repr
 from frontier_rl.policies import POLICY_NAMES, make_policy
 from frontier_rl.recording import EpisodeRecorder, save_team_png
 from frontier_rl.render import check_output_file
@@ -84,14 +84,14 @@ def _output_folder(path: Path, option: str = "--out") -> Path:
     """A results folder option, checked before any work: an existing folder, or a path whose
     nearest existing ancestor is a writable folder (the command creates the rest)."""
     if path.exists() and not path.is_dir():
-        _fail(f"{option} {short_repr(str(path))} is a file, not a folder")
+        _fail(f"{option} {short_path(path)} is a file, not a folder")
     ancestor = path
     while not ancestor.exists() and ancestor != ancestor.parent:
         ancestor = ancestor.parent
     if not ancestor.is_dir():
-        _fail(f"{option} {short_repr(str(path))}: {short_repr(str(ancestor))} is a file, not a folder")
+        _fail(f"{option} {short_path(path)}: {short_path(ancestor)} is a file, not a folder")
     if not os.access(ancestor, os.W_OK | os.X_OK):
-        _fail(f"{option} {short_repr(str(path))}: folder {short_repr(str(ancestor))} is not writable")
+        _fail(f"{option} {short_path(path)}: folder {short_path(ancestor)} is not writable")
     return path
 
 

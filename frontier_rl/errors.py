@@ -58,3 +58,19 @@ def short_repr(value: object, limit: int = QUOTE_LIMIT) -> str:
     except Exception:  # a hostile __repr__ must not hide the error being reported
         text = f"<{type(value).__name__}>"
     return short_text(text, limit)
+
+
+def short_path(path: object, limit: int = QUOTE_LIMIT) -> str:
+    """A file path quoted for an error message in at most ``limit`` characters: when cut, the middle
+    goes (marked with an ellipsis), so the file's name at the end stays readable."""
+    text = str(path)
+    whole = repr(text) if len(text) <= limit else ""
+    return whole if whole and len(whole) <= limit else _cut_middle(text, limit)
+
+
+def _cut_middle(text: str, limit: int) -> str:
+    """``repr`` of ``text`` in ``limit`` characters: its first third and its end, joined by an ellipsis."""
+    head_chars = max(limit // 3, 2)
+    head = repr(text[:limit])[:head_chars]
+    tail_chars = limit - head_chars - 1
+    return head + "…" + (repr(text[-limit:])[-tail_chars:] if tail_chars > 0 else "")

@@ -18,7 +18,7 @@ from PIL import Image, ImageDraw
 
 from frontier_rl.atomic_write import write_bytes_atomic
 from frontier_rl.core.world.grid import CellState, OccupancyGrid
-from frontier_rl.errors import ConfigError, short_repr
+from frontier_rl.errors import ConfigError, short_path
 
 _COLOURS = {
     CellState.UNKNOWN: (150, 150, 160),
@@ -138,15 +138,15 @@ def check_output_file(path: str | Path, suffix: str, what: str = "output") -> Pa
     """
     path = Path(path)
     if path.is_dir():
-        raise ConfigError(f"{what} {short_repr(str(path))} is a folder; name a {suffix} file inside it")
+        raise ConfigError(f"{what} {short_path(path)} is a folder; name a {suffix} file inside it")
     if path.suffix.lower() != suffix:
-        raise ConfigError(f"{what} {short_repr(str(path))} must be a {suffix} file name, got suffix {path.suffix!r}")
+        raise ConfigError(f"{what} {short_path(path)} must be a {suffix} file name, got suffix {path.suffix!r}")
     folder = path.parent
     if not folder.is_dir():
         state = "is a file, not a folder" if folder.exists() else "does not exist"
-        raise ConfigError(f"{what} folder {short_repr(str(folder))} {state}")
+        raise ConfigError(f"{what} folder {short_path(folder)} {state}")
     if not os.access(folder, os.W_OK | os.X_OK):
-        raise ConfigError(f"{what} folder {short_repr(str(folder))} is not writable")
+        raise ConfigError(f"{what} folder {short_path(folder)} is not writable")
     return path
 
 
@@ -164,7 +164,7 @@ def save_image(image: Image.Image, path: str | Path, **params: Any) -> Path:
     path = Path(path)
     fmt = IMAGE_FORMATS.get(path.suffix.lower())
     if fmt is None:
-        raise ConfigError(f"picture {short_repr(str(path))}: unknown suffix {path.suffix!r} (use .png or .gif)")
+        raise ConfigError(f"picture {short_path(path)}: unknown suffix {path.suffix!r} (use .png or .gif)")
     buffer = io.BytesIO()
     image.save(buffer, format=fmt, **params)
     write_bytes_atomic(path, buffer.getvalue())
@@ -177,7 +177,7 @@ def save_gif(frames: Sequence[Image.Image], path: str | Path, frame_ms: int = 12
         raise ValueError("no frames to write")
     path = Path(path)
     if path.suffix.lower() != ".gif":
-        raise ConfigError(f"animation {short_repr(str(path))} must be a .gif file name, got suffix {path.suffix!r}")
+        raise ConfigError(f"animation {short_path(path)} must be a .gif file name, got suffix {path.suffix!r}")
     durations = [frame_ms] * (len(frames) - 1) + [1000]
     params = {"save_all": True, "append_images": list(frames[1:]), "duration": durations, "loop": 0}
     return save_image(frames[0], path, optimize=False, **params)

@@ -21,7 +21,7 @@ from frontier_rl.cli import app
 from frontier_rl.config import load_sim_config
 from frontier_rl.core.sim.config import SimConfig
 from frontier_rl.core.world.grid import OccupancyGrid
-from frontier_rl.errors import ConfigError, FrontierRLError, MapError, short_repr, short_text
+from frontier_rl.errors import ConfigError, FrontierRLError, MapError, short_path, short_repr, short_text
 from frontier_rl.io import load_map, save_ros_map
 from frontier_rl.rl.config import TrainConfig
 from frontier_rl.safe_yaml import (
@@ -414,6 +414,17 @@ def test_short_repr_is_bounded_without_expanding_the_value() -> None:
     assert time.perf_counter() - start < 1
     assert short_repr("abc") == "'abc'" and short_repr(0.5) == "0.5"
     assert short_text("a\nb  c" + "d" * 500, 20) == "a b c" + "d" * 14 + "…"
+
+
+
+@pytest.mark.parametrize(
+    "folder", ["/tmp/pytest-of-root/pytest-15/test_a_member_declaring_16_gib0", "x" * 5000, "a\nb" * 40]
+)
+def test_a_long_path_is_cut_in_the_middle_so_its_file_name_stays(folder: str) -> None:
+    text = short_path(Path(folder) / "bomb_policy.pth.zip")
+    assert len(text) <= 80 and "\n" not in text and "…" in text
+    assert text.endswith("/bomb_policy.pth.zip'") and text.startswith(repr(folder[:10])[:-1])
+    assert short_path(Path("/a/b.zip")) == "'/a/b.zip'" and short_path("c.zip", 3) == "'c…"
 
 
 def test_the_cli_reports_a_harmless_alias_in_one_line(tmp_path: Path) -> None:

@@ -33,7 +33,7 @@ from frontier_rl.core.sim.config import SimConfig
 from frontier_rl.core.sim.episode import run_episode
 from frontier_rl.core.world.robot import Pose
 from frontier_rl.core.world.worlds import World, make_world
-from frontier_rl.errors import ConfigError, MapError, short_repr
+from frontier_rl.errors import ConfigError, MapError, short_path
 from frontier_rl.evaluation.backends import spawn_pool
 from frontier_rl.evaluation.experiment import episode_policy
 from frontier_rl.io.dungeon import DUNGEON_RESOLUTION, load_dungeon_map, marker_pixels
@@ -146,10 +146,10 @@ def run_jobs(
 def ariadne_maps(folder: Path, limit: int | None = None) -> list[Path]:
     """The test maps of ``folder`` in ARiADNE's order (file names sorted in reverse), at most ``limit``."""
     if not folder.is_dir():
-        raise ConfigError(f"--maps {short_repr(str(folder))} is not a folder")
+        raise ConfigError(f"--maps {short_path(folder)} is not a folder")
     maps = sorted((p for p in folder.iterdir() if p.suffix.lower() == ".png"), key=lambda p: p.name, reverse=True)
     if not maps:
-        raise ConfigError(f"--maps {short_repr(str(folder))} holds no PNG maps")
+        raise ConfigError(f"--maps {short_path(folder)} holds no PNG maps")
     return maps[:limit] if limit else maps
 
 

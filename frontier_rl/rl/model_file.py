@@ -39,7 +39,7 @@ from stable_baselines3.common.policies import ActorCriticCnnPolicy, ActorCriticP
 
 import frontier_rl.envs
 from frontier_rl.atomic_write import write_bytes_atomic
-from frontier_rl.errors import QUOTE_LIMIT, ConfigError, short_repr
+from frontier_rl.errors import QUOTE_LIMIT, ConfigError, short_path, short_repr
 from frontier_rl.registration import ENV_IDS, MODELS, OBSERVATION_SIZES, env_id
 from frontier_rl.rl.bounded_zip import MAX_MEMBER_BYTES, first_line, open_checked_zip, read_member
 from frontier_rl.rl.config import MAX_FEATURES_DIM, MAX_TIMESTEPS
@@ -137,7 +137,7 @@ def _zip_bytes(entries: dict[str, bytes], info: ModelInfo) -> bytes:
 @contextmanager
 def _open_model(path: Path) -> Iterator[zipfile.ZipFile]:
     """The model file at ``path`` as a checked zip (:func:`~frontier_rl.rl.bounded_zip.open_checked_zip`)."""
-    where = f"model file {short_repr(str(path))}"
+    where = f"model file {short_path(path)}"
     try:
         if not path.is_file():
             raise ConfigError(f"{where} not found")
