@@ -416,7 +416,6 @@ def test_short_repr_is_bounded_without_expanding_the_value() -> None:
     assert short_text("a\nb  c" + "d" * 500, 20) == "a b c" + "d" * 14 + "…"
 
 
-
 @pytest.mark.parametrize(
     "folder", ["/tmp/pytest-of-root/pytest-15/test_a_member_declaring_16_gib0", "x" * 5000, "a\nb" * 40]
 )
