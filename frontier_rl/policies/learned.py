@@ -40,11 +40,11 @@ class LearnedPolicy:
 
     def __post_init__(self) -> None:
         # torch is imported only for learned policies
-        from frontier_rl.rl.model_file import load_policy
+        from frontier_rl.rl.model_file import load_policy, model_file_label
 
         self.path = Path(self.path)
         self._policy, _ = load_policy(self.path, self.trust)
-        where = f"model file {str(self.path)!r}"
+        where = model_file_label(self.path)
         obs_space = self._policy.observation_space
         n_actions = getattr(self._policy.action_space, "n", 0)
         if not isinstance(n_actions, int | np.integer) or n_actions < 1:

@@ -134,10 +134,15 @@ def _zip_bytes(entries: dict[str, bytes], info: ModelInfo) -> bytes:
     return buffer.getvalue()
 
 
+def model_file_label(path: str | Path) -> str:
+    """How an error message names the model file at ``path`` (bounded; its file name kept)."""
+    return f"model file {short_path(path)}"
+
+
 @contextmanager
 def _open_model(path: Path) -> Iterator[zipfile.ZipFile]:
     """The model file at ``path`` as a checked zip (:func:`~frontier_rl.rl.bounded_zip.open_checked_zip`)."""
-    where = f"model file {short_path(path)}"
+    where = model_file_label(path)
     try:
         if not path.is_file():
             raise ConfigError(f"{where} not found")
@@ -233,7 +238,7 @@ def read_metadata(path: str | Path) -> ModelInfo | None:
     file, or metadata that ``frontier-rl train`` would not write."""
     path = Path(path)
     with _open_model(path) as archive:
-        return _metadata(archive, f"model file {str(path)!r}")
+        return _metadata(archive, model_file_label(path))
 
 
 def env_spaces(env_id: str) -> tuple[gym.Space[Any], gym.Space[Any]]:
@@ -309,7 +314,7 @@ def load_policy(path: str | Path, trust: bool = False) -> tuple[ActorCriticPolic
         trust: allow SB3's full (unpickling) load for zips without frontier_rl metadata.
     """
     path = Path(path)
-    where = f"model file {str(path)!r}"
+    where = model_file_label(path)
     with _open_model(path) as archive:
         info = _metadata(archive, where)
         state = _read_weights(archive, where) if info is not None else {}
@@ -355,7 +360,7 @@ def _load_trusted(path: Path) -> ActorCriticPolicy:
             policy.set_training_mode(False)
             return policy
     reason = f" ({first_line(last)})" if last is not None else ""
-    raise ConfigError(f"model file {str(path)!r} could not be loaded as an SB3 A2C or PPO model{reason}")
+    raise ConfigError(f"{model_file_label(path)} could not be loaded as an SB3 A2C or PPO model{reason}")
 
 
 def predict_action(policy: ActorCriticPolicy, observation: Any) -> int:

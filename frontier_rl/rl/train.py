@@ -25,7 +25,7 @@ from stable_baselines3.common.vec_env import DummyVecEnv, SubprocVecEnv, VecEnv,
 
 import frontier_rl.envs
 from frontier_rl.envs.world_source import check_world_files
-from frontier_rl.errors import ConfigError, short_repr
+from frontier_rl.errors import ConfigError, short_path
 from frontier_rl.rl.callbacks import AtomicCheckpoint, ValidationCallback
 from frontier_rl.rl.config import TrainConfig
 from frontier_rl.rl.curves import plot_learning_curve
@@ -126,8 +126,8 @@ def _restore_checkpoint(model: BaseAlgorithm, out: Path, start: int) -> None:
 def _initial_policy(config: TrainConfig) -> ActorCriticPolicy:
     """The policy of model file ``config.init`` (read without unpickling,
     :func:`~frontier_rl.rl.model_file.load_policy`), checked to be the kind this run trains."""
+    where = f"init {short_path(config.init)}"
     if read_metadata(config.init) is None:
-        where = f"init {short_repr(config.init)}"
         raise ConfigError(f"{where} was not written by 'frontier-rl train'; only such files start a run")
     policy, info = load_policy(config.init)
     assert info is not None
@@ -135,7 +135,7 @@ def _initial_policy(config: TrainConfig) -> ActorCriticPolicy:
     theirs = (info.model, info.env_id, info.features_dim)
     if theirs != ours:
         raise ConfigError(
-            f"init {short_repr(config.init)} holds model {info.model} on {info.env_id} with features_dim "
+            f"{where} holds model {info.model} on {info.env_id} with features_dim "
             f"{info.features_dim}; this run trains model {config.model} on {config.env_id} with {config.features_dim}"
         )
     return policy
