@@ -1,16 +1,11 @@
 """The frontier node's decisions without ROS: which requests are ranked and why not, the status
-line, request ids, throttled warnings, the master watch, and a worker process that dies."""
+line, request ids, throttled warnings and the master watch."""
 
 from __future__ import annotations
 
 import json
 import math
-import os
-import signal
-import threading
-import time
 
-import numpy as np
 import pytest
 
 from frontier_rl.ros.answers import (
@@ -23,7 +18,6 @@ from frontier_rl.ros.answers import (
     parse_request,
 )
 from frontier_rl.ros.master_watch import MasterWatch
-from frontier_rl.ros.robot_worker import MapCells, RankJob, RankResult, RobotWorker
 
 INFO = MapInfo(MapFrame("map", -2.0, -1.0, 0.0), width=100, height=50, resolution=0.05, stamp_s=100.0)
 ROBOTS = ["tb3_0", "tb3_1"]
@@ -94,37 +88,3 @@ def test_the_master_watch_reports_a_new_master_once_and_not_a_lost_one() -> None
     watch.run()  # returns after the restart
     assert lost == ["refused"]
     assert restarts == ["the ROS master at http://localhost:1 was restarted (pid 100, now 200)"]
-
-
-def _room() -> MapCells:
-    cells = np.full((60, 60), -1, np.int8)
-    cells[10:50, 10:30] = 0
-    return MapCells(60, 60, 0.05, cells.reshape(-1))
-
-
-def test_a_worker_ranks_and_comes_back_after_it_is_killed() -> None:
-    results: list[RankResult] = []
-    arrived = threading.Event()
-
-    def on_result(result: RankResult) -> None:
-        results.append(result)
-        arrived.set()
-
-    worker = RobotWorker("fixed:0.75", 10, 4, on_result)
-    try:
-        assert worker.ready.wait(120)
-        worker.send_map(_room())
-        worker.submit(RankJob(1, 1.0, 1.5))
-        assert arrived.wait(30) and results[-1].job == 1 and results[-1].centres and not results[-1].error
-        arrived.clear()
-        pid = worker._process.pid
-        assert pid is not None
-        os.kill(pid, signal.SIGKILL)
-        deadline = time.monotonic() + 120
-        while worker._process.pid == pid and time.monotonic() < deadline:
-            time.sleep(0.05)
-        assert worker.ready.wait(120)
-        worker.submit(RankJob(2, 1.0, 1.5))  # the new process has the last map
-        assert arrived.wait(30) and results[-1].job == 2 and results[-1].centres == results[0].centres
-    finally:
-        worker.close()
