@@ -117,7 +117,7 @@ class MapEncoder:
             out[channel] = self._frontier_marks(grid, frontiers, row0, col0)
             channel += 1
         if self.pose_channel:
-            out[channel] = _pool_marks(self._pose_disc(grid, pose, row0, col0), self.factor)
+            out[channel] = self._pose_marks(grid, pose, row0, col0)
         return out
 
     def _frontier_marks(self, grid: OccupancyGrid, frontiers: Frontiers, row0: int, col0: int) -> NDArray[np.uint8]:
@@ -131,13 +131,21 @@ class MapEncoder:
         channel[rows[inside] // self.factor, cols[inside] // self.factor] = MARK
         return channel
 
-    def _pose_disc(self, grid: OccupancyGrid, pose: Pose, row0: int, col0: int) -> NDArray[np.bool_]:
+    def _pose_marks(self, grid: OccupancyGrid, pose: Pose, row0: int, col0: int) -> NDArray[np.uint8]:
+        """The pose channel: :data:`MARK` on each pixel whose cells hold a cell centre within
+        :data:`POSE_RADIUS_M` of the robot (only the disc's bounding box is visited, not the window)."""
         radius = max(POSE_RADIUS_M / grid.resolution, 1.0)
-        rows = np.arange(self.window)[:, None] + row0 + 0.5
-        cols = np.arange(self.window)[None, :] + col0 + 0.5
         r = (pose.y - grid.origin[1]) / grid.resolution
         c = (pose.x - grid.origin[0]) / grid.resolution
-        return np.asarray((rows - r) ** 2 + (cols - c) ** 2 <= radius * radius, dtype=np.bool_)
+        top, bottom = max(math.floor(r - radius) - row0 - 1, 0), min(math.ceil(r + radius) - row0 + 1, self.window)
+        left, right = max(math.floor(c - radius) - col0 - 1, 0), min(math.ceil(c + radius) - col0 + 1, self.window)
+        channel = np.zeros((self.size, self.size), np.uint8)
+        if top < bottom and left < right:
+            rows = np.arange(top, bottom)[:, None] + row0 + 0.5  # as the cells' centres over the window
+            cols = np.arange(left, right)[None, :] + col0 + 0.5
+            inside_r, inside_c = np.nonzero((rows - r) ** 2 + (cols - c) ** 2 <= radius * radius)
+            channel[(inside_r + top) // self.factor, (inside_c + left) // self.factor] = MARK
+        return channel
 
 
 def frontier_cells(frontiers: Frontiers) -> tuple[NDArray[np.int64], NDArray[np.int64]]:
@@ -156,14 +164,6 @@ def _crop(data: NDArray[ScalarT], row0: int, col0: int, size: int, fill: object)
     if r1 > r0 and c1 > c0:
         out[r0 - row0 : r1 - row0, c0 - col0 : c1 - col0] = data[r0:r1, c0:c1]
     return out
-
-
-def _pool_marks(marks: NDArray[np.bool_], factor: int) -> NDArray[np.uint8]:
-    """Max-pool a boolean mask by ``factor`` into a 0 / :data:`MARK` channel."""
-    if factor > 1:
-        n = marks.shape[0] // factor
-        return np.where(marks.reshape(n, factor, n, factor).any(axis=(1, 3)), MARK, 0).astype(np.uint8)
-    return np.where(marks, MARK, 0).astype(np.uint8)
 
 
 def frontier_features(

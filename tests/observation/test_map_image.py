@@ -11,7 +11,15 @@ from frontier_rl.core.frontiers.detection import detect_frontiers
 from frontier_rl.core.world.grid import CellState, OccupancyGrid
 from frontier_rl.core.world.robot import Pose
 from frontier_rl.errors import ConfigError
-from frontier_rl.observation.map_image import MAP_FREE, MAP_OCCUPIED, MAP_UNKNOWN, MARK, MapEncoder, frontier_features
+from frontier_rl.observation.map_image import (
+    MAP_FREE,
+    MAP_OCCUPIED,
+    MAP_UNKNOWN,
+    MARK,
+    POSE_RADIUS_M,
+    MapEncoder,
+    frontier_features,
+)
 
 
 def _room(rows: int = 40, cols: int = 60) -> OccupancyGrid:
@@ -106,3 +114,37 @@ def test_frontier_features(grid_from_text: Callable[..., OccupancyGrid]) -> None
     assert np.allclose(feats[:, 2], frontiers.sizes / 100)
     assert np.all(feats[:, 3] > 0)
     assert np.allclose(feats[:, 4], (frontiers.centers[:, 0] - pose.x) / 10, atol=1e-6)
+
+
+def _pose_channel_by_definition(enc: MapEncoder, grid: OccupancyGrid, pose: Pose) -> np.ndarray:
+    """The pose channel as defined: the disc of cell centres within POSE_RADIUS_M over the whole
+    window, max-pooled by the encoder's factor."""
+    row0, col0 = enc.window_origin(grid, pose)
+    radius = max(POSE_RADIUS_M / grid.resolution, 1.0)
+    rows = np.arange(enc.window)[:, None] + row0 + 0.5
+    cols = np.arange(enc.window)[None, :] + col0 + 0.5
+    r = (pose.y - grid.origin[1]) / grid.resolution
+    c = (pose.x - grid.origin[0]) / grid.resolution
+    disc = (rows - r) ** 2 + (cols - c) ** 2 <= radius * radius
+    n, f = enc.size, enc.factor
+    return np.where(disc.reshape(n, f, n, f).any(axis=(1, 3)), MARK, 0).astype(np.uint8)
+
+
+@pytest.mark.parametrize(
+    ("size", "shape", "resolution"),
+    [(64, (64, 64), 0.05), (64, (300, 200), 0.1), (64, (1000, 1000), 0.05), (32, (97, 131), 0.025)],
+)
+def test_the_pose_channel_is_the_pooled_disc_around_the_robot(
+    size: int, shape: tuple[int, int], resolution: float
+) -> None:
+    """Worked out on the disc's bounding box only; equal to the definition for poses anywhere,
+    on a cell's edge, near the window's rim and off the map."""
+    rng = np.random.default_rng(1)
+    grid = OccupancyGrid(np.zeros(shape, np.int8), resolution, (-1.3, 2.7))
+    enc = MapEncoder(size, pose_channel=True)
+    height, width = shape[0] * resolution, shape[1] * resolution
+    poses = [(rng.uniform(-0.5, width + 0.5), rng.uniform(-0.5, height + 0.5)) for _ in range(150)]
+    poses += [(0.0, 0.0), (width, height), (0.5 * resolution * 7, 0.25), (-0.3, height + 0.3)]
+    for x, y in poses:
+        pose = Pose(grid.origin[0] + x, grid.origin[1] + y, 0.0)
+        assert np.array_equal(enc.encode(grid, pose)[1], _pose_channel_by_definition(enc, grid, pose)), (x, y)
