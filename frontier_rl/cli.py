@@ -350,6 +350,9 @@ def train(
     eval_every: Annotated[int, typer.Option(help="Decisions between validations (0: none).")] = 10_000,
     checkpoint_every: Annotated[int, typer.Option(help="Decisions between checkpoints (0: none).")] = 10_000,
     init: Annotated[str, typer.Option(help="Model file whose weights start the run (same model).")] = "",
+    privileged_critic: Annotated[
+        bool, typer.Option(help="Model 5: the critic also reads the true map's unseen share (training only).")
+    ] = False,
     resume: Annotated[bool, typer.Option(help="Continue the run in --out from its last checkpoint.")] = False,
     progress: Annotated[bool, typer.Option(help="Show a progress bar.")] = True,
 ) -> None:
@@ -363,6 +366,7 @@ def train(
         model=model, worlds=worlds, timesteps=timesteps, n_envs=n_envs, algo=algo,
         observation_size=observation_size, reward=reward, learning_rate=learning_rate, n_steps=n_steps,
         seed=seed, eval_every=eval_every, checkpoint_every=checkpoint_every, init=init,
+        privileged_critic=privileged_critic,
     )  # fmt: skip
     final = run_training(config, out, resume=resume, progress=progress)
     stdout_console().print(f"model: {final}   learning curve: {out / 'learning_curve.png'}")

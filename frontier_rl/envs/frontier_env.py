@@ -15,6 +15,14 @@ from frontier_rl.errors import ConfigError
 from frontier_rl.observation.frontier_table import FEATURE_BOUND, frontier_observation, slot_order
 from frontier_rl.observation.map_image import FRONTIER_FEATURES, MapEncoder
 
+PRIVILEGED_FEATURES = ("unseen_share", "unseen_area")
+"""The privileged entry: the share of the explorable area not yet mapped, and that area over
+:data:`PRIVILEGED_AREA_M2` (capped at 1). The time left is about proportional to it, which the
+map image around the robot cannot tell a critic on a large floor."""
+
+PRIVILEGED_AREA_M2 = 2500.0
+"""The unseen area (m²) at which ``unseen_area`` reaches 1: a 50 m × 50 m floor."""
+
 
 class FrontierChoiceEnv(ExplorationEnv[dict[str, NDArray[Any]]]):
     """Observation (a dict): ``map``, the map with frontier and pose channels; ``frontiers``, a
@@ -24,30 +32,39 @@ class FrontierChoiceEnv(ExplorationEnv[dict[str, NDArray[Any]]]):
     of the table. A masked row (fewer than K frontiers) is taken modulo the number of frontiers, so
     every action in the space is legal; :meth:`action_masks` gives the mask for maskable algorithms.
 
+    With ``privileged``, the observation also holds ``privileged``: what only the simulator knows,
+    for a critic in training (:data:`PRIVILEGED_FEATURES`); a policy must not act on it.
+
     Args:
         config: shared settings (:class:`EnvConfig`).
         top_k: number of candidate slots K.
         render_mode: None or "rgb_array".
+        privileged: add the ``privileged`` entry.
         **overrides: fields of :class:`EnvConfig`.
     """
 
     def __init__(
-        self, config: EnvConfig | None = None, top_k: int = 16, render_mode: str | None = None, **overrides: Any
+        self,
+        config: EnvConfig | None = None,
+        top_k: int = 16,
+        render_mode: str | None = None,
+        privileged: bool = False,
+        **overrides: Any,
     ) -> None:
         super().__init__(config, render_mode, **overrides)
         if not 1 <= top_k <= 256:
             raise ConfigError(f"top_k must be between 1 and 256, got {top_k!r}")
         self.top_k = top_k
         self.encoder = MapEncoder(self.config.observation_size, frontier_channel=True, pose_channel=True)
-        self.observation_space = gym.spaces.Dict(  # type: ignore[assignment]
-            {
-                "map": gym.spaces.Box(0, 255, self.encoder.shape, np.uint8),
-                "frontiers": gym.spaces.Box(
-                    -FEATURE_BOUND, FEATURE_BOUND, (top_k * len(FRONTIER_FEATURES),), np.float32
-                ),
-                "mask": gym.spaces.Box(0.0, 1.0, (top_k,), np.float32),
-            }
-        )
+        spaces: dict[str, gym.Space[Any]] = {
+            "map": gym.spaces.Box(0, 255, self.encoder.shape, np.uint8),
+            "frontiers": gym.spaces.Box(-FEATURE_BOUND, FEATURE_BOUND, (top_k * len(FRONTIER_FEATURES),), np.float32),
+            "mask": gym.spaces.Box(0.0, 1.0, (top_k,), np.float32),
+        }
+        if privileged:
+            spaces["privileged"] = gym.spaces.Box(0.0, 1.0, (len(PRIVILEGED_FEATURES),), np.float32)
+        self.observation_space = gym.spaces.Dict(spaces)  # type: ignore[assignment]
+        self.privileged = privileged
         self.action_space = gym.spaces.Discrete(top_k)
         self._slots = np.zeros(0, np.int64)  # slot -> index into the simulator's frontiers
 
@@ -69,7 +86,16 @@ class FrontierChoiceEnv(ExplorationEnv[dict[str, NDArray[Any]]]):
             self.encoder, self.top_k, cand.costmap, sim.pose, cand.frontiers, sim.config.robot.radius,
             sim.config.lidar.max_range,
         )  # fmt: skip
+        if self.privileged:
+            obs["privileged"] = self._privileged_features()
         return obs
+
+    def _privileged_features(self) -> NDArray[np.float32]:
+        """:data:`PRIVILEGED_FEATURES` of the current state, from the true world."""
+        sim = self.sim
+        unseen = max(sim.world.explorable_count - sim.mapper.explored_cells, 0)
+        area = unseen * sim.world.grid.resolution**2
+        return np.array([1.0 - sim.coverage, min(area / PRIVILEGED_AREA_M2, 1.0)], np.float32)
 
     def _act(self, action: int) -> tuple[LegResult, float]:
         return self.sim.execute(slot_order(self._slots, action)), 0.0

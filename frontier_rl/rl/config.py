@@ -27,7 +27,7 @@ _MESSAGE_LIMIT = 300
 
 _CLI_OPTIONS = (
     "model", "worlds", "timesteps", "n_envs", "algo", "observation_size", "reward", "learning_rate", "n_steps",
-    "seed", "eval_every", "checkpoint_every", "init",
+    "seed", "eval_every", "checkpoint_every", "init", "privileged_critic",
 )  # fmt: skip
 """The fields ``frontier-rl train`` sets by an option of the same name."""
 
@@ -63,6 +63,9 @@ class TrainConfig:
         init: a model file (written by ``frontier-rl train``, same model, observation size and
             ``features_dim``) whose policy weights start the run; "" starts from random weights.
             Only the weights are taken, never an optimizer state or a step count.
+        privileged_critic: model 5 with "a2c" or "ppo" only: the critic also reads what only the
+            simulator knows (the unseen share and area of the true map), through a value head the
+            model file leaves out (:class:`~frontier_rl.rl.networks.PointerPolicy`).
     """
 
     model: int = 4
@@ -84,6 +87,7 @@ class TrainConfig:
     checkpoint_every: int = 10_000
     seed: int = 0
     init: str = ""
+    privileged_critic: bool = False
 
     def __post_init__(self) -> None:  # noqa: C901 (a validator: one check per field)
         if self.model not in MODELS:
@@ -92,6 +96,12 @@ class TrainConfig:
             raise ConfigError(f"unknown algorithm {short_repr(self.algo)}; choose one of {', '.join(ALGOS)}")
         if self.algo == "dagger" and self.model != 5:
             raise ConfigError(f"algorithm 'dagger' trains model 5 (frontier choice) only, got model {self.model!r}")
+        if not isinstance(self.privileged_critic, bool):
+            raise ConfigError(f"privileged_critic must be true or false, got {short_repr(self.privileged_critic)}")
+        if self.privileged_critic and (self.model != 5 or self.algo == "dagger"):
+            raise ConfigError(
+                f"a privileged critic is for model 5 with a2c or ppo, got model {self.model!r} with {self.algo!r}"
+            )
         if not isinstance(self.observation_size, int) or isinstance(self.observation_size, bool):
             raise ConfigError(f"observation_size must be an integer, got {short_repr(self.observation_size)}")
         env_id(self.model, self.observation_size)  # checks the size
@@ -151,7 +161,8 @@ class TrainConfig:
         for name in _CLI_OPTIONS:
             value = getattr(self, name)
             if name in ("model", "worlds", "timesteps") or value != getattr(default, name):
-                parts.append(f"--{name.replace('_', '-')} {shlex.quote(str(value))}")
+                option = f"--{name.replace('_', '-')}"
+                parts.append(option if value is True else f"{option} {shlex.quote(str(value))}")
         other = [f"{f.name}={getattr(self, f.name)}" for f in fields(self)
                  if f.name not in _CLI_OPTIONS and getattr(self, f.name) != getattr(default, f.name)]  # fmt: skip
         return " ".join(parts) + (f" (also {', '.join(other)})" if other else "")

@@ -43,7 +43,7 @@ from frontier_rl.errors import QUOTE_LIMIT, ConfigError, short_path, short_repr
 from frontier_rl.registration import ENV_IDS, MODELS, OBSERVATION_SIZES, env_id
 from frontier_rl.rl.bounded_zip import MAX_MEMBER_BYTES, first_line, open_checked_zip, read_member
 from frontier_rl.rl.config import MAX_FEATURES_DIM, MAX_TIMESTEPS
-from frontier_rl.rl.networks import FrontierScorer, GridCNN, PointerPolicy
+from frontier_rl.rl.networks import PRIVILEGED_HEAD, FrontierScorer, GridCNN, PointerPolicy
 
 METADATA_ENTRY = "frontier_rl.json"
 WEIGHTS_ENTRY = "policy.pth"
@@ -125,12 +125,26 @@ def save_model(model: BaseAlgorithm, path: Path, info: ModelInfo | None = None) 
 
 
 def _zip_bytes(entries: dict[str, bytes], info: ModelInfo) -> bytes:
-    """A deflated zip of ``entries`` plus the metadata entry of ``info``."""
+    """A deflated zip of ``entries`` plus the metadata entry of ``info``: a model file, whose
+    weights leave out a privileged value head (training only; :class:`PointerPolicy`)."""
+    if WEIGHTS_ENTRY in entries:
+        entries = {**entries, WEIGHTS_ENTRY: _without_privileged_head(entries[WEIGHTS_ENTRY])}
     buffer = io.BytesIO()
     with zipfile.ZipFile(buffer, "w", zipfile.ZIP_DEFLATED) as archive:
         for name, data in entries.items():
             archive.writestr(name, data)
         archive.writestr(METADATA_ENTRY, json.dumps(asdict(info), indent=2))
+    return buffer.getvalue()
+
+
+def _without_privileged_head(weights: bytes) -> bytes:
+    """``policy.pth`` as SB3 just wrote it, without the weights of the privileged value head."""
+    state = torch.load(io.BytesIO(weights), map_location="cpu", weights_only=True)
+    kept = {key: value for key, value in state.items() if not key.startswith(f"{PRIVILEGED_HEAD}.")}
+    if len(kept) == len(state):
+        return weights
+    buffer = io.BytesIO()
+    torch.save(kept, buffer)
     return buffer.getvalue()
 
 

@@ -90,13 +90,50 @@ class _FirstColumns(nn.Module):
         return latent[:, : self.n]
 
 
+PRIVILEGED_HEAD = "privileged_value"
+"""The module name (and weight-name prefix) of :class:`PointerPolicy`'s privileged value head."""
+
+
 class PointerPolicy(ActorCriticPolicy):
     """Actor-critic whose action logits are :class:`FrontierScorer`'s per-frontier scores; the
-    critic reads all the features (the scores and the map context). Use with ``net_arch=dict(pi=[], vf=[64])``."""
+    critic reads all the features (the scores and the map context). Use with ``net_arch=dict(pi=[], vf=[64])``.
+
+    When the observation holds ``privileged`` (what only the simulator knows, in training), a small
+    head on it adds to the value: a privileged critic, as ARiADNE's successors train with. The
+    actor never reads it, and a model file leaves the head out (:data:`PRIVILEGED_HEAD`), so the
+    deployed policy needs no privileged input; its value is then the critic's without the head.
+    """
 
     def _build(self, lr_schedule: Any) -> None:
         super()._build(lr_schedule)
         top_k = int(self.action_space.n)  # type: ignore[attr-defined]
         self.action_net = _FirstColumns(top_k)
+        spaces = getattr(self.observation_space, "spaces", {})
+        if "privileged" in spaces:
+            last = nn.Linear(64, 1)
+            nn.init.zeros_(last.weight)  # starts as the plain critic
+            nn.init.zeros_(last.bias)
+            head = nn.Sequential(nn.Linear(int(spaces["privileged"].shape[0]), 64), nn.ReLU(), last)
+            self.add_module(PRIVILEGED_HEAD, head)
         # the optimizer was created over the old action_net; rebuild it over the current modules
         self.optimizer = self.optimizer_class(self.parameters(), lr=lr_schedule(1), **self.optimizer_kwargs)  # type: ignore[call-arg]
+
+    def _privileged_value(self, obs: Any) -> torch.Tensor | float:
+        head = getattr(self, PRIVILEGED_HEAD, None)
+        return 0.0 if head is None else head(obs["privileged"])
+
+    def forward(self, obs: Any, deterministic: bool = False) -> tuple[torch.Tensor, torch.Tensor, torch.Tensor]:
+        """Actions, values and log-probabilities, as SB3's (the values with the privileged head)."""
+        actions, values, log_prob = super().forward(obs, deterministic)
+        return actions, values + self._privileged_value(obs), log_prob
+
+    def evaluate_actions(
+        self, obs: Any, actions: torch.Tensor
+    ) -> tuple[torch.Tensor, torch.Tensor, torch.Tensor | None]:
+        """Values, log-probabilities and entropy of ``actions``, as SB3's (values with the head)."""
+        values, log_prob, entropy = super().evaluate_actions(obs, actions)
+        return values + self._privileged_value(obs), log_prob, entropy
+
+    def predict_values(self, obs: Any) -> torch.Tensor:
+        """The critic's values, as SB3's (with the privileged head)."""
+        return super().predict_values(obs) + self._privileged_value(obs)

@@ -40,6 +40,7 @@ from frontier_rl.rl.model_file import (
     save_model,
     write_metadata,
 )
+from frontier_rl.rl.networks import PRIVILEGED_HEAD
 from frontier_rl.world_spec import world_entries
 
 _CHECKPOINT = re.compile(r"model_(\d+)_steps\.zip$")
@@ -141,6 +142,15 @@ def _initial_policy(config: TrainConfig) -> ActorCriticPolicy:
     return policy
 
 
+def _load_initial(policy: torch.nn.Module, initial: torch.nn.Module) -> None:
+    """Start ``policy`` from ``initial``'s weights; a model file has no privileged value head, so
+    a privileged critic's head (alone) keeps its fresh weights."""
+    result = policy.load_state_dict(initial.state_dict(), strict=False)
+    fresh = [key for key in result.missing_keys if not key.startswith(f"{PRIVILEGED_HEAD}.")]
+    if fresh or result.unexpected_keys:  # _initial_policy checked the kind, so this is a bug
+        raise RuntimeError(f"--init does not fit: missing {fresh}, unexpected {result.unexpected_keys}")
+
+
 def _start(config: TrainConfig, out: Path, resume: bool) -> tuple[int, ActorCriticPolicy | None]:
     """The step to start from and the ``--init`` policy to start with, if any; a bad map file or
     ``--init`` fails before the run directory is written or a subprocess started, and a resumed
@@ -189,12 +199,14 @@ def train(
     frontier_rl.envs.register_envs()
     env_kwargs: dict[str, Any] = {"worlds": config.worlds, "reward": config.reward}
     env_kwargs["max_decisions"] = config.max_decisions
+    if config.privileged_critic:
+        env_kwargs["privileged"] = True
     venv = _training_envs(config, out, start, env_kwargs)
     model = build_model(config, venv, out)
     if start:
         _restore_checkpoint(model, out, start)
     elif initial is not None:
-        model.policy.load_state_dict(initial.state_dict())
+        _load_initial(model.policy, initial)
     callbacks: list[BaseCallback] = []
     if config.checkpoint_every:
         every = max(config.checkpoint_every // config.n_envs, 1)

@@ -41,6 +41,20 @@ def test_passes_gymnasium_and_sb3_checkers(env_name: str) -> None:
     sb3_check_env(gym.make(env_name), warn=True)
 
 
+def test_the_privileged_entry_passes_the_checkers_and_follows_the_coverage() -> None:
+    env = gym.make(env_id(5, 64), privileged=True, render_mode="rgb_array")
+    gym_check_env(env.unwrapped, skip_render_check=False)
+    sb3_check_env(gym.make(env_id(5, 64), privileged=True), warn=True)
+    obs, _ = env.reset(seed=0)
+    shares = [float(obs["privileged"][0])]
+    for _ in range(4):
+        obs, *_ = env.step(0)
+        shares.append(float(obs["privileged"][0]))
+    assert 0.0 < shares[-1] < shares[0] < 1.0  # the unseen share falls as the robot maps
+    assert np.isclose(shares[-1], 1.0 - env.unwrapped.sim.coverage)  # type: ignore[attr-defined]
+    assert "privileged" not in gym.make(env_id(5, 64)).observation_space.spaces  # type: ignore[attr-defined]
+
+
 @pytest.mark.parametrize("model", [1, 3, 4, 5])
 def test_same_seed_same_episode(model: int) -> None:
     def rollout() -> tuple[list[Any], list[float], list[dict[str, Any]]]:
