@@ -95,7 +95,7 @@ class FrontierChoiceEnv(ExplorationEnv[dict[str, NDArray[Any]]]):
         sim = self.sim
         unseen = max(sim.world.explorable_count - sim.mapper.explored_cells, 0)
         area = unseen * sim.world.grid.resolution**2
-        return np.array([1.0 - sim.coverage, min(area / PRIVILEGED_AREA_M2, 1.0)], np.float32)
+        return np.clip(np.array([1.0 - sim.coverage, area / PRIVILEGED_AREA_M2], np.float32), 0.0, 1.0)
 
     def _act(self, action: int) -> tuple[LegResult, float]:
         return self.sim.execute(slot_order(self._slots, action)), 0.0
