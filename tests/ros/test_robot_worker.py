@@ -76,7 +76,7 @@ def test_a_large_map_is_ranked_as_in_the_nodes_own_process(worker: tuple[RobotWo
     assert len(answer.centres) >= 2
 
 
-def test_a_default_socket_timeout_leaves_the_pipe_blocking(monkeypatch: pytest.MonkeyPatch) -> None:
+def test_a_default_socket_timeout_leaves_the_pipe_blocking() -> None:
     """rospy sets ``socket.setdefaulttimeout(60)``. A socket made on the pipe's file under it (as
     ``multiprocessing.reduction.send_handle`` makes one, tried for passing maps as file descriptors)
     turns the pipe non-blocking, and the reader thread's next read fails with EAGAIN: the worker was
