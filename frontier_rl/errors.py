@@ -68,6 +68,11 @@ def short_path(path: object, limit: int = QUOTE_LIMIT) -> str:
     return whole if whole and len(whole) <= limit else _cut_middle(text, limit)
 
 
+def model_file_label(path: object) -> str:
+    """How an error message names the model file at ``path`` (bounded; its file name kept)."""
+    return f"model file {short_path(path)}"
+
+
 def _cut_middle(text: str, limit: int) -> str:
     """``repr`` of ``text`` in ``limit`` characters: its first third and its end, joined by an ellipsis."""
     head_chars = max(limit // 3, 2)

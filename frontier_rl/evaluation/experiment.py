@@ -23,7 +23,7 @@ from frontier_rl.core.sim.episode import ExplorationPolicy, run_episode, warm_up
 from frontier_rl.core.sim.metrics import sample_step
 from frontier_rl.core.world.catalog import WORLD_GENERATORS
 from frontier_rl.core.world.worlds import World
-from frontier_rl.errors import ConfigError, short_path, short_repr
+from frontier_rl.errors import ConfigError, model_file_label, short_repr
 from frontier_rl.policies import make_policy
 from frontier_rl.swarm import Failure, Strategy, TeamConfig, TeamMethod, TeamResult, run_team_episode
 from frontier_rl.world_spec import parse_world_list, read_map, resolve_world
@@ -158,7 +158,7 @@ def method_fingerprint(method: str) -> str:
         return method
     path = Path(arg)
     if not path.is_file():
-        raise ConfigError(f"model file {short_path(arg)} of method {short_repr(method)} does not exist")
+        raise ConfigError(f"{model_file_label(arg)} of method {short_repr(method)} does not exist")
     return f"{method}#sha256:{file_sha256(path)}"
 
 

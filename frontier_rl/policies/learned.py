@@ -17,7 +17,7 @@ from frontier_rl.core.frontiers.ranking import rank, weighted_cost
 from frontier_rl.core.navigation.costmap import Costmap
 from frontier_rl.core.sim.config import SimConfig
 from frontier_rl.core.sim.episode import DecisionContext, Ranking
-from frontier_rl.errors import ConfigError, short_repr
+from frontier_rl.errors import ConfigError, model_file_label, short_repr
 from frontier_rl.observation.frontier_table import frontier_observation, slot_order
 from frontier_rl.observation.map_image import MapEncoder
 from frontier_rl.observation.weight_bins import WEIGHT_BINS, bin_to_weight
@@ -40,7 +40,7 @@ class LearnedPolicy:
 
     def __post_init__(self) -> None:
         # torch is imported only for learned policies
-        from frontier_rl.rl.model_file import load_policy, model_file_label
+        from frontier_rl.rl.model_file import load_policy
 
         self.path = Path(self.path)
         self._policy, _ = load_policy(self.path, self.trust)

@@ -39,7 +39,7 @@ from stable_baselines3.common.policies import ActorCriticCnnPolicy, ActorCriticP
 
 import frontier_rl.envs
 from frontier_rl.atomic_write import write_bytes_atomic
-from frontier_rl.errors import QUOTE_LIMIT, ConfigError, short_path, short_repr
+from frontier_rl.errors import QUOTE_LIMIT, ConfigError, model_file_label, short_repr
 from frontier_rl.registration import ENV_IDS, MODELS, OBSERVATION_SIZES, env_id
 from frontier_rl.rl.bounded_zip import MAX_MEMBER_BYTES, first_line, open_checked_zip, read_member
 from frontier_rl.rl.config import MAX_FEATURES_DIM, MAX_TIMESTEPS
@@ -146,11 +146,6 @@ def _without_privileged_head(weights: bytes) -> bytes:
     buffer = io.BytesIO()
     torch.save(kept, buffer)
     return buffer.getvalue()
-
-
-def model_file_label(path: str | Path) -> str:
-    """How an error message names the model file at ``path`` (bounded; its file name kept)."""
-    return f"model file {short_path(path)}"
 
 
 @contextmanager

@@ -122,4 +122,3 @@ def test_the_command_names_the_option() -> None:
     command = _config().command()
     assert "--privileged-critic" in command and "--privileged-critic True" not in command
     assert "privileged" not in _config(privileged_critic=False).command()
-    assert np.isfinite(_config().learning_rate)
