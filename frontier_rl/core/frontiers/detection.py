@@ -27,31 +27,41 @@ _OCCUPIED = np.int8(CellState.OCCUPIED)
 
 @nb.njit(cache=True, fastmath=FASTMATH)
 def visible_unknown(
-    state: NDArray[np.int8],
-    stamp: NDArray[np.int32],
-    stamp_id: int,
-    cx: float,
-    cy: float,
-    n_rays: int,
-    max_range: float,
-) -> int:
-    """Unknown cells a scan from (cx, cy) (cell units) would reveal: rays pass through free and
-    unknown cells and stop at occupied ones or the grid's edge; each cell counts once."""
+    state: NDArray[np.int8], centres: NDArray[np.float64], n_rays: int, max_range: float
+) -> NDArray[np.int64]:
+    """For each centre ((n, 2) as (col, row), cell units), the unknown cells a scan from it would
+    reveal: rays pass through free and unknown cells and stop at occupied ones or the grid's edge;
+    each cell counts once per centre. The cells counted are stamped in a window of the scan's
+    extent around the centre, not in a map-sized array: on a large map zeroing (and touching) one
+    cost more than the rays."""
     rows, cols = state.shape
-    total = 0
+    side = 2 * int(math.ceil(max_range)) + 5  # rays enter cells within ceil(max_range) of its cell
+    stamp = np.zeros((side, side), np.int32)
+    cos_a, sin_a = np.empty(n_rays), np.empty(n_rays)
     for i in range(n_rays):
         a = 2.0 * math.pi * i / n_rays
-        row, col, s_r, s_c, tm_r, tm_c, td_r, td_c = ray_start(cx, cy, math.cos(a), math.sin(a))
-        t = 0.0
-        while t <= max_range and 0 <= row < rows and 0 <= col < cols:
-            value = state[row, col]
-            if value == _OCCUPIED:
-                break
-            if value == _UNKNOWN and stamp[row, col] != stamp_id:
-                stamp[row, col] = stamp_id
-                total += 1
-            row, col, tm_r, tm_c, t = dda_step(row, col, s_r, s_c, tm_r, tm_c, td_r, td_c)
-    return total
+        cos_a[i], sin_a[i] = math.cos(a), math.sin(a)
+    totals = np.zeros(centres.shape[0], np.int64)
+    for k in range(centres.shape[0]):
+        cx, cy = centres[k, 0], centres[k, 1]
+        top, left = int(math.floor(cy)) - side // 2, int(math.floor(cx)) - side // 2
+        total = 0
+        for i in range(n_rays):
+            row, col, s_r, s_c, tm_r, tm_c, td_r, td_c = ray_start(cx, cy, cos_a[i], sin_a[i])
+            t = 0.0
+            while t <= max_range and 0 <= row < rows and 0 <= col < cols:
+                value = state[row, col]
+                if value == _OCCUPIED:
+                    break
+                wr, wc = row - top, col - left
+                if not (0 <= wr < side and 0 <= wc < side):
+                    break  # cannot happen (the window spans the range); guards the stamp's bounds
+                if value == _UNKNOWN and stamp[wr, wc] != k + 1:
+                    stamp[wr, wc] = k + 1
+                    total += 1
+                row, col, tm_r, tm_c, t = dda_step(row, col, s_r, s_c, tm_r, tm_c, td_r, td_c)
+        totals[k] = total
+    return totals
 
 
 @dataclass(frozen=True)
@@ -119,20 +129,9 @@ class Frontiers:
     def information_gain(self, sensor_range: float, n_rays: int = 180) -> NDArray[np.int64]:
         """Unknown cells a scan of range ``sensor_range`` (m) from each centre would reveal."""
         grid = self.grid
-        stamp = np.zeros(grid.shape, np.int32)
-        gains = np.zeros(len(self), np.int64)
-        res = grid.resolution
-        for i, (x, y) in enumerate(self.centers):
-            gains[i] = visible_unknown(
-                grid.data,
-                stamp,
-                i + 1,
-                (x - grid.origin[0]) / res,
-                (y - grid.origin[1]) / res,
-                n_rays,
-                sensor_range / res,
-            )
-        return gains
+        centres = (self.centers - np.asarray(grid.origin, np.float64)) / grid.resolution
+        reach = min(sensor_range / grid.resolution, math.hypot(*grid.shape) + 2.0)  # no ray leaves the grid
+        return visible_unknown(grid.data, centres.reshape(-1, 2), n_rays, reach)
 
 
 def detect_frontiers(

@@ -231,6 +231,7 @@ def group_path_costs(
         source = (start[0] // f) * bcols + start[1] // f
         reach = math.ceil(reach / f)
         max_cost = 1.0 + float(costmap.inflation_table.max()) + costmap.unknown_cost  # bounds every block's factor
+    wanted = n_groups if want is None else min(int(want), n_groups)  # more than there are: all of them
     best, exhausted = _group_costs(open_p, cost_p, pending, src, int(source), (cells, groups), int(reach),
-                                   int(n_groups), n_groups if want is None else int(want), max_cost)  # fmt: skip
+                                   int(n_groups), wanted, max_cost)  # fmt: skip
     return best * (f * grid.resolution), bool(exhausted)

@@ -16,6 +16,7 @@ from frontier_rl.core.mapping.mapper import LogOddsMapper
 from frontier_rl.core.sensing.lidar import Lidar
 from frontier_rl.core.world.catalog import generate_world
 from frontier_rl.core.world.grid import CellState, OccupancyGrid
+from frontier_rl.core.world.raycast import dda_step, ray_start
 from frontier_rl.core.world.robot import Pose
 
 FREE, OCC, UNKNOWN = CellState.FREE.value, CellState.OCCUPIED.value, CellState.UNKNOWN.value
@@ -286,6 +287,43 @@ def test_information_gain_counts_unknown_cells_and_stops_at_walls(
     assert single_frontier(opened, 1, 1, frontiers_from).information_gain(10.0).tolist() == [7, 7]
     # range 0.22 m = 2.2 cells: the ray enters (1, 2) at 0.5 cells, (1, 3) at 1.5, (1, 4) at 2.5
     assert single_frontier(opened, 1, 1, frontiers_from).information_gain(0.22).tolist() == [2, 2]
+
+
+def reference_gain(state: np.ndarray, cx: float, cy: float, n_rays: int, max_range: float) -> int:
+    """The definition, one ray at a time, with a set of the unknown cells the rays enter."""
+    seen: set[tuple[int, int]] = set()
+    for i in range(n_rays):
+        a = 2.0 * math.pi * i / n_rays
+        row, col, s_r, s_c, tm_r, tm_c, td_r, td_c = ray_start(cx, cy, math.cos(a), math.sin(a))
+        t = 0.0
+        while t <= max_range and 0 <= row < state.shape[0] and 0 <= col < state.shape[1]:
+            if state[row, col] == CellState.OCCUPIED:
+                break
+            if state[row, col] == CellState.UNKNOWN:
+                seen.add((row, col))
+            row, col, tm_r, tm_c, t = dda_step(row, col, s_r, s_c, tm_r, tm_c, td_r, td_c)
+    return len(seen)
+
+
+@pytest.mark.parametrize("seed", range(3))
+def test_information_gain_is_the_rays_count_anywhere_on_the_map(
+    seed: int, frontiers_from: Callable[..., Frontiers]
+) -> None:
+    # the cells counted are stamped in a window around each centre: centres by the map's edges
+    # and ranges longer than the map must count as the rays do
+    rng = np.random.default_rng(seed)
+    values = np.array([CellState.FREE, CellState.UNKNOWN, CellState.OCCUPIED], np.int8)
+    state = values[rng.choice(3, size=(90, 130), p=[0.3, 0.67, 0.03])]
+    grid = OccupancyGrid(state, 0.05, (-1.0, 2.0))
+    cells = np.array([[0, 0], [89, 129], [45, 0], [0, 64], [45, 64], [88, 3]])
+    centres = grid.cells_to_world(cells) + rng.uniform(-0.02, 0.02, (len(cells), 2))
+    frontiers = frontiers_from(grid, centres, np.ones(len(cells), np.int64))
+    for sensor_range in (0.3, 1.7, 3.5, 1e9):
+        expected = [
+            reference_gain(state, (x + 1.0) / 0.05, (y - 2.0) / 0.05, 90, min(sensor_range / 0.05, 1e6))
+            for x, y in centres
+        ]
+        assert frontiers.information_gain(sensor_range, n_rays=90).tolist() == expected
 
 
 def test_information_gain_in_a_small_room(grid_from_text: TextGrid, frontiers_from: Callable[..., Frontiers]) -> None:

@@ -97,6 +97,20 @@ def test_want_gives_the_cheapest_groups_exactly_and_stops_early(want: int) -> No
     assert costs[found].max() <= np.sort(expected[np.isfinite(expected)])[found.sum() - 1]  # no gaps
 
 
+@pytest.mark.parametrize("want", [5, 16, 1000])
+def test_wanting_more_groups_than_there_are_stops_once_all_are_found(want: int) -> None:
+    # a decision wants its 16 cheapest frontiers; with fewer on the map the search must stop once
+    # it has them all, not go on over the whole map for groups that do not exist
+    data = np.full((200, 200), CellState.FREE, np.int8)
+    costmap = costmap_of(data)
+    cells = np.array([50 * 200 + 60, 55 * 200 + 40], np.int64)
+    costs, exhausted = group_path_costs(costmap, (50, 50), cells, np.array([0, 1]), 2, REACH, RADIUS, want=want)
+    every, every_exhausted = group_path_costs(costmap, (50, 50), cells, np.array([0, 1]), 2, REACH, RADIUS)
+    assert not exhausted and not every_exhausted
+    np.testing.assert_array_equal(costs, every)
+    np.testing.assert_array_equal(costs, reference(costmap, (50, 50), cells, np.array([0, 1]), 2))
+
+
 def test_groups_without_a_path_are_inf_and_the_search_says_it_ran_out() -> None:
     data = np.full((60, 60), CellState.FREE, np.int8)
     data[:, 28:32] = CellState.OCCUPIED  # a wall from edge to edge
