@@ -34,14 +34,18 @@ MODELS: dict[int, ModelSpec] = {
                  {"with_frontiers_and_pose": False}, "map in, ranking weight out"),
     5: ModelSpec(5, "FrontierChoice", "frontier_rl.envs.frontier_env:FrontierChoiceEnv",
                  {}, "map + per-frontier features in, one of the top-K frontiers out"),
+    6: ModelSpec(6, "WeightFrontierTable", "frontier_rl.envs.weight_env:WeightTableEnv",
+                 {}, "map + per-frontier features in, ranking weight out"),
 }  # fmt: skip
+"""Models 1-4 are the thesis's, 5 its future work (a frontier chosen directly), 6 model 3 with
+model 5's frontier table beside the image (a per-decision weight needs what the ranking trades off)."""
 
 OBSERVATION_SIZES = (250, 64)
 """The map image sizes with a registered id: the thesis's 250 × 250 and Niroui et al.'s 64 × 64."""
 
 
 def env_id(model: int, observation_size: int = 250) -> str:
-    """The registered id of thesis model ``model`` (1-5) at ``observation_size`` (250 or 64)."""
+    """The registered id of model ``model`` (1-6) at ``observation_size`` (250 or 64)."""
     if model not in MODELS:
         raise ConfigError(f"unknown model {short_repr(model)}; choose one of {', '.join(map(str, MODELS))}")
     if observation_size not in OBSERVATION_SIZES:

@@ -1,4 +1,5 @@
-"""Model 5, the thesis's future work: the policy chooses one of the top-K candidate frontiers."""
+"""Model 5, the thesis's future work: the policy chooses one of the top-K candidate frontiers; and
+the observation it shares with model 6 (:class:`FrontierTableEnv`)."""
 
 from __future__ import annotations
 
@@ -24,13 +25,12 @@ PRIVILEGED_AREA_M2 = 2500.0
 """The unseen area (m²) at which ``unseen_area`` reaches 1: a 50 m × 50 m floor."""
 
 
-class FrontierChoiceEnv(ExplorationEnv[dict[str, NDArray[Any]]]):
+class FrontierTableEnv(ExplorationEnv[dict[str, NDArray[Any]]]):
     """Observation (a dict): ``map``, the map with frontier and pose channels; ``frontiers``, a
     (K, 6) table, flattened row by row, of per-frontier features (:data:`FRONTIER_FEATURES`) for
     the K candidates with the lowest path cost, cheapest first; ``mask``, 1 for the rows that hold
-    a frontier. Action: a row
-    of the table. A masked row (fewer than K frontiers) is taken modulo the number of frontiers, so
-    every action in the space is legal; :meth:`action_masks` gives the mask for maskable algorithms.
+    a frontier. Subclasses give the action (:class:`FrontierChoiceEnv`: a row; model 6's
+    :class:`~frontier_rl.envs.weight_env.WeightTableEnv`: a ranking weight).
 
     With ``privileged``, the observation also holds ``privileged``: what only the simulator knows,
     for a critic in training (:data:`PRIVILEGED_FEATURES`); a policy must not act on it.
@@ -65,19 +65,11 @@ class FrontierChoiceEnv(ExplorationEnv[dict[str, NDArray[Any]]]):
             spaces["privileged"] = gym.spaces.Box(0.0, 1.0, (len(PRIVILEGED_FEATURES),), np.float32)
         self.observation_space = gym.spaces.Dict(spaces)  # type: ignore[assignment]
         self.privileged = privileged
-        self.action_space = gym.spaces.Discrete(top_k)
+        self.action_space = self._make_action_space()
         self._slots = np.zeros(0, np.int64)  # slot -> index into the simulator's frontiers
 
-    def action_masks(self) -> NDArray[np.bool_]:
-        """Which actions point at a real frontier (for MaskablePPO and the like)."""
-        mask = np.zeros(self.top_k, np.bool_)
-        mask[: len(self._slots)] = True
-        return mask
-
-    def expert_action(self, width: int = LOOKAHEAD_WIDTH, margin: float = 0.0) -> int:
-        """The privileged teacher's action for the current decision (:func:`lookahead_slot`: one
-        step of lookahead on copies of the simulator; it sees the true world), for imitation."""
-        return lookahead_slot(self.sim, self.top_k, width, margin)
+    def _make_action_space(self) -> gym.spaces.Discrete:
+        raise NotImplementedError
 
     def _observe(self) -> dict[str, NDArray[Any]]:
         sim = self.sim
@@ -96,6 +88,28 @@ class FrontierChoiceEnv(ExplorationEnv[dict[str, NDArray[Any]]]):
         unseen = max(sim.world.explorable_count - sim.mapper.explored_cells, 0)
         area = unseen * sim.world.grid.resolution**2
         return np.clip(np.array([1.0 - sim.coverage, area / PRIVILEGED_AREA_M2], np.float32), 0.0, 1.0)
+
+
+class FrontierChoiceEnv(FrontierTableEnv):
+    """Model 5: the observation of :class:`FrontierTableEnv`; the action, a row of its table. A
+    masked row (fewer than K frontiers) is taken modulo the number of frontiers, so every action in
+    the space is legal; :meth:`action_masks` gives the mask for maskable algorithms. Arguments as
+    :class:`FrontierTableEnv`.
+    """
+
+    def _make_action_space(self) -> gym.spaces.Discrete:
+        return gym.spaces.Discrete(self.top_k)
+
+    def action_masks(self) -> NDArray[np.bool_]:
+        """Which actions point at a real frontier (for MaskablePPO and the like)."""
+        mask = np.zeros(self.top_k, np.bool_)
+        mask[: len(self._slots)] = True
+        return mask
+
+    def expert_action(self, width: int = LOOKAHEAD_WIDTH, margin: float = 0.0) -> int:
+        """The privileged teacher's action for the current decision (:func:`lookahead_slot`: one
+        step of lookahead on copies of the simulator; it sees the true world), for imitation."""
+        return lookahead_slot(self.sim, self.top_k, width, margin)
 
     def _act(self, action: int) -> tuple[LegResult, float]:
         return self.sim.execute(slot_order(self._slots, action)), 0.0

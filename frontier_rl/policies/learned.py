@@ -1,8 +1,9 @@
 """Learned policies (``learned:PATH.zip``) behind the same interface as the baselines.
 
-The model kind follows from the network's spaces: a dict observation is the frontier-choice model
-(5); 100 actions a weight model (3 with frontier and pose channels, 4 without); otherwise a
-point model (1 or 2), whose chosen pixel becomes a goal to drive to.
+The model kind follows from the network's spaces: a dict observation (the map and a frontier
+table) with an action per row is the frontier-choice model (5), with 100 actions model 6 (a weight
+from the table); an image with 100 actions is a weight model (3 with frontier and pose channels, 4
+without); otherwise a point model (1 or 2), whose chosen pixel becomes a goal to drive to.
 """
 
 from __future__ import annotations
@@ -50,8 +51,15 @@ class LearnedPolicy:
         if not isinstance(n_actions, int | np.integer) or n_actions < 1:
             raise ConfigError(f"{where} does not have a discrete action space")
         n_actions = int(n_actions)
-        spaces = getattr(obs_space, "spaces", None)  # a dict observation: the frontier-choice model
-        self.kind = "frontier" if spaces is not None else "weight" if n_actions == WEIGHT_BINS else "point"
+        spaces = getattr(obs_space, "spaces", None)  # a dict observation: the frontier table's models
+        if spaces is None:
+            self.kind = "weight" if n_actions == WEIGHT_BINS else "point"
+        else:
+            rows = getattr(spaces.get("mask"), "shape", None) if isinstance(spaces, dict) else None
+            if rows is None or len(rows) != 1 or rows[0] < 1 or n_actions not in (rows[0], WEIGHT_BINS):
+                raise ConfigError(f"{where} has {n_actions} actions for a frontier table of {short_repr(rows)} rows")
+            self.kind = "frontier" if n_actions == rows[0] else "weight table"
+            n_actions = int(rows[0])
         image_space = obs_space if spaces is None else spaces.get("map") if isinstance(spaces, dict) else None
         image_shape = getattr(image_space, "shape", None)
         if image_shape is None or len(image_shape) != 3 or image_shape[1] != image_shape[2]:
@@ -92,4 +100,7 @@ class LearnedPolicy:
         obs, slots = frontier_observation(
             self._encoder, self._top_k, costmap, pose, frontiers, self.sim.robot.radius, context.sensor_range
         )
+        if self.kind == "weight table":
+            weight = bin_to_weight(self._act(obs))
+            return Ranking(rank(weighted_cost(frontiers, weight)), weight)
         return Ranking(slot_order(slots, self._act(obs)))

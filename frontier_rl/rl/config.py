@@ -37,7 +37,8 @@ class TrainConfig:
     """What ``frontier-rl train`` does.
 
     Attributes:
-        model: thesis model 1-5 (see :data:`frontier_rl.registration.MODELS`).
+        model: model 1-6: the thesis's 1-4, its future work 5, and 6 (see
+            :data:`frontier_rl.registration.MODELS`).
         worlds: comma-separated generator names, map files and folders, each optionally with a
             sampling weight ("office=2,../shared/maps/dungeon/train=3"), drawn per episode; a
             folder's validation files (one in ten) are never trained on.

@@ -43,7 +43,7 @@ from frontier_rl.errors import QUOTE_LIMIT, ConfigError, model_file_label, short
 from frontier_rl.registration import ENV_IDS, MODELS, OBSERVATION_SIZES, env_id
 from frontier_rl.rl.bounded_zip import MAX_MEMBER_BYTES, first_line, open_checked_zip, read_member
 from frontier_rl.rl.config import MAX_FEATURES_DIM, MAX_TIMESTEPS
-from frontier_rl.rl.networks import PRIVILEGED_HEAD, FrontierScorer, GridCNN, PointerPolicy
+from frontier_rl.rl.networks import PRIVILEGED_HEAD, FrontierPooling, FrontierScorer, GridCNN, PointerPolicy
 
 METADATA_ENTRY = "frontier_rl.json"
 WEIGHTS_ENTRY = "policy.pth"
@@ -67,7 +67,7 @@ class ModelInfo:
     """What a model file holds.
 
     Attributes:
-        model: thesis model number 1-5.
+        model: model number 1-6 (:data:`~frontier_rl.registration.MODELS`).
         env_id: the Gymnasium id it was trained on.
         observation_size: map image edge (pixels).
         algo: "a2c", "ppo" or "dagger".
@@ -89,12 +89,18 @@ _FIELDS: tuple[str, ...] = tuple(f.name for f in fields(ModelInfo))
 
 
 def policy_setup(model: int, features_dim: int) -> tuple[type[ActorCriticPolicy], dict[str, Any]]:
-    """The policy class and keyword arguments of thesis model ``model``."""
+    """The policy class and keyword arguments of model ``model``."""
     if model == 5:
         return PointerPolicy, {
             "features_extractor_class": FrontierScorer,
             "features_extractor_kwargs": {"context_dim": features_dim},
             "net_arch": {"pi": [], "vf": [64]},
+        }
+    if model == 6:
+        return ActorCriticPolicy, {
+            "features_extractor_class": FrontierPooling,
+            "features_extractor_kwargs": {"context_dim": features_dim},
+            "net_arch": {"pi": [64], "vf": [64]},
         }
     return ActorCriticCnnPolicy, {
         "features_extractor_class": GridCNN,

@@ -1,4 +1,5 @@
-"""Feature extractors for occupancy-grid images, and the pointer policy of the frontier-choice model."""
+"""Feature extractors for occupancy-grid images and frontier tables, and the pointer policy of the
+frontier-choice model."""
 
 from __future__ import annotations
 
@@ -50,7 +51,27 @@ class GridCNN(BaseFeaturesExtractor):
         return self.head(self.cnn(observations))  # type: ignore[no-any-return]
 
 
-class FrontierScorer(BaseFeaturesExtractor):
+class _FrontierTableExtractor(BaseFeaturesExtractor):
+    """The part models 5 and 6 share: the map image → a ``context_dim`` embedding, and each
+    frontier's row of the table beside it."""
+
+    def __init__(self, observation_space: gym.spaces.Dict, context_dim: int, features_dim: int) -> None:
+        map_shape = observation_space["map"].shape
+        mask_shape = observation_space["mask"].shape
+        assert map_shape is not None and mask_shape is not None
+        super().__init__(observation_space, features_dim)
+        self.top_k = int(mask_shape[0])
+        self.cnn = _grid_cnn(int(map_shape[0]))
+        self.context = nn.Sequential(nn.Linear(64 * 16, context_dim), nn.ReLU())
+
+    def _pairs(self, observations: dict[str, torch.Tensor]) -> tuple[torch.Tensor, torch.Tensor]:
+        """(batch, K, features + context) rows, and the (batch, context) map embedding."""
+        context = self.context(self.cnn(observations["map"]))
+        table = observations["frontiers"].reshape(context.shape[0], self.top_k, len(FRONTIER_FEATURES))
+        return torch.cat((table, context[:, None, :].expand(-1, self.top_k, -1)), dim=2), context
+
+
+class FrontierScorer(_FrontierTableExtractor):
     """Frontier-choice observation → [K masked frontier scores | ``context_dim`` map features].
 
     Every frontier is scored by one shared MLP over its features and the map embedding, so the
@@ -58,25 +79,46 @@ class FrontierScorer(BaseFeaturesExtractor):
     """
 
     def __init__(self, observation_space: gym.spaces.Dict, context_dim: int = 128) -> None:
-        map_shape = observation_space["map"].shape
         mask_shape = observation_space["mask"].shape
-        assert map_shape is not None and mask_shape is not None
-        self.top_k = int(mask_shape[0])
-        super().__init__(observation_space, self.top_k + context_dim)
-        self.cnn = _grid_cnn(int(map_shape[0]))
-        self.context = nn.Sequential(nn.Linear(64 * 16, context_dim), nn.ReLU())
-        n_feat = len(FRONTIER_FEATURES)
-        self.scorer = nn.Sequential(nn.Linear(n_feat + context_dim, 64), nn.ReLU(), nn.Linear(64, 1))
+        assert mask_shape is not None
+        super().__init__(observation_space, context_dim, int(mask_shape[0]) + context_dim)
+        self.scorer = nn.Sequential(nn.Linear(len(FRONTIER_FEATURES) + context_dim, 64), nn.ReLU(), nn.Linear(64, 1))
 
     def forward(self, observations: dict[str, torch.Tensor]) -> torch.Tensor:
         """Scores of the K slots (masked) followed by the map context."""
-        context = self.context(self.cnn(observations["map"]))
-        table = observations["frontiers"].reshape(context.shape[0], self.top_k, len(FRONTIER_FEATURES))
-        pairs = torch.cat((table, context[:, None, :].expand(-1, self.top_k, -1)), dim=2)
+        pairs, context = self._pairs(observations)
         scores = self.scorer(pairs).squeeze(-1)
         mask = observations["mask"]
         scores = torch.where(mask > 0.5, scores, torch.full_like(scores, MASKED_LOGIT))
         return torch.cat((scores, context), dim=1)
+
+
+FRONTIER_EMBEDDING = 64
+"""Size of each frontier's embedding in :class:`FrontierPooling`."""
+
+
+class FrontierPooling(_FrontierTableExtractor):
+    """Frontier-table observation → [``context_dim`` map features | the frontiers' embeddings,
+    max-pooled | mean-pooled], for a policy with one action per decision (model 6's weight).
+
+    Each frontier is embedded by one shared MLP over its features and the map embedding, and the
+    pools run over the rows the mask keeps (a Deep Sets encoder): the output does not depend on
+    the order of the rows, and an empty table pools to zeros.
+    """
+
+    def __init__(self, observation_space: gym.spaces.Dict, context_dim: int = 128) -> None:
+        super().__init__(observation_space, context_dim, context_dim + 2 * FRONTIER_EMBEDDING)
+        n_in = len(FRONTIER_FEATURES) + context_dim
+        self.embed = nn.Sequential(nn.Linear(n_in, FRONTIER_EMBEDDING), nn.ReLU(),
+                                   nn.Linear(FRONTIER_EMBEDDING, FRONTIER_EMBEDDING), nn.ReLU())  # fmt: skip
+
+    def forward(self, observations: dict[str, torch.Tensor]) -> torch.Tensor:
+        """The map context, then the max and the mean of the kept rows' embeddings."""
+        pairs, context = self._pairs(observations)
+        keep = (observations["mask"] > 0.5).unsqueeze(-1)
+        embedded = torch.where(keep, self.embed(pairs), torch.zeros((), dtype=pairs.dtype))  # >= 0 (ReLU)
+        count = keep.sum(dim=1).clamp(min=1)
+        return torch.cat((context, embedded.amax(dim=1), embedded.sum(dim=1) / count), dim=1)
 
 
 class _FirstColumns(nn.Module):

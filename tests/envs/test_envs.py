@@ -14,6 +14,7 @@ import frontier_rl
 from frontier_rl.core.world.catalog import generate_world
 from frontier_rl.envs import FrontierChoiceEnv, WeightEnv
 from frontier_rl.errors import ConfigError, UnknownNameError
+from frontier_rl.observation.weight_bins import WEIGHT_BINS, bin_to_weight
 from frontier_rl.registration import ENV_IDS, env_id
 
 
@@ -24,10 +25,11 @@ def _obs_equal(a: Any, b: Any) -> bool:
 
 
 def test_every_model_and_size_is_registered() -> None:
-    assert len(ENV_IDS) == 10
+    assert len(ENV_IDS) == 12
     assert all(i in gym.registry for i in ENV_IDS)
     assert env_id(4) == "FrontierRL/WeightMap-v0"
     assert env_id(4, 64) == "FrontierRL/WeightMap64-v0"
+    assert env_id(6, 64) == "FrontierRL/WeightFrontierTable64-v0"
     with pytest.raises(ConfigError, match="7"):
         env_id(7)
     with pytest.raises(ConfigError, match="100"):
@@ -55,7 +57,7 @@ def test_the_privileged_entry_passes_the_checkers_and_follows_the_coverage() -> 
     assert "privileged" not in gym.make(env_id(5, 64)).observation_space.spaces  # type: ignore[attr-defined]
 
 
-@pytest.mark.parametrize("model", [1, 3, 4, 5])
+@pytest.mark.parametrize("model", [1, 3, 4, 5, 6])
 def test_same_seed_same_episode(model: int) -> None:
     def rollout() -> tuple[list[Any], list[float], list[dict[str, Any]]]:
         env = gym.make(env_id(model, 64))
@@ -163,6 +165,18 @@ def test_render_rgb_array() -> None:
     frame = env.render()
     assert isinstance(frame, np.ndarray) and frame.dtype == np.uint8
     assert frame.ndim == 3 and frame.shape[2] == 3 and frame.shape[0] > 100
+
+
+def test_model_6_sees_model_5s_table_and_drives_by_its_weight() -> None:
+    table, choice = gym.make(env_id(6, 64)), gym.make(env_id(5, 64))
+    assert table.action_space == gym.spaces.Discrete(WEIGHT_BINS)
+    assert table.observation_space == choice.observation_space
+    obs6, _ = table.reset(seed=3)
+    obs5, _ = choice.reset(seed=3)
+    assert _obs_equal(obs6, obs5)
+    for action in (0, 37, WEIGHT_BINS - 1):
+        *_, info = table.step(action)
+        assert info["weight"] == bin_to_weight(action)
 
 
 def test_frontier_choice_mask_and_masked_actions() -> None:

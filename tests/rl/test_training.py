@@ -31,7 +31,7 @@ def _config(model: int, **changes: object) -> TrainConfig:
     return TrainConfig(**values)  # type: ignore[arg-type]
 
 
-@pytest.mark.parametrize("model", [1, 2, 3, 4, 5])
+@pytest.mark.parametrize("model", [1, 2, 3, 4, 5, 6])
 def test_smoke_training_saves_reloads_and_acts(model: int, tmp_path: Path) -> None:
     run = tmp_path / f"model{model}"
     final = train(_config(model), run, progress=False)
@@ -47,7 +47,7 @@ def test_smoke_training_saves_reloads_and_acts(model: int, tmp_path: Path) -> No
     policy = make_policy(f"learned:{final}")
     result = run_episode(generate_world("office", 0), policy, SHORT, seed=0)
     assert result.sim_time_s > 0 and result.decisions > 0
-    if model in (3, 4):
+    if model in (3, 4, 6):
         weights = [d.weight for d in result.decision_log]
         assert all(w is not None and 0 <= w < 1 for w in weights)
 
@@ -97,7 +97,7 @@ def test_resume_without_a_run_is_an_error(tmp_path: Path) -> None:
 
 @pytest.mark.parametrize(
     ("changes", "match"),
-    [({"model": 6}, "model 6"), ({"algo": "dqn"}, "dqn"), ({"observation_size": 128}, "128"),
+    [({"model": 7}, "model 7"), ({"algo": "dqn"}, "dqn"), ({"observation_size": 128}, "128"),
      ({"worlds": "office,venus"}, "venus"), ({"reward": "gold"}, "gold"), ({"timesteps": 0}, "timesteps"),
      ({"learning_rate": -1.0}, "learning_rate"), ({"gamma": 1.5}, "gamma"), ({"init": 3}, "init")],
 )  # fmt: skip
