@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import math
 import shlex
 from dataclasses import dataclass, fields
 from pathlib import Path
@@ -27,7 +28,7 @@ _MESSAGE_LIMIT = 300
 
 _CLI_OPTIONS = (
     "model", "worlds", "timesteps", "n_envs", "algo", "observation_size", "reward", "learning_rate", "n_steps",
-    "seed", "eval_every", "checkpoint_every", "init", "privileged_critic",
+    "ent_coef", "seed", "eval_every", "checkpoint_every", "init", "privileged_critic",
 )  # fmt: skip
 """The fields ``frontier-rl train`` sets by an option of the same name."""
 
@@ -138,6 +139,9 @@ class TrainConfig:
             raise ConfigError(f"learning_rate must be > 0, got {self.learning_rate!r}")
         if not 0 < self.gamma <= 1:
             raise ConfigError(f"gamma must be in (0, 1], got {self.gamma!r}")
+        for name in ("vf_coef", "ent_coef"):
+            if not 0 <= getattr(self, name) < math.inf:
+                raise ConfigError(f"{name} must be a finite number >= 0, got {getattr(self, name)!r}")
 
     @property
     def env_id(self) -> str:
