@@ -100,7 +100,8 @@ def test_resume_without_a_run_is_an_error(tmp_path: Path) -> None:
     [({"model": 7}, "model 7"), ({"algo": "dqn"}, "dqn"), ({"observation_size": 128}, "128"),
      ({"worlds": "office,venus"}, "venus"), ({"reward": "gold"}, "gold"), ({"timesteps": 0}, "timesteps"),
      ({"learning_rate": -1.0}, "learning_rate"), ({"gamma": 1.5}, "gamma"), ({"init": 3}, "init"),
-     ({"ent_coef": -0.01}, "ent_coef"), ({"ent_coef": float("nan")}, "ent_coef"), ({"vf_coef": float("inf")}, "vf_coef")],
+     ({"ent_coef": -0.01}, "ent_coef"), ({"ent_coef": float("nan")}, "ent_coef"),
+     ({"vf_coef": float("inf")}, "vf_coef")],
 )  # fmt: skip
 def test_bad_training_options_are_named(changes: dict[str, object], match: str) -> None:
     values = {"model": 4, **changes}
