@@ -78,6 +78,9 @@ THESIS_SECONDS_WEIGHT = 10_000.0
 cells (+50 each, +2·10⁶ in all) in about 400 s, so time outweighs the cell rewards above
 2·10⁶ / 400 s = 5,000 per second; 10,000 makes the episode's time the dominant term, as the thesis asks."""
 
+_TIME_SCALE = 0.01 / THESIS_SECONDS_WEIGHT
+"""The normalised preset's time penalty over the thesis's: its cell terms are scaled by it too."""
+
 REWARD_PRESETS: dict[str, RewardConfig] = {
     # Thesis tables 3.2 (weight models) and 3.1 (the cell terms, used by the point models only).
     "thesis": RewardConfig(
@@ -92,17 +95,20 @@ REWARD_PRESETS: dict[str, RewardConfig] = {
     ),
     # Returns of order 1: −1 per 100 s of exploring, +1 for mapping the whole area (a constant per
     # world, so it shapes credit without changing which policy is fastest), +1 for finishing.
-    # The cell terms keep table 3.1's proportions at 1/1000 of its size.
+    # The cell terms are table 3.1's scaled as the time term is (10,000 per second -> 0.01), so
+    # that, as in the thesis, the best cell is worth 0.05 s: at 1/1000 (0.5 a choice, 50 s) a
+    # point model earned more by choosing cells it could not reach, decision after decision,
+    # than by exploring.
     "normalised": RewardConfig(
         end_bonus=1.0,
         per_free_cell=0.0,
         per_occupied_cell=0.0,
         per_second=0.01,
         per_coverage=1.0,
-        chosen_free=0.4,
-        chosen_unknown=0.5,
-        chosen_occupied=-0.5,
-        chosen_next_to_wall=-0.05,
+        chosen_free=400 * _TIME_SCALE,
+        chosen_unknown=500 * _TIME_SCALE,
+        chosen_occupied=-500 * _TIME_SCALE,
+        chosen_next_to_wall=-50 * _TIME_SCALE,
     ),
 }
 

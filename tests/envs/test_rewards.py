@@ -94,6 +94,25 @@ def test_point_env_adds_the_cell_reward() -> None:
     assert reward == pytest.approx(leg_part + cell)
 
 
+@pytest.mark.parametrize("preset", sorted(REWARD_PRESETS))
+def test_a_point_decision_that_explores_nothing_never_pays(preset: str) -> None:
+    # choosing the robot's own cell (or any it cannot reach) costs a recovery turn and maps
+    # nothing: if the chosen cell's reward outweighed that turn, a point model would learn to
+    # stall (it did, with the normalised preset's cell terms 1,000 times the thesis's share)
+    env = PointEnv(observation_size=64, reward=preset)
+    env.reset(seed=0)
+    cfg = env.rewards
+    assert max(cfg.chosen_free, cfg.chosen_unknown) <= 0.05 * cfg.per_second  # as table 3.1 beside 3.2
+    for _ in range(5):
+        grid, pose = env.sim.map(), env.sim.pose
+        row0, col0 = env.encoder.window_origin(grid, pose)
+        row, col = grid.world_to_cell(pose.x, pose.y)
+        factor = env.encoder.factor
+        covered = env.sim.coverage
+        _, reward, *_ = env.step(int((row - row0) // factor * 64 + (col - col0) // factor))
+        assert env.sim.coverage - covered < 0.01 and reward < 0
+
+
 def test_unknown_preset_is_named() -> None:
     with pytest.raises(UnknownNameError, match="fast"):
         reward_preset("fast")
