@@ -81,7 +81,7 @@ def _learned(path: Path) -> tuple[str, str]:
             parameters
         )
     spec = MODELS[info.model]
-    description = f"Thesis model {info.model} ({spec.description}), trained by this project with {info.algo.upper()}."
+    description = f"Model {info.model} ({spec.description}), trained by this project with {info.algo.upper()}."
     parameters.append(f"{info.timesteps:,} decisions, {info.observation_size} px map image")
     for pattern in _TRAINING_CONFIGS:
         config_path = path.with_name(pattern.format(stem=path.stem))

@@ -114,7 +114,10 @@ def test_the_main_table_gives_sd_and_holm_beside_the_raw_values() -> None:
         ("nearest", ["nearest frontier"]),
         ("oracle", ["Knows the true map"]),
         ("nearest@3:coordinated", ["A team of 3 robots", "strategy = coordinated"]),
-        ("learned:models/model5.zip", ["Thesis model 5", "sha256 ", "--model 5 --worlds office --timesteps 60000"]),
+        (
+            "learned:models/model5.zip",
+            ["Model 5 (map + per-frontier", "sha256 ", "--model 5 --worlds office --timesteps 60000"],
+        ),
         ("learned:README.md", ["could not be read", "not a frontier_rl model"]),
     ],
 )
