@@ -10,7 +10,15 @@ policy can gain at most what these per-decision choices save (one decision at a 
 held at the constant). Writes ``OUT`` (JSON): every probed decision's times per weight, and a
 summary.
 
+A copy explores on with the copied noise stream, so one rollout per weight also measures luck:
+after a different first leg the same noise falls on other scans. With ``--noise-repeats R`` every
+weight, the constant among them, is rolled out R times from the probed state with R fresh noise
+streams (the same R for every weight: common random numbers), its time is the mean, and a saving
+counts as real only where it exceeds twice its standard error.
+
     .venv/bin/python experiments/weight_headroom.py --episodes 20 --out results/weight_headroom.json
+    .venv/bin/python experiments/weight_headroom.py --episodes 20 --every 8 --noise-repeats 4 --workers 2 \
+        --out results/weight_headroom_noise.json
 """
 
 from __future__ import annotations
@@ -19,6 +27,7 @@ import argparse
 import copy
 import json
 import math
+import multiprocessing
 from pathlib import Path
 from typing import Any
 
@@ -41,22 +50,55 @@ def finish(sim: ExplorationSimulator, weight: float) -> float:
     return sim.sim_time if sim.end_reason() is EndReason.EXPLORED else math.inf
 
 
-def probe_episode(seed: int, constant: float, weights: list[float], every: int) -> list[dict[str, Any]]:
+def probe_episode(
+    seed: int, constant: float, weights: list[float], every: int, repeats: int = 1
+) -> list[dict[str, Any]]:
     """Every ``every``-th decision of an episode with the ``constant`` weight: the end time with
-    each of ``weights`` taken there (the constant everywhere else)."""
+    each of ``weights`` taken there (the constant everywhere else); with ``repeats`` > 1, each
+    over that many fresh noise streams (:func:`_noisy_end_times`)."""
     sim = ExplorationSimulator(generate_world("office", seed), rng=np.random.default_rng(seed))
-    probes = []
+    probes: list[dict[str, Any]] = []
     decision = 0
     while not sim.truncated and not sim.finished:
         if decision % every == 0:
-            times = {f"{w:.2f}": finish(_take(copy.deepcopy(sim), w), constant) for w in weights if w != constant}
-            probes.append({"seed": seed, "decision": decision, "time_s": sim.sim_time, "end_times_s": times})
+            probe: dict[str, Any] = {"seed": seed, "decision": decision, "time_s": sim.sim_time}
+            if repeats == 1:
+                probe["end_times_s"] = {f"{w:.2f}": finish(_take(copy.deepcopy(sim), w), constant)
+                                        for w in weights if w != constant}  # fmt: skip
+            else:
+                probe["repeat_end_times_s"] = _noisy_end_times(sim, constant, weights, repeats, (seed, decision))
+                probe["end_times_s"] = {w: float(np.mean(t)) for w, t in probe["repeat_end_times_s"].items()}
+            probes.append(probe)
         _take(sim, constant)
         decision += 1
-    end = sim.sim_time if sim.end_reason() is EndReason.EXPLORED else math.inf
-    for probe in probes:  # the constant's own end time is the same from every probe: the episode's
-        probe["end_times_s"][f"{constant:.2f}"] = end
+    if repeats == 1:  # the constant's own end time is the same from every probe: the episode's
+        end = sim.sim_time if sim.end_reason() is EndReason.EXPLORED else math.inf
+        for probe in probes:
+            probe["end_times_s"][f"{constant:.2f}"] = end
     return probes
+
+
+def _noisy_end_times(
+    sim: ExplorationSimulator, constant: float, weights: list[float], repeats: int, key: tuple[int, int]
+) -> dict[str, list[float]]:
+    """Per weight (the constant among them), the end times of ``repeats`` rollouts from ``sim``'s
+    state, each with a fresh noise stream seeded by ``key`` and the repeat (the same streams for
+    every weight). Weights that rank the frontiers alike take the same decision, so they share
+    their rollouts."""
+    frontiers = decision_context(sim).frontiers
+    by_order: dict[tuple[int, ...], list[float]] = {}
+    times: dict[str, list[float]] = {}
+    for w in sorted(set(weights) | {constant}):
+        order = tuple(int(i) for i in rank(weighted_cost(frontiers, w)))
+        if order not in by_order:
+            runs = []
+            for r in range(repeats):
+                twin = copy.deepcopy(sim)
+                twin.rng = np.random.default_rng([*key, r])
+                runs.append(finish(_take(twin, w), constant))
+            by_order[order] = runs
+        times[f"{w:.2f}"] = by_order[order]
+    return times
 
 
 def _take(sim: ExplorationSimulator, weight: float) -> ExplorationSimulator:
@@ -66,14 +108,16 @@ def _take(sim: ExplorationSimulator, weight: float) -> ExplorationSimulator:
 
 
 def summarise(probes: list[dict[str, Any]], constant: float) -> dict[str, Any]:
-    """The share of decisions where another weight saves time, and how much (s), in hindsight."""
+    """The share of decisions where another weight saves time, and how much (s), in hindsight; for
+    probes with repeated rollouts also the share where the saving exceeds twice its standard error
+    (the differences of paired rollouts), and the spread of the constant's own rollouts."""
     key = f"{constant:.2f}"
     probes = [p for p in probes if math.isfinite(p["end_times_s"][key])]  # the constant explored
     if not probes:
         return {"constant": constant, "probed_decisions": 0}
     savings = np.array([p["end_times_s"][key] - min(p["end_times_s"].values()) for p in probes])
     best = [min(p["end_times_s"], key=lambda w: (p["end_times_s"][w], w != key)) for p in probes]
-    return {
+    summary: dict[str, Any] = {
         "constant": constant,
         "probed_decisions": len(probes),
         "share_where_another_weight_saves_time": float(np.mean(savings > 0)),
@@ -82,6 +126,32 @@ def summarise(probes: list[dict[str, Any]], constant: float) -> dict[str, Any]:
         "max_saving_s": float(savings.max()),
         "best_weight_counts": {w: best.count(w) for w in sorted(set(best))},
     }
+    repeated = [p for p in probes if "repeat_end_times_s" in p]
+    if repeated:
+        real = [_significant_saving(p, key) for p in repeated]
+        spreads = [float(np.std(p["repeat_end_times_s"][key], ddof=1)) for p in repeated]
+        summary |= {
+            "noise_repeats": len(repeated[0]["repeat_end_times_s"][key]),
+            "share_with_a_saving_beyond_2_standard_errors": float(np.mean([s > 0 for s in real])),
+            "mean_saving_beyond_2_standard_errors_s": float(np.mean(real)),
+            "median_sd_of_the_constants_rollouts_s": float(np.median(spreads)),
+        }
+    return summary
+
+
+def _significant_saving(probe: dict[str, Any], key: str) -> float:
+    """The largest mean saving (s) over the constant among the weights whose paired differences
+    exceed twice their standard error; 0 when none does."""
+    base = np.array(probe["repeat_end_times_s"][key])
+    best = 0.0
+    for times in probe["repeat_end_times_s"].values():
+        diff = base - np.array(times)  # > 0: the weight ended sooner
+        if not np.isfinite(diff).all():
+            continue
+        error = float(np.std(diff, ddof=1)) / math.sqrt(len(diff))
+        if diff.mean() > 2 * error and diff.mean() > best:
+            best = float(diff.mean())
+    return best
 
 
 def main() -> None:
@@ -90,10 +160,16 @@ def main() -> None:
     parser.add_argument("--constant", type=float, default=0.95, help="the best constant weight of the sweep")
     parser.add_argument("--weights", default="0.0,0.25,0.5,0.75,0.85,0.9,0.95,1.0")
     parser.add_argument("--every", type=int, default=10, help="probe every N-th decision")
+    parser.add_argument("--noise-repeats", type=int, default=1, help="rollouts per weight, each with fresh noise")
+    parser.add_argument("--workers", type=int, default=1, help="episodes run at once")
     parser.add_argument("--out", type=Path, required=True)
     args = parser.parse_args()
+    if args.noise_repeats < 1 or args.workers < 1 or args.every < 1 or args.episodes < 1:
+        parser.error("--episodes, --every, --noise-repeats and --workers must be >= 1")
     weights = [float(w) for w in args.weights.split(",")]
-    probes = [p for seed in range(args.episodes) for p in probe_episode(seed, args.constant, weights, args.every)]
+    jobs = [(seed, args.constant, weights, args.every, args.noise_repeats) for seed in range(args.episodes)]
+    with multiprocessing.get_context("spawn").Pool(args.workers) as pool:
+        probes = [p for episode in pool.starmap(probe_episode, jobs) for p in episode]
     summary = summarise(probes, args.constant)
     write_text_atomic(args.out, json.dumps({"summary": summary, "probes": probes}, indent=1) + "\n")
     print(json.dumps(summary, indent=1))

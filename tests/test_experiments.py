@@ -11,6 +11,7 @@ from pathlib import Path
 from typing import Any
 
 import numpy as np
+import pytest
 
 from frontier_rl.core.sim.config import SimConfig
 from frontier_rl.core.sim.episode import run_episode
@@ -85,6 +86,36 @@ def test_headroom_summary_counts_savings() -> None:
     assert summary["share_where_another_weight_saves_time"] == 1 / 3
     assert summary["mean_saving_s"] == 10.0 / 3 and summary["max_saving_s"] == 10.0
     assert summary["best_weight_counts"] == {"0.50": 1, "0.95": 2}  # a tie goes to the constant
+
+
+def test_headroom_counts_a_saving_only_beyond_the_noise() -> None:
+    headroom = _script("weight_headroom")
+    probes = [
+        {
+            "end_times_s": {},
+            "repeat_end_times_s": {"0.50": [90.0, 93.0, 88.0, 91.0], "0.95": [100.0, 102.0, 99.0, 100.0]},
+        },
+        {"end_times_s": {}, "repeat_end_times_s": {"0.50": [90.0, 110.0, 90.0, 110.0], "0.95": [100.0] * 4}},
+    ]
+    for probe in probes:
+        probe["end_times_s"] = {w: float(np.mean(t)) for w, t in probe["repeat_end_times_s"].items()}
+    summary = headroom.summarise(probes, 0.95)
+    assert summary["share_where_another_weight_saves_time"] == 0.5  # the second probe ties in the mean
+    assert summary["share_with_a_saving_beyond_2_standard_errors"] == 0.5
+    assert summary["mean_saving_beyond_2_standard_errors_s"] == pytest.approx(9.75 / 2)
+    assert summary["noise_repeats"] == 4
+
+
+def test_headroom_rollouts_share_noise_streams_across_weights() -> None:
+    headroom = _script("weight_headroom")
+    sim = ExplorationSimulator(generate_world("office", 2), rng=np.random.default_rng(2))
+    for _ in range(3):
+        headroom._take(sim, 0.95)
+    times = headroom._noisy_end_times(sim, 0.95, [0.9, 0.95, 0.0], 2, (2, 3))
+    assert set(times) == {"0.00", "0.90", "0.95"} and all(len(t) == 2 for t in times.values())
+    assert times["0.95"][0] != times["0.95"][1]  # fresh noise per repeat
+    again = headroom._noisy_end_times(sim, 0.95, [0.95], 2, (2, 3))
+    assert again["0.95"] == times["0.95"]  # the same streams for the same key: weights are paired
 
 
 def test_teacher_summary_is_relative_to_nearest() -> None:
