@@ -346,6 +346,7 @@ def train(
     reward: Annotated[str, typer.Option(help="Reward preset: normalised or thesis.")] = "normalised",
     learning_rate: Annotated[float, typer.Option(help="Optimizer step size.")] = 7e-4,
     n_steps: Annotated[int, typer.Option(help="Decisions per env between updates.")] = 8,
+    gamma: Annotated[float, typer.Option(help="Discount per decision, in (0, 1].")] = 0.99,
     ent_coef: Annotated[float, typer.Option(help="Entropy bonus: keeps the policy trying other actions.")] = 0.001,
     seed: Annotated[int, typer.Option(help="Seeds the envs and the network.")] = 0,
     eval_every: Annotated[int, typer.Option(help="Decisions between validations (0: none).")] = 10_000,
@@ -366,7 +367,7 @@ def train(
     config = TrainConfig(
         model=model, worlds=worlds, timesteps=timesteps, n_envs=n_envs, algo=algo,
         observation_size=observation_size, reward=reward, learning_rate=learning_rate, n_steps=n_steps,
-        ent_coef=ent_coef, seed=seed, eval_every=eval_every, checkpoint_every=checkpoint_every, init=init,
+        gamma=gamma, ent_coef=ent_coef, seed=seed, eval_every=eval_every, checkpoint_every=checkpoint_every, init=init,
         privileged_critic=privileged_critic,
     )  # fmt: skip
     final = run_training(config, out, resume=resume, progress=progress)

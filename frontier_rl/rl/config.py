@@ -28,7 +28,7 @@ _MESSAGE_LIMIT = 300
 
 _CLI_OPTIONS = (
     "model", "worlds", "timesteps", "n_envs", "algo", "observation_size", "reward", "learning_rate", "n_steps",
-    "ent_coef", "seed", "eval_every", "checkpoint_every", "init", "privileged_critic",
+    "gamma", "ent_coef", "seed", "eval_every", "checkpoint_every", "init", "privileged_critic",
 )  # fmt: skip
 """The fields ``frontier-rl train`` sets by an option of the same name."""
 

@@ -129,9 +129,10 @@ def test_every_method_is_described(method: str, parts: list[str]) -> None:
 
 
 def test_the_training_command_lists_what_differs_from_the_defaults() -> None:
-    config = TrainConfig(model=5, worlds="office,rooms", timesteps=5000, algo="ppo", gamma=0.9, seed=3)
+    config = TrainConfig(model=5, worlds="office,rooms", timesteps=5000, algo="ppo", gamma=0.9, seed=3, vf_coef=0.4)
     assert config.command() == (
-        "frontier-rl train --model 5 --worlds office,rooms --timesteps 5000 --algo ppo --seed 3 (also gamma=0.9)"
+        "frontier-rl train --model 5 --worlds office,rooms --timesteps 5000 --algo ppo --gamma 0.9 --seed 3"
+        " (also vf_coef=0.4)"
     )
 
 
