@@ -32,6 +32,7 @@ from pathlib import Path
 from typing import Any
 
 import numpy as np
+from scipy import stats
 
 from frontier_rl.atomic_write import write_text_atomic
 from frontier_rl.core.frontiers.ranking import rank, weighted_cost
@@ -130,13 +131,49 @@ def summarise(probes: list[dict[str, Any]], constant: float) -> dict[str, Any]:
     if repeated:
         real = [_significant_saving(p, key) for p in repeated]
         spreads = [float(np.std(p["repeat_end_times_s"][key], ddof=1)) for p in repeated]
+        t_values = [t for p in repeated for t in _paired_t_values(p, key)]
+        repeats = len(repeated[0]["repeat_end_times_s"][key])
+        held_out = np.array([_held_out_saving(p, key) for p in repeated])
         summary |= {
-            "noise_repeats": len(repeated[0]["repeat_end_times_s"][key]),
+            "noise_repeats": repeats,
             "share_with_a_saving_beyond_2_standard_errors": float(np.mean([s > 0 for s in real])),
             "mean_saving_beyond_2_standard_errors_s": float(np.mean(real)),
             "median_sd_of_the_constants_rollouts_s": float(np.median(spreads)),
+            "other_decisions_tested": len(t_values),
+            "other_decisions_faster_beyond_2_standard_errors": int(sum(t > 2 for t in t_values)),
+            "expected_so_by_chance": float(stats.t.sf(2.0, repeats - 1) * len(t_values)),
+            "other_decisions_slower_beyond_2_standard_errors": int(sum(t < -2 for t in t_values)),
+            "held_out_saving_s": float(held_out.mean()),
+            "held_out_saving_standard_error_s": float(held_out.std(ddof=1) / math.sqrt(len(held_out))),
         }
     return summary
+
+
+def _paired_t_values(probe: dict[str, Any], key: str) -> list[float]:
+    """Per decision other than the constant's (weights that decide alike share their rollouts),
+    the t value of its paired saving over the constant (> 0: it ended sooner)."""
+    base = np.array(probe["repeat_end_times_s"][key])
+    others = {tuple(t) for t in probe["repeat_end_times_s"].values()} - {tuple(base)}
+    values = []
+    for times in others:
+        diff = base - np.array(times)
+        if np.isfinite(diff).all():
+            error = float(np.std(diff, ddof=1)) / math.sqrt(len(diff))
+            values.append(float(diff.mean()) / error if error > 0 else math.copysign(math.inf, float(diff.mean())))
+    return values
+
+
+def _held_out_saving(probe: dict[str, Any], key: str) -> float:
+    """What choosing the weight with the shortest mean on half of the rollouts saves on the other
+    half, both ways round (s): an estimate of the headroom free of the luck that picking the best
+    of noisy times adds."""
+    times = {w: np.array(t) for w, t in probe["repeat_end_times_s"].items() if np.isfinite(t).all()}
+    half = len(times[key]) // 2
+    savings = []
+    for pick, judge in ((slice(0, half), slice(half, None)), (slice(half, None), slice(0, half))):
+        best = min(times, key=lambda w: (times[w][pick].mean(), w != key))
+        savings.append(float(times[key][judge].mean() - times[best][judge].mean()))
+    return float(np.mean(savings))
 
 
 def _significant_saving(probe: dict[str, Any], key: str) -> float:

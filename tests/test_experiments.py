@@ -95,7 +95,7 @@ def test_headroom_counts_a_saving_only_beyond_the_noise() -> None:
             "end_times_s": {},
             "repeat_end_times_s": {"0.50": [90.0, 93.0, 88.0, 91.0], "0.95": [100.0, 102.0, 99.0, 100.0]},
         },
-        {"end_times_s": {}, "repeat_end_times_s": {"0.50": [90.0, 110.0, 90.0, 110.0], "0.95": [100.0] * 4}},
+        {"end_times_s": {}, "repeat_end_times_s": {"0.50": [90.0, 90.0, 110.0, 110.0], "0.95": [100.0] * 4}},
     ]
     for probe in probes:
         probe["end_times_s"] = {w: float(np.mean(t)) for w, t in probe["repeat_end_times_s"].items()}
@@ -104,6 +104,11 @@ def test_headroom_counts_a_saving_only_beyond_the_noise() -> None:
     assert summary["share_with_a_saving_beyond_2_standard_errors"] == 0.5
     assert summary["mean_saving_beyond_2_standard_errors_s"] == pytest.approx(9.75 / 2)
     assert summary["noise_repeats"] == 4
+    assert summary["other_decisions_tested"] == 2
+    assert summary["other_decisions_faster_beyond_2_standard_errors"] == 1
+    # picking by rollouts 1-2 and judging by 3-4, and back: the first probe picks 0.50 both ways
+    # (10 and 9.5 s saved); the second picks 0.50 on 1-2 and loses 10 s, and the constant on 3-4
+    assert summary["held_out_saving_s"] == pytest.approx((9.75 + (-10.0 + 0.0) / 2) / 2)
 
 
 def test_headroom_rollouts_share_noise_streams_across_weights() -> None:
