@@ -36,7 +36,8 @@ def visible_unknown(
     cost more than the rays."""
     rows, cols = state.shape
     side = 2 * int(math.ceil(max_range)) + 5  # rays enter cells within ceil(max_range) of its cell
-    stamp = np.zeros((side, side), np.int32)
+    height, width = min(side, rows), min(side, cols)  # a window larger than the grid: the grid
+    stamp = np.zeros((height, width), np.int32)
     cos_a, sin_a = np.empty(n_rays), np.empty(n_rays)
     for i in range(n_rays):
         a = 2.0 * math.pi * i / n_rays
@@ -44,7 +45,10 @@ def visible_unknown(
     totals = np.zeros(centres.shape[0], np.int64)
     for k in range(centres.shape[0]):
         cx, cy = centres[k, 0], centres[k, 1]
-        top, left = int(math.floor(cy)) - side // 2, int(math.floor(cx)) - side // 2
+        # the window around the centre, shifted inside the grid: it still holds every cell of
+        # the grid within range
+        top = min(max(int(math.floor(cy)) - side // 2, 0), rows - height)
+        left = min(max(int(math.floor(cx)) - side // 2, 0), cols - width)
         total = 0
         for i in range(n_rays):
             row, col, s_r, s_c, tm_r, tm_c, td_r, td_c = ray_start(cx, cy, cos_a[i], sin_a[i])
@@ -54,7 +58,7 @@ def visible_unknown(
                 if value == _OCCUPIED:
                     break
                 wr, wc = row - top, col - left
-                if not (0 <= wr < side and 0 <= wc < side):
+                if not (0 <= wr < height and 0 <= wc < width):
                     break  # cannot happen (the window spans the range); guards the stamp's bounds
                 if value == _UNKNOWN and stamp[wr, wc] != k + 1:
                     stamp[wr, wc] = k + 1
