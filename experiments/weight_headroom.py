@@ -32,6 +32,7 @@ from pathlib import Path
 from typing import Any
 
 import numpy as np
+from numpy.typing import NDArray
 from scipy import stats
 
 from frontier_rl.atomic_write import write_text_atomic
@@ -144,29 +145,48 @@ def summarise(probes: list[dict[str, Any]], constant: float) -> dict[str, Any]:
             "expected_so_by_chance": float(stats.t.sf(2.0, repeats - 1) * len(t_values)),
             "other_decisions_slower_beyond_2_standard_errors": int(sum(t < -2 for t in t_values)),
             "held_out_saving_s": float(held_out.mean()),
-            "held_out_saving_standard_error_s": float(held_out.std(ddof=1) / math.sqrt(len(held_out))),
+            "held_out_saving_standard_error_s": (
+                float(held_out.std(ddof=1) / math.sqrt(len(held_out))) if len(held_out) > 1 else None
+            ),
         }
     return summary
 
 
-def _paired_t_values(probe: dict[str, Any], key: str) -> list[float]:
+def _paired_differences(probe: dict[str, Any], key: str) -> list[NDArray[np.float64]]:
     """Per decision other than the constant's (weights that decide alike share their rollouts),
-    the t value of its paired saving over the constant (> 0: it ended sooner)."""
+    its rollouts' end times subtracted from the constant's, paired by noise stream (> 0: it ended
+    sooner). A decision with a rollout that did not finish exploring is left out (none did in the
+    run the README reports)."""
     base = np.array(probe["repeat_end_times_s"][key])
     others = {tuple(t) for t in probe["repeat_end_times_s"].values()} - {tuple(base)}
-    values = []
-    for times in others:
-        diff = base - np.array(times)
-        if np.isfinite(diff).all():
-            error = float(np.std(diff, ddof=1)) / math.sqrt(len(diff))
-            values.append(float(diff.mean()) / error if error > 0 else math.copysign(math.inf, float(diff.mean())))
-    return values
+    diffs = [base - np.array(times) for times in sorted(others)]
+    return [diff for diff in diffs if np.isfinite(diff).all()]
+
+
+def _t_value(diff: NDArray[np.float64]) -> float | None:
+    """The t value of the mean of paired differences; None when they do not vary (no test)."""
+    error = float(np.std(diff, ddof=1)) / math.sqrt(len(diff))
+    return float(diff.mean()) / error if error > 0 else None
+
+
+def _paired_t_values(probe: dict[str, Any], key: str) -> list[float]:
+    """The t value of each other decision's paired saving over the constant (:func:`_paired_differences`)."""
+    values = (_t_value(diff) for diff in _paired_differences(probe, key))
+    return [t for t in values if t is not None]
+
+
+def _significant_saving(probe: dict[str, Any], key: str) -> float:
+    """The largest mean saving (s) over the constant among the other decisions whose saving
+    exceeds twice its standard error; 0 when none does."""
+    savings = [float(d.mean()) for d in _paired_differences(probe, key) if (_t_value(d) or 0.0) > 2.0]
+    return max(savings, default=0.0)
 
 
 def _held_out_saving(probe: dict[str, Any], key: str) -> float:
     """What choosing the weight with the shortest mean on half of the rollouts saves on the other
     half, both ways round (s): an estimate of the headroom free of the luck that picking the best
-    of noisy times adds."""
+    of noisy times adds. Weights with a rollout that did not finish exploring are left out of the
+    choice (none did in the run the README reports)."""
     times = {w: np.array(t) for w, t in probe["repeat_end_times_s"].items() if np.isfinite(t).all()}
     half = len(times[key]) // 2
     savings = []
@@ -174,21 +194,6 @@ def _held_out_saving(probe: dict[str, Any], key: str) -> float:
         best = min(times, key=lambda w: (times[w][pick].mean(), w != key))
         savings.append(float(times[key][judge].mean() - times[best][judge].mean()))
     return float(np.mean(savings))
-
-
-def _significant_saving(probe: dict[str, Any], key: str) -> float:
-    """The largest mean saving (s) over the constant among the weights whose paired differences
-    exceed twice their standard error; 0 when none does."""
-    base = np.array(probe["repeat_end_times_s"][key])
-    best = 0.0
-    for times in probe["repeat_end_times_s"].values():
-        diff = base - np.array(times)  # > 0: the weight ended sooner
-        if not np.isfinite(diff).all():
-            continue
-        error = float(np.std(diff, ddof=1)) / math.sqrt(len(diff))
-        if diff.mean() > 2 * error and diff.mean() > best:
-            best = float(diff.mean())
-    return best
 
 
 def main() -> None:

@@ -358,7 +358,7 @@ def train(
     resume: Annotated[bool, typer.Option(help="Continue the run in --out from its last checkpoint.")] = False,
     progress: Annotated[bool, typer.Option(help="Show a progress bar.")] = True,
 ) -> None:
-    """Train a thesis model with Stable-Baselines3 (A2C as in the thesis, or PPO)."""
+    """Train a model (1-4 the thesis's, 5 and 6 ours) with Stable-Baselines3 (A2C as in the thesis, or PPO)."""
     _seed(seed)
     _output_folder(out)
     from frontier_rl.rl.config import TrainConfig

@@ -109,6 +109,18 @@ def test_headroom_counts_a_saving_only_beyond_the_noise() -> None:
     # picking by rollouts 1-2 and judging by 3-4, and back: the first probe picks 0.50 both ways
     # (10 and 9.5 s saved); the second picks 0.50 on 1-2 and loses 10 s, and the constant on 3-4
     assert summary["held_out_saving_s"] == pytest.approx((9.75 + (-10.0 + 0.0) / 2) / 2)
+    assert summary["held_out_saving_standard_error_s"] == pytest.approx(abs(9.75 - -5.0) / 2)  # sd / sqrt(2)
+    assert summary["expected_so_by_chance"] == pytest.approx(2 * 0.0697, abs=1e-3)  # P(t3 > 2) per decision
+    assert summary["other_decisions_slower_beyond_2_standard_errors"] == 0
+    one = headroom.summarise(probes[:1], 0.95)
+    assert one["held_out_saving_standard_error_s"] is None  # one probe: no spread to give
+
+
+def test_headroom_paired_differences_without_spread_are_no_test() -> None:
+    headroom = _script("weight_headroom")
+    probe = {"repeat_end_times_s": {"0.50": [90.0, 92.0], "0.75": [95.0, 97.0], "0.95": [100.0, 102.0]}}
+    assert headroom._paired_t_values(probe, "0.95") == []  # differences of exactly 10 and 5: no t
+    assert headroom._significant_saving(probe, "0.95") == 0.0
 
 
 def test_headroom_rollouts_share_noise_streams_across_weights() -> None:
@@ -120,7 +132,26 @@ def test_headroom_rollouts_share_noise_streams_across_weights() -> None:
     assert set(times) == {"0.00", "0.90", "0.95"} and all(len(t) == 2 for t in times.values())
     assert times["0.95"][0] != times["0.95"][1]  # fresh noise per repeat
     again = headroom._noisy_end_times(sim, 0.95, [0.95], 2, (2, 3))
-    assert again["0.95"] == times["0.95"]  # the same streams for the same key: weights are paired
+    assert again["0.95"] == times["0.95"]  # the same streams for the same key
+
+
+def test_headroom_rollouts_of_every_weight_draw_the_same_seeds(monkeypatch: pytest.MonkeyPatch) -> None:
+    headroom = _script("weight_headroom")
+    sim = ExplorationSimulator(generate_world("office", 2), rng=np.random.default_rng(2))
+    for _ in range(3):
+        headroom._take(sim, 0.95)
+    seeds: dict[float, list[object]] = {}
+    take = headroom._take
+
+    def recording_take(twin: ExplorationSimulator, weight: float) -> ExplorationSimulator:
+        seeds.setdefault(weight, []).append(twin.rng.bit_generator.seed_seq.entropy)
+        return take(twin, weight)
+
+    monkeypatch.setattr(headroom, "_take", recording_take)
+    monkeypatch.setattr(headroom, "finish", lambda twin, constant: 0.0)  # the first decision is enough
+    headroom._noisy_end_times(sim, 0.95, [0.0, 0.95], 3, (2, 3))
+    assert set(seeds) == {0.0, 0.95}  # here w = 0 takes another decision, rolled out on its own
+    assert seeds[0.0] == seeds[0.95] and len({str(s) for s in seeds[0.95]}) == 3  # paired, fresh per repeat
 
 
 def test_teacher_summary_is_relative_to_nearest() -> None:

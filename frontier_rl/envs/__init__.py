@@ -1,5 +1,5 @@
-"""Gymnasium environments for the thesis's models: weight (3, 4), point (1, 2), frontier choice (5);
-and the PettingZoo team environment (:mod:`frontier_rl.envs.team_env`).
+"""Gymnasium environments for the thesis's models: weight (3, 4), point (1, 2), frontier choice (5),
+and a weight from the frontier table (6); and the PettingZoo team environment (:mod:`frontier_rl.envs.team_env`).
 
 Importing this package registers every id of :data:`frontier_rl.registration.ENV_IDS` with
 Gymnasium (``gym.make("frontier_rl.envs:FrontierRL/WeightMap-v0")`` imports it on the way).
@@ -8,10 +8,10 @@ Gymnasium (``gym.make("frontier_rl.envs:FrontierRL/WeightMap-v0")`` imports it o
 import gymnasium as gym
 
 from frontier_rl.envs.base import EnvConfig, ExplorationEnv
-from frontier_rl.envs.frontier_env import FrontierChoiceEnv
+from frontier_rl.envs.frontier_env import FrontierChoiceEnv, FrontierTableEnv
 from frontier_rl.envs.point_env import PointEnv
 from frontier_rl.envs.rewards import REWARD_PRESETS, RewardConfig, reward_preset
-from frontier_rl.envs.weight_env import WeightEnv
+from frontier_rl.envs.weight_env import WeightEnv, WeightTableEnv
 from frontier_rl.envs.world_source import TRAIN_SEED_LOW, WorldSource
 from frontier_rl.registration import MODELS, OBSERVATION_SIZES, env_id
 from frontier_rl.world_spec import parse_world_list
@@ -22,9 +22,11 @@ __all__ = [
     "EnvConfig",
     "ExplorationEnv",
     "FrontierChoiceEnv",
+    "FrontierTableEnv",
     "PointEnv",
     "RewardConfig",
     "WeightEnv",
+    "WeightTableEnv",
     "WorldSource",
     "parse_world_list",
     "register_envs",

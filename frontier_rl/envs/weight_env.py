@@ -45,6 +45,7 @@ class WeightTableEnv(WeightAction, FrontierTableEnv):
     """Model 6: the observation of model 5 (:class:`FrontierTableEnv`: the map image and a table
     of the cheapest frontiers' features), the action of model 3 (a weight bin,
     :class:`WeightAction`). A weight that depends on the map needs to see what the ranking trades
-    off; the table shows the frontiers' distances, sizes and information gains. Arguments as
-    :class:`FrontierTableEnv`.
+    off; the table shows the distances, sizes and information gains of the frontiers cheapest to
+    reach (eq. 3.1 ranks, and normalises over, all of them, so with more than K candidates some lie
+    outside the table). Arguments as :class:`FrontierTableEnv`.
     """

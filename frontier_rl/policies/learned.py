@@ -2,8 +2,9 @@
 
 The model kind follows from the network's spaces: a dict observation (the map and a frontier
 table) with an action per row is the frontier-choice model (5), with 100 actions model 6 (a weight
-from the table); an image with 100 actions is a weight model (3 with frontier and pose channels, 4
-without); otherwise a point model (1 or 2), whose chosen pixel becomes a goal to drive to.
+from the table; a table of 100 rows is told apart by the file's metadata); an image with 100
+actions is a weight model (3 with frontier and pose channels, 4 without); otherwise a point model
+(1 or 2), whose chosen pixel becomes a goal to drive to.
 """
 
 from __future__ import annotations
@@ -31,8 +32,8 @@ class LearnedPolicy:
     Args:
         path: a zip written by ``frontier-rl train``.
         trust: allow loading SB3 zips without frontier_rl metadata (this unpickles the file).
-        sim: the robot and navigation settings of the costmap the frontier-choice model's path costs
-            are computed on, when the decision context brings none.
+        sim: the robot and navigation settings of the costmap the frontier-table models' (5 and 6)
+            path costs are computed on, when the decision context brings none.
     """
 
     path: Path
@@ -44,7 +45,7 @@ class LearnedPolicy:
         from frontier_rl.rl.model_file import load_policy
 
         self.path = Path(self.path)
-        self._policy, _ = load_policy(self.path, self.trust)
+        self._policy, info = load_policy(self.path, self.trust)
         where = model_file_label(self.path)
         obs_space = self._policy.observation_space
         n_actions = getattr(self._policy.action_space, "n", 0)
@@ -58,7 +59,8 @@ class LearnedPolicy:
             rows = getattr(spaces.get("mask"), "shape", None) if isinstance(spaces, dict) else None
             if rows is None or len(rows) != 1 or rows[0] < 1 or n_actions not in (rows[0], WEIGHT_BINS):
                 raise ConfigError(f"{where} has {n_actions} actions for a frontier table of {short_repr(rows)} rows")
-            self.kind = "frontier" if n_actions == rows[0] else "weight table"
+            table_weight = n_actions == WEIGHT_BINS if info is None else info.model == 6  # 100 rows: ask the file
+            self.kind = "weight table" if table_weight else "frontier"
             n_actions = int(rows[0])
         image_space = obs_space if spaces is None else spaces.get("map") if isinstance(spaces, dict) else None
         image_shape = getattr(image_space, "shape", None)

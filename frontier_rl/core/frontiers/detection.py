@@ -20,6 +20,7 @@ from frontier_rl.core.frontiers.segments import disc_offsets, split_segments, su
 from frontier_rl.core.world.grid import CellState, OccupancyGrid
 from frontier_rl.core.world.raycast import FASTMATH, dda_step, ray_start
 from frontier_rl.core.world.robot import Pose
+from frontier_rl.errors import ConfigError
 
 _UNKNOWN = np.int8(CellState.UNKNOWN)
 _OCCUPIED = np.int8(CellState.OCCUPIED)
@@ -35,7 +36,7 @@ def visible_unknown(
     extent around the centre, not in a map-sized array: on a large map zeroing (and touching) one
     cost more than the rays."""
     rows, cols = state.shape
-    side = 2 * int(math.ceil(max_range)) + 5  # rays enter cells within ceil(max_range) of its cell
+    side = 2 * int(math.ceil(max_range)) + 5  # rays enter cells up to ceil(max_range) + 1 from its cell
     height, width = min(side, rows), min(side, cols)  # a window larger than the grid: the grid
     stamp = np.zeros((height, width), np.int32)
     cos_a, sin_a = np.empty(n_rays), np.empty(n_rays)
@@ -58,8 +59,7 @@ def visible_unknown(
                 if value == _OCCUPIED:
                     break
                 wr, wc = row - top, col - left
-                if not (0 <= wr < height and 0 <= wc < width):
-                    break  # cannot happen (the window spans the range); guards the stamp's bounds
+                assert 0 <= wr < height and 0 <= wc < width  # the window spans the range
                 if value == _UNKNOWN and stamp[wr, wc] != k + 1:
                     stamp[wr, wc] = k + 1
                     total += 1
@@ -133,8 +133,10 @@ class Frontiers:
     def information_gain(self, sensor_range: float, n_rays: int = 180) -> NDArray[np.int64]:
         """Unknown cells a scan of range ``sensor_range`` (m) from each centre would reveal."""
         grid = self.grid
+        if not sensor_range >= 0:
+            raise ConfigError(f"sensor_range must be >= 0 m, got {sensor_range!r}")
         centres = (self.centers - np.asarray(grid.origin, np.float64)) / grid.resolution
-        reach = min(sensor_range / grid.resolution, math.hypot(*grid.shape) + 2.0)  # no ray leaves the grid
+        reach = min(sensor_range / grid.resolution, math.hypot(*grid.shape) + 2.0)  # beyond: every ray has left
         return visible_unknown(grid.data, centres.reshape(-1, 2), n_rays, reach)
 
 

@@ -18,6 +18,7 @@ from frontier_rl.core.world.catalog import generate_world
 from frontier_rl.core.world.grid import CellState, OccupancyGrid
 from frontier_rl.core.world.raycast import dda_step, ray_start
 from frontier_rl.core.world.robot import Pose
+from frontier_rl.errors import ConfigError
 
 FREE, OCC, UNKNOWN = CellState.FREE.value, CellState.OCCUPIED.value, CellState.UNKNOWN.value
 EIGHT = np.ones((3, 3), dtype=bool)
@@ -324,6 +325,9 @@ def test_information_gain_is_the_rays_count_anywhere_on_the_map(
             for x, y in centres
         ]
         assert frontiers.information_gain(sensor_range, n_rays=90).tolist() == expected
+    for bad in (float("nan"), -0.5):
+        with pytest.raises(ConfigError, match="sensor_range"):
+            frontiers.information_gain(bad)
 
 
 def test_information_gain_in_a_small_room(grid_from_text: TextGrid, frontiers_from: Callable[..., Frontiers]) -> None:
