@@ -91,18 +91,19 @@ class LearnedPolicy:
     def rank(self, context: DecisionContext, rng: np.random.Generator) -> Ranking:
         """The model's choice for this decision."""
         grid, pose, frontiers = context.grid, context.pose, context.frontiers
-        if self.kind == "weight":
-            weight = bin_to_weight(self._act(self._encoder.encode(grid, pose, frontiers)))
-            return Ranking(rank(weighted_cost(frontiers, weight)), weight)
         if self.kind == "point":
             row, col = divmod(self._act(self._encoder.encode(grid, pose, frontiers)), self._encoder.size)
             goal = self._encoder.pixel_to_world(grid, pose, row, col)
             return Ranking(np.zeros(0, np.int64), goal=goal)
-        costmap = context.costmap or Costmap.build(grid, self.sim.robot, self.sim.navigation)
-        obs, slots = frontier_observation(
-            self._encoder, self._top_k, costmap, pose, frontiers, self.sim.robot.radius, context.sensor_range
-        )
-        if self.kind == "weight table":
-            weight = bin_to_weight(self._act(obs))
-            return Ranking(rank(weighted_cost(frontiers, weight)), weight)
-        return Ranking(slot_order(slots, self._act(obs)))
+        if self.kind == "weight":
+            action = self._act(self._encoder.encode(grid, pose, frontiers))
+        else:  # the frontier table's models
+            costmap = context.costmap or Costmap.build(grid, self.sim.robot, self.sim.navigation)
+            obs, slots = frontier_observation(
+                self._encoder, self._top_k, costmap, pose, frontiers, self.sim.robot.radius, context.sensor_range
+            )
+            action = self._act(obs)
+            if self.kind == "frontier":
+                return Ranking(slot_order(slots, action))
+        weight = bin_to_weight(action)  # models 3, 4 and 6
+        return Ranking(rank(weighted_cost(frontiers, weight)), weight)
