@@ -128,7 +128,13 @@ def main() -> None:
     parser.add_argument("--seconds", type=float, default=10.0)
     parser.add_argument("--rate", type=float, default=10.0, help="requests per second per robot")
     parser.add_argument("--robots", default="1,4", help="team sizes, e.g. 1,4")
+    parser.add_argument("--map-names", default=",".join(MAPS), help=f"which maps (of {', '.join(MAPS)})")
+    parser.add_argument("--policies", default=",".join(POLICIES), help=f"which policies (of {', '.join(POLICIES)})")
     args = parser.parse_args()
+    maps, policies = args.map_names.split(","), args.policies.split(",")
+    for name, known in [*((m, MAPS) for m in maps), *((p, POLICIES) for p in policies)]:
+        if name not in known:
+            parser.error(f"unknown name {name!r} (known: {', '.join(known)})")
     port = _free_port()
     home = tempfile.mkdtemp(prefix="ros_latency_")
     env = {**os.environ, "ROS_MASTER_URI": f"http://localhost:{port}", "ROS_HOME": home}
@@ -141,9 +147,10 @@ def main() -> None:
         time.sleep(0.2)
     rows = []
     try:
-        for map_name, relative in MAPS.items():
-            scene = _scene(args.maps / relative, Path(home) / f"{map_name}.npz")
-            for policy, params in POLICIES.items():
+        for map_name in maps:
+            scene = _scene(args.maps / MAPS[map_name], Path(home) / f"{map_name}.npz")
+            for policy in policies:
+                params = POLICIES[policy]
                 for robots in (int(n) for n in args.robots.split(",")):
                     names = ",".join(f"tb3_{i}" for i in range(robots))
                     node = subprocess.Popen([sys.executable, "-m", "frontier_rl.ros.node", f"_robots:={names}",

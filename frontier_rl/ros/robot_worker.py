@@ -7,6 +7,7 @@ from __future__ import annotations
 
 import contextlib
 import multiprocessing
+import sys
 import threading
 import time
 from collections.abc import Callable
@@ -57,6 +58,8 @@ def _serve(conn: Connection, policy_spec: str, top_k: int, min_cells: int) -> No
     """The worker process: maps replace the current one, jobs are answered in order; it ends when
     the node's end of the pipe closes (the node exited, however)."""
     policy = make_policy(policy_spec)
+    if "torch" in sys.modules:  # a learned policy: one thread, as every robot has a worker of its own
+        sys.modules["torch"].set_num_threads(1)
     _warm_up(policy, top_k, min_cells)
     conn.send(READY)
     grid = None
