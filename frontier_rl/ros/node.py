@@ -38,7 +38,6 @@ from frontier_rl.core.frontiers.ranking import THESIS_WEIGHT
 from frontier_rl.errors import FrontierRLError, MapError
 from frontier_rl.policies import make_policy
 from frontier_rl.ros.answers import (
-    MapFrame,
     MapInfo,
     StaleMapAnswer,
     Status,
@@ -87,7 +86,7 @@ class FrontierNode:
         self.fixed_weight = float(fixed) if isinstance(fixed, float) else None
         self.maps: dict[str, MapInfo | None] = dict.fromkeys(self.robots)
         self.poses: dict[str, tuple[float, float, float]] = {}
-        self.jobs: dict[int, tuple[str, str, MapInfo, str, float]] = {}
+        self.jobs: dict[int, tuple[str, str, str, float]] = {}
         self._job_count = self._request_count = 0
         self._lock = threading.Lock()  # the job table and the publishers' order (answer, then status)
         self.log = ThrottledLog()
@@ -123,22 +122,18 @@ class FrontierNode:
             self.rospy.logwarn("frontier_rl: %s", text)
 
     def _on_map(self, msg: Any, ns: str) -> None:
+        previous = self.maps[ns]
         try:
-            cells, resolution = map_cells(msg)
+            cells = map_cells(msg, 0 if previous is None else previous.sequence + 1, self.rospy.get_time())
         except MapError as exc:
-            kept = self.keep_last_map and self.maps[ns] is not None
+            kept = self.keep_last_map and previous is not None
             then = "the last good map is kept" if kept else "no map until a good one arrives"
             self._warn(ns, "map", f"map of {ns!r} rejected ({exc}); {then}")
             if not self.keep_last_map:
                 self.maps[ns] = None
             return
-        origin = msg.info.origin
-        stamp = msg.header.stamp.to_sec() or self.rospy.get_time()
-        frame = MapFrame(msg.header.frame_id, origin.position.x, origin.position.y, yaw(origin.orientation))
-        previous = self.maps[ns]
+        self.maps[ns] = cells.info
         self.workers[ns].send_map(cells)
-        self.maps[ns] = MapInfo(frame, cells.width, cells.height, resolution, stamp,
-                                0 if previous is None else previous.sequence + 1)  # fmt: skip
 
     def _on_pose(self, msg: Any, ns: str) -> None:
         p = msg.pose
@@ -170,12 +165,11 @@ class FrontierNode:
                 busy = f"robot {ns!r} has {self.max_pending} requests queued (~max_pending)"
                 self._answer(ns, request, info, (), None, busy, arrived)
                 return
-            gx, gy = info.frame.to_grid(pose[0], pose[1])
             with self._lock:
                 self._job_count += 1
                 job = self._job_count
-                self.jobs[job] = (ns, request, info, verdict.reason, arrived)
-            self.workers[ns].submit(RankJob(job, gx, gy))
+                self.jobs[job] = (ns, request, verdict.reason, arrived)
+            self.workers[ns].submit(RankJob(job, pose[0], pose[1]))
         except Exception as exc:  # every request gets an answer, whatever failed in preparing it
             self._answer(
                 ns, request, self.maps.get(ns), (), None, f"request failed: {type(exc).__name__}: {exc}", arrived
@@ -183,10 +177,10 @@ class FrontierNode:
 
     def _on_result(self, result: RankResult) -> None:
         with self._lock:
-            ns, request, info, reason, arrived = self.jobs.pop(result.job)
-        centres = tuple(info.frame.to_map(x, y) for x, y in result.centres)
+            ns, request, reason, arrived = self.jobs.pop(result.job)
+        info = result.info or self.maps.get(ns)  # the map the worker ranked on, which may be newer than the request's
         notes = "; ".join(part for part in (reason, result.error) if part)
-        self._answer(ns, request, info, centres, result.weight, notes, arrived)
+        self._answer(ns, request, info, result.centres, result.weight, notes, arrived)
 
     def _answer(
         self, ns: str, request: str, info: MapInfo | None, centres: tuple[tuple[float, float], ...],

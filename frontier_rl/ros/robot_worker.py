@@ -18,25 +18,26 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
+from frontier_rl.core.world.grid import OccupancyGrid
 from frontier_rl.core.world.robot import Pose
 from frontier_rl.errors import FrontierRLError
 from frontier_rl.policies import make_policy
 from frontier_rl.policies.frontier_request import grid_from_message, rank_frontiers
+from frontier_rl.ros.answers import MapInfo
 
 
 @dataclass(frozen=True)
 class MapCells:
-    """A map's cells as the message carried them (row-major, -1 unknown, 0-100 occupancy)."""
+    """A map as the node accepted it: where it lies and when it was made, and its cells as the
+    message carried them (row-major, -1 unknown, 0-100 occupancy)."""
 
-    width: int
-    height: int
-    resolution: float
+    info: MapInfo
     data: NDArray[np.int8]
 
 
 @dataclass(frozen=True)
 class RankJob:
-    """Rank the frontiers of the current map for a robot at (x, y), grid frame (m)."""
+    """Rank the frontiers of the current map for a robot at (x, y), map frame (m)."""
 
     job: int
     x: float
@@ -45,41 +46,78 @@ class RankJob:
 
 @dataclass(frozen=True)
 class RankResult:
-    """A job's answer: frontier centres (grid frame, m) best first and the weight used, or the
-    error that stopped it."""
+    """A job's answer: frontier centres (map frame, m) best first, the weight used and the map they
+    were computed on, or the error that stopped it.
+
+    Attributes:
+        shared: how many jobs this one ranking answered (jobs queued behind a ranking are answered
+            together, at the newest job's pose; 1 when the worker kept up).
+    """
 
     job: int
     centres: tuple[tuple[float, float], ...] = ()
     weight: float | None = None
     error: str = ""
+    info: MapInfo | None = None
+    shared: int = 1
+
+
+@dataclass(frozen=True)
+class _HeldMap:
+    grid: OccupancyGrid
+    info: MapInfo
+
+    @classmethod
+    def of(cls, cells: MapCells) -> _HeldMap:
+        info = cells.info
+        return cls(grid_from_message(info.width, info.height, info.resolution, cells.data), info)
 
 
 def _serve(conn: Connection, policy_spec: str, top_k: int, min_cells: int) -> None:
-    """The worker process: maps replace the current one, jobs are answered in order; it ends when
-    the node's end of the pipe closes (the node exited, however)."""
+    """The worker process: a map replaces the current one; the jobs that queued while it ranked are
+    answered by one ranking on the newest map at the newest job's pose (a robot asks about where it
+    is now, and a queue must not grow behind a slow model). It ends when the node's end of the
+    pipe closes (the node exited, however)."""
     policy = make_policy(policy_spec)
     if "torch" in sys.modules:  # a learned policy: one thread, as every robot has a worker of its own
         sys.modules["torch"].set_num_threads(1)
     _warm_up(policy, top_k, min_cells)
     conn.send(READY)
-    grid = None
-    while True:
-        try:
+    held: _HeldMap | None = None
+    try:
+        while True:
+            jobs: list[RankJob] = []
             message = conn.recv()
-        except (EOFError, OSError):
-            return
-        if isinstance(message, MapCells):
-            with contextlib.suppress(FrontierRLError):  # the node checks maps first; keep the last good one regardless
-                grid = grid_from_message(message.width, message.height, message.resolution, message.data)
-            continue
-        if grid is None:  # the node sends a map before any job; kept as a guard
-            conn.send(RankResult(message.job, error="no map in the worker"))
-            continue
-        try:
-            ranked, weight = rank_frontiers(grid, Pose(message.x, message.y, 0.0), policy, top_k, min_cells)
-            conn.send(RankResult(message.job, tuple((f.x, f.y) for f in ranked), weight))
-        except Exception as exc:  # a model or map problem must come back as an answer, not end the worker
-            conn.send(RankResult(message.job, error=f"ranking failed: {type(exc).__name__}: {exc}"))
+            while True:
+                if isinstance(message, MapCells):
+                    with contextlib.suppress(FrontierRLError):  # the node checks maps first; keep the last good one
+                        held = _HeldMap.of(message)
+                else:
+                    jobs.append(message)
+                if not conn.poll(0):
+                    break
+                message = conn.recv()
+            for result in _rank(jobs, held, policy, top_k, min_cells):
+                conn.send(result)
+    except (EOFError, OSError):
+        return
+
+
+def _rank(jobs: list[RankJob], held: _HeldMap | None, policy: Any, top_k: int, min_cells: int) -> list[RankResult]:
+    """One result per job, all from one ranking at the last job's pose."""
+    if not jobs:
+        return []
+    if held is None:  # the node sends a map before any job; kept as a guard
+        return [RankResult(job.job, error="no map in the worker") for job in jobs]
+    frame, shared = held.info.frame, len(jobs)
+    try:
+        gx, gy = frame.to_grid(jobs[-1].x, jobs[-1].y)
+        ranked, weight = rank_frontiers(held.grid, Pose(gx, gy, 0.0), policy, top_k, min_cells)
+        centres = tuple(frame.to_map(f.x, f.y) for f in ranked)
+    except Exception as exc:  # a model or map problem must come back as an answer, not end the worker
+        error = f"ranking failed: {type(exc).__name__}: {exc}"
+        return [RankResult(job.job, error=error, info=held.info, shared=shared) for job in jobs]
+    return [RankResult(job.job, centres, weight, info=held.info, shared=shared) for job in jobs]
 
 
 _RESTART_DELAY_S = 0.5

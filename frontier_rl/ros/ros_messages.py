@@ -11,8 +11,9 @@ from typing import Any
 
 import numpy as np
 
-from frontier_rl.errors import FrontierRLError
+from frontier_rl.errors import FrontierRLError, MapError
 from frontier_rl.policies.frontier_request import check_map_message
+from frontier_rl.ros.answers import MapFrame, MapInfo
 from frontier_rl.ros.robot_worker import MapCells
 
 _SYSTEM_PACKAGES = Path("/usr/lib/python3/dist-packages")
@@ -40,15 +41,21 @@ def yaw(q: Any) -> float:
     return math.atan2(2.0 * (q.w * q.z + q.x * q.y), 1.0 - 2.0 * (q.y * q.y + q.z * q.z))
 
 
-def map_cells(msg: Any) -> tuple[MapCells, float]:
-    """The cells and resolution (m) of a ``nav_msgs/OccupancyGrid`` (its data a NumPy array with
-    ``numpy_msg``, or a sequence); a map of zero size, a resolution that is not a positive number
-    or data that is not width × height long is a :class:`MapError`."""
+def map_cells(msg: Any, sequence: int, now_s: float) -> MapCells:
+    """A ``nav_msgs/OccupancyGrid`` (its data a NumPy array with ``numpy_msg``, or a sequence) as the
+    robot's ``sequence``-th good map, stamped with its header's stamp or, when that is zero, with
+    ``now_s`` (s). A map of zero size, a resolution that is not a positive number, data that is not
+    width × height long or an origin that is not finite is a :class:`MapError`."""
     info = msg.info
     width, height, resolution = int(info.width), int(info.height), float(info.resolution)
     data = np.asarray(msg.data, dtype=np.int8).reshape(-1)
     check_map_message(width, height, resolution, data.size)
-    return MapCells(width, height, resolution, data), resolution
+    origin = info.origin.position
+    frame = MapFrame(str(msg.header.frame_id), float(origin.x), float(origin.y), yaw(info.origin.orientation))
+    if not all(math.isfinite(v) for v in (frame.x, frame.y, frame.yaw)):
+        raise MapError(f"map origin must be finite, got x {frame.x!r}, y {frame.y!r}, yaw {frame.yaw!r}")
+    stamp = msg.header.stamp.to_sec() or now_s
+    return MapCells(MapInfo(frame, width, height, resolution, stamp, sequence), data)
 
 
 def answer_markers(answer: Any) -> Any:

@@ -3,7 +3,8 @@ over a real ROS master). ``python fault_client.py SCENARIO SCENE.npz [ARG]``, on
 result on stdout:
 
 - ``faults``: a good map and pose, then a NaN, an infinite and an off-map pose, a stale map and a
-  malformed map, each followed by a request; prints each answer with its status line.
+  malformed map, then the map moved by MOVE, each followed by a request; prints each answer with
+  its status line.
 - ``big_maps``: robot tb3_1's SLAM: a 4000 × 4000 map each second and a request after each.
 - ``latency``: robot tb3_0 asked 20 times a second; prints its answer latencies (s) measured here
   and in the node.
@@ -32,6 +33,8 @@ from rospy.numpy_msg import numpy_msg  # noqa: E402
 from std_msgs.msg import String  # noqa: E402
 
 BIG = 4000
+MOVE = (1.5, -0.75)
+"""How far the ``faults`` scenario moves its last map's origin (m)."""
 
 
 class _Cells(np.ndarray):
@@ -42,14 +45,16 @@ class _Cells(np.ndarray):
         return self.tobytes()
 
 
-def _map(scene: Any, data: np.ndarray, frame: str, stamp: float | None = None, width: int | None = None) -> Any:
+def _map(scene: Any, data: np.ndarray, frame: str, stamp: float | None = None, width: int | None = None,
+         shift: tuple[float, float] = (0.0, 0.0)) -> Any:  # fmt: skip
     msg = numpy_msg(OccupancyGrid)()
     msg.header.frame_id = frame
     msg.header.stamp = rospy.Time.from_sec(time.time() if stamp is None else stamp)
     msg.info.resolution = float(scene["resolution"])
     msg.info.width = int(scene["width"]) if width is None else width
     msg.info.height = int(scene["height"]) if width is None else width
-    msg.info.origin.position.x, msg.info.origin.position.y = (float(v) for v in scene["origin"])
+    msg.info.origin.position.x = float(scene["origin"][0]) + shift[0]
+    msg.info.origin.position.y = float(scene["origin"][1]) + shift[1]
     msg.info.origin.orientation.w = 1.0
     msg.data = np.ascontiguousarray(data, dtype=np.int8).view(_Cells)
     return msg
@@ -110,6 +115,11 @@ def faults(scene: Any) -> None:
     client.maps["tb3_0"].publish(_map(scene, scene["data"][:-7], "tb3_0/map"))  # not width × height long
     time.sleep(1.0)
     results["malformed"] = client.ask("tb3_0", "malformed")
+    moved_stamp = time.time()  # the same map, placed elsewhere in its frame (a SLAM map that grew)
+    client.poses["tb3_0"].publish(_pose("tb3_0/map", x + MOVE[0], y + MOVE[1]))
+    client.maps["tb3_0"].publish(_map(scene, scene["data"], "tb3_0/map", moved_stamp, shift=MOVE))
+    time.sleep(1.0)
+    results |= {"moved": client.ask("tb3_0", "moved"), "moved_stamp": moved_stamp, "move": MOVE}
     print(json.dumps(results))
 
 

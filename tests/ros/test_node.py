@@ -6,6 +6,7 @@ ROS-free conversion of map messages."""
 from __future__ import annotations
 
 import json
+import math
 import os
 import shutil
 import socket
@@ -15,6 +16,7 @@ import time
 import xmlrpc.client
 from collections.abc import Iterator
 from pathlib import Path
+from types import SimpleNamespace
 
 import numpy as np
 import pytest
@@ -184,3 +186,34 @@ def test_map_frames_with_a_rotated_origin_round_trip() -> None:
     gx, gy = frame.to_grid(3.5, 4.25)
     assert frame.to_map(gx, gy) == pytest.approx((3.5, 4.25))
     assert frame.to_map(0.0, 0.0) == pytest.approx((2.0, -1.0))
+
+
+def _message(x: float, y: float, stamp_s: float) -> SimpleNamespace:
+    """A stand-in for a ``nav_msgs/OccupancyGrid`` of 3 × 2 cells at origin (x, y), yaw 90°."""
+    q = SimpleNamespace(x=0.0, y=0.0, z=math.sin(math.pi / 4), w=math.cos(math.pi / 4))
+    origin = SimpleNamespace(position=SimpleNamespace(x=x, y=y, z=0.0), orientation=q)
+    return SimpleNamespace(
+        header=SimpleNamespace(frame_id="tb3_0/map", stamp=SimpleNamespace(to_sec=lambda: stamp_s)),
+        info=SimpleNamespace(width=3, height=2, resolution=0.05, origin=origin),
+        data=[0, 0, -1, 100, 0, -1],
+    )
+
+
+def test_a_map_message_carries_where_it_lies_and_when_it_was_made() -> None:
+    from frontier_rl.ros.ros_messages import map_cells
+
+    cells = map_cells(_message(1.5, -2.0, 7.25), sequence=4, now_s=99.0)
+    info = cells.info
+    assert (info.frame.frame_id, info.frame.x, info.frame.y) == ("tb3_0/map", 1.5, -2.0)
+    assert info.frame.yaw == pytest.approx(math.pi / 2)
+    assert (info.width, info.height, info.resolution, info.stamp_s, info.sequence) == (3, 2, 0.05, 7.25, 4)
+    assert cells.data.tolist() == [0, 0, -1, 100, 0, -1]
+    assert map_cells(_message(1.5, -2.0, 0.0), sequence=0, now_s=99.0).info.stamp_s == 99.0  # no stamp: arrival
+
+
+@pytest.mark.parametrize(("x", "y"), [(math.nan, 0.0), (0.0, math.inf)])
+def test_a_map_origin_that_is_not_finite_is_a_map_error(x: float, y: float) -> None:
+    from frontier_rl.ros.ros_messages import map_cells
+
+    with pytest.raises(MapError, match="map origin must be finite"):
+        map_cells(_message(x, y, 1.0), sequence=0, now_s=1.0)

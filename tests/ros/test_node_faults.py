@@ -147,6 +147,9 @@ def test_every_request_is_answered_with_a_reason(
     assert "stale: 10" in stale["status"]["reason"] and stale["status"]["map_age_s"] > 99  # served, and said so
     assert stale["poses"] == good["poses"]
     assert r["malformed"]["poses"] == good["poses"] and r["malformed"]["status"]["map_age_s"] > 99  # the last good map
+    moved = r["moved"]  # answered in the frame of the map it was ranked on, and stamped with it
+    assert np.allclose(moved["poses"], np.asarray(good["poses"]) + r["move"], atol=1e-6)
+    assert moved["stamp"] == pytest.approx(r["moved_stamp"], abs=1e-3) and moved["status"]["reason"] == ""
     assert "rejected" in log and "the last good map is kept" in log
     assert log.count("not finite") == 1  # the NaN and inf poses share one throttled warning
 

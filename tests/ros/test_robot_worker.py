@@ -1,6 +1,7 @@
 """A robot's worker process without ROS: a large map's answer equal to ranking in the node's own
-process, a default socket timeout (rospy sets 60 s) under which the pipe must stay blocking, and a
-worker that dies and comes back with the last map."""
+process, answers in the frame of the map they were ranked on, requests that queued behind a ranking
+answered together at the newest pose, a default socket timeout (rospy sets 60 s) under which the
+pipe must stay blocking, and a worker that dies and comes back with the last map."""
 
 from __future__ import annotations
 
@@ -17,7 +18,10 @@ import pytest
 from frontier_rl.core.world.robot import Pose
 from frontier_rl.policies import make_policy
 from frontier_rl.policies.frontier_request import grid_from_message, rank_frontiers
+from frontier_rl.ros.answers import MapFrame, MapInfo
 from frontier_rl.ros.robot_worker import MapCells, RankJob, RankResult, RobotWorker
+
+AT_ORIGIN = MapFrame("map", 0.0, 0.0, 0.0)
 
 
 class _Results:
@@ -52,16 +56,16 @@ def worker() -> Iterator[tuple[RobotWorker, _Results]]:
 def _room() -> MapCells:
     cells = np.full((60, 60), -1, np.int8)
     cells[10:50, 10:30] = 0
-    return MapCells(60, 60, 0.05, cells.reshape(-1))
+    return MapCells(MapInfo(AT_ORIGIN, 60, 60, 0.05, 1.0), cells.reshape(-1))
 
 
-def _hall(size: int) -> MapCells:
+def _hall(size: int, frame: MapFrame = AT_ORIGIN, stamp_s: float = 1.0) -> MapCells:
     """A free hall of ``size`` × ``size`` cells in unknown space, with a wall and a few probabilities."""
     cells = np.full((size, size), -1, np.int8)
     cells[20 : size - 20, 20 : size // 2] = 0
     cells[size // 3, 20 : size // 2 - 30] = 100
     cells[size // 4, 40:60] = 70  # occupied by the thresholds, like SLAM's probabilities
-    return MapCells(size, size, 0.05, cells.reshape(-1))
+    return MapCells(MapInfo(frame, size, size, 0.05, stamp_s), cells.reshape(-1))
 
 
 def test_a_large_map_is_ranked_as_in_the_nodes_own_process(worker: tuple[RobotWorker, _Results]) -> None:
@@ -70,10 +74,54 @@ def test_a_large_map_is_ranked_as_in_the_nodes_own_process(worker: tuple[RobotWo
     handle.send_map(hall)
     handle.submit(RankJob(1, 5.0, 5.0))
     answer = results.wait(1)
-    grid = grid_from_message(hall.width, hall.height, hall.resolution, hall.data)
-    ranked, weight = rank_frontiers(grid, Pose(5.0, 5.0, 0.0), make_policy("fixed:0.75"), 10, 4)
-    assert not answer.error and answer.centres == tuple((f.x, f.y) for f in ranked) and answer.weight == weight
-    assert len(answer.centres) >= 2
+    assert not answer.error and answer.centres == _ranked_here(hall, 5.0, 5.0) and answer.info == hall.info
+    assert len(answer.centres) >= 2 and answer.weight == 0.75
+
+
+def _ranked_here(cells: MapCells, x: float, y: float) -> tuple[tuple[float, float], ...]:
+    """The map-frame centres that ranking ``cells`` at the map-frame point (x, y) gives in this process."""
+    info = cells.info
+    grid = grid_from_message(info.width, info.height, info.resolution, cells.data)
+    gx, gy = info.frame.to_grid(x, y)
+    ranked, _ = rank_frontiers(grid, Pose(gx, gy, 0.0), make_policy("fixed:0.75"), 10, 4)
+    return tuple(info.frame.to_map(f.x, f.y) for f in ranked)
+
+
+def test_answers_are_in_the_frame_of_the_map_they_were_ranked_on(worker: tuple[RobotWorker, _Results]) -> None:
+    """A SLAM map grows and moves its origin: each job is placed on, and answered in the frame of,
+    the map the worker holds when it ranks, and says which map that was (the node stamps with it)."""
+    handle, results = worker
+    first, moved = _hall(200), _hall(200, MapFrame("map", -3.0, 2.0, 0.4), stamp_s=2.0)
+    handle.send_map(first)
+    handle.submit(RankJob(1, 2.0, 2.0))
+    one = results.wait(1)
+    handle.send_map(moved)
+    handle.submit(RankJob(2, -2.0, 4.5))
+    two = results.wait(2)
+    assert one.info == first.info and one.centres == _ranked_here(first, 2.0, 2.0)
+    assert two.info == moved.info and two.centres == _ranked_here(moved, -2.0, 4.5)
+    assert len(two.centres) >= 2 and two.centres != one.centres
+
+
+def test_jobs_queued_behind_a_ranking_are_answered_together_at_the_newest_pose(
+    worker: tuple[RobotWorker, _Results],
+) -> None:
+    handle, results = worker
+    hall = _hall(1500)  # a ranking long enough (tenths of a second) for the later jobs to queue
+    handle.send_map(hall)
+    poses = [(5.0 + job, 5.0 + job) for job in range(6)]
+    for job, (x, y) in enumerate(poses, start=1):
+        handle.submit(RankJob(job, x, y))
+    answers = [results.wait(job) for job in range(1, 7)]
+    assert all(not a.error and a.centres for a in answers)
+    assert answers[-1].centres == _ranked_here(hall, *poses[-1])  # the newest pose is the one ranked
+    assert any(a.shared > 1 for a in answers), [a.shared for a in answers]
+    first = 0
+    while first < len(answers):  # each ranking answers a run of consecutive jobs, all alike
+        run = answers[first : first + answers[first].shared]
+        assert all(a.shared == len(run) and a.centres == run[0].centres for a in run), [a.shared for a in answers]
+        first += len(run)
+    assert first == len(answers) and handle.pending == 0
 
 
 def test_a_default_socket_timeout_leaves_the_pipe_blocking() -> None:
