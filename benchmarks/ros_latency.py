@@ -3,7 +3,8 @@ once a second and asking ``--rate`` times a second (10), on maps of ../shared/ma
 model 5. Prints one JSON line per run and a Markdown table (median and 99th percentile of the time
 from publishing a request to receiving its status line, in the requesting process).
 
-    .venv/bin/python benchmarks/ros_latency.py [--maps ../shared/maps] [--seconds 10]
+    .venv/bin/python benchmarks/ros_latency.py [--maps ../shared/maps] [--seconds 10] [--rate 10] [--robots 1,4]
+        [--map-names turtlebot3_world,nav2_depot] [--policies "model 5"]
 """
 
 from __future__ import annotations
