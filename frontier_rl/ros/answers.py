@@ -99,11 +99,16 @@ def check_request(
         return Verdict(False, f"pose of {robot!r} is not finite: {pose[0]!r}, {pose[1]!r}, yaw {pose[2]!r}")
     if not info.contains(pose[0], pose[1]):
         return Verdict(False, f"pose of {robot!r} ({pose[0]:.2f}, {pose[1]:.2f}) lies outside its map")
+    reason = stale_reason(robot, info, now_s, max_map_age_s)
+    return Verdict(not reason or stale is StaleMapAnswer.STALE, reason)
+
+
+def stale_reason(robot: str, info: MapInfo, now_s: float, max_map_age_s: float) -> str:
+    """What to say of ``robot``'s map if it is older than ``max_map_age_s`` (0: any age), else ""."""
     age = info.age_s(now_s)
     if max_map_age_s > 0 and age > max_map_age_s:
-        reason = f"map of {robot!r} is stale: {age:.1f} s old, more than ~max_map_age {max_map_age_s:g} s"
-        return Verdict(stale is StaleMapAnswer.STALE, reason)
-    return Verdict(True)
+        return f"map of {robot!r} is stale: {age:.1f} s old, more than ~max_map_age {max_map_age_s:g} s"
+    return ""
 
 
 @dataclass(frozen=True)

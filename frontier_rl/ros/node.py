@@ -44,6 +44,7 @@ from frontier_rl.ros.answers import (
     ThrottledLog,
     check_request,
     parse_request,
+    stale_reason,
 )
 from frontier_rl.ros.master_watch import EXIT_MASTER_RESTARTED, MasterWatch
 from frontier_rl.ros.robot_worker import RankJob, RankResult, RobotWorker
@@ -86,7 +87,8 @@ class FrontierNode:
         self.fixed_weight = float(fixed) if isinstance(fixed, float) else None
         self.maps: dict[str, MapInfo | None] = dict.fromkeys(self.robots)
         self.poses: dict[str, tuple[float, float, float]] = {}
-        self.jobs: dict[int, tuple[str, str, str, float]] = {}
+        self.jobs: dict[int, tuple[str, str, int, str, float]] = {}
+        """Jobs at the workers: robot, request id, sequence of the map checked, reason, arrival time."""
         self._job_count = self._request_count = 0
         self._lock = threading.Lock()  # the job table and the publishers' order (answer, then status)
         self.log = ThrottledLog()
@@ -168,7 +170,7 @@ class FrontierNode:
             with self._lock:
                 self._job_count += 1
                 job = self._job_count
-                self.jobs[job] = (ns, request, verdict.reason, arrived)
+                self.jobs[job] = (ns, request, info.sequence, verdict.reason, arrived)
             self.workers[ns].submit(RankJob(job, pose[0], pose[1]))
         except Exception as exc:  # every request gets an answer, whatever failed in preparing it
             self._answer(
@@ -177,8 +179,10 @@ class FrontierNode:
 
     def _on_result(self, result: RankResult) -> None:
         with self._lock:
-            ns, request, reason, arrived = self.jobs.pop(result.job)
+            ns, request, checked, reason, arrived = self.jobs.pop(result.job)
         info = result.info or self.maps.get(ns)  # the map the worker ranked on, which may be newer than the request's
+        if info is not None and info.sequence != checked:  # judged on the map that was ranked, not the one checked
+            reason = stale_reason(ns, info, self.rospy.get_time(), self.max_map_age)
         notes = "; ".join(part for part in (reason, result.error) if part)
         self._answer(ns, request, info, result.centres, result.weight, notes, arrived)
 
