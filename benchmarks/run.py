@@ -227,15 +227,20 @@ def decision_snapshots(world: World, count: int) -> list[tuple[OccupancyGrid, Po
 
 def bench_decisions(n_states: int, repeats: int, model: Path) -> list[Row]:
     """The work of one decision (the candidates on the robot's map, then the policy's ranking) for
-    ``nearest`` and the frontier-choice model, on office maps and on a 1,000 × 1,000 building
-    (50 m × 50 m), each over ``n_states`` map states of a ``nearest`` episode (median). The two
-    policies run back to back in every repeat, and the ratio is the median of the repeats' ratios:
-    the machine's speed drifts between repeats far more than within one."""
+    ``nearest``, the frontier-choice model ``model``, model 7 (``model7.zip`` beside it, when there
+    is one) and ``tour``, on office maps and on a 1,000 × 1,000 building (50 m × 50 m), each over
+    ``n_states`` map states of a ``nearest`` episode (median). The policies run back to back in
+    every repeat, and each ratio to ``nearest`` is the median of the repeats' ratios: the machine's
+    speed drifts between repeats far more than within one."""
     if not model.is_file():
         print(f"- decision rows skipped: {model} not found")
         return []
     config = SimConfig()
     policies = {"nearest": make_policy("nearest"), "model 5": make_policy(f"learned:{model}")}
+    labels = {"model 5": "Model-5"}
+    if (model7 := model.with_name("model7.zip")).is_file():
+        policies["model 7"], labels["model 7"] = make_policy(f"learned:{model7}"), "Model-7"
+    policies["tour"], labels["tour"] = make_policy("tour"), "`tour`"
     worlds = {"office": generate_world("office", 0),
               "1,000² building": building_world(np.random.default_rng(0), (50.0, 50.0))}  # fmt: skip
     rows: list[Row] = []
@@ -254,23 +259,26 @@ def bench_decisions(n_states: int, repeats: int, model: Path) -> list[Row]:
         for policy in policies.values():
             decide(policy)  # warm-up
         times: list[dict[str, float]] = []
-        for k in range(repeats):  # the pair back to back, on a machine in one state; the order alternates
+        for k in range(repeats):  # the policies back to back, on a machine in one state; the order rotates
             pair: dict[str, float] = {}
-            for name in list(policies)[:: 1 if k % 2 == 0 else -1]:
+            names = list(policies)
+            for name in names[k % len(names) :] + names[: k % len(names)]:
                 start = time.perf_counter()
                 decide(policies[name])
                 pair[name] = time.perf_counter() - start
             times.append(pair)
         ms = {name: 1e3 * statistics.median(t[name] for t in times) / len(states) for name in policies}
-        ratio = statistics.median(t["model 5"] / t["nearest"] for t in times)
         large = world.grid.shape[0] * world.grid.shape[1] >= 1_000_000  # the bound is for large maps
-        rows += [
-            Row(f"`nearest` decision, {label} (mean of {len(states)} map states)", ms["nearest"], "ms",
-                higher_is_better=False),
-            Row(f"Model-5 decision, {label}", ms["model 5"], "ms", higher_is_better=False),
-            Row(f"Model-5 decision over `nearest`'s, {label} (median of {repeats} paired repeats)"
-                + (" (aim ≤ 2 ×)" if large else ""), ratio, "×", 2.0 if large else None, higher_is_better=False),
-        ]  # fmt: skip
+        rows.append(Row(f"`nearest` decision, {label} (mean of {len(states)} map states)", ms["nearest"], "ms",
+                        higher_is_better=False))  # fmt: skip
+        for name, shown in labels.items():
+            ratio = statistics.median(t[name] / t["nearest"] for t in times)
+            bound = 2.0 if large and name == "model 5" else None
+            rows += [
+                Row(f"{shown} decision, {label}", ms[name], "ms", higher_is_better=False),
+                Row(f"{shown} decision over `nearest`'s, {label} (median of {repeats} paired repeats)"
+                    + (" (aim ≤ 2 ×)" if bound else ""), ratio, "×", bound, higher_is_better=False),
+            ]  # fmt: skip
     return rows
 
 

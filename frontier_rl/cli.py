@@ -337,7 +337,7 @@ def evaluate(
 @friendly_errors
 def train(
     out: Annotated[Path, typer.Option(help="Run directory: config, checkpoints, logs, model.zip, learning curve.")],
-    model: Annotated[int, typer.Option(help="Model: 1, 2 (point), 3, 4, 6 (weight), 5 (frontier).")] = 4,
+    model: Annotated[int, typer.Option(help="Model: 1, 2 (point), 3, 4, 6 (weight), 5, 7 (frontier).")] = 4,
     worlds: Annotated[str, typer.Option(help="Generators, map files or folders, each optionally =WEIGHT.")] = "office",
     timesteps: Annotated[int, typer.Option(help="Decisions to train for.")] = 100_000,
     n_envs: Annotated[int, typer.Option(help="Parallel environments (subprocesses).")] = 2,

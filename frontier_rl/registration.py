@@ -36,16 +36,20 @@ MODELS: dict[int, ModelSpec] = {
                  {}, "map + per-frontier features in, one of the top-K frontiers out"),
     6: ModelSpec(6, "WeightFrontierTable", "frontier_rl.envs.weight_env:WeightTableEnv",
                  {}, "map + per-frontier features in, ranking weight out"),
+    7: ModelSpec(7, "FrontierChoiceTour", "frontier_rl.envs.frontier_env:FrontierChoiceEnv",
+                 {"tour": True}, "map + per-frontier features and tour costs in, one of the top-K frontiers out"),
 }  # fmt: skip
 """Models 1-4 are the thesis's, 5 its future work (a frontier chosen directly), 6 model 3 with
-model 5's frontier table beside the image (a per-decision weight needs what the ranking trades off)."""
+model 5's frontier table beside the image (a per-decision weight needs what the ranking trades off),
+7 model 5 with a column that says how much a tour over the nearest frontiers loses by going to each
+first (what ``tour`` ranks by)."""
 
 OBSERVATION_SIZES = (250, 64)
 """The map image sizes with a registered id: the thesis's 250 × 250 and Niroui et al.'s 64 × 64."""
 
 
 def env_id(model: int, observation_size: int = 250) -> str:
-    """The registered id of model ``model`` (1-6) at ``observation_size`` (250 or 64)."""
+    """The registered id of model ``model`` (1-7) at ``observation_size`` (250 or 64)."""
     if model not in MODELS:
         raise ConfigError(f"unknown model {short_repr(model)}; choose one of {', '.join(map(str, MODELS))}")
     if observation_size not in OBSERVATION_SIZES:

@@ -28,8 +28,9 @@ PRIVILEGED_AREA_M2 = 2500.0
 class FrontierTableEnv(ExplorationEnv[dict[str, NDArray[Any]]]):
     """Observation (a dict): ``map``, the map with frontier and pose channels; ``frontiers``, a
     (K, 6) table, flattened row by row, of per-frontier features (:data:`FRONTIER_FEATURES`) for
-    the K candidates with the lowest path cost, cheapest first; ``mask``, 1 for the rows that hold
-    a frontier. Subclasses give the action (:class:`FrontierChoiceEnv`: a row; model 6's
+    the K candidates with the lowest path cost, cheapest first, and with ``tour`` (model 7) a
+    seventh column, :data:`~frontier_rl.observation.frontier_table.TOUR_FEATURE`; ``mask``, 1 for
+    the rows that hold a frontier. Subclasses give the action (:class:`FrontierChoiceEnv`: a row; model 6's
     :class:`~frontier_rl.envs.weight_env.WeightTableEnv`: a ranking weight).
 
     With ``privileged``, the observation also holds ``privileged``: what only the simulator knows,
@@ -40,6 +41,7 @@ class FrontierTableEnv(ExplorationEnv[dict[str, NDArray[Any]]]):
         top_k: number of candidate slots K.
         render_mode: None or "rgb_array".
         privileged: add the ``privileged`` entry.
+        tour: add the tour column to the table (model 7).
         **overrides: fields of :class:`EnvConfig`.
     """
 
@@ -49,6 +51,7 @@ class FrontierTableEnv(ExplorationEnv[dict[str, NDArray[Any]]]):
         top_k: int = 16,
         render_mode: str | None = None,
         privileged: bool = False,
+        tour: bool = False,
         **overrides: Any,
     ) -> None:
         super().__init__(config, render_mode, **overrides)
@@ -56,15 +59,17 @@ class FrontierTableEnv(ExplorationEnv[dict[str, NDArray[Any]]]):
             raise ConfigError(f"top_k must be between 1 and 256, got {top_k!r}")
         self.top_k = top_k
         self.encoder = MapEncoder(self.config.observation_size, frontier_channel=True, pose_channel=True)
+        columns = len(FRONTIER_FEATURES) + tour
         spaces: dict[str, gym.Space[Any]] = {
             "map": gym.spaces.Box(0, 255, self.encoder.shape, np.uint8),
-            "frontiers": gym.spaces.Box(-FEATURE_BOUND, FEATURE_BOUND, (top_k * len(FRONTIER_FEATURES),), np.float32),
+            "frontiers": gym.spaces.Box(-FEATURE_BOUND, FEATURE_BOUND, (top_k * columns,), np.float32),
             "mask": gym.spaces.Box(0.0, 1.0, (top_k,), np.float32),
         }
         if privileged:
             spaces["privileged"] = gym.spaces.Box(0.0, 1.0, (len(PRIVILEGED_FEATURES),), np.float32)
         self.observation_space = gym.spaces.Dict(spaces)  # type: ignore[assignment]
         self.privileged = privileged
+        self.tour = tour
         self.action_space = self._make_action_space()
         self._slots = np.zeros(0, np.int64)  # slot -> index into the simulator's frontiers
 
@@ -76,7 +81,7 @@ class FrontierTableEnv(ExplorationEnv[dict[str, NDArray[Any]]]):
         cand = sim.candidates()
         obs, self._slots = frontier_observation(
             self.encoder, self.top_k, cand.costmap, sim.pose, cand.frontiers, sim.config.robot.radius,
-            sim.config.lidar.max_range,
+            sim.config.lidar.max_range, self.tour,
         )  # fmt: skip
         if self.privileged:
             obs["privileged"] = self._privileged_features()

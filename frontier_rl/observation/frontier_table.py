@@ -12,6 +12,7 @@ from numpy.typing import NDArray
 from frontier_rl.core.frontiers.detection import Frontiers
 from frontier_rl.core.navigation.costmap import Costmap
 from frontier_rl.core.navigation.group_costs import group_path_costs
+from frontier_rl.core.navigation.tours import first_stop_costs, stop_costs
 from frontier_rl.core.world.robot import Pose
 from frontier_rl.observation.map_image import FRONTIER_FEATURES, MapEncoder, frontier_cells, frontier_features
 
@@ -20,6 +21,14 @@ FEATURE_BOUND = 10.0
 
 UNREACHABLE_COST_M = 100.0
 """Path cost (m) given to a frontier the planner finds no path to."""
+
+TOUR_FEATURE = "tour_regret"
+"""Model 7's extra column: how much longer the shortest open tour from the robot through the
+table's first :data:`TOUR_STOPS` frontiers gets when it visits this one first (m over 10; 0 for the
+tour's own first stop, :data:`FEATURE_BOUND` for the rows beyond them)."""
+
+TOUR_STOPS = 10
+"""The frontiers (the cheapest rows) a model-7 table's tour runs through."""
 
 
 def frontier_path_costs(
@@ -43,6 +52,18 @@ def frontier_path_costs(
     return costs
 
 
+def tour_regret(costmap: Costmap, pose: Pose, frontiers: Frontiers, robot_radius: float) -> NDArray[np.float32]:
+    """:data:`TOUR_FEATURE` of ``frontiers`` (in table order, cheapest first) for a robot of
+    ``robot_radius`` m at ``pose``."""
+    regret = np.full(len(frontiers), FEATURE_BOUND, np.float32)
+    stops = min(len(frontiers), TOUR_STOPS)
+    if stops:
+        start = costmap.grid.world_to_cell(pose.x, pose.y)
+        firsts = first_stop_costs(stop_costs(costmap, start, frontiers.goal_cells[:stops], robot_radius))
+        regret[:stops] = (firsts - firsts.min()) / 10.0
+    return regret
+
+
 def frontier_observation(
     encoder: MapEncoder,
     top_k: int,
@@ -51,15 +72,19 @@ def frontier_observation(
     frontiers: Frontiers,
     robot_radius: float,
     sensor_range: float,
+    tour: bool = False,
 ) -> tuple[dict[str, NDArray[Any]], NDArray[np.int64]]:
-    """The frontier-choice observation, and for each filled slot the index of its frontier."""
-    table = np.zeros((top_k, len(FRONTIER_FEATURES)), np.float32)
+    """The frontier-choice observation, and for each filled slot the index of its frontier; with
+    ``tour``, the table has model 7's :data:`TOUR_FEATURE` as its last column."""
+    table = np.zeros((top_k, len(FRONTIER_FEATURES) + tour), np.float32)
     slots = np.zeros(0, np.int64)
     if len(frontiers):
         costs = frontier_path_costs(costmap, pose, frontiers, robot_radius, want=top_k)
         slots = np.argsort(costs, kind="stable")[:top_k].astype(np.int64)
         chosen = frontiers.subset(slots)
         feats = frontier_features(chosen, pose, costs[slots], sensor_range)
+        if tour:
+            feats = np.column_stack((feats, tour_regret(costmap, pose, chosen, robot_radius)))
         table[: len(slots)] = np.clip(feats, -FEATURE_BOUND, FEATURE_BOUND)
     mask = np.zeros(top_k, np.float32)
     mask[: len(slots)] = 1.0

@@ -10,11 +10,13 @@ from frontier_rl.policies.baselines import (
 )
 from frontier_rl.policies.oracle import OracleTour
 from frontier_rl.policies.registry import POLICY_NAMES, make_policy
+from frontier_rl.policies.tour import FrontierTour
 
 __all__ = [
     "POLICY_NAMES",
     "ExploreLite",
     "FixedWeight",
+    "FrontierTour",
     "InformationGain",
     "LargestFrontier",
     "NearestFrontier",

@@ -1,10 +1,11 @@
 """Learned policies (``learned:PATH.zip``) behind the same interface as the baselines.
 
 The model kind follows from the network's spaces: a dict observation (the map and a frontier
-table) with an action per row is the frontier-choice model (5), with 100 actions model 6 (a weight
-from the table; a table of 100 rows is told apart by the file's metadata); an image with 100
-actions is a weight model (3 with frontier and pose channels, 4 without); otherwise a point model
-(1 or 2), whose chosen pixel becomes a goal to drive to.
+table) with an action per row is the frontier-choice model (5, or 7 when the table has a tour
+column), with 100 actions model 6 (a weight from the table; a table of 100 rows is told apart by
+the file's metadata); an image with 100 actions is a weight model (3 with frontier and pose
+channels, 4 without); otherwise a point model (1 or 2), whose chosen pixel becomes a goal to drive
+to.
 """
 
 from __future__ import annotations
@@ -21,7 +22,7 @@ from frontier_rl.core.sim.config import SimConfig
 from frontier_rl.core.sim.episode import DecisionContext, Ranking
 from frontier_rl.errors import ConfigError, model_file_label, short_repr
 from frontier_rl.observation.frontier_table import frontier_observation, slot_order
-from frontier_rl.observation.map_image import MapEncoder
+from frontier_rl.observation.map_image import FRONTIER_FEATURES, MapEncoder
 from frontier_rl.observation.weight_bins import WEIGHT_BINS, bin_to_weight
 
 
@@ -53,6 +54,7 @@ class LearnedPolicy:
             raise ConfigError(f"{where} does not have a discrete action space")
         n_actions = int(n_actions)
         spaces = getattr(obs_space, "spaces", None)  # a dict observation: the frontier table's models
+        self._tour = False
         if spaces is None:
             self.kind = "weight" if n_actions == WEIGHT_BINS else "point"
         else:
@@ -62,6 +64,11 @@ class LearnedPolicy:
             table_weight = n_actions == WEIGHT_BINS if info is None else info.model == 6  # 100 rows: ask the file
             self.kind = "weight table" if table_weight else "frontier"
             n_actions = int(rows[0])
+            table = getattr(spaces.get("frontiers"), "shape", None)
+            columns = (len(FRONTIER_FEATURES), len(FRONTIER_FEATURES) + 1)  # model 7's table: the tour column
+            if table is None or len(table) != 1 or table[0] not in tuple(n_actions * c for c in columns):
+                raise ConfigError(f"{where} has a frontier table of {short_repr(table)} values for {n_actions} rows")
+            self._tour = bool(table[0] == n_actions * columns[1])
         image_space = obs_space if spaces is None else spaces.get("map") if isinstance(spaces, dict) else None
         image_shape = getattr(image_space, "shape", None)
         if image_shape is None or len(image_shape) != 3 or image_shape[1] != image_shape[2]:
@@ -99,8 +106,9 @@ class LearnedPolicy:
             action = self._act(self._encoder.encode(grid, pose, frontiers))
         else:  # the frontier table's models
             costmap = context.costmap or Costmap.build(grid, self.sim.robot, self.sim.navigation)
+            radius, sensor_range = self.sim.robot.radius, context.sensor_range
             obs, slots = frontier_observation(
-                self._encoder, self._top_k, costmap, pose, frontiers, self.sim.robot.radius, context.sensor_range
+                self._encoder, self._top_k, costmap, pose, frontiers, radius, sensor_range, self._tour
             )
             action = self._act(obs)
             if self.kind == "frontier":

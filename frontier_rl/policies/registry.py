@@ -16,6 +16,7 @@ from frontier_rl.policies.baselines import (
     RandomFrontier,
 )
 from frontier_rl.policies.oracle import OracleTour
+from frontier_rl.policies.tour import FrontierTour
 
 _SIMPLE: dict[str, Callable[[], ExplorationPolicy]] = {
     "nearest": NearestFrontier,
@@ -24,6 +25,7 @@ _SIMPLE: dict[str, Callable[[], ExplorationPolicy]] = {
     "info-gain": InformationGain,
     "random": RandomFrontier,
     "oracle": OracleTour,
+    "tour": FrontierTour,
 }
 
 POLICY_NAMES: tuple[str, ...] = (*_SIMPLE, "fixed:W", "learned:PATH.zip")

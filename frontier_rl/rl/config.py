@@ -38,7 +38,7 @@ class TrainConfig:
     """What ``frontier-rl train`` does.
 
     Attributes:
-        model: model 1-6: the thesis's 1-4, its future work 5, and 6 (see
+        model: model 1-7: the thesis's 1-4, its future work 5, and 6 and 7 (see
             :data:`frontier_rl.registration.MODELS`).
         worlds: comma-separated generator names, map files and folders, each optionally with a
             sampling weight ("office=2,../shared/maps/dungeon/train=3"), drawn per episode; a

@@ -67,7 +67,7 @@ class ModelInfo:
     """What a model file holds.
 
     Attributes:
-        model: model number 1-6 (:data:`~frontier_rl.registration.MODELS`).
+        model: model number 1-7 (:data:`~frontier_rl.registration.MODELS`).
         env_id: the Gymnasium id it was trained on.
         observation_size: map image edge (pixels).
         algo: "a2c", "ppo" or "dagger".
@@ -90,7 +90,7 @@ _FIELDS: tuple[str, ...] = tuple(f.name for f in fields(ModelInfo))
 
 def policy_setup(model: int, features_dim: int) -> tuple[type[ActorCriticPolicy], dict[str, Any]]:
     """The policy class and keyword arguments of model ``model``."""
-    if model == 5:
+    if model in (5, 7):
         return PointerPolicy, {
             "features_extractor_class": FrontierScorer,
             "features_extractor_kwargs": {"context_dim": features_dim},

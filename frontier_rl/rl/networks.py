@@ -11,8 +11,6 @@ from stable_baselines3.common.policies import ActorCriticPolicy
 from stable_baselines3.common.torch_layers import BaseFeaturesExtractor
 from torch import nn
 
-from frontier_rl.observation.map_image import FRONTIER_FEATURES
-
 MASKED_LOGIT = -1.0e4
 """Logit given to an empty frontier slot: its probability is exp(−10⁴) ≈ 0."""
 
@@ -61,13 +59,16 @@ class _FrontierTableExtractor(BaseFeaturesExtractor):
         assert map_shape is not None and mask_shape is not None
         super().__init__(observation_space, features_dim)
         self.top_k = int(mask_shape[0])
+        table_shape = observation_space["frontiers"].shape
+        assert table_shape is not None
+        self.columns = int(table_shape[0]) // self.top_k  # model 5's features, and model 7's tour column
         self.cnn = _grid_cnn(int(map_shape[0]))
         self.context = nn.Sequential(nn.Linear(64 * 16, context_dim), nn.ReLU())
 
     def _pairs(self, observations: dict[str, torch.Tensor]) -> tuple[torch.Tensor, torch.Tensor]:
         """(batch, K, features + context) rows, and the (batch, context) map embedding."""
         context = self.context(self.cnn(observations["map"]))
-        table = observations["frontiers"].reshape(context.shape[0], self.top_k, len(FRONTIER_FEATURES))
+        table = observations["frontiers"].reshape(context.shape[0], self.top_k, self.columns)
         return torch.cat((table, context[:, None, :].expand(-1, self.top_k, -1)), dim=2), context
 
 
@@ -82,7 +83,7 @@ class FrontierScorer(_FrontierTableExtractor):
         mask_shape = observation_space["mask"].shape
         assert mask_shape is not None
         super().__init__(observation_space, context_dim, int(mask_shape[0]) + context_dim)
-        self.scorer = nn.Sequential(nn.Linear(len(FRONTIER_FEATURES) + context_dim, 64), nn.ReLU(), nn.Linear(64, 1))
+        self.scorer = nn.Sequential(nn.Linear(self.columns + context_dim, 64), nn.ReLU(), nn.Linear(64, 1))
 
     def forward(self, observations: dict[str, torch.Tensor]) -> torch.Tensor:
         """Scores of the K slots (masked) followed by the map context."""
@@ -108,7 +109,7 @@ class FrontierPooling(_FrontierTableExtractor):
 
     def __init__(self, observation_space: gym.spaces.Dict, context_dim: int = 128) -> None:
         super().__init__(observation_space, context_dim, context_dim + 2 * FRONTIER_EMBEDDING)
-        n_in = len(FRONTIER_FEATURES) + context_dim
+        n_in = self.columns + context_dim
         self.embed = nn.Sequential(nn.Linear(n_in, FRONTIER_EMBEDDING), nn.ReLU(),
                                    nn.Linear(FRONTIER_EMBEDDING, FRONTIER_EMBEDDING), nn.ReLU())  # fmt: skip
 

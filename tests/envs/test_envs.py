@@ -14,6 +14,7 @@ import frontier_rl
 from frontier_rl.core.world.catalog import generate_world
 from frontier_rl.envs import FrontierChoiceEnv, WeightEnv
 from frontier_rl.errors import ConfigError, UnknownNameError
+from frontier_rl.observation.frontier_table import FEATURE_BOUND, TOUR_STOPS
 from frontier_rl.observation.weight_bins import WEIGHT_BINS, bin_to_weight
 from frontier_rl.registration import ENV_IDS, env_id
 
@@ -25,13 +26,14 @@ def _obs_equal(a: Any, b: Any) -> bool:
 
 
 def test_every_model_and_size_is_registered() -> None:
-    assert len(ENV_IDS) == 12
+    assert len(ENV_IDS) == 14
     assert all(i in gym.registry for i in ENV_IDS)
     assert env_id(4) == "FrontierRL/WeightMap-v0"
     assert env_id(4, 64) == "FrontierRL/WeightMap64-v0"
     assert env_id(6, 64) == "FrontierRL/WeightFrontierTable64-v0"
-    with pytest.raises(ConfigError, match="7"):
-        env_id(7)
+    assert env_id(7, 64) == "FrontierRL/FrontierChoiceTour64-v0"
+    with pytest.raises(ConfigError, match="8"):
+        env_id(8)
     with pytest.raises(ConfigError, match="100"):
         env_id(4, 100)
 
@@ -57,7 +59,7 @@ def test_the_privileged_entry_passes_the_checkers_and_follows_the_coverage() -> 
     assert "privileged" not in gym.make(env_id(5, 64)).observation_space.spaces  # type: ignore[attr-defined]
 
 
-@pytest.mark.parametrize("model", [1, 3, 4, 5, 6])
+@pytest.mark.parametrize("model", [1, 3, 4, 5, 6, 7])
 def test_same_seed_same_episode(model: int) -> None:
     def rollout() -> tuple[list[Any], list[float], list[dict[str, Any]]]:
         env = gym.make(env_id(model, 64))
@@ -177,6 +179,20 @@ def test_model_6_sees_model_5s_table_and_drives_by_its_weight() -> None:
     for action in (0, 37, WEIGHT_BINS - 1):
         *_, info = table.step(action)
         assert info["weight"] == bin_to_weight(action)
+
+
+def test_model_7_adds_the_tour_column_to_model_5s_table() -> None:
+    tour, choice = gym.make(env_id(7, 64)), gym.make(env_id(5, 64))
+    obs7, _ = tour.reset(seed=3)
+    obs5, _ = choice.reset(seed=3)
+    n = int(obs5["mask"].sum())
+    table7, table5 = obs7["frontiers"].reshape(16, 7), obs5["frontiers"].reshape(16, 6)
+    assert np.array_equal(table7[:, :6], table5) and np.array_equal(obs7["map"], obs5["map"])
+    regret = table7[:n, 6]
+    stops = min(n, TOUR_STOPS)
+    assert np.isclose(regret[:stops].min(), 0.0) and np.all(regret[:stops] >= 0)  # the tour's first stop: 0
+    assert np.all(regret[stops:] == FEATURE_BOUND) and np.all(table7[n:] == 0)
+    assert n >= 2 and np.count_nonzero(regret[:stops] > 0) >= 1
 
 
 def test_frontier_choice_mask_and_masked_actions() -> None:

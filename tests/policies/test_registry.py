@@ -14,6 +14,7 @@ from frontier_rl.policies import (
     POLICY_NAMES,
     ExploreLite,
     FixedWeight,
+    FrontierTour,
     InformationGain,
     LargestFrontier,
     NearestFrontier,
@@ -28,6 +29,7 @@ SIMPLE = {
     "explore-lite": ExploreLite,
     "info-gain": InformationGain,
     "random": RandomFrontier,
+    "tour": FrontierTour,
 }
 
 

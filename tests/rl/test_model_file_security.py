@@ -239,7 +239,7 @@ def test_env_spaces_builds_only_the_projects_own_ids() -> None:
     ("field", "value"),
     [
         ("model", "4"), ("model", 4.0), ("model", True), ("model", None), ("model", [4]), ("model", 0),
-        ("model", 7), ("model", -4), ("model", 10**30),
+        ("model", 8), ("model", -4), ("model", 10**30),
         ("observation_size", "64"), ("observation_size", 64.0), ("observation_size", 128), ("observation_size", 0),
         ("observation_size", True), ("observation_size", 10**12),
         ("env_id", 4), ("env_id", None), ("env_id", ["FrontierRL/WeightMap64-v0"]), ("env_id", ""),

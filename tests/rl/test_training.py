@@ -31,7 +31,7 @@ def _config(model: int, **changes: object) -> TrainConfig:
     return TrainConfig(**values)  # type: ignore[arg-type]
 
 
-@pytest.mark.parametrize("model", [1, 2, 3, 4, 5, 6])
+@pytest.mark.parametrize("model", [1, 2, 3, 4, 5, 6, 7])
 def test_smoke_training_saves_reloads_and_acts(model: int, tmp_path: Path) -> None:
     run = tmp_path / f"model{model}"
     final = train(_config(model), run, progress=False)
@@ -97,7 +97,7 @@ def test_resume_without_a_run_is_an_error(tmp_path: Path) -> None:
 
 @pytest.mark.parametrize(
     ("changes", "match"),
-    [({"model": 7}, "model 7"), ({"algo": "dqn"}, "dqn"), ({"observation_size": 128}, "128"),
+    [({"model": 8}, "model 8"), ({"algo": "dqn"}, "dqn"), ({"observation_size": 128}, "128"),
      ({"worlds": "office,venus"}, "venus"), ({"reward": "gold"}, "gold"), ({"timesteps": 0}, "timesteps"),
      ({"learning_rate": -1.0}, "learning_rate"), ({"gamma": 1.5}, "gamma"), ({"init": 3}, "init"),
      ({"ent_coef": -0.01}, "ent_coef"), ({"ent_coef": float("nan")}, "ent_coef"),

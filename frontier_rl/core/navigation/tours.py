@@ -1,0 +1,118 @@
+"""Exact tours over a few stops on the planner's path costs: the shortest open path from the
+robot through every stop (Held-Karp), and for each stop the shortest such path that visits it
+first. What ``tour`` ranks frontiers by (:mod:`frontier_rl.policies.tour`) and model 7's table
+column (:mod:`frontier_rl.observation.frontier_table`) are built on these.
+"""
+
+from __future__ import annotations
+
+import numba as nb
+import numpy as np
+from numpy.typing import NDArray
+
+from frontier_rl.core.navigation.costmap import Costmap
+from frontier_rl.core.navigation.group_costs import block_factor, group_path_costs
+from frontier_rl.core.navigation.path_costs import path_costs
+
+UNREACHABLE_M = 1.0e6
+"""Path cost (m) standing in for no path between two stops, so that a tour always exists."""
+
+MAX_STOPS = 16
+"""The most stops a tour here may have: Held-Karp's table has 2ⁿ·n entries."""
+
+
+@nb.njit(cache=True)
+def _paths_through_all(
+    dist: NDArray[np.float64], start: NDArray[np.float64]
+) -> tuple[NDArray[np.float64], NDArray[np.int64]]:
+    """Held-Karp over nodes 1..n of ``dist`` ((n + 1, n + 1)): ``best[mask, j]``, the shortest path
+    that begins at node k + 1 at a cost of ``start[k]``, visits the nodes of ``mask`` and ends at
+    node j + 1, and ``came``, the node before j on it (-1 at the beginning). O(2ⁿ·n²)."""
+    n = dist.shape[0] - 1
+    full = 1 << n
+    best = np.full((full, n), np.inf)
+    came = np.full((full, n), -1, np.int64)
+    for j in range(n):
+        best[1 << j, j] = start[j]
+    for mask in range(1, full):
+        for j in range(n):
+            here = best[mask, j]
+            if not (mask >> j) & 1 or here == np.inf:
+                continue
+            for k in range(n):
+                if (mask >> k) & 1:
+                    continue
+                nxt = mask | (1 << k)
+                cost = here + dist[j + 1, k + 1]
+                if cost < best[nxt, k]:
+                    best[nxt, k] = cost
+                    came[nxt, k] = j
+    return best, came
+
+
+@nb.njit(cache=True)
+def open_tour(dist: NDArray[np.float64]) -> NDArray[np.int64]:
+    """The shortest path from node 0 through every other node of ``dist`` ((n + 1, n + 1), n ≤ 16),
+    ending anywhere: the stops after node 0 (0-based among them), in order."""
+    n = dist.shape[0] - 1
+    best, came = _paths_through_all(dist, dist[0, 1:].copy())
+    mask = (1 << n) - 1
+    last = int(np.argmin(best[mask]))
+    order = np.empty(n, np.int64)
+    for i in range(n - 1, -1, -1):
+        order[i] = last
+        previous = came[mask, last]
+        mask ^= 1 << last
+        last = previous
+    return order
+
+
+def first_stop_costs(dist: NDArray[np.float64]) -> NDArray[np.float64]:
+    """For each stop k (node k + 1 of a symmetric ``dist``, n ≤ 16), the length of the shortest
+    path from node 0 through every other node that visits k first: ``dist[0, k + 1]`` plus the
+    shortest path from k through the rest (by symmetry, the shortest one through all that ends at k)."""
+    n = dist.shape[0] - 1
+    best, _ = _paths_through_all(dist, np.zeros(n))
+    return np.asarray(dist[0, 1:] + best[(1 << n) - 1], np.float64)
+
+
+def costs_to_stops(
+    costmap: Costmap, start: tuple[int, int], goals: NDArray[np.int64], robot_radius: float, want: int
+) -> NDArray[np.float64]:
+    """Planner path costs (m) from ``start`` to each of ``goals`` (row, col cells): exact on a map
+    searched cell by cell; on a map searched on blocks (:func:`block_factor` > 1, for a robot of
+    ``robot_radius`` m), block estimates for the ``want`` cheapest and inf for the rest, so that
+    the work is bounded by their distance, not by the map."""
+    grid = costmap.grid
+    goals = np.asarray(goals, np.int64).reshape(-1, 2)
+    if block_factor(grid.shape, grid.resolution, robot_radius) == 1:
+        exact: NDArray[np.float64] = path_costs(costmap, np.array([start], np.int64), goals)[0]
+        return exact
+    flat = goals[:, 0] * grid.width + goals[:, 1]
+    return group_path_costs(costmap, start, flat, np.arange(len(goals)), len(goals), 0, robot_radius, want)[0]
+
+
+def stop_costs(
+    costmap: Costmap, start: tuple[int, int], goals: NDArray[np.int64], robot_radius: float
+) -> NDArray[np.float64]:
+    """Planner path costs (m) between ``start`` and the ``goals`` (row, col cells), as the
+    symmetric (n + 1, n + 1) matrix the tours above take: ``start`` is node 0, and a pair with no
+    path costs :data:`UNREACHABLE_M`. Exact on a map searched cell by cell; on blocks (as
+    :func:`costs_to_stops`), one block search per stop to the stops after it."""
+    cells = np.concatenate((np.array([start], np.int64), np.asarray(goals, np.int64).reshape(-1, 2)))
+    grid = costmap.grid
+    if block_factor(grid.shape, grid.resolution, robot_radius) == 1:
+        dist = path_costs(costmap, cells)
+    else:
+        flat, n = cells[:, 0] * grid.width + cells[:, 1], len(cells)
+        dist = np.zeros((n, n))
+        for i in range(n - 1):
+            later = n - 1 - i
+            source = (int(cells[i, 0]), int(cells[i, 1]))
+            dist[i, i + 1 :] = group_path_costs(
+                costmap, source, flat[i + 1 :], np.arange(later), later, 0, robot_radius
+            )[0]
+        dist += dist.T
+    dist = np.minimum(dist, dist.T)  # the two directions differ by the end cells' cost factors
+    dist[~np.isfinite(dist)] = UNREACHABLE_M
+    return dist
