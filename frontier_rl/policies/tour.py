@@ -23,8 +23,9 @@ from frontier_rl.errors import ConfigError
 @dataclass(frozen=True)
 class FrontierTour:
     """The first stop of the shortest open tour (planner path costs on the robot's map) over the
-    ``max_frontiers`` frontiers cheapest to reach; the rest follow by path cost. ``sim`` gives the
-    robot's radius, which sets the blocks a large map is searched on
+    ``max_frontiers`` frontiers cheapest to reach; the rest follow by path cost (by straight-line
+    distance where a large map's search stopped before them). ``sim`` gives the robot's radius,
+    which sets the blocks a large map is searched on
     (:func:`~frontier_rl.core.navigation.tours.costs_to_stops`)."""
 
     max_frontiers: int = 10
