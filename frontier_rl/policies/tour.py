@@ -47,5 +47,5 @@ class FrontierTour:
         from_robot = costs_to_stops(costmap, start, goals, radius, self.max_frontiers)
         by_cost = np.lexsort((nearest_cost(frontiers), from_robot))
         stops = by_cost[: self.max_frontiers]
-        tour = stops[open_tour(stop_costs(costmap, start, goals[stops], radius))]
+        tour = stops[open_tour(stop_costs(costmap, start, goals[stops], radius, from_robot[stops]))]
         return Ranking(np.concatenate((tour, by_cost[self.max_frontiers :])).astype(np.int64))

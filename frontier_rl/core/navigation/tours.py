@@ -93,26 +93,32 @@ def costs_to_stops(
 
 
 def stop_costs(
-    costmap: Costmap, start: tuple[int, int], goals: NDArray[np.int64], robot_radius: float
+    costmap: Costmap,
+    start: tuple[int, int],
+    goals: NDArray[np.int64],
+    robot_radius: float,
+    from_start: NDArray[np.float64] | None = None,
 ) -> NDArray[np.float64]:
     """Planner path costs (m) between ``start`` and the ``goals`` (row, col cells), as the
     symmetric (n + 1, n + 1) matrix the tours above take: ``start`` is node 0, and a pair with no
-    path costs :data:`UNREACHABLE_M`. Exact on a map searched cell by cell; on blocks (as
-    :func:`costs_to_stops`), one block search per stop to the stops after it."""
-    cells = np.concatenate((np.array([start], np.int64), np.asarray(goals, np.int64).reshape(-1, 2)))
-    grid = costmap.grid
+    path costs :data:`UNREACHABLE_M`. ``from_start``, the costs from ``start`` to the goals when
+    the caller has them (:func:`costs_to_stops`), saves that search. Exact on a map searched cell
+    by cell; on blocks (as :func:`costs_to_stops`), one block search per goal to the goals after it."""
+    goals = np.asarray(goals, np.int64).reshape(-1, 2)
+    n, grid = len(goals), costmap.grid
+    dist = np.zeros((n + 1, n + 1))
+    dist[0, 1:] = costs_to_stops(costmap, start, goals, robot_radius, n) if from_start is None else from_start
     if block_factor(grid.shape, grid.resolution, robot_radius) == 1:
-        dist = path_costs(costmap, cells)
+        dist[1:, 1:] = path_costs(costmap, goals)  # symmetric: each pair's from the earlier goal
     else:
-        flat, n = cells[:, 0] * grid.width + cells[:, 1], len(cells)
-        dist = np.zeros((n, n))
+        flat = goals[:, 0] * grid.width + goals[:, 1]
         for i in range(n - 1):
             later = n - 1 - i
-            source = (int(cells[i, 0]), int(cells[i, 1]))
-            dist[i, i + 1 :] = group_path_costs(
+            source = (int(goals[i, 0]), int(goals[i, 1]))
+            dist[i + 1, i + 2 :] = group_path_costs(
                 costmap, source, flat[i + 1 :], np.arange(later), later, 0, robot_radius
             )[0]
-        dist += dist.T
-    dist = np.minimum(dist, dist.T)  # the two directions differ by the end cells' cost factors
+        dist[1:, 1:] += dist[1:, 1:].T
+    dist[1:, 0] = dist[0, 1:]
     dist[~np.isfinite(dist)] = UNREACHABLE_M
     return dist
