@@ -1,6 +1,6 @@
 """Latency of the ROS frontier node against a real roscore: 1 and 4 robots, each publishing its map
-once a second and asking ``--rate`` times a second (10), on maps of ../shared/maps, with a fixed weight and with
-model 5. Prints one JSON line per run and a Markdown table (median and 99th percentile of the time
+once a second and asking ``--rate`` times a second (10), on maps of ../shared/maps, with a fixed weight, model
+5, ``tour`` and model 7. Prints one JSON line per run and a Markdown table (median and 99th percentile of the time
 from publishing a request to receiving its status line, in the requesting process).
 
     .venv/bin/python benchmarks/ros_latency.py [--maps ../shared/maps] [--seconds 10] [--rate 10] [--robots 1,4]
@@ -27,7 +27,12 @@ import numpy as np
 REPO = Path(__file__).resolve().parents[1]
 MAPS = {"turtlebot3_world": "turtlebot3_world/map.yaml", "nav2_depot": "nav2_depot/depot.yaml",
         "nav2_warehouse": "nav2_warehouse/warehouse.yaml"}  # fmt: skip
-POLICIES = {"fixed:0.75": ["_weight:=0.75"], "model 5": ["_model:=models/model5.zip"]}
+POLICIES = {
+    "fixed:0.75": ["_weight:=0.75"],
+    "model 5": ["_model:=models/model5.zip"],
+    "tour": ["_policy:=tour"],
+    "model 7": ["_policy:=learned:models/model7.zip"],
+}
 SEEN_M = 3.0
 """The maps are published as seen within this distance of the robot (so that they have frontiers)."""
 

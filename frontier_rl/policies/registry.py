@@ -28,13 +28,14 @@ _SIMPLE: dict[str, Callable[[], ExplorationPolicy]] = {
     "tour": FrontierTour,
 }
 
-POLICY_NAMES: tuple[str, ...] = (*_SIMPLE, "fixed:W", "learned:PATH.zip")
+POLICY_NAMES: tuple[str, ...] = (*_SIMPLE, "fixed:W", "tour:N", "learned:PATH.zip")
 
 
 def make_policy(spec: str, trust_model: bool = False) -> ExplorationPolicy:
     """The policy named by ``spec`` (one of :data:`POLICY_NAMES`, ``fixed:W`` with W in [0, 1],
-    ``learned:PATH`` a model file of ``frontier-rl train``; ``trust_model`` also admits SB3 zips
-    from elsewhere, which unpickles them)."""
+    ``tour:N`` the tour over the N frontiers cheapest to reach (``tour`` is ``tour:10``),
+    ``learned:PATH`` a model file of ``frontier-rl train``; ``trust_model`` also admits SB3 zips from
+    elsewhere, which unpickles them)."""
     name, _, arg = spec.strip().partition(":")
     if name == "learned":
         if not arg:
@@ -49,6 +50,13 @@ def make_policy(spec: str, trust_model: bool = False) -> ExplorationPolicy:
             raise ConfigError(f"fixed:W needs a weight in [0, 1], got {short_repr(spec)}") from None
         try:
             return FixedWeight(weight)
+        except ConfigError as exc:
+            raise ConfigError(f"{short_repr(spec)}: {exc}") from None
+    if name == "tour" and ":" in spec:
+        if not (arg.isascii() and arg.isdigit()):
+            raise ConfigError(f"tour:N needs a whole number of stops, got {short_repr(spec)}")
+        try:
+            return FrontierTour(max_frontiers=int(arg), name=spec.strip())
         except ConfigError as exc:
             raise ConfigError(f"{short_repr(spec)}: {exc}") from None
     if name in _SIMPLE and ":" not in spec:

@@ -1,6 +1,7 @@
-"""What the frontier node decides before and after ranking, without ROS: where a map lies, whether
-a request can be answered (robot known, map there and fresh enough, pose finite and on the map),
-the status line that goes with every answer, and how often a repeated warning is logged."""
+"""What the frontier node decides before and after ranking, without ROS: which policy its
+parameters name, where a map lies, whether a request can be answered (robot known, map there and
+fresh enough, pose finite and on the map), the status line that goes with every answer, and how
+often a repeated warning is logged."""
 
 from __future__ import annotations
 
@@ -8,6 +9,11 @@ import json
 import math
 from dataclasses import asdict, dataclass, field
 from enum import StrEnum
+
+from frontier_rl.errors import ConfigError, short_repr
+
+NEEDS_THE_TRUE_MAP = ("oracle",)
+"""Policies that plan on the true world, which a robot's node does not have."""
 
 
 class StaleMapAnswer(StrEnum):
@@ -17,6 +23,21 @@ class StaleMapAnswer(StrEnum):
     """Rank the old map anyway, saying so in the status (the answer's stamp shows its age)."""
     EMPTY = "empty"
     """Answer with an empty list."""
+
+
+def node_policy_spec(policy: str, model: str, weight: float) -> str:
+    """The policy spec (:func:`~frontier_rl.policies.make_policy`) the node's parameters name:
+    ``~policy`` (any spec but the oracle's, e.g. ``tour`` or ``learned:models/model7.zip``), else
+    ``~model`` (a model file), else ``~weight``. Naming both a policy and a model is a
+    :class:`ConfigError`, as is a policy that needs the true map."""
+    policy, model = policy.strip(), model.strip()
+    if policy and model:
+        raise ConfigError(f"give ~policy or ~model, not both (got {short_repr(policy)} and {short_repr(model)})")
+    if policy.partition(":")[0] in NEEDS_THE_TRUE_MAP:
+        raise ConfigError(f"~policy {short_repr(policy)} plans on the true map, which the node does not have")
+    if policy:
+        return policy
+    return f"learned:{model}" if model else f"fixed:{weight}"
 
 
 @dataclass(frozen=True)

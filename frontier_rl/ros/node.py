@@ -18,10 +18,12 @@ exits with status 3 (:mod:`frontier_rl.ros.master_watch`) so that ``respawn`` st
 
 Parameters (private): ``~robots`` (namespaces, a list or a comma string; default one robot with no
 namespace), ``~weight`` (eq. 3.1's w, default 0.75), ``~model`` (a model file of ``frontier-rl
-train``; replaces the weight), ``~top_k`` (10), ``~min_cluster_size`` (cells, 4), ``~pose_topic``
-(``robot_pose``), ``~base_frame`` (``base_footprint``), ``~max_map_age`` (s, 30; 0: any age),
-``~stale_map`` (``stale``: rank it and say so, or ``empty``), ``~keep_last_map`` (true),
-``~max_pending`` (requests queued per robot, 8), ``~master_check_period`` (s, 1.0).
+train``; replaces the weight), ``~policy`` (any policy of ``frontier-rl explore`` but the oracle,
+e.g. ``tour`` or ``learned:models/model7.zip``; replaces both), ``~top_k`` (10),
+``~min_cluster_size`` (cells, 4), ``~pose_topic`` (``robot_pose``), ``~base_frame``
+(``base_footprint``), ``~max_map_age`` (s, 30; 0: any age), ``~stale_map`` (``stale``: rank it and
+say so, or ``empty``), ``~keep_last_map`` (true), ``~max_pending`` (requests queued per robot, 8),
+``~master_check_period`` (s, 1.0).
 
 Run: ``python -m frontier_rl.ros.node _robots:=tb3_0,tb3_1 _weight:=0.75``.
 """
@@ -43,6 +45,7 @@ from frontier_rl.ros.answers import (
     Status,
     ThrottledLog,
     check_request,
+    node_policy_spec,
     parse_request,
     stale_reason,
 )
@@ -79,9 +82,9 @@ class FrontierNode:
             raise FrontierRLError("~stale_map must be 'stale' or 'empty'") from None
         self.keep_last_map = bool(rospy.get_param("~keep_last_map", True))
         self.max_pending = int(rospy.get_param("~max_pending", 8))
-        model = rospy.get_param("~model", "") or ""
-        spec = f"learned:{model}" if model else f"fixed:{float(rospy.get_param('~weight', THESIS_WEIGHT))}"
-        policy = make_policy(spec)  # a bad weight or model file fails here, once, with its message
+        spec = node_policy_spec(str(rospy.get_param("~policy", "") or ""), str(rospy.get_param("~model", "") or ""),
+                                float(rospy.get_param("~weight", THESIS_WEIGHT)))  # fmt: skip
+        policy = make_policy(spec)  # a bad policy, weight or model file fails here, once, with its message
         self.policy_name = policy.name
         fixed = getattr(policy, "weight", None)
         self.fixed_weight = float(fixed) if isinstance(fixed, float) else None
@@ -234,7 +237,7 @@ def main() -> None:
     rospy.init_node("frontier_rl")
     try:
         node = FrontierNode()
-    except FrontierRLError as exc:  # a bad parameter: one line, not a traceback
+    except (FrontierRLError, ValueError) as exc:  # a bad parameter: one line, not a traceback
         rospy.logfatal("frontier_rl: %s", exc)
         raise SystemExit(2) from None
     import rosgraph

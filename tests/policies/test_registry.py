@@ -34,7 +34,7 @@ SIMPLE = {
 
 
 def test_policy_names() -> None:
-    assert set(POLICY_NAMES) == {*SIMPLE, "oracle", "fixed:W", "learned:PATH.zip"}
+    assert set(POLICY_NAMES) == {*SIMPLE, "oracle", "fixed:W", "tour:N", "learned:PATH.zip"}
     assert isinstance(make_policy("oracle"), OracleTour)
 
 
@@ -56,6 +56,24 @@ def test_make_policy_fixed_weight(spec: str, weight: float) -> None:
     assert policy.name == spec
 
 
+@pytest.mark.parametrize("stops", [1, 4, 16])
+def test_make_policy_tour_with_its_number_of_stops(stops: int) -> None:
+    policy = make_policy(f"tour:{stops}")
+    assert isinstance(policy, FrontierTour)
+    assert policy.max_frontiers == stops and policy.name == f"tour:{stops}"
+    assert make_policy("tour") == FrontierTour(max_frontiers=10)
+
+
+@pytest.mark.parametrize(("spec", "needle"), [("tour:", "whole number"), ("tour:x", "whole number"),
+                                              ("tour:1.5", "whole number"), ("tour:-3", "whole number"),
+                                              ("tour:0", "1 to 16, got 0"), ("tour:17", "1 to 16, got 17"),
+                                              ("tour:99999999999999999999", "1 to 16")])  # fmt: skip
+def test_bad_tour_stops_raise_config_error_naming_the_spec(spec: str, needle: str) -> None:
+    with pytest.raises(ConfigError, match=needle) as info:
+        make_policy(spec)
+    assert spec in str(info.value)
+
+
 def test_every_policy_ranks_a_real_frontier_set() -> None:
     data = np.full((30, 60), CellState.UNKNOWN, np.int8)
     data[5, 2:20] = CellState.FREE
@@ -64,7 +82,7 @@ def test_every_policy_ranks_a_real_frontier_set() -> None:
     grid = OccupancyGrid(data, 0.05)
     context = DecisionContext(grid, detect_frontiers(grid, Pose(0.5, 0.75)), Pose(0.5, 0.75), 0.0, 3.5)
     assert len(context.frontiers) == 3
-    for spec in [*SIMPLE, "fixed:0.3"]:
+    for spec in [*SIMPLE, "fixed:0.3", "tour:2"]:
         ranking = make_policy(spec).rank(context, np.random.default_rng(0))
         # explore_lite skips frontiers under 0.75 m (15 cells) while larger ones are left
         expected = [0, 2] if spec == "explore-lite" else [0, 1, 2]

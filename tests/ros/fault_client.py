@@ -9,7 +9,8 @@ result on stdout:
 - ``latency``: robot tb3_0 asked 20 times a second; prints its answer latencies (s) measured here
   and in the node.
 - ``first_answer``: publishes the map and pose and asks every 0.5 s until an answer holds
-  frontiers; prints the time since ARG (a ``time.time()``), so that a test can time a recovery.
+  frontiers; prints the time since ARG (a ``time.time()``), so that a test can time a recovery,
+  and that answer with its status line.
 """
 
 from __future__ import annotations
@@ -187,7 +188,8 @@ def first_answer(scene: Any, since: float) -> None:
         except queue.Empty:
             continue
         if result["poses"]:
-            print(json.dumps({"seconds": time.time() - since, "frontiers": len(result["poses"])}))
+            print(json.dumps({"seconds": time.time() - since, "frontiers": len(result["poses"]),
+                              "poses": result["poses"], "status": result["status"]}))  # fmt: skip
             return
         time.sleep(0.5)
 

@@ -8,6 +8,7 @@ import math
 
 import pytest
 
+from frontier_rl.errors import ConfigError
 from frontier_rl.ros.answers import (
     MapFrame,
     MapInfo,
@@ -15,6 +16,7 @@ from frontier_rl.ros.answers import (
     Status,
     ThrottledLog,
     check_request,
+    node_policy_spec,
     parse_request,
 )
 from frontier_rl.ros.master_watch import MasterWatch
@@ -88,3 +90,19 @@ def test_the_master_watch_reports_a_new_master_once_and_not_a_lost_one() -> None
     watch.run()  # returns after the restart
     assert lost == ["refused"]
     assert restarts == ["the ROS master at http://localhost:1 was restarted (pid 100, now 200)"]
+
+
+@pytest.mark.parametrize(
+    ("policy", "model", "spec"),
+    [("", "", "fixed:0.6"), ("", "models/model5.zip", "learned:models/model5.zip"), (" tour ", "", "tour"),
+     ("learned:models/model7.zip", "", "learned:models/model7.zip"), ("nearest", " ", "nearest")],
+)  # fmt: skip
+def test_the_node_policy_is_policy_else_model_else_weight(policy: str, model: str, spec: str) -> None:
+    assert node_policy_spec(policy, model, 0.6) == spec
+
+
+@pytest.mark.parametrize(("policy", "model", "needle"), [("tour", "models/model5.zip", "not both"),
+                                                         ("oracle", "", "true map")])  # fmt: skip
+def test_a_policy_the_node_cannot_run_is_a_config_error(policy: str, model: str, needle: str) -> None:
+    with pytest.raises(ConfigError, match=needle):
+        node_policy_spec(policy, model, 0.75)

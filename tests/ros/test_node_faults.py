@@ -20,6 +20,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
+from frontier_rl.core.world.robot import Pose
 from tests.ros.test_node import _free_port, _ros_available, _scene
 
 pytestmark = pytest.mark.slow
@@ -180,6 +181,45 @@ def test_one_robots_large_map_does_not_delay_another(
                f"{np.round(node_ms[slow], 1).tolist()} ms")  # fmt: skip
     assert np.percentile(latencies_ms, 99) < OTHER_ROBOT_MS, slowest
     assert latencies_ms.max() < OTHER_ROBOT_MAX_MS, slowest
+
+
+@pytest.mark.parametrize("policy", ["tour", "learned:models/model7.zip"])
+def test_the_node_ranks_with_the_policy_it_is_given(
+    policy: str, ros_master: tuple[dict[str, str], int], shared_maps: Path, tmp_path: Path
+) -> None:
+    from frontier_rl.policies import make_policy
+    from frontier_rl.policies.frontier_request import grid_from_message, rank_frontiers
+
+    env, port = ros_master
+    scene, arrays = _scene(shared_maps, tmp_path)
+    grid = grid_from_message(int(arrays["width"]), int(arrays["height"]), float(arrays["resolution"]), arrays["data"])
+    origin = arrays["origin"]
+    pose = Pose(float(arrays["pose"][0] - origin[0]), float(arrays["pose"][1] - origin[1]), 0.0)
+    ranked, _ = rank_frontiers(grid, pose, make_policy(policy))
+    expected = [[f.x + origin[0], f.y + origin[1]] for f in ranked]
+    assert len(expected) >= 2
+    with _core_and_node(env, port, "_robots:=tb3_0", f"_policy:={policy}"):
+        r = _client(env, "first_answer", str(scene), str(time.time()))
+    assert np.allclose(r["poses"], expected, atol=1e-6)  # frontier_rl's own ranking by that policy
+    assert r["status"]["policy"] == make_policy(policy).name and r["status"]["weight"] is None
+
+
+BAD_PARAMETERS = [("_policy:=oracle", "true map"), ("_policy:=tour:99", "1 to 16"), ("_weight:=abc", "'abc'"),
+                  ("_policy:=bogus", "unknown policy")]  # fmt: skip
+
+
+@pytest.mark.parametrize(("param", "needle"), BAD_PARAMETERS)
+def test_a_bad_parameter_stops_the_node_with_one_line(
+    param: str, needle: str, ros_master: tuple[dict[str, str], int]
+) -> None:
+    env, port = ros_master
+    core = _start_core(port, env)
+    try:
+        node = _node(env, "_robots:=tb3_0", param)
+        _, log = node.communicate(timeout=60)
+    finally:
+        _kill(core)
+    assert node.returncode == 2 and needle in log and "Traceback" not in log, log[-2000:]
 
 
 def test_a_restarted_master_gets_the_node_back_by_respawn(
