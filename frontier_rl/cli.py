@@ -125,7 +125,9 @@ def explore(
         str, typer.Option(help="office | rooms | cluttered | a map file (ROS .yaml, Dungeon .png, HouseExpo .json)")
     ] = "office",
     seed: Annotated[int, typer.Option(help=f"Seeds the world, the start and the sensor noise (0 to {MAX_SEED}).")] = 0,
-    policy: Annotated[str, typer.Option(help=f"One of: {', '.join(POLICY_NAMES)} (W in [0, 1]).")] = THESIS_BASELINE,
+    policy: Annotated[
+        str, typer.Option(help=f"One of: {', '.join(POLICY_NAMES)} (W in [0, 1], N stops 1 to 16).")
+    ] = THESIS_BASELINE,
     png: Annotated[Path | None, typer.Option(help="Write a picture of the episode to this .png file.")] = None,
     gif: Annotated[
         Path | None, typer.Option(help="Write an animation, one frame per decision, to this .gif file.")

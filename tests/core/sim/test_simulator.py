@@ -24,7 +24,8 @@ from frontier_rl.errors import ConfigError
 from frontier_rl.io import load_map
 from frontier_rl.policies import POLICY_NAMES, make_policy
 
-POLICIES = ["fixed:0.75" if name == "fixed:W" else name for name in POLICY_NAMES if not name.startswith("learned")]
+EXAMPLES = {"fixed:W": "fixed:0.75", "tour:N": "tour:4"}
+POLICIES = [EXAMPLES.get(name, name) for name in POLICY_NAMES if not name.startswith("learned")]
 GENERATED = ["office", "rooms", "cluttered"]
 REAL_MAPS = {"lse_arena": "lse_arena/lse_arena.yaml", "turtlebot3_world": "turtlebot3_world/map.yaml"}
 FREE, OCC = CellState.FREE.value, CellState.OCCUPIED.value
