@@ -38,6 +38,7 @@ from frontier_rl.world_spec import checked_resolution, parse_pose, resolve_world
 
 #: Largest seed a command accepts (0 to 2**32 - 1: NumPy's legacy seeding, which SB3 uses, takes no more).
 MAX_SEED = 2**32 - 1
+POLICY_HELP = f"One of: {', '.join(POLICY_NAMES)} (W in [0, 1], N stops 1 to 16)."
 
 app = typer.Typer(
     add_completion=False, no_args_is_help=True, help="Frontier exploration for search and rescue.", cls=OneLineGroup
@@ -125,9 +126,7 @@ def explore(
         str, typer.Option(help="office | rooms | cluttered | a map file (ROS .yaml, Dungeon .png, HouseExpo .json)")
     ] = "office",
     seed: Annotated[int, typer.Option(help=f"Seeds the world, the start and the sensor noise (0 to {MAX_SEED}).")] = 0,
-    policy: Annotated[
-        str, typer.Option(help=f"One of: {', '.join(POLICY_NAMES)} (W in [0, 1], N stops 1 to 16).")
-    ] = THESIS_BASELINE,
+    policy: Annotated[str, typer.Option(help=POLICY_HELP)] = THESIS_BASELINE,
     png: Annotated[Path | None, typer.Option(help="Write a picture of the episode to this .png file.")] = None,
     gif: Annotated[
         Path | None, typer.Option(help="Write an animation, one frame per decision, to this .gif file.")
