@@ -59,7 +59,7 @@ SimConfigOption = Annotated[Path | None, typer.Option(help="SimConfig YAML (any 
 
 _INTERRUPTED = "interrupted: finished episodes are saved in {out}/; rerun the same command to resume"
 DEMO_WORLDS = ("office", "rooms", "cluttered")
-SHIPPED_MODELS = (Path("models/model4.zip"), Path("models/model5.zip"))
+SHIPPED_MODELS = (Path("models/model4.zip"), Path("models/model5.zip"), Path("models/model7.zip"))
 """Trained models in the repository; the demo runs them too when run from the checkout."""
 
 
@@ -214,8 +214,8 @@ def demo(
     max_time: Annotated[float | None, typer.Option(help="Sim-time cap of every episode (s).")] = None,
     progress: Annotated[bool, typer.Option(help="Show a progress bar.")] = True,
 ) -> None:
-    """The compact experiment: the shipped models against fixed:0.75, nearest and the oracle on the
-    built-in worlds, with a report in OUT/experiment, and a picture of each method's first episode
+    """The compact experiment: the shipped models against fixed:0.75, nearest, tour and the oracle
+    on the built-in worlds, with a report in OUT/experiment, and a picture of each method's first episode
     on each world (plus an animation of one)."""
     import shutil
 
@@ -225,7 +225,8 @@ def demo(
 
     _seed(seed)
     _output_folder(out)
-    methods = (THESIS_BASELINE, "nearest", *(f"learned:{path}" for path in SHIPPED_MODELS if path.exists()), ORACLE)
+    learned = (f"learned:{path}" for path in SHIPPED_MODELS if path.exists())
+    methods = (THESIS_BASELINE, "nearest", "tour", *learned, ORACLE)
     sim = _sim_config(None, max_time)
     experiment = ExperimentConfig(methods=methods, worlds=DEMO_WORLDS, episodes=episodes, seed=seed, sim=sim)
     out.mkdir(parents=True, exist_ok=True)

@@ -9,6 +9,7 @@ from pathlib import Path
 from frontier_rl.core.frontiers.ranking import THESIS_WEIGHT
 from frontier_rl.errors import FrontierRLError, short_repr
 from frontier_rl.evaluation.experiment import ORACLE, file_sha256
+from frontier_rl.policies.tour import FrontierTour
 from frontier_rl.registration import MODELS
 from frontier_rl.swarm.config import Strategy, TeamMethod
 
@@ -23,6 +24,8 @@ _POLICIES = {
     ORACLE: "Knows the true map: plans a tour of viewpoints that sees all of it and drives it with the same "
     "robot, sensor and navigation. A reference, not a method a robot could run.",
 }
+TOUR_STOPS = FrontierTour().max_frontiers
+"""The stops of ``tour`` without a number."""
 _STRATEGIES = {
     Strategy.UNCOORDINATED: "each robot ranks the frontiers of its own merged map",
     Strategy.COORDINATED: "teammates' goals lower a frontier's utility (Burgard et al. 2000)",
@@ -62,6 +65,10 @@ def _policy(policy: str, base_dir: Path) -> tuple[str, str]:
                 f"w = {float(arg):g}{baseline}")  # fmt: skip
     if name == "learned":
         return _learned(base_dir / arg)
+    if name == "tour":
+        return ("Drives to the first stop of the shortest open tour (Held-Karp, on planner path costs) through the "
+                "frontiers cheapest to reach, as FUEL (Zhou et al. 2021) and TARE (Cao et al. 2021) order theirs.",
+                f"{int(arg) if arg else TOUR_STOPS} stops")  # fmt: skip
     return _POLICIES.get(policy, "A policy of this project."), ""
 
 

@@ -21,6 +21,7 @@ from frontier_rl.evaluation.experiment import ExperimentConfig
 from frontier_rl.evaluation.method_notes import describe_method
 from frontier_rl.evaluation.report_tables import outlier_note, outlier_tables, time_tables
 from frontier_rl.evaluation.tables import short_labels
+from frontier_rl.policies import POLICY_NAMES
 from frontier_rl.rl.config import TrainConfig
 from tests.evaluation.test_completion import _row
 
@@ -119,6 +120,9 @@ def test_the_main_table_gives_sd_and_holm_beside_the_raw_values() -> None:
             ["Model 5 (map + per-frontier", "sha256 ", "--model 5 --worlds office --timesteps 60000"],
         ),
         ("learned:README.md", ["could not be read", "not a frontier_rl model"]),
+        ("tour", ["shortest open tour", "10 stops"]),
+        ("tour:13", ["Held-Karp", "13 stops"]),
+        ("learned:models/model7.zip", ["Model 7", "--model 7 --worlds office --timesteps 60000"]),
     ],
 )
 def test_every_method_is_described(method: str, parts: list[str]) -> None:
@@ -126,6 +130,11 @@ def test_every_method_is_described(method: str, parts: list[str]) -> None:
     text = f"{note.description} {note.parameters}"
     for part in parts:
         assert part in text, text
+
+
+@pytest.mark.parametrize("name", [name for name in POLICY_NAMES if not name.startswith(("fixed", "learned"))])
+def test_every_policy_name_has_its_own_description(name: str) -> None:
+    assert describe_method(name.replace(":N", ":4")).description != describe_method("no-such-policy").description
 
 
 def test_the_training_command_lists_what_differs_from_the_defaults() -> None:
