@@ -215,8 +215,8 @@ def demo(
     progress: Annotated[bool, typer.Option(help="Show a progress bar.")] = True,
 ) -> None:
     """The compact experiment: the shipped models against fixed:0.75, nearest, tour and the oracle
-    on the built-in worlds, with a report in OUT/experiment, and a picture of each method's first episode
-    on each world (plus an animation of one)."""
+    on the built-in worlds, with a report in OUT/experiment, and a picture of each method's first
+    episode on each world (plus an animation of one)."""
     import shutil
 
     from frontier_rl.evaluation.evaluate import DEFAULT_OUTLIERS_S

@@ -68,7 +68,7 @@ def _policy(policy: str, base_dir: Path) -> tuple[str, str]:
     if name == "tour":
         return ("Drives to the first stop of the shortest open tour (Held-Karp, on planner path costs) through the "
                 "frontiers cheapest to reach, as FUEL (Zhou et al. 2021) and TARE (Cao et al. 2021) order theirs.",
-                f"{int(arg) if arg else TOUR_STOPS} stops")  # fmt: skip
+                f"{arg or TOUR_STOPS} stops")  # fmt: skip
     return _POLICIES.get(policy, "A policy of this project."), ""
 
 
