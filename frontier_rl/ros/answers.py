@@ -10,10 +10,8 @@ import math
 from dataclasses import asdict, dataclass, field
 from enum import StrEnum
 
+from frontier_rl.core.sim.episode import EpisodeAwarePolicy
 from frontier_rl.errors import ConfigError, short_repr
-
-NEEDS_THE_TRUE_MAP = ("oracle",)
-"""Policies that plan on the true world, which a robot's node does not have."""
 
 
 class StaleMapAnswer(StrEnum):
@@ -27,17 +25,21 @@ class StaleMapAnswer(StrEnum):
 
 def node_policy_spec(policy: str, model: str, weight: float) -> str:
     """The policy spec (:func:`~frontier_rl.policies.make_policy`) the node's parameters name:
-    ``~policy`` (any spec but the oracle's, e.g. ``tour`` or ``learned:models/model7.zip``), else
-    ``~model`` (a model file), else ``~weight``. Naming both a policy and a model is a
-    :class:`ConfigError`, as is a policy that needs the true map."""
+    ``~policy`` (e.g. ``tour`` or ``learned:models/model7.zip``), else ``~model`` (a model file),
+    else ``~weight``. Naming both a policy and a model is a :class:`ConfigError`."""
     policy, model = policy.strip(), model.strip()
     if policy and model:
         raise ConfigError(f"give ~policy or ~model, not both (got {short_repr(policy)} and {short_repr(model)})")
-    if policy.partition(":")[0] in NEEDS_THE_TRUE_MAP:
-        raise ConfigError(f"~policy {short_repr(policy)} plans on the true map, which the node does not have")
     if policy:
         return policy
     return f"learned:{model}" if model else f"fixed:{weight}"
+
+
+def check_node_policy(policy: object, spec: str) -> None:
+    """Raise :class:`ConfigError` if ``policy`` (made from ``spec``) plans on the true world (an
+    :class:`~frontier_rl.core.sim.episode.EpisodeAwarePolicy`, the oracle), which a node does not have."""
+    if isinstance(policy, EpisodeAwarePolicy):
+        raise ConfigError(f"~policy {short_repr(spec)} plans on the true map, which the node does not have")
 
 
 @dataclass(frozen=True)

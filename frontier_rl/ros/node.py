@@ -44,6 +44,7 @@ from frontier_rl.ros.answers import (
     StaleMapAnswer,
     Status,
     ThrottledLog,
+    check_node_policy,
     check_request,
     node_policy_spec,
     parse_request,
@@ -85,6 +86,7 @@ class FrontierNode:
         spec = node_policy_spec(str(rospy.get_param("~policy", "") or ""), str(rospy.get_param("~model", "") or ""),
                                 float(rospy.get_param("~weight", THESIS_WEIGHT)))  # fmt: skip
         policy = make_policy(spec)  # a bad policy, weight or model file fails here, once, with its message
+        check_node_policy(policy, spec)
         self.policy_name = policy.name
         fixed = getattr(policy, "weight", None)
         self.fixed_weight = float(fixed) if isinstance(fixed, float) else None
