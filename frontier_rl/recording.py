@@ -17,6 +17,9 @@ from frontier_rl.core.world.worlds import World
 from frontier_rl.render import FrameCanvas, save_gif, save_image, side_by_side
 from frontier_rl.swarm.result import TeamResult
 
+LEGEND = "square: start   disc: robot   dots: frontiers ranked, green best to orange worst"
+"""The second line of an episode picture's caption (ASCII: Pillow's default font has no symbols)."""
+
 
 @dataclass
 class EpisodeRecorder:
@@ -55,8 +58,8 @@ class EpisodeRecorder:
         self._canvas.draw_path(truth, trajectory)
         built = self._canvas.frame(grid, trajectory, centers)
         image = side_by_side(truth, built)
-        banner = Image.new("RGB", (image.width, 18), (255, 255, 255))
-        ImageDraw.Draw(banner).text((4, 3), caption, fill=(0, 0, 0))
+        banner = Image.new("RGB", (image.width, 32), (255, 255, 255))
+        ImageDraw.Draw(banner).multiline_text((4, 3), f"{caption}\n{LEGEND}", fill=(0, 0, 0), spacing=3)
         out = Image.new("RGB", (image.width, image.height + banner.height), (255, 255, 255))
         out.paste(banner, (0, 0))
         out.paste(image, (0, banner.height))

@@ -82,14 +82,16 @@ class FrameCanvas:
     def draw_path(
         self, image: Image.Image, trajectory: NDArray[np.float64], colour: tuple[int, int, int] | None = None
     ) -> None:
-        """The robot's path and its last pose (in ``colour``, for one robot of a team)."""
+        """The robot's path, its start (a hollow square) and its last pose (a disc), in ``colour`` for
+        one robot of a team."""
         draw = ImageDraw.Draw(image)
         if len(trajectory) >= 2:
             line = colour or _PATH
             draw.line([tuple(p) for p in self._to_px(trajectory[:, :2])], fill=line, width=max(self.scale, 1))
         if len(trajectory):
-            x, y = self._to_px(trajectory[-1:, :2])[0]
+            (x0, y0), (x, y) = self._to_px(trajectory[[0, -1], :2])
             r = 3 * self.scale
+            draw.rectangle((x0 - r, y0 - r, x0 + r, y0 + r), outline=colour or _ROBOT, width=max(self.scale, 2))
             draw.ellipse((x - r, y - r, x + r, y + r), fill=colour or _ROBOT, outline=(0, 0, 0))
 
     def draw_frontiers(self, image: Image.Image, centers_ranked: NDArray[np.float64]) -> None:
