@@ -355,12 +355,12 @@ def train(
     checkpoint_every: Annotated[int, typer.Option(help="Decisions between checkpoints (0: none).")] = 10_000,
     init: Annotated[str, typer.Option(help="Model file whose weights start the run (same model).")] = "",
     privileged_critic: Annotated[
-        bool, typer.Option(help="Model 5: the critic also reads the true map's unseen share (training only).")
+        bool, typer.Option(help="Models 5 and 7: the critic also reads the true map's unseen share (training only).")
     ] = False,
     resume: Annotated[bool, typer.Option(help="Continue the run in --out from its last checkpoint.")] = False,
     progress: Annotated[bool, typer.Option(help="Show a progress bar.")] = True,
 ) -> None:
-    """Train a model (1-4 the thesis's, 5 and 6 ours) with Stable-Baselines3 (A2C as in the thesis, or PPO)."""
+    """Train a model (1-4 the thesis's, 5-7 ours) with Stable-Baselines3 (A2C as in the thesis, or PPO)."""
     _seed(seed)
     _output_folder(out)
     from frontier_rl.rl.config import TrainConfig

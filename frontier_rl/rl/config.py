@@ -65,7 +65,7 @@ class TrainConfig:
         init: a model file (written by ``frontier-rl train``, same model, observation size and
             ``features_dim``) whose policy weights start the run; "" starts from random weights.
             Only the weights are taken, never an optimizer state or a step count.
-        privileged_critic: model 5 with "a2c" or "ppo" only: the critic also reads what only the
+        privileged_critic: models 5 and 7 with "a2c" or "ppo" only: the critic also reads what only the
             simulator knows (the unseen share and area of the true map), through a value head the
             model file leaves out (:class:`~frontier_rl.rl.networks.PointerPolicy`).
     """
@@ -100,9 +100,10 @@ class TrainConfig:
             raise ConfigError(f"algorithm 'dagger' trains model 5 (frontier choice) only, got model {self.model!r}")
         if not isinstance(self.privileged_critic, bool):
             raise ConfigError(f"privileged_critic must be true or false, got {short_repr(self.privileged_critic)}")
-        if self.privileged_critic and (self.model != 5 or self.algo == "dagger"):
+        if self.privileged_critic and (self.model not in (5, 7) or self.algo == "dagger"):
             raise ConfigError(
-                f"a privileged critic is for model 5 with a2c or ppo, got model {self.model!r} with {self.algo!r}"
+                "a privileged critic is for models 5 and 7 with a2c or ppo, "
+                f"got model {self.model!r} with {self.algo!r}"
             )
         if not isinstance(self.observation_size, int) or isinstance(self.observation_size, bool):
             raise ConfigError(f"observation_size must be an integer, got {short_repr(self.observation_size)}")

@@ -1,4 +1,4 @@
-"""Model 5 with a privileged critic: the value head reads what only the simulator knows, the model
+"""Models 5 and 7 with a privileged critic: the value head reads what only the simulator knows, the model
 file leaves it out (so the deployed policy needs no privileged input and acts as trained), the
 checkpoints keep it (so a run resumes), and ``--init`` starts such a run from a plain model file."""
 
@@ -56,10 +56,11 @@ class _Capture(BaseCallback):
         self.state = {key: value.clone() for key, value in self.model.policy.state_dict().items()}
 
 
-def test_the_model_file_leaves_the_head_out_and_acts_as_trained(tmp_path: Path) -> None:
+@pytest.mark.parametrize("model", [5, 7])
+def test_the_model_file_leaves_the_head_out_and_acts_as_trained(model: int, tmp_path: Path) -> None:
     run = tmp_path / "privileged"
     capture = _Capture()
-    final = train(_config(), run, progress=False, extra_callbacks=[capture])
+    final = train(_config(model=model), run, progress=False, extra_callbacks=[capture])
     head = [key for key in capture.state if key.startswith(f"{PRIVILEGED_HEAD}.")]
     assert head and float(capture.state[head[-1]].abs().sum()) > 0  # the head was trained (it starts at 0)
     for deployed in (final, run / "best_model.zip"):
@@ -68,15 +69,15 @@ def test_the_model_file_leaves_the_head_out_and_acts_as_trained(tmp_path: Path) 
     assert checkpoint is not None
     assert any(name.startswith(f"{PRIVILEGED_HEAD}.") for name in _weight_names(checkpoint[0]))  # for --resume
 
-    deployed_policy, info = load_policy(final)  # the project's loader: model 5's plain observation
+    deployed_policy, info = load_policy(final)  # the project's loader: the model's plain observation
     assert info is not None and info.timesteps == 64
     plain_state = deployed_policy.state_dict()
     assert list(plain_state) == [key for key in capture.state if key not in head]
     assert all(torch.equal(plain_state[key], capture.state[key]) for key in plain_state)  # the actor as trained
 
     frontier_rl.envs.register_envs()
-    env = gym.make(env_id(5, 64), privileged=True)
-    policy_cls, kwargs = policy_setup(5, 128)
+    env = gym.make(env_id(model, 64), privileged=True)
+    policy_cls, kwargs = policy_setup(model, 128)
     trained = policy_cls(env.observation_space, env.action_space, lambda _: 0.0, **kwargs)
     trained.load_state_dict(capture.state)
     trained.set_training_mode(False)
@@ -111,7 +112,8 @@ def test_a_privileged_run_resumes_and_starts_from_a_plain_model(tmp_path: Path) 
                                                       strict=True))  # fmt: skip
 
 
-@pytest.mark.parametrize(("changes", "needle"), [({"model": 4}, "model 4"), ({"algo": "dagger"}, "dagger"),
+@pytest.mark.parametrize(("changes", "needle"), [({"model": 4}, "model 4"), ({"model": 6}, "model 6"),
+                                                 ({"algo": "dagger"}, "dagger"),
                                                  ({"privileged_critic": "yes"}, "true or false")])  # fmt: skip
 def test_a_privileged_critic_is_refused_where_it_does_not_apply(changes: dict[str, object], needle: str) -> None:
     with pytest.raises(ConfigError, match=needle):
