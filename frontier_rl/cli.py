@@ -25,6 +25,7 @@ from frontier_rl.cli_output import (
 )
 from frontier_rl.config import dump_config, load_sim_config
 from frontier_rl.core.frontiers.ranking import THESIS_BASELINE
+from frontier_rl.core.navigation.tours import MAX_STOPS
 from frontier_rl.core.sim.config import SimConfig
 from frontier_rl.core.sim.episode import run_episode, warm_up
 from frontier_rl.core.sim.metrics import EpisodeResult
@@ -38,7 +39,7 @@ from frontier_rl.world_spec import checked_resolution, parse_pose, resolve_world
 
 #: Largest seed a command accepts (0 to 2**32 - 1: NumPy's legacy seeding, which SB3 uses, takes no more).
 MAX_SEED = 2**32 - 1
-POLICY_HELP = f"One of: {', '.join(POLICY_NAMES)} (W in [0, 1], N stops 1 to 16)."
+POLICY_HELP = f"One of: {', '.join(POLICY_NAMES)} (W in [0, 1], N stops 1 to {MAX_STOPS})."
 
 app = typer.Typer(
     add_completion=False, no_args_is_help=True, help="Frontier exploration for search and rescue.", cls=OneLineGroup
