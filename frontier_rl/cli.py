@@ -344,7 +344,7 @@ def train(
     worlds: Annotated[str, typer.Option(help="Generators, map files or folders, each optionally =WEIGHT.")] = "office",
     timesteps: Annotated[int, typer.Option(help="Decisions to train for.")] = 100_000,
     n_envs: Annotated[int, typer.Option(help="Parallel environments (subprocesses).")] = 2,
-    algo: Annotated[str, typer.Option(help="a2c (the thesis), ppo or dagger (model 5 only).")] = "a2c",
+    algo: Annotated[str, typer.Option(help="a2c (the thesis), ppo or dagger (models 5 and 7).")] = "a2c",
     observation_size: Annotated[int, typer.Option(help="Map image edge: 64 or 250 pixels.")] = 64,
     reward: Annotated[str, typer.Option(help="Reward preset: normalised or thesis.")] = "normalised",
     learning_rate: Annotated[float, typer.Option(help="Optimizer step size.")] = 7e-4,

@@ -45,7 +45,7 @@ class TrainConfig:
             folder's validation files (one in ten) are never trained on.
         timesteps: decisions to train for (one env step = one decision).
         n_envs: parallel environments (subprocesses when > 1).
-        algo: "a2c" (the thesis), "ppo", or "dagger" (model 5 only: imitation of a teacher that
+        algo: "a2c" (the thesis), "ppo", or "dagger" (models 5 and 7: imitation of a teacher that
             looks ahead on copies of the simulator, :mod:`frontier_rl.rl.imitation`).
         observation_size: map image edge, 64 (Niroui et al., the default: 15× fewer pixels) or 250.
         reward: reward preset, "normalised" (trains well) or "thesis" (tables 3.1 / 3.2).
@@ -96,8 +96,10 @@ class TrainConfig:
             raise ConfigError(f"unknown model {short_repr(self.model)}; choose one of {', '.join(map(str, MODELS))}")
         if self.algo not in ALGOS:
             raise ConfigError(f"unknown algorithm {short_repr(self.algo)}; choose one of {', '.join(ALGOS)}")
-        if self.algo == "dagger" and self.model != 5:
-            raise ConfigError(f"algorithm 'dagger' trains model 5 (frontier choice) only, got model {self.model!r}")
+        if self.algo == "dagger" and self.model not in (5, 7):
+            raise ConfigError(
+                f"algorithm 'dagger' trains models 5 and 7 (frontier choice) only, got model {self.model!r}"
+            )
         if not isinstance(self.privileged_critic, bool):
             raise ConfigError(f"privileged_critic must be true or false, got {short_repr(self.privileged_critic)}")
         if self.privileged_critic and (self.model not in (5, 7) or self.algo == "dagger"):

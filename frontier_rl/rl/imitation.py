@@ -1,9 +1,10 @@
-"""Imitation of the privileged lookahead teacher (DAgger) for model 5: ``train --algo dagger``.
+"""Imitation of a privileged lookahead teacher (DAgger) for models 5 and 7: ``train --algo dagger``.
 
-DAgger (Ross et al., AISTATS 2011) in rounds of :data:`ROUND_DECISIONS` decisions: the teacher
-(:func:`~frontier_rl.envs.lookahead.lookahead_slot`, which tries the cheapest frontiers on copies
-of the simulator) labels every decision, naming another frontier than the cheapest only when it
-saves more than :data:`LABEL_MARGIN`; in round r the teacher's own choice is driven with
+DAgger (Ross et al., AISTATS 2011) in rounds of :data:`ROUND_DECISIONS` decisions: the env's
+teacher (:meth:`~frontier_rl.envs.frontier_env.FrontierChoiceEnv.expert_action`, which tries
+frontiers on copies of the simulator: model 5's the cheapest ones, finished greedily; model 7's
+the stops of the ``tour`` policy, finished with it) labels every decision, naming another frontier
+than its base policy's only when that saves more than its margin; in round r the teacher's own choice is driven with
 probability ``0.5 ** r`` and the learner's otherwise, so later rounds label the states the learner
 reaches. After each round the policy's frontier scores are fitted to all labels so far by
 cross-entropy (:data:`EPOCHS` passes, minibatches of :data:`BATCH`, Adam at the run's learning rate).
@@ -29,7 +30,6 @@ from stable_baselines3.common.policies import ActorCriticPolicy
 from stable_baselines3.common.vec_env import VecEnv
 
 from frontier_rl.atomic_write import write_bytes_atomic
-from frontier_rl.envs.lookahead import LOOKAHEAD_WIDTH
 
 ROUND_DECISIONS = 512
 """Decisions labelled between two fits of the policy."""
@@ -45,11 +45,6 @@ BATCH = 64
 
 TEACHER_DECAY = 0.5
 """The teacher drives round r's decisions with probability TEACHER_DECAY ** r."""
-
-LABEL_MARGIN = 0.02
-"""A label names another frontier than the cheapest only if the teacher's copy that took it
-explored the map more than this share sooner: smaller gains come from one rollout's luck (one
-draw of the noise, one path) as much as from the choice, and would teach the student noise."""
 
 
 class LabelledDecisions:
@@ -155,7 +150,7 @@ def dagger(
         task = bar.add_task("DAgger decisions", total=timesteps)
         while model.num_timesteps < timesteps:
             teacher_share = TEACHER_DECAY ** (model.num_timesteps // ROUND_DECISIONS)
-            labels = np.asarray(venv.env_method("expert_action", LOOKAHEAD_WIDTH, LABEL_MARGIN), np.int64)
+            labels = np.asarray(venv.env_method("expert_action"), np.int64)
             data.add(obs, labels)  # type: ignore[arg-type]
             learner, _ = model.policy.predict(obs, deterministic=True)  # type: ignore[arg-type]
             teacher_drives = rng.random(venv.num_envs) < teacher_share

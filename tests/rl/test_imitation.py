@@ -1,4 +1,4 @@
-"""DAgger for model 5 (``train --algo dagger``); its teacher is tested in tests/envs/test_lookahead.py."""
+"""DAgger for models 5 and 7 (``train --algo dagger``); the teachers are tested in tests/envs/test_lookahead.py."""
 
 from __future__ import annotations
 
@@ -125,11 +125,13 @@ def test_dagger_rounds_teacher_schedule_and_callbacks(
     assert model.num_timesteps == 12 and len(losses) == 1 and stop.ended
 
 
-def test_dagger_run_writes_a_model_that_explores(map_file: Path, tmp_path: Path) -> None:
+@pytest.mark.parametrize("model", [5, 7])
+def test_dagger_run_writes_a_model_that_explores(map_file: Path, tmp_path: Path, model: int) -> None:
     run = tmp_path / "dagger"
-    final = train(_config(map_file, n_envs=2), run, progress=False)  # subprocess envs: the teacher over pipes
+    # subprocess envs: the teacher over pipes
+    final = train(_config(map_file, n_envs=2, model=model), run, progress=False)
     info = read_metadata(final)
-    assert info is not None and info.algo == "dagger" and info.model == 5 and info.timesteps >= 24
+    assert info is not None and info.algo == "dagger" and info.model == model and info.timesteps >= 24
     assert (run / "validation.csv").read_text().count("\n") == 3  # header + 2 validations
     assert (run / "best_model.zip").exists() and (run / "learning_curve.png").exists()
     with np.load(run / "labels.npz", allow_pickle=False) as saved:
@@ -142,6 +144,7 @@ def test_dagger_run_writes_a_model_that_explores(map_file: Path, tmp_path: Path)
         train(_config(map_file), run, resume=True, progress=False)
 
 
-def test_dagger_is_for_model_5_only() -> None:
-    with pytest.raises(ConfigError, match="model 5"):
-        TrainConfig(model=4, algo="dagger")
+@pytest.mark.parametrize("model", [1, 4, 6])
+def test_dagger_is_for_the_frontier_choice_models_only(model: int) -> None:
+    with pytest.raises(ConfigError, match="models 5 and 7"):
+        TrainConfig(model=model, algo="dagger")
