@@ -56,9 +56,7 @@ def world_times(world: World, seed: int, teacher: Teacher) -> tuple[dict[str, fl
     """Each method's time (s) and end reason on ``world``, from the same start and noise stream."""
     times: dict[str, float] = {}
     ends: dict[str, str | None] = {}
-    for name in ("nearest", "oracle", "tour"):
-        if name == "tour" and teacher.base != "tour":
-            continue
+    for name in ("nearest", "oracle", "tour") if teacher.base == "tour" else ("nearest", "oracle"):
         result = run_episode(world, make_policy(name), seed=seed)
         times[name], ends[name] = result.sim_time_s, result.end_reason
     if teacher.base == "greedy":

@@ -44,6 +44,12 @@ model 5's frontier table beside the image (a per-decision weight needs what the 
 7 model 5 with a column that says how much a tour over the nearest frontiers loses by going to each
 first (what ``tour`` ranks by)."""
 
+FRONTIER_CHOICE_MODELS: tuple[int, ...] = tuple(
+    m for m, spec in MODELS.items() if spec.entry_point.endswith(":FrontierChoiceEnv")
+)
+"""The models whose action is one of the candidate frontiers (5 and 7): the pointer policy's, and
+the ones a lookahead teacher can label (``--algo dagger``)."""
+
 OBSERVATION_SIZES = (250, 64)
 """The map image sizes with a registered id: the thesis's 250 × 250 and Niroui et al.'s 64 × 64."""
 

@@ -100,9 +100,15 @@ def take_slot(sim: ExplorationSimulator, slot: int, top_k: int) -> None:
     sim.execute(slot_order(slots, slot) if len(slots) else slots)
 
 
+def tour_order(sim: ExplorationSimulator) -> NDArray[np.int64]:
+    """The ``tour`` policy's ranking of the robot's frontiers: its tour's stops first, in order
+    (``tour`` draws nothing from its generator)."""
+    return _TOUR.rank(decision_context(sim), np.random.default_rng(0)).order
+
+
 def take_tour_stop(sim: ExplorationSimulator) -> None:
     """Drive as the ``tour`` policy does: to its tour's first stop, the next ones if it fails."""
-    sim.execute(_TOUR.rank(decision_context(sim), np.random.default_rng(0)).order)
+    sim.execute(tour_order(sim))
 
 
 def finish(sim: ExplorationSimulator, step: Callable[[ExplorationSimulator], None], bound_s: float = math.inf) -> float:
@@ -127,8 +133,7 @@ def candidate_slots(sim: ExplorationSimulator, top_k: int, teacher: Teacher) -> 
     if teacher.base == "greedy" or len(slots) == 0:
         return np.arange(min(teacher.width, len(slots)), dtype=np.int64)
     slot_of = {int(frontier): slot for slot, frontier in enumerate(slots)}
-    order = _TOUR.rank(decision_context(sim), np.random.default_rng(0)).order
-    picked = [slot_of[int(f)] for f in order if int(f) in slot_of][: teacher.width]
+    picked = [slot_of[int(f)] for f in tour_order(sim) if int(f) in slot_of][: teacher.width]
     return np.asarray(picked, np.int64)
 
 

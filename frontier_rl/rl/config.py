@@ -11,7 +11,7 @@ from typing import Any
 from frontier_rl.config import coerce, dump_config, from_dict, load_config, to_dict
 from frontier_rl.envs.rewards import REWARD_PRESETS, reward_preset
 from frontier_rl.errors import ConfigError, FrontierRLError, short_repr, short_text
-from frontier_rl.registration import MODELS, env_id
+from frontier_rl.registration import FRONTIER_CHOICE_MODELS, MODELS, env_id
 from frontier_rl.world_spec import parse_world_mix
 
 MAX_FEATURES_DIM = 8192
@@ -96,13 +96,13 @@ class TrainConfig:
             raise ConfigError(f"unknown model {short_repr(self.model)}; choose one of {', '.join(map(str, MODELS))}")
         if self.algo not in ALGOS:
             raise ConfigError(f"unknown algorithm {short_repr(self.algo)}; choose one of {', '.join(ALGOS)}")
-        if self.algo == "dagger" and self.model not in (5, 7):
+        if self.algo == "dagger" and self.model not in FRONTIER_CHOICE_MODELS:
             raise ConfigError(
                 f"algorithm 'dagger' trains models 5 and 7 (frontier choice) only, got model {self.model!r}"
             )
         if not isinstance(self.privileged_critic, bool):
             raise ConfigError(f"privileged_critic must be true or false, got {short_repr(self.privileged_critic)}")
-        if self.privileged_critic and (self.model not in (5, 7) or self.algo == "dagger"):
+        if self.privileged_critic and (self.model not in FRONTIER_CHOICE_MODELS or self.algo == "dagger"):
             raise ConfigError(
                 "a privileged critic is for models 5 and 7 with a2c or ppo, "
                 f"got model {self.model!r} with {self.algo!r}"

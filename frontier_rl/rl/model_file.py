@@ -40,7 +40,7 @@ from stable_baselines3.common.policies import ActorCriticCnnPolicy, ActorCriticP
 import frontier_rl.envs
 from frontier_rl.atomic_write import write_bytes_atomic
 from frontier_rl.errors import QUOTE_LIMIT, ConfigError, model_file_label, short_repr
-from frontier_rl.registration import ENV_IDS, MODELS, OBSERVATION_SIZES, env_id
+from frontier_rl.registration import ENV_IDS, FRONTIER_CHOICE_MODELS, MODELS, OBSERVATION_SIZES, env_id
 from frontier_rl.rl.bounded_zip import MAX_MEMBER_BYTES, first_line, open_checked_zip, read_member
 from frontier_rl.rl.config import MAX_FEATURES_DIM, MAX_TIMESTEPS
 from frontier_rl.rl.networks import PRIVILEGED_HEAD, FrontierPooling, FrontierScorer, GridCNN, PointerPolicy
@@ -90,7 +90,7 @@ _FIELDS: tuple[str, ...] = tuple(f.name for f in fields(ModelInfo))
 
 def policy_setup(model: int, features_dim: int) -> tuple[type[ActorCriticPolicy], dict[str, Any]]:
     """The policy class and keyword arguments of model ``model``."""
-    if model in (5, 7):
+    if model in FRONTIER_CHOICE_MODELS:
         return PointerPolicy, {
             "features_extractor_class": FrontierScorer,
             "features_extractor_kwargs": {"context_dim": features_dim},
