@@ -62,6 +62,10 @@ class MapperConfig:
             value = getattr(self, name)
             if not value > 0:
                 raise ConfigError(f"MapperConfig.{name} must be positive, got {value!r}")
+        for name in ("hit", "miss", "clamp_min", "clamp_max", "occupied_above", "free_below"):
+            value = getattr(self, name)
+            if not math.isfinite(value):
+                raise ConfigError(f"MapperConfig.{name} must be finite, got {value!r}")
         if not (self.hit > 0 > self.miss):
             raise ConfigError(f"MapperConfig needs hit > 0 > miss, got hit={self.hit!r}, miss={self.miss!r}")
         if not (self.clamp_min < self.free_below < 0 < self.occupied_above < self.clamp_max):

@@ -8,6 +8,15 @@ from dataclasses import dataclass
 
 from frontier_rl.errors import ConfigError
 
+MAX_EXTRA_COST = 100.0
+"""Largest ``inflation_cost`` and ``unknown_cost`` (extra step cost factors): the planners' bucket
+queues hold one bucket per unit of the largest step cost, so a factor of 1e12 would ask for
+terabytes. 100 already makes a cell cost 101 free steps."""
+
+MIN_CONTROL_DT = 1e-3
+"""Shortest ``control_dt`` (s): a 1 kHz control loop, far above move_base's 20 Hz; a step of 1e-9 s
+would take an episode years of wall time."""
+
 
 @dataclass(frozen=True)
 class NavigationConfig:
@@ -58,13 +67,21 @@ class NavigationConfig:
     teammate_patience: float = 5.0
 
     def __post_init__(self) -> None:
-        if not (math.isfinite(self.teammate_margin) and self.teammate_margin >= 0):
-            raise ConfigError(f"NavigationConfig.teammate_margin must be >= 0, got {self.teammate_margin!r}")
-        for name in ("inflation_radius", "goal_tolerance", "lookahead", "control_dt", "progress_timeout",
-                     "teammate_patience", "teammate_range"):  # fmt: skip
+        for name in ("inflation_radius", "goal_tolerance", "lookahead", "heading_gain", "control_dt",
+                     "progress_timeout", "frontier_check_period", "teammate_patience", "teammate_range"):  # fmt: skip
             value = getattr(self, name)
             if not (math.isfinite(value) and value > 0):
                 raise ConfigError(f"NavigationConfig.{name} must be positive, got {value!r}")
+        for name in ("cost_scaling", "progress_distance", "oscillation_distance", "blacklist_radius", "teammate_margin"):
+            value = getattr(self, name)
+            if not (math.isfinite(value) and value >= 0):
+                raise ConfigError(f"NavigationConfig.{name} must be >= 0, got {value!r}")
+        for name in ("inflation_cost", "unknown_cost"):
+            value = getattr(self, name)
+            if not (0 <= value <= MAX_EXTRA_COST):
+                raise ConfigError(f"NavigationConfig.{name} must be within [0, {MAX_EXTRA_COST:g}], got {value!r}")
+        if self.control_dt < MIN_CONTROL_DT:
+            raise ConfigError(f"NavigationConfig.control_dt must be >= {MIN_CONTROL_DT:g} s, got {self.control_dt!r}")
         if self.max_goal_failures < 1:
             raise ConfigError(f"NavigationConfig.max_goal_failures must be >= 1, got {self.max_goal_failures!r}")
         if self.max_recoveries < 0:

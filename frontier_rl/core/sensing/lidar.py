@@ -16,6 +16,15 @@ from frontier_rl.core.world.robot import Pose
 from frontier_rl.errors import ConfigError
 
 
+MAX_BEAMS = 16_383
+"""Most beams per scan: 2D LiDARs give a few thousand (the LDS-01 360); each beam costs a ray cast
+per scan, so 10^9 of them would stall an episode for days."""
+
+MAX_RATE_HZ = 100.0
+"""Fastest scan rate (Hz): 2D LiDARs turn at 5-50 Hz; a scan costs wall time, so 10^12 Hz would
+never let an episode end."""
+
+
 @dataclass(frozen=True)
 class LidarConfig:
     """LiDAR model; defaults are the TurtleBot3's LDS-01 datasheet.
@@ -39,21 +48,22 @@ class LidarConfig:
     noise_rel_from: float = 0.5
 
     def __post_init__(self) -> None:
-        if self.num_beams < 1:
-            raise ConfigError(f"LidarConfig.num_beams must be >= 1, got {self.num_beams!r}")
+        if not (isinstance(self.num_beams, int) and not isinstance(self.num_beams, bool)):
+            raise ConfigError(f"LidarConfig.num_beams must be an integer, got {self.num_beams!r}")
+        if not 1 <= self.num_beams <= MAX_BEAMS:
+            raise ConfigError(f"LidarConfig.num_beams must be within [1, {MAX_BEAMS:,}], got {self.num_beams!r}")
         if not (0.0 <= self.min_range < self.max_range and math.isfinite(self.max_range)):
             raise ConfigError(
                 f"LidarConfig needs 0 <= min_range < max_range, got {self.min_range!r}, {self.max_range!r}"
             )
-        if not self.rate_hz > 0:
-            raise ConfigError(f"LidarConfig.rate_hz must be positive, got {self.rate_hz!r}")
-        if not (isinstance(self.num_beams, int) and not isinstance(self.num_beams, bool)):
-            raise ConfigError(f"LidarConfig.num_beams must be an integer, got {self.num_beams!r}")
+        if not 0 < self.rate_hz <= MAX_RATE_HZ:
+            raise ConfigError(f"LidarConfig.rate_hz must be within (0, {MAX_RATE_HZ:g}] Hz, got {self.rate_hz!r}")
         if not (self.noise_rel_from >= 0 and math.isfinite(self.noise_rel_from)):
             raise ConfigError(f"LidarConfig.noise_rel_from must be >= 0, got {self.noise_rel_from!r}")
-        if not (self.noise_abs >= 0 and self.noise_rel >= 0):
+        if not (0 <= self.noise_abs < math.inf and 0 <= self.noise_rel < math.inf):
             raise ConfigError(
-                f"LidarConfig noise must be >= 0, got noise_abs={self.noise_abs!r}, noise_rel={self.noise_rel!r}"
+                "LidarConfig noise must be finite and >= 0, "
+                f"got noise_abs={self.noise_abs!r}, noise_rel={self.noise_rel!r}"
             )
 
     @property

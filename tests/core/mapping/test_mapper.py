@@ -11,8 +11,9 @@ import numpy as np
 import pytest
 from numpy.typing import NDArray
 
+from frontier_rl.core.mapping.log_odds import HIT
 from frontier_rl.core.mapping.mapper import LogOddsMapper, MapperConfig, downsample
-from frontier_rl.core.sensing.lidar import Lidar, LidarConfig, Scan
+from frontier_rl.core.sensing.lidar import MAX_BEAMS, Lidar, LidarConfig, Scan
 from frontier_rl.core.world.catalog import generate_world
 from frontier_rl.core.world.grid import CellState, OccupancyGrid
 from frontier_rl.core.world.robot import Pose
@@ -241,6 +242,23 @@ def test_a_noise_free_beam_marks_every_cell_it_crosses_before_the_wall_free(path
     assert missing == []
 
 
+@pytest.mark.parametrize("path", ["integrate_simulated", "integrate"])
+def test_a_scan_of_the_most_beams_allowed_counts_its_passes_below_the_hit_bit(path: str) -> None:
+    """Every beam of a scan leaves the robot's own cell: with MAX_BEAMS beams its pass count must
+    stay below the HIT bit, or the cell would be taken for a hit (it was, from 16,384 beams up)."""
+    assert MAX_BEAMS < HIT
+    world = corridor()
+    lidar = Lidar(world, LidarConfig(num_beams=MAX_BEAMS))
+    mapper = LogOddsMapper(world)
+    pose = Pose(10.5 * RES, 10.5 * RES, 0.0)
+    if path == "integrate":
+        mapper.integrate(lidar.scan(pose, None), lidar.config.max_range)
+    else:
+        mapper.integrate_simulated(lidar, pose, None)
+    assert mapper.state[10, 10] == FREE
+    assert mapper.logodds[10, 10] == np.float32(mapper.config.miss)
+
+
 def test_integrate_simulated_rejects_a_lidar_of_another_world() -> None:
     mapper = LogOddsMapper(corridor())
     with pytest.raises(ValueError, match="shape"):
@@ -462,6 +480,9 @@ def test_downsample_rejects_a_factor_that_does_not_divide(factor: int) -> None:
         ({"occupied_above": -0.1}, "-0.1"),
         ({"occupied_above": 5.0}, "5.0"),  # above clamp_max
         ({"clamp_max": 0.5}, "0.5"),
+        ({"clamp_max": math.inf}, "inf"),
+        ({"hit": math.inf}, "inf"),
+        ({"clamp_min": -math.inf}, "-inf"),
     ],
 )
 def test_bad_mapper_config_raises_config_error_naming_the_value(kwargs: dict[str, float], named: str) -> None:

@@ -571,6 +571,17 @@ def test_follow_path_blocked_mid_tick_waits_until_the_tick_ends() -> None:
         ({"control_dt": math.inf}, "inf"),
         ({"progress_timeout": 0.0}, "0.0"),
         ({"max_recoveries": -1}, "-1"),
+        ({"control_dt": 1e-9}, "1e-09"),
+        ({"heading_gain": 0.0}, "heading_gain"),
+        ({"frontier_check_period": -1.0}, "-1.0"),
+        ({"cost_scaling": -50.0}, "-50.0"),
+        ({"cost_scaling": math.inf}, "inf"),
+        ({"progress_distance": -1.0}, "-1.0"),
+        ({"oscillation_distance": math.nan}, "nan"),
+        ({"blacklist_radius": -0.1}, "-0.1"),
+        ({"inflation_cost": -10.0}, "-10.0"),
+        ({"unknown_cost": 1e12}, "1000000000000.0"),
+        ({"unknown_cost": math.nan}, "nan"),
     ],
 )
 def test_bad_navigation_config_raises_config_error_naming_the_value(kwargs: dict[str, float], named: str) -> None:

@@ -218,6 +218,10 @@ def test_config_defaults_and_derived_values() -> None:
         ({"noise_abs": -0.01}, "-0.01"),
         ({"noise_rel": -0.05}, "-0.05"),
         ({"noise_rel": math.nan}, "nan"),
+        ({"num_beams": 16_384}, "16384"),  # its pass counts would reach the map's hit bit
+        ({"rate_hz": 1e12}, "1000000000000.0"),
+        ({"rate_hz": math.inf}, "inf"),
+        ({"noise_abs": math.inf}, "inf"),
     ],
 )
 def test_bad_config_raises_config_error_naming_the_value(kwargs: dict[str, float], named: str) -> None:
