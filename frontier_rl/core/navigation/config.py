@@ -72,7 +72,8 @@ class NavigationConfig:
             value = getattr(self, name)
             if not (math.isfinite(value) and value > 0):
                 raise ConfigError(f"NavigationConfig.{name} must be positive, got {value!r}")
-        for name in ("cost_scaling", "progress_distance", "oscillation_distance", "blacklist_radius", "teammate_margin"):
+        for name in ("cost_scaling", "progress_distance", "oscillation_distance", "blacklist_radius",
+                     "teammate_margin"):  # fmt: skip
             value = getattr(self, name)
             if not (math.isfinite(value) and value >= 0):
                 raise ConfigError(f"NavigationConfig.{name} must be >= 0, got {value!r}")

@@ -15,10 +15,10 @@ from frontier_rl.core.world.raycast import cast_rays, pad_blocked
 from frontier_rl.core.world.robot import Pose
 from frontier_rl.errors import ConfigError
 
-
 MAX_BEAMS = 16_383
-"""Most beams per scan: 2D LiDARs give a few thousand (the LDS-01 360); each beam costs a ray cast
-per scan, so 10^9 of them would stall an episode for days."""
+"""Most beams per scan (2D LiDARs give a few thousand; the LDS-01 360). Every beam crosses the
+robot's own cell, and the map update counts a cell's passes in the 14 bits below its hit bit
+(:data:`frontier_rl.core.mapping.log_odds.HIT`): from 16,384 beams the count would set it."""
 
 MAX_RATE_HZ = 100.0
 """Fastest scan rate (Hz): 2D LiDARs turn at 5-50 Hz; a scan costs wall time, so 10^12 Hz would
