@@ -15,7 +15,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from frontier_rl.core.mapping.log_odds import HIT, apply_pending, cast_and_mark, drop_marks, mark_beams, merge_window
-from frontier_rl.core.sensing.lidar import Lidar, Scan
+from frontier_rl.core.sensing.lidar import MAX_BEAMS, Lidar, Scan
 from frontier_rl.core.world.grid import CellState, OccupancyGrid
 from frontier_rl.core.world.robot import Pose, wrap_angle
 from frontier_rl.errors import ConfigError
@@ -155,7 +155,12 @@ class LogOddsMapper:
             scan: the scan.
             max_range: the sensor's maximum range (m); ``inf`` readings mean free up to it.
             time_s: when the scan was taken (s), for :meth:`wants_scan`.
+
+        Raises:
+            ValueError: more than :data:`~frontier_rl.core.sensing.lidar.MAX_BEAMS` beams.
         """
+        if len(scan.ranges) > MAX_BEAMS:
+            raise ValueError(f"a scan may have at most {MAX_BEAMS:,} beams, got {len(scan.ranges):,}")
         res = self.resolution
         mark_beams(
             self._pending,

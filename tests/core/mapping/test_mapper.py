@@ -259,6 +259,13 @@ def test_a_scan_of_the_most_beams_allowed_counts_its_passes_below_the_hit_bit(pa
     assert mapper.logodds[10, 10] == np.float32(mapper.config.miss)
 
 
+def test_integrate_refuses_a_scan_of_more_beams_than_its_pass_count_can_hold() -> None:
+    n = MAX_BEAMS + 1
+    scan = beam_scan(Pose(0.5, 0.5, 0.0), [1.0] * n, list(np.linspace(0.0, 2 * math.pi, n, endpoint=False)))
+    with pytest.raises(ValueError, match="16,384"):
+        LogOddsMapper(corridor()).integrate(scan, 3.5)
+
+
 def test_integrate_simulated_rejects_a_lidar_of_another_world() -> None:
     mapper = LogOddsMapper(corridor())
     with pytest.raises(ValueError, match="shape"):
