@@ -21,6 +21,10 @@ class ConfigError(FrontierRLError, ValueError):
     """A configuration value out of range or of the wrong kind (a weight outside [0, 1], ...)."""
 
 
+class TrainingDivergedError(FrontierRLError, RuntimeError):
+    """A training run whose updates left the policy with NaN or infinite weights."""
+
+
 class UnknownNameError(FrontierRLError, KeyError):
     """A world, policy or method name that does not exist."""
 

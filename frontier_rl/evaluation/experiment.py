@@ -31,6 +31,10 @@ from frontier_rl.world_spec import parse_world_list, read_map, resolve_world
 ORACLE = "oracle"
 """The full-knowledge reference every report measures methods against."""
 
+MAX_JOBS = 1_000_000
+"""Most episodes (methods × worlds × episodes) an experiment may hold: its job list is built whole
+(10¹² of them took the machine's memory), and a million office episodes are days of work."""
+
 _TRACE_POINTS = 200
 """Coverage curves are stored at about this many instants per episode (enough for plots)."""
 
@@ -89,6 +93,11 @@ class ExperimentConfig:
             raise ConfigError(f"seed must be a non-negative integer, got {self.seed!r}")
         if isinstance(self.episodes, bool) or not isinstance(self.episodes, int) or self.episodes < 1:
             raise ConfigError(f"episodes must be a positive integer, got {self.episodes!r}")
+        if self.episodes * len(self.worlds) * len(self.methods) > MAX_JOBS:
+            raise ConfigError(
+                f"{self.episodes:,} episodes on {len(self.worlds)} world(s) with {len(self.methods)} method(s) "
+                f"are more than the {MAX_JOBS:,} episodes an experiment may hold"
+            )
         if self.resolution is not None and not self.resolution > 0:
             raise ConfigError(f"resolution must be a positive number of metres, got {self.resolution!r}")
 

@@ -2,7 +2,6 @@
 
 from __future__ import annotations
 
-import math
 import shlex
 from dataclasses import dataclass, fields
 from pathlib import Path
@@ -20,6 +19,18 @@ MAX_FEATURES_DIM = 8192
 MAX_TIMESTEPS = 10**12
 """Largest ``timesteps`` a run may use and a model file may hold (decisions; 10¹² is ~30 years at 1000 per second)."""
 
+MAX_ENVS = 64
+"""Most parallel environments: each is a process of about 400 MB with a map and a model."""
+
+MAX_LEARNING_RATE = 1.0
+"""Largest ``learning_rate``: far above any that trains (the defaults are 7e-4 and 3e-4)."""
+
+MAX_LOSS_COEF = 100.0
+"""Largest ``vf_coef`` and ``ent_coef`` (the defaults are 0.5 and 0.001)."""
+
+MAX_ROLLOUT_PIXELS = 2**28
+"""Most map pixels one rollout may hold (``n_steps`` × ``n_envs`` observations of
+``observation_size``² pixels, float32: 1 GiB); 65,536 decisions at 64², 4,294 at 250²."""
 
 ALGOS = ("a2c", "ppo", "dagger")
 #: Longest error message passed on from a check of ``worlds`` (characters).
@@ -136,15 +147,33 @@ class TrainConfig:
         for name, high in (("features_dim", MAX_FEATURES_DIM), ("timesteps", MAX_TIMESTEPS), ("seed", 2**32 - 1)):
             if getattr(self, name) > high:
                 raise ConfigError(f"{name} must be <= {high}, got {short_repr(getattr(self, name))}")
+        if self.n_envs > MAX_ENVS:
+            raise ConfigError(f"n_envs must be <= {MAX_ENVS} (a process each), got {short_repr(self.n_envs)}")
+        self._check_rollout()
         for name in ("learning_rate", "gamma", "vf_coef", "ent_coef"):
             coerce(float, getattr(self, name), name)
-        if not self.learning_rate > 0:
-            raise ConfigError(f"learning_rate must be > 0, got {self.learning_rate!r}")
+        if not 0 < self.learning_rate <= MAX_LEARNING_RATE:
+            raise ConfigError(f"learning_rate must be in (0, {MAX_LEARNING_RATE:g}], got {self.learning_rate!r}")
         if not 0 < self.gamma <= 1:
             raise ConfigError(f"gamma must be in (0, 1], got {self.gamma!r}")
         for name in ("vf_coef", "ent_coef"):
-            if not 0 <= getattr(self, name) < math.inf:
-                raise ConfigError(f"{name} must be a finite number >= 0, got {getattr(self, name)!r}")
+            if not 0 <= getattr(self, name) <= MAX_LOSS_COEF:
+                raise ConfigError(f"{name} must be in [0, {MAX_LOSS_COEF:g}], got {getattr(self, name)!r}")
+
+    def _check_rollout(self) -> None:
+        """A2C's and PPO's rollouts (``n_steps`` × ``n_envs`` decisions; DAgger has none): they fit
+        in memory and in the run, and PPO's minibatches hold two decisions or more."""
+        if self.algo == "dagger":
+            return
+        rollout = self.n_steps * self.n_envs
+        what = f"one rollout (n_steps {self.n_steps:,} x n_envs {self.n_envs} = {rollout:,} decisions)"
+        if rollout * self.observation_size**2 > MAX_ROLLOUT_PIXELS:
+            most = MAX_ROLLOUT_PIXELS // self.observation_size**2
+            raise ConfigError(f"{what} is more than {most:,} maps of {self.observation_size}² pixels can fill in 1 GiB")
+        if rollout > self.timesteps:
+            raise ConfigError(f"{what} is more than timesteps {self.timesteps:,}: SB3 always finishes a rollout")
+        if self.algo == "ppo" and rollout < 2:
+            raise ConfigError(f"{what} is too few for PPO: its minibatches need 2 decisions or more")
 
     @property
     def env_id(self) -> str:

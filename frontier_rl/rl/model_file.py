@@ -39,7 +39,7 @@ from stable_baselines3.common.policies import ActorCriticCnnPolicy, ActorCriticP
 
 import frontier_rl.envs
 from frontier_rl.atomic_write import write_bytes_atomic
-from frontier_rl.errors import QUOTE_LIMIT, ConfigError, model_file_label, short_repr
+from frontier_rl.errors import QUOTE_LIMIT, ConfigError, TrainingDivergedError, model_file_label, short_repr
 from frontier_rl.registration import ENV_IDS, FRONTIER_CHOICE_MODELS, MODELS, OBSERVATION_SIZES, env_id
 from frontier_rl.rl.bounded_zip import MAX_MEMBER_BYTES, first_line, open_checked_zip, read_member
 from frontier_rl.rl.config import MAX_FEATURES_DIM, MAX_TIMESTEPS
@@ -117,9 +117,21 @@ def write_metadata(path: Path, info: ModelInfo) -> None:
     write_bytes_atomic(path, _zip_bytes(entries, info))
 
 
+def check_finite_weights(model: BaseAlgorithm) -> None:
+    """Raise :class:`~frontier_rl.errors.TrainingDivergedError` when a weight of ``model``'s policy
+    is NaN or infinite: an update too large for the network (a model file refuses such weights)."""
+    if not all(bool(torch.isfinite(p).all()) for p in model.policy.parameters()):
+        raise TrainingDivergedError(
+            f"training diverged by decision {model.num_timesteps:,}: the policy's weights are no longer "
+            "finite (NaN or inf); a smaller --learning-rate may help"
+        )
+
+
 def save_model(model: BaseAlgorithm, path: Path, info: ModelInfo | None = None) -> None:
     """Save ``model`` as an SB3 zip at ``path``, with the metadata ``info`` when given; the file is
-    replaced whole or not at all (a full disk leaves the previous one)."""
+    replaced whole or not at all (a full disk leaves the previous one). A policy whose weights
+    are not finite is not saved (:func:`check_finite_weights`)."""
+    check_finite_weights(model)
     buffer = io.BytesIO()
     model.save(buffer)
     if info is None:

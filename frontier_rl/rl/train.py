@@ -33,6 +33,7 @@ from frontier_rl.rl.imitation import dagger
 from frontier_rl.rl.model_file import (
     ALGORITHMS,
     ModelInfo,
+    check_finite_weights,
     check_model_zip,
     load_policy,
     policy_setup,
@@ -165,6 +166,18 @@ def _start(config: TrainConfig, out: Path, resume: bool) -> tuple[int, ActorCrit
 
 def _learn(model: BaseAlgorithm, venv: VecEnv, config: TrainConfig, out: Path, start: int,
            callbacks: list[BaseCallback], progress: bool) -> None:  # fmt: skip
+    """Run the configured algorithm from step ``start`` to ``config.timesteps``; a run whose
+    weights stop being finite ends with :class:`~frontier_rl.errors.TrainingDivergedError` (the
+    distribution of its next decision refuses their NaN logits with a ValueError)."""
+    try:
+        _run_algorithm(model, venv, config, out, start, callbacks, progress)
+    except ValueError:
+        check_finite_weights(model)
+        raise
+
+
+def _run_algorithm(model: BaseAlgorithm, venv: VecEnv, config: TrainConfig, out: Path, start: int,
+                   callbacks: list[BaseCallback], progress: bool) -> None:  # fmt: skip
     """Run the configured algorithm from step ``start`` to ``config.timesteps``."""
     if config.algo == "dagger":
         model.set_logger(configure_logger(str(out / "tb" / "dagger"), ["tensorboard"]))

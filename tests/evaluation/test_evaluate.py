@@ -21,7 +21,14 @@ from frontier_rl.errors import ConfigError, UnknownNameError
 from frontier_rl.evaluation import backends
 from frontier_rl.evaluation.backends import EpisodeFailedError
 from frontier_rl.evaluation.evaluate import evaluate, parse_thresholds
-from frontier_rl.evaluation.experiment import EpisodeJob, EpisodeSettings, ExperimentConfig, expand_worlds, identity
+from frontier_rl.evaluation.experiment import (
+    MAX_JOBS,
+    EpisodeJob,
+    EpisodeSettings,
+    ExperimentConfig,
+    expand_worlds,
+    identity,
+)
 from frontier_rl.evaluation.results import ResultStore
 from frontier_rl.evaluation.tables import short_labels
 
@@ -301,6 +308,13 @@ def test_unknown_baseline_duplicates_and_negative_seeds_are_refused() -> None:
         ExperimentConfig(methods=("fixed:0.75", "fixed:0.75"), worlds=("office",), episodes=1)
     with pytest.raises(UnknownNameError):
         expand_worlds("office,nowhere/")
+
+
+def test_an_experiment_too_large_to_list_is_refused_before_any_work() -> None:
+    """Its job list is built whole: 10¹² episodes took the machine's memory before this check."""
+    with pytest.raises(ConfigError, match="1,000,000,000,000 episodes on 1 world"):
+        ExperimentConfig(methods=("fixed:0.75",), worlds=("office",), episodes=10**12)
+    ExperimentConfig(methods=("fixed:0.75", "nearest"), worlds=("office",), episodes=MAX_JOBS // 2)
 
 
 def test_a_folder_in_use_by_another_run_is_refused(tmp_path: Path) -> None:

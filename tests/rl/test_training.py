@@ -8,15 +8,16 @@ from pathlib import Path
 import numpy as np
 import pytest
 import torch
+from stable_baselines3 import A2C
 from stable_baselines3.common.callbacks import BaseCallback
 
 from frontier_rl.core.sim.config import SimConfig
 from frontier_rl.core.sim.episode import run_episode
 from frontier_rl.core.world.catalog import generate_world
-from frontier_rl.errors import ConfigError
+from frontier_rl.errors import ConfigError, TrainingDivergedError
 from frontier_rl.policies import make_policy
 from frontier_rl.rl.config import TrainConfig
-from frontier_rl.rl.model_file import METADATA_ENTRY, load_policy, read_metadata
+from frontier_rl.rl.model_file import METADATA_ENTRY, load_policy, read_metadata, save_model
 from frontier_rl.rl.train import latest_checkpoint, train
 
 SHORT = SimConfig(max_sim_time=120.0)
@@ -101,12 +102,47 @@ def test_resume_without_a_run_is_an_error(tmp_path: Path) -> None:
      ({"worlds": "office,venus"}, "venus"), ({"reward": "gold"}, "gold"), ({"timesteps": 0}, "timesteps"),
      ({"learning_rate": -1.0}, "learning_rate"), ({"gamma": 1.5}, "gamma"), ({"init": 3}, "init"),
      ({"ent_coef": -0.01}, "ent_coef"), ({"ent_coef": float("nan")}, "ent_coef"),
-     ({"vf_coef": float("inf")}, "vf_coef")],
+     ({"vf_coef": float("inf")}, "vf_coef"), ({"learning_rate": float("inf")}, "learning_rate"),
+     ({"learning_rate": 1e300}, "learning_rate"), ({"ent_coef": 1e308}, "ent_coef"), ({"n_envs": 5000}, "5000"),
+     ({"n_steps": 10**9, "timesteps": 10**10}, "1,000,000,000"), ({"n_steps": 300, "timesteps": 16}, "timesteps 16"),
+     ({"n_steps": 2000, "observation_size": 250, "n_envs": 4, "timesteps": 10**6}, "8,000 decisions"),
+     ({"algo": "ppo", "n_steps": 1, "n_envs": 1}, "PPO")],
 )  # fmt: skip
 def test_bad_training_options_are_named(changes: dict[str, object], match: str) -> None:
     values = {"model": 4, **changes}
     with pytest.raises(Exception, match=match):
         TrainConfig(**values)  # type: ignore[arg-type]
+
+
+def test_dagger_has_no_rollout_to_check() -> None:
+    TrainConfig(model=5, algo="dagger", n_steps=300, timesteps=16)
+
+
+class _Poison(BaseCallback):
+    """Sets one weight of the policy to NaN at the second step, as a diverging update would."""
+
+    def _on_step(self) -> bool:
+        if self.n_calls == 2:
+            with torch.no_grad():
+                next(iter(self.model.policy.parameters())).view(-1)[0] = float("nan")
+        return True
+
+
+@pytest.mark.parametrize("algo", ["a2c", "ppo"])
+def test_a_run_whose_weights_stop_being_finite_ends_with_a_one_line_error(algo: str, tmp_path: Path) -> None:
+    config = _config(4, algo=algo, timesteps=32, eval_every=0, checkpoint_every=0)
+    with pytest.raises(TrainingDivergedError, match="diverged by decision"):
+        train(config, tmp_path / "run", extra_callbacks=[_Poison()], progress=False)
+    assert not (tmp_path / "run" / "model.zip").exists()
+
+
+def test_weights_that_are_not_finite_are_never_saved(tmp_path: Path, trained: Path) -> None:
+    model = A2C.load(str(trained), device="cpu")
+    with torch.no_grad():
+        next(iter(model.policy.parameters())).view(-1)[0] = float("inf")
+    with pytest.raises(TrainingDivergedError, match="no longer finite"):
+        save_model(model, tmp_path / "model.zip")
+    assert not (tmp_path / "model.zip").exists()
 
 
 # ------------------------------------------------------------------------------ model files
