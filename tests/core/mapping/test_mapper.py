@@ -3,14 +3,17 @@ the fused simulate-and-integrate kernel, and the fixed-size helpers for models."
 
 from __future__ import annotations
 
+import itertools
 import math
 from collections.abc import Callable
 from functools import cache
+from pathlib import Path
 
 import numpy as np
 import pytest
 from numpy.typing import NDArray
 
+from frontier_rl.config import load_sim_config
 from frontier_rl.core.mapping.log_odds import HIT
 from frontier_rl.core.mapping.mapper import LogOddsMapper, MapperConfig, downsample
 from frontier_rl.core.sensing.lidar import MAX_BEAMS, Lidar, LidarConfig, Scan
@@ -264,6 +267,33 @@ def test_integrate_refuses_a_scan_of_more_beams_than_its_pass_count_can_hold() -
     scan = beam_scan(Pose(0.5, 0.5, 0.0), [1.0] * n, list(np.linspace(0.0, 2 * math.pi, n, endpoint=False)))
     with pytest.raises(ValueError, match="16,384"):
         LogOddsMapper(corridor()).integrate(scan, 3.5)
+
+
+GMAPPING_RATIO = Path(__file__).parents[3] / "configs" / "mapper_gmapping_ratio.yaml"
+
+
+@pytest.mark.parametrize("length", range(1, 7))
+def test_the_gmapping_ratio_preset_classifies_a_cell_as_gmapping_does(length: int) -> None:
+    """configs/mapper_gmapping_ratio.yaml: after any sequence of scans that end in a cell (hits)
+    or pass it, the cell is occupied when 3 x hits > passes (slam_gmapping's occ_thresh 0.25 on
+    hits / visits) and free when 3 x hits < passes; the default rule keeps a cell free after a
+    pass and then a hit, which is how range noise leaves holes in walls."""
+    preset = load_sim_config(GMAPPING_RATIO).mapper
+    assert preset != MapperConfig() and preset.usable_range == MapperConfig().usable_range
+    pose = Pose(10.5 * RES, 10.5 * RES, 0.0)
+    scans = {"hit": beam_scan(pose, [0.5], [0.0]), "pass": beam_scan(pose, [0.8], [0.0])}  # cell (10, 20)
+    for sequence in itertools.product(("hit", "pass"), repeat=length):
+        hits, passes = sequence.count("hit"), sequence.count("pass")
+        if 3 * hits == passes:
+            continue  # a tie keeps the cell's class; Gmapping calls it free
+        mapper = LogOddsMapper(corridor(), preset)
+        for kind in sequence:
+            mapper.integrate(scans[kind], 3.5)
+        assert mapper.state[10, 20] == (OCC if 3 * hits > passes else FREE), sequence
+    default = LogOddsMapper(corridor())
+    for kind in ("pass", "hit"):
+        default.integrate(scans[kind], 3.5)
+    assert default.state[10, 20] == FREE
 
 
 def test_integrate_simulated_rejects_a_lidar_of_another_world() -> None:
