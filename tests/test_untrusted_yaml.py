@@ -6,6 +6,7 @@ from __future__ import annotations
 
 import json
 import os
+import re
 import subprocess
 import sys
 import time
@@ -23,7 +24,7 @@ from frontier_rl.core.sim.config import SimConfig
 from frontier_rl.core.world.grid import OccupancyGrid
 from frontier_rl.errors import ConfigError, FrontierRLError, MapError, short_path, short_repr, short_text
 from frontier_rl.io import load_map, save_ros_map
-from frontier_rl.rl.config import TrainConfig
+from frontier_rl.rl.config import MAX_LEARNING_RATE, TrainConfig
 from frontier_rl.safe_yaml import (
     MAX_YAML_BYTES,
     MAX_YAML_DEPTH,
@@ -338,7 +339,11 @@ def test_exponent_numbers_are_floats_in_map_config_and_training_yaml(
     assert sim.max_sim_time == value and sim.time_per_area == value
     training = tmp_path / "config.yaml"
     training.write_text(f"learning_rate: {literal}\n")
-    assert TrainConfig.load(training).learning_rate == value
+    if value <= MAX_LEARNING_RATE:
+        assert TrainConfig.load(training).learning_rate == value
+    else:  # out of range, and named as the float it was read as
+        with pytest.raises(ConfigError, match=re.escape(f"got {value!r}")):
+            TrainConfig.load(training)
 
 
 @pytest.mark.parametrize(
