@@ -171,6 +171,10 @@ def _open_model(path: Path) -> Iterator[zipfile.ZipFile]:
     """The model file at ``path`` as a checked zip (:func:`~frontier_rl.rl.bounded_zip.open_checked_zip`)."""
     where = model_file_label(path)
     try:
+        if path.is_dir():
+            raise ConfigError(f"{where} is a folder, not a model file")
+        if path.exists() and not path.is_file():
+            raise ConfigError(f"{where} is not a regular file (a device or a pipe)")
         if not path.is_file():
             raise ConfigError(f"{where} not found")
         file = path.open("rb")

@@ -524,10 +524,12 @@ def test_a_file_that_is_not_a_model_is_one_line(tmp_path: Path, content: bytes |
     _refused(path, needle)
 
 
-def test_a_missing_file_or_folder_is_one_line(tmp_path: Path) -> None:
+def test_a_missing_file_a_folder_or_a_device_is_one_line_naming_which(tmp_path: Path) -> None:
     _refused(tmp_path / "none.zip", "not found")
     (tmp_path / "folder.zip").mkdir()
-    _refused(tmp_path / "folder.zip", "not found")
+    _refused(tmp_path / "folder.zip", "is a folder")
+    if Path("/dev/zero").exists():  # endless: must be refused before it is read
+        _refused(Path("/dev/zero"), "not a regular file")
 
 
 # ------------------------------------------------------------------------------ --trust-model
