@@ -118,8 +118,7 @@ def write_metadata(path: Path, info: ModelInfo) -> None:
 
 
 def check_finite_weights(model: BaseAlgorithm) -> None:
-    """Raise :class:`~frontier_rl.errors.TrainingDivergedError` when a weight of ``model``'s policy
-    is NaN or infinite: an update too large for the network (a model file refuses such weights)."""
+    """Raise :class:`~frontier_rl.errors.TrainingDivergedError` if a policy weight is NaN or inf."""
     if not all(bool(torch.isfinite(p).all()) for p in model.policy.parameters()):
         raise TrainingDivergedError(
             f"training diverged by decision {model.num_timesteps:,}: the policy's weights are no longer "
@@ -171,12 +170,9 @@ def _open_model(path: Path) -> Iterator[zipfile.ZipFile]:
     """The model file at ``path`` as a checked zip (:func:`~frontier_rl.rl.bounded_zip.open_checked_zip`)."""
     where = model_file_label(path)
     try:
-        if path.is_dir():
-            raise ConfigError(f"{where} is a folder, not a model file")
-        if path.exists() and not path.is_file():
-            raise ConfigError(f"{where} is not a regular file (a device or a pipe)")
-        if not path.is_file():
-            raise ConfigError(f"{where} not found")
+        if not path.is_file():  # a device such as /dev/zero would never end
+            problem = "is a folder" if path.is_dir() else "is not a regular file" if path.exists() else "not found"
+            raise ConfigError(f"{where} {problem}")
         file = path.open("rb")
     except OSError as exc:  # also a name the file system refuses to look up (too long, ...)
         raise ConfigError(f"{where} cannot be read ({exc.strerror or first_line(exc)})") from None
