@@ -141,7 +141,8 @@ def test_train_then_explore_with_the_learned_policy(tmp_path: Path) -> None:
 @pytest.mark.parametrize(
     ("args", "needle"),
     [(["--model", "9"], "unknown model 9"), (["--algo", "sac"], "sac"), (["--worlds", "moon"], "moon"),
-     (["--observation-size", "100"], "100"), (["--timesteps", "0"], "timesteps"), (["--resume"], "nothing to resume")],
+     (["--observation-size", "100"], "100"), (["--timesteps", "0"], "timesteps"), (["--resume"], "nothing to resume"),
+     (["--config", "no-such-sim.yaml"], "no-such-sim.yaml")],
 )  # fmt: skip
 def test_bad_training_input_is_one_line_and_exit_2(tmp_path: Path, args: list[str], needle: str) -> None:
     result = runner.invoke(app, ["train", "--out", str(tmp_path / "run"), "--no-progress", *args])

@@ -3,11 +3,12 @@
 from __future__ import annotations
 
 import shlex
-from dataclasses import dataclass, fields
+from dataclasses import dataclass, field, fields
 from pathlib import Path
 from typing import Any
 
 from frontier_rl.config import coerce, dump_config, from_dict, load_config, to_dict
+from frontier_rl.core.sim.config import SimConfig
 from frontier_rl.envs.rewards import REWARD_PRESETS, reward_preset
 from frontier_rl.errors import ConfigError, FrontierRLError, short_repr, short_text
 from frontier_rl.registration import FRONTIER_CHOICE_MODELS, MODELS, env_id
@@ -79,6 +80,8 @@ class TrainConfig:
         privileged_critic: models 5 and 7 with "a2c" or "ppo" only: the critic also reads what only the
             simulator knows (the unseen share and area of the true map), through a value head the
             model file leaves out (:class:`~frontier_rl.rl.networks.PointerPolicy`).
+        sim: the simulator trained on (robot, LiDAR, map update, navigation, time cap), the
+            defaults unless ``frontier-rl train --config`` names a SimConfig file.
     """
 
     model: int = 4
@@ -101,6 +104,7 @@ class TrainConfig:
     seed: int = 0
     init: str = ""
     privileged_critic: bool = False
+    sim: SimConfig = field(default_factory=SimConfig)
 
     def __post_init__(self) -> None:  # noqa: C901 (a validator: one check per field)
         if self.model not in MODELS:
@@ -111,6 +115,8 @@ class TrainConfig:
             raise ConfigError(
                 f"algorithm 'dagger' trains models 5 and 7 (frontier choice) only, got model {self.model!r}"
             )
+        if not isinstance(self.sim, SimConfig):
+            raise ConfigError(f"sim must be a SimConfig, got {short_repr(self.sim)}")
         if not isinstance(self.privileged_critic, bool):
             raise ConfigError(f"privileged_critic must be true or false, got {short_repr(self.privileged_critic)}")
         if self.privileged_critic and (self.model not in FRONTIER_CHOICE_MODELS or self.algo == "dagger"):
@@ -201,7 +207,9 @@ class TrainConfig:
                 option = f"--{name.replace('_', '-')}"
                 parts.append(option if value is True else f"{option} {shlex.quote(str(value))}")
         other = [f"{f.name}={getattr(self, f.name)}" for f in fields(self)
-                 if f.name not in _CLI_OPTIONS and getattr(self, f.name) != getattr(default, f.name)]  # fmt: skip
+                 if f.name not in _CLI_OPTIONS and f.name != "sim"
+                 and getattr(self, f.name) != getattr(default, f.name)]  # fmt: skip
+        other += _differences("sim", to_dict(self.sim), to_dict(default.sim))  # set by --config, a file
         return " ".join(parts) + (f" (also {', '.join(other)})" if other else "")
 
     def dump(self, path: Path) -> None:
@@ -213,3 +221,14 @@ class TrainConfig:
         """Read a config written by :meth:`dump` (:func:`~frontier_rl.config.load_config`); an
         empty file is an error, not the defaults: it would claim a training run never made."""
         return load_config(cls, path, "training config", allow_empty=False)
+
+
+def _differences(prefix: str, values: dict[str, Any], defaults: dict[str, Any]) -> list[str]:
+    """``prefix.field=value`` for every (nested) field of ``values`` that differs from ``defaults``."""
+    found: list[str] = []
+    for name, value in values.items():
+        if isinstance(value, dict):
+            found += _differences(f"{prefix}.{name}", value, defaults[name])
+        elif value != defaults[name]:
+            found.append(f"{prefix}.{name}={value}")
+    return found

@@ -212,6 +212,7 @@ def train(
     frontier_rl.envs.register_envs()
     env_kwargs: dict[str, Any] = {"worlds": config.worlds, "reward": config.reward}
     env_kwargs["max_decisions"] = config.max_decisions
+    env_kwargs["sim"] = config.sim
     if config.privileged_critic:
         env_kwargs["privileged"] = True
     venv = _training_envs(config, out, start, env_kwargs)

@@ -13,6 +13,7 @@ from typing import Any
 import pytest
 from PIL import Image
 
+from frontier_rl.core.mapping.mapper import MapperConfig
 from frontier_rl.core.sim.config import SimConfig
 from frontier_rl.evaluation.analysis import summarise
 from frontier_rl.evaluation.conclusion import conclude
@@ -145,6 +146,14 @@ def test_the_training_command_lists_what_differs_from_the_defaults() -> None:
     )
 
 
+def test_the_training_command_names_each_simulator_setting_that_differs() -> None:
+    sim = SimConfig(mapper=MapperConfig(hit=0.75, miss=-0.25), max_sim_time=600.0)
+    assert TrainConfig(model=7, sim=sim).command() == (
+        "frontier-rl train --model 7 --worlds office --timesteps 100000"
+        " (also sim.mapper.hit=0.75, sim.mapper.miss=-0.25, sim.max_sim_time=600.0)"
+    )
+
+
 def test_the_command_options_are_the_train_commands() -> None:
     import inspect
 
@@ -152,7 +161,7 @@ def test_the_command_options_are_the_train_commands() -> None:
     from frontier_rl.rl.config import _CLI_OPTIONS
 
     parameters = inspect.signature(cli.train).parameters
-    assert set(_CLI_OPTIONS) == set(parameters) - {"out", "resume", "progress"}
+    assert set(_CLI_OPTIONS) == set(parameters) - {"out", "resume", "progress", "config"}
     for name in _CLI_OPTIONS:  # the same defaults, so a default left out of the command is the command's
         assert parameters[name].default == getattr(TrainConfig(), name), name
 

@@ -11,6 +11,7 @@ import torch
 from stable_baselines3 import A2C
 from stable_baselines3.common.callbacks import BaseCallback
 
+from frontier_rl.core.mapping.mapper import MapperConfig
 from frontier_rl.core.sim.config import SimConfig
 from frontier_rl.core.sim.episode import run_episode
 from frontier_rl.core.world.catalog import generate_world
@@ -89,6 +90,28 @@ def test_interrupted_run_resumes_from_its_last_checkpoint(tmp_path: Path) -> Non
     info = read_metadata(final)
     assert info is not None and info.timesteps == 96
     assert (run / "monitor_0.monitor.csv").exists() and (run / "monitor_64.monitor.csv").exists()
+
+
+class _RecordSim(BaseCallback):
+    """Records the simulator settings the training envs run on."""
+
+    def __init__(self) -> None:
+        super().__init__()
+        self.seen: list[SimConfig] = []
+
+    def _on_step(self) -> bool:
+        self.seen = [config.sim for config in self.training_env.get_attr("config")]
+        return True
+
+
+def test_the_envs_train_on_the_runs_simulator_settings(tmp_path: Path) -> None:
+    sim = SimConfig(mapper=MapperConfig(hit=0.75, miss=-0.25, occupied_above=0.01, free_below=-0.01))
+    config = _config(5, timesteps=16, eval_every=0, checkpoint_every=0, sim=sim)
+    recorder = _RecordSim()
+    train(config, tmp_path / "run", progress=False, extra_callbacks=[recorder])
+    assert recorder.seen == [sim]
+    assert TrainConfig.load(tmp_path / "run" / "config.yaml") == config
+    assert TrainConfig.load(tmp_path / "run" / "config.yaml").sim.mapper.hit == 0.75
 
 
 def test_resume_without_a_run_is_an_error(tmp_path: Path) -> None:
