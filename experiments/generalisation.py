@@ -21,6 +21,8 @@ from pathlib import Path
 from typing import Any
 
 from frontier_rl.atomic_write import write_text_atomic
+from frontier_rl.config import load_sim_config
+from frontier_rl.core.sim.config import SimConfig
 from frontier_rl.evaluation.evaluate import evaluate
 from frontier_rl.evaluation.experiment import ORACLE, ExperimentConfig, expand_worlds
 
@@ -64,17 +66,19 @@ def main() -> None:
     parser.add_argument("--dungeon", type=Path, default=Path("../shared/maps/dungeon"))
     parser.add_argument("--families", default="", help="comma-separated subset of the families")
     parser.add_argument("--workers", type=int, default=None)
+    parser.add_argument("--config", type=Path, default=None, help="SimConfig YAML (default: the defaults)")
     parser.add_argument("--out", type=Path, required=True)
     args = parser.parse_args()
 
     tested = [m.strip() for m in args.methods.split(",") if m.strip()]
     methods = [BASELINE, *tested, ORACLE]
     only = {f.strip() for f in args.families.split(",") if f.strip()} or None
+    sim = load_sim_config(args.config) if args.config is not None else SimConfig()
     results: dict[str, list[dict[str, Any]]] = {}
     for family, worlds in families(args.dungeon, args.maps, only).items():
         episodes = 1 if family.startswith("dungeon") else args.episodes
         episodes = args.building_episodes if family == "building" else episodes
-        config = ExperimentConfig(methods=tuple(methods), worlds=worlds, episodes=episodes, baseline=BASELINE)
+        config = ExperimentConfig(methods=tuple(methods), worlds=worlds, episodes=episodes, baseline=BASELINE, sim=sim)
         out = args.out / family
         evaluate(config, out, workers=args.workers, command=f"experiments/generalisation.py ({family})")
         results[family] = family_rows(json.loads((out / "summary.json").read_text()), methods)

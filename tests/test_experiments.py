@@ -41,10 +41,13 @@ GENERALISATION = SCRIPT.parent / "generalisation.py"
 
 
 def test_generalisation_table_per_family(tmp_path: Path) -> None:
-    """Two families, two episodes: one evaluate folder each and a table row per method."""
+    """Two families, two episodes: one evaluate folder each, on the ``--config`` settings, and a
+    table row per method."""
     out = tmp_path / "gen"
+    sim = tmp_path / "sim.yaml"
+    sim.write_text("mapper:\n  hit: 0.75\n  miss: -0.5\n")
     args = [sys.executable, str(GENERALISATION), "--methods", "fixed:0.75", "--episodes", "2", "--families",
-            "office,rooms", "--workers", "2", "--out", str(out)]  # fmt: skip
+            "office,rooms", "--workers", "2", "--config", str(sim), "--out", str(out)]  # fmt: skip
     run = subprocess.run(args, capture_output=True, text=True, check=True, timeout=300)
     table = json.loads((out / "generalisation.json").read_text())
     assert set(table) == {"office", "rooms"}
@@ -53,6 +56,8 @@ def test_generalisation_table_per_family(tmp_path: Path) -> None:
         assert rows[0]["reduction_vs_nearest_pct"] == 0.0 and rows[0]["n"] == 2
         summary = json.loads((out / family / "summary.json").read_text())
         assert rows[1]["mean_time_s"] == summary["methods"]["fixed:0.75"]["mean_time_s"]
+        mapper = json.loads((out / family / "experiment.json").read_text())["sim"]["mapper"]
+        assert (mapper["hit"], mapper["miss"]) == (0.75, -0.5)
         assert family in run.stdout
 
 

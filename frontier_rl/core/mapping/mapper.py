@@ -29,7 +29,8 @@ class MapperConfig:
 
     Attributes:
         hit: log-odds added to the cell a beam ends in.
-        miss: log-odds added to each cell a beam passes through (negative).
+        miss: log-odds added to each cell a beam passes through (below ``free_below``: one pass maps
+            a cell free, or the first scan would map nothing free and an episode end at once).
         clamp_min: lower bound of a cell's log-odds.
         clamp_max: upper bound of a cell's log-odds.
         occupied_above: a cell is OCCUPIED once its log-odds exceed this.
@@ -68,6 +69,11 @@ class MapperConfig:
                 raise ConfigError(f"MapperConfig.{name} must be finite, got {value!r}")
         if not (self.hit > 0 > self.miss):
             raise ConfigError(f"MapperConfig needs hit > 0 > miss, got hit={self.hit!r}, miss={self.miss!r}")
+        if not self.miss < self.free_below:  # else the first scan maps nothing free: "explored" at t = 0
+            raise ConfigError(
+                f"MapperConfig needs miss < free_below (one pass maps a cell free), "
+                f"got miss={self.miss!r}, free_below={self.free_below!r}"
+            )
         if not (self.clamp_min < self.free_below < 0 < self.occupied_above < self.clamp_max):
             raise ConfigError(
                 "MapperConfig needs clamp_min < free_below < 0 < occupied_above < clamp_max, got "

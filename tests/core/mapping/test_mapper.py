@@ -199,7 +199,7 @@ def _assert_same_map(a: LogOddsMapper, b: LogOddsMapper) -> None:
         (LidarConfig(), MapperConfig(), True),
         (LidarConfig(num_beams=90, max_range=2.0, noise_abs=0.05, noise_rel=0.2), MapperConfig(), True),
         (LidarConfig(max_range=6.0, min_range=0.3), MapperConfig(usable_range=4.5), True),
-        (LidarConfig(), MapperConfig(usable_range=1.2, hit=1.5, miss=-0.2), True),
+        (LidarConfig(), MapperConfig(usable_range=1.2, hit=1.5, miss=-0.5), True),
         (LidarConfig(), MapperConfig(), False),
     ],
     ids=["default", "coarse-noisy", "long-range", "short-usable", "noise-free"],
@@ -512,6 +512,7 @@ def test_downsample_rejects_a_factor_that_does_not_divide(factor: int) -> None:
         ({"hit": -0.5}, "-0.5"),
         ({"hit": 0.0}, "0.0"),
         ({"miss": 0.3}, "0.3"),
+        ({"miss": -0.25}, "-0.25"),  # one pass would leave a cell unknown: the first scan maps nothing free
         ({"clamp_min": -0.1}, "-0.1"),  # above free_below
         ({"free_below": 0.2}, "0.2"),
         ({"occupied_above": -0.1}, "-0.1"),
