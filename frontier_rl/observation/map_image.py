@@ -12,6 +12,7 @@ import math
 from dataclasses import dataclass
 from typing import TypeVar
 
+import numba as nb
 import numpy as np
 from numpy.typing import NDArray
 
@@ -22,6 +23,7 @@ from frontier_rl.core.world.robot import Pose
 from frontier_rl.errors import ConfigError
 
 ScalarT = TypeVar("ScalarT", bound=np.generic)
+_OCCUPIED, _FREE, _UNKNOWN = np.int8(CellState.OCCUPIED), np.int8(CellState.FREE), np.int8(CellState.UNKNOWN)
 
 THESIS_INPUT_CELLS = 250
 """Edge of the thesis's model input (cells): 12.5 m at 0.05 m, the whole office maze."""
@@ -136,23 +138,13 @@ class MapEncoder:
         if _thesis_cells(grid):
             window = _crop(grid.data, int(row0), int(col0), self.window, CellState.UNKNOWN)
             return downsample(window, self.factor) if self.factor > 1 else window
-        edge = self.size * self.cells_per_pixel(grid)
         top, left = math.floor(row0), math.floor(col0)
-        extent = math.ceil(edge) + 2
+        extent = math.ceil(self.size * self.cells_per_pixel(grid)) + 2
         rows = self._pixels(grid, row0, np.arange(top, top + extent))
         cols = self._pixels(grid, col0, np.arange(left, left + extent))
-        rows_in, cols_in = (rows >= 0) & (rows < self.size), (cols >= 0) & (cols < self.size)
-        counts = np.outer(np.bincount(rows[rows_in], minlength=self.size),
-                          np.bincount(cols[cols_in], minlength=self.size))  # fmt: skip
-        window = _crop(grid.data, top, left, extent, CellState.UNKNOWN)[np.ix_(rows_in, cols_in)]
-        pixel = (rows[rows_in][:, None] * self.size + cols[cols_in][None, :]).ravel()
-        values = window.ravel()
-        occupied = np.bincount(pixel[values == CellState.OCCUPIED], minlength=self.size**2).reshape(counts.shape)
-        free = np.bincount(pixel[values == CellState.FREE], minlength=self.size**2).reshape(counts.shape)
-        state = np.full(counts.shape, CellState.UNKNOWN, np.int8)
-        state[2 * free >= counts] = CellState.FREE
-        state[occupied > 0] = CellState.OCCUPIED
-        return state
+        inside_rows, inside_cols = rows[(rows >= 0) & (rows < self.size)], cols[(cols >= 0) & (cols < self.size)]
+        cells = np.outer(np.bincount(inside_rows, minlength=self.size), np.bincount(inside_cols, minlength=self.size))
+        return _pool_cells(np.ascontiguousarray(grid.data, np.int8), top, left, rows, cols, cells)
 
     def encode(self, grid: OccupancyGrid, pose: Pose, frontiers: Frontiers | None = None) -> NDArray[np.uint8]:
         """The observation image of ``grid`` with the robot at ``pose``; ``frontiers`` is needed
@@ -207,6 +199,37 @@ def frontier_cells(frontiers: Frontiers) -> tuple[NDArray[np.int64], NDArray[np.
     lengths = frontiers.spans[:, 1] - frontiers.spans[:, 0]
     cells = [frontiers.flat_cells[a:b] for a, b in frontiers.spans]
     return np.concatenate(cells or [np.zeros(0, np.int64)]), np.repeat(np.arange(len(frontiers)), lengths)
+
+
+@nb.njit(cache=True)
+def _pool_cells(
+    data: NDArray[np.int8], top: int, left: int, rows: NDArray[np.int64], cols: NDArray[np.int64],
+    cells: NDArray[np.int64],
+) -> NDArray[np.int8]:  # fmt: skip
+    """The pixel states of the cells from (``top``, ``left``) whose pixels are ``rows`` and ``cols``
+    (negative or ≥ the image's edge: outside), ``cells`` cells in each pixel, by
+    :func:`~frontier_rl.core.mapping.mapper.downsample`'s rule; cells off the map count as unknown."""
+    size = cells.shape[0]
+    occupied = np.zeros((size, size), np.bool_)
+    free = np.zeros((size, size), np.int64)
+    for i in range(max(0, -top), min(len(rows), data.shape[0] - top)):
+        pr = rows[i]
+        if not 0 <= pr < size:
+            continue
+        for j in range(max(0, -left), min(len(cols), data.shape[1] - left)):
+            pc = cols[j]
+            if 0 <= pc < size:
+                value = data[top + i, left + j]
+                if value == _OCCUPIED:
+                    occupied[pr, pc] = True
+                elif value == _FREE:
+                    free[pr, pc] += 1
+    out = np.empty((size, size), np.int8)
+    for pr in range(size):
+        for pc in range(size):
+            free_enough = 2 * free[pr, pc] >= cells[pr, pc]
+            out[pr, pc] = _OCCUPIED if occupied[pr, pc] else _FREE if free_enough else _UNKNOWN
+    return out
 
 
 def _thesis_cells(grid: OccupancyGrid) -> bool:
