@@ -141,6 +141,34 @@ def test_a_map_of_smaller_cells_looks_the_same_to_a_model(split: int) -> None:
     assert np.hypot(x - pose.x, y - pose.y) <= 0.2
 
 
+@pytest.mark.parametrize("resolution", [0.03, 0.0437, 0.07])
+def test_each_pixel_pools_the_cells_whose_centres_lie_in_it(resolution: float) -> None:
+    """On any cell size, a pixel is occupied if a cell centred in its square (factor × 0.05 m) is,
+    else free if half of those cells or more are (cells off the map count as unknown)."""
+    rng = np.random.default_rng(2)
+    grid = OccupancyGrid(rng.choice(np.array([-1, 0, 100], np.int8), (150, 170), p=[0.3, 0.65, 0.05]), resolution)
+    enc = MapEncoder(32)
+    pose = Pose(*grid.cell_to_world(70, 90))
+    row0, col0 = enc.window_origin(grid, pose)
+    side = enc.factor * 0.05
+    expected = np.full((32, 32), MAP_UNKNOWN, np.uint8)
+    centres_y = (np.arange(-300, 450) + 0.5) * resolution  # from well off the map to well past it
+    for i in range(32):
+        rows = np.arange(-300, 450)[
+            (centres_y >= row0 * resolution + i * side) & (centres_y < row0 * resolution + (i + 1) * side)
+        ]
+        for j in range(32):
+            cols = np.arange(-300, 450)[
+                (centres_y >= col0 * resolution + j * side) & (centres_y < col0 * resolution + (j + 1) * side)
+            ]
+            on_map = grid.data[np.ix_(rows[(rows >= 0) & (rows < 150)], cols[(cols >= 0) & (cols < 170)])]
+            if (on_map == CellState.OCCUPIED).any():
+                expected[i, j] = MAP_OCCUPIED
+            elif 2 * (on_map == CellState.FREE).sum() >= len(rows) * len(cols):
+                expected[i, j] = MAP_FREE
+    np.testing.assert_array_equal(enc.encode(grid, pose)[0], expected)
+
+
 def test_a_map_of_larger_cells_keeps_its_walls() -> None:
     """At 0.1 m a pixel of 0.2 m holds 2 × 2 cells: a wall cell still makes its pixel a wall."""
     data = np.full((40, 45), CellState.UNKNOWN, np.int8)
