@@ -12,7 +12,6 @@ import math
 from dataclasses import dataclass
 from typing import TypeVar
 
-import numba as nb
 import numpy as np
 from numpy.typing import NDArray
 
@@ -23,15 +22,9 @@ from frontier_rl.core.world.robot import Pose
 from frontier_rl.errors import ConfigError
 
 ScalarT = TypeVar("ScalarT", bound=np.generic)
-_OCCUPIED, _FREE, _UNKNOWN = np.int8(CellState.OCCUPIED), np.int8(CellState.FREE), np.int8(CellState.UNKNOWN)
 
 THESIS_INPUT_CELLS = 250
 """Edge of the thesis's model input (cells): 12.5 m at 0.05 m, the whole office maze."""
-
-THESIS_CELL_M = 0.05
-"""The cell size (m) the image's scale is defined at: a map of another cell size is shown at the
-same scale in metres (a pixel of a 64-pixel image is 0.2 m on any map), so that a model sees a
-room as it saw rooms in training."""
 
 MAP_OCCUPIED, MAP_UNKNOWN, MAP_FREE = 0, 128, 255
 """The uint8 pixel values of the map channel: the thesis's −1 / 0 / 1 mapped onto 0..255."""
@@ -86,17 +79,9 @@ class MapEncoder:
         """The observation's shape, channels first."""
         return (self.channels, self.size, self.size)
 
-    def cells_per_pixel(self, grid: OccupancyGrid) -> float:
-        """Edge of a pixel in ``grid``'s cells: :attr:`factor` on a map of :data:`THESIS_CELL_M`
-        cells, ``factor × THESIS_CELL_M / resolution`` on any other."""
-        return self.factor if _thesis_cells(grid) else self.factor * THESIS_CELL_M / grid.resolution
-
-    def window_origin(self, grid: OccupancyGrid, pose: Pose) -> tuple[float, float]:
-        """(row, col) of ``grid`` at the window's first pixel's corner, in cells: the window is
-        centred on the map and shifted, if needed, so that it contains the robot. Whole cells on a
-        map of :data:`THESIS_CELL_M` cells."""
-        if not _thesis_cells(grid):
-            return self._metric_window_origin(grid, pose)
+    def window_origin(self, grid: OccupancyGrid, pose: Pose) -> tuple[int, int]:
+        """(row, col) of ``grid`` at the window's first pixel: the window is centred on the map and
+        shifted, if needed, so that it contains the robot."""
         half = self.window // 2
         row0 = grid.height // 2 - half
         col0 = grid.width // 2 - half
@@ -106,52 +91,22 @@ class MapEncoder:
         col0 = min(max(col0, c + margin - self.window + 1), c - margin)
         return row0, col0
 
-    def _metric_window_origin(self, grid: OccupancyGrid, pose: Pose) -> tuple[float, float]:
-        """:meth:`window_origin` on a map of another cell size: the same window in metres."""
-        step = self.cells_per_pixel(grid)
-        edge = self.size * step
-        margin = min(edge / 2, max(2 * step, 4 * THESIS_CELL_M / grid.resolution))
-        r = (pose.y - grid.origin[1]) / grid.resolution
-        c = (pose.x - grid.origin[0]) / grid.resolution
-        row0 = min(max(grid.height / 2 - edge / 2, r + margin - edge), r - margin)
-        col0 = min(max(grid.width / 2 - edge / 2, c + margin - edge), c - margin)
-        return row0, col0
-
     def pixel_to_world(self, grid: OccupancyGrid, pose: Pose, row: int, col: int) -> tuple[float, float]:
         """World (x, y) (m) of the centre of pixel (``row``, ``col``) of an image encoded from
         ``grid`` with the robot at ``pose``."""
         row0, col0 = self.window_origin(grid, pose)
-        f = self.cells_per_pixel(grid)
+        f = self.factor
         cell_r = row0 + (row + 0.5) * f
         cell_c = col0 + (col + 0.5) * f
         return (grid.origin[0] + cell_c * grid.resolution, grid.origin[1] + cell_r * grid.resolution)
-
-    def _pixels(self, grid: OccupancyGrid, origin: float, cells: NDArray[np.int64]) -> NDArray[np.int64]:
-        """The pixel (along one axis) of each cell index in ``cells``, its centre's; a window's
-        ``origin`` (:meth:`window_origin`) of whole cells gives ``(cells - origin) // factor``."""
-        pixels: NDArray[np.int64] = np.floor((cells + 0.5 - origin) / self.cells_per_pixel(grid)).astype(np.int64)
-        return pixels
-
-    def _map_states(self, grid: OccupancyGrid, row0: float, col0: float) -> NDArray[np.int8]:
-        """The map channel's cell states, one per pixel (:func:`~frontier_rl.core.mapping.mapper.downsample`'s
-        rule: occupied if any cell is, else free if at least half are, else unknown)."""
-        if _thesis_cells(grid):
-            window = _crop(grid.data, int(row0), int(col0), self.window, CellState.UNKNOWN)
-            return downsample(window, self.factor) if self.factor > 1 else window
-        top, left = math.floor(row0), math.floor(col0)
-        extent = math.ceil(self.size * self.cells_per_pixel(grid)) + 2
-        rows = self._pixels(grid, row0, np.arange(top, top + extent))
-        cols = self._pixels(grid, col0, np.arange(left, left + extent))
-        inside_rows, inside_cols = rows[(rows >= 0) & (rows < self.size)], cols[(cols >= 0) & (cols < self.size)]
-        cells = np.outer(np.bincount(inside_rows, minlength=self.size), np.bincount(inside_cols, minlength=self.size))
-        return _pool_cells(np.ascontiguousarray(grid.data, np.int8), top, left, rows, cols, cells)
 
     def encode(self, grid: OccupancyGrid, pose: Pose, frontiers: Frontiers | None = None) -> NDArray[np.uint8]:
         """The observation image of ``grid`` with the robot at ``pose``; ``frontiers`` is needed
         when the encoder has a frontier channel."""
         row0, col0 = self.window_origin(grid, pose)
+        window = _crop(grid.data, row0, col0, self.window, CellState.UNKNOWN)
         out = np.empty(self.shape, np.uint8)
-        state = self._map_states(grid, row0, col0)
+        state = downsample(window, self.factor) if self.factor > 1 else window
         out[0] = MAP_UNKNOWN
         out[0][state == CellState.OCCUPIED] = MAP_OCCUPIED
         out[0][state == CellState.FREE] = MAP_FREE
@@ -165,32 +120,32 @@ class MapEncoder:
             out[channel] = self._pose_marks(grid, pose, row0, col0)
         return out
 
-    def _marks(self, grid: OccupancyGrid, rows: NDArray[np.int64], cols: NDArray[np.int64], row0: float,
-               col0: float) -> NDArray[np.uint8]:  # fmt: skip
-        """A channel with :data:`MARK` on each pixel that holds one of the cells (``rows``, ``cols``)."""
-        pixel_rows, pixel_cols = self._pixels(grid, row0, rows), self._pixels(grid, col0, cols)
-        inside = (pixel_rows >= 0) & (pixel_rows < self.size) & (pixel_cols >= 0) & (pixel_cols < self.size)
-        channel = np.zeros((self.size, self.size), np.uint8)
-        channel[pixel_rows[inside], pixel_cols[inside]] = MARK
-        return channel
-
-    def _frontier_marks(self, grid: OccupancyGrid, frontiers: Frontiers, row0: float, col0: float) -> NDArray[np.uint8]:
+    def _frontier_marks(self, grid: OccupancyGrid, frontiers: Frontiers, row0: int, col0: int) -> NDArray[np.uint8]:
         """The frontier channel: :data:`MARK` on each pixel whose cells hold a frontier cell (only
         the frontiers' cells are visited, not the map)."""
         cells, _ = frontier_cells(frontiers)
         rows, cols = np.divmod(cells, grid.width)
-        return self._marks(grid, rows, cols, row0, col0)
+        rows, cols = rows - row0, cols - col0
+        inside = (rows >= 0) & (rows < self.window) & (cols >= 0) & (cols < self.window)
+        channel = np.zeros((self.size, self.size), np.uint8)
+        channel[rows[inside] // self.factor, cols[inside] // self.factor] = MARK
+        return channel
 
-    def _pose_marks(self, grid: OccupancyGrid, pose: Pose, row0: float, col0: float) -> NDArray[np.uint8]:
+    def _pose_marks(self, grid: OccupancyGrid, pose: Pose, row0: int, col0: int) -> NDArray[np.uint8]:
         """The pose channel: :data:`MARK` on each pixel whose cells hold a cell centre within
         :data:`POSE_RADIUS_M` of the robot (only the disc's bounding box is visited, not the window)."""
         radius = max(POSE_RADIUS_M / grid.resolution, 1.0)
         r = (pose.y - grid.origin[1]) / grid.resolution
         c = (pose.x - grid.origin[0]) / grid.resolution
-        rows = np.arange(math.floor(r - radius) - 1, math.ceil(r + radius) + 1)
-        cols = np.arange(math.floor(c - radius) - 1, math.ceil(c + radius) + 1)
-        inside_r, inside_c = np.nonzero((rows[:, None] + 0.5 - r) ** 2 + (cols[None, :] + 0.5 - c) ** 2 <= radius**2)
-        return self._marks(grid, rows[inside_r], cols[inside_c], row0, col0)
+        top, bottom = max(math.floor(r - radius) - row0 - 1, 0), min(math.ceil(r + radius) - row0 + 1, self.window)
+        left, right = max(math.floor(c - radius) - col0 - 1, 0), min(math.ceil(c + radius) - col0 + 1, self.window)
+        channel = np.zeros((self.size, self.size), np.uint8)
+        if top < bottom and left < right:
+            rows = np.arange(top, bottom)[:, None] + row0 + 0.5  # as the cells' centres over the window
+            cols = np.arange(left, right)[None, :] + col0 + 0.5
+            inside_r, inside_c = np.nonzero((rows - r) ** 2 + (cols - c) ** 2 <= radius * radius)
+            channel[(inside_r + top) // self.factor, (inside_c + left) // self.factor] = MARK
+        return channel
 
 
 def frontier_cells(frontiers: Frontiers) -> tuple[NDArray[np.int64], NDArray[np.int64]]:
@@ -199,42 +154,6 @@ def frontier_cells(frontiers: Frontiers) -> tuple[NDArray[np.int64], NDArray[np.
     lengths = frontiers.spans[:, 1] - frontiers.spans[:, 0]
     cells = [frontiers.flat_cells[a:b] for a, b in frontiers.spans]
     return np.concatenate(cells or [np.zeros(0, np.int64)]), np.repeat(np.arange(len(frontiers)), lengths)
-
-
-@nb.njit(cache=True)
-def _pool_cells(
-    data: NDArray[np.int8], top: int, left: int, rows: NDArray[np.int64], cols: NDArray[np.int64],
-    cells: NDArray[np.int64],
-) -> NDArray[np.int8]:  # fmt: skip
-    """The pixel states of the cells from (``top``, ``left``) whose pixels are ``rows`` and ``cols``
-    (negative or ≥ the image's edge: outside), ``cells`` cells in each pixel, by
-    :func:`~frontier_rl.core.mapping.mapper.downsample`'s rule; cells off the map count as unknown."""
-    size = cells.shape[0]
-    occupied = np.zeros((size, size), np.bool_)
-    free = np.zeros((size, size), np.int64)
-    for i in range(max(0, -top), min(len(rows), data.shape[0] - top)):
-        pr = rows[i]
-        if not 0 <= pr < size:
-            continue
-        for j in range(max(0, -left), min(len(cols), data.shape[1] - left)):
-            pc = cols[j]
-            if 0 <= pc < size:
-                value = data[top + i, left + j]
-                if value == _OCCUPIED:
-                    occupied[pr, pc] = True
-                elif value == _FREE:
-                    free[pr, pc] += 1
-    out = np.empty((size, size), np.int8)
-    for pr in range(size):
-        for pc in range(size):
-            free_enough = 2 * free[pr, pc] >= cells[pr, pc]
-            out[pr, pc] = _OCCUPIED if occupied[pr, pc] else _FREE if free_enough else _UNKNOWN
-    return out
-
-
-def _thesis_cells(grid: OccupancyGrid) -> bool:
-    """Whether ``grid``'s cells are :data:`THESIS_CELL_M` (the image then takes whole cells)."""
-    return abs(grid.resolution - THESIS_CELL_M) < 1e-9
 
 
 def _crop(data: NDArray[ScalarT], row0: int, col0: int, size: int, fill: object) -> NDArray[ScalarT]:
@@ -251,18 +170,16 @@ def frontier_features(
     frontiers: Frontiers, pose: Pose, path_costs: NDArray[np.float64], sensor_range: float
 ) -> NDArray[np.float32]:
     """(n, 6) features of each frontier, scaled to about [−1, 1] (see :data:`FRONTIER_FEATURES`):
-    straight-line distance and path cost to the centre over 10 m, size over 100 cells of
-    :data:`THESIS_CELL_M` (5 m of frontier, on a map of any cell size), information gain as a share
-    of a full scan's disc, and the centre's offset from the robot over 10 m."""
+    straight-line distance and path cost to the centre over 10 m, size over 100 cells, information
+    gain as a share of a full scan's disc, and the centre's offset from the robot over 10 m."""
     res = frontiers.grid.resolution
     disc_cells = math.pi * (sensor_range / res) ** 2
     gains = frontiers.information_gain(sensor_range)
-    sizes = frontiers.sizes if abs(res - THESIS_CELL_M) < 1e-9 else frontiers.sizes * (res / THESIS_CELL_M)
     feats = np.column_stack(
         (
             frontiers.distances / 10.0,
             np.minimum(path_costs, 100.0) / 10.0,
-            np.minimum(sizes, 1000) / 100.0,
+            np.minimum(frontiers.sizes, 1000) / 100.0,
             gains / disc_cells,
             (frontiers.centers[:, 0] - pose.x) / 10.0,
             (frontiers.centers[:, 1] - pose.y) / 10.0,

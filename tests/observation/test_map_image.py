@@ -116,106 +116,15 @@ def test_frontier_features(grid_from_text: Callable[..., OccupancyGrid]) -> None
     assert np.allclose(feats[:, 4], (frontiers.centers[:, 0] - pose.x) / 10, atol=1e-6)
 
 
-def _finer(grid: OccupancyGrid, split: int) -> OccupancyGrid:
-    """``grid`` drawn with cells ``split`` times smaller: the same map in metres."""
-    data = np.repeat(np.repeat(grid.data, split, axis=0), split, axis=1)
-    return OccupancyGrid(data, grid.resolution / split, grid.origin)
-
-
-@pytest.mark.parametrize("split", [2, 4])
-def test_a_map_of_smaller_cells_looks_the_same_to_a_model(split: int) -> None:
-    """A model trained on 0.05 m maps sees a 0.025 m or 0.0125 m map at the same scale in metres:
-    the same map and frontier channels, the robot in the same place."""
-    grid = _room(80, 90)
-    fine = _finer(grid, split)
-    pose = Pose(*grid.cell_to_world(15, 20))
-    enc = MapEncoder(64, frontier_channel=True, pose_channel=True)
-    coarse_image = enc.encode(grid, pose, detect_frontiers(grid, pose, grid.data == CellState.FREE))
-    fine_image = enc.encode(fine, pose, detect_frontiers(fine, pose, fine.data == CellState.FREE))
-    assert enc.cells_per_pixel(fine) == pytest.approx(4 * split)
-    np.testing.assert_array_equal(fine_image[0], coarse_image[0])
-    np.testing.assert_array_equal(fine_image[1], coarse_image[1])
-    assert np.abs(np.argwhere(fine_image[2]).mean(axis=0) - np.argwhere(coarse_image[2]).mean(axis=0)).max() < 0.5
-    row, col = np.argwhere(fine_image[2]).mean(axis=0).round().astype(int)
-    x, y = enc.pixel_to_world(fine, pose, int(row), int(col))
-    assert np.hypot(x - pose.x, y - pose.y) <= 0.2
-
-
-@pytest.mark.parametrize("resolution", [0.03, 0.0437, 0.07])
-def test_each_pixel_pools_the_cells_whose_centres_lie_in_it(resolution: float) -> None:
-    """On any cell size, a pixel is occupied if a cell centred in its square (factor × 0.05 m) is,
-    else free if half of those cells or more are (cells off the map count as unknown)."""
-    rng = np.random.default_rng(2)
-    grid = OccupancyGrid(rng.choice(np.array([-1, 0, 100], np.int8), (150, 170), p=[0.3, 0.65, 0.05]), resolution)
-    enc = MapEncoder(32)
-    pose = Pose(*grid.cell_to_world(70, 90))
-    row0, col0 = enc.window_origin(grid, pose)
-    side = enc.factor * 0.05
-    expected = np.full((32, 32), MAP_UNKNOWN, np.uint8)
-    centres_y = (np.arange(-300, 450) + 0.5) * resolution  # from well off the map to well past it
-    for i in range(32):
-        rows = np.arange(-300, 450)[
-            (centres_y >= row0 * resolution + i * side) & (centres_y < row0 * resolution + (i + 1) * side)
-        ]
-        for j in range(32):
-            cols = np.arange(-300, 450)[
-                (centres_y >= col0 * resolution + j * side) & (centres_y < col0 * resolution + (j + 1) * side)
-            ]
-            on_map = grid.data[np.ix_(rows[(rows >= 0) & (rows < 150)], cols[(cols >= 0) & (cols < 170)])]
-            if (on_map == CellState.OCCUPIED).any():
-                expected[i, j] = MAP_OCCUPIED
-            elif 2 * (on_map == CellState.FREE).sum() >= len(rows) * len(cols):
-                expected[i, j] = MAP_FREE
-    np.testing.assert_array_equal(enc.encode(grid, pose)[0], expected)
-
-
-def test_a_map_of_larger_cells_keeps_its_walls() -> None:
-    """At 0.1 m a pixel of 0.2 m holds 2 × 2 cells: a wall cell still makes its pixel a wall."""
-    data = np.full((40, 45), CellState.UNKNOWN, np.int8)
-    data[3:15, 3:20] = CellState.FREE
-    data[3:15, 3] = CellState.OCCUPIED  # walls of 12 and 17 cells: 1.2 m and 1.7 m
-    data[3, 3:20] = CellState.OCCUPIED
-    coarse = OccupancyGrid(data, 0.1, (0.0, 0.0))
-    enc = MapEncoder(64)
-    image = enc.encode(coarse, Pose(*coarse.cell_to_world(8, 10)))[0]
-    assert enc.cells_per_pixel(coarse) == pytest.approx(2.0)
-    assert enc.window_origin(coarse, Pose(*coarse.cell_to_world(8, 10))) == (-44.0, -41.5)
-    # so the 12 wall cells down column 3 have their centres in pixel rows 23-29 of pixel column 22,
-    # and the 17 along row 3 in pixel columns 22-30 of pixel row 23: 7 + 9 pixels, one shared
-    walls = {tuple(p) for p in np.argwhere(image == MAP_OCCUPIED)}
-    assert walls == {(r, 22) for r in range(23, 30)} | {(23, c) for c in range(22, 31)}
-    assert (image == MAP_FREE).sum() > 0
-
-
-def test_frontier_size_is_measured_in_thesis_cells(grid_from_text: Callable[..., OccupancyGrid]) -> None:
-    grid = grid_from_text(["??????", "#....?", "#....?", "######"])
-    fine = _finer(grid, 2)
-    pose = Pose(*fine.cell_to_world(3, 3))
-    frontiers = detect_frontiers(fine, pose, fine.data == CellState.FREE)
-    feats = frontier_features(frontiers, pose, np.zeros(len(frontiers)), sensor_range=3.5)
-    assert np.allclose(feats[:, 2], frontiers.sizes * (fine.resolution / 0.05) / 100)
-
-
 def _pose_channel_by_definition(enc: MapEncoder, grid: OccupancyGrid, pose: Pose) -> np.ndarray:
     """The pose channel as defined: the disc of cell centres within POSE_RADIUS_M over the whole
-    window, max-pooled by the encoder's factor; on a map of other than 0.05 m cells, each pixel a
-    square of factor × 0.05 m, marked when a cell centre of the disc lies in it."""
+    window, max-pooled by the encoder's factor."""
     row0, col0 = enc.window_origin(grid, pose)
     radius = max(POSE_RADIUS_M / grid.resolution, 1.0)
-    r = (pose.y - grid.origin[1]) / grid.resolution
-    c = (pose.x - grid.origin[0]) / grid.resolution
-    if grid.resolution != 0.05:
-        pixel = enc.factor * 0.05 / grid.resolution  # cells
-        rows, cols = np.meshgrid(np.arange(-30, grid.height + 30), np.arange(-30, grid.width + 30), indexing="ij")
-        disc = (rows + 0.5 - r) ** 2 + (cols + 0.5 - c) ** 2 <= radius * radius
-        pixel_rows = np.floor((rows[disc] + 0.5 - row0) / pixel).astype(int)
-        pixel_cols = np.floor((cols[disc] + 0.5 - col0) / pixel).astype(int)
-        inside = (pixel_rows >= 0) & (pixel_rows < enc.size) & (pixel_cols >= 0) & (pixel_cols < enc.size)
-        channel = np.zeros((enc.size, enc.size), np.uint8)
-        channel[pixel_rows[inside], pixel_cols[inside]] = MARK
-        return channel
     rows = np.arange(enc.window)[:, None] + row0 + 0.5
     cols = np.arange(enc.window)[None, :] + col0 + 0.5
+    r = (pose.y - grid.origin[1]) / grid.resolution
+    c = (pose.x - grid.origin[0]) / grid.resolution
     disc = (rows - r) ** 2 + (cols - c) ** 2 <= radius * radius
     n, f = enc.size, enc.factor
     return np.where(disc.reshape(n, f, n, f).any(axis=(1, 3)), MARK, 0).astype(np.uint8)
