@@ -372,7 +372,7 @@ class TeamSimulator:
             return None
         if not self.alive:
             return "failed"
-        reason = EndReason.UNREACHABLE if unresolved(left, self.config.min_frontier_cells) else EndReason.EXPLORED
+        reason = EndReason.UNREACHABLE if unresolved(left, self.config.speck_cells) else EndReason.EXPLORED
         return str(reason.value)
 
     def _free_coverage(self) -> float:

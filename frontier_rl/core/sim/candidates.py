@@ -99,9 +99,10 @@ def frontiers_left(
     cand: Candidates, truth_grid: OccupancyGrid, pose: Pose, config: SimConfig, blacklist: Blacklist
 ) -> tuple[FrontierLeft, ...]:
     """The frontiers of ``cand``'s map that are not candidates (blacklisted after failed attempts,
-    or with no reachable cell that sees them), with the unknown area beside each (unseen free
-    cells are read from ``truth_grid``, the world)."""
-    every = detect_frontiers(cand.grid, pose, None, config.min_frontier_cells, config.frontier_segment_length)
+    with no reachable cell that sees them, or smaller than ``min_frontier_cells`` but more than
+    a speck), with the unknown area beside each (unseen free cells are read from ``truth_grid``,
+    the world)."""
+    every = detect_frontiers(cand.grid, pose, None, config.speck_cells, config.frontier_segment_length)
     res = cand.grid.resolution
     top, left_col = truth_grid.world_to_cell(*cand.grid.cell_to_world(0, 0))
     truth = truth_grid.data[top : top + cand.grid.height, left_col : left_col + cand.grid.width]

@@ -13,6 +13,10 @@ from frontier_rl.core.world.robot import RobotConfig
 from frontier_rl.core.world.worlds import World, make_world
 from frontier_rl.errors import ConfigError
 
+SPECK_CELLS = 4
+"""The thesis's drop size (cells): frontier clusters this small, and as little unseen space beside
+a frontier, leave nothing to explore."""
+
 
 @dataclass(frozen=True)
 class SimConfig:
@@ -23,7 +27,9 @@ class SimConfig:
         lidar: the range sensor.
         mapper: the log-odds map update.
         navigation: costmap, planner and controller.
-        min_frontier_cells: frontier clusters of this many cells or fewer are dropped.
+        min_frontier_cells: frontier clusters of this many cells or fewer are not candidates (the
+            robot does not go to them); an episode that ends with one beside more unseen free
+            space than :attr:`speck_cells` ends ``unreachable``, not ``explored``.
         max_sim_time: sim-time cap of an episode (s); the episode is truncated there. ``None``
             (the default) scales it with the world: see :meth:`time_cap`.
         sensor_noise: whether LiDAR ranges get noise.
@@ -56,6 +62,14 @@ class SimConfig:
             value = getattr(self, name)
             if not (math.isfinite(value) and value > 0):
                 raise ConfigError(f"{name} must be a positive number, got {value!r}")
+
+    @property
+    def speck_cells(self) -> int:
+        """The most cells a frontier cluster, or the unseen free space beside a frontier, may have
+        and still be a speck when an episode ends (:func:`~frontier_rl.core.sim.episode_log.unresolved`):
+        ``min_frontier_cells``, but never more than the thesis's 4. A robot told to skip larger
+        clusters (``min_frontier_cells`` 40: a 2 m doorway) may end with them, but not as explored."""
+        return min(self.min_frontier_cells, SPECK_CELLS)
 
     @property
     def mapping_range(self) -> float:

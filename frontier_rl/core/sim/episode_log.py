@@ -23,13 +23,14 @@ class EndReason(Enum):
     TIME_CAP = "time_cap"  # the sim-time cap
 
 
-def unresolved(left: Sequence[FrontierLeft], min_frontier_cells: int) -> bool:
-    """Whether real space is left unseen beside the frontiers left: more than
-    ``min_frontier_cells`` cells that are unknown in the map and free in the true world, beside
-    one of them (fewer is a speck, as the thesis treats fringe clusters that small). A frontier
+def unresolved(left: Sequence[FrontierLeft], speck_cells: int) -> bool:
+    """Whether real space is left unseen beside the frontiers left: more than ``speck_cells``
+    (:attr:`SimConfig.speck_cells <frontier_rl.core.sim.config.SimConfig.speck_cells>`) cells that
+    are unknown in the map and free in the true world, beside one of them (fewer is a speck, as
+    the thesis treats fringe clusters that small). A frontier
     whose unknown side is all wall (cells no beam reached, or range noise that marked cells inside
     a wall free) leaves nothing to explore."""
-    return any(f.unseen_free_cells > min_frontier_cells for f in left)
+    return any(f.unseen_free_cells > speck_cells for f in left)
 
 
 class EpisodeLog:

@@ -133,7 +133,7 @@ class ExplorationSimulator:
 
     def _reason_from(self, left: tuple[FrontierLeft, ...]) -> EndReason:
         """The end reason of a finished episode that leaves the frontiers ``left``."""
-        return EndReason.UNREACHABLE if unresolved(left, self.config.min_frontier_cells) else EndReason.EXPLORED
+        return EndReason.UNREACHABLE if unresolved(left, self.config.speck_cells) else EndReason.EXPLORED
 
     def frontiers_left(self) -> tuple[FrontierLeft, ...]:
         """The frontiers of the current map that are not candidates (blacklisted after failed
