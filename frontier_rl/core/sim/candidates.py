@@ -62,9 +62,9 @@ def reachable_frontiers(
         costmap = Costmap.build(thinned, config.robot, config.navigation, scratch)
         reachable = costmap.reachable_known(grid.world_to_cell(pose.x, pose.y)) & (grid.data == CellState.FREE)
     cells = config.min_frontier_cells if min_cells is None else min_cells
-    frontiers = detect_frontiers(
-        grid, pose, reachable, cells, config.frontier_segment_length, config.frontier_goal_reach
-    )
+    # a goal farther from its frontier than the map update reaches would map none of it
+    reach = min(config.frontier_goal_reach, config.mapping_range)
+    frontiers = detect_frontiers(grid, pose, reachable, cells, config.frontier_segment_length, reach)
     return costmap, reachable, frontiers
 
 

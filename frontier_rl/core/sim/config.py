@@ -38,7 +38,8 @@ class SimConfig:
         frontier_segment_length: frontier clusters longer than this (m) are split into segments,
             each a candidate with its own goal (about the mapping range: one view resolves one).
         frontier_goal_reach: a frontier's goal is a reachable cell that sees it from at most this
-            far (m); a frontier with none is not a candidate.
+            far (m), and never farther than :attr:`mapping_range`; a frontier with none is not a
+            candidate.
     """
 
     robot: RobotConfig = field(default_factory=RobotConfig)

@@ -140,6 +140,16 @@ def test_a_room_behind_a_frontier_too_small_to_visit_is_not_explored(min_frontie
     assert any(f.unseen_free_cells > 4 and f.x > 2.9 for f in result.frontiers_left)  # at or behind the door
 
 
+def test_a_goal_is_never_farther_from_its_frontier_than_the_map_update_reaches() -> None:
+    """``frontier_goal_reach`` beyond the mapping range changes nothing: such a goal would map none
+    of its frontier (and 1,000 m asked for a 24 GB array of disc offsets)."""
+    grid, start = door_world(0.8)
+    world = make_world(grid, "door", start=start)
+    plain = run_episode(world, make_policy("nearest"), seed=0)
+    far = run_episode(world, make_policy("nearest"), SimConfig(frontier_goal_reach=1000.0), seed=0)
+    assert (far.sim_time_s, far.end_reason, far.coverage) == (plain.sim_time_s, plain.end_reason, plain.coverage)
+
+
 def test_the_time_cap_is_an_end_reason_and_scales_with_the_building() -> None:
     grid, start = door_world(0.8)
     world = make_world(grid, "door", start=start)
