@@ -35,6 +35,35 @@ def node_policy_spec(policy: str, model: str, weight: float) -> str:
     return f"learned:{model}" if model else f"fixed:{weight}"
 
 
+MAX_CHECK_PERIOD_S = 3600.0
+"""Longest ``~master_check_period`` (s): a master restart should be noticed within the hour."""
+
+
+def count_parameter(name: str, value: object, least: int) -> int:
+    """``~name`` as an integer of at least ``least``; a :class:`ConfigError` naming it otherwise."""
+    if isinstance(value, bool) or not isinstance(value, int) or value < least:
+        raise ConfigError(f"~{name} must be an integer >= {least}, got {short_repr(value)}")
+    return value
+
+
+def seconds_parameter(name: str, value: object, *, zero: bool, most: float = math.inf) -> float:
+    """``~name`` as a finite number of seconds, at most ``most``, above zero (or zero too, when
+    ``zero``); a :class:`ConfigError` naming it otherwise."""
+    seconds = float(value) if isinstance(value, int | float) and not isinstance(value, bool) else math.nan
+    if not (math.isfinite(seconds) and 0 <= seconds <= most) or (seconds == 0 and not zero):
+        rule = (">= 0" if zero else "> 0") + (f" and <= {most:g}" if math.isfinite(most) else "")
+        raise ConfigError(f"~{name} must be a number of seconds {rule}, got {short_repr(value)}")
+    return seconds
+
+
+def flag_parameter(name: str, value: object) -> bool:
+    """``~name`` as true or false; a :class:`ConfigError` naming it otherwise ("false" as a string
+    would be true)."""
+    if not isinstance(value, bool):
+        raise ConfigError(f"~{name} must be true or false, got {short_repr(value)}")
+    return value
+
+
 def check_node_policy(policy: object, spec: str) -> None:
     """Raise :class:`ConfigError` if ``policy`` (made from ``spec``) plans on the true world (an
     :class:`~frontier_rl.core.sim.episode.EpisodeAwarePolicy`, the oracle), which a node does not have."""

@@ -23,7 +23,8 @@ e.g. ``tour`` or ``learned:models/model7.zip``; replaces both), ``~top_k`` (10),
 ``~min_cluster_size`` (cells, 4), ``~pose_topic`` (``robot_pose``), ``~base_frame``
 (``base_footprint``), ``~max_map_age`` (s, 30; 0: any age), ``~stale_map`` (``stale``: rank it and
 say so, or ``empty``), ``~keep_last_map`` (true), ``~max_pending`` (requests queued per robot, 8),
-``~master_check_period`` (s, 1.0).
+``~master_check_period`` (s, 1.0, at most 3600). A parameter of the wrong kind or out of range
+stops the node at once with one line naming it (exit status 2).
 
 Run: ``python -m frontier_rl.ros.node _robots:=tb3_0,tb3_1 _weight:=0.75``.
 """
@@ -40,14 +41,18 @@ from frontier_rl.core.frontiers.ranking import THESIS_WEIGHT
 from frontier_rl.errors import FrontierRLError, MapError
 from frontier_rl.policies import make_policy
 from frontier_rl.ros.answers import (
+    MAX_CHECK_PERIOD_S,
     MapInfo,
     StaleMapAnswer,
     Status,
     ThrottledLog,
     check_node_policy,
     check_request,
+    count_parameter,
+    flag_parameter,
     node_policy_spec,
     parse_request,
+    seconds_parameter,
     stale_reason,
 )
 from frontier_rl.ros.master_watch import EXIT_MASTER_RESTARTED, MasterWatch
@@ -73,16 +78,19 @@ class FrontierNode:
         if not isinstance(robots, str | list) or not all(isinstance(r, str) for r in robots):
             raise FrontierRLError(f"~robots must be namespaces such as tb3_0,tb3_1, got {robots!r}")
         self.robots = [r.strip().strip("/") for r in (robots.split(",") if isinstance(robots, str) else robots)]
-        self.top_k = int(rospy.get_param("~top_k", 10))
-        min_cells = int(rospy.get_param("~min_cluster_size", 4))
+        self.top_k = count_parameter("top_k", rospy.get_param("~top_k", 10), 1)
+        min_cells = count_parameter("min_cluster_size", rospy.get_param("~min_cluster_size", 4), 0)
         self.base_frame = str(rospy.get_param("~base_frame", "base_footprint"))
-        self.max_map_age = float(rospy.get_param("~max_map_age", 30.0))
+        self.max_map_age = seconds_parameter("max_map_age", rospy.get_param("~max_map_age", 30.0), zero=True)
         try:
             self.stale = StaleMapAnswer(str(rospy.get_param("~stale_map", "stale")))
         except ValueError:
             raise FrontierRLError("~stale_map must be 'stale' or 'empty'") from None
-        self.keep_last_map = bool(rospy.get_param("~keep_last_map", True))
-        self.max_pending = int(rospy.get_param("~max_pending", 8))
+        self.keep_last_map = flag_parameter("keep_last_map", rospy.get_param("~keep_last_map", True))
+        self.max_pending = count_parameter("max_pending", rospy.get_param("~max_pending", 8), 1)
+        period = rospy.get_param("~master_check_period", 1.0)
+        self.master_check_period = seconds_parameter("master_check_period", period, zero=False,
+                                                     most=MAX_CHECK_PERIOD_S)  # fmt: skip
         spec = node_policy_spec(str(rospy.get_param("~policy", "") or ""), str(rospy.get_param("~model", "") or ""),
                                 float(rospy.get_param("~weight", THESIS_WEIGHT)))  # fmt: skip
         policy = make_policy(spec)  # a bad policy, weight or model file fails here, once, with its message
@@ -244,8 +252,7 @@ def main() -> None:
         raise SystemExit(2) from None
     import rosgraph
 
-    period = float(rospy.get_param("~master_check_period", 1.0))
-    MasterWatch(rosgraph.get_master_uri(), rospy.get_name(), period, node.on_master_restart).start()
+    MasterWatch(rosgraph.get_master_uri(), rospy.get_name(), node.master_check_period, node.on_master_restart).start()
     rospy.spin()
     for worker in node.workers.values():
         worker.close()

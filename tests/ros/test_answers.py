@@ -5,12 +5,14 @@ from __future__ import annotations
 
 import json
 import math
+from collections.abc import Callable
 
 import pytest
 
 from frontier_rl.errors import ConfigError
 from frontier_rl.policies import make_policy
 from frontier_rl.ros.answers import (
+    MAX_CHECK_PERIOD_S,
     MapFrame,
     MapInfo,
     StaleMapAnswer,
@@ -18,8 +20,11 @@ from frontier_rl.ros.answers import (
     ThrottledLog,
     check_node_policy,
     check_request,
+    count_parameter,
+    flag_parameter,
     node_policy_spec,
     parse_request,
+    seconds_parameter,
 )
 from frontier_rl.ros.master_watch import MasterWatch
 
@@ -112,3 +117,36 @@ def test_a_policy_that_needs_the_true_map_is_a_config_error() -> None:
     with pytest.raises(ConfigError, match="true map"):
         check_node_policy(make_policy("oracle"), "oracle")
     check_node_policy(make_policy("tour"), "tour")  # a policy of the robot's own map passes
+
+
+@pytest.mark.parametrize(
+    ("name", "value", "needle"),
+    [("top_k", 0, ">= 1, got 0"), ("top_k", "10", "'10'"), ("top_k", True, "True"), ("max_pending", -3, "-3"),
+     ("min_cluster_size", 2.5, "2.5"), ("max_map_age", -1.0, ">= 0"), ("max_map_age", math.nan, "nan"),
+     ("max_map_age", math.inf, "inf"), ("master_check_period", 0.0, "> 0"), ("master_check_period", 1e12, "<= 3600"),
+     ("keep_last_map", "false", "true or false, got 'false'")],
+)  # fmt: skip
+def test_a_bad_node_parameter_is_named(name: str, value: object, needle: str) -> None:
+    """What the node refuses at start (then exits 2 with the message): a master check period of 0
+    was a busy loop, of 10¹² an OverflowError in the watch's thread, and "false" was true."""
+    checks: dict[str, Callable[[str, object], object]] = {
+        "top_k": lambda n, v: count_parameter(n, v, 1),
+        "max_pending": lambda n, v: count_parameter(n, v, 1),
+        "min_cluster_size": lambda n, v: count_parameter(n, v, 0),
+        "max_map_age": lambda n, v: seconds_parameter(n, v, zero=True),
+        "master_check_period": lambda n, v: seconds_parameter(n, v, zero=False, most=MAX_CHECK_PERIOD_S),
+        "keep_last_map": flag_parameter,
+    }
+    with pytest.raises(ConfigError, match=f"~{name} must be") as error:
+        checks[name](name, value)
+    assert needle in str(error.value)
+
+
+def test_good_node_parameters_pass_as_they_are() -> None:
+    assert count_parameter("top_k", 10, 1) == 10 and count_parameter("min_cluster_size", 0, 0) == 0
+    assert (
+        seconds_parameter("max_map_age", 0, zero=True) == 0.0
+        and seconds_parameter("max_map_age", 30, zero=True) == 30.0
+    )
+    assert seconds_parameter("master_check_period", 1.0, zero=False, most=MAX_CHECK_PERIOD_S) == 1.0
+    assert flag_parameter("keep_last_map", False) is False

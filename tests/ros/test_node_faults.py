@@ -205,7 +205,8 @@ def test_the_node_ranks_with_the_policy_it_is_given(
 
 
 BAD_PARAMETERS = [("_policy:=oracle", "true map"), ("_policy:=tour:99", "1 to 16"), ("_weight:=abc", "'abc'"),
-                  ("_policy:=bogus", "unknown policy")]  # fmt: skip
+                  ("_policy:=bogus", "unknown policy"), ("_master_check_period:=0", "~master_check_period"),
+                  ("_keep_last_map:=maybe", "~keep_last_map")]  # fmt: skip
 
 
 @pytest.mark.parametrize(("param", "needle"), BAD_PARAMETERS)
