@@ -27,6 +27,11 @@ Caught = list[tuple[str, str]]
 """Warnings an episode raised in another process: (category name, message)."""
 
 
+MAX_WORKERS = 256
+"""Most parallel episodes: each is a process with a world, a map and perhaps a model (about 0.3 GB);
+1,000 asked for 300 GB."""
+
+
 def default_workers() -> int:
     """The cores this process may use."""
     return len(os.sched_getaffinity(0)) if hasattr(os, "sched_getaffinity") else os.cpu_count() or 1
@@ -38,6 +43,8 @@ def check_backend(backend: str, workers: int, ray_address: str | None) -> None:
         raise ConfigError(f"unknown backend {backend!r}; choose one of {', '.join(BACKENDS)}")
     if isinstance(workers, bool) or not isinstance(workers, int) or workers < 1:
         raise ConfigError(f"--workers must be a positive integer, got {workers!r}")
+    if workers > MAX_WORKERS:
+        raise ConfigError(f"--workers must be at most {MAX_WORKERS} (a process each), got {workers!r}")
     if ray_address is not None and backend != "ray":
         raise ConfigError(f"--ray-address {ray_address!r} needs --backend ray")
     if backend == "ray":

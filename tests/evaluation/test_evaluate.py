@@ -276,6 +276,7 @@ def test_short_labels_stay_unique() -> None:
         (["--methods", "nearest", "--episodes", "0"], "episodes must be a positive integer"),
         (["--methods", "nearest", "--backend", "mpi"], "unknown backend 'mpi'"),
         (["--methods", "nearest", "--workers", "0"], "--workers must be a positive integer"),
+        (["--methods", "nearest", "--workers", "1000"], "--workers must be at most 256"),
         (["--methods", "nearest", "--outliers", "1000,abc"], "outlier thresholds"),
         (["--methods", "nearest", "--backend", "ray", "--ray-address", "127.0.0.1:1"], "does not answer"),
     ],

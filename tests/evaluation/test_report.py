@@ -20,6 +20,7 @@ from frontier_rl.evaluation.conclusion import conclude
 from frontier_rl.evaluation.evaluate import evaluate
 from frontier_rl.evaluation.experiment import ExperimentConfig
 from frontier_rl.evaluation.method_notes import describe_method
+from frontier_rl.evaluation.plots import coverage_plot
 from frontier_rl.evaluation.report_tables import outlier_note, outlier_tables, time_tables
 from frontier_rl.evaluation.tables import short_labels
 from frontier_rl.policies import POLICY_NAMES
@@ -204,3 +205,9 @@ def test_the_runs_drawn_are_the_episodes_of_the_rows(small_report: Path) -> None
     assert not list((small_report / "pictures").glob("rooms_*"))  # --pictures 1: the first world only
     markdown = (small_report / "report.md").read_text()
     assert "![office / nearest](pictures/office_nearest.png)" in markdown
+
+
+def test_a_coverage_plot_of_episodes_that_ended_at_once_draws_without_a_warning(tmp_path: Path) -> None:
+    """``--max-time 1e-9``: every trace ends at t = 0 (matplotlib warned of a singular x range)."""
+    traces = {"nearest": [{"coverage_t": [0.0], "coverage": [0.07]}]}
+    assert coverage_plot(traces, tmp_path / "coverage.png").exists()  # warnings are errors here
