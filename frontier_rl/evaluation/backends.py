@@ -28,8 +28,8 @@ Caught = list[tuple[str, str]]
 
 
 MAX_WORKERS = 256
-"""Most parallel episodes: each is a process with a world, a map and perhaps a model (about 0.3 GB);
-1,000 asked for 300 GB."""
+"""Most parallel episodes: each is a process with a world, a map and perhaps a model (an office
+episode peaks at 0.2 GB with ``nearest``, 0.5 GB with model 7)."""
 
 
 def default_workers() -> int:
