@@ -33,8 +33,15 @@ episode peaks at 0.2 GB with ``nearest``, 0.5 GB with model 7)."""
 
 
 def default_workers() -> int:
-    """The cores this process may use."""
-    return len(os.sched_getaffinity(0)) if hasattr(os, "sched_getaffinity") else os.cpu_count() or 1
+    """The cores this process may use (at most :data:`MAX_WORKERS`)."""
+    cores = len(os.sched_getaffinity(0)) if hasattr(os, "sched_getaffinity") else os.cpu_count() or 1
+    return min(cores, MAX_WORKERS)
+
+
+def check_workers(workers: int) -> None:
+    """A clear error for more than :data:`MAX_WORKERS` parallel episodes."""
+    if workers > MAX_WORKERS:
+        raise ConfigError(f"--workers must be at most {MAX_WORKERS} (a process each), got {workers!r}")
 
 
 def check_backend(backend: str, workers: int, ray_address: str | None) -> None:
@@ -43,8 +50,7 @@ def check_backend(backend: str, workers: int, ray_address: str | None) -> None:
         raise ConfigError(f"unknown backend {backend!r}; choose one of {', '.join(BACKENDS)}")
     if isinstance(workers, bool) or not isinstance(workers, int) or workers < 1:
         raise ConfigError(f"--workers must be a positive integer, got {workers!r}")
-    if workers > MAX_WORKERS:
-        raise ConfigError(f"--workers must be at most {MAX_WORKERS} (a process each), got {workers!r}")
+    check_workers(workers)
     if ray_address is not None and backend != "ray":
         raise ConfigError(f"--ray-address {ray_address!r} needs --backend ray")
     if backend == "ray":

@@ -21,7 +21,6 @@ as ARiADNE counts a run that ends with no utility left.
 from __future__ import annotations
 
 import math
-import os
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass, replace
 from pathlib import Path
@@ -34,7 +33,7 @@ from frontier_rl.core.sim.episode import run_episode
 from frontier_rl.core.world.robot import Pose
 from frontier_rl.core.world.worlds import World, make_world
 from frontier_rl.errors import ConfigError, MapError, short_path
-from frontier_rl.evaluation.backends import spawn_pool
+from frontier_rl.evaluation.backends import check_workers, default_workers, spawn_pool
 from frontier_rl.evaluation.experiment import episode_policy
 from frontier_rl.io.dungeon import DUNGEON_RESOLUTION, load_dungeon_map, marker_pixels
 from frontier_rl.policies import make_policy
@@ -133,7 +132,8 @@ def run_jobs(
     once first, so that an unknown one or a bad model file fails before any work."""
     for method in dict.fromkeys(job[0] for job in jobs):
         make_policy(method)
-    workers = max(1, min(workers or os.cpu_count() or 1, len(jobs)))
+    check_workers(workers or 1)
+    workers = max(1, min(workers or default_workers(), len(jobs)))
     catching = _Catching(run)
     if workers == 1:
         outcomes = [catching(job) for job in jobs]

@@ -112,6 +112,7 @@ def test_cli_prints_both_metrics_and_writes_json(tmp_path: Path) -> None:
         (["--methods", " , "], "names no policy"),
         (["--limit", "-1"], ">= 0"),
         (["--maps", "/nonexistent/folder"], "not a folder"),
+        (["--workers", "1000"], "--workers must be at most 256"),
     ],
 )
 def test_cli_bad_input_is_one_line(tmp_path: Path, args: list[str], message: str) -> None:
