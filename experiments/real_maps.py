@@ -70,6 +70,7 @@ def main() -> None:
     parser.add_argument("--dungeon", type=int, default=20, help="DungeonMaps per difficulty (their own start)")
     parser.add_argument("--skip", default="", help="comma-separated map stems to leave out (e.g. warehouse)")
     parser.add_argument("--workers", type=int, default=None, help="episodes run at once (default: every core)")
+    parser.add_argument("--config", type=Path, default=None, help="SimConfig YAML (default: the defaults)")
     parser.add_argument("--out", type=Path, required=True)
     args = parser.parse_args()
     skip = set(filter(None, args.skip.split(",")))
@@ -86,6 +87,8 @@ def main() -> None:
                "--episodes", str(episodes), "--no-oracle", "--baseline", baseline, "--out", str(out)]  # fmt: skip
         if args.workers is not None:
             cmd += ["--workers", str(args.workers)]
+        if args.config is not None:
+            cmd += ["--config", str(args.config)]
         subprocess.run(cmd, check=True)
         with (out / "episodes.csv").open() as handle:
             for row in csv.DictReader(handle):

@@ -5,6 +5,7 @@ from __future__ import annotations
 import copy
 import importlib.util
 import json
+import shutil
 import subprocess
 import sys
 from pathlib import Path
@@ -59,6 +60,21 @@ def test_generalisation_table_per_family(tmp_path: Path) -> None:
         mapper = json.loads((out / family / "experiment.json").read_text())["sim"]["mapper"]
         assert (mapper["hit"], mapper["miss"]) == (0.75, -0.5)
         assert family in run.stdout
+
+
+def test_the_real_map_experiment_runs_on_the_config_it_is_given(tmp_path: Path, shared_maps: Path) -> None:
+    """``experiments/real_maps.py --config``: every family's evaluation runs on those settings."""
+    maps = tmp_path / "maps"
+    shutil.copytree(shared_maps / "lse_arena", maps / "lse_arena")
+    sim = tmp_path / "sim.yaml"
+    sim.write_text("mapper:\n  hit: 0.75\n  miss: -0.5\n")
+    args = [sys.executable, str(SCRIPT.parent / "real_maps.py"), "--maps", str(maps), "--methods", "nearest",
+            "--episodes", "1", "--dungeon", "0", "--workers", "1", "--config", str(sim),
+            "--out", str(tmp_path / "out")]  # fmt: skip
+    subprocess.run(args, capture_output=True, text=True, check=True, timeout=300)
+    mapper = json.loads((tmp_path / "out" / "ros" / "experiment.json").read_text())["sim"]["mapper"]
+    assert (mapper["hit"], mapper["miss"]) == (0.75, -0.5)
+    assert "ros" in (tmp_path / "out" / "completion.md").read_text()
 
 
 def _script(name: str) -> Any:
