@@ -35,6 +35,23 @@ def node_policy_spec(policy: str, model: str, weight: float) -> str:
     return f"learned:{model}" if model else f"fixed:{weight}"
 
 
+def robot_namespaces(value: object) -> list[str]:
+    """``~robots`` (a list or a comma string of namespaces) as names without slashes; a
+    :class:`ConfigError` for anything else, an empty name beside others, or a name given twice
+    (each robot gets a worker and subscriptions of its own)."""
+    if not isinstance(value, str | list) or not all(isinstance(r, str) for r in value):
+        raise ConfigError(f"~robots must be namespaces such as tb3_0,tb3_1, got {short_repr(value)}")
+    names = [r.strip().strip("/") for r in (value.split(",") if isinstance(value, str) else value)]
+    if not names:
+        raise ConfigError("~robots names no robot: give [''] (or leave it out) for one robot without a namespace")
+    if len(names) > 1 and "" in names:
+        raise ConfigError(f"~robots names an empty namespace beside others: {short_repr(value)}")
+    twice = sorted({n for n in names if names.count(n) > 1})
+    if twice:
+        raise ConfigError(f"~robots names {short_repr(twice[0])} twice: {short_repr(value)}")
+    return names
+
+
 MAX_CHECK_PERIOD_S = 3600.0
 """Longest ``~master_check_period`` (s): a master restart should be noticed within the hour."""
 

@@ -52,6 +52,7 @@ from frontier_rl.ros.answers import (
     flag_parameter,
     node_policy_spec,
     parse_request,
+    robot_namespaces,
     seconds_parameter,
     stale_reason,
 )
@@ -74,10 +75,7 @@ class FrontierNode:
         from std_msgs.msg import Float32, String
         from visualization_msgs.msg import MarkerArray
 
-        robots = rospy.get_param("~robots", [""])
-        if not isinstance(robots, str | list) or not all(isinstance(r, str) for r in robots):
-            raise FrontierRLError(f"~robots must be namespaces such as tb3_0,tb3_1, got {robots!r}")
-        self.robots = [r.strip().strip("/") for r in (robots.split(",") if isinstance(robots, str) else robots)]
+        self.robots = robot_namespaces(rospy.get_param("~robots", [""]))
         self.top_k = count_parameter("top_k", rospy.get_param("~top_k", 10), 1)
         min_cells = count_parameter("min_cluster_size", rospy.get_param("~min_cluster_size", 4), 0)
         self.base_frame = str(rospy.get_param("~base_frame", "base_footprint"))

@@ -24,6 +24,7 @@ from frontier_rl.ros.answers import (
     flag_parameter,
     node_policy_spec,
     parse_request,
+    robot_namespaces,
     seconds_parameter,
 )
 from frontier_rl.ros.master_watch import MasterWatch
@@ -150,3 +151,12 @@ def test_good_node_parameters_pass_as_they_are() -> None:
     )
     assert seconds_parameter("master_check_period", 1.0, zero=False, most=MAX_CHECK_PERIOD_S) == 1.0
     assert flag_parameter("keep_last_map", False) is False
+
+
+def test_robot_namespaces() -> None:
+    assert robot_namespaces("tb3_0, /tb3_1/") == ["tb3_0", "tb3_1"]
+    assert robot_namespaces(["tb3_0"]) == ["tb3_0"] and robot_namespaces([""]) == [""] and robot_namespaces("") == [""]
+    for bad, needle in (("tb3_0,,tb3_1", "empty namespace"), ("tb3_0,/tb3_0", "'tb3_0' twice"), (5, "got 5"),
+                        ([], "no robot"), (["tb3_0", 3], "namespaces such as")):  # fmt: skip
+        with pytest.raises(ConfigError, match=needle):
+            robot_namespaces(bad)
