@@ -7,6 +7,7 @@ from __future__ import annotations
 
 import json
 import math
+from collections import Counter
 from dataclasses import asdict, dataclass, field
 from enum import StrEnum
 
@@ -35,18 +36,25 @@ def node_policy_spec(policy: str, model: str, weight: float) -> str:
     return f"learned:{model}" if model else f"fixed:{weight}"
 
 
+MAX_NODE_ROBOTS = 64
+"""Most robots one node serves: each has a worker process with its map and policy (0.2-0.5 GB)."""
+
+
 def robot_namespaces(value: object) -> list[str]:
     """``~robots`` (a list or a comma string of namespaces) as names without slashes; a
-    :class:`ConfigError` for anything else, an empty name beside others, or a name given twice
-    (each robot gets a worker and subscriptions of its own)."""
+    :class:`ConfigError` for anything else, an empty name beside others, a name given twice or
+    more than :data:`MAX_NODE_ROBOTS` (each robot gets a worker and subscriptions of its own)."""
     if not isinstance(value, str | list) or not all(isinstance(r, str) for r in value):
         raise ConfigError(f"~robots must be namespaces such as tb3_0,tb3_1, got {short_repr(value)}")
     names = [r.strip().strip("/") for r in (value.split(",") if isinstance(value, str) else value)]
     if not names:
         raise ConfigError("~robots names no robot: give [''] (or leave it out) for one robot without a namespace")
+    if len(names) > MAX_NODE_ROBOTS:
+        many = f"{len(names):,} robots"
+        raise ConfigError(f"~robots names {many}; a node serves {MAX_NODE_ROBOTS} at most (a process each)")
     if len(names) > 1 and "" in names:
         raise ConfigError(f"~robots names an empty namespace beside others: {short_repr(value)}")
-    twice = sorted({n for n in names if names.count(n) > 1})
+    twice = sorted(n for n, count in Counter(names).items() if count > 1)
     if twice:
         raise ConfigError(f"~robots names {short_repr(twice[0])} twice: {short_repr(value)}")
     return names

@@ -157,6 +157,7 @@ def test_robot_namespaces() -> None:
     assert robot_namespaces("tb3_0, /tb3_1/") == ["tb3_0", "tb3_1"]
     assert robot_namespaces(["tb3_0"]) == ["tb3_0"] and robot_namespaces([""]) == [""] and robot_namespaces("") == [""]
     for bad, needle in (("tb3_0,,tb3_1", "empty namespace"), ("tb3_0,/tb3_0", "'tb3_0' twice"), (5, "got 5"),
-                        ([], "no robot"), (["tb3_0", 3], "namespaces such as")):  # fmt: skip
+                        ([], "no robot"), (["tb3_0", 3], "namespaces such as"),
+                        (",".join(f"r{i}" for i in range(65)), "64 at most")):  # fmt: skip
         with pytest.raises(ConfigError, match=needle):
             robot_namespaces(bad)
