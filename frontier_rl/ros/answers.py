@@ -11,6 +11,7 @@ from collections import Counter
 from dataclasses import asdict, dataclass, field
 from enum import StrEnum
 
+from frontier_rl.config import coerce
 from frontier_rl.core.sim.episode import EpisodeAwarePolicy
 from frontier_rl.errors import ConfigError, short_repr
 
@@ -66,15 +67,16 @@ MAX_CHECK_PERIOD_S = 3600.0
 
 def count_parameter(name: str, value: object, least: int) -> int:
     """``~name`` as an integer of at least ``least``; a :class:`ConfigError` naming it otherwise."""
-    if isinstance(value, bool) or not isinstance(value, int) or value < least:
+    count: int = coerce(int, value, f"~{name}")
+    if count < least:
         raise ConfigError(f"~{name} must be an integer >= {least}, got {short_repr(value)}")
-    return value
+    return count
 
 
 def seconds_parameter(name: str, value: object, *, zero: bool, most: float = math.inf) -> float:
     """``~name`` as a finite number of seconds, at most ``most``, above zero (or zero too, when
     ``zero``); a :class:`ConfigError` naming it otherwise."""
-    seconds = float(value) if isinstance(value, int | float) and not isinstance(value, bool) else math.nan
+    seconds: float = coerce(float, value, f"~{name}")
     if not (math.isfinite(seconds) and 0 <= seconds <= most) or (seconds == 0 and not zero):
         rule = (">= 0" if zero else "> 0") + (f" and <= {most:g}" if math.isfinite(most) else "")
         raise ConfigError(f"~{name} must be a number of seconds {rule}, got {short_repr(value)}")
@@ -84,9 +86,8 @@ def seconds_parameter(name: str, value: object, *, zero: bool, most: float = mat
 def flag_parameter(name: str, value: object) -> bool:
     """``~name`` as true or false; a :class:`ConfigError` naming it otherwise ("false" as a string
     would be true)."""
-    if not isinstance(value, bool):
-        raise ConfigError(f"~{name} must be true or false, got {short_repr(value)}")
-    return value
+    flag: bool = coerce(bool, value, f"~{name}")
+    return flag
 
 
 def check_node_policy(policy: object, spec: str) -> None:
