@@ -148,10 +148,10 @@ def test_the_training_command_lists_what_differs_from_the_defaults() -> None:
 
 
 def test_the_training_command_names_each_simulator_setting_that_differs() -> None:
-    sim = SimConfig(mapper=MapperConfig(hit=0.75, miss=-0.5), max_sim_time=600.0)
+    sim = SimConfig(mapper=MapperConfig(hit=0.85, miss=-0.5), max_sim_time=600.0)
     assert TrainConfig(model=7, sim=sim).command() == (
         "frontier-rl train --model 7 --worlds office --timesteps 100000"
-        " (also sim.mapper.hit=0.75, sim.mapper.miss=-0.5, sim.max_sim_time=600.0)"
+        " (also sim.mapper.hit=0.85, sim.mapper.miss=-0.5, sim.max_sim_time=600.0)"
     )
 
 

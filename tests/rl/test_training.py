@@ -105,13 +105,13 @@ class _RecordSim(BaseCallback):
 
 
 def test_the_envs_train_on_the_runs_simulator_settings(tmp_path: Path) -> None:
-    sim = SimConfig(mapper=MapperConfig(hit=0.75, miss=-0.25, occupied_above=0.01, free_below=-0.01))
+    sim = SimConfig(mapper=MapperConfig(hit=0.85, miss=-0.4, occupied_above=0.6, free_below=-0.35))
     config = _config(5, timesteps=16, eval_every=0, checkpoint_every=0, sim=sim)
     recorder = _RecordSim()
     train(config, tmp_path / "run", progress=False, extra_callbacks=[recorder])
     assert recorder.seen == [sim]
     assert TrainConfig.load(tmp_path / "run" / "config.yaml") == config
-    assert TrainConfig.load(tmp_path / "run" / "config.yaml").sim.mapper.hit == 0.75
+    assert TrainConfig.load(tmp_path / "run" / "config.yaml").sim.mapper.hit == 0.85
 
 
 def test_resume_without_a_run_is_an_error(tmp_path: Path) -> None:

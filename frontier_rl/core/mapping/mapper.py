@@ -42,17 +42,24 @@ class MapperConfig:
         angular_update: ... or turned this much (rad) ...
         temporal_update: ... or this much time passed (s); <= 0 disables the time trigger.
 
+    The defaults are slam_gmapping's occupancy rule: a cell is occupied when more than a quarter of
+    the scans that reached it ended in it (``occ_thresh`` 0.25), i.e. 3 x hits > passes. In
+    log-odds a hit adds 0.75, a pass takes 0.25 and the class follows the sign (thresholds
+    +-0.01), within the clamps. ``configs/mapper_hysteresis.yaml`` is the rule used before
+    2026-11-26 (hit 0.85, miss -0.4, thresholds 0.6 / -0.35: a classified cell keeps its class in
+    between, so one beam overshooting a wall could leave a lasting hole in it).
+
     The last four are the TurtleBot3 Gmapping settings the thesis ran with (maxUrange 3.0,
     linearUpdate 1.0, angularUpdate 0.2, temporalUpdate 0.5): the map is updated about twice a
     second, not at the LiDAR's 5 Hz.
     """
 
-    hit: float = 0.85
-    miss: float = -0.4
+    hit: float = 0.75
+    miss: float = -0.25
     clamp_min: float = -2.0
     clamp_max: float = 3.5
-    occupied_above: float = 0.6
-    free_below: float = -0.35
+    occupied_above: float = 0.01
+    free_below: float = -0.01
     usable_range: float = 3.0
     linear_update: float = 1.0
     angular_update: float = 0.2

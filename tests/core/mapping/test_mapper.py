@@ -24,6 +24,7 @@ from frontier_rl.core.world.worlds import World
 from frontier_rl.errors import ConfigError
 
 RES = 0.05
+CONFIGS = Path(__file__).parents[3] / "configs"
 FREE, OCC, UNKNOWN = CellState.FREE.value, CellState.OCCUPIED.value, CellState.UNKNOWN.value
 
 
@@ -74,8 +75,8 @@ def test_one_scan_marks_hits_occupied_the_beam_free_and_leaves_the_rest_unknown(
     assert update.new_free == np.count_nonzero(expected == FREE)
     assert update.new_explorable == np.count_nonzero(expected != UNKNOWN)  # explorable=None: all count
     assert mapper.explored_cells == update.new_explorable
-    assert np.all(mapper.logodds[expected == OCC] == np.float32(0.85))
-    assert np.all(mapper.logodds[expected == FREE] == np.float32(-0.4))
+    assert np.all(mapper.logodds[expected == OCC] == np.float32(mapper.config.hit))
+    assert np.all(mapper.logodds[expected == FREE] == np.float32(mapper.config.miss))
     assert np.all(mapper.logodds[expected == UNKNOWN] == 0)
 
 
@@ -131,11 +132,14 @@ def test_a_nan_reading_maps_nothing() -> None:
     assert np.all(mapper.state == UNKNOWN)
 
 
-def test_a_seen_cell_keeps_its_class_and_never_turns_unknown_again() -> None:
-    """Hysteresis: a cell hit once (0.85, OCCUPIED) and then passed through keeps OCCUPIED while
-    its log-odds sit between free_below and occupied_above; it turns FREE below free_below."""
+@pytest.mark.parametrize("preset", [None, "mapper_hysteresis.yaml"])
+def test_a_seen_cell_keeps_its_class_and_never_turns_unknown_again(preset: str | None) -> None:
+    """A cell hit once (OCCUPIED) and then passed through keeps OCCUPIED while its log-odds sit
+    between free_below and occupied_above, turns FREE below free_below, and never UNKNOWN: with the
+    default rule (a band of +-0.01) and with the hysteresis preset (-0.35 to 0.6)."""
+    config = MapperConfig() if preset is None else load_sim_config(CONFIGS / preset).mapper
     world = corridor(wall_col=100, cols=110)
-    mapper = LogOddsMapper(world)
+    mapper = LogOddsMapper(world, config)
     pose = Pose(0.51, 0.51, 0.0)
     target = (10, 30)  # hit at 1.0 m: the beam ends in cell (10, 30)
     mapper.integrate(beam_scan(pose, [1.0], [0.0]), max_range=3.5)
@@ -146,12 +150,13 @@ def test_a_seen_cell_keeps_its_class_and_never_turns_unknown_again() -> None:
         history.append((float(mapper.logodds[target]), int(mapper.state[target])))
     for value, state in history:
         assert state != UNKNOWN
-        if value < -0.35:
+        if value < config.free_below:
             assert state == FREE
-        elif value <= 0.6:
+        elif value <= config.occupied_above:
             assert state == OCC  # in between: keeps its class
+    assert any(config.free_below <= value <= config.occupied_above for value, _ in history)
     assert history[-1][1] == FREE
-    assert mapper.logodds[target] >= mapper.config.clamp_min
+    assert mapper.logodds[target] >= config.clamp_min
 
 
 def test_seen_cells_never_return_to_unknown_over_a_noisy_run() -> None:
@@ -269,31 +274,30 @@ def test_integrate_refuses_a_scan_of_more_beams_than_its_pass_count_can_hold() -
         LogOddsMapper(corridor()).integrate(scan, 3.5)
 
 
-GMAPPING_RATIO = Path(__file__).parents[3] / "configs" / "mapper_gmapping_ratio.yaml"
-
-
 @pytest.mark.parametrize("length", range(1, 7))
-def test_the_gmapping_ratio_preset_classifies_a_cell_as_gmapping_does(length: int) -> None:
-    """configs/mapper_gmapping_ratio.yaml: after any sequence of scans that end in a cell (hits)
-    or pass it, the cell is occupied when 3 x hits > passes (slam_gmapping's occ_thresh 0.25 on
-    hits / visits) and free when 3 x hits < passes; the default rule keeps a cell free after a
-    pass and then a hit, which is how range noise leaves holes in walls."""
-    preset = load_sim_config(GMAPPING_RATIO).mapper
-    assert preset != MapperConfig() and preset.usable_range == MapperConfig().usable_range
+def test_the_default_rule_classifies_a_cell_as_gmapping_does(length: int) -> None:
+    """After any sequence of scans that end in a cell (hits) or pass it, the cell is occupied when
+    3 x hits > passes (slam_gmapping's occ_thresh 0.25 on hits / visits) and free when
+    3 x hits < passes; configs/mapper_gmapping_ratio.yaml is the same rule. The hysteresis preset
+    (the default before 2026-11-26) keeps a cell free after a pass and then a hit, which is how
+    range noise left holes in walls."""
+    assert load_sim_config(CONFIGS / "mapper_gmapping_ratio.yaml").mapper == MapperConfig()
     pose = Pose(10.5 * RES, 10.5 * RES, 0.0)
     scans = {"hit": beam_scan(pose, [0.5], [0.0]), "pass": beam_scan(pose, [0.8], [0.0])}  # cell (10, 20)
     for sequence in itertools.product(("hit", "pass"), repeat=length):
         hits, passes = sequence.count("hit"), sequence.count("pass")
         if 3 * hits == passes:
             continue  # a tie keeps the cell's class; Gmapping calls it free
-        mapper = LogOddsMapper(corridor(), preset)
+        mapper = LogOddsMapper(corridor())
         for kind in sequence:
             mapper.integrate(scans[kind], 3.5)
         assert mapper.state[10, 20] == (OCC if 3 * hits > passes else FREE), sequence
-    default = LogOddsMapper(corridor())
+    hysteresis = load_sim_config(CONFIGS / "mapper_hysteresis.yaml").mapper
+    assert hysteresis != MapperConfig() and hysteresis.usable_range == MapperConfig().usable_range
+    before = LogOddsMapper(corridor(), hysteresis)
     for kind in ("pass", "hit"):
-        default.integrate(scans[kind], 3.5)
-    assert default.state[10, 20] == FREE
+        before.integrate(scans[kind], 3.5)
+    assert before.state[10, 20] == FREE
 
 
 def test_integrate_simulated_rejects_a_lidar_of_another_world() -> None:
@@ -512,12 +516,12 @@ def test_downsample_rejects_a_factor_that_does_not_divide(factor: int) -> None:
         ({"hit": -0.5}, "-0.5"),
         ({"hit": 0.0}, "0.0"),
         ({"miss": 0.3}, "0.3"),
-        ({"miss": -0.25}, "-0.25"),  # one pass would leave a cell unknown: the first scan maps nothing free
-        ({"clamp_min": -0.1}, "-0.1"),  # above free_below
+        ({"miss": -0.005}, "-0.005"),  # one pass would leave a cell unknown: the first scan maps nothing free
+        ({"clamp_min": -0.005}, "-0.005"),  # above free_below
         ({"free_below": 0.2}, "0.2"),
         ({"occupied_above": -0.1}, "-0.1"),
         ({"occupied_above": 5.0}, "5.0"),  # above clamp_max
-        ({"clamp_max": 0.5}, "0.5"),
+        ({"clamp_max": 0.005}, "0.005"),  # below occupied_above
         ({"clamp_max": math.inf}, "inf"),
         ({"hit": math.inf}, "inf"),
         ({"clamp_min": -math.inf}, "-inf"),
