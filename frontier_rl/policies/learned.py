@@ -91,7 +91,7 @@ class LearnedPolicy:
         return f"learned:{self.path}"
 
     def _act(self, observation: Any) -> int:
-        from frontier_rl.rl.model_file import predict_action
+        from frontier_rl.rl.inference import predict_action
 
         return predict_action(self._policy, observation)
 

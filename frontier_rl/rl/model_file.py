@@ -388,13 +388,3 @@ def _load_trusted(path: Path) -> ActorCriticPolicy:
             return policy
     reason = f" ({first_line(last)})" if last is not None else ""
     raise ConfigError(f"{model_file_label(path)} could not be loaded as an SB3 A2C or PPO model{reason}")
-
-
-def predict_action(policy: ActorCriticPolicy, observation: Any) -> int:
-    """The policy's most likely action for one observation (``policy`` in evaluation mode, as
-    :func:`load_policy` gives it). SB3's ``predict`` gives the same action; it is not called
-    because it sets the training mode of every module again and unpacks the action to NumPy, a
-    fifth of the network's time on a decision."""
-    with torch.inference_mode():
-        tensors, _ = policy.obs_to_tensor(observation)
-        return int(policy.get_distribution(tensors).mode().item())

@@ -8,7 +8,8 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from frontier_rl.rl.model_file import load_policy, predict_action
+from frontier_rl.rl.inference import predict_action
+from frontier_rl.rl.model_file import load_policy
 
 MODELS = sorted(Path(__file__).resolve().parents[2].joinpath("models").glob("model*.zip"))
 
