@@ -2,10 +2,11 @@
 
 SB3's ``predict`` sets the training mode of every module, deep-copies a dict observation, checks
 whether it is batched and builds a ``torch.distributions.Categorical`` (validating its arguments)
-only to take its mode. On a 1,000 × 1,000 map that was a seventh of a model-5 decision. This module
-feeds the observation to the same network and takes the same argmax: the argmax of the
-distribution's probabilities, computed as SB3's distribution computes them, so that ties fall as
-they do there (tested against ``predict`` for every shipped model).
+only to take its mode: on an office map, a seventh of a model-5 decision (2.3 ms before, 2.0 ms
+after; about 2 % on a 1,000 × 1,000 map, where the features cost more). This module feeds the
+observation to the same network and takes the same argmax: the argmax of the distribution's
+probabilities, computed as SB3's distribution computes them, so that ties fall as they do there
+(tested against ``predict`` for every shipped model).
 """
 
 from __future__ import annotations
@@ -35,7 +36,7 @@ def predict_action(policy: ActorCriticPolicy, observation: Any) -> int:
     """The policy's most likely action for one observation (``policy`` in evaluation mode, as
     :func:`frontier_rl.rl.model_file.load_policy` gives it): SB3's deterministic ``predict``."""
     with torch.inference_mode():
-        if not isinstance(policy.action_dist, CategoricalDistribution):  # no model here; kept exact
+        if not isinstance(policy.action_dist, CategoricalDistribution):  # no model of this project
             tensors, _ = policy.obs_to_tensor(observation)
             return int(policy.get_distribution(tensors).mode().item())
         # the actor's features, as get_distribution takes them (BaseModel's: one extractor, one tensor)
