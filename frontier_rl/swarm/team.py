@@ -22,7 +22,7 @@ from numpy.typing import NDArray
 from frontier_rl.core.mapping.mapper import LogOddsMapper
 from frontier_rl.core.sim.config import SimConfig
 from frontier_rl.core.sim.episode import DecisionContext, Ranking, decision_context
-from frontier_rl.core.sim.episode_log import EndReason, unresolved
+from frontier_rl.core.sim.episode_log import EndReason, completion_reason
 from frontier_rl.core.sim.metrics import FrontierLeft, time_to_coverage
 from frontier_rl.core.sim.simulator import ExplorationSimulator
 from frontier_rl.core.world.grid import CellState, OccupancyGrid
@@ -372,8 +372,7 @@ class TeamSimulator:
             return None
         if not self.alive:
             return "failed"
-        reason = EndReason.UNREACHABLE if unresolved(left, self.config.speck_cells) else EndReason.EXPLORED
-        return str(reason.value)
+        return str(completion_reason(left, self.config.speck_cells).value)
 
     def _free_coverage(self) -> float:
         """Share of the world's free cells the surviving robots know."""

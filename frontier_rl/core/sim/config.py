@@ -67,7 +67,7 @@ class SimConfig:
     @property
     def speck_cells(self) -> int:
         """The most cells a frontier cluster, or the unseen free space beside a frontier, may have
-        and still be a speck when an episode ends (:func:`~frontier_rl.core.sim.episode_log.unresolved`):
+        and still be a speck when an episode ends (:func:`~frontier_rl.core.sim.episode_log.completion_reason`):
         ``min_frontier_cells``, but never more than the thesis's 4. A robot told to skip larger
         clusters (``min_frontier_cells`` 40: a 2 m doorway) may end with them, but not as explored."""
         return min(self.min_frontier_cells, SPECK_CELLS)

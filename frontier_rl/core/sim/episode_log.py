@@ -23,14 +23,16 @@ class EndReason(Enum):
     TIME_CAP = "time_cap"  # the sim-time cap
 
 
-def unresolved(left: Sequence[FrontierLeft], speck_cells: int) -> bool:
-    """Whether real space is left unseen beside the frontiers left: more than ``speck_cells``
+def completion_reason(left: Sequence[FrontierLeft], speck_cells: int) -> EndReason:
+    """How an episode that ran out of candidates ended: ``UNREACHABLE`` when real space is left
+    unseen beside the frontiers left, more than ``speck_cells``
     (:attr:`SimConfig.speck_cells <frontier_rl.core.sim.config.SimConfig.speck_cells>`) cells that
-    are unknown in the map and free in the true world, beside one of them (fewer is a speck, as
-    the thesis treats fringe clusters that small). A frontier
-    whose unknown side is all wall (cells no beam reached, or range noise that marked cells inside
-    a wall free) leaves nothing to explore."""
-    return any(f.unseen_free_cells > speck_cells for f in left)
+    are unknown in the map and free in the true world beside one of them (fewer is a speck, as the
+    thesis treats fringe clusters that small), else ``EXPLORED``. A frontier whose unknown side is
+    all wall (cells no beam reached, or range noise that marked cells inside a wall free) leaves
+    nothing to explore."""
+    unresolved = any(f.unseen_free_cells > speck_cells for f in left)
+    return EndReason.UNREACHABLE if unresolved else EndReason.EXPLORED
 
 
 class EpisodeLog:

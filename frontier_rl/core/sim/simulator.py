@@ -26,7 +26,7 @@ from frontier_rl.core.sensing.lidar import Lidar
 from frontier_rl.core.sim.body import touched_walls, until_next_scan
 from frontier_rl.core.sim.candidates import Candidates, find_candidates, frontiers_left
 from frontier_rl.core.sim.config import SimConfig
-from frontier_rl.core.sim.episode_log import EndReason, EpisodeLog, unresolved
+from frontier_rl.core.sim.episode_log import EndReason, EpisodeLog, completion_reason
 from frontier_rl.core.sim.leg import Leg, LegOutcome, LegResult, run_leg
 from frontier_rl.core.sim.metrics import EpisodeResult, FrontierLeft
 from frontier_rl.core.sim.paths import map_blocks_path, plan_path
@@ -133,7 +133,7 @@ class ExplorationSimulator:
 
     def _reason_from(self, left: tuple[FrontierLeft, ...]) -> EndReason:
         """The end reason of a finished episode that leaves the frontiers ``left``."""
-        return EndReason.UNREACHABLE if unresolved(left, self.config.speck_cells) else EndReason.EXPLORED
+        return completion_reason(left, self.config.speck_cells)
 
     def frontiers_left(self) -> tuple[FrontierLeft, ...]:
         """The frontiers of the current map that are not candidates (blacklisted after failed
