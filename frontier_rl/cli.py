@@ -358,6 +358,9 @@ def train(
     privileged_critic: Annotated[
         bool, typer.Option(help="Models 5 and 7: the critic also reads the true map's unseen share (training only).")
     ] = False,
+    privileged_map: Annotated[
+        bool, typer.Option(help="With --privileged-critic: it also sees the true map's unseen space as an image.")
+    ] = False,
     config: SimConfigOption = None,
     resume: Annotated[bool, typer.Option(help="Continue the run in --out from its last checkpoint.")] = False,
     progress: Annotated[bool, typer.Option(help="Show a progress bar.")] = True,
@@ -372,7 +375,7 @@ def train(
         model=model, worlds=worlds, timesteps=timesteps, n_envs=n_envs, algo=algo,
         observation_size=observation_size, reward=reward, learning_rate=learning_rate, n_steps=n_steps,
         gamma=gamma, ent_coef=ent_coef, seed=seed, eval_every=eval_every, checkpoint_every=checkpoint_every, init=init,
-        privileged_critic=privileged_critic, sim=_sim_config(config, None),
+        privileged_critic=privileged_critic, privileged_map=privileged_map, sim=_sim_config(config, None),
     )  # fmt: skip
     final = run_training(settings, out, resume=resume, progress=progress)
     stdout_console().print(f"model: {final}   learning curve: {out / 'learning_curve.png'}")

@@ -10,6 +10,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from frontier_rl.core.sim.leg import LegResult
+from frontier_rl.core.world.grid import OccupancyGrid
 from frontier_rl.envs.base import EnvConfig, ExplorationEnv
 from frontier_rl.envs.lookahead import GREEDY_TEACHER, TOUR_TEACHER, Teacher, teacher_slot
 from frontier_rl.errors import ConfigError
@@ -34,13 +35,17 @@ class FrontierTableEnv(ExplorationEnv[dict[str, NDArray[Any]]]):
     :class:`~frontier_rl.envs.weight_env.WeightTableEnv`: a ranking weight).
 
     With ``privileged``, the observation also holds ``privileged``: what only the simulator knows,
-    for a critic in training (:data:`PRIVILEGED_FEATURES`); a policy must not act on it.
+    for a critic in training (:data:`PRIVILEGED_FEATURES`); with ``privileged_map``, also
+    ``privileged_map``: the true map's explorable space not yet seen, as a ``(1, size, size)``
+    image over the window of ``map`` (each pixel the share of its cells, 0..255). A policy must
+    not act on either.
 
     Args:
         config: shared settings (:class:`EnvConfig`).
         top_k: number of candidate slots K.
         render_mode: None or "rgb_array".
         privileged: add the ``privileged`` entry.
+        privileged_map: add the ``privileged_map`` entry.
         tour: add the tour column to the table (model 7).
         **overrides: fields of :class:`EnvConfig`.
     """
@@ -52,6 +57,7 @@ class FrontierTableEnv(ExplorationEnv[dict[str, NDArray[Any]]]):
         render_mode: str | None = None,
         privileged: bool = False,
         tour: bool = False,
+        privileged_map: bool = False,
         **overrides: Any,
     ) -> None:
         super().__init__(config, render_mode, **overrides)
@@ -67,8 +73,11 @@ class FrontierTableEnv(ExplorationEnv[dict[str, NDArray[Any]]]):
         }
         if privileged:
             spaces["privileged"] = gym.spaces.Box(0.0, 1.0, (len(PRIVILEGED_FEATURES),), np.float32)
+        if privileged_map:
+            spaces["privileged_map"] = gym.spaces.Box(0, 255, (1, self.encoder.size, self.encoder.size), np.uint8)
         self.observation_space = gym.spaces.Dict(spaces)  # type: ignore[assignment]
         self.privileged = privileged
+        self.privileged_map = privileged_map
         self.tour = tour
         self.action_space = self._make_action_space()
         self._slots = np.zeros(0, np.int64)  # slot -> index into the simulator's frontiers
@@ -85,6 +94,8 @@ class FrontierTableEnv(ExplorationEnv[dict[str, NDArray[Any]]]):
         )  # fmt: skip
         if self.privileged:
             obs["privileged"] = self._privileged_features()
+        if self.privileged_map:
+            obs["privileged_map"] = self._unseen_image(cand.costmap.grid)
         return obs
 
     def _privileged_features(self) -> NDArray[np.float32]:
@@ -93,6 +104,18 @@ class FrontierTableEnv(ExplorationEnv[dict[str, NDArray[Any]]]):
         unseen = max(sim.world.explorable_count - sim.mapper.explored_cells, 0)
         area = unseen * sim.world.grid.resolution**2
         return np.clip(np.array([1.0 - sim.coverage, area / PRIVILEGED_AREA_M2], np.float32), 0.0, 1.0)
+
+    def _unseen_image(self, grid: OccupancyGrid) -> NDArray[np.uint8]:
+        """The ``privileged_map`` entry over the window the ``map`` entry shows of ``grid`` (the
+        robot's map, a crop of the world's cells)."""
+        sim = self.sim
+        world = sim.world.grid
+        unseen = sim.world.explorable & ~sim.mapper.seen
+        offset = (
+            round((grid.origin[1] - world.origin[1]) / world.resolution),
+            round((grid.origin[0] - world.origin[0]) / world.resolution),
+        )
+        return self.encoder.share_image(grid, sim.pose, unseen, offset)
 
 
 class FrontierChoiceEnv(FrontierTableEnv):

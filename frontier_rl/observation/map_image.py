@@ -120,6 +120,18 @@ class MapEncoder:
             out[channel] = self._pose_marks(grid, pose, row0, col0)
         return out
 
+    def share_image(
+        self, grid: OccupancyGrid, pose: Pose, mask: NDArray[np.bool_], offset: tuple[int, int]
+    ) -> NDArray[np.uint8]:
+        """A ``(1, size, size)`` image over the window :meth:`encode` shows of ``grid``: the share
+        of each pixel's cells that ``mask`` holds, 0 (none) to :data:`MARK` (all). ``mask`` covers
+        a larger grid of the same cells, in which ``grid``'s cell (0, 0) is (row, col) ``offset``."""
+        row0, col0 = self.window_origin(grid, pose)
+        window = _crop(mask, row0 + offset[0], col0 + offset[1], self.window, False)
+        f = self.factor
+        share: NDArray[np.float64] = window.reshape(self.size, f, self.size, f).mean(axis=(1, 3))
+        return np.rint(share * MARK).astype(np.uint8)[None]
+
     def _frontier_marks(self, grid: OccupancyGrid, frontiers: Frontiers, row0: int, col0: int) -> NDArray[np.uint8]:
         """The frontier channel: :data:`MARK` on each pixel whose cells hold a frontier cell (only
         the frontiers' cells are visited, not the map)."""

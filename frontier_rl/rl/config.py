@@ -41,6 +41,7 @@ _MESSAGE_LIMIT = 300
 _CLI_OPTIONS = (
     "model", "worlds", "timesteps", "n_envs", "algo", "observation_size", "reward", "learning_rate", "n_steps",
     "gamma", "ent_coef", "seed", "eval_every", "checkpoint_every", "init", "privileged_critic",
+    "privileged_map",
 )  # fmt: skip
 """The fields ``frontier-rl train`` sets by an option of the same name."""
 
@@ -80,6 +81,8 @@ class TrainConfig:
         privileged_critic: models 5 and 7 with "a2c" or "ppo" only: the critic also reads what only the
             simulator knows (the unseen share and area of the true map), through a value head the
             model file leaves out (:class:`~frontier_rl.rl.networks.PointerPolicy`).
+        privileged_map: with ``privileged_critic``: that head also sees the true map's explorable
+            space not yet seen, as an image over the map window (a CNN of its own).
         sim: the simulator trained on (robot, LiDAR, map update, navigation, time cap), the
             defaults unless ``frontier-rl train --config`` names a SimConfig file.
     """
@@ -104,6 +107,7 @@ class TrainConfig:
     seed: int = 0
     init: str = ""
     privileged_critic: bool = False
+    privileged_map: bool = False
     sim: SimConfig = field(default_factory=SimConfig)
 
     def __post_init__(self) -> None:  # noqa: C901 (a validator: one check per field)
@@ -117,8 +121,11 @@ class TrainConfig:
             )
         if not isinstance(self.sim, SimConfig):
             raise ConfigError(f"sim must be a SimConfig, got {short_repr(self.sim)}")
-        if not isinstance(self.privileged_critic, bool):
-            raise ConfigError(f"privileged_critic must be true or false, got {short_repr(self.privileged_critic)}")
+        for name in ("privileged_critic", "privileged_map"):
+            if not isinstance(getattr(self, name), bool):
+                raise ConfigError(f"{name} must be true or false, got {short_repr(getattr(self, name))}")
+        if self.privileged_map and not self.privileged_critic:
+            raise ConfigError("privileged_map is a part of the privileged critic: set privileged_critic too")
         if self.privileged_critic and (self.model not in FRONTIER_CHOICE_MODELS or self.algo == "dagger"):
             raise ConfigError(
                 "a privileged critic is for models 5 and 7 with a2c or ppo, "

@@ -137,12 +137,39 @@ PRIVILEGED_HEAD = "privileged_value"
 """The module name (and weight-name prefix) of :class:`PointerPolicy`'s privileged value head."""
 
 
+class PrivilegedValue(nn.Module):
+    """The privileged value head: an MLP over the ``privileged`` features and, where the
+    observation holds ``privileged_map`` (a uint8 image, read as [0, 1]), a CNN's features of it.
+    Its last layer starts at zero, so the critic starts as the plain one."""
+
+    def __init__(self, spaces: dict[str, gym.Space[Any]]) -> None:
+        super().__init__()
+        n_in = int(spaces["privileged"].shape[0])  # type: ignore[index]
+        self.cnn: nn.Module | None = None
+        if "privileged_map" in spaces:
+            self.cnn = _grid_cnn(int(spaces["privileged_map"].shape[0]))  # type: ignore[index]
+            n_in += 64 * 16
+        last = nn.Linear(64, 1)
+        nn.init.zeros_(last.weight)
+        nn.init.zeros_(last.bias)
+        self.mlp = nn.Sequential(nn.Linear(n_in, 64), nn.ReLU(), last)
+
+    def forward(self, obs: dict[str, torch.Tensor]) -> torch.Tensor:
+        """The head's addition to the value, (batch, 1)."""
+        features = obs["privileged"]
+        if self.cnn is not None:
+            image = obs["privileged_map"].float() / 255.0  # the raw observation: SB3 scales only its extractor's input
+            features = torch.cat((features, self.cnn(image)), dim=1)
+        return self.mlp(features)  # type: ignore[no-any-return]
+
+
 class PointerPolicy(ActorCriticPolicy):
     """Actor-critic whose action logits are :class:`FrontierScorer`'s per-frontier scores; the
     critic reads all the features (the scores and the map context). Use with ``net_arch=dict(pi=[], vf=[64])``.
 
     When the observation holds ``privileged`` (what only the simulator knows, in training), a small
-    head on it adds to the value: a privileged critic, as ARiADNE's successors train with. The
+    head on it (:class:`PrivilegedValue`, with ``privileged_map`` too where the observation holds
+    it) adds to the value: a privileged critic, as ARiADNE's successors train with. The
     actor never reads it, and a model file leaves the head out (:data:`PRIVILEGED_HEAD`), so the
     deployed policy needs no privileged input; its value is then the critic's without the head.
     """
@@ -153,17 +180,13 @@ class PointerPolicy(ActorCriticPolicy):
         self.action_net = _FirstColumns(top_k)
         spaces = getattr(self.observation_space, "spaces", {})
         if "privileged" in spaces:
-            last = nn.Linear(64, 1)
-            nn.init.zeros_(last.weight)  # starts as the plain critic
-            nn.init.zeros_(last.bias)
-            head = nn.Sequential(nn.Linear(int(spaces["privileged"].shape[0]), 64), nn.ReLU(), last)
-            self.add_module(PRIVILEGED_HEAD, head)
+            self.add_module(PRIVILEGED_HEAD, PrivilegedValue(spaces))
         # the optimizer was created over the old action_net; rebuild it over the current modules
         self.optimizer = self.optimizer_class(self.parameters(), lr=lr_schedule(1), **self.optimizer_kwargs)  # type: ignore[call-arg]
 
     def _privileged_value(self, obs: Any) -> torch.Tensor | float:
         head = getattr(self, PRIVILEGED_HEAD, None)
-        return 0.0 if head is None else head(obs["privileged"])
+        return 0.0 if head is None else head(obs)
 
     def forward(self, obs: Any, deterministic: bool = False) -> tuple[torch.Tensor, torch.Tensor, torch.Tensor]:
         """Actions, values and log-probabilities, as SB3's (the values with the privileged head)."""

@@ -215,6 +215,8 @@ def train(
     env_kwargs["sim"] = config.sim
     if config.privileged_critic:
         env_kwargs["privileged"] = True
+    if config.privileged_map:
+        env_kwargs["privileged_map"] = True
     venv = _training_envs(config, out, start, env_kwargs)
     model = build_model(config, venv, out)
     if start:

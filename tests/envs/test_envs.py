@@ -15,6 +15,7 @@ from frontier_rl.core.world.catalog import generate_world
 from frontier_rl.envs import FrontierChoiceEnv, WeightEnv
 from frontier_rl.errors import ConfigError, UnknownNameError
 from frontier_rl.observation.frontier_table import FEATURE_BOUND, TOUR_STOPS
+from frontier_rl.observation.map_image import MAP_FREE, MAP_UNKNOWN, MARK
 from frontier_rl.observation.weight_bins import WEIGHT_BINS, bin_to_weight
 from frontier_rl.registration import ENV_IDS, env_id
 
@@ -57,6 +58,22 @@ def test_the_privileged_entry_passes_the_checkers_and_follows_the_coverage() -> 
     assert 0.0 < shares[-1] < shares[0] < 1.0  # the unseen share falls as the robot maps
     assert np.isclose(shares[-1], 1.0 - env.unwrapped.sim.coverage)  # type: ignore[attr-defined]
     assert "privileged" not in gym.make(env_id(5, 64)).observation_space.spaces  # type: ignore[attr-defined]
+
+
+def test_the_privileged_map_shows_the_unseen_explorable_space_under_the_map_window() -> None:
+    env = gym.make(env_id(7, 64), privileged=True, privileged_map=True, worlds="rooms")
+    sb3_check_env(env, warn=True)
+    obs, _ = env.reset(seed=1)
+    totals = []
+    for _ in range(4):
+        image, seen_map = obs["privileged_map"][0], obs["map"][0]
+        assert image.shape == seen_map.shape and image.dtype == np.uint8
+        assert np.all(image[seen_map == MAP_FREE] <= 128)  # a pixel is free when half its cells are known free
+        assert np.any(image[seen_map == MAP_UNKNOWN] == MARK)  # unknown pixels wholly in the rooms
+        totals.append(int(image.sum()))
+        obs, *_ = env.step(0)
+    assert totals[-1] < totals[0]  # it shrinks as the robot maps
+    assert "privileged_map" not in gym.make(env_id(7, 64), privileged=True).observation_space.spaces  # type: ignore[attr-defined]
 
 
 @pytest.mark.parametrize("model", [1, 3, 4, 5, 6, 7])

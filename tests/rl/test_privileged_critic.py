@@ -1,6 +1,7 @@
-"""Models 5 and 7 with a privileged critic: the value head reads what only the simulator knows, the model
-file leaves it out (so the deployed policy needs no privileged input and acts as trained), the
-checkpoints keep it (so a run resumes), and ``--init`` starts such a run from a plain model file."""
+"""Models 5 and 7 with a privileged critic: the value head reads what only the simulator knows
+(with ``privileged_map``, the true map's unseen space as an image too), the model file leaves it out
+(so the deployed policy needs no privileged input and acts as trained), the checkpoints keep it (so
+a run resumes), and ``--init`` starts such a run from a plain model file."""
 
 from __future__ import annotations
 
@@ -57,11 +58,11 @@ class _Capture(BaseCallback):
         self.state = {key: value.clone() for key, value in self.model.policy.state_dict().items()}
 
 
-@pytest.mark.parametrize("model", [5, 7])
-def test_the_model_file_leaves_the_head_out_and_acts_as_trained(model: int, tmp_path: Path) -> None:
+@pytest.mark.parametrize(("model", "with_map"), [(5, False), (7, False), (7, True)])
+def test_the_model_file_leaves_the_head_out_and_acts_as_trained(model: int, with_map: bool, tmp_path: Path) -> None:
     run = tmp_path / "privileged"
     capture = _Capture()
-    final = train(_config(model=model), run, progress=False, extra_callbacks=[capture])
+    final = train(_config(model=model, privileged_map=with_map), run, progress=False, extra_callbacks=[capture])
     head = [key for key in capture.state if key.startswith(f"{PRIVILEGED_HEAD}.")]
     assert head and float(capture.state[head[-1]].abs().sum()) > 0  # the head was trained (it starts at 0)
     for deployed in (final, run / "best_model.zip"):
@@ -77,17 +78,20 @@ def test_the_model_file_leaves_the_head_out_and_acts_as_trained(model: int, tmp_
     assert all(torch.equal(plain_state[key], capture.state[key]) for key in plain_state)  # the actor as trained
 
     frontier_rl.envs.register_envs()
-    env = gym.make(env_id(model, 64), privileged=True)
+    env = gym.make(env_id(model, 64), privileged=True, privileged_map=with_map)
     policy_cls, kwargs = policy_setup(model, 128)
     trained = policy_cls(env.observation_space, env.action_space, lambda _: 0.0, **kwargs)
     trained.load_state_dict(capture.state)
     trained.set_training_mode(False)
     obs, _ = env.reset(seed=3)
     for _ in range(6):
-        plain = {key: value for key, value in obs.items() if key != "privileged"}
+        plain = {key: value for key, value in obs.items() if not key.startswith("privileged")}
         action = predict_action(deployed_policy, plain)
-        for share in (0.0, 0.5, 1.0):  # the actor never reads the privileged entry
-            assert predict_action(trained, {**obs, "privileged": np.full(2, share, np.float32)}) == action
+        for share in (0.0, 0.5, 1.0):  # the actor never reads the privileged entries
+            changed = {**obs, "privileged": np.full(2, share, np.float32)}
+            if with_map:
+                changed["privileged_map"] = np.full_like(obs["privileged_map"], round(255 * share))
+            assert predict_action(trained, changed) == action
         obs, _, terminated, truncated, _ = env.step(action)
         if terminated or truncated:
             break
@@ -97,6 +101,13 @@ def test_the_model_file_leaves_the_head_out_and_acts_as_trained(model: int, tmp_
         with torch.no_grad():
             values.append(float(trained.predict_values(tensors)))
     assert values[0] != values[1]  # the critic reads it
+    if with_map:
+        images = []
+        for fill in (0, 255):
+            tensors, _ = trained.obs_to_tensor({**obs, "privileged_map": np.full_like(obs["privileged_map"], fill)})
+            with torch.no_grad():
+                images.append(float(trained.predict_values(tensors)))
+        assert images[0] != images[1]  # and the image
 
 
 def test_a_privileged_run_resumes_and_starts_from_a_plain_model(tmp_path: Path) -> None:
@@ -115,7 +126,10 @@ def test_a_privileged_run_resumes_and_starts_from_a_plain_model(tmp_path: Path) 
 
 @pytest.mark.parametrize(("changes", "needle"), [({"model": 4}, "model 4"), ({"model": 6}, "model 6"),
                                                  ({"algo": "dagger"}, "dagger"),
-                                                 ({"privileged_critic": "yes"}, "true or false")])  # fmt: skip
+                                                 ({"privileged_critic": "yes"}, "true or false"),
+                                                 ({"privileged_map": 1}, "true or false"),
+                                                 ({"privileged_critic": False, "privileged_map": True},
+                                                  "set privileged_critic too")])  # fmt: skip
 def test_a_privileged_critic_is_refused_where_it_does_not_apply(changes: dict[str, object], needle: str) -> None:
     with pytest.raises(ConfigError, match=needle):
         _config(**changes)
@@ -124,4 +138,6 @@ def test_a_privileged_critic_is_refused_where_it_does_not_apply(changes: dict[st
 def test_the_command_names_the_option() -> None:
     command = _config().command()
     assert "--privileged-critic" in command and "--privileged-critic True" not in command
+    assert "--privileged-map" not in command
+    assert "--privileged-critic --privileged-map" in _config(privileged_map=True).command()
     assert "privileged" not in _config(privileged_critic=False).command()
