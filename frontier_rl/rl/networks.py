@@ -138,13 +138,14 @@ PRIVILEGED_HEAD = "privileged_value"
 
 
 class PrivilegedValue(nn.Module):
-    """The privileged value head: an MLP over the ``privileged`` features and, where the
-    observation holds ``privileged_map`` (a uint8 image, read as [0, 1]), a CNN's features of it.
-    Its last layer starts at zero, so the critic starts as the plain one."""
+    """The privileged value head: an MLP over what the observation holds of the ``privileged``
+    features and the ``privileged_map`` image (a uint8 image, read as [0, 1], through a CNN of its
+    own). Its last layer starts at zero, so the critic starts as the plain one."""
 
     def __init__(self, spaces: dict[str, gym.Space[Any]]) -> None:
         super().__init__()
-        n_in = int(spaces["privileged"].shape[0])  # type: ignore[index]
+        self.scalars = "privileged" in spaces
+        n_in = int(spaces["privileged"].shape[0]) if self.scalars else 0  # type: ignore[index]
         self.cnn: nn.Module | None = None
         if "privileged_map" in spaces:
             self.cnn = _grid_cnn(int(spaces["privileged_map"].shape[0]))  # type: ignore[index]
@@ -156,11 +157,11 @@ class PrivilegedValue(nn.Module):
 
     def forward(self, obs: dict[str, torch.Tensor]) -> torch.Tensor:
         """The head's addition to the value, (batch, 1)."""
-        features = obs["privileged"]
+        parts = [obs["privileged"]] if self.scalars else []
         if self.cnn is not None:
             image = obs["privileged_map"].float() / 255.0  # the raw observation: SB3 scales only its extractor's input
-            features = torch.cat((features, self.cnn(image)), dim=1)
-        return self.mlp(features)  # type: ignore[no-any-return]
+            parts.append(self.cnn(image))
+        return self.mlp(torch.cat(parts, dim=1))  # type: ignore[no-any-return]
 
 
 class PointerPolicy(ActorCriticPolicy):
@@ -179,7 +180,7 @@ class PointerPolicy(ActorCriticPolicy):
         top_k = int(self.action_space.n)  # type: ignore[attr-defined]
         self.action_net = _FirstColumns(top_k)
         spaces = getattr(self.observation_space, "spaces", {})
-        if "privileged" in spaces:
+        if "privileged" in spaces or "privileged_map" in spaces:
             self.add_module(PRIVILEGED_HEAD, PrivilegedValue(spaces))
         # the optimizer was created over the old action_net; rebuild it over the current modules
         self.optimizer = self.optimizer_class(self.parameters(), lr=lr_schedule(1), **self.optimizer_kwargs)  # type: ignore[call-arg]

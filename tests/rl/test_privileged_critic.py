@@ -141,3 +141,19 @@ def test_the_command_names_the_option() -> None:
     assert "--privileged-map" not in command
     assert "--privileged-critic --privileged-map" in _config(privileged_map=True).command()
     assert "privileged" not in _config(privileged_critic=False).command()
+
+
+def test_a_head_on_the_image_alone_reads_it() -> None:
+    frontier_rl.envs.register_envs()
+    env = gym.make(env_id(7, 64), privileged_map=True)
+    policy_cls, kwargs = policy_setup(7, 128)
+    policy = policy_cls(env.observation_space, env.action_space, lambda _: 0.0, **kwargs)
+    head = getattr(policy, PRIVILEGED_HEAD)
+    torch.nn.init.ones_(head.mlp[-1].weight)  # it starts at zero: the plain critic
+    obs, _ = env.reset(seed=0)
+    values = []
+    for fill in (0, 255):
+        tensors, _ = policy.obs_to_tensor({**obs, "privileged_map": np.full_like(obs["privileged_map"], fill)})
+        with torch.no_grad():
+            values.append(float(policy.predict_values(tensors)))
+    assert values[0] != values[1]
