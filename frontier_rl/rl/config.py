@@ -121,16 +121,7 @@ class TrainConfig:
             )
         if not isinstance(self.sim, SimConfig):
             raise ConfigError(f"sim must be a SimConfig, got {short_repr(self.sim)}")
-        for name in ("privileged_critic", "privileged_map"):
-            if not isinstance(getattr(self, name), bool):
-                raise ConfigError(f"{name} must be true or false, got {short_repr(getattr(self, name))}")
-        if self.privileged_map and not self.privileged_critic:
-            raise ConfigError("privileged_map is a part of the privileged critic: set privileged_critic too")
-        if self.privileged_critic and (self.model not in FRONTIER_CHOICE_MODELS or self.algo == "dagger"):
-            raise ConfigError(
-                "a privileged critic is for models 5 and 7 with a2c or ppo, "
-                f"got model {self.model!r} with {self.algo!r}"
-            )
+        self._check_privileged()
         if not isinstance(self.observation_size, int) or isinstance(self.observation_size, bool):
             raise ConfigError(f"observation_size must be an integer, got {short_repr(self.observation_size)}")
         env_id(self.model, self.observation_size)  # checks the size
@@ -172,6 +163,19 @@ class TrainConfig:
         for name in ("vf_coef", "ent_coef"):
             if not 0 <= getattr(self, name) <= MAX_LOSS_COEF:
                 raise ConfigError(f"{name} must be in [0, {MAX_LOSS_COEF:g}], got {getattr(self, name)!r}")
+
+    def _check_privileged(self) -> None:
+        """The privileged critic: booleans, the image a part of it, for models 5 and 7 with A2C or PPO."""
+        for name in ("privileged_critic", "privileged_map"):
+            if not isinstance(getattr(self, name), bool):
+                raise ConfigError(f"{name} must be true or false, got {short_repr(getattr(self, name))}")
+        if self.privileged_map and not self.privileged_critic:
+            raise ConfigError("privileged_map is a part of the privileged critic: set privileged_critic too")
+        if self.privileged_critic and (self.model not in FRONTIER_CHOICE_MODELS or self.algo == "dagger"):
+            raise ConfigError(
+                "a privileged critic is for models 5 and 7 with a2c or ppo, "
+                f"got model {self.model!r} with {self.algo!r}"
+            )
 
     def _check_rollout(self) -> None:
         """A2C's and PPO's rollouts (``n_steps`` × ``n_envs`` decisions; DAgger has none): they fit

@@ -193,6 +193,18 @@ def _run_algorithm(model: BaseAlgorithm, venv: VecEnv, config: TrainConfig, out:
     )
 
 
+def _env_kwargs(config: TrainConfig) -> dict[str, Any]:
+    """The keyword arguments of every env the run makes, training and validation."""
+    env_kwargs: dict[str, Any] = {"worlds": config.worlds, "reward": config.reward}
+    env_kwargs["max_decisions"] = config.max_decisions
+    env_kwargs["sim"] = config.sim
+    if config.privileged_critic:
+        env_kwargs["privileged"] = True
+    if config.privileged_map:
+        env_kwargs["privileged_map"] = True
+    return env_kwargs
+
+
 def train(
     config: TrainConfig,
     out: Path,
@@ -210,13 +222,7 @@ def train(
         raise ConfigError("a dagger run cannot be resumed: its labelled decisions are not checkpointed")
     start, initial = _start(config, out, resume)
     frontier_rl.envs.register_envs()
-    env_kwargs: dict[str, Any] = {"worlds": config.worlds, "reward": config.reward}
-    env_kwargs["max_decisions"] = config.max_decisions
-    env_kwargs["sim"] = config.sim
-    if config.privileged_critic:
-        env_kwargs["privileged"] = True
-    if config.privileged_map:
-        env_kwargs["privileged_map"] = True
+    env_kwargs = _env_kwargs(config)
     venv = _training_envs(config, out, start, env_kwargs)
     model = build_model(config, venv, out)
     if start:
