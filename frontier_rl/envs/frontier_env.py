@@ -109,13 +109,8 @@ class FrontierTableEnv(ExplorationEnv[dict[str, NDArray[Any]]]):
         """The ``privileged_map`` entry over the window the ``map`` entry shows of ``grid`` (the
         robot's map, a crop of the world's cells)."""
         sim = self.sim
-        world = sim.world.grid
         unseen = sim.world.explorable & ~sim.mapper.seen
-        offset = (
-            round((grid.origin[1] - world.origin[1]) / world.resolution),
-            round((grid.origin[0] - world.origin[0]) / world.resolution),
-        )
-        return self.encoder.share_image(grid, sim.pose, unseen, offset)
+        return self.encoder.share_image(grid, sim.pose, unseen, grid.offset_in(sim.world.grid))
 
 
 class FrontierChoiceEnv(FrontierTableEnv):

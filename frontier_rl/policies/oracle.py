@@ -158,10 +158,8 @@ class OracleTour:
         (an array of its shape), at the true world's cells ``cells`` (row, col); UNKNOWN (-1)
         outside it."""
         assert self._costmap is not None
-        world = self._costmap.grid
-        res = world.resolution
-        rows = cells[:, 0] - int(round((grid.origin[1] - world.origin[1]) / res))
-        cols = cells[:, 1] - int(round((grid.origin[0] - world.origin[0]) / res))
+        row0, col0 = grid.offset_in(self._costmap.grid)
+        rows, cols = cells[:, 0] - row0, cells[:, 1] - col0
         inside = (rows >= 0) & (rows < grid.height) & (cols >= 0) & (cols < grid.width)
         state = np.full(cells.shape[0], CellState.UNKNOWN, np.int8)
         state[inside] = (grid.data if layer is None else layer)[rows[inside], cols[inside]]

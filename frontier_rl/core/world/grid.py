@@ -95,6 +95,14 @@ class OccupancyGrid:
         rows = np.floor((xy[:, 1] - self.origin[1]) / self.resolution).astype(np.int64)
         return np.column_stack((rows, cols))
 
+    def offset_in(self, outer: OccupancyGrid) -> tuple[int, int]:
+        """(row, col) of this grid's cell (0, 0) in ``outer``, a grid of the same cells (a crop
+        of it, or one it was cropped from: then negative)."""
+        return (
+            round((self.origin[1] - outer.origin[1]) / outer.resolution),
+            round((self.origin[0] - outer.origin[0]) / outer.resolution),
+        )
+
     def in_bounds(self, row: int, col: int) -> bool:
         """Whether (row, col) is a cell of the grid."""
         return 0 <= row < self.height and 0 <= col < self.width

@@ -59,3 +59,11 @@ def test_shape_size_bounds_masks_and_counts() -> None:
 def test_bad_grids_raise_map_error_naming_the_value(data: np.ndarray, res: float, needle: str) -> None:
     with pytest.raises(MapError, match=needle.replace("(", r"\(").replace(")", r"\)")):
         OccupancyGrid(data, res)
+
+
+def test_a_crop_knows_where_its_first_cell_lies_in_the_grid_it_came_from() -> None:
+    outer = OccupancyGrid(np.zeros((40, 50), np.int8), 0.05, (-1.0, 2.0))
+    crop = OccupancyGrid(np.zeros((5, 6), np.int8), 0.05, (-1.0 + 7 * 0.05, 2.0 + 3 * 0.05))
+    assert crop.offset_in(outer) == (3, 7)
+    assert outer.offset_in(crop) == (-3, -7)
+    assert outer.offset_in(outer) == (0, 0)
