@@ -15,6 +15,10 @@ MASKED_LOGIT = -1.0e4
 """Logit given to an empty frontier slot: its probability is exp(−10⁴) ≈ 0."""
 
 
+GRID_CNN_FEATURES = 64 * 16
+"""The length of :func:`_grid_cnn`'s output: its last convolution's 64 channels, pooled to 4 × 4."""
+
+
 def _grid_cnn(channels: int) -> nn.Sequential:
     """Four stride-2 convolutions and a 4 × 4 average pool: 33 k weights and a 1,024-feature output
     whatever the image size (a 250 × 250 map would give NatureCNN's flatten layer 24 M weights),
@@ -42,7 +46,7 @@ class GridCNN(BaseFeaturesExtractor):
     def __init__(self, observation_space: gym.spaces.Box, features_dim: int = 128) -> None:
         super().__init__(observation_space, features_dim)
         self.cnn = _grid_cnn(int(observation_space.shape[0]))
-        self.head = nn.Sequential(nn.Linear(64 * 16, features_dim), nn.ReLU())
+        self.head = nn.Sequential(nn.Linear(GRID_CNN_FEATURES, features_dim), nn.ReLU())
 
     def forward(self, observations: torch.Tensor) -> torch.Tensor:
         """Features of a batch of map images."""
@@ -63,7 +67,7 @@ class _FrontierTableExtractor(BaseFeaturesExtractor):
         assert table_shape is not None
         self.columns = int(table_shape[0]) // self.top_k  # model 5's features, and model 7's tour column
         self.cnn = _grid_cnn(int(map_shape[0]))
-        self.context = nn.Sequential(nn.Linear(64 * 16, context_dim), nn.ReLU())
+        self.context = nn.Sequential(nn.Linear(GRID_CNN_FEATURES, context_dim), nn.ReLU())
 
     def _pairs(self, observations: dict[str, torch.Tensor]) -> tuple[torch.Tensor, torch.Tensor]:
         """(batch, K, features + context) rows, and the (batch, context) map embedding."""
@@ -149,7 +153,7 @@ class PrivilegedValue(nn.Module):
         self.cnn: nn.Module | None = None
         if "privileged_map" in spaces:
             self.cnn = _grid_cnn(int(spaces["privileged_map"].shape[0]))  # type: ignore[index]
-            n_in += 64 * 16
+            n_in += GRID_CNN_FEATURES
         last = nn.Linear(64, 1)
         nn.init.zeros_(last.weight)
         nn.init.zeros_(last.bias)
