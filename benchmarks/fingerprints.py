@@ -32,6 +32,8 @@ WORLDS = ("office", "rooms", "cluttered")
 POLICIES = ("nearest", "fixed:0.75", "explore-lite", "info-gain")
 SEEDS = (0, 1, 2, 3)
 MODELS = ("model4", "model5")
+LARGE = ("tour", "model7")
+"""Policies run on a 30-60 m building floor too: its map is searched on blocks."""
 TEAMS = (
     (2, Strategy.UNCOORDINATED, ()),
     (2, Strategy.COORDINATED, ()),
@@ -86,6 +88,13 @@ def episodes() -> Iterator[tuple[str, Callable[[], EpisodeResult]]]:
             yield (
                 f"office/{model}/{seed}",
                 lambda m=spec, s=seed: run_episode(generate_world("office", s), make_policy(m), seed=s),
+            )
+    for name in LARGE:
+        spec = f"learned:{ROOT / 'models' / f'{name}.zip'}" if name.startswith("model") else name
+        for seed in (0, 1):
+            yield (
+                f"building/{name}/{seed}",
+                lambda m=spec, s=seed: run_episode(generate_world("building", s), make_policy(m), seed=s),
             )
     for i, (robots, strategy, failures) in enumerate(TEAMS):
         team = TeamConfig(robots=robots, strategy=strategy, failures=failures)

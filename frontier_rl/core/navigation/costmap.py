@@ -18,6 +18,7 @@ from numpy.typing import NDArray
 from frontier_rl.core.navigation.astar import SearchScratch, astar_padded
 from frontier_rl.core.navigation.config import NavigationConfig
 from frontier_rl.core.navigation.distance import chamfer_distance_padded, flood_known
+from frontier_rl.core.navigation.group_costs import BlockGrid
 from frontier_rl.core.navigation.path_costs import cost_field
 from frontier_rl.core.navigation.step_costs import inflation_table, step_costs
 from frontier_rl.core.world.grid import CellState, OccupancyGrid
@@ -49,6 +50,8 @@ class Costmap:
         inflation_radius: clearance (cells) from which a cell has no inflation cost.
         unknown_cost: extra cost factor of an unknown cell.
         scratch: the planner's scratch arrays.
+        block_grids: by block edge (cells), the blocks searches on a large map have worked out
+            so far (:mod:`~frontier_rl.core.navigation.group_costs`), kept for the next search.
     """
 
     grid: OccupancyGrid
@@ -58,6 +61,7 @@ class Costmap:
     inflation_radius: float
     unknown_cost: float
     scratch: SearchScratch = field(default_factory=SearchScratch, repr=False, compare=False)
+    block_grids: dict[int, BlockGrid] = field(default_factory=dict, repr=False, compare=False)
 
     @classmethod
     def build(

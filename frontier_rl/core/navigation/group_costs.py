@@ -12,14 +12,18 @@ measured on block centres), where on cells it is exact.
 from __future__ import annotations
 
 import math
+from dataclasses import dataclass
+from typing import TYPE_CHECKING
 
 import numba as nb
 import numpy as np
 from numpy.typing import NDArray
 
-from frontier_rl.core.navigation.costmap import Costmap
 from frontier_rl.core.navigation.step_costs import step_cost
 from frontier_rl.core.world.grid import CellState
+
+if TYPE_CHECKING:  # the costmap keeps its block grids: no import cycle at run time
+    from frontier_rl.core.navigation.costmap import Costmap
 
 MAX_SEARCH_CELLS = 300 * 300
 """Maps of up to this many cells (15 m × 15 m at 0.05 m) are searched cell by cell; larger ones on
@@ -56,6 +60,30 @@ states, the inflation table and radius (cells), the unknown cells' extra cost an
 TILE = 16
 """Blocks are worked out in tiles of TILE × TILE blocks, when the search first comes next to one
 (one at a time would cost more in calls than it saves)."""
+
+
+@dataclass(frozen=True)
+class BlockGrid:
+    """The blocks of f × f cells a costmap is searched on, padded with a closed rim: which are
+    open, their step cost factors, and which are still ``pending`` (not yet worked out). Its
+    tiles are worked out as searches come next to them and kept for the next search on the same
+    costmap, so a decision's several searches work each tile out once.
+
+    Attributes:
+        open_padded: open blocks.
+        cost_padded: each open block's step cost factor (the least of its open cells').
+        pending: blocks not yet worked out.
+    """
+
+    open_padded: NDArray[np.bool_]
+    cost_padded: NDArray[np.float64]
+    pending: NDArray[np.bool_]
+
+    @classmethod
+    def empty(cls, shape: tuple[int, int], f: int) -> BlockGrid:
+        """Nothing worked out yet, for a map of ``shape`` cells on blocks of ``f`` cells."""
+        padded = (-(-shape[0] // f) + 2, -(-shape[1] // f) + 2)
+        return cls(np.zeros(padded, np.bool_), np.ones(padded), np.ones(padded, np.bool_))
 
 
 @nb.njit(cache=True)
@@ -222,10 +250,12 @@ def group_path_costs(
     if f == 1:
         open_p, cost_p, pending = costmap.open_padded, costmap.cost_padded, np.zeros((0, 0), np.bool_)
         source, max_cost = start[0] * grid.width + start[1], float(cost_p.max())
-    else:  # blocks, each worked out when the search first touches it
-        shape = (-(-grid.shape[0] // f) + 2, -(-grid.shape[1] // f) + 2)
-        open_p, cost_p, pending = np.zeros(shape, np.bool_), np.ones(shape), np.ones(shape, np.bool_)
-        bcols = shape[1] - 2
+    else:  # blocks, each worked out when a search on this costmap first touches it
+        if f not in costmap.block_grids:
+            costmap.block_grids[f] = BlockGrid.empty(grid.shape, f)
+        blocks = costmap.block_grids[f]
+        open_p, cost_p, pending = blocks.open_padded, blocks.cost_padded, blocks.pending
+        bcols = open_p.shape[1] - 2
         rows, cols = np.divmod(cells, grid.width)
         cells = (rows // f) * bcols + cols // f  # repeats are dropped by the search's entry lists
         source = (start[0] // f) * bcols + start[1] // f

@@ -259,3 +259,24 @@ def test_the_lazy_blocks_equal_the_definition_up_to_the_maps_edges(shape: tuple[
     )  # fmt: skip
     np.testing.assert_array_equal(lazy, best * (f * 0.05))
     assert np.isfinite(lazy[30:]).all()  # the groups at the far edges were reached
+
+
+def test_searches_on_one_costmap_share_its_blocks_and_cost_the_same() -> None:
+    """A decision's several searches on one large costmap (model 7's tour) work each tile of
+    blocks out once: the searches give, in any order, the costs each gives on a fresh costmap."""
+    data = a_map(3)
+    data = np.tile(data, (3, 3))  # 750 x 750 cells: searched on blocks
+    rng = np.random.default_rng(3)
+    built = costmap_of(data)
+    assert block_factor(data.shape, 0.05, RADIUS) > 1
+    free = np.argwhere(built.traversable)
+    starts = [(int(free[i][0]), int(free[i][1])) for i in rng.integers(len(free), size=4)]
+    cells, groups = random_groups(rng, data, 20)
+    alone = [group_path_costs(costmap_of(data), s, cells, groups, 20, REACH, RADIUS)[0] for s in starts]
+    for order in (range(4), range(3, -1, -1)):
+        shared = costmap_of(data)
+        for i in order:
+            costs, _ = group_path_costs(shared, starts[i], cells, groups, 20, REACH, RADIUS)
+            np.testing.assert_array_equal(costs, alone[i])
+        (blocks,) = shared.block_grids.values()
+        assert not blocks.pending[1:-1, 1:-1].all()  # the searches worked tiles out, and kept them
