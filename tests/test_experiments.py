@@ -77,6 +77,16 @@ def test_the_real_map_experiment_runs_on_the_config_it_is_given(tmp_path: Path, 
     assert "ros" in (tmp_path / "out" / "completion.md").read_text()
 
 
+@pytest.mark.parametrize(("t99", "shown"), [(["100", "200"], "150"), (["100", ""], "100 (1 of 2)"), (["", ""], "—")])
+def test_the_real_map_table_gives_the_time_to_99_percent_of_those_that_reached_it(t99: list[str], shown: str) -> None:
+    real_maps = _script("real_maps")
+    rows = [{"world": "w", "method": "nearest", "end_reason": "explored", "coverage": "1.0", "unknown_left_m2": "0",
+             "sim_time_s": "300", "t99_s": t} for t in t99]  # fmt: skip
+    header, _, line = real_maps.family_table(rows, {"w": "ros"}).splitlines()
+    assert header.endswith("| mean time (s) | mean time to 99 % (s) |")
+    assert line == f"| ros | nearest | 2 | 2 | 0 | 0 | 1.000 / 1.000 | 2 / 2 | 0.00 | 300 | {shown} |"
+
+
 def _script(name: str) -> Any:
     spec = importlib.util.spec_from_file_location(name, SCRIPT.parent / f"{name}.py")
     assert spec is not None and spec.loader is not None
