@@ -187,8 +187,9 @@ def bench_episodes(n_seeds: int) -> list[Row]:
 
 
 def bench_large_map(n_seeds: int, maps: Path) -> list[Row]:
-    """Whole episodes on ``nav2_warehouse`` (a 0.05 m SLAM map of about 1,000 × 1,000 cells) from
-    random starts: wall time and wall time per decision. No rows without the shared maps."""
+    """Whole episodes on ``nav2_warehouse`` (a SLAM map of 1,006 × 1,674 cells of 0.03 m, read as
+    drawn: ``resolve_world`` would resample it to 0.05 m) from random starts: wall time and wall
+    time per decision. No rows without the shared maps."""
     from frontier_rl.core.world.worlds import make_world
     from frontier_rl.io import load_map
 

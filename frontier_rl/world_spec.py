@@ -6,7 +6,7 @@ from __future__ import annotations
 
 import hashlib
 import math
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from functools import lru_cache
 from pathlib import Path
 
@@ -14,7 +14,14 @@ import numpy as np
 
 from frontier_rl.core.world.catalog import WORLD_GENERATORS, generate_world
 from frontier_rl.core.world.robot import Pose, checked_pose
-from frontier_rl.core.world.worlds import World, check_resolution, make_world
+from frontier_rl.core.world.worlds import (
+    MAPPING_CELL_M,
+    RESAMPLE_BELOW_M,
+    World,
+    check_resolution,
+    make_world,
+    resolution_bounds,
+)
 from frontier_rl.errors import ConfigError, MapError, UnknownNameError, short_repr
 from frontier_rl.io import LoadedMap, load_map
 
@@ -73,7 +80,10 @@ def resolve_world(
 
 
 def read_map(path: str, resolution: float | None = None) -> LoadedMap:
-    """The map file ``path`` (:func:`~frontier_rl.io.load_map`), read once per process and version
+    """The map file ``path`` (:func:`~frontier_rl.io.load_map`) as the robot maps it: a grid on
+    cells finer than 0.04 m is resampled to 0.05 m cells (:data:`~frontier_rl.core.world.worlds.
+    MAPPING_CELL_M`, :meth:`~frontier_rl.core.world.grid.OccupancyGrid.resampled`), as a robot's
+    SLAM maps a finely drawn building on its own cells. Read once per process and version
     of the file (its resolved path, size and modification time; for a ROS map, the YAML's: an
     image rewritten without its YAML is not noticed), the last 128 kept: reading can take longer
     than an episode. Errors name ``path`` as given."""
@@ -95,7 +105,10 @@ class _MapVersion:
 
 @lru_cache(maxsize=128)
 def _read_map_version(version: _MapVersion) -> LoadedMap:
-    return load_map(version.given, resolution=version.resolution)
+    loaded = load_map(version.given, resolution=version.resolution)
+    if not resolution_bounds()[0] <= loaded.grid.resolution < RESAMPLE_BELOW_M:
+        return loaded  # as drawn, or a cell no world accepts, which make_world names as the file has it
+    return replace(loaded, grid=loaded.grid.resampled(MAPPING_CELL_M))
 
 
 def parse_pose(text: str) -> Pose:

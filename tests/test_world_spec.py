@@ -85,3 +85,41 @@ def test_map_errors_name_the_path_as_given(tmp_path: Path, monkeypatch: pytest.M
     with pytest.raises(MapError) as raised:
         resolve_world("broken.yaml", 0)
     assert str(tmp_path) not in str(raised.value) and "missing.pgm" in str(raised.value)
+
+
+def test_a_finely_drawn_map_is_read_on_the_robots_cells(tmp_path: Path) -> None:
+    """A robot's SLAM maps on 0.05 m cells whatever the drawing: files finer than 0.04 m are
+    resampled to 0.05 m; coarser ones (DungeonMaps' 0.04375 m among them) are read as drawn."""
+    path = _room(tmp_path / "room.yaml", 20)  # 30 × 40 cells
+    as_drawn = load_map(path).grid
+    assert read_map(str(path)).grid.data.tobytes() == as_drawn.data.tobytes()
+    for cell, shape in [(0.0125, (8, 10)), (0.03, (18, 24)), (0.0399, (24, 32))]:
+        fine = read_map(str(path), cell).grid
+        assert fine.resolution == 0.05 and fine.shape == shape
+        np.testing.assert_array_equal(fine.data, load_map(path, cell).grid.resampled(0.05).data)
+        assert (fine.data[1:-1, 1:-1] == CellState.FREE).any() and (fine.data[0, :] == CellState.OCCUPIED).all()
+    assert read_map(str(path), 0.04).grid.resolution == 0.04
+    world = resolve_world(str(path), 0, resolution=0.03)
+    assert world.grid.resolution == 0.05 and world.grid.shape == (18, 24)
+
+
+def test_a_map_on_cells_no_world_accepts_is_named_with_its_own_cell_size(tmp_path: Path) -> None:
+    path = _room(tmp_path / "room.yaml", 20)
+    text = path.read_text().replace("resolution: 0.05", "resolution: 0.001")
+    assert text != path.read_text()
+    path.write_text(text)
+    with pytest.raises(MapError, match=r"cell size 0\.001 m"):
+        resolve_world(str(path), 0)
+
+
+@pytest.mark.parametrize(
+    ("path", "shape"), [("stage/uoa_robotics_lab.yaml", (303, 136)), ("stage/cave.yaml", (320, 320))]
+)
+def test_resampling_a_shared_map_keeps_its_rooms(shared_maps: Path, path: str, shape: tuple[int, int]) -> None:
+    """Thickening the walls by up to a cell loses no room: the explorable area stays within 2 %
+    of the map's as drawn (measured 98.5-99.1 % on the four shared maps finer than 0.04 m)."""
+    drawn = make_world(load_map(shared_maps / path).grid, "drawn", rng=np.random.default_rng(0))
+    world = resolve_world(str(shared_maps / path), 0)
+    assert world.grid.resolution == 0.05 and world.grid.shape == shape
+    area = [w.explorable.sum() * w.grid.resolution**2 for w in (drawn, world)]
+    assert 0.98 * area[0] <= area[1] <= area[0]

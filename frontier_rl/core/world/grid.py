@@ -6,6 +6,7 @@ map origin (the lower-left corner), ``x`` grows with the column and ``y`` with t
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass
 from enum import IntEnum
 
@@ -114,3 +115,34 @@ class OccupancyGrid:
     def count(self, state: CellState) -> int:
         """Number of cells in ``state``."""
         return int(np.count_nonzero(self.data == state.value))
+
+    def resampled(self, cell: float) -> OccupancyGrid:
+        """This grid on cells of ``cell`` m (at least this grid's), the origin kept: a new cell is
+        occupied if any cell it overlaps is, free if every cell it overlaps is free and it lies
+        within the grid, unknown otherwise (it sees walls as a robot's SLAM on coarser cells does)."""
+        if not cell >= self.resolution:
+            raise MapError(f"a grid of {self.resolution:g} m cells cannot be resampled to {cell!r} m cells")
+        ratio = cell / self.resolution
+        rows, cols = (math.ceil(n / ratio - 1e-9) for n in self.shape)
+
+        def spans(count: int, limit: int) -> tuple[NDArray[np.int64], NDArray[np.int64], NDArray[np.bool_]]:
+            edges = np.arange(count + 1) * ratio
+            first = np.floor(edges[:-1] + 1e-9).astype(np.int64)
+            end = np.ceil(edges[1:] - 1e-9).astype(np.int64)
+            return first, np.minimum(end, limit), end <= limit
+
+        (r0, r1, r_in), (c0, c1, c_in) = spans(rows, self.height), spans(cols, self.width)
+
+        def overlaps(cells: NDArray[np.bool_]) -> NDArray[np.int32]:
+            table = np.zeros((self.height + 1, self.width + 1), dtype=np.int32)  # at most MAX_MAP_PIXELS
+            table[1:, 1:] = cells.cumsum(axis=0, dtype=np.int32).cumsum(axis=1, dtype=np.int32)
+            return np.asarray(
+                table[np.ix_(r1, c1)] - table[np.ix_(r0, c1)] - table[np.ix_(r1, c0)] + table[np.ix_(r0, c0)]
+            )
+
+        area = np.outer(r1 - r0, c1 - c0)
+        all_free = (overlaps(self.mask(CellState.FREE)) == area) & np.outer(r_in, c_in)
+        data = np.full((rows, cols), CellState.UNKNOWN.value, dtype=np.int8)
+        data[all_free] = CellState.FREE.value
+        data[overlaps(self.mask(CellState.OCCUPIED)) > 0] = CellState.OCCUPIED.value
+        return OccupancyGrid(data=data, resolution=cell, origin=self.origin)

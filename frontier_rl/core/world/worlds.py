@@ -26,6 +26,13 @@ ROBOT_RADIUS_M = 0.105  # TurtleBot3 Burger footprint radius (m)
 # The range the robot's map learns cells within (m): the LDS-01's 3.5 m cropped at Gmapping's
 # maxUrange 3.0 m (min of LidarConfig.max_range and MapperConfig.usable_range).
 MAPPING_RANGE_M = 3.0
+# The cell (m) of the robot's map when a map file is drawn on cells finer than RESAMPLE_BELOW_M:
+# slam_gmapping's default `delta` (world_spec.read_map resamples the file). On much finer cells the
+# LiDAR's beam spacing and range noise leave specks of unknown a 0.05 m map never holds (50-160 at
+# once on Stage's 0.012 m uoa_robotics_lab), and "explored" waits on them. DungeonMaps' 0.04375 m
+# pixels stay as drawn: ARiADNE's protocol counts in them.
+MAPPING_CELL_M = 0.05
+RESAMPLE_BELOW_M = 0.04
 START_MARGIN_M = 0.05  # extra clearance (m) of a randomly drawn start over the robot radius
 # Cell sizes a world accepts (make_world, check_resolution): a cell at most as wide as the robot's
 # radius (coarser, the grid cannot say where the robot fits: 5 m cells ran and reported "done" at
