@@ -81,9 +81,9 @@ def resolve_world(
 
 def read_map(path: str, resolution: float | None = None) -> LoadedMap:
     """The map file ``path`` (:func:`~frontier_rl.io.load_map`) as the robot maps it: a grid on
-    cells finer than 0.04 m is resampled to 0.05 m cells (:data:`~frontier_rl.core.world.worlds.
-    MAPPING_CELL_M`, :meth:`~frontier_rl.core.world.grid.OccupancyGrid.resampled`), as a robot's
-    SLAM maps a finely drawn building on its own cells. Read once per process and version
+    cells finer than ``RESAMPLE_BELOW_M`` (0.04 m) is resampled to ``MAPPING_CELL_M`` (0.05 m;
+    :meth:`~frontier_rl.core.world.grid.OccupancyGrid.resampled`), as a robot's SLAM maps a
+    finely drawn building on its own cells. Read once per process and version
     of the file (its resolved path, size and modification time; for a ROS map, the YAML's: an
     image rewritten without its YAML is not noticed), the last 128 kept: reading can take longer
     than an episode. Errors name ``path`` as given."""
