@@ -1,13 +1,14 @@
 """Does a learned policy hold in buildings it never saw? One paired experiment per family of worlds
 against ``nearest``, with the oracle as the reference.
 
-Families: the generators' held-out seeds (``office``, ``rooms``, ``cluttered``, ``building``:
-seeds from 0 up; training draws seeds from 10⁶ up) and the DungeonMaps test folders ``easy``,
-``medium`` and ``complex`` (never trained on: training reads ``dungeon/train`` only), the first
-``--maps`` files of each by name, one episode each from a random start. Each family's results go
-to ``OUT/FAMILY`` (a ``frontier-rl evaluate`` folder: rerunning continues it); the table printed
-and written to ``OUT/generalisation.json`` holds, per family and method, the mean time, the
-reduction against ``nearest`` with its one-tailed paired t-test, and the time over the oracle's.
+Families: the generators' held-out seeds (``office``, ``rooms``, ``cluttered``, ``building``,
+``cave``: seeds from 0 up; training draws seeds from 10⁶ up, and no shipped model saw a cave)
+and the DungeonMaps test folders ``easy``, ``medium`` and ``complex`` (never trained on: training
+reads ``dungeon/train`` only), the first ``--maps`` files of each by name, one episode each from a
+random start. Each family's results go to ``OUT/FAMILY`` (a ``frontier-rl evaluate`` folder:
+rerunning continues it); the table printed and written to ``OUT/generalisation.json`` holds, per
+family and method, the mean time, the reduction against ``nearest`` with its one-tailed paired
+t-test, and the time over the oracle's.
 
     .venv/bin/python experiments/generalisation.py --methods learned:models/model5.zip \
         --episodes 30 --maps 30 --out results/generalisation
@@ -26,7 +27,7 @@ from frontier_rl.core.sim.config import SimConfig
 from frontier_rl.evaluation.evaluate import evaluate
 from frontier_rl.evaluation.experiment import ORACLE, ExperimentConfig, expand_worlds
 
-GENERATORS = ("office", "rooms", "cluttered", "building")
+GENERATORS = ("office", "rooms", "cluttered", "building", "cave")
 DUNGEON_TESTS = ("easy", "medium", "complex")
 BASELINE = "nearest"
 

@@ -127,7 +127,10 @@ def _sim_config(config: Path | None, max_time: float | None) -> SimConfig:
 @friendly_errors
 def explore(
     world: Annotated[
-        str, typer.Option(help="office | rooms | cluttered | a map file (ROS .yaml, Dungeon .png, HouseExpo .json)")
+        str,
+        typer.Option(
+            help="office | rooms | cluttered | building | cave | a map file (ROS .yaml, Dungeon .png, HouseExpo .json)"
+        ),
     ] = "office",
     seed: Annotated[int, typer.Option(help=f"Seeds the world, the start and the sensor noise (0 to {MAX_SEED}).")] = 0,
     policy: Annotated[str, typer.Option(help=POLICY_HELP)] = THESIS_BASELINE,

@@ -107,7 +107,7 @@ class WorldSource:
 
     Args:
         worlds: the entries, "NAME" or "NAME=WEIGHT": generator names ("office", "rooms",
-            "cluttered", "building"), map files and folders.
+            "cluttered", "building", "cave"), map files and folders.
         resolution: cell size (m) for map files that carry none.
         split: "train" draws a folder's training files; "validation" its held-out files
             (:meth:`~frontier_rl.world_spec.WorldFamily.split`), the family chosen round robin

@@ -2,7 +2,7 @@
 robot's start pose and the explorable space (what the robot's sensor can see from where it can go).
 
 The named procedural worlds (``catalog``) are drawn by ``generators`` (office maze, BSP rooms),
-``rubble`` (the cluttered field) and ``building`` (30-60 m floors).
+``rubble`` (the cluttered field), ``building`` (30-60 m floors) and ``cave`` (tunnels and chambers).
 
 Also the grid geometry every later stage shares: walking a ray through cells (``raycast``) and line of
 sight from a set of cells (``visibility``).

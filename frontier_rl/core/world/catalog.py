@@ -1,5 +1,5 @@
-"""The named procedural worlds (``office``, ``rooms``, ``cluttered``, ``building``) and the
-registry that draws one from a seed."""
+"""The named procedural worlds (``office``, ``rooms``, ``cluttered``, ``building``, ``cave``) and
+the registry that draws one from a seed."""
 
 from __future__ import annotations
 
@@ -12,6 +12,7 @@ from numpy.typing import NDArray
 
 from frontier_rl.core.world import generators as gen
 from frontier_rl.core.world.building import building_layout
+from frontier_rl.core.world.cave import CAVE_BLOCK_M, cave_layout
 from frontier_rl.core.world.grid import CellState, OccupancyGrid
 from frontier_rl.core.world.rubble import RUBBLE_GAP_M, close_diagonal_contacts, rubble_layout, upsample
 from frontier_rl.core.world.worlds import World, dilate, make_world
@@ -100,8 +101,32 @@ def building_world(
     return make_world(_layout_grid(layout, resolution), "building", rng=rng)
 
 
+CAVE_MIN_M = 4.0
+"""The shortest side (m) of a cave's drawing area."""
+
+
+def cave_world(rng: np.random.Generator, size_m: tuple[float, float] = (26.0, 20.0), resolution: float = 0.05) -> World:
+    """A natural cave (:mod:`frontier_rl.core.world.cave`): tunnels and chambers drawn on an area
+    of ``size_m`` = (width x, height y) (m), the map cropped to the cave system with a rock
+    border of one block (0.25 m); no passage is narrower than 0.5 m."""
+    _check_size("cave width", size_m[0])
+    _check_size("cave height", size_m[1])
+    _check_size("cave resolution", resolution)
+    if min(size_m) < CAVE_MIN_M:
+        raise ConfigError(f"a cave needs both sides of at least {CAVE_MIN_M:g} m, got {size_m[0]!r} x {size_m[1]!r}")
+    block = gen.cells(CAVE_BLOCK_M, resolution)  # cells per block: 2 or more at any cell a world admits (<= 0.105 m)
+    rows, cols = gen.cells(size_m[1], block * resolution), gen.cells(size_m[0], block * resolution)
+    return make_world(_layout_grid(upsample(cave_layout(rng, rows, cols), block), resolution), "cave", rng=rng)
+
+
 WORLD_GENERATORS: Mapping[str, Callable[[np.random.Generator], World]] = MappingProxyType(
-    {"office": office_world, "rooms": rooms_world, "cluttered": cluttered_world, "building": building_world}
+    {
+        "office": office_world,
+        "rooms": rooms_world,
+        "cluttered": cluttered_world,
+        "building": building_world,
+        "cave": cave_world,
+    }
 )
 """Procedural worlds by name; each takes a ``numpy.random.Generator`` and uses default sizes."""
 

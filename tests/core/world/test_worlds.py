@@ -201,7 +201,7 @@ def test_unknown_world_name() -> None:
 
 
 def test_registry_is_read_only() -> None:
-    assert set(WORLD_GENERATORS) == {"office", "rooms", "cluttered", "building"}
+    assert set(WORLD_GENERATORS) == {"office", "rooms", "cluttered", "building", "cave"}
     with pytest.raises(TypeError):
         WORLD_GENERATORS["forest"] = office_world  # type: ignore[index]
 
