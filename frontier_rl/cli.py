@@ -29,6 +29,7 @@ from frontier_rl.core.navigation.tours import MAX_STOPS
 from frontier_rl.core.sim.config import SimConfig
 from frontier_rl.core.sim.episode import run_episode, warm_up
 from frontier_rl.core.sim.metrics import EpisodeResult
+from frontier_rl.core.world.catalog import WORLD_GENERATORS
 from frontier_rl.core.world.worlds import resolution_bounds
 from frontier_rl.errors import ConfigError, short_path, short_repr
 from frontier_rl.policies import POLICY_NAMES, make_policy
@@ -39,6 +40,7 @@ from frontier_rl.world_spec import checked_resolution, parse_pose, resolve_world
 
 #: Largest seed a command accepts (0 to 2**32 - 1: NumPy's legacy seeding, which SB3 uses, takes no more).
 MAX_SEED = 2**32 - 1
+WORLD_HELP = f"{' | '.join(WORLD_GENERATORS)} | a map file (ROS .yaml, Dungeon .png, HouseExpo .json)"
 POLICY_HELP = f"One of: {', '.join(POLICY_NAMES)} (W in [0, 1], N stops 1 to {MAX_STOPS})."
 
 app = typer.Typer(
@@ -126,12 +128,7 @@ def _sim_config(config: Path | None, max_time: float | None) -> SimConfig:
 @app.command()
 @friendly_errors
 def explore(
-    world: Annotated[
-        str,
-        typer.Option(
-            help="office | rooms | cluttered | building | cave | a map file (ROS .yaml, Dungeon .png, HouseExpo .json)"
-        ),
-    ] = "office",
+    world: Annotated[str, typer.Option(help=WORLD_HELP)] = "office",
     seed: Annotated[int, typer.Option(help=f"Seeds the world, the start and the sensor noise (0 to {MAX_SEED}).")] = 0,
     policy: Annotated[str, typer.Option(help=POLICY_HELP)] = THESIS_BASELINE,
     png: Annotated[Path | None, typer.Option(help="Write a picture of the episode to this .png file.")] = None,
