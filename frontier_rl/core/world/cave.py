@@ -4,8 +4,8 @@ underground rescue (a mine, a cave: the DARPA Subterranean Challenge's) explores
 The automaton works on blocks of ``CAVE_BLOCK_M``: rock is drawn at random, then each block
 becomes rock when most of its 3 x 3 neighbourhood is rock, a few times over (the rule of Johnson,
 Yannakakis and Togelius 2010, "Cellular automata for real-time generation of infinite cave
-levels"). Passages narrower than ``CAVE_NARROWEST_M`` are closed, the largest cave system is kept,
-and the map is cropped to it.
+levels"). Passages narrower than ``CAVE_NARROWEST_BLOCKS`` blocks (0.5 m) are closed, the largest
+cave system is kept, and the map is cropped to it.
 """
 
 from __future__ import annotations
@@ -48,7 +48,7 @@ def _one_system(rock: BoolGrid) -> BoolGrid:
     largest cave system filled, and no two rock blocks touching only at a corner."""
     square = np.ones((CAVE_NARROWEST_BLOCKS, CAVE_NARROWEST_BLOCKS), np.bool_)
     floor = ~rock
-    while True:  # each step can undo another's work: closing a corner narrows a passage, ...
+    while True:  # closing a corner can narrow a passage, filling one can make a corner; floor only shrinks
         opened = ndimage.binary_opening(floor, square) & floor
         closed = ~close_diagonal_contacts(~_largest_system(opened))
         if np.array_equal(closed, floor):
