@@ -2,11 +2,13 @@
 
 Run as ``python benchmarks/fingerprints.py [--out FILE] [--check FILE]``. It runs 48 single-robot
 episodes (the three built-in worlds × four policies × four seeds), 12 with the shipped models
-(``models/model4.zip`` and ``models/model5.zip`` on the office world, six seeds each) and 12 team
-episodes (two to four robots, every strategy, a failure), and hashes each result's every field but
-its wall time: the times, lengths, decisions, coverage curve, trajectory, decision log, final map
-and frontiers left. ``--out`` writes the hashes as JSON; ``--check`` compares them with a file an
-earlier checkout wrote and exits 1 naming every episode that differs.
+(``models/model4.zip`` and ``models/model5.zip`` on the office world, six seeds each), 10 on
+other generators (``tour`` and model 7 on a building floor, ``nearest``, ``tour`` and model 7 in a
+cave, two seeds each) and 12 team episodes (two to four robots, every strategy, a failure), and
+hashes each result's every field but its wall time: the times, lengths, decisions, coverage curve,
+trajectory, decision log, final map and frontiers left. ``--out`` writes the hashes as JSON;
+``--check`` compares them with a file an earlier checkout wrote and exits 1 naming every episode
+that differs.
 """
 
 from __future__ import annotations
@@ -32,8 +34,9 @@ WORLDS = ("office", "rooms", "cluttered")
 POLICIES = ("nearest", "fixed:0.75", "explore-lite", "info-gain")
 SEEDS = (0, 1, 2, 3)
 MODELS = ("model4", "model5")
-LARGE = ("tour", "model7")
-"""Policies run on a 30-60 m building floor too: its map is searched on blocks."""
+MORE_WORLDS = {"building": ("tour", "model7"), "cave": ("nearest", "tour", "model7")}
+"""Policies run on two seeds of other generators too: a 30-60 m building floor (its map is
+searched on blocks) and a cave."""
 TEAMS = (
     (2, Strategy.UNCOORDINATED, ()),
     (2, Strategy.COORDINATED, ()),
@@ -89,13 +92,14 @@ def episodes() -> Iterator[tuple[str, Callable[[], EpisodeResult]]]:
                 f"office/{model}/{seed}",
                 lambda m=spec, s=seed: run_episode(generate_world("office", s), make_policy(m), seed=s),
             )
-    for name in LARGE:
-        spec = f"learned:{ROOT / 'models' / f'{name}.zip'}" if name.startswith("model") else name
-        for seed in (0, 1):
-            yield (
-                f"building/{name}/{seed}",
-                lambda m=spec, s=seed: run_episode(generate_world("building", s), make_policy(m), seed=s),
-            )
+    for world, names in MORE_WORLDS.items():
+        for name in names:
+            spec = f"learned:{ROOT / 'models' / f'{name}.zip'}" if name.startswith("model") else name
+            for seed in (0, 1):
+                yield (
+                    f"{world}/{name}/{seed}",
+                    lambda w=world, m=spec, s=seed: run_episode(generate_world(w, s), make_policy(m), seed=s),
+                )
     for i, (robots, strategy, failures) in enumerate(TEAMS):
         team = TeamConfig(robots=robots, strategy=strategy, failures=failures)
         for seed in (0, 1):
