@@ -12,6 +12,7 @@ from scipy import ndimage
 
 from frontier_rl.core.world import cave
 from frontier_rl.core.world.catalog import CAVE_MIN_M, cave_world
+from frontier_rl.core.world.grid import CellState
 from frontier_rl.errors import ConfigError
 
 SEEDS = range(8)
@@ -22,7 +23,7 @@ EIGHT = np.ones((3, 3), dtype=bool)
 def test_no_passage_is_narrower_than_half_a_metre(seed: int) -> None:
     """Every floor cell lies in a free square of 0.5 m: an opening by that square keeps them all."""
     world = cave_world(np.random.default_rng(seed))
-    floor = world.grid.data == 0
+    floor = world.grid.data == CellState.FREE
     side = round(cave.CAVE_NARROWEST_BLOCKS * cave.CAVE_BLOCK_M / world.grid.resolution)
     assert np.array_equal(ndimage.binary_opening(floor, np.ones((side, side), bool)) & floor, floor)
 
@@ -30,7 +31,7 @@ def test_no_passage_is_narrower_than_half_a_metre(seed: int) -> None:
 @pytest.mark.parametrize("seed", SEEDS)
 def test_the_map_is_cropped_to_the_cave_with_one_block_of_rock_around(seed: int) -> None:
     world = cave_world(np.random.default_rng(seed))
-    floor = world.grid.data == 0
+    floor = world.grid.data == CellState.FREE
     rows, cols = np.flatnonzero(floor.any(axis=1)), np.flatnonzero(floor.any(axis=0))
     block = round(cave.CAVE_BLOCK_M / world.grid.resolution)
     assert (rows[0], cols[0]) == (block, block)
@@ -40,10 +41,10 @@ def test_the_map_is_cropped_to_the_cave_with_one_block_of_rock_around(seed: int)
 
 @pytest.mark.parametrize("seed", SEEDS)
 def test_a_cave_has_chambers_tunnels_and_pillars(seed: int) -> None:
-    """Not one open hall: the floor is at most 4/5 of the map, rock stands free inside it, and
-    the floor's narrowest parts (tunnels) are far narrower than its widest (chambers)."""
+    """Not one open hall and not a mere tunnel: the floor is at most 4/5 of the map, rock stands
+    free inside it, and a chamber is 2 m across."""
     world = cave_world(np.random.default_rng(seed))
-    floor = world.grid.data == 0
+    floor = world.grid.data == CellState.FREE
     assert cave.CAVE_MIN_FLOOR <= np.count_nonzero(floor) / floor.size <= 0.8
     rock_parts = ndimage.label(~floor, structure=EIGHT)[1]
     assert rock_parts >= 3  # the outer rock and free-standing pillars
@@ -86,7 +87,7 @@ def test_cave_size_errors_name_the_value() -> None:
 
 def test_a_coarser_resolution_keeps_walls_two_cells_thick() -> None:
     world = cave_world(np.random.default_rng(1), resolution=0.1)  # the coarsest cells: blocks of 2
-    occ = world.grid.data != 0
+    occ = world.grid.data == CellState.OCCUPIED
     block = occ[:-1, :-1] & occ[1:, :-1] & occ[:-1, 1:] & occ[1:, 1:]
     covered = np.zeros_like(occ)
     for dr in (0, 1):
