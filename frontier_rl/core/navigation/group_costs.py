@@ -19,6 +19,7 @@ import numba as nb
 import numpy as np
 from numpy.typing import NDArray
 
+from frontier_rl.core.navigation.path_costs import bucket_ring_mask
 from frontier_rl.core.navigation.step_costs import step_cost
 from frontier_rl.core.world.grid import CellState
 
@@ -103,15 +104,23 @@ def _fill_tile(
             if pr == 0 or pc == 0 or pr == prows - 1 or pc == pcols - 1:
                 continue
             br, bc = pr - 1, pc - 1
-            least = np.inf
+            # a step's cost factor falls as the clearance grows, so a block's least is that of its
+            # clearest open cell, known or unknown: two maxima, and a factor for each
+            clear_known, clear_unknown = -1.0, -1.0
             for r in range(br * f, min(br * f + f, rows)):
                 for c in range(bc * f, min(bc * f + f, cols)):
                     if open_padded[r + 1, c + 1]:
-                        unknown = state[r, c] == _UNKNOWN
-                        least = min(least, step_cost(clearance_padded[r + 1, c + 1], unknown, table,
-                                                     inflation_radius, unknown_cost))  # fmt: skip
-                if least == 1.0:  # the least a step can cost
+                        if state[r, c] == _UNKNOWN:
+                            clear_unknown = max(clear_unknown, clearance_padded[r + 1, c + 1])
+                        else:
+                            clear_known = max(clear_known, clearance_padded[r + 1, c + 1])
+                if clear_known >= inflation_radius:  # the least a step can cost
                     break
+            least = np.inf
+            if clear_known >= 0.0:
+                least = step_cost(clear_known, False, table, inflation_radius, unknown_cost)
+            if clear_unknown >= 0.0:
+                least = min(least, step_cost(clear_unknown, True, table, inflation_radius, unknown_cost))
             if least < np.inf:
                 open_b[pr, pc] = True
                 cost_b[pr, pc] = least
@@ -164,8 +173,8 @@ def _group_costs(  # noqa: C901 (numba kernel: Dijkstra with its neighbour steps
     offsets = np.array([-pcols, pcols, -1, 1, -pcols - 1, -pcols + 1, pcols - 1, pcols + 1])
     side_row = np.array([0, 0, 0, 0, -pcols, -pcols, pcols, pcols])
     side_col = np.array([0, 0, 0, 0, -1, 1, -1, 1])
-    n_buckets = int(math.ceil(_SQRT2 * max(max_cost, 1.0))) + 2  # a step spans fewer buckets
-    head = np.full(n_buckets, -1, np.int64)
+    mask = bucket_ring_mask(max_cost)
+    head = np.full(mask + 1, -1, np.int64)
     node = np.empty(8 * open_ok.size + 1, np.int64)  # entry pool: one entry per improvement
     link = np.empty(8 * open_ok.size + 1, np.int64)
     g = np.full(open_ok.size, np.inf)
@@ -176,7 +185,7 @@ def _group_costs(  # noqa: C901 (numba kernel: Dijkstra with its neighbour steps
     node[0], link[0], head[0] = start, -1, 0
     used, live, bucket, found = 1, 1, 0, 0
     while live > 0:
-        slot = bucket % n_buckets
+        slot = bucket & mask
         entry = head[slot]
         if entry < 0:
             if found >= want:
@@ -213,7 +222,7 @@ def _group_costs(  # noqa: C901 (numba kernel: Dijkstra with its neighbour steps
             new_g = g[cur] + step * cost[nxt]
             if new_g < g[nxt]:
                 g[nxt] = new_g
-                into = int(new_g) % n_buckets
+                into = int(new_g) & mask
                 node[used], link[used] = nxt, head[into]
                 head[into] = used
                 used += 1

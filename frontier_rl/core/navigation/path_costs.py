@@ -23,6 +23,18 @@ _SQRT2 = math.sqrt(2.0)
 
 
 @nb.njit(cache=True)
+def bucket_ring_mask(max_factor: float) -> int:
+    """The mask that maps a bucket (an integer path cost, cells) to its slot in the ring of a
+    bucket queue whose steps cost at most √2 × ``max_factor``: the ring spans more buckets than a
+    step, and has a power-of-two size so that a slot is a mask, not a division (one per push)."""
+    span = int(math.ceil(_SQRT2 * max(max_factor, 1.0))) + 2
+    size = 1
+    while size < span:
+        size *= 2
+    return size - 1
+
+
+@nb.njit(cache=True)
 def _path_costs(  # noqa: C901 (numba kernel: Dijkstra with its neighbour steps written out)
     open_padded: NDArray[np.bool_],
     cost_padded: NDArray[np.float64],
@@ -57,8 +69,8 @@ def _path_costs(  # noqa: C901 (numba kernel: Dijkstra with its neighbour steps 
         cell = (targets[j, 0] + 1) * pcols + targets[j, 1] + 1
         also[j] = first[cell]
         first[cell] = j
-    n_buckets = int(math.ceil(_SQRT2 * max(cost.max(), 1.0))) + 2  # a step spans fewer buckets
-    head = np.full(n_buckets, -1, np.int64)
+    mask = bucket_ring_mask(cost.max())
+    head = np.full(mask + 1, -1, np.int64)
     node = np.empty(8 * size_all + 1, np.int64)  # entry pool: one entry per improvement
     link = np.empty(8 * size_all + 1, np.int64)
     g = np.full(size_all, np.inf)
@@ -80,7 +92,7 @@ def _path_costs(  # noqa: C901 (numba kernel: Dijkstra with its neighbour steps 
         live = 1
         bucket = 0
         while live > 0 and (left > 0 or nt == 0) and bucket <= max_cost:
-            slot = bucket % n_buckets
+            slot = bucket & mask
             entry = head[slot]
             if entry < 0:
                 bucket += 1
@@ -118,7 +130,7 @@ def _path_costs(  # noqa: C901 (numba kernel: Dijkstra with its neighbour steps 
                         touched[n_touched] = nxt
                         n_touched += 1
                     g[nxt] = new_g
-                    into = int(new_g) % n_buckets
+                    into = int(new_g) & mask
                     node[used], link[used] = nxt, head[into]
                     head[into] = used
                     used += 1

@@ -259,6 +259,10 @@ def test_the_lazy_blocks_equal_the_definition_up_to_the_maps_edges(shape: tuple[
     )  # fmt: skip
     np.testing.assert_array_equal(lazy, best * (f * 0.05))
     assert np.isfinite(lazy[30:]).all()  # the groups at the far edges were reached
+    blocks = costmap.block_grids[f]  # each block worked out, by its clearest open cells, as defined
+    done = ~blocks.pending
+    np.testing.assert_array_equal(blocks.open_padded[done], open_b[done])
+    np.testing.assert_array_equal(blocks.cost_padded[done], cost_b[done])
 
 
 def test_searches_on_one_costmap_share_its_blocks_and_cost_the_same() -> None:
