@@ -17,14 +17,14 @@ from numpy.typing import NDArray
 
 from frontier_rl.core.navigation.astar import SearchScratch, astar_padded
 from frontier_rl.core.navigation.config import NavigationConfig
-from frontier_rl.core.navigation.distance import chamfer_distance_padded, flood_known
+from frontier_rl.core.navigation.distance import flood_known
 from frontier_rl.core.navigation.group_costs import BlockGrid
+from frontier_rl.core.navigation.inflation import InflationMemory, inflate
 from frontier_rl.core.navigation.path_costs import cost_field
 from frontier_rl.core.navigation.step_costs import inflation_table, step_costs
 from frontier_rl.core.world.grid import CellState, OccupancyGrid
 from frontier_rl.core.world.robot import RobotConfig
 
-_OCCUPIED = np.int8(CellState.OCCUPIED)
 _NO_COSTS = np.zeros(0)  # astar_padded works the step costs out itself
 ESCAPE_RADIUS_M = 0.25
 """Around the robot, cells closer to a wall than the robot radius may be crossed within this
@@ -65,14 +65,23 @@ class Costmap:
 
     @classmethod
     def build(
-        cls, grid: OccupancyGrid, robot: RobotConfig, config: NavigationConfig, scratch: SearchScratch | None = None
+        cls,
+        grid: OccupancyGrid,
+        robot: RobotConfig,
+        config: NavigationConfig,
+        scratch: SearchScratch | None = None,
+        memory: InflationMemory | None = None,
     ) -> Costmap:
         """Inflate the obstacles of ``grid`` for a robot of ``robot.radius``; its searches use
-        ``scratch`` (a new one by default: pass one to reuse it from map to map)."""
+        ``scratch`` (a new one by default: pass one to reuse it from map to map). With ``memory``
+        (the last map's inflation), only what the map's changes can reach is inflated again."""
         res = grid.resolution
         lethal_below = (robot.radius + 0.5 * res) / res  # cell centre to wall surface, in cells
         inflation_radius = config.inflation_radius / res
-        clearance_p, open_p = _inflate(grid.data, lethal_below, inflation_radius)
+        if memory is None:
+            clearance_p, open_p = inflate(grid.data, lethal_below, inflation_radius)
+        else:
+            clearance_p, open_p = memory.inflate(grid, lethal_below, inflation_radius)
         table = inflation_table(lethal_below, inflation_radius, config.cost_scaling * res, config.inflation_cost)
         return cls(grid, open_p, clearance_p, table, inflation_radius, config.unknown_cost, scratch or SearchScratch())
 
@@ -157,46 +166,6 @@ class Costmap:
         costs = (self.grid.data, self.inflation_table, self.inflation_radius, self.unknown_cost)
         return astar_padded(self.open_padded, self.clearance_padded, costs, _NO_COSTS, start[0], start[1], goal[0],
                             goal[1], escape, scratch, stamp)  # fmt: skip
-
-
-@nb.njit(cache=True)
-def _inflate(
-    state: NDArray[np.int8], lethal_below: float, inflation_radius: float
-) -> tuple[NDArray[np.float64], NDArray[np.bool_]]:
-    """Clearance (cells) and traversable mask of a map, each with a one-cell border (not
-    traversable) so that the planner needs no bounds checks; lengths in cells."""
-    rows, cols = state.shape
-    occupied = np.empty((rows, cols), np.bool_)
-    for r in range(rows):
-        for c in range(cols):
-            occupied[r, c] = state[r, c] == _OCCUPIED
-    clearance = chamfer_distance_padded(occupied, inflation_radius + 1.0)
-    # Traversability must be exact, and the chamfer distance runs up to 8.24 % long: below the
-    # lethal distance it is surely lethal, 8.24 % above it surely clear, and the cells in between
-    # (if any: with the default radius no chamfer value falls there) get an exact look at the
-    # walls around them.
-    traversable = np.zeros((rows + 2, cols + 2), np.bool_)
-    surely_clear = lethal_below * 1.0825
-    undecided = 0
-    for r in range(1, rows + 1):
-        for c in range(1, cols + 1):
-            d = clearance[r, c]
-            traversable[r, c] = d >= surely_clear
-            undecided += (d >= lethal_below) & (d < surely_clear)
-    if undecided:
-        reach = int(math.ceil(lethal_below))
-        lethal2 = lethal_below * lethal_below
-        for r in range(1, rows + 1):
-            for c in range(1, cols + 1):
-                if not lethal_below <= clearance[r, c] < surely_clear:
-                    continue
-                clear = True
-                for rr in range(max(r - 1 - reach, 0), min(r + reach, rows)):
-                    for cc in range(max(c - 1 - reach, 0), min(c + reach, cols)):
-                        if occupied[rr, cc] and (rr - r + 1) ** 2 + (cc - c + 1) ** 2 < lethal2:
-                            clear = False
-                traversable[r, c] = clear
-    return clearance, traversable
 
 
 def nearest_cell(mask: NDArray[np.bool_], target: tuple[int, int], max_radius: int) -> tuple[int, int] | None:

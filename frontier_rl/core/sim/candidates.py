@@ -13,6 +13,7 @@ from frontier_rl.core.frontiers.detection import Frontiers, detect_frontiers
 from frontier_rl.core.frontiers.fringe import unknown_beside
 from frontier_rl.core.navigation.astar import SearchScratch
 from frontier_rl.core.navigation.costmap import Costmap
+from frontier_rl.core.navigation.inflation import InflationMemory
 from frontier_rl.core.navigation.thin_walls import thin_walls
 from frontier_rl.core.sim.config import SimConfig
 from frontier_rl.core.sim.metrics import FrontierLeft
@@ -47,15 +48,17 @@ def reachable_frontiers(
     min_cells: int | None = None,
     scratch: SearchScratch | None = None,
     thin_except: NDArray[np.bool_] | None = None,
+    memory: InflationMemory | None = None,
 ) -> tuple[Costmap, NDArray[np.bool_], Frontiers]:
-    """The navigator's costmap of ``grid`` (its searches using ``scratch``), the known free cells
+    """The navigator's costmap of ``grid`` (its searches using ``scratch``, its inflation updating
+    ``memory``'s when there is one: not on the narrow-passage recovery's), the known free cells
     the robot at ``pose`` can reach, and the frontier clusters larger than ``min_cells`` (default
     ``config.min_frontier_cells``) that touch them: what a decision chooses from, before any
     blacklist. With ``thin_except`` (a mask of ``grid``'s shape), the costmap is that of the
     narrow-passage recovery: the map's walls thinned by a cell except at those cells
     (:func:`~frontier_rl.core.navigation.thin_walls.thin_walls`)."""
     if thin_except is None:
-        costmap = Costmap.build(grid, config.robot, config.navigation, scratch)
+        costmap = Costmap.build(grid, config.robot, config.navigation, scratch, memory)
         reachable = costmap.reachable_known(grid.world_to_cell(pose.x, pose.y))
     else:
         thinned = OccupancyGrid(thin_walls(grid.data, thin_except), grid.resolution, grid.origin)
@@ -76,6 +79,7 @@ def find_candidates(
     map_state: NDArray[np.int8],
     scratch: SearchScratch | None = None,
     felt: NDArray[np.bool_] | None = None,
+    memory: InflationMemory | None = None,
 ) -> Candidates:
     """The candidates on ``grid`` for a robot at ``pose``: on the normal costmap, or with ``felt``
     (the walls the robot touched, in ``grid``'s frame) on the narrow-passage recovery's, which
@@ -83,7 +87,9 @@ def find_candidates(
     robot's whole map ``map_state`` first); when that would leave none, the goals that may be
     retried are lifted once, so that the episode never ends with a frontier it gave up on after a
     single failure."""
-    costmap, reachable, frontiers = reachable_frontiers(grid, pose, config, scratch=scratch, thin_except=felt)
+    costmap, reachable, frontiers = reachable_frontiers(
+        grid, pose, config, scratch=scratch, thin_except=felt, memory=memory
+    )
     if blacklist.entries and len(frontiers):
         blacklist.refresh(map_state)
         goals = frontiers.goals

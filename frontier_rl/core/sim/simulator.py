@@ -22,6 +22,7 @@ from frontier_rl.core.mapping.mapper import LogOddsMapper
 from frontier_rl.core.navigation.astar import SearchScratch
 from frontier_rl.core.navigation.costmap import nearest_cell
 from frontier_rl.core.navigation.follower import footprint_offsets
+from frontier_rl.core.navigation.inflation import InflationMemory
 from frontier_rl.core.sensing.lidar import Lidar
 from frontier_rl.core.sim.body import touched_walls, until_next_scan
 from frontier_rl.core.sim.candidates import Candidates, find_candidates, frontiers_left
@@ -68,12 +69,11 @@ class ExplorationSimulator:
         self._footprint = footprint_offsets(self.config.robot.radius, grid.resolution)
         # the planner's, reused by every costmap of the episode: they are crops of the world, padded
         self._scratch = SearchScratch((grid.height + 2) * (grid.width + 2))
-        r = self.config.robot
-        n = self.config.navigation
+        self._inflation = InflationMemory()  # the last costmap's, inflated again where the map changed
+        r, n = self.config.robot, self.config.navigation
         self.follow_params = np.array(
             [r.max_linear_speed, r.max_angular_speed, r.turn_in_place_angle, n.heading_gain, n.lookahead,
-             n.goal_tolerance, n.control_dt, r.radius],
-            dtype=np.float64,
+             n.goal_tolerance, n.control_dt, r.radius], dtype=np.float64,
         )  # fmt: skip
         self.reset(teammates)
 
@@ -84,8 +84,7 @@ class ExplorationSimulator:
         self.mapper = LogOddsMapper(self.world.grid, self.config.mapper, self.world.explorable)
         self._sim_time = 0.0
         self.path_length = 0.0
-        nav = self.config.navigation
-        grid = self.world.grid
+        nav, grid = self.config.navigation, self.world.grid
         self.blacklist = Blacklist(nav.blacklist_radius, nav.max_goal_failures, grid.resolution, grid.origin)
         self.log = EpisodeLog(self.world.explorable_count)
         self._candidates: Candidates | None = None
@@ -245,7 +244,8 @@ class ExplorationSimulator:
         if tight:
             top, left = self.world.grid.world_to_cell(*grid.cell_to_world(0, 0))
             felt = self.mapper.felt[top : top + grid.height, left : left + grid.width]
-        return find_candidates(grid, self.pose, self.config, self.blacklist, self.mapper.state, self._scratch, felt)
+        return find_candidates(grid, self.pose, self.config, self.blacklist, self.mapper.state, self._scratch, felt,
+                               self._inflation)  # fmt: skip
 
     def frontiers(self) -> Frontiers:
         """The current candidate frontiers."""
