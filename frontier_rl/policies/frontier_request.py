@@ -14,6 +14,7 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
+from frontier_rl.core.navigation.inflation import InflationMemory
 from frontier_rl.core.sim.candidates import reachable_frontiers
 from frontier_rl.core.sim.config import SimConfig
 from frontier_rl.core.sim.episode import DecisionContext, ExplorationPolicy
@@ -83,11 +84,14 @@ def rank_frontiers(
     min_cluster_cells: int = 4,
     sim: SimConfig | None = None,
     rng: np.random.Generator | None = None,
+    memory: InflationMemory | None = None,
 ) -> tuple[list[RankedFrontier], float | None]:
     """The ``top_k`` frontiers of ``grid`` that the robot at ``pose`` (grid frame, m) can reach
-    through known free space, best first by ``policy``, and the weight the policy used."""
+    through known free space, best first by ``policy``, and the weight the policy used. With
+    ``memory`` (the robot's last costmap inflation), the costmap is inflated again only where the
+    walls changed since the last request."""
     sim = sim or SimConfig()
-    costmap, _, frontiers = reachable_frontiers(grid, pose, sim, min_cluster_cells)
+    costmap, _, frontiers = reachable_frontiers(grid, pose, sim, min_cluster_cells, memory=memory)
     if len(frontiers) == 0:
         return [], None
     context = DecisionContext(grid, frontiers, pose, 0.0, sim.lidar.max_range, costmap)

@@ -18,6 +18,7 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
+from frontier_rl.core.navigation.inflation import InflationMemory
 from frontier_rl.core.world.grid import OccupancyGrid
 from frontier_rl.core.world.robot import Pose
 from frontier_rl.errors import FrontierRLError
@@ -84,6 +85,7 @@ def _serve(conn: Connection, policy_spec: str, top_k: int, min_cells: int) -> No
     _warm_up(policy, top_k, min_cells)
     conn.send(READY)
     held: _HeldMap | None = None
+    memory = InflationMemory()  # requests on an unchanged map inflate nothing, a new map where it changed
     try:
         while True:
             jobs: list[RankJob] = []
@@ -97,14 +99,17 @@ def _serve(conn: Connection, policy_spec: str, top_k: int, min_cells: int) -> No
                 if not conn.poll(0):
                     break
                 message = conn.recv()
-            for result in _rank(jobs, held, policy, top_k, min_cells):
+            for result in _rank(jobs, held, policy, top_k, min_cells, memory):
                 conn.send(result)
     except (EOFError, OSError):
         return
 
 
-def _rank(jobs: list[RankJob], held: _HeldMap | None, policy: Any, top_k: int, min_cells: int) -> list[RankResult]:
-    """One result per job, all from one ranking at the last job's pose."""
+def _rank(
+    jobs: list[RankJob], held: _HeldMap | None, policy: Any, top_k: int, min_cells: int, memory: InflationMemory
+) -> list[RankResult]:
+    """One result per job, all from one ranking at the last job's pose (``memory``: the worker's
+    last costmap inflation)."""
     if not jobs:
         return []
     if held is None:  # the node sends a map before any job; kept as a guard
@@ -112,7 +117,7 @@ def _rank(jobs: list[RankJob], held: _HeldMap | None, policy: Any, top_k: int, m
     frame, shared = held.info.frame, len(jobs)
     try:
         gx, gy = frame.to_grid(jobs[-1].x, jobs[-1].y)
-        ranked, weight = rank_frontiers(held.grid, Pose(gx, gy, 0.0), policy, top_k, min_cells)
+        ranked, weight = rank_frontiers(held.grid, Pose(gx, gy, 0.0), policy, top_k, min_cells, memory=memory)
         centres = tuple(frame.to_map(f.x, f.y) for f in ranked)
     except Exception as exc:  # a model or map problem must come back as an answer, not end the worker
         error = f"ranking failed: {type(exc).__name__}: {exc}"

@@ -103,6 +103,26 @@ def test_answers_are_in_the_frame_of_the_map_they_were_ranked_on(worker: tuple[R
     assert len(two.centres) >= 2 and two.centres != one.centres
 
 
+def test_a_map_whose_walls_changed_is_ranked_as_a_new_one(worker: tuple[RobotWorker, _Results]) -> None:
+    """The worker inflates a new map only where its walls changed, and not at all for a job on the
+    same map: every answer is the one a ranking from scratch gives."""
+    handle, results = worker
+    before = _hall(300)
+    cells = before.data.reshape(300, 300).copy()
+    cells[70:74, 10:160] = 100  # a wall across the hall with a gap the robot cannot pass, and one gone
+    cells[70:74, 80:83] = 0
+    cells[100, 20:120] = 0
+    after = MapCells(MapInfo(AT_ORIGIN, 300, 300, 0.05, 2.0), cells.reshape(-1))
+    poses = [(before, 3.0, 2.0), (before, 4.0, 2.5), (after, 3.0, 2.0), (after, 4.0, 2.5)]
+    for job, (cells_sent, x, y) in enumerate(poses):
+        if job % 2 == 0:
+            handle.send_map(cells_sent)
+        handle.submit(RankJob(job, x, y))
+        answer = results.wait(job)
+        assert not answer.error and answer.centres == _ranked_here(cells_sent, x, y), job
+    assert results.results[0].centres != results.results[2].centres
+
+
 def test_jobs_queued_behind_a_ranking_are_answered_together_at_the_newest_pose(
     worker: tuple[RobotWorker, _Results],
 ) -> None:

@@ -95,7 +95,9 @@ class InflationMemory:
     """The last map a robot's costmap inflated, to inflate the next one where it changed.
 
     One per robot and kind of costmap (its maps are crops of one map that grow as it explores);
-    :meth:`inflate` gives what :func:`inflate` gives, whatever map comes.
+    :meth:`inflate` gives what :func:`inflate` gives, whatever map comes. The arrays it gives are
+    kept for the next call, and given again when no wall changed: no caller may write into them
+    (a :class:`~frontier_rl.core.navigation.costmap.Costmap` never does).
     """
 
     _state: NDArray[np.int8] | None = None
@@ -114,7 +116,11 @@ class InflationMemory:
         if offset is None:
             clearance, traversable = inflate(grid.data, lethal_below, inflation_radius)
         else:
-            clearance, traversable = self._update(grid.data, offset, lethal_below, inflation_radius)
+            assert self._state is not None and self._clearance is not None and self._traversable is not None
+            changes = _wall_changes(self._state, grid.data, *offset)
+            if offset == (0, 0) and self._state.shape == grid.shape and changes[0] >= changes[1]:
+                return self._clearance, self._traversable  # the same walls on the same cells
+            clearance, traversable = self._update(grid.data, offset, changes, lethal_below, inflation_radius)
         self._state, self._origin, self._key = grid.data.copy(), grid.origin, key
         self._clearance, self._traversable = clearance, traversable
         return clearance, traversable
@@ -135,10 +141,16 @@ class InflationMemory:
         return (dr, dc) if on_lattice and inside else None
 
     def _update(
-        self, state: NDArray[np.int8], offset: tuple[int, int], lethal_below: float, inflation_radius: float
+        self,
+        state: NDArray[np.int8],
+        offset: tuple[int, int],
+        changes: Box,
+        lethal_below: float,
+        inflation_radius: float,
     ) -> tuple[NDArray[np.float64], NDArray[np.bool_]]:
-        """The last result copied into ``state``'s frame, then each region a change can reach
-        worked out again on a window around it."""
+        """The last result copied into ``state``'s frame, then each region a change can reach (the
+        box of the walls that ``changes``, the strips the last map did not hold) worked out again
+        on a window around it."""
         assert self._state is not None and self._clearance is not None and self._traversable is not None
         (dr, dc), (rows, cols) = offset, self._state.shape
         cap = clearance_cap(inflation_radius)
@@ -149,10 +161,9 @@ class InflationMemory:
         traversable[dr + 1 : dr + rows + 1, dc + 1 : dc + cols + 1] = self._traversable[1:-1, 1:-1]
         # the cells the last map did not hold (strips around it), and the walls that changed
         boxes = [(0, dr, 0, state.shape[1]), (dr + rows, state.shape[0], 0, state.shape[1]),
-                 (dr, dr + rows, 0, dc), (dr, dr + rows, dc + cols, state.shape[1]),
-                 _wall_changes(self._state, state, dr, dc)]  # fmt: skip
+                 (dr, dr + rows, 0, dc), (dr, dr + rows, dc + cols, state.shape[1]), changes]  # fmt: skip
         # A wall counts for clearances below the cap, along chamfer paths shorter than it, so a
-        # cell more than the cap (and a cell) from every change keeps its value; the window a
+        # cell more than the cap (and two cells) from every change keeps its value; the window a
         # region is worked out on holds every wall within that reach of it.
         margin = math.ceil(cap) + 2
         for box in boxes:

@@ -77,11 +77,12 @@ def test_maps_it_cannot_build_on_are_inflated_whole() -> None:
 
 
 def test_only_what_a_change_can_reach_is_worked_out_again(monkeypatch: pytest.MonkeyPatch) -> None:
-    """The same map again costs no inflation, nor do unknown cells turned free; a wall added in
-    the middle of a large map is inflated on a window around it, not on the map."""
+    """The same map again costs no inflation, nor do unknown cells turned free (the arrays are
+    given again); a wall added in the middle of a large map is inflated on a window around it,
+    not on the map."""
     world = a_map(np.random.default_rng(4), (600, 600))
     memory = InflationMemory()
-    memory.inflate(crop(world, 0, 600, 0, 600), 2.6, 11.0)
+    first = memory.inflate(crop(world, 0, 600, 0, 600), 2.6, 11.0)
     windows: list[tuple[int, int]] = []
 
     def counted(state: NDArray[np.int8], lethal: float, radius: float) -> tuple[NDArray[np.float64], NDArray[np.bool_]]:
@@ -93,6 +94,8 @@ def test_only_what_a_change_can_reach_is_worked_out_again(monkeypatch: pytest.Mo
     world[world == CellState.UNKNOWN] = CellState.FREE
     assert_whole(memory, crop(world, 0, 600, 0, 600), 2.6, 11.0)
     assert windows == []
+    again = memory.inflate(crop(world, 0, 600, 0, 600), 2.6, 11.0)
+    assert again[0] is first[0] and again[1] is first[1]  # the same walls: given again, not copied
     world[300, 300] = CellState.OCCUPIED if world[300, 300] != CellState.OCCUPIED else CellState.FREE
     assert_whole(memory, crop(world, 0, 600, 0, 600), 2.6, 11.0)
     assert len(windows) == 1 and max(windows[0]) < 100, windows
