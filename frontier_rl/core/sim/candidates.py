@@ -86,7 +86,8 @@ def find_candidates(
     thins every other wall. Goals the ``blacklist`` blocks are left out (refreshed against the
     robot's whole map ``map_state`` first); when that would leave none, the goals that may be
     retried are lifted once, so that the episode never ends with a frontier it gave up on after a
-    single failure."""
+    single failure. ``scratch`` and ``memory`` are the robot's, kept from map to map
+    (:func:`reachable_frontiers`)."""
     costmap, reachable, frontiers = reachable_frontiers(
         grid, pose, config, scratch=scratch, thin_except=felt, memory=memory
     )
