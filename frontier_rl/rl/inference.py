@@ -39,7 +39,7 @@ def network_input(policy: ActorCriticPolicy, observation: Any) -> torch.Tensor |
         value = np.ascontiguousarray(value, np.float32)
         if not value.flags.writeable:  # torch shares the array's memory, and warns on a read-only one
             value = value.copy()
-        tensors[key] = torch.from_numpy(value).reshape((-1, *(sub.shape or ())))
+        tensors[key] = torch.from_numpy(value).reshape((-1, *(sub.shape or ()))).to(policy.device)
     return tensors if isinstance(space, gym.spaces.Dict) else tensors[""]
 
 

@@ -65,13 +65,22 @@ class RankResult:
 
 @dataclass(frozen=True)
 class _HeldMap:
+    """The map a worker ranks on, with the costmap inflation of its robot's maps in its frame."""
+
     grid: OccupancyGrid
     info: MapInfo
+    memory: InflationMemory
 
     @classmethod
-    def of(cls, cells: MapCells) -> _HeldMap:
+    def of(cls, cells: MapCells, last: _HeldMap | None = None) -> _HeldMap:
+        """The map ``cells`` bring, keeping ``last``'s memory when it lies in the same frame (a map
+        whose origin moved puts its cells elsewhere in the grid: a new memory, inflated whole), so
+        that requests on it inflate nothing and a new map is inflated where its walls changed."""
         info = cells.info
-        return cls(grid_from_message(info.width, info.height, info.resolution, cells.data), info)
+        grid = grid_from_message(info.width, info.height, info.resolution, cells.data)
+        if last is not None and last.info.frame == info.frame and last.info.resolution == info.resolution:
+            return cls(grid, info, last.memory)
+        return cls(grid, info, InflationMemory())
 
 
 def _serve(conn: Connection, policy_spec: str, top_k: int, min_cells: int) -> None:
@@ -85,7 +94,6 @@ def _serve(conn: Connection, policy_spec: str, top_k: int, min_cells: int) -> No
     _warm_up(policy, top_k, min_cells)
     conn.send(READY)
     held: _HeldMap | None = None
-    memory = InflationMemory()  # requests on an unchanged map inflate nothing, a new map where it changed
     try:
         while True:
             jobs: list[RankJob] = []
@@ -93,23 +101,20 @@ def _serve(conn: Connection, policy_spec: str, top_k: int, min_cells: int) -> No
             while True:
                 if isinstance(message, MapCells):
                     with contextlib.suppress(FrontierRLError):  # the node checks maps first; keep the last good one
-                        held = _HeldMap.of(message)
+                        held = _HeldMap.of(message, held)
                 else:
                     jobs.append(message)
                 if not conn.poll(0):
                     break
                 message = conn.recv()
-            for result in _rank(jobs, held, policy, top_k, min_cells, memory):
+            for result in _rank(jobs, held, policy, top_k, min_cells):
                 conn.send(result)
     except (EOFError, OSError):
         return
 
 
-def _rank(
-    jobs: list[RankJob], held: _HeldMap | None, policy: Any, top_k: int, min_cells: int, memory: InflationMemory
-) -> list[RankResult]:
-    """One result per job, all from one ranking at the last job's pose (``memory``: the worker's
-    last costmap inflation)."""
+def _rank(jobs: list[RankJob], held: _HeldMap | None, policy: Any, top_k: int, min_cells: int) -> list[RankResult]:
+    """One result per job, all from one ranking at the last job's pose."""
     if not jobs:
         return []
     if held is None:  # the node sends a map before any job; kept as a guard
@@ -117,7 +122,7 @@ def _rank(
     frame, shared = held.info.frame, len(jobs)
     try:
         gx, gy = frame.to_grid(jobs[-1].x, jobs[-1].y)
-        ranked, weight = rank_frontiers(held.grid, Pose(gx, gy, 0.0), policy, top_k, min_cells, memory=memory)
+        ranked, weight = rank_frontiers(held.grid, Pose(gx, gy, 0.0), policy, top_k, min_cells, memory=held.memory)
         centres = tuple(frame.to_map(f.x, f.y) for f in ranked)
     except Exception as exc:  # a model or map problem must come back as an answer, not end the worker
         error = f"ranking failed: {type(exc).__name__}: {exc}"
@@ -133,11 +138,15 @@ READY = "ready"
 
 
 def _warm_up(policy: Any, top_k: int, min_cells: int) -> None:
-    """Rank a small room once, so that the first real request does not pay for loading the kernels."""
+    """Rank a small room, then the same room with a wall more, so that the first real requests do
+    not pay for loading the kernels (the second map's inflation is worked out where it changed)."""
+    memory = InflationMemory()
     cells = np.full((40, 40), -1, np.int8)
     cells[5:35, 5:20] = 0
-    ranked = grid_from_message(40, 40, 0.05, cells.reshape(-1))
-    rank_frontiers(ranked, Pose(0.6, 1.0, 0.0), policy, top_k, min_cells)
+    for wall in (False, True):
+        cells[20, 5:10] = 100 if wall else 0
+        ranked = grid_from_message(40, 40, 0.05, cells.reshape(-1))
+        rank_frontiers(ranked, Pose(0.6, 1.0, 0.0), policy, top_k, min_cells, memory=memory)
 
 
 class RobotWorker:

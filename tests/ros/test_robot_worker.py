@@ -19,7 +19,7 @@ from frontier_rl.core.world.robot import Pose
 from frontier_rl.policies import make_policy
 from frontier_rl.policies.frontier_request import grid_from_message, rank_frontiers
 from frontier_rl.ros.answers import MapFrame, MapInfo
-from frontier_rl.ros.robot_worker import MapCells, RankJob, RankResult, RobotWorker
+from frontier_rl.ros.robot_worker import MapCells, RankJob, RankResult, RobotWorker, _HeldMap, _rank
 
 AT_ORIGIN = MapFrame("map", 0.0, 0.0, 0.0)
 
@@ -121,6 +121,17 @@ def test_a_map_whose_walls_changed_is_ranked_as_a_new_one(worker: tuple[RobotWor
         answer = results.wait(job)
         assert not answer.error and answer.centres == _ranked_here(cells_sent, x, y), job
     assert results.results[0].centres != results.results[2].centres
+
+
+def test_a_worker_keeps_its_inflation_for_maps_on_the_same_cells() -> None:
+    """A map in the same frame keeps the last one's inflation memory, which the ranking uses; a map
+    whose origin moved starts a new one (its cells lie elsewhere in the grid)."""
+    first = _HeldMap.of(_hall(200))
+    assert _rank([RankJob(1, 2.0, 2.0)], first, make_policy("fixed:0.75"), 10, 4)[0].centres
+    assert first.memory._state is not None  # the ranking inflated through it
+    again = _HeldMap.of(_hall(200, stamp_s=2.0), first)
+    moved = _HeldMap.of(_hall(200, MapFrame("map", -3.0, 2.0, 0.0), stamp_s=3.0), again)
+    assert again.memory is first.memory and moved.memory is not first.memory
 
 
 def test_jobs_queued_behind_a_ranking_are_answered_together_at_the_newest_pose(

@@ -150,32 +150,32 @@ class InflationMemory:
     ) -> tuple[NDArray[np.float64], NDArray[np.bool_]]:
         """The last result copied into ``state``'s frame, then each region a change can reach (the
         box of the walls that ``changes``, the strips the last map did not hold) worked out again
-        on a window around it."""
-        assert self._state is not None and self._clearance is not None and self._traversable is not None
-        (dr, dc), (rows, cols) = offset, self._state.shape
+        on a window around it; the whole map at once when the windows would cover as many cells."""
+        assert self._clearance is not None and self._traversable is not None
+        (dr, dc), (rows, cols), (height, width) = offset, self._clearance[1:-1, 1:-1].shape, state.shape
+        boxes = [(0, dr, 0, width), (dr + rows, height, 0, width), (dr, dr + rows, 0, dc),
+                 (dr, dr + rows, dc + cols, width), changes]  # fmt: skip
+        # A wall counts for clearances below the cap, along chamfer paths shorter than it, so a
+        # cell more than the cap (and two cells) from every change keeps its value; the window a
+        # region is worked out on holds every wall within that reach of it.
         cap = clearance_cap(inflation_radius)
-        clearance = np.empty((state.shape[0] + 2, state.shape[1] + 2))  # every cell is written below
+        margin = math.ceil(cap) + 2
+        regions = [_grown(box, margin, state.shape) for box in boxes if box[0] < box[1] and box[2] < box[3]]
+        windows = [_grown(region, margin, state.shape) for region in regions]
+        if sum((w[1] - w[0]) * (w[3] - w[2]) for w in windows) >= height * width:
+            return inflate(state, lethal_below, inflation_radius)
+        clearance = np.empty((height + 2, width + 2))  # every cell is written below
         clearance[[0, -1], :], clearance[:, [0, -1]] = cap, cap  # the border, as inflate() leaves it
         traversable = np.zeros(clearance.shape, np.bool_)
         clearance[dr + 1 : dr + rows + 1, dc + 1 : dc + cols + 1] = self._clearance[1:-1, 1:-1]
         traversable[dr + 1 : dr + rows + 1, dc + 1 : dc + cols + 1] = self._traversable[1:-1, 1:-1]
-        # the cells the last map did not hold (strips around it), and the walls that changed
-        boxes = [(0, dr, 0, state.shape[1]), (dr + rows, state.shape[0], 0, state.shape[1]),
-                 (dr, dr + rows, 0, dc), (dr, dr + rows, dc + cols, state.shape[1]), changes]  # fmt: skip
-        # A wall counts for clearances below the cap, along chamfer paths shorter than it, so a
-        # cell more than the cap (and two cells) from every change keeps its value; the window a
-        # region is worked out on holds every wall within that reach of it.
-        margin = math.ceil(cap) + 2
-        for box in boxes:
-            if box[0] < box[1] and box[2] < box[3]:
-                region = _grown(box, margin, state.shape)
-                window = _grown(region, margin, state.shape)
-                part_clearance, part_traversable = inflate(state[window[0] : window[1], window[2] : window[3]],
-                                                           lethal_below, inflation_radius)  # fmt: skip
-                into = (slice(region[0] + 1, region[1] + 1), slice(region[2] + 1, region[3] + 1))
-                local = (slice(region[0] - window[0] + 1, region[1] - window[0] + 1),
-                         slice(region[2] - window[2] + 1, region[3] - window[2] + 1))  # fmt: skip
-                clearance[into], traversable[into] = part_clearance[local], part_traversable[local]
+        for region, window in zip(regions, windows, strict=True):
+            part_clearance, part_traversable = inflate(state[window[0] : window[1], window[2] : window[3]],
+                                                       lethal_below, inflation_radius)  # fmt: skip
+            into = (slice(region[0] + 1, region[1] + 1), slice(region[2] + 1, region[3] + 1))
+            local = (slice(region[0] - window[0] + 1, region[1] - window[0] + 1),
+                     slice(region[2] - window[2] + 1, region[3] - window[2] + 1))  # fmt: skip
+            clearance[into], traversable[into] = part_clearance[local], part_traversable[local]
         return clearance, traversable
 
 
