@@ -24,8 +24,9 @@ from stable_baselines3.common.preprocessing import is_image_space, preprocess_ob
 def network_input(policy: ActorCriticPolicy, observation: Any) -> torch.Tensor | dict[str, torch.Tensor]:
     """``observation`` as the features extractor takes it: SB3's ``obs_to_tensor`` and
     ``preprocess_obs`` (a batch of one; images over 255 when the policy normalises them, the rest
-    as float32), the arithmetic done in NumPy, the same float32 division, for a third of the
-    time. Spaces other than boxes (none of this project's) go SB3's way."""
+    as float32), the arithmetic done in NumPy, the same float32 division, in about half the time
+    (0.13 against 0.24 ms in a model-5 decision). Spaces other than boxes (none of this project's)
+    go SB3's way."""
     space = policy.observation_space
     spaces = space.spaces if isinstance(space, gym.spaces.Dict) else {"": space}
     if not all(isinstance(sub, gym.spaces.Box) for sub in spaces.values()):
