@@ -141,11 +141,11 @@ def _warm_up(policy: Any, top_k: int, min_cells: int) -> None:
     """Rank a small room, then the same room with a wall more, so that the first real requests do
     not pay for loading the kernels (the second map's inflation is worked out where it changed)."""
     memory = InflationMemory()
-    cells = np.full((40, 40), -1, np.int8)
-    cells[5:35, 5:20] = 0
+    cells = np.full((120, 120), -1, np.int8)  # large enough that a wall is inflated on a window of it
+    cells[5:115, 5:60] = 0
     for wall in (False, True):
-        cells[20, 5:10] = 100 if wall else 0
-        ranked = grid_from_message(40, 40, 0.05, cells.reshape(-1))
+        cells[60, 5:10] = 100 if wall else 0
+        ranked = grid_from_message(120, 120, 0.05, cells.reshape(-1))
         rank_frontiers(ranked, Pose(0.6, 1.0, 0.0), policy, top_k, min_cells, memory=memory)
 
 
