@@ -21,6 +21,7 @@ import tempfile
 import time
 import xmlrpc.client
 from pathlib import Path
+from typing import Any
 
 import numpy as np
 
@@ -33,6 +34,9 @@ POLICIES = {
     "tour": ["_policy:=tour"],
     "model 7": ["_policy:=learned:models/model7.zip"],
 }
+NODE_PARAMETERS = "/frontier_rl"
+"""The node's private parameters (its name is ``frontier_rl``)."""
+CLIENT_TIMEOUT_S = 600.0
 SEEN_M = 3.0
 """The maps are published as seen within this distance of the robot (so that they have frontiers)."""
 
@@ -128,6 +132,34 @@ def _free_port() -> int:
         return int(s.getsockname()[1])
 
 
+def _forget_node_parameters(env: dict[str, str]) -> None:
+    """Delete the node's private parameters: the parameter server keeps them after a node exits, and
+    the next row's node would read the last row's ``~model`` beside its own ``~policy``."""
+    with xmlrpc.client.ServerProxy(env["ROS_MASTER_URI"]) as master:
+        master.deleteParam("/latency_bench", NODE_PARAMETERS)  # an error code, not an exception, when there are none
+
+
+def _run_client(command: list[str], env: dict[str, str], node: subprocess.Popen[bytes], log: Path) -> dict[str, Any]:
+    """Run the requesting process to its end and return what it printed; stop with the node's last
+    log lines if the node exits first (the client would wait for it for ever) or after 600 s."""
+    client = subprocess.Popen(command, env=env, cwd=REPO, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+    deadline = time.monotonic() + CLIENT_TIMEOUT_S
+    while True:
+        try:
+            out, err = client.communicate(timeout=0.5)
+            break
+        except subprocess.TimeoutExpired:
+            if node.poll() is None and time.monotonic() < deadline:
+                continue
+            client.kill()
+            client.communicate()
+            why = f"the node exited with {node.returncode}" if node.returncode is not None else "no result in 600 s"
+            sys.exit(f"{why}; the node's log ends:\n" + "\n".join(log.read_text().splitlines()[-5:]))
+    if client.returncode:
+        sys.exit(f"the client failed ({client.returncode}): {err.strip().splitlines()[-1:]}")
+    return dict(json.loads(out.splitlines()[-1]))
+
+
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--maps", type=Path, default=REPO.parent / "shared" / "maps")
@@ -159,14 +191,16 @@ def main() -> None:
                 params = POLICIES[policy]
                 for robots in (int(n) for n in args.robots.split(",")):
                     names = ",".join(f"tb3_{i}" for i in range(robots))
-                    node = subprocess.Popen([sys.executable, "-m", "frontier_rl.ros.node", f"_robots:={names}",
-                                             "_max_map_age:=0", *params], env=env, cwd=REPO,
-                                            stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)  # fmt: skip
+                    _forget_node_parameters(env)
+                    log = Path(home) / "node.log"
+                    with log.open("a") as out:
+                        node = subprocess.Popen([sys.executable, "-m", "frontier_rl.ros.node", f"_robots:={names}",
+                                                 "_max_map_age:=0", *params], env=env, cwd=REPO,
+                                                stdout=out, stderr=subprocess.STDOUT)  # fmt: skip
                     try:
                         command = [sys.executable, __file__, "--client", str(scene), str(robots), str(args.seconds),
                                    str(args.rate)]  # fmt: skip
-                        run = subprocess.run(command, env=env, cwd=REPO, capture_output=True, text=True, timeout=600)
-                        result = json.loads(run.stdout.splitlines()[-1])
+                        result = _run_client(command, env, node, log)
                     finally:
                         node.send_signal(signal.SIGINT)
                         node.wait(timeout=60)
