@@ -141,7 +141,7 @@ def _forget_node_parameters(env: dict[str, str]) -> None:
 
 def _run_client(command: list[str], env: dict[str, str], node: subprocess.Popen[bytes], log: Path) -> dict[str, Any]:
     """Run the requesting process to its end and return what it printed; stop with the node's last
-    log lines if the node exits first (the client would wait for it for ever) or after 600 s."""
+    log lines if the node exits first (the client would wait for it for ever) or after CLIENT_TIMEOUT_S."""
     client = subprocess.Popen(command, env=env, cwd=REPO, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
     deadline = time.monotonic() + CLIENT_TIMEOUT_S
     while True:
@@ -153,7 +153,8 @@ def _run_client(command: list[str], env: dict[str, str], node: subprocess.Popen[
                 continue
             client.kill()
             client.communicate()
-            why = f"the node exited with {node.returncode}" if node.returncode is not None else "no result in 600 s"
+            ended = node.returncode is not None
+            why = f"the node exited with {node.returncode}" if ended else f"no result in {CLIENT_TIMEOUT_S:g} s"
             sys.exit(f"{why}; the node's log ends:\n" + "\n".join(log.read_text().splitlines()[-5:]))
     if client.returncode:
         sys.exit(f"the client failed ({client.returncode}): {err.strip().splitlines()[-1:]}")
