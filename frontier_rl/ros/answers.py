@@ -31,8 +31,10 @@ def node_policy_spec(policy: str, model: str, weight: float) -> str:
     else ``~weight``. Naming both a policy and a model is a :class:`ConfigError`."""
     policy, model = policy.strip(), model.strip()
     if policy and model:
-        raise ConfigError(f"give ~policy or ~model, not both (got {short_repr(policy)} and {short_repr(model)}; a "
-                          "private parameter of an earlier run stays on the parameter server: rosparam delete it)")
+        raise ConfigError(
+            f"give ~policy or ~model, not both (got {short_repr(policy)} and {short_repr(model)}; a "
+            "private parameter of an earlier run stays on the parameter server: rosparam delete it)"
+        )
     if policy:
         return policy
     return f"learned:{model}" if model else f"fixed:{weight}"

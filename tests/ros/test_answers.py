@@ -110,7 +110,7 @@ def test_the_node_policy_is_policy_else_model_else_weight(policy: str, model: st
 
 
 def test_a_policy_and_a_model_together_are_a_config_error() -> None:
-    with pytest.raises(ConfigError, match="not both.*rosparam delete"):
+    with pytest.raises(ConfigError, match=r"not both.*rosparam delete"):
         node_policy_spec("tour", "models/model5.zip", 0.75)
 
 

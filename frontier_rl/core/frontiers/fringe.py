@@ -11,7 +11,8 @@ from frontier_rl.core.world.grid import CellState
 
 _UNKNOWN = np.int8(CellState.UNKNOWN)
 _FREE = np.int8(CellState.FREE)
-_NEIGHBOURS_8 = np.array([(-1, -1), (-1, 0), (-1, 1), (0, -1), (0, 1), (1, -1), (1, 0), (1, 1)], np.int64)
+NEIGHBOURS_8 = np.array([(-1, -1), (-1, 0), (-1, 1), (0, -1), (0, 1), (1, -1), (1, 0), (1, 1)], np.int64)
+"""The offsets (rows, columns) of a cell's 8-neighbours."""
 
 
 @nb.njit(cache=True, inline="always")
@@ -103,8 +104,8 @@ def cluster_fringe(
                 d2 = (r + 0.5 - robot_row) ** 2 + (c + 0.5 - robot_col) ** 2
                 min_d2 = min(min_d2, d2)
                 for k in range(8):
-                    rr = r + _NEIGHBOURS_8[k, 0]
-                    cc = c + _NEIGHBOURS_8[k, 1]
+                    rr = r + NEIGHBOURS_8[k, 0]
+                    cc = c + NEIGHBOURS_8[k, 1]
                     if 0 <= rr < rows and 0 <= cc < cols and todo[rr, cc]:
                         todo[rr, cc] = False
                         stack[top] = rr * cols + cc
@@ -140,7 +141,7 @@ def unknown_beside(
     free = 0
     for i in range(rows_idx.shape[0]):
         for k in range(8):
-            r, c = rows_idx[i] + _NEIGHBOURS_8[k, 0], cols_idx[i] + _NEIGHBOURS_8[k, 1]
+            r, c = rows_idx[i] + NEIGHBOURS_8[k, 0], cols_idx[i] + NEIGHBOURS_8[k, 1]
             if 0 <= r < rows and 0 <= c < cols and state[r, c] == _UNKNOWN and r * cols + c not in counted:
                 counted.add(r * cols + c)
                 free += truth[r, c] == _FREE

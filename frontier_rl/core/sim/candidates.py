@@ -10,13 +10,11 @@ from numpy.typing import NDArray
 
 from frontier_rl.core.frontiers.blacklist import Blacklist
 from frontier_rl.core.frontiers.detection import Frontiers, detect_frontiers
-from frontier_rl.core.frontiers.fringe import unknown_beside
 from frontier_rl.core.navigation.astar import SearchScratch
 from frontier_rl.core.navigation.costmap import Costmap
 from frontier_rl.core.navigation.inflation import InflationMemory
 from frontier_rl.core.navigation.thin_walls import thin_walls
 from frontier_rl.core.sim.config import SimConfig
-from frontier_rl.core.sim.metrics import FrontierLeft
 from frontier_rl.core.world.grid import CellState, OccupancyGrid
 from frontier_rl.core.world.robot import Pose
 
@@ -100,29 +98,3 @@ def find_candidates(
             kept = frontiers.subset(~blacklist.blocked(goals))
         frontiers = kept
     return Candidates(grid, costmap, reachable, frontiers, felt is not None)
-
-
-def frontiers_left(
-    cand: Candidates, truth_grid: OccupancyGrid, pose: Pose, config: SimConfig, blacklist: Blacklist
-) -> tuple[FrontierLeft, ...]:
-    """The frontiers of ``cand``'s map that are not candidates (blacklisted after failed attempts,
-    with no reachable cell that sees them, or smaller than ``min_frontier_cells`` but more than
-    a speck), with the unknown area beside each (unseen free cells are read from ``truth_grid``,
-    the world)."""
-    every = detect_frontiers(cand.grid, pose, None, config.speck_cells, config.frontier_segment_length)
-    res = cand.grid.resolution
-    top, left_col = truth_grid.world_to_cell(*cand.grid.cell_to_world(0, 0))
-    truth = truth_grid.data[top : top + cand.grid.height, left_col : left_col + cand.grid.width]
-    candidate_cells = np.zeros(cand.grid.shape[0] * cand.grid.shape[1], np.bool_)
-    for start, end in cand.frontiers.spans:
-        candidate_cells[cand.frontiers.flat_cells[start:end]] = True
-    left = []
-    for i in range(len(every)):
-        cells = every.cells_of(i)
-        if candidate_cells[cells[:, 0] * cand.grid.width + cells[:, 1]].any():
-            continue
-        x, y = (float(v) for v in every.centers[i])
-        failures = max((blacklist.failures_near(*g) for g in cand.grid.cells_to_world(cells)), default=0)
-        unknown, unseen = unknown_beside(cand.grid.data, cells[:, 0], cells[:, 1], truth)
-        left.append(FrontierLeft(x, y, int(every.sizes[i]), unknown, unseen, unseen * res * res, failures))
-    return tuple(left)

@@ -9,6 +9,7 @@ from enum import Enum
 import numpy as np
 from numpy.typing import NDArray
 
+from frontier_rl.core.sim.config import UNSEEN_ROOM_M2
 from frontier_rl.core.sim.leg import LegResult
 from frontier_rl.core.sim.metrics import DecisionRecord, EpisodeResult, FrontierLeft, time_to_coverage
 from frontier_rl.core.world.grid import OccupancyGrid
@@ -25,13 +26,13 @@ class EndReason(Enum):
 
 def completion_reason(left: Sequence[FrontierLeft], speck_cells: int) -> EndReason:
     """How an episode that ran out of candidates ended: ``UNREACHABLE`` when real space is left
-    unseen beside the frontiers left, more than ``speck_cells``
+    unseen by the frontiers left: more than ``speck_cells``
     (:attr:`SimConfig.speck_cells <frontier_rl.core.sim.config.SimConfig.speck_cells>`) cells that
     are unknown in the map and free in the true world beside one of them (fewer is a speck, as the
-    thesis treats fringe clusters that small), else ``EXPLORED``. A frontier whose unknown side is
-    all wall (cells no beam reached, or range noise that marked cells inside a wall free) leaves
-    nothing to explore."""
-    unresolved = any(f.unseen_free_cells > speck_cells for f in left)
+    thesis treats fringe clusters that small), or more than :data:`UNSEEN_ROOM_M2` of such space
+    behind one; else ``EXPLORED``. A frontier whose unknown side is all wall (cells no beam
+    reached, or range noise that marked cells inside a wall free) leaves nothing to explore."""
+    unresolved = any(f.unseen_free_cells > speck_cells or f.unseen_behind_m2 > UNSEEN_ROOM_M2 for f in left)
     return EndReason.UNREACHABLE if unresolved else EndReason.EXPLORED
 
 

@@ -45,6 +45,8 @@ class FrontierLeft:
         unknown_m2: the area of the unseen free cells (m²).
         failures: how often a leg to a goal of it failed (0: no reachable cell sees it, e.g. it lies
             behind a gap narrower than the robot).
+        unseen_behind_m2: the unseen free region its unseen free cells open onto (m²): the cells
+            unknown in the map and free in the true world, 4-connected to them.
     """
 
     x: float
@@ -54,6 +56,7 @@ class FrontierLeft:
     unseen_free_cells: int
     unknown_m2: float
     failures: int
+    unseen_behind_m2: float
 
     def summary(self) -> dict[str, Any]:
         """A JSON-ready dict."""
@@ -65,6 +68,7 @@ class FrontierLeft:
             "unseen_free_cells": self.unseen_free_cells,
             "unknown_m2": round(self.unknown_m2, 4),
             "failures": self.failures,
+            "unseen_behind_m2": round(self.unseen_behind_m2, 4),
         }
 
 

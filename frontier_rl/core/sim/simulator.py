@@ -25,9 +25,10 @@ from frontier_rl.core.navigation.follower import footprint_offsets
 from frontier_rl.core.navigation.inflation import InflationMemory
 from frontier_rl.core.sensing.lidar import Lidar
 from frontier_rl.core.sim.body import touched_walls, until_next_scan
-from frontier_rl.core.sim.candidates import Candidates, find_candidates, frontiers_left
+from frontier_rl.core.sim.candidates import Candidates, find_candidates
 from frontier_rl.core.sim.config import SimConfig
 from frontier_rl.core.sim.episode_log import EndReason, EpisodeLog, completion_reason
+from frontier_rl.core.sim.frontiers_left import frontiers_left
 from frontier_rl.core.sim.leg import Leg, LegOutcome, LegResult, run_leg
 from frontier_rl.core.sim.metrics import EpisodeResult, FrontierLeft
 from frontier_rl.core.sim.paths import map_blocks_path, plan_path
@@ -128,16 +129,12 @@ class ExplorationSimulator:
             return EndReason.TIME_CAP
         if not self.finished:
             return None
-        return self._reason_from(self.frontiers_left())
-
-    def _reason_from(self, left: tuple[FrontierLeft, ...]) -> EndReason:
-        """The end reason of a finished episode that leaves the frontiers ``left``."""
-        return completion_reason(left, self.config.speck_cells)
+        return completion_reason(self.frontiers_left(), self.config.speck_cells)
 
     def frontiers_left(self) -> tuple[FrontierLeft, ...]:
-        """The frontiers of the current map that are not candidates (blacklisted after failed
-        attempts, or with no reachable cell that sees them), with the unknown area beside each."""
-        return frontiers_left(self.candidates(), self.world.grid, self.pose, self.config, self.blacklist)
+        """The frontiers that are not candidates, with the unseen space beside and behind each."""
+        state = self.mapper.state
+        return frontiers_left(self.candidates(), self.world.grid, self.pose, self.config, self.blacklist, state)
 
     def trajectory(self) -> NDArray[np.float64]:
         """(n, 3) robot poses (x, y, theta) so far: after every drive step, at least at every map update."""
@@ -385,7 +382,8 @@ class ExplorationSimulator:
         """The episode's metrics so far (an episode still under way has end reason None)."""
         ended = self.truncated or self.finished
         left = self.frontiers_left() if ended else ()  # computed once: the end reason reads it too
-        reason = None if not ended else EndReason.TIME_CAP if self.truncated else self._reason_from(left)
+        speck = self.config.speck_cells
+        reason = None if not ended else EndReason.TIME_CAP if self.truncated else completion_reason(left, speck)
         free = self.world.grid.data == CellState.FREE
         return self.log.result(
             sim_time_s=self.sim_time,

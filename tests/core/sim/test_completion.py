@@ -11,9 +11,11 @@ import pytest
 
 from frontier_rl.core.frontiers.blacklist import Blacklist
 from frontier_rl.core.frontiers.detection import detect_frontiers
-from frontier_rl.core.sim.config import SimConfig
+from frontier_rl.core.sim.candidates import find_candidates
+from frontier_rl.core.sim.config import UNSEEN_ROOM_M2, SimConfig
 from frontier_rl.core.sim.episode import run_episode
-from frontier_rl.core.sim.episode_log import EndReason
+from frontier_rl.core.sim.episode_log import EndReason, completion_reason
+from frontier_rl.core.sim.frontiers_left import UnseenRegions, frontiers_left
 from frontier_rl.core.world.grid import CellState, OccupancyGrid
 from frontier_rl.core.world.robot import Pose
 from frontier_rl.core.world.worlds import make_world
@@ -138,6 +140,65 @@ def test_a_room_behind_a_frontier_too_small_to_visit_is_not_explored(min_frontie
     assert result.end_reason == "unreachable" and not result.done, result.summary()
     assert result.free_coverage < 0.96 and result.unknown_left_m2 > 0
     assert any(f.unseen_free_cells > 4 and f.x > 2.9 for f in result.frontiers_left)  # at or behind the door
+
+
+def slot_world(room: bool = True) -> tuple[OccupancyGrid, Pose]:
+    """A 3 m x 3.2 m room whose only way on is a slot 0.15 m wide (3 cells, narrower than the
+    robot) and 5 m long, to a room of 2 m x 3.2 m (without ``room``, the slot ends 0.2 m in)."""
+    data = walled(64, 204)
+    data[:, 60:162] = OCC
+    data[31:34, 60 : 162 if room else 64] = FREE
+    if not room:
+        data[:, 64:] = OCC
+    return OccupancyGrid(data, RES), Pose(1.5, 1.6, 0.0)
+
+
+def test_a_room_seen_only_through_a_slot_is_not_explored() -> None:
+    """Seen from the room, the slot's walls are unknown and its far end dark: the frontier along it
+    has 3 unseen free cells beside it, a speck by that count, and the episode ended `explored` at
+    59 % of the free space. The region behind those cells is the slot's rest and the far room."""
+    grid, start = slot_world()
+    result = run_episode(make_world(grid, "slot", start=start), make_policy("nearest"), seed=0)
+    assert result.end_reason == "unreachable" and not result.done, result.summary()
+    assert result.free_coverage < 0.75  # the slot's far end and the room behind it stay unseen
+    [slot] = [f for f in result.frontiers_left if f.unseen_behind_m2 > UNSEEN_ROOM_M2]
+    assert slot.unseen_free_cells <= SimConfig().speck_cells and slot.x > 3.0  # a speck beside it, in the slot
+    assert slot.unseen_behind_m2 > 6.0  # the room (6.4 m² inside its walls) and the slot's rest
+
+
+@pytest.mark.parametrize("room", [True, False])
+def test_a_speck_is_left_out_unless_a_room_lies_behind_it(room: bool) -> None:
+    """A map that knows the slot's walls for 1 m and nothing beyond: the frontier at the end of
+    what it knows is 3 cells, too small to be a candidate. It counts as left, and the episode as
+    unreachable, only when a room lies behind it."""
+    grid, start = slot_world(room)
+    world = make_world(grid, "slot", start=start)
+    state = world.grid.data.copy()
+    state[:, 80:] = UNKNOWN
+    config = SimConfig()
+    blacklist = Blacklist(0.25, 2, RES, (0.0, 0.0))
+    cand = find_candidates(OccupancyGrid(state, RES), start, config, blacklist, state)
+    assert len(cand.frontiers) == 0
+    left = frontiers_left(cand, world.grid, start, config, blacklist, state)
+    reason = completion_reason(left, config.speck_cells)
+    if room:
+        [speck] = left
+        assert speck.cells == 3 and speck.unseen_free_cells == 3 and speck.unseen_behind_m2 > 6.0
+        assert reason == EndReason.UNREACHABLE
+    else:
+        assert left == () and reason == EndReason.EXPLORED
+
+
+def test_space_behind_a_frontier_left_is_measured_once_per_region() -> None:
+    state = np.full((6, 8), UNKNOWN, np.int8)
+    state[:, :3] = FREE
+    truth = np.full((6, 8), FREE, np.int8)
+    truth[:, 5] = OCC  # two unseen regions: columns 3-4 (12 cells) and 6-7 (12 cells)
+    regions = UnseenRegions.of(state, truth)
+    rows, cols = np.arange(6, dtype=np.int64), np.full(6, 2, np.int64)
+    assert regions.cells_behind(rows, cols) == 12  # the first region, once, though six cells touch it
+    assert regions.cells_behind(np.array([0], np.int64), np.array([0], np.int64)) == 0  # no unknown neighbour
+    assert regions.cells_behind(np.array([5], np.int64), np.array([7], np.int64)) == 12  # at the edge
 
 
 def test_a_goal_is_never_farther_from_its_frontier_than_the_map_update_reaches() -> None:

@@ -1,0 +1,97 @@
+"""What an episode leaves unexplored: the frontiers of the robot's map that are not candidates,
+each with the unseen free space beside it (its unknown 8-neighbours that are free in the true world)
+and behind it (the unseen free region those open onto). They decide between ``explored`` and
+``unreachable`` (:func:`~frontier_rl.core.sim.episode_log.completion_reason`)."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+from numpy.typing import NDArray
+from scipy import ndimage
+
+from frontier_rl.core.frontiers.blacklist import Blacklist
+from frontier_rl.core.frontiers.detection import Frontiers, detect_frontiers
+from frontier_rl.core.frontiers.fringe import NEIGHBOURS_8, unknown_beside
+from frontier_rl.core.sim.candidates import Candidates
+from frontier_rl.core.sim.config import UNSEEN_ROOM_M2, SimConfig
+from frontier_rl.core.sim.metrics import FrontierLeft
+from frontier_rl.core.world.grid import CellState, OccupancyGrid
+from frontier_rl.core.world.robot import Pose
+
+
+@dataclass(frozen=True)
+class UnseenRegions:
+    """The space a map has left unseen: 4-connected regions of cells unknown in the map and free
+    in the true world (whose free cells are 4-connected, as the robot's planner moves).
+
+    Attributes:
+        labels: each cell's region, 0 for none (the map's shape).
+        sizes: each region's cells, by label (``sizes[0]`` counts the other cells).
+    """
+
+    labels: NDArray[np.int32]
+    sizes: NDArray[np.int64]
+
+    @classmethod
+    def of(cls, state: NDArray[np.int8], truth: NDArray[np.int8]) -> UnseenRegions:
+        """The regions of the map ``state`` against the true world ``truth`` (same shape)."""
+        labels, count = ndimage.label((state == CellState.UNKNOWN) & (truth == CellState.FREE))
+        return cls(np.asarray(labels, np.int32), np.bincount(labels.ravel(), minlength=count + 1))
+
+    def cells_behind(self, rows: NDArray[np.int64], cols: NDArray[np.int64]) -> int:
+        """The cells of every region that touches (8-neighbours) one of the given cells, each region once."""
+        r = (rows[:, None] + NEIGHBOURS_8[:, 0]).ravel()
+        c = (cols[:, None] + NEIGHBOURS_8[:, 1]).ravel()
+        inside = (r >= 0) & (r < self.labels.shape[0]) & (c >= 0) & (c < self.labels.shape[1])
+        found = np.unique(self.labels[r[inside], c[inside]])
+        return int(self.sizes[found[found > 0]].sum())
+
+
+def frontiers_left(
+    cand: Candidates,
+    truth_grid: OccupancyGrid,
+    pose: Pose,
+    config: SimConfig,
+    blacklist: Blacklist,
+    map_state: NDArray[np.int8],
+) -> tuple[FrontierLeft, ...]:
+    """The frontiers of ``cand``'s map that are not candidates (blacklisted after failed attempts,
+    with no reachable cell that sees them, or smaller than ``min_frontier_cells``), with the unseen
+    space beside and behind each (free cells read from ``truth_grid``, the world; ``map_state`` is
+    the robot's whole map, the world's shape). A cluster of at most ``config.speck_cells`` cells is
+    a speck and left out, unless more than :data:`UNSEEN_ROOM_M2` of unseen free space lies behind
+    it: a room seen only through a slot is not a speck."""
+    res = cand.grid.resolution
+    top, left_col = truth_grid.world_to_cell(*cand.grid.cell_to_world(0, 0))
+    truth = truth_grid.data[top : top + cand.grid.height, left_col : left_col + cand.grid.width]
+    regions = UnseenRegions.of(map_state, truth_grid.data)
+    candidate_cells = np.zeros(cand.grid.shape[0] * cand.grid.shape[1], np.bool_)
+    for start, end in cand.frontiers.spans:
+        candidate_cells[cand.frontiers.flat_cells[start:end]] = True
+    left = []
+    for frontiers, specks in ((_frontiers(cand.grid, pose, config, specks=False), False),
+                              (_frontiers(cand.grid, pose, config, specks=True), True)):  # fmt: skip
+        for i in range(len(frontiers)):
+            cells = frontiers.cells_of(i)
+            if candidate_cells[cells[:, 0] * cand.grid.width + cells[:, 1]].any():
+                continue
+            behind_m2 = regions.cells_behind(cells[:, 0] + top, cells[:, 1] + left_col) * res * res
+            if specks and behind_m2 <= UNSEEN_ROOM_M2:
+                continue
+            x, y = (float(v) for v in frontiers.centers[i])
+            failures = max((blacklist.failures_near(*g) for g in cand.grid.cells_to_world(cells)), default=0)
+            unknown, unseen = unknown_beside(cand.grid.data, cells[:, 0], cells[:, 1], truth)
+            left.append(FrontierLeft(x, y, int(frontiers.sizes[i]), unknown, unseen, unseen * res * res, failures,
+                                     behind_m2))  # fmt: skip
+    return tuple(left)
+
+
+def _frontiers(grid: OccupancyGrid, pose: Pose, config: SimConfig, specks: bool) -> Frontiers:
+    """The map's frontier clusters larger than ``config.speck_cells``, split into segments as the
+    candidates are; or, with ``specks``, the clusters of at most that many cells, whole."""
+    if not specks:
+        return detect_frontiers(grid, pose, None, config.speck_cells, config.frontier_segment_length)
+    every = detect_frontiers(grid, pose, None, 0)
+    return every.subset(np.flatnonzero(every.sizes <= config.speck_cells))
