@@ -372,7 +372,7 @@ class TeamSimulator:
             return None
         if not self.alive:
             return "failed"
-        return str(completion_reason(left, self.config.speck_cells).value)
+        return str(completion_reason(left, self.config.speck_cells(self.world.grid.resolution)).value)
 
     def _free_coverage(self) -> float:
         """Share of the world's free cells the surviving robots know."""

@@ -14,7 +14,7 @@ from frontier_rl.core.navigation.astar import SearchScratch
 from frontier_rl.core.navigation.costmap import Costmap
 from frontier_rl.core.navigation.inflation import InflationMemory
 from frontier_rl.core.navigation.thin_walls import thin_walls
-from frontier_rl.core.sim.config import SimConfig
+from frontier_rl.core.sim.config import SimConfig, drop_cells_at
 from frontier_rl.core.world.grid import CellState, OccupancyGrid
 from frontier_rl.core.world.robot import Pose
 
@@ -51,10 +51,10 @@ def reachable_frontiers(
     """The navigator's costmap of ``grid`` (its searches using ``scratch``, its inflation updating
     ``memory``'s when there is one: not on the narrow-passage recovery's), the known free cells
     the robot at ``pose`` can reach, and the frontier clusters larger than ``min_cells`` (default
-    ``config.min_frontier_cells``) that touch them: what a decision chooses from, before any
-    blacklist. With ``thin_except`` (a mask of ``grid``'s shape), the costmap is that of the
-    narrow-passage recovery: the map's walls thinned by a cell except at those cells
-    (:func:`~frontier_rl.core.navigation.thin_walls.thin_walls`)."""
+    ``config.min_frontier_cells``; cells of 0.05 m on coarser maps, :func:`drop_cells_at`) that
+    touch them: what a decision chooses from, before any blacklist. With ``thin_except`` (a mask
+    of ``grid``'s shape), the costmap is that of the narrow-passage recovery: the map's walls
+    thinned by a cell except at those cells (:func:`~frontier_rl.core.navigation.thin_walls.thin_walls`)."""
     if thin_except is None:
         costmap = Costmap.build(grid, config.robot, config.navigation, scratch, memory)
         reachable = costmap.reachable_known(grid.world_to_cell(pose.x, pose.y))
@@ -62,7 +62,7 @@ def reachable_frontiers(
         thinned = OccupancyGrid(thin_walls(grid.data, thin_except), grid.resolution, grid.origin)
         costmap = Costmap.build(thinned, config.robot, config.navigation, scratch)
         reachable = costmap.reachable_known(grid.world_to_cell(pose.x, pose.y)) & (grid.data == CellState.FREE)
-    cells = config.min_frontier_cells if min_cells is None else min_cells
+    cells = drop_cells_at(config.min_frontier_cells if min_cells is None else min_cells, grid.resolution)
     # a goal farther from its frontier than the map update reaches would map none of it
     reach = min(config.frontier_goal_reach, config.mapping_range)
     frontiers = detect_frontiers(grid, pose, reachable, cells, config.frontier_segment_length, reach)

@@ -22,6 +22,16 @@ room, not a speck: the episode ends ``unreachable``. 0.5 m² is 0.7 m x 0.7 m, r
 On 0.1 m cells a slot of 3 cells (a speck) led to 2.5 m² never seen, an episode that would have
 ended ``explored``; the most found behind a speck in 94 ``nearest`` episodes of the generators and
 the shared maps that ended ``explored`` was 0.14 m² (under furniture in ``aws_small_house``)."""
+DROP_CELL_M = 0.05
+"""The cell size (m) that drop sizes in cells are counted in: the thesis's map's."""
+
+
+def drop_cells_at(cells: int, resolution: float) -> int:
+    """A drop size of ``cells`` cells of :data:`DROP_CELL_M` on a map of ``resolution`` m cells: as
+    many cells on finer cells, where a speck of LiDAR noise still takes a few cells, and on coarser
+    cells no more than fit in the same length (4 cells of 0.05 m, 0.2 m, are 2 of 0.1 m), so that an
+    opening drawn on coarse cells is not dropped as a speck."""
+    return min(cells, math.floor(cells * DROP_CELL_M / resolution + 1e-9))
 
 
 @dataclass(frozen=True)
@@ -34,8 +44,10 @@ class SimConfig:
         mapper: the log-odds map update.
         navigation: costmap, planner and controller.
         min_frontier_cells: frontier clusters of this many cells or fewer are not candidates (the
-            robot does not go to them); an episode that ends with one beside more unseen free
-            space than :attr:`speck_cells` ends ``unreachable``, not ``explored``.
+            robot does not go to them), counted in cells of 0.05 m: on coarser maps, clusters no
+            longer than that many such cells (:meth:`drop_cells`); an episode that ends with one
+            beside more unseen free space than :meth:`speck_cells` ends ``unreachable``, not
+            ``explored``.
         max_sim_time: sim-time cap of an episode (s); the episode is truncated there. ``None``
             (the default) scales it with the world: see :meth:`time_cap`.
         sensor_noise: whether LiDAR ranges get noise.
@@ -70,13 +82,19 @@ class SimConfig:
             if not (math.isfinite(value) and value > 0):
                 raise ConfigError(f"{name} must be a positive number, got {value!r}")
 
-    @property
-    def speck_cells(self) -> int:
+    def drop_cells(self, resolution: float) -> int:
+        """The frontier clusters of at most this many cells are not candidates on a map of
+        ``resolution`` m cells: ``min_frontier_cells``, counted in cells of 0.05 m on coarser maps
+        (:func:`drop_cells_at`)."""
+        return drop_cells_at(self.min_frontier_cells, resolution)
+
+    def speck_cells(self, resolution: float) -> int:
         """The most cells a frontier cluster, or the unseen free space beside a frontier, may have
-        and still be a speck when an episode ends (:func:`~frontier_rl.core.sim.episode_log.completion_reason`):
-        ``min_frontier_cells``, but never more than the thesis's 4. A robot told to skip larger
-        clusters (``min_frontier_cells`` 40: a 2 m doorway) may end with them, but not as explored."""
-        return min(self.min_frontier_cells, SPECK_CELLS)
+        and still be a speck when an episode ends on a map of ``resolution`` m cells
+        (:func:`~frontier_rl.core.sim.episode_log.completion_reason`): :meth:`drop_cells`, but never
+        more than the thesis's 4 cells of 0.05 m. A robot told to skip larger clusters
+        (``min_frontier_cells`` 40: a 2 m doorway) may end with them, but not as explored."""
+        return drop_cells_at(min(self.min_frontier_cells, SPECK_CELLS), resolution)
 
     @property
     def mapping_range(self) -> float:

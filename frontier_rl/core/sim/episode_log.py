@@ -27,7 +27,7 @@ class EndReason(Enum):
 def completion_reason(left: Sequence[FrontierLeft], speck_cells: int) -> EndReason:
     """How an episode that ran out of candidates ended: ``UNREACHABLE`` when real space is left
     unseen by the frontiers left: more than ``speck_cells``
-    (:attr:`SimConfig.speck_cells <frontier_rl.core.sim.config.SimConfig.speck_cells>`) cells that
+    (:meth:`SimConfig.speck_cells <frontier_rl.core.sim.config.SimConfig.speck_cells>`) cells that
     are unknown in the map and free in the true world beside one of them (fewer is a speck, as the
     thesis treats fringe clusters that small), or more than :data:`UNSEEN_ROOM_M2` of such space
     behind one; else ``EXPLORED``. A frontier whose unknown side is all wall (cells no beam

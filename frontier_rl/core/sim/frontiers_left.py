@@ -58,7 +58,7 @@ def frontiers_left(
     map_state: NDArray[np.int8],
 ) -> tuple[FrontierLeft, ...]:
     """The frontiers of ``cand``'s map that are not candidates (blacklisted after failed attempts,
-    with no reachable cell that sees them, or smaller than ``min_frontier_cells``), with the unseen
+    with no reachable cell that sees them, or no larger than the drop size), with the unseen
     space beside and behind each (free cells read from ``truth_grid``, the world; ``map_state`` is
     the robot's whole map, the world's shape). A cluster of at most ``config.speck_cells`` cells is
     a speck and left out, unless more than :data:`UNSEEN_ROOM_M2` of unseen free space lies behind
@@ -89,9 +89,10 @@ def frontiers_left(
 
 
 def _frontiers(grid: OccupancyGrid, pose: Pose, config: SimConfig, specks: bool) -> Frontiers:
-    """The map's frontier clusters larger than ``config.speck_cells``, split into segments as the
-    candidates are; or, with ``specks``, the clusters of at most that many cells, whole."""
+    """The map's frontier clusters larger than ``config.speck_cells`` (on ``grid``'s cells), split
+    into segments as the candidates are; or, with ``specks``, the clusters of at most that many cells, whole."""
+    speck = config.speck_cells(grid.resolution)
     if not specks:
-        return detect_frontiers(grid, pose, None, config.speck_cells, config.frontier_segment_length)
+        return detect_frontiers(grid, pose, None, speck, config.frontier_segment_length)
     every = detect_frontiers(grid, pose, None, 0)
-    return every.subset(np.flatnonzero(every.sizes <= config.speck_cells))
+    return every.subset(np.flatnonzero(every.sizes <= speck))

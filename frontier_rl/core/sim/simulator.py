@@ -129,7 +129,7 @@ class ExplorationSimulator:
             return EndReason.TIME_CAP
         if not self.finished:
             return None
-        return completion_reason(self.frontiers_left(), self.config.speck_cells)
+        return completion_reason(self.frontiers_left(), self.config.speck_cells(self.world.grid.resolution))
 
     def frontiers_left(self) -> tuple[FrontierLeft, ...]:
         """The frontiers that are not candidates, with the unseen space beside and behind each."""
@@ -369,8 +369,9 @@ class ExplorationSimulator:
         return map_blocks_path(self.mapper.state, path_cells[first:], self._footprint, felt)
 
     def frontier_alive(self, cells: NDArray[np.int64]) -> bool:
-        """Whether more than ``min_frontier_cells`` of a frontier's cells (world cells) are still fringe cells."""
-        return count_fringe(self.mapper.state, cells[:, 0], cells[:, 1]) > self.config.min_frontier_cells
+        """Whether more than the drop size of a frontier's cells (world cells) are still fringe cells."""
+        drop = self.config.drop_cells(self.world.grid.resolution)
+        return count_fringe(self.mapper.state, cells[:, 0], cells[:, 1]) > drop
 
     def blacklist_goal(self, goal: tuple[float, float]) -> None:
         """A leg to ``goal`` (m) failed: blacklist it, and find the candidates afresh."""
@@ -382,7 +383,7 @@ class ExplorationSimulator:
         """The episode's metrics so far (an episode still under way has end reason None)."""
         ended = self.truncated or self.finished
         left = self.frontiers_left() if ended else ()  # computed once: the end reason reads it too
-        speck = self.config.speck_cells
+        speck = self.config.speck_cells(self.world.grid.resolution)
         reason = None if not ended else EndReason.TIME_CAP if self.truncated else completion_reason(left, speck)
         free = self.world.grid.data == CellState.FREE
         return self.log.result(
