@@ -35,6 +35,12 @@ class NavigationConfig:
         progress_distance: the remaining path must shrink by this much (m) to count as progress...
         oscillation_distance: ... or the robot must move this far (m) (move_base's setting).
         max_recoveries: in-place rotations tried when stuck before the goal is aborted.
+        detour_factor: a leg that has driven more than this many times its first plan's length...
+        detour_slack: ... and this much more (m) is aborted and its goal blacklisted. A safety net:
+            replanning through unknown space that keeps turning out walled can tour a building on
+            a leg to a goal 2 m away (81 m in one such leg, on 0.1 m cells). The bound is loose on
+            purpose, since a way around found on the road is exploration too: legs of 33-38 m
+            whose first plan was 4-6 m, on building floors, ended with their frontier seen.
         blacklist_radius: frontiers whose goal lies this close (m) to a failed goal are skipped
             (until the map around it changes, or it is retried before the episode would end).
         max_goal_failures: a goal that failed this often is given up for good.
@@ -59,6 +65,8 @@ class NavigationConfig:
     progress_distance: float = 0.1
     oscillation_distance: float = 0.5
     max_recoveries: int = 2
+    detour_factor: float = 10.0
+    detour_slack: float = 30.0
     blacklist_radius: float = 0.25
     max_goal_failures: int = 2
     frontier_check_period: float = 1.0
@@ -73,7 +81,7 @@ class NavigationConfig:
             if not (math.isfinite(value) and value > 0):
                 raise ConfigError(f"NavigationConfig.{name} must be positive, got {value!r}")
         for name in ("cost_scaling", "progress_distance", "oscillation_distance", "blacklist_radius",
-                     "teammate_margin"):  # fmt: skip
+                     "teammate_margin", "detour_slack"):  # fmt: skip
             value = getattr(self, name)
             if not (math.isfinite(value) and value >= 0):
                 raise ConfigError(f"NavigationConfig.{name} must be >= 0, got {value!r}")
@@ -85,5 +93,7 @@ class NavigationConfig:
             raise ConfigError(f"NavigationConfig.control_dt must be >= {MIN_CONTROL_DT:g} s, got {self.control_dt!r}")
         if self.max_goal_failures < 1:
             raise ConfigError(f"NavigationConfig.max_goal_failures must be >= 1, got {self.max_goal_failures!r}")
+        if not (math.isfinite(self.detour_factor) and self.detour_factor >= 1):
+            raise ConfigError(f"NavigationConfig.detour_factor must be >= 1, got {self.detour_factor!r}")
         if self.max_recoveries < 0:
             raise ConfigError(f"NavigationConfig.max_recoveries must be >= 0, got {self.max_recoveries!r}")

@@ -30,7 +30,7 @@ class LegOutcome(Enum):
 
     REACHED = "reached"
     EXPLORED = "explored"  # the goal's frontier was seen before the robot got there
-    ABORTED = "aborted"  # no progress, no path, or stuck: the goal is blacklisted
+    ABORTED = "aborted"  # no progress, no path, stuck, or a detour far longer than planned: the goal is blacklisted
     TIMEOUT = "timeout"  # the episode's sim-time cap
     NONE = "none"  # no candidate could be planned to
 
@@ -166,6 +166,8 @@ class Leg:
         )
         self._next_frontier_check = port.sim_time + nav.frontier_check_period
         self._recoveries = 0
+        self._driven = 0.0  # m
+        self._detour_limit = nav.detour_factor * float(tail_lengths(path)[0]) + nav.detour_slack  # m
         self.new_free = 0
         self.new_occupied = 0
         self._set_path(path)
@@ -185,7 +187,6 @@ class Leg:
 
     def _drive(self) -> Generator[None, None, LegOutcome]:
         port = self._port
-        nav = port.config.navigation
         while not port.truncated:
             status, seen = self._follow()
             yield
@@ -201,8 +202,7 @@ class Leg:
                 break
             if self._frontier_explored():
                 return LegOutcome.EXPLORED
-            here = (port.pose.x, port.pose.y)
-            if self._watchdog.stalled_for(self._remaining(), here, port.sim_time) > nav.progress_timeout:
+            if self._giving_up():
                 return LegOutcome.ABORTED
             if status == FollowStatus.BLOCKED and self._robot_in_the_way():
                 yield from self._wait_or_squeeze()
@@ -219,6 +219,14 @@ class Leg:
                 self._set_path(path)
         return LegOutcome.TIMEOUT
 
+    def _giving_up(self) -> bool:
+        """Whether the leg has gone ``progress_timeout`` without progress, or driven farther than
+        its detour limit (``detour_factor`` times its first plan and ``detour_slack`` more)."""
+        port = self._port
+        here = (port.pose.x, port.pose.y)
+        stalled = self._watchdog.stalled_for(self._remaining(), here, port.sim_time)
+        return stalled > port.config.navigation.progress_timeout or self._driven > self._detour_limit
+
     def _follow(self) -> tuple[int, tuple[int, int] | None]:
         """Drive tick by tick until the mapper wants the next scan (nothing else changes before),
         then scan: the follower's status and the scan's new cells."""
@@ -230,6 +238,7 @@ class Leg:
             self._path[:, 0], self._path[:, 1], self._index, pose.x, pose.y, pose.theta, duration, self._params,
             self._clearance, truth.origin[0], truth.origin[1], truth.resolution, gate, self._careful,
         )  # fmt: skip
+        self._driven += driven
         return status, port.advance(Pose(x, y, theta), driven, used)
 
     def _count(self, seen: tuple[int, int] | None) -> None:

@@ -582,6 +582,10 @@ def test_follow_path_blocked_mid_tick_waits_until_the_tick_ends() -> None:
         ({"inflation_cost": -10.0}, "-10.0"),
         ({"unknown_cost": 1e12}, "1000000000000.0"),
         ({"unknown_cost": math.nan}, "nan"),
+        ({"detour_factor": 0.5}, "0.5"),
+        ({"detour_factor": math.inf}, "inf"),
+        ({"detour_slack": -1.0}, "-1.0"),
+        ({"detour_slack": math.nan}, "nan"),
     ],
 )
 def test_bad_navigation_config_raises_config_error_naming_the_value(kwargs: dict[str, float], named: str) -> None:

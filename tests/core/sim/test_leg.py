@@ -166,3 +166,39 @@ def test_a_newly_seen_obstacle_with_a_way_round_drives_the_new_path() -> None:
             outcome = stop.value
     assert outcome is LegOutcome.REACHED and port.calls.count("replan") == 1
     assert abs(port.pose.x - 5.0) <= port.config.navigation.goal_tolerance
+
+
+class WanderingPort(ScriptedPort):
+    """Every map update puts a wall on the path, and replanning finds a way on along the hall, to
+    its east end and back: progress by move_base's rule (the robot keeps moving), on ways that never
+    lead to the goal (the ``aws_small_house`` map on 0.1 m cells had a leg to a goal 2 m away drive
+    80 m so)."""
+
+    def __init__(self, world: World) -> None:
+        super().__init__(world, blocked_after=1.0)
+        self.east = True
+        self.driven = 0.0
+
+    def advance(self, pose: Pose, driven: float, duration: float) -> tuple[int, int] | None:
+        self.driven += driven
+        return super().advance(pose, driven, duration)
+
+    def replan(self, goal: tuple[float, float], tight: bool) -> NDArray[np.float64] | None:
+        self.calls.append("replan")
+        self.east = self.pose.x < 8.5 if self.east else self.pose.x < 1.5
+        xs = np.linspace(self.pose.x, 9.5 if self.east else 0.5, 100)
+        return np.column_stack((xs, np.full_like(xs, 1.0)))
+
+
+@pytest.mark.parametrize("detour_factor", [10.0, 1000.0])
+def test_a_leg_that_drives_far_beyond_its_plan_is_aborted(detour_factor: float) -> None:
+    port = WanderingPort(_hall())
+    port.config = SimConfig(navigation=NavigationConfig(detour_factor=detour_factor))
+    first = _straight(2.5)  # 2 m to the goal, as planned
+    outcome = run_leg(Leg(port, first, (2.5, 1.0), FRONTIER, tight=False).run())
+    if detour_factor == 1000.0:  # no limit to speak of: the robot wanders until the episode's time cap
+        assert outcome is LegOutcome.TIMEOUT and port.driven > 200.0
+        return
+    limit = 10.0 * 2.0 + port.config.navigation.detour_slack
+    assert outcome is LegOutcome.ABORTED and limit < port.driven < limit + 0.5
+    assert port.calls.count("blacklist") == 1 and port.calls.count("replan") > 30
