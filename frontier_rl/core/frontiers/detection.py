@@ -157,7 +157,8 @@ def detect_frontiers(
         reachable: cells the robot can reach through known free space (same shape as the grid);
             a segment is kept when one of them within ``goal_reach`` (m) of it sees it (its goal).
             ``None`` accepts every segment, with its goal on the segment itself.
-        min_cells: clusters of this many cells or fewer are dropped (the thesis drops <= 4).
+        min_cells: clusters of this many cells or fewer are dropped (the thesis drops <= 4; the
+            simulator passes fewer on cells coarser than 0.05 m, so that no more than 0.2 m is dropped).
         segment_length: the largest span (m) of a segment; ``inf`` keeps clusters whole.
         goal_reach: how far (m) from a segment its goal may be.
     """
