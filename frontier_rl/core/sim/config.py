@@ -30,8 +30,9 @@ def drop_cells_at(cells: int, resolution: float) -> int:
     """A drop size of ``cells`` cells of :data:`DROP_CELL_M` on a map of ``resolution`` m cells: as
     many cells on finer cells, where a speck of LiDAR noise still takes a few cells, and on coarser
     cells no more than fit in the same length (4 cells of 0.05 m, 0.2 m, are 2 of 0.1 m), so that an
-    opening drawn on coarse cells is not dropped as a speck."""
-    return min(cells, math.floor(cells * DROP_CELL_M / resolution + 1e-9))
+    opening drawn on coarse cells is not dropped as a speck. The ratio gets a relative margin of
+    1e-6: a ROS map's resolution is a float32, 0.05 m read back as 0.0500000007 m."""
+    return min(cells, math.floor(cells * DROP_CELL_M / resolution * (1.0 + 1e-6)))
 
 
 @dataclass(frozen=True)

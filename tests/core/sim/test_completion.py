@@ -192,11 +192,13 @@ def test_a_speck_is_left_out_unless_a_room_lies_behind_it(room: bool) -> None:
 @pytest.mark.parametrize(
     ("cells", "resolution", "drop"),
     [(4, 0.05, 4), (4, 0.04375, 4), (4, 0.03, 4), (4, 0.06, 3), (4, 0.08, 2), (4, 0.1, 2), (4, 0.105, 1),
-     (40, 0.1, 20), (0, 0.1, 0), (1, 0.1, 0)],
+     (40, 0.1, 20), (0, 0.1, 0), (1, 0.1, 0), (4, float(np.float32(0.05)), 4), (4, float(np.float32(0.1)), 2),
+     (10**6, float(np.float32(0.05)), 10**6)],
 )  # fmt: skip
 def test_the_drop_size_is_a_length_on_cells_coarser_than_the_thesiss(cells: int, resolution: float, drop: int) -> None:
     """4 cells of 0.05 m are 0.2 m: on 0.1 m cells that is 2, and on finer cells still 4 (a speck
-    of LiDAR noise takes cells, not metres)."""
+    of LiDAR noise takes cells, not metres). A ROS map's resolution is a float32: 0.05 m arrives as
+    0.0500000007 m, and its drop is still 4 (it was 3 before the margin)."""
     assert drop_cells_at(cells, resolution) == drop
     config = SimConfig(min_frontier_cells=cells)
     assert config.drop_cells(resolution) == drop and config.speck_cells(resolution) == drop_cells_at(
@@ -226,19 +228,23 @@ def test_a_corridor_on_coarse_cells_is_not_dropped_as_a_speck(seed: int) -> None
     assert result.end_reason == "explored" and result.free_coverage > 0.99, result.summary()
 
 
-@pytest.mark.parametrize(("resolution", "kept"), [(0.1, True), (0.05, False)])
-def test_a_three_cell_frontier_is_a_candidate_only_on_coarse_cells(resolution: float, kept: bool) -> None:
+@pytest.mark.parametrize(
+    ("resolution", "opening", "kept"),
+    [(0.1, 3, True), (0.05, 3, False), (float(np.float32(0.1)), 3, True), (float(np.float32(0.05)), 4, False)],
+)
+def test_a_small_frontier_is_a_candidate_only_on_coarse_cells(resolution: float, opening: int, kept: bool) -> None:
     """3 cells are 0.3 m on 0.1 m cells, an opening, and 0.15 m on 0.05 m cells, a speck; the same
-    holds for a drop size given in the call, as the ROS node's ``~min_cluster_size`` is."""
+    holds for a drop size given in the call, as the ROS node's ``~min_cluster_size`` is, and for a
+    resolution read from a ROS message (a float32), where 4 cells of 0.05 m stay a speck."""
     data = np.full((40, 40), UNKNOWN, np.int8)
     data[10:30, 10:30] = FREE
     data[9, 10:30] = data[30, 10:30] = data[10:30, 9] = OCC
     data[10:30, 30] = OCC
-    data[19:22, 30] = FREE  # an opening of 3 cells onto unknown space
+    data[19 : 19 + opening, 30] = FREE  # an opening onto unknown space
     grid, pose = OccupancyGrid(data, resolution), Pose(20 * resolution, 20 * resolution, 0.0)
     for min_cells in (None, 4):
         _, _, frontiers = reachable_frontiers(grid, pose, SimConfig(), min_cells)
-        assert len(frontiers) == int(kept) and (not kept or frontiers.sizes[0] == 3)
+        assert len(frontiers) == int(kept) and (not kept or frontiers.sizes[0] == opening)
 
 
 def test_space_behind_a_frontier_left_is_measured_once_per_region() -> None:
