@@ -65,7 +65,9 @@ def grid_from_message(
 ) -> OccupancyGrid:
     """A grid (origin 0, 0: the map's own cell frame) from a ``nav_msgs/OccupancyGrid``'s size,
     resolution (m) and row-major data; probabilities are thresholded, not rejected. A map of zero
-    size, a resolution that is not positive, or data of the wrong length is a :class:`MapError`."""
+    size, a resolution that is not positive, or data of the wrong length is a :class:`MapError`.
+    The message's resolution is a float32 and is read as the decimal it was written as (0.05 m,
+    not 0.0500000007 m), so that the grid's cells are those of the same map loaded from its YAML."""
     t = thresholds or MapThresholds()
     check_map_message(width, height, resolution, len(data))
     values = np.asarray(data, dtype=np.int16).reshape(height, width)
@@ -73,7 +75,7 @@ def grid_from_message(
     known = values >= 0
     cells[known & (values > t.occupied_above)] = CellState.OCCUPIED
     cells[known & (values < t.free_below)] = CellState.FREE
-    return OccupancyGrid(cells, float(resolution), (0.0, 0.0))
+    return OccupancyGrid(cells, float(str(np.float32(resolution))), (0.0, 0.0))
 
 
 def rank_frontiers(

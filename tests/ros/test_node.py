@@ -157,6 +157,15 @@ def test_malformed_map_messages_are_map_errors(
         grid_from_message(width, height, resolution, [0] * length)
 
 
+@pytest.mark.parametrize("resolution", [0.05, 0.1, 0.03, 0.04375, 0.025])
+def test_a_float32_resolution_is_read_as_the_decimal_it_was_written_as(resolution: float) -> None:
+    """nav_msgs/OccupancyGrid carries a float32: 0.05 arrives as 0.0500000007, which put the
+    node's frontier drop at 3 cells where the simulator's is 4 on the same map."""
+    sent = float(np.float32(resolution))
+    assert sent != resolution
+    assert grid_from_message(2, 2, sent, [0] * 4).resolution == resolution
+
+
 def test_probabilities_are_thresholded_like_map_server() -> None:
     grid = grid_from_message(5, 1, 0.05, [-1, 0, 19, 50, 66])
     assert grid.data.tolist() == [[CellState.UNKNOWN, CellState.FREE, CellState.FREE, CellState.UNKNOWN,
