@@ -75,7 +75,16 @@ def grid_from_message(
     known = values >= 0
     cells[known & (values > t.occupied_above)] = CellState.OCCUPIED
     cells[known & (values < t.free_below)] = CellState.FREE
-    return OccupancyGrid(cells, float(str(np.float32(resolution))), (0.0, 0.0))
+    return OccupancyGrid(cells, as_written(resolution), (0.0, 0.0))
+
+
+def as_written(resolution: float) -> float:
+    """A float32 ``resolution`` (m) as the decimal it was written as: 0.05 for 0.0500000007. A value
+    a float32 cannot hold (a float64 from elsewhere) is kept as it is."""
+    single = np.finfo(np.float32)
+    if not (float(single.tiny) <= resolution <= float(single.max)):
+        return float(resolution)
+    return float(str(np.float32(resolution)))
 
 
 def rank_frontiers(

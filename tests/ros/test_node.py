@@ -159,11 +159,16 @@ def test_malformed_map_messages_are_map_errors(
 
 @pytest.mark.parametrize("resolution", [0.05, 0.1, 0.03, 0.04375, 0.025])
 def test_a_float32_resolution_is_read_as_the_decimal_it_was_written_as(resolution: float) -> None:
-    """nav_msgs/OccupancyGrid carries a float32: 0.05 arrives as 0.0500000007, which put the
-    node's frontier drop at 3 cells where the simulator's is 4 on the same map."""
+    """nav_msgs/OccupancyGrid carries a float32: 0.05 arrives as 0.0500000007, and sizes counted in
+    cells (the frontier drop) would differ from the simulator's on the same map."""
     sent = float(np.float32(resolution))
     assert sent != resolution
     assert grid_from_message(2, 2, sent, [0] * 4).resolution == resolution
+
+
+@pytest.mark.parametrize("resolution", [1e39, 1e-50, 3.0e38])
+def test_a_resolution_no_float32_holds_is_kept_as_it_is(resolution: float) -> None:
+    assert grid_from_message(2, 2, resolution, [0] * 4).resolution == pytest.approx(resolution, rel=1e-6)
 
 
 def test_probabilities_are_thresholded_like_map_server() -> None:
