@@ -167,10 +167,10 @@ class Leg:
         self._next_frontier_check = port.sim_time + nav.frontier_check_period
         self._recoveries = 0
         self._driven = 0.0  # m
-        self._detour_limit = nav.detour_factor * float(tail_lengths(path)[0]) + nav.detour_slack  # m
         self.new_free = 0
         self.new_occupied = 0
         self._set_path(path)
+        self._detour_limit = nav.detour_factor * float(self._tail[0]) + nav.detour_slack  # m, from the first plan
 
     def _set_path(self, path: NDArray[np.float64]) -> None:
         self._path = path
