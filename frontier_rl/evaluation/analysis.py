@@ -6,7 +6,7 @@ The summary is what ``summary.json`` holds and what the report lays out:
      "methods": {NAME: {"n", "mean_time_s", "var_time_s", "mean_diff_s", "ci95_s", "p_one_tailed",
                         "p_two_tailed", "p_wilcoxon", "reduction_pct", "oracle_ratio",
                         "std_time_s", "p_holm" (Holm-adjusted one-tailed p over the methods tested:
-                        all but the baseline and the oracle),
+                        all but the baseline and the oracle, counting those whose p is undefined),
                         "end_reasons": {"explored": n, "unreachable": n, "time_cap": n, ...},
                         "mean_coverage", "min_coverage", "mean_free_coverage", "mean_unknown_left_m2", ...}},
      "outliers": {"1000": {"methods": {NAME: {..., "excluded"}}}, ...},
@@ -98,7 +98,8 @@ def _method_table(rows: Rows, config: ExperimentConfig, worlds: tuple[str, ...])
     stats = compare_methods(times, config.baseline)
     oracle_mean = float(np.mean(times[ORACLE])) if ORACLE in times else math.nan
     tested = {m: _finite(stats[m].p_one_tailed) for m in config.methods if m not in (config.baseline, ORACLE)}
-    holm = holm_adjust(tested)
+    # a method tested on two or more pairs counts in the family even where its p is undefined
+    holm = holm_adjust(tested, family_size=sum(stats[m].n >= 2 for m in tested))
     table: dict[str, dict[str, Any]] = {}
     for method in config.methods:
         own = [rows[(method, w, e)] for e in range(config.episodes) for w in worlds]

@@ -9,10 +9,7 @@ from dataclasses import dataclass
 from typing import Any
 
 from frontier_rl.evaluation.experiment import ORACLE
-from frontier_rl.evaluation.tables import number, p_value
-
-_SIGNIFICANCE = 0.05
-"""The level the sentence calls a saving significant at."""
+from frontier_rl.evaluation.tables import SIGNIFICANCE, number, p_value
 
 _REASONS = {
     "unreachable": "unreachable: frontiers were left, none of them reachable for a robot of this size",
@@ -52,7 +49,7 @@ def conclude(summary: dict[str, Any], labels: dict[str, str]) -> Conclusion:
         details.append(
             f"{len(tested)} methods were tested against the baseline; p Holm is each one-tailed p adjusted by "
             f"Holm's method over all {len(tested)}, so that the chance of calling any of them faster by luck "
-            f"stays at {100 * _SIGNIFICANCE:.0f} % or less."
+            f"stays at {100 * SIGNIFICANCE:.0f} % or less."
         )
     per_world = summary.get("per_world", {})
     if tested and 1 < len(per_world) <= _MAX_WORLDS_NAMED:
@@ -93,12 +90,12 @@ def _headline(
     if family > 1:
         tests += f", p Holm = {p_value(entry['p_holm'])}"
         decisive = entry["p_holm"]
-    verdict = "significant" if decisive is not None and decisive < _SIGNIFICANCE else "not significant"
+    verdict = "significant" if decisive is not None and decisive < SIGNIFICANCE else "not significant"
     return (
         f"{name} explored fastest: {number(entry['mean_time_s'])} s on average against "
         f"{number(base['mean_time_s'])} s for the baseline {labels[baseline]}, "
         f"{number(entry['reduction_pct'])} % less time (mean saving {number(entry['mean_diff_s'])} s, 95 % CI "
-        f"{number(low)} to {number(high)} s; {tests}; {verdict} at the {100 * _SIGNIFICANCE:.0f} % level){ratio}."
+        f"{number(low)} to {number(high)} s; {tests}; {verdict} at the {100 * SIGNIFICANCE:.0f} % level){ratio}."
     )
 
 

@@ -46,7 +46,7 @@ def write_report(
     out = store.out
     summary = summarise(store.rows, config, outliers)
     write_text_atomic(out / "summary.json", json.dumps(summary, indent=1) + "\n")
-    traces = {m: [t for (method, _, _), t in store.traces.items() if method == m] for m in config.methods}
+    traces = _run_traces(store, config)
     labels = short_labels(config.methods)
     worlds = list(short_labels(config.worlds).values())
     shown = ", ".join(worlds[:6]) + (f" and {len(worlds) - 6} more worlds" if len(worlds) > 6 else "")
@@ -85,12 +85,18 @@ def _with_note(tables: list[Table], note: str) -> list[Block]:
     return [tables[0], *([Paragraph(note)] if note else []), *tables[1:]]
 
 
+def _run_traces(store: ResultStore, config: ExperimentConfig) -> dict[str, list[dict[str, Any]]]:
+    """Each method's traces of this run's episodes: a folder run before with more episodes or
+    other worlds keeps theirs too, and they are not this run's."""
+    keys = [(w, e) for e in range(config.episodes) for w in config.worlds]
+    return {m: [store.traces[(m, w, e)] for w, e in keys if (m, w, e) in store.traces] for m in config.methods}
+
+
 def _figures(store: ResultStore, config: ExperimentConfig, summary: dict[str, Any]) -> list[Figure]:
     out = store.out
     labels = short_labels(config.methods)
     times = {labels[m]: t for m, t in paired_times(store.rows, config.methods, config.worlds, config.episodes).items()}
-    keys = [(w, e) for e in range(config.episodes) for w in config.worlds]
-    traces = {m: [store.traces[(m, w, e)] for w, e in keys if (m, w, e) in store.traces] for m in config.methods}
+    traces = _run_traces(store, config)
     baseline = labels[config.baseline]
     figures = [
         Figure(box_plot(times, out / "boxplot.png", "Exploration time per method"), "Exploration time per method",

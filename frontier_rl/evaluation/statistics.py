@@ -134,13 +134,15 @@ def stats_from_dict(entry: dict[str, Any]) -> PairedStats:
     return PairedStats(**values)
 
 
-def holm_adjust(p_values: Mapping[str, float | None]) -> dict[str, float | None]:
-    """Holm's step-down adjustment of a family of p-values (name → p; None stays None and is not
-    counted in the family): the i-th smallest of m becomes max over j ≤ i of min(1, (m − j + 1)·p_j).
+def holm_adjust(p_values: Mapping[str, float | None], family_size: int = 0) -> dict[str, float | None]:
+    """Holm's step-down adjustment of a family of p-values (name → p; None stays None): the i-th
+    smallest of m becomes max over j ≤ i of min(1, (m − j + 1)·p_j). m counts the defined p-values,
+    or ``family_size`` when that is larger: the hypotheses tested whose p is undefined (a method
+    whose times equal the baseline's in every episode) still count, as p = 1 would.
     A method is significant at level a (0.05, say) after the adjustment when its adjusted p is below a; the
     family-wise error rate is then at most a, whatever the dependence between the tests."""
     present = sorted((float(p), name) for name, p in p_values.items() if p is not None and math.isfinite(p))
-    m = len(present)
+    m = max(len(present), family_size)
     adjusted: dict[str, float | None] = {name: None for name in p_values}
     running = 0.0
     for rank, (p, name) in enumerate(present):

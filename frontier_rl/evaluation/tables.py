@@ -84,9 +84,21 @@ def number(value: float | None, digits: int = 1, unit: str = "") -> str:
     return f"{value:,.{digits}f}{unit}"
 
 
+SIGNIFICANCE = 0.05
+"""The level the reports call a result significant at (a p below it)."""
+
+
 def p_value(value: float | None) -> str:
-    """A p-value with two significant digits, or "n/a"."""
-    return "n/a" if value is None or not math.isfinite(value) else f"{value:.2g}"
+    """A p-value with two significant digits (more where two would round it onto
+    :data:`SIGNIFICANCE`: 0.0496 is "0.0496", not "0.05" beside "significant"), or "n/a"."""
+    if value is None or not math.isfinite(value):
+        return "n/a"
+    text = f"{value:.2g}"
+    for digits in (3, 4, 5, 6):
+        if float(text) != SIGNIFICANCE or value == SIGNIFICANCE:
+            break
+        text = f"{value:.{digits}g}"
+    return text
 
 
 TABLE_4_1_HEADER = (

@@ -68,6 +68,15 @@ def test_the_conclusion_names_the_fastest_method_with_its_statistics() -> None:
     assert summary["methods"]["oracle"]["p_holm"] is None and summary["methods"]["fixed:0.75"]["p_holm"] is None
     assert any("2 methods were tested" in d for d in conclusion.details)
     assert conclusion.details[-1] == "All 24 episodes ended with the map explored."
+
+
+def test_a_method_as_fast_as_the_baseline_in_every_episode_counts_in_holms_family() -> None:
+    # "largest" has no defined p (no difference at all), but it was tested: Holm's m is 2
+    times = {"fixed:0.75": BASE, "nearest": [t - 30 + 3 * i for i, t in enumerate(BASE)], "largest": BASE}
+    summary, _ = _summary(times)
+    nearest, largest = summary["methods"]["nearest"], summary["methods"]["largest"]
+    assert largest["p_one_tailed"] is None and largest["p_holm"] is None
+    assert nearest["p_holm"] == pytest.approx(min(1.0, 2 * nearest["p_one_tailed"]))
     assert summary["methods"]["largest"]["std_time_s"] == pytest.approx(summary["methods"]["fixed:0.75"]["std_time_s"])
 
 

@@ -11,6 +11,7 @@ from scipy import stats
 from frontier_rl.errors import ConfigError
 from frontier_rl.evaluation import compare_methods, paired_stats, table_4_1
 from frontier_rl.evaluation.statistics import holm_adjust
+from frontier_rl.evaluation.tables import p_value
 
 BASE = [10.0, 12.0, 14.0, 16.0]
 FAST = [9.0, 11.0, 12.0, 15.0]  # savings 1, 1, 2, 1
@@ -94,3 +95,18 @@ def test_holm_adjustment_by_hand() -> None:
     assert capped == {"x": 1.0, "y": 1.0}
     assert holm_adjust({"only": 0.2}) == {"only": 0.2}
     assert holm_adjust({"nan": math.nan, "p": 0.1}) == {"nan": None, "p": 0.1}
+
+
+def test_holm_counts_a_tested_hypothesis_whose_p_is_undefined() -> None:
+    # two methods tested, one with no defined p (its times equal the baseline's): m is 2, not 1
+    assert holm_adjust({"same": None, "p": 0.02}, family_size=2) == {"same": None, "p": 0.04}
+    assert holm_adjust({"a": 0.01, "b": 0.02}, family_size=1) == pytest.approx({"a": 0.02, "b": 0.02})
+
+
+@pytest.mark.parametrize(
+    ("p", "text"),
+    [(0.0123, "0.012"), (1.5e-7, "1.5e-07"), (0.5, "0.5"), (0.05, "0.05"), (0.0496, "0.0496"), (0.0504, "0.0504"),
+     (0.04996, "0.04996"), (None, "n/a"), (math.nan, "n/a")],
+)  # fmt: skip
+def test_a_p_value_never_rounds_onto_the_significance_level(p: float | None, text: str) -> None:
+    assert p_value(p) == text

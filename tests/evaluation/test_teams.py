@@ -92,3 +92,19 @@ def test_bad_team_options_are_one_line(tmp_path: Path, args: list[str], needle: 
     lines = [line for line in result.output.splitlines() if line.strip()]
     assert len(lines) == 1 and needle in lines[0], result.output
     assert not (tmp_path / "r").exists()
+
+
+def test_a_rerun_with_fewer_episodes_reports_its_own_team_episodes(tmp_path: Path) -> None:
+    """The folder keeps the traces of a first run's second episode; the report of a rerun with one
+    episode counts only that one (the Teams table's robots failed and coverage per robot)."""
+    methods = ("fixed:0.75", "fixed:0.75@2")
+    evaluate(_config(methods), tmp_path, backend="serial", progress=False)
+    report = evaluate(
+        ExperimentConfig(methods=methods, worlds=("office",), episodes=1, sim=SHORT),
+        tmp_path,
+        backend="serial",
+        progress=False,
+    )
+    team_row = "| fixed:0.75 ×2 uncoordinated | 2 |"
+    row = next(line for line in report.read_text().splitlines() if line.startswith(team_row))
+    assert row.endswith("| 0 in 1 episodes |"), row
