@@ -95,9 +95,16 @@ def flag_parameter(name: str, value: object) -> bool:
 
 def check_node_policy(policy: object, spec: str) -> None:
     """Raise :class:`ConfigError` if ``policy`` (made from ``spec``) plans on the true world (an
-    :class:`~frontier_rl.core.sim.episode.EpisodeAwarePolicy`, the oracle), which a node does not have."""
+    :class:`~frontier_rl.core.sim.episode.EpisodeAwarePolicy`, the oracle), which a node does not
+    have, or chooses a goal cell instead of ranking frontiers (the point models 1 and 2), which
+    would leave every answer empty."""
     if isinstance(policy, EpisodeAwarePolicy):
         raise ConfigError(f"~policy {short_repr(spec)} plans on the true map, which the node does not have")
+    if getattr(policy, "kind", None) == "point":
+        raise ConfigError(
+            f"{short_repr(spec)} is a point model (it chooses a goal cell, as models 1 and 2 do), not a ranking "
+            "of frontiers, which is what the node answers with"
+        )
 
 
 @dataclass(frozen=True)
@@ -129,7 +136,8 @@ class MapInfo:
         frame: where the map lies.
         width, height: cells.
         resolution: m per cell.
-        stamp_s: the map message's stamp (s); the time it arrived when the stamp is zero.
+        stamp_ns: the map message's stamp (ns, as the message carries it, so that an answer's
+            header holds the very same stamp); the time it arrived when the stamp is zero.
         sequence: how many good maps of this robot came before it.
     """
 
@@ -137,8 +145,13 @@ class MapInfo:
     width: int
     height: int
     resolution: float
-    stamp_s: float
+    stamp_ns: int
     sequence: int = 0
+
+    @property
+    def stamp_s(self) -> float:
+        """The map's stamp (s)."""
+        return self.stamp_ns / 1e9
 
     def contains(self, x: float, y: float) -> bool:
         """Whether the map-frame point (m) lies on the map."""

@@ -37,6 +37,7 @@ import threading
 import time
 from typing import Any
 
+from frontier_rl.config import coerce
 from frontier_rl.core.frontiers.ranking import THESIS_WEIGHT
 from frontier_rl.errors import FrontierRLError, MapError
 from frontier_rl.policies import make_policy
@@ -90,7 +91,7 @@ class FrontierNode:
         self.master_check_period = seconds_parameter("master_check_period", period, zero=False,
                                                      most=MAX_CHECK_PERIOD_S)  # fmt: skip
         spec = node_policy_spec(str(rospy.get_param("~policy", "") or ""), str(rospy.get_param("~model", "") or ""),
-                                float(rospy.get_param("~weight", THESIS_WEIGHT)))  # fmt: skip
+                                coerce(float, rospy.get_param("~weight", THESIS_WEIGHT), "~weight"))  # fmt: skip
         policy = make_policy(spec)  # a bad policy, weight or model file fails here, once, with its message
         check_node_policy(policy, spec)
         self.policy_name = policy.name
@@ -212,7 +213,7 @@ class FrontierNode:
         answer = PoseArray()
         if info is not None:
             answer.header.frame_id = info.frame.frame_id
-            answer.header.stamp = self.rospy.Time.from_sec(info.stamp_s)
+            answer.header.stamp = self.rospy.Time(*divmod(info.stamp_ns, 10**9))
         for x, y in centres:
             pose = Pose()
             pose.position.x, pose.position.y = x, y

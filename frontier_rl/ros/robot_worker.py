@@ -1,7 +1,10 @@
 """One process per robot that holds its last good map and ranks its frontiers, so that a large map
 or a slow model for one robot never delays another (the engine's compiled kernels hold Python's
-global lock while they run, so threads would not do). Free of ROS: the node sends it map cells and
-rank jobs through a pipe and gets results back on a reader thread."""
+global lock while they run, so threads would not do). Free of ROS: the node hands it map cells and
+rank jobs, a writer thread puts them into its pipe, and a reader thread gets the results back. The
+node's callbacks never write to the pipe themselves: a worker busy ranking reads nothing, and a
+large map written then would hold up the callback, and with it every robot's requests that rospy
+delivers on the same thread."""
 
 from __future__ import annotations
 
@@ -120,6 +123,9 @@ def _rank(jobs: list[RankJob], held: _HeldMap | None, policy: Any, top_k: int, m
     if held is None:  # the node sends a map before any job; kept as a guard
         return [RankResult(job.job, error="no map in the worker") for job in jobs]
     frame, shared = held.info.frame, len(jobs)
+    if not held.info.contains(jobs[-1].x, jobs[-1].y):  # checked on the node's map, which may be older
+        error = "the robot's pose is off the map it was ranked on"
+        return [RankResult(job.job, error=error, info=held.info, shared=shared) for job in jobs]
     try:
         gx, gy = frame.to_grid(jobs[-1].x, jobs[-1].y)
         ranked, weight = rank_frontiers(held.grid, Pose(gx, gy, 0.0), policy, top_k, min_cells, memory=held.memory)
@@ -149,6 +155,45 @@ def _warm_up(policy: Any, top_k: int, min_cells: int) -> None:
         rank_frontiers(ranked, Pose(0.6, 1.0, 0.0), policy, top_k, min_cells, memory=memory)
 
 
+class _Outbox:
+    """What the node has for a worker process and has not yet written into its pipe: the newest map
+    (a newer one replaces one still waiting, which no job would be ranked on) and the jobs in order."""
+
+    def __init__(self) -> None:
+        self._changed = threading.Condition()
+        self._map: MapCells | None = None
+        self._jobs: list[RankJob] = []
+        self._closed = False
+
+    def put(self, message: MapCells | RankJob) -> None:
+        """Queue ``message`` for the pipe; returns at once."""
+        with self._changed:
+            if isinstance(message, MapCells):
+                self._map = message
+            else:
+                self._jobs.append(message)
+            self._changed.notify()
+
+    def close(self) -> None:
+        """Let :meth:`take` return None (the process behind the pipe is gone or being stopped)."""
+        with self._changed:
+            self._closed = True
+            self._changed.notify()
+
+    def take(self) -> list[MapCells | RankJob] | None:
+        """Everything queued, the map first (the worker ranks queued jobs on its newest map
+        anyway); waits while nothing is; None once closed."""
+        with self._changed:
+            while not self._closed and self._map is None and not self._jobs:
+                self._changed.wait()
+            if self._closed:
+                return None
+            batch: list[MapCells | RankJob] = [] if self._map is None else [self._map]
+            batch += self._jobs
+            self._map, self._jobs = None, []
+            return batch
+
+
 class RobotWorker:
     """The node's handle on one robot's worker process.
 
@@ -175,9 +220,12 @@ class RobotWorker:
         self._process = context.Process(target=_serve, args=(child, *self._args), daemon=True)
         self._process.start()
         child.close()
+        self._outbox = _Outbox()
         if self._last_map is not None:
-            self._conn.send(self._last_map)
-        threading.Thread(target=self._read, args=(self._conn,), daemon=True).start()
+            self._outbox.put(self._last_map)
+        writer = threading.Thread(target=self._write, args=(self._conn, self._outbox), daemon=True)
+        writer.start()
+        threading.Thread(target=self._read, args=(self._conn, self._outbox, writer), daemon=True).start()
 
     @property
     def pending(self) -> int:
@@ -185,28 +233,39 @@ class RobotWorker:
         return len(self._pending)
 
     def send_map(self, cells: MapCells) -> None:
-        """Make ``cells`` the map every later job is ranked on."""
+        """Make ``cells`` the map every later job is ranked on; returns at once."""
         with self._lock:
             self._last_map = cells
-            with contextlib.suppress(OSError):  # a dead worker: its restart sends the last map
-                self._conn.send(cells)
+            self._outbox.put(cells)  # a dead worker: its restart sends the last map
 
     def submit(self, job: RankJob) -> None:
-        """Queue ``job``; its result comes to ``on_result`` (an error result if the worker dies first)."""
+        """Queue ``job`` and return at once; its result comes to ``on_result`` (an error result if
+        the worker dies first)."""
         with self._lock:
             self._pending.add(job.job)
-            with contextlib.suppress(OSError):  # a dead worker: the restart answers the pending jobs
-                self._conn.send(job)
+            self._outbox.put(job)  # a dead worker: the restart answers the pending jobs
 
     def close(self) -> None:
-        """Stop the process (its reader thread then ends on the closed pipe)."""
+        """Stop the process (its reader and writer threads then end)."""
         self._closing = True
+        self._outbox.close()
         self._process.terminate()
         self._process.join(timeout=5)
         if self._process.is_alive():
             self._process.kill()
 
-    def _read(self, conn: Connection) -> None:
+    @staticmethod
+    def _write(conn: Connection, outbox: _Outbox) -> None:
+        """Put what the node queued into the pipe, waiting while the worker is busy, until the
+        outbox closes or the pipe breaks (the process died: the reader restarts it)."""
+        while (batch := outbox.take()) is not None:
+            try:
+                for message in batch:
+                    conn.send(message)
+            except OSError:
+                return
+
+    def _read(self, conn: Connection, outbox: _Outbox, writer: threading.Thread) -> None:
         while True:
             try:
                 result: Any = conn.recv()
@@ -217,6 +276,8 @@ class RobotWorker:
                 continue
             self._pending.discard(result.job)
             self._on_result(result)
+        outbox.close()
+        writer.join(timeout=5)  # a write to the dead process fails at once; then the pipe may close
         conn.close()
         if self._closing:
             return

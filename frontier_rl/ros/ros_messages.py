@@ -54,8 +54,8 @@ def map_cells(msg: Any, sequence: int, now_s: float) -> MapCells:
     frame = MapFrame(str(msg.header.frame_id), float(origin.x), float(origin.y), yaw(info.origin.orientation))
     if not all(math.isfinite(v) for v in (frame.x, frame.y, frame.yaw)):
         raise MapError(f"map origin must be finite, got x {frame.x!r}, y {frame.y!r}, yaw {frame.yaw!r}")
-    stamp = msg.header.stamp.to_sec() or now_s
-    return MapCells(MapInfo(frame, width, height, resolution, stamp, sequence), data)
+    stamp_ns = int(msg.header.stamp.to_nsec()) or round(now_s * 1e9)
+    return MapCells(MapInfo(frame, width, height, resolution, stamp_ns, sequence), data)
 
 
 def answer_markers(answer: Any) -> Any:

@@ -94,7 +94,8 @@ class Client:
         answer = self.answers.get(timeout=timeout)
         status = self.statuses.get(timeout=timeout)
         return {"poses": [[p.position.x, p.position.y] for p in answer.poses], "frame": answer.header.frame_id,
-                "stamp": answer.header.stamp.to_sec(), "status": status}  # fmt: skip
+                "stamp": answer.header.stamp.to_sec(), "stamp_ns": answer.header.stamp.to_nsec(),
+                "status": status}  # fmt: skip
 
 
 def faults(scene: Any) -> None:
@@ -104,7 +105,8 @@ def faults(scene: Any) -> None:
     stamp = time.time()
     client.maps["tb3_0"].publish(_map(scene, scene["data"], "tb3_0/map", stamp))
     time.sleep(1.0)
-    results = {"good": client.ask("tb3_0", "good"), "map_stamp": stamp}
+    results = {"good": client.ask("tb3_0", "good"), "map_stamp": stamp,
+               "map_stamp_ns": rospy.Time.from_sec(stamp).to_nsec()}  # fmt: skip
     for name, (px, py) in (("nan", (math.nan, y)), ("inf", (x, math.inf)), ("outside", (x + 1000.0, y))):
         client.poses["tb3_0"].publish(_pose("tb3_0/map", px, py))
         time.sleep(0.5)

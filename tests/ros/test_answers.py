@@ -6,6 +6,7 @@ from __future__ import annotations
 import json
 import math
 from collections.abc import Callable
+from types import SimpleNamespace
 
 import pytest
 
@@ -29,7 +30,7 @@ from frontier_rl.ros.answers import (
 )
 from frontier_rl.ros.master_watch import MasterWatch
 
-INFO = MapInfo(MapFrame("map", -2.0, -1.0, 0.0), width=100, height=50, resolution=0.05, stamp_s=100.0)
+INFO = MapInfo(MapFrame("map", -2.0, -1.0, 0.0), width=100, height=50, resolution=0.05, stamp_ns=100 * 10**9)
 ROBOTS = ["tb3_0", "tb3_1"]
 
 
@@ -62,7 +63,7 @@ def test_a_stale_map_is_answered_empty_when_so_configured_and_any_age_passes_at_
 
 
 def test_a_rotated_map_contains_points_in_its_own_frame() -> None:
-    info = MapInfo(MapFrame("map", 1.0, 1.0, math.pi / 2), width=20, height=10, resolution=0.1, stamp_s=0.0)
+    info = MapInfo(MapFrame("map", 1.0, 1.0, math.pi / 2), width=20, height=10, resolution=0.1, stamp_ns=0)
     assert info.contains(0.5, 2.5)  # 1.5 m along the map's x axis (world +y), 0.5 m along its y axis (world -x)
     assert not info.contains(1.5, 2.5)
 
@@ -118,6 +119,13 @@ def test_a_policy_that_needs_the_true_map_is_a_config_error() -> None:
     with pytest.raises(ConfigError, match="true map"):
         check_node_policy(make_policy("oracle"), "oracle")
     check_node_policy(make_policy("tour"), "tour")  # a policy of the robot's own map passes
+
+
+def test_a_point_model_is_a_config_error() -> None:
+    """Models 1 and 2 choose a goal cell and rank no frontier: every answer would be empty."""
+    with pytest.raises(ConfigError, match="point model"):
+        check_node_policy(SimpleNamespace(kind="point", name="learned:model1"), "learned:runs/model1/model.zip")
+    check_node_policy(SimpleNamespace(kind="frontier", name="learned:model7"), "learned:models/model7.zip")
 
 
 @pytest.mark.parametrize(

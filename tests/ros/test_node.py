@@ -202,12 +202,12 @@ def test_map_frames_with_a_rotated_origin_round_trip() -> None:
     assert frame.to_map(0.0, 0.0) == pytest.approx((2.0, -1.0))
 
 
-def _message(x: float, y: float, stamp_s: float) -> SimpleNamespace:
+def _message(x: float, y: float, stamp_ns: int) -> SimpleNamespace:
     """A stand-in for a ``nav_msgs/OccupancyGrid`` of 3 × 2 cells at origin (x, y), yaw 90°."""
     q = SimpleNamespace(x=0.0, y=0.0, z=math.sin(math.pi / 4), w=math.cos(math.pi / 4))
     origin = SimpleNamespace(position=SimpleNamespace(x=x, y=y, z=0.0), orientation=q)
     return SimpleNamespace(
-        header=SimpleNamespace(frame_id="tb3_0/map", stamp=SimpleNamespace(to_sec=lambda: stamp_s)),
+        header=SimpleNamespace(frame_id="tb3_0/map", stamp=SimpleNamespace(to_nsec=lambda: stamp_ns)),
         info=SimpleNamespace(width=3, height=2, resolution=0.05, origin=origin),
         data=[0, 0, -1, 100, 0, -1],
     )
@@ -216,13 +216,14 @@ def _message(x: float, y: float, stamp_s: float) -> SimpleNamespace:
 def test_a_map_message_carries_where_it_lies_and_when_it_was_made() -> None:
     from frontier_rl.ros.ros_messages import map_cells
 
-    cells = map_cells(_message(1.5, -2.0, 7.25), sequence=4, now_s=99.0)
+    stamp_ns = 1_764_230_400_123_456_789  # a stamp of 2025: no float64 of seconds holds it to the nanosecond
+    cells = map_cells(_message(1.5, -2.0, stamp_ns), sequence=4, now_s=99.0)
     info = cells.info
     assert (info.frame.frame_id, info.frame.x, info.frame.y) == ("tb3_0/map", 1.5, -2.0)
     assert info.frame.yaw == pytest.approx(math.pi / 2)
-    assert (info.width, info.height, info.resolution, info.stamp_s, info.sequence) == (3, 2, 0.05, 7.25, 4)
+    assert (info.width, info.height, info.resolution, info.stamp_ns, info.sequence) == (3, 2, 0.05, stamp_ns, 4)
     assert cells.data.tolist() == [0, 0, -1, 100, 0, -1]
-    assert map_cells(_message(1.5, -2.0, 0.0), sequence=0, now_s=99.0).info.stamp_s == 99.0  # no stamp: arrival
+    assert map_cells(_message(1.5, -2.0, 0), sequence=0, now_s=99.0).info.stamp_s == 99.0  # no stamp: arrival
 
 
 @pytest.mark.parametrize(("x", "y"), [(math.nan, 0.0), (0.0, math.inf)])

@@ -143,6 +143,7 @@ def test_every_request_is_answered_with_a_reason(
     assert len(good["poses"]) >= 2 and good["status"] == {**good["status"], "robot": "tb3_0", "request": "good",
                                                           "reason": "", "frontiers": len(good["poses"])}  # fmt: skip
     assert good["stamp"] == pytest.approx(r["map_stamp"], abs=1e-3)  # stamped with its map, not the request
+    assert good["stamp_ns"] == r["map_stamp_ns"]  # to the nanosecond, so that a client can match the two
     assert good["status"]["weight"] == pytest.approx(0.75)
     for name, needle in (("nan", "not finite"), ("inf", "not finite"), ("outside", "outside its map")):
         assert r[name]["poses"] == [] and needle in r[name]["status"]["reason"], r[name]
@@ -210,7 +211,8 @@ def test_the_node_ranks_with_the_policy_it_is_given(
 
 BAD_PARAMETERS = [("_policy:=oracle", "true map"), ("_policy:=tour:99", "1 to 16"), ("_weight:=abc", "'abc'"),
                   ("_policy:=bogus", "unknown policy"), ("_master_check_period:=0", "~master_check_period"),
-                  ("_keep_last_map:=maybe", "~keep_last_map")]  # fmt: skip
+                  ("_keep_last_map:=maybe", "~keep_last_map"), ("_weight:=[0.5]", "~weight must be a number"),
+                  ("_weight:=true", "~weight must be a number")]  # fmt: skip
 
 
 @pytest.mark.parametrize(("param", "needle"), BAD_PARAMETERS)

@@ -1,7 +1,8 @@
 """A robot's worker process without ROS: a large map's answer equal to ranking in the node's own
 process, answers in the frame of the map they were ranked on, requests that queued behind a ranking
 answered together at the newest pose, a default socket timeout (rospy sets 60 s) under which the
-pipe must stay blocking, and a worker that dies and comes back with the last map."""
+pipe must stay blocking, a hand-over that never waits for a busy worker, a pose off the map the
+worker holds, and a worker that dies (again while it restarts) and comes back with the last map."""
 
 from __future__ import annotations
 
@@ -56,16 +57,16 @@ def worker() -> Iterator[tuple[RobotWorker, _Results]]:
 def _room() -> MapCells:
     cells = np.full((60, 60), -1, np.int8)
     cells[10:50, 10:30] = 0
-    return MapCells(MapInfo(AT_ORIGIN, 60, 60, 0.05, 1.0), cells.reshape(-1))
+    return MapCells(MapInfo(AT_ORIGIN, 60, 60, 0.05, 10**9), cells.reshape(-1))
 
 
-def _hall(size: int, frame: MapFrame = AT_ORIGIN, stamp_s: float = 1.0) -> MapCells:
+def _hall(size: int, frame: MapFrame = AT_ORIGIN, stamp_ns: int = 10**9) -> MapCells:
     """A free hall of ``size`` × ``size`` cells in unknown space, with a wall and a few probabilities."""
     cells = np.full((size, size), -1, np.int8)
     cells[20 : size - 20, 20 : size // 2] = 0
     cells[size // 3, 20 : size // 2 - 30] = 100
     cells[size // 4, 40:60] = 70  # occupied by the thresholds, like SLAM's probabilities
-    return MapCells(MapInfo(frame, size, size, 0.05, stamp_s), cells.reshape(-1))
+    return MapCells(MapInfo(frame, size, size, 0.05, stamp_ns), cells.reshape(-1))
 
 
 def test_a_large_map_is_ranked_as_in_the_nodes_own_process(worker: tuple[RobotWorker, _Results]) -> None:
@@ -91,7 +92,7 @@ def test_answers_are_in_the_frame_of_the_map_they_were_ranked_on(worker: tuple[R
     """A SLAM map grows and moves its origin: each job is placed on, and answered in the frame of,
     the map the worker holds when it ranks, and says which map that was (the node stamps with it)."""
     handle, results = worker
-    first, moved = _hall(200), _hall(200, MapFrame("map", -3.0, 2.0, 0.4), stamp_s=2.0)
+    first, moved = _hall(200), _hall(200, MapFrame("map", -3.0, 2.0, 0.4), stamp_ns=2 * 10**9)
     handle.send_map(first)
     handle.submit(RankJob(1, 2.0, 2.0))
     one = results.wait(1)
@@ -112,7 +113,7 @@ def test_a_map_whose_walls_changed_is_ranked_as_a_new_one(worker: tuple[RobotWor
     cells[70:74, 10:160] = 100  # a wall across the hall with a gap the robot cannot pass, and one gone
     cells[70:74, 80:83] = 0
     cells[100, 20:120] = 0
-    after = MapCells(MapInfo(AT_ORIGIN, 300, 300, 0.05, 2.0), cells.reshape(-1))
+    after = MapCells(MapInfo(AT_ORIGIN, 300, 300, 0.05, 2 * 10**9), cells.reshape(-1))
     poses = [(before, 3.0, 2.0), (before, 4.0, 2.5), (after, 3.0, 2.0), (after, 4.0, 2.5)]
     for job, (cells_sent, x, y) in enumerate(poses):
         if job % 2 == 0:
@@ -129,8 +130,8 @@ def test_a_worker_keeps_its_inflation_for_maps_on_the_same_cells() -> None:
     first = _HeldMap.of(_hall(200))
     assert _rank([RankJob(1, 2.0, 2.0)], first, make_policy("fixed:0.75"), 10, 4)[0].centres
     assert first.memory._state is not None  # the ranking inflated through it
-    again = _HeldMap.of(_hall(200, stamp_s=2.0), first)
-    moved = _HeldMap.of(_hall(200, MapFrame("map", -3.0, 2.0, 0.0), stamp_s=3.0), again)
+    again = _HeldMap.of(_hall(200, stamp_ns=2 * 10**9), first)
+    moved = _HeldMap.of(_hall(200, MapFrame("map", -3.0, 2.0, 0.0), stamp_ns=3 * 10**9), again)
     assert again.memory is first.memory and moved.memory is not first.memory
 
 
@@ -193,4 +194,55 @@ def test_a_worker_ranks_and_comes_back_after_it_is_killed(worker: tuple[RobotWor
         time.sleep(0.05)
     assert handle.ready.wait(120)
     handle.submit(RankJob(2, 1.0, 1.5))  # the new process has the last map
+    assert results.wait(2).centres == first.centres
+
+
+def test_maps_and_jobs_are_handed_over_at_once_while_the_worker_is_busy(worker: tuple[RobotWorker, _Results]) -> None:
+    """The node's callbacks hand over and return: with the worker stopped (a long ranking), a map
+    larger than the pipe's buffer and a job take no time, and the job is answered on that map once
+    the worker goes on. Writing into the pipe from the callback held it, and every robot whose
+    requests rospy delivers on the same thread, until the worker read again."""
+    handle, results = worker
+    pid = handle._process.pid
+    assert pid is not None
+    hall = _hall(1500)  # 2.25 MB: more than a socket pair's buffer
+    os.kill(pid, signal.SIGSTOP)
+    resume = threading.Timer(3.0, os.kill, (pid, signal.SIGCONT))  # a hand-over that waits, waits this long
+    resume.start()
+    try:
+        start = time.monotonic()
+        handle.send_map(hall)
+        handle.submit(RankJob(1, 5.0, 5.0))
+        handed_over = time.monotonic() - start
+    finally:
+        resume.join()
+    assert handed_over < 1.0, handed_over
+    answer = results.wait(1)
+    assert not answer.error and answer.info == hall.info and answer.centres == _ranked_here(hall, 5.0, 5.0)
+
+
+def test_a_pose_off_the_map_the_worker_holds_is_answered_with_a_reason() -> None:
+    """The node checks a pose on its newest map; the worker may rank another (a map moved since)."""
+    held = _HeldMap.of(_hall(200))  # 10 m × 10 m from the origin
+    answer = _rank([RankJob(1, 25.0, 2.0)], held, make_policy("fixed:0.75"), 10, 4)[0]
+    assert answer.centres == () and "off the map" in answer.error and answer.info == held.info
+
+
+def test_a_worker_that_dies_again_while_it_restarts_comes_back(worker: tuple[RobotWorker, _Results]) -> None:
+    """The last map goes to a new process by the writer thread: a process killed before it read
+    that map broke the restart's own write, and the robot's worker stayed dead for good."""
+    handle, results = worker
+    handle.send_map(_hall(1500))  # larger than the pipe's buffer: a restart's write of it waits for the reader
+    handle.submit(RankJob(1, 5.0, 5.0))
+    first = results.wait(1)
+    for _ in range(2):  # the worker, then its replacement before it has loaded its policy
+        pid = handle._process.pid
+        assert pid is not None
+        os.kill(pid, signal.SIGKILL)
+        deadline = time.monotonic() + 60
+        while handle._process.pid == pid and time.monotonic() < deadline:
+            time.sleep(0.01)
+        assert handle._process.pid != pid, "no restart"
+    assert handle.ready.wait(120)
+    handle.submit(RankJob(2, 5.0, 5.0))
     assert results.wait(2).centres == first.centres
