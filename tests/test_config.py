@@ -40,6 +40,9 @@ def test_dump_then_load_round_trips(tmp_path: Path) -> None:
         ("robot: 3\n", "robot"),
         ("- a list\n", "mapping"),
         ("lidar: {min_range: 4.0}\n", "min_range"),
+        ("navigation: {inflation_radius: 1.0e7}\n", "inflation_radius must be at most 10 m"),  # was a MemoryError
+        ("min_frontier_cells: 9223372036854775808\n", "min_frontier_cells must be 0 to 1,000,000"),  # OverflowError
+        ("min_frontier_cells: -1\n", "min_frontier_cells"),
     ],
 )
 def test_bad_values_raise_config_error_naming_them(tmp_path: Path, text: str, needle: str) -> None:

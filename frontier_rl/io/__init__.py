@@ -59,7 +59,14 @@ def _sibling_yaml(image_path: Path) -> Path | None:
     """The ``map_server`` YAML named like ``image_path`` (``cave.yaml`` for ``cave.png``) that uses it."""
     for suffix in _YAML_SUFFIXES:
         candidate = image_path.with_suffix(suffix)
-        if candidate.is_file() and ros_map_image(candidate).resolve() == image_path.resolve():
+        if not candidate.is_file():
+            continue
+        image = ros_map_image(candidate)
+        try:
+            same = image.resolve() == image_path.resolve()
+        except (OSError, ValueError, RuntimeError) as exc:  # a NUL byte, a lone surrogate, a symlink loop
+            raise MapError(f"{candidate}: its image {short_repr(str(image))} cannot be resolved: {exc}") from None
+        if same:
             return candidate
     return None
 

@@ -26,7 +26,7 @@ from numpy.typing import NDArray
 
 from frontier_rl.core.world.grid import CellState, OccupancyGrid
 from frontier_rl.errors import MapError
-from frontier_rl.io.loaded_map import LoadedMap, positive_metres
+from frontier_rl.io.loaded_map import MAX_COORDINATE_M, LoadedMap, positive_metres
 
 #: Default cell size (m), the Gmapping default.
 HOUSEEXPO_RESOLUTION = 0.05
@@ -40,8 +40,6 @@ MIN_AREA = 1e-9
 MAX_FILE_BYTES = 16 * 1024 * 1024
 #: Most polygon vertices accepted; the dataset's outlines have hundreds.
 MAX_VERTICES = 10_000
-#: Largest coordinate (m, either sign) accepted: a floor plan, not a continent.
-MAX_COORDINATE_M = 1e6
 #: Two edges cross only where each passes more than this (m) to either side of the other's line.
 CROSSING_TOLERANCE_M = 1e-6
 _PAIRS_AT_ONCE = 1_000_000  # edge pairs compared at once (bounded memory)

@@ -11,6 +11,10 @@ from frontier_rl.core.world.grid import OccupancyGrid
 from frontier_rl.core.world.robot import Pose
 from frontier_rl.errors import MapError, short_repr
 
+#: Largest coordinate (m, either sign) a map file may place its cells at: a building, not a
+#: continent (at 10^16 m a float64 no longer tells 0.05 m cells apart).
+MAX_COORDINATE_M = 1e6
+
 
 @dataclass(frozen=True)
 class LoadedMap:

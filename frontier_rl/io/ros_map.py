@@ -36,6 +36,7 @@ from frontier_rl.atomic_write import write_bytes_atomic, write_text_atomic
 from frontier_rl.core.world.grid import CellState, OccupancyGrid
 from frontier_rl.errors import MapError, short_repr
 from frontier_rl.io._image import read_image
+from frontier_rl.io.loaded_map import MAX_COORDINATE_M
 from frontier_rl.safe_yaml import load_yaml_file, parse_yaml
 
 #: Pixel values that ``map_saver`` writes for each cell state.
@@ -200,6 +201,8 @@ def load_ros_map(yaml_path: str | Path) -> OccupancyGrid:
     if not isinstance(origin, list | tuple) or len(origin) != 3:
         raise MapError(f"{path}: field 'origin' must be [x, y, yaw], got {short_repr(origin)}")
     x, y, yaw = (_number(v, "origin", path) for v in origin)
+    if max(abs(x), abs(y)) > MAX_COORDINATE_M:
+        raise MapError(f"{path}: field 'origin' must lie within +-{MAX_COORDINATE_M:g} m, got {short_repr(origin)}")
     if yaw != 0.0:
         raise MapError(f"{path}: rotated maps are not supported, origin yaw is {short_repr(yaw)} rad")
     params = _params(doc, path)

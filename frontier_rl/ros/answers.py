@@ -68,11 +68,13 @@ MAX_CHECK_PERIOD_S = 3600.0
 """Longest ``~master_check_period`` (s): a master restart should be noticed within the hour."""
 
 
-def count_parameter(name: str, value: object, least: int) -> int:
-    """``~name`` as an integer of at least ``least``; a :class:`ConfigError` naming it otherwise."""
+def count_parameter(name: str, value: object, least: int, most: int | None = None) -> int:
+    """``~name`` as an integer of at least ``least`` (and at most ``most``); a :class:`ConfigError`
+    naming it otherwise."""
     count: int = coerce(int, value, f"~{name}")
-    if count < least:
-        raise ConfigError(f"~{name} must be an integer >= {least}, got {short_repr(value)}")
+    if count < least or (most is not None and count > most):
+        rule = f">= {least}" if most is None else f"{least} to {most:,}"
+        raise ConfigError(f"~{name} must be an integer {rule}, got {short_repr(value)}")
     return count
 
 

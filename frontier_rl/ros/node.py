@@ -39,6 +39,7 @@ from typing import Any
 
 from frontier_rl.config import coerce
 from frontier_rl.core.frontiers.ranking import THESIS_WEIGHT
+from frontier_rl.core.sim.config import MAX_FRONTIER_DROP_CELLS
 from frontier_rl.errors import FrontierRLError, MapError
 from frontier_rl.policies import make_policy
 from frontier_rl.ros.answers import (
@@ -78,7 +79,8 @@ class FrontierNode:
 
         self.robots = robot_namespaces(rospy.get_param("~robots", [""]))
         self.top_k = count_parameter("top_k", rospy.get_param("~top_k", 10), 1)
-        min_cells = count_parameter("min_cluster_size", rospy.get_param("~min_cluster_size", 4), 0)
+        min_cells = count_parameter("min_cluster_size", rospy.get_param("~min_cluster_size", 4), 0,
+                                    MAX_FRONTIER_DROP_CELLS)  # fmt: skip
         self.base_frame = str(rospy.get_param("~base_frame", "base_footprint"))
         self.max_map_age = seconds_parameter("max_map_age", rospy.get_param("~max_map_age", 30.0), zero=True)
         try:

@@ -144,3 +144,14 @@ def test_yaml_beside_an_image_is_used_only_if_it_names_that_image(tmp_path: Path
     assert load_map(tmp_path / "a.png").grid.resolution == 0.05  # a plain bitmap
     (tmp_path / "a.yaml").write_text("image: a.png\n" + fields)
     assert load_map(tmp_path / "a.png").grid.resolution == 0.2
+
+
+@pytest.mark.parametrize("image", ['"x\\0.png"', '"x\\ud800.png"', "loop.png"])
+def test_a_yaml_beside_an_image_whose_image_cannot_be_resolved_is_a_map_error(tmp_path: Path, image: str) -> None:
+    """A NUL byte, a lone surrogate or a symlink loop in the sibling's ``image`` was a traceback."""
+    Image.fromarray(np.full((3, 3), 255, dtype=np.uint8)).save(tmp_path / "a.png")
+    (tmp_path / "loop.png").symlink_to(tmp_path / "loop.png")
+    fields = "resolution: 0.2\norigin: [0, 0, 0]\nnegate: 0\noccupied_thresh: 0.65\nfree_thresh: 0.196\n"
+    (tmp_path / "a.yaml").write_text(f"image: {image}\n" + fields)
+    with pytest.raises(MapError, match=r"a\.yaml: its image .* cannot be resolved"):
+        load_map(tmp_path / "a.png")

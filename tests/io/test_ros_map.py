@@ -239,6 +239,8 @@ def test_bad_resolution(tmp_path: Path, value: str) -> None:
         ("origin", "[0.0, 0.0, 0.5]", "rotated.*0.5"),
         ("origin", "[0.0, 0.0]", "origin.*must be"),
         ("origin", "[a, 0.0, 0.0]", "origin.*'a'"),
+        ("origin", "[1.0e16, 1.0e16, 0.0]", r"origin.*within \+-1e\+06 m"),  # was 'explored' at coverage 0
+        ("origin", "[0.0, -2.0e6, 0.0]", r"origin.*within"),
         ("mode", "fuzzy", "mode.*'fuzzy'"),
         ("negate", "2", "negate.*2"),
         ("occupied_thresh", "1.5", "occupied_thresh.*1.5"),

@@ -12,6 +12,7 @@ from types import SimpleNamespace
 
 import pytest
 
+from frontier_rl.core.sim.config import MAX_FRONTIER_DROP_CELLS
 from frontier_rl.errors import ConfigError
 from frontier_rl.policies import make_policy
 from frontier_rl.ros.answers import (
@@ -149,7 +150,8 @@ def test_a_point_model_is_a_config_error() -> None:
 @pytest.mark.parametrize(
     ("name", "value", "needle"),
     [("top_k", 0, ">= 1, got 0"), ("top_k", "10", "'10'"), ("top_k", True, "True"), ("max_pending", -3, "-3"),
-     ("min_cluster_size", 2.5, "2.5"), ("max_map_age", -1.0, ">= 0"), ("max_map_age", math.nan, "nan"),
+     ("min_cluster_size", 2.5, "2.5"),
+     ("min_cluster_size", 2**63, "0 to 1,000,000"), ("max_map_age", -1.0, ">= 0"), ("max_map_age", math.nan, "nan"),
      ("max_map_age", math.inf, "inf"), ("master_check_period", 0.0, "> 0"), ("master_check_period", 1e12, "<= 3600"),
      ("keep_last_map", "false", "true or false, got 'false'")],
 )  # fmt: skip
@@ -159,7 +161,7 @@ def test_a_bad_node_parameter_is_named(name: str, value: object, needle: str) ->
     checks: dict[str, Callable[[str, object], object]] = {
         "top_k": lambda n, v: count_parameter(n, v, 1),
         "max_pending": lambda n, v: count_parameter(n, v, 1),
-        "min_cluster_size": lambda n, v: count_parameter(n, v, 0),
+        "min_cluster_size": lambda n, v: count_parameter(n, v, 0, MAX_FRONTIER_DROP_CELLS),
         "max_map_age": lambda n, v: seconds_parameter(n, v, zero=True),
         "master_check_period": lambda n, v: seconds_parameter(n, v, zero=False, most=MAX_CHECK_PERIOD_S),
         "keep_last_map": flag_parameter,

@@ -226,9 +226,14 @@ def test_a_map_message_carries_where_it_lies_and_when_it_was_made() -> None:
     assert map_cells(_message(1.5, -2.0, 0), sequence=0, now_s=99.0).info.stamp_s == 99.0  # no stamp: arrival
 
 
-@pytest.mark.parametrize(("x", "y"), [(math.nan, 0.0), (0.0, math.inf)])
-def test_a_map_origin_that_is_not_finite_is_a_map_error(x: float, y: float) -> None:
+@pytest.mark.parametrize(
+    ("x", "y", "needle"),
+    [(math.nan, 0.0, "finite"), (0.0, math.inf, "finite"), (1e16, 0.0, "within"), (0.0, -2e6, "within")],
+)
+def test_a_map_origin_that_is_not_finite_or_too_far_is_a_map_error(x: float, y: float, needle: str) -> None:
+    """At 10^16 m a float64 no longer tells the map's cells apart."""
     from frontier_rl.ros.ros_messages import map_cells
 
-    with pytest.raises(MapError, match="map origin must be finite"):
-        map_cells(_message(x, y, 1.0), sequence=0, now_s=1.0)
+    with pytest.raises(MapError, match=f"map origin must (be|lie) {needle}"):
+        map_cells(_message(x, y, 1), sequence=0, now_s=1.0)
+    map_cells(_message(-1e6, 1e6, 1), sequence=0, now_s=1.0)  # at the bound: a map

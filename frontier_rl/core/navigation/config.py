@@ -13,6 +13,10 @@ MAX_EXTRA_COST = 100.0
 queues hold one bucket per unit of the largest step cost, so a factor of 1e12 would ask for
 terabytes. 100 already makes a cell cost 101 free steps."""
 
+MAX_INFLATION_RADIUS_M = 10.0
+"""Largest ``inflation_radius`` (m): the costmap's inflation table spans it, so 1e7 m asked for
+more memory than any machine has (nav2's default is 0.55 m)."""
+
 MIN_CONTROL_DT = 1e-3
 """Shortest ``control_dt`` (s): a 1 kHz control loop, far above move_base's 20 Hz; a step of 1e-9 s
 would take an episode years of wall time."""
@@ -85,6 +89,11 @@ class NavigationConfig:
             value = getattr(self, name)
             if not (math.isfinite(value) and value >= 0):
                 raise ConfigError(f"NavigationConfig.{name} must be >= 0, got {value!r}")
+        if self.inflation_radius > MAX_INFLATION_RADIUS_M:
+            raise ConfigError(
+                f"NavigationConfig.inflation_radius must be at most {MAX_INFLATION_RADIUS_M:g} m, "
+                f"got {self.inflation_radius!r}"
+            )
         for name in ("inflation_cost", "unknown_cost"):
             value = getattr(self, name)
             if not (0 <= value <= MAX_EXTRA_COST):

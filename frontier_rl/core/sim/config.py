@@ -22,6 +22,10 @@ room, not a speck: the episode ends ``unreachable``. 0.5 m² is 0.7 m x 0.7 m, r
 On 0.1 m cells a slot of 3 cells (a speck) led to 2.5 m² never seen, an episode that would have
 ended ``explored``; the most found behind a speck in 94 ``nearest`` episodes of the generators and
 the shared maps that ended ``explored`` was 0.14 m² (under furniture in ``aws_small_house``)."""
+MAX_FRONTIER_DROP_CELLS = 1_000_000
+"""Largest ``min_frontier_cells`` (and the ROS node's ``~min_cluster_size``): a drop of a million
+cells is more than any frontier of a map file holds (2**63 overflowed the frontier kernels' integers)."""
+
 DROP_CELL_M = 0.05
 """The cell size (m) that drop sizes in cells are counted in: the thesis's map's."""
 
@@ -74,8 +78,10 @@ class SimConfig:
     frontier_goal_reach: float = 3.0
 
     def __post_init__(self) -> None:
-        if self.min_frontier_cells < 0:
-            raise ConfigError(f"min_frontier_cells must be >= 0, got {self.min_frontier_cells!r}")
+        if not 0 <= self.min_frontier_cells <= MAX_FRONTIER_DROP_CELLS:
+            raise ConfigError(
+                f"min_frontier_cells must be 0 to {MAX_FRONTIER_DROP_CELLS:,}, got {self.min_frontier_cells!r}"
+            )
         if self.max_sim_time is not None and not (self.max_sim_time > 0 and math.isfinite(self.max_sim_time)):
             raise ConfigError(f"max_sim_time must be a positive number of seconds, got {self.max_sim_time!r}")
         for name in ("time_per_area", "min_time_cap", "frontier_segment_length", "frontier_goal_reach"):
