@@ -173,7 +173,11 @@ def method_fingerprint(method: str) -> str:
 
 def file_sha256(path: Path) -> str:
     """The first 16 hex digits of the SHA-256 of a file's content (how experiment.json names a model file)."""
-    return hashlib.sha256(path.read_bytes()).hexdigest()[:16]
+    digest = hashlib.sha256()
+    with path.open("rb") as handle:  # in chunks: a model file padded to gigabytes filled the memory
+        for chunk in iter(lambda: handle.read(1 << 20), b""):
+            digest.update(chunk)
+    return digest.hexdigest()[:16]
 
 
 def world_fingerprint(world: str, resolution: float | None) -> str:

@@ -46,8 +46,22 @@ from frontier_rl.atomic_write import write_text_atomic
 from frontier_rl.errors import ConfigError, short_repr, short_text
 from frontier_rl.evaluation.config_diff import ABSENT, contrast, describe_differences, differences_between
 from frontier_rl.evaluation.experiment import ROW_COLUMNS, EpisodeJob
-from frontier_rl.evaluation.result_files import append_synced, complete_lines, decode_utf8, keyed_lines
-from frontier_rl.evaluation.result_rows import Key, experiment_id, format_row, parse_row, row_checksum, sha256_hex
+from frontier_rl.evaluation.result_files import (
+    append_synced,
+    complete_lines,
+    decode_utf8,
+    keyed_lines,
+    read_result_file,
+)
+from frontier_rl.evaluation.result_rows import (
+    Key,
+    experiment_id,
+    format_row,
+    parse_row,
+    row_checksum,
+    sha256_hex,
+    trace_problem,
+)
 
 _QUOTE_CHARS = 60
 """Values from files are quoted in messages up to this many characters."""
@@ -102,7 +116,10 @@ class ResultStore:
         same files would interleave their rows."""
         if fcntl is None:  # no POSIX locks here (Windows): run one experiment per folder at a time
             return None
-        handle = (self.out / ".lock").open("ab")
+        lock = self.out / ".lock"
+        if lock.exists() and not lock.is_file():  # opening a FIFO to write waits for a reader for good
+            raise ConfigError(f"{lock} is not a regular file (a FIFO, a device or a folder); choose another --out")
+        handle = lock.open("ab")
         try:
             fcntl.flock(handle.fileno(), fcntl.LOCK_EX | fcntl.LOCK_NB)
         except OSError:
@@ -123,7 +140,7 @@ class ResultStore:
         identity = json.loads(json.dumps(identity))  # tuples become lists, as in the stored file
         stored: dict[str, Any] | None = None
         if self.identity_path.exists():
-            text = decode_utf8(self.identity_path, self.identity_path.read_bytes())
+            text = decode_utf8(self.identity_path, read_result_file(self.identity_path, _MAX_IDENTITY_BYTES))
             try:
                 stored = json.loads(text)
             except json.JSONDecodeError as exc:
@@ -199,6 +216,12 @@ class ResultStore:
                 )
         for key in self.rows:
             self._verify(key, row_numbers[key], traces.get(key), checksums.get(key))
+            problem = trace_problem(traces[key][2])
+            if problem:  # signed, so written by a run or re-signed after an edit (anyone can)
+                raise ConfigError(
+                    f"{self.trace_path} line {traces[key][0]} (the trace of {_describe(key)}): {problem}; delete "
+                    f"the episode's line in {self.csv_path.name} to run it again, or choose another --out"
+                )
             self.traces[key] = traces[key][2]
             self._trace_lines[key] = traces[key][1]
             self._checksum_lines[key] = checksums[key][1]
@@ -329,7 +352,7 @@ def adopt_rows(out: Path) -> int:
     if not path.is_file():
         raise ConfigError(f"{str(out)!r} has no experiment.json: it is not a results folder")
     try:
-        stored = json.loads(decode_utf8(path, path.read_bytes()))
+        stored = json.loads(decode_utf8(path, read_result_file(path, _MAX_IDENTITY_BYTES)))
     except (ValueError, RecursionError):  # not JSON, an integer of more than 4300 digits, too deep
         stored = None
     if not isinstance(stored, dict):
@@ -341,6 +364,7 @@ def adopt_rows(out: Path) -> int:
 
 # ---------------------------------------------------------------------- files
 _FIX_ROW = "delete that line to run the episode again, or choose another --out"
+_MAX_IDENTITY_BYTES = 16 * 1024 * 1024  # experiment.json: the settings and one fingerprint per method
 
 
 def _describe(key: Key) -> str:

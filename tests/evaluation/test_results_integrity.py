@@ -7,9 +7,11 @@ from __future__ import annotations
 
 import errno
 import json
+import math
 import os
 import re
 import shutil
+import threading
 from collections.abc import Callable, Iterator
 from contextlib import contextmanager
 from pathlib import Path
@@ -472,3 +474,99 @@ def test_differences_name_leaves() -> None:
         ("sim.a.b", 1, 2), ("sim.a.c[1]", 2, 3),
     ]  # fmt: skip
     assert differences_between({"a": 1.0}, {"a": 1}, "x") == []  # JSON numbers that compare equal
+
+
+# ----------------------------------------------------------------------------- special files, signed nonsense
+def _fifo(path: Path) -> None:
+    path.unlink(missing_ok=True)
+    os.mkfifo(path)
+
+
+def _dev_zero(path: Path) -> None:
+    path.unlink()
+    path.symlink_to("/dev/zero")
+
+
+def _sparse(path: Path) -> None:
+    os.truncate(path, (1 << 30) + 1)  # 4 kB on disk
+
+
+@pytest.mark.skipif(not hasattr(os, "mkfifo"), reason="needs FIFOs")
+@pytest.mark.parametrize(
+    ("name", "make", "message"),
+    [
+        (".lock", _fifo, r"\.lock is not a regular file"),  # opening it to write blocked for good
+        ("experiment.json", _fifo, r"experiment\.json is not a regular file"),  # so did reading it
+        ("episodes.csv", _fifo, r"episodes\.csv is not a regular file"),
+        ("traces.jsonl", _dev_zero, r"traces\.jsonl is not a regular file"),  # filled the memory
+        ("experiment.json", _sparse, r"experiment\.json holds 1,073,741,825 bytes, more than 16,777,216"),
+        ("traces.jsonl", _sparse, r"traces\.jsonl holds 1,073,741,825 bytes, more than 1,073,741,824"),
+    ],
+)
+def test_special_and_huge_files_are_a_one_line_error(
+    complete: Path, tmp_path: Path, name: str, make: Callable[[Path], None], message: str
+) -> None:
+    out = _copy(complete, tmp_path / "exp")
+    make(out / name)
+    errors: list[BaseException] = []
+
+    def open_it() -> None:
+        try:
+            _open(out)
+        except BaseException as exc:  # handed to the test's thread
+            errors.append(exc)
+
+    opening = threading.Thread(target=open_it, daemon=True)  # a regression would block, not fail
+    opening.start()
+    opening.join(timeout=60)
+    assert not opening.is_alive(), f"opening a folder with {name} as {make.__name__} blocked"
+    assert len(errors) == 1 and isinstance(errors[0], ConfigError), errors
+    assert re.search(message, str(errors[0])) and "\n" not in str(errors[0])
+
+
+def _set_trace(**fields: object) -> Callable[[Path], None]:
+    """Set the first trace's ``fields`` (None deletes one)."""
+
+    def edit(out: Path) -> None:
+        lines = _lines(out / "traces.jsonl")
+        trace = json.loads(lines[0]) | fields
+        lines[0] = json.dumps({k: v for k, v in trace.items() if v is not None})
+        _write_lines(out / "traces.jsonl", lines)
+
+    return edit
+
+
+def _set_row(column: str, value: str) -> Callable[[Path], None]:
+    def edit(out: Path) -> None:
+        lines = _lines(out / "episodes.csv")
+        lines[1] = _field(lines[1], column, value)
+        _write_lines(out / "episodes.csv", lines)
+
+    return edit
+
+
+@pytest.mark.parametrize(
+    ("edit", "message"),
+    [
+        (_set_row("sim_time_s", "nan"), r"episodes\.csv line 2: sim_time_s 'nan' is not valid .*finite"),
+        (_set_row("sim_time_s", "1e308"), r"sim_time_s '1e308' is not valid"),  # broke the plots' axes
+        (_set_row("path_length_m", "-inf"), r"path_length_m '-inf' is not valid"),
+        (_set_trace(coverage=None), r"traces\.jsonl line 1 .*coverage_t and coverage must be lists of one length"),
+        (_set_trace(coverage=[]), r"coverage must be lists of one length, not empty"),
+        (_set_trace(coverage_t="abc"), r"coverage must be lists"),
+        (_set_trace(weight=[math.nan]), r"weight_t and weight must be lists of one length"),
+        (_set_trace(coverage_t=[1e308, 1e308], coverage=[0.5, 1.0]), r"must hold finite numbers"),
+        (_set_trace(robot_coverage={"a": 1}), r"robot_coverage must be a list of finite numbers"),
+    ],
+)
+def test_rows_and_traces_signed_again_after_an_edit_are_checked(
+    complete: Path, tmp_path: Path, edit: Callable[[Path], None], message: str
+) -> None:
+    """Anyone can sign rows again (``adopt_rows``, or the checksums' documented recipe): what the
+    report cannot use is refused by file and line, where it was a traceback in the report."""
+    out = _copy(complete, tmp_path / "exp")
+    edit(out)
+    (out / "checksums.jsonl").unlink()
+    with pytest.raises(ConfigError, match=message) as caught:
+        adopt_rows(out)
+    assert "\n" not in str(caught.value)
