@@ -131,7 +131,7 @@ def parse_pose(text: str) -> Pose:
     return checked_pose(Pose(*values), f"start pose {short_repr(text)}")
 
 
-MAP_SUFFIXES = (".yaml", ".yml", ".png", ".pgm", ".json", ".bmp")
+MAP_SUFFIXES = (".yaml", ".yml", ".png", ".pgm", ".json")
 """The file endings read as maps when a folder is given as a world."""
 
 SPLITS = ("train", "validation")

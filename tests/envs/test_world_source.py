@@ -32,6 +32,9 @@ def test_parse_errors_name_the_entry(tmp_path: Path) -> None:
         parse_world_list(" , ")
     with pytest.raises(ConfigError, match="no map files"):
         parse_world_list(str(tmp_path))
+    (tmp_path / "room.bmp").write_bytes(b"BM")  # no loader reads it: not a map file of the folder
+    with pytest.raises(ConfigError, match="no map files"):
+        parse_world_list(str(tmp_path))
 
 
 def test_sample_is_seeded_and_uses_training_seeds() -> None:
