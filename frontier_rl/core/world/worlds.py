@@ -155,7 +155,14 @@ def _short(text: str, limit: int = 80) -> str:
 
 
 def _start_name(start: Pose) -> str:
-    return f"start pose ({start.x:.2f}, {start.y:.2f})"
+    return f"start pose ({_metres(start.x)}, {_metres(start.y)})"
+
+
+def _metres(value: float) -> str:
+    """A coordinate (m) to the centimetre, or in powers of ten when that would take more than 12
+    characters (1e300 m printed 300 digits)."""
+    text = f"{value:.2f}"
+    return text if len(text) <= 12 else f"{value:.3g}"
 
 
 def _check_start(grid: OccupancyGrid, start: Pose) -> tuple[int, int]:

@@ -271,6 +271,7 @@ def test_dilate_matches_the_distance_transform() -> None:
         (Pose(0.5, -0.01), r"start pose \(0\.50, -0\.01\) is outside the grid"),
         (Pose(0.12, 0.5), r"start pose \(0\.12, 0\.50\) is too close to a wall: clearance 0\.050 m"),
         (Pose(float("nan"), 0.5), r"start pose \(nan, 0\.50\)"),
+        (Pose(1e300, -1e300), r"start pose \(1e\+300, -1e\+300\) is outside the grid \(x in"),  # not 300 digits
     ],
 )
 def test_make_world_rejects_bad_starts(start: Pose, match: str) -> None:
