@@ -10,6 +10,7 @@ from __future__ import annotations
 
 import contextlib
 import multiprocessing
+import signal
 import sys
 import threading
 import time
@@ -90,7 +91,10 @@ def _serve(conn: Connection, policy_spec: str, top_k: int, min_cells: int) -> No
     """The worker process: a map replaces the current one; the jobs that queued while it ranked are
     answered by one ranking on the newest map at the newest job's pose (a robot asks about where it
     is now, and a queue must not grow behind a slow model). It ends when the node's end of the
-    pipe closes (the node exited, however)."""
+    pipe closes (the node exited, however), never on SIGINT: Ctrl-C in a terminal reaches the whole
+    process group, and the node stops its workers itself (a worker that died of it printed a
+    traceback and was restarted while the node shut down)."""
+    signal.signal(signal.SIGINT, signal.SIG_IGN)
     policy = make_policy(policy_spec)
     if "torch" in sys.modules:  # a learned policy: one thread, as every robot has a worker of its own
         sys.modules["torch"].set_num_threads(1)

@@ -246,3 +246,14 @@ def test_a_worker_that_dies_again_while_it_restarts_comes_back(worker: tuple[Rob
     assert handle.ready.wait(120)
     handle.submit(RankJob(2, 5.0, 5.0))
     assert results.wait(2).centres == first.centres
+
+
+def test_a_worker_outlives_a_sigint_to_its_process_group(worker: tuple[RobotWorker, _Results]) -> None:
+    """Ctrl-C in a terminal reaches the node and its workers; the node stops them itself."""
+    handle, results = worker
+    pid = handle._process.pid
+    assert pid is not None
+    os.kill(pid, signal.SIGINT)
+    handle.send_map(_room())
+    handle.submit(RankJob(1, 1.0, 1.5))
+    assert results.wait(1).centres and handle._process.pid == pid and handle._process.is_alive()
