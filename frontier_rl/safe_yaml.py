@@ -21,7 +21,6 @@ from __future__ import annotations
 
 import codecs
 import re
-import stat
 from pathlib import Path
 from typing import Any
 
@@ -30,6 +29,7 @@ from yaml.constructor import ConstructorError
 from yaml.events import AliasEvent
 from yaml.nodes import Node, ScalarNode
 
+from frontier_rl.bounded_read import UnreadableFileError, read_bounded
 from frontier_rl.errors import FrontierRLError, short_text
 
 #: Largest YAML file read (bytes): 1 MiB. The tool's own files are under 2 KB.
@@ -161,17 +161,13 @@ def load_yaml_file(path: str | Path, error: type[FrontierRLError], what: str) ->
     """
     path = Path(path)
     try:
-        info = path.stat()
-        if not stat.S_ISREG(info.st_mode):
-            raise error(f"cannot read {what} {path}: not a regular file")
-        if info.st_size > MAX_YAML_BYTES:
-            raise error(f"{what} {path} is {info.st_size} bytes, more than the {MAX_YAML_BYTES} allowed")
-        with path.open("rb") as stream:
-            data = stream.read(MAX_YAML_BYTES + 1)
+        data = read_bounded(path, MAX_YAML_BYTES)
+    except UnreadableFileError as exc:
+        if exc.size is None:
+            raise error(f"cannot read {what} {path}: not a regular file") from None
+        raise error(f"{what} {path} is {exc.size} bytes, more than the {MAX_YAML_BYTES} allowed") from None
     except OSError as exc:
         raise error(f"cannot read {what} {path}: {exc.strerror or exc}") from None
-    if len(data) > MAX_YAML_BYTES:  # grew since stat()
-        raise error(f"{what} {path} is more than the {MAX_YAML_BYTES} bytes allowed")
     bom = len(codecs.BOM_UTF8) if data.startswith(codecs.BOM_UTF8) else 0
     try:
         text = data[bom:].decode("utf-8")

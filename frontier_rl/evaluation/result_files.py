@@ -7,12 +7,12 @@ from __future__ import annotations
 import contextlib
 import json
 import os
-import stat
 from pathlib import Path
 from typing import Any
 
 from frontier_rl import atomic_write
 from frontier_rl.atomic_write import OutputWriteError, describe_os_error
+from frontier_rl.bounded_read import UnreadableFileError, read_bounded
 from frontier_rl.errors import ConfigError, short_repr
 from frontier_rl.evaluation.result_rows import Key
 
@@ -25,18 +25,15 @@ def read_result_file(path: Path, limit: int = MAX_RESULT_FILE_BYTES) -> bytes:
     """The bytes of ``path``, a regular file of at most ``limit`` bytes; else a one-line error (a
     FIFO in its place blocked the run for good)."""
     try:
-        info = path.stat()
-        if not stat.S_ISREG(info.st_mode):
-            raise ConfigError(f"{path} is not a regular file (a FIFO, a device or a folder); choose another --out")
-        if info.st_size > limit:
-            raise ConfigError(f"{path} holds {info.st_size:,} bytes, more than {limit:,}; choose another --out")
-        with path.open("rb") as handle:
-            data = handle.read(limit + 1)
+        return read_bounded(path, limit)
+    except UnreadableFileError as exc:
+        if exc.size is None:
+            raise ConfigError(
+                f"{path} is not a regular file (a FIFO, a device or a folder); choose another --out"
+            ) from None
+        raise ConfigError(f"{path} holds {exc.size:,} bytes, more than {limit:,}; choose another --out") from None
     except OSError as exc:
         raise ConfigError(f"{path} cannot be read ({describe_os_error(exc)}); choose another --out") from None
-    if len(data) > limit:  # it grew after the check
-        raise ConfigError(f"{path} holds more than {limit:,} bytes; choose another --out")
-    return data
 
 
 def decode_utf8(path: Path, data: bytes, first_line: int = 1) -> str:
