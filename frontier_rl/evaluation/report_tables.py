@@ -103,10 +103,11 @@ def outlier_tables(summary: dict[str, Any], config: ExperimentConfig, labels: di
 
 def outlier_note(summary: dict[str, Any]) -> str:
     """One line naming the outlier thresholds that left no episode out ("" if there are none)."""
-    clean = [f"{t} s" for t, cut in summary["outliers"].items() if not _left_out(cut)]
+    clean = [t for t, cut in summary["outliers"].items() if not _left_out(cut)]
     if not clean:
         return ""
-    return (f"No episode took longer than {' or '.join(clean)} (the thesis's outlier thresholds), so the tables "
+    whose = " (the thesis's outlier thresholds)" if {float(t) for t in summary["outliers"]} == {1000.0, 2000.0} else ""
+    return (f"No episode took longer than {' or '.join(f'{t} s' for t in clean)}{whose}, so the tables "
             "without outliers would repeat the one above and are left out.")  # fmt: skip
 
 

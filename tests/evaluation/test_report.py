@@ -104,7 +104,9 @@ def test_outlier_tables_only_when_an_episode_was_left_out() -> None:
     assert outlier_note(summary).startswith("No episode took longer than 2000 s ")
     clean, _ = _summary({"fixed:0.75": BASE, "nearest": BASE})
     assert outlier_tables(clean, config, labels) == []
-    assert "1000 s or 2000 s" in outlier_note(clean)
+    assert "1000 s or 2000 s (the thesis's outlier thresholds)" in outlier_note(clean)
+    own, _ = _summary({"fixed:0.75": BASE, "nearest": BASE}, outliers=(900.0,))
+    assert outlier_note(own).startswith("No episode took longer than 900 s, so")  # a user's threshold, not the thesis's
     assert [t.title for t in time_tables(clean, config)] == ["Exploration time, all episodes"]
 
 
