@@ -105,7 +105,7 @@ def rank_frontiers(
     costmap, _, frontiers = reachable_frontiers(grid, pose, sim, min_cluster_cells, memory=memory)
     if len(frontiers) == 0:
         return [], None
-    context = DecisionContext(grid, frontiers, pose, 0.0, sim.lidar.max_range, costmap)
+    context = DecisionContext(grid, frontiers, pose, 0.0, sim.lidar.max_range, costmap, robot_radius=sim.robot.radius)
     ranking = policy.rank(context, rng or np.random.default_rng(0))
     order = [int(i) for i in ranking.order[:top_k]]
     ranked = [

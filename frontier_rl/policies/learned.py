@@ -10,7 +10,7 @@ to.
 
 from __future__ import annotations
 
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from pathlib import Path
 from typing import Any
 
@@ -33,8 +33,9 @@ class LearnedPolicy:
     Args:
         path: a zip written by ``frontier-rl train``.
         trust: allow loading SB3 zips without frontier_rl metadata (this unpickles the file).
-        sim: the robot and navigation settings of the costmap the frontier-table models' (5 and 6)
-            path costs are computed on, when the decision context brings none.
+        sim: the navigation settings of the costmap the frontier-table models' (5 to 7) path costs
+            are computed on, when the decision context brings none (the robot's radius is always
+            the context's).
     """
 
     path: Path
@@ -105,8 +106,9 @@ class LearnedPolicy:
         if self.kind == "weight":
             action = self._act(self._encoder.encode(grid, pose, frontiers))
         else:  # the frontier table's models
-            costmap = context.costmap or Costmap.build(grid, self.sim.robot, self.sim.navigation)
-            radius, sensor_range = self.sim.robot.radius, context.sensor_range
+            radius, sensor_range = context.robot_radius, context.sensor_range
+            robot = replace(self.sim.robot, radius=radius)
+            costmap = context.costmap or Costmap.build(grid, robot, self.sim.navigation)
             obs, slots = frontier_observation(
                 self._encoder, self._top_k, costmap, pose, frontiers, radius, sensor_range, self._tour
             )

@@ -9,13 +9,12 @@ cheapest frontiers, an exact open tour over them (Held-Karp), and its first stop
 
 from __future__ import annotations
 
-from dataclasses import dataclass, field
+from dataclasses import dataclass
 
 import numpy as np
 
 from frontier_rl.core.frontiers.ranking import nearest_cost, rank
 from frontier_rl.core.navigation.tours import MAX_STOPS, costs_to_stops, open_tour, stop_costs
-from frontier_rl.core.sim.config import SimConfig
 from frontier_rl.core.sim.episode import DecisionContext, Ranking
 from frontier_rl.errors import ConfigError
 
@@ -24,13 +23,11 @@ from frontier_rl.errors import ConfigError
 class FrontierTour:
     """The first stop of the shortest open tour (planner path costs on the robot's map) over the
     ``max_frontiers`` frontiers cheapest to reach; the rest follow by path cost (by straight-line
-    distance where a large map's search stopped before them). ``sim`` gives the robot's radius,
-    which sets the blocks a large map is searched on
-    (:func:`~frontier_rl.core.navigation.tours.costs_to_stops`)."""
+    distance where a large map's search stopped before them). The context's robot radius sets the
+    blocks a large map is searched on (:func:`~frontier_rl.core.navigation.tours.costs_to_stops`)."""
 
     max_frontiers: int = 10
     name: str = "tour"
-    sim: SimConfig = field(default_factory=SimConfig, compare=False, repr=False)
 
     def __post_init__(self) -> None:
         if not 1 <= self.max_frontiers <= MAX_STOPS:
@@ -43,7 +40,7 @@ class FrontierTour:
             return Ranking(rank(nearest_cost(frontiers)))
         start = context.grid.world_to_cell(context.pose.x, context.pose.y)
         goals = np.asarray(frontiers.goal_cells, np.int64)
-        radius = self.sim.robot.radius
+        radius = context.robot_radius
         from_robot = costs_to_stops(costmap, start, goals, radius, self.max_frontiers)
         by_cost = np.lexsort((nearest_cost(frontiers), from_robot))
         stops = by_cost[: self.max_frontiers]

@@ -171,7 +171,9 @@ def test_rank_without_begin_episode_raises_config_error() -> None:
     data = np.full((30, 60), CellState.UNKNOWN, np.int8)
     data[5:10, 2:20] = CellState.FREE
     grid = OccupancyGrid(data, 0.05)
-    context = DecisionContext(grid, detect_frontiers(grid, Pose(0.5, 0.4)), Pose(0.5, 0.4), 0.0, 3.5)
+    context = DecisionContext(
+        grid, detect_frontiers(grid, Pose(0.5, 0.4)), Pose(0.5, 0.4), 0.0, 3.5, robot_radius=0.105
+    )
     with pytest.raises(ConfigError, match="true map"):
         make_policy("oracle").rank(context, np.random.default_rng(0))
 

@@ -80,7 +80,9 @@ def test_every_policy_ranks_a_real_frontier_set() -> None:
     data[15, 10:16] = CellState.FREE
     data[25, 30:58] = CellState.FREE
     grid = OccupancyGrid(data, 0.05)
-    context = DecisionContext(grid, detect_frontiers(grid, Pose(0.5, 0.75)), Pose(0.5, 0.75), 0.0, 3.5)
+    context = DecisionContext(
+        grid, detect_frontiers(grid, Pose(0.5, 0.75)), Pose(0.5, 0.75), 0.0, 3.5, robot_radius=0.105
+    )
     assert len(context.frontiers) == 3
     for spec in [*SIMPLE, "fixed:0.3", "tour:2"]:
         ranking = make_policy(spec).rank(context, np.random.default_rng(0))

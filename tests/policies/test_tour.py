@@ -32,7 +32,9 @@ def test_tour_clears_the_lone_frontier_behind_before_the_row_ahead() -> None:
     config = SimConfig()
     costmap, _, frontiers = reachable_frontiers(grid, pose, config)
     assert len(frontiers) == 4
-    context = DecisionContext(grid, frontiers, pose, 0.0, config.lidar.max_range, costmap)
+    context = DecisionContext(
+        grid, frontiers, pose, 0.0, config.lidar.max_range, costmap, robot_radius=config.robot.radius
+    )
     rng = np.random.default_rng(0)
     behind = int(np.argmin(frontiers.centers[:, 0]))
     nearest = make_policy("nearest").rank(context, rng).order
@@ -58,7 +60,9 @@ def test_tour_ranks_every_frontier_when_there_are_more_than_it_tours() -> None:
     grid, pose = _corridor()
     config = SimConfig()
     costmap, _, frontiers = reachable_frontiers(grid, pose, config)
-    context = DecisionContext(grid, frontiers, pose, 0.0, config.lidar.max_range, costmap)
+    context = DecisionContext(
+        grid, frontiers, pose, 0.0, config.lidar.max_range, costmap, robot_radius=config.robot.radius
+    )
     order = FrontierTour(max_frontiers=2).rank(context, np.random.default_rng(0)).order
     assert sorted(order.tolist()) == list(range(len(frontiers)))
 
@@ -67,7 +71,7 @@ def test_tour_without_a_costmap_falls_back_to_nearest() -> None:
     grid, pose = _corridor()
     config = SimConfig()
     _, _, frontiers = reachable_frontiers(grid, pose, config)
-    context = DecisionContext(grid, frontiers, pose, 0.0, config.lidar.max_range)
+    context = DecisionContext(grid, frontiers, pose, 0.0, config.lidar.max_range, robot_radius=config.robot.radius)
     rng = np.random.default_rng(0)
     assert FrontierTour().rank(context, rng).order.tolist() == make_policy("nearest").rank(context, rng).order.tolist()
 

@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import time
 from collections.abc import Callable
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from typing import Protocol, TypeVar, runtime_checkable
 
 import numpy as np
@@ -33,6 +33,8 @@ class DecisionContext:
         sim_time: sim time of the decision (s).
         sensor_range: the LiDAR's maximum range (m), for information-gain estimates.
         costmap: the navigator's costmap of ``grid``, when the caller has one (the simulator does).
+        robot_radius: the robot's radius (m), which sets the blocks a large map's path costs are
+            searched on; the run's, so that a policy never assumes the default robot.
     """
 
     grid: OccupancyGrid
@@ -41,6 +43,7 @@ class DecisionContext:
     sim_time: float
     sensor_range: float
     costmap: Costmap | None = None
+    robot_radius: float = field(kw_only=True)
 
 
 @dataclass(frozen=True)
@@ -80,7 +83,11 @@ class EpisodeAwarePolicy(Protocol):
 def decision_context(sim: ExplorationSimulator) -> DecisionContext:
     """The policy's view of the simulator's current state."""
     cand = sim.candidates()
-    return DecisionContext(cand.grid, cand.frontiers, sim.pose, sim.sim_time, sim.config.lidar.max_range, cand.costmap)
+    config = sim.config
+    return DecisionContext(
+        cand.grid, cand.frontiers, sim.pose, sim.sim_time, config.lidar.max_range, cand.costmap,
+        robot_radius=config.robot.radius,
+    )  # fmt: skip
 
 
 class DecisionLoop(Protocol):
