@@ -262,7 +262,9 @@ class LogOddsMapper:
         r0, r1, c0, c1 = window if window is not None else (0, rows, 0, cols)
         gained = merge_window(self.state, self.logodds, self.seen, self.explorable, other.state, other.logodds,
                               (r0, r1, c0, c1), self._bbox)  # fmt: skip
-        # the walls the other robot touched are known walls here too (never thinned, core/navigation/thin_walls.py)
+        # the walls the other robot touched are known walls here too (never thinned, core/navigation/thin_walls.py);
+        # a window may start before the map (merge_window clamps it), where a slice would count from the end
+        r0, c0 = max(r0, 0), max(c0, 0)
         self.felt[r0:r1, c0:c1] |= other.felt[r0:r1, c0:c1]
         self.explored_cells += gained
         return int(gained)

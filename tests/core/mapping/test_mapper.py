@@ -623,10 +623,11 @@ def test_mappers_merge_by_the_rule_and_count_what_they_gain() -> None:
     assert np.array_equal(a.state, b.state)  # both robots now hold the same map
 
 
-@pytest.mark.parametrize("window", [None, (0, 40, 0, 60)])
+@pytest.mark.parametrize("window", [None, (0, 40, 0, 60), (-52, 73, -3, 60)])
 def test_walls_a_teammate_touched_are_merged_as_touched(window: tuple[int, int, int, int] | None) -> None:
     """A wall a robot bumped into is never thinned by the narrow-passage recovery; after a merge
-    the other robot knows that too (within the merged window)."""
+    the other robot knows that too (within the merged window, which may start before the map, as
+    a window around a robot near its edge does: the touched walls were then not merged)."""
     world = generate_world("office", 2)
     a, b = LogOddsMapper(world.grid), LogOddsMapper(world.grid)
     b.mark_occupied(np.array([10, 100]), np.array([20, 150]))
