@@ -235,7 +235,8 @@ class TeamSimulator:
         if robot.leg is None:
             return
         sim = robot.sim
-        sim.set_teammates(np.asarray([r.xy for r in self.robots if r is not robot]).reshape(-1, 2))
+        others = [r for r in self.robots if r is not robot]
+        sim.set_teammates(np.asarray([r.xy for r in others]).reshape(-1, 2), np.array([r.alive for r in others]))
         last = sim.mapper.last_update
         try:
             next(robot.leg)
@@ -359,10 +360,16 @@ class TeamSimulator:
         )
 
     def _frontiers_left(self) -> tuple[FrontierLeft, ...]:
-        """The frontiers the surviving robots ended without exploring (none before the end)."""
+        """The frontiers the surviving robots ended without exploring (none before the end), each
+        once: robots that shared their maps see the same frontier, and counting it once per robot
+        doubled the unseen area reported."""
         if not self._done:
             return ()
-        return tuple(f for r in self.alive for f in r.sim.frontiers_left())
+        left: dict[tuple[float, float, int], FrontierLeft] = {}
+        for robot in self.alive:
+            for frontier in robot.sim.frontiers_left():
+                left.setdefault((frontier.x, frontier.y, frontier.cells), frontier)
+        return tuple(left.values())
 
     def _end_reason(self, left: tuple[FrontierLeft, ...]) -> str | None:
         """Why the team's episode ended (None while it goes on): "failed" when no robot is left."""

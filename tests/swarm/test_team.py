@@ -28,6 +28,7 @@ from frontier_rl.swarm import (
 )
 from frontier_rl.swarm.result import overlap_share
 from frontier_rl.swarm.starts import team_starts
+from tests.core.sim.test_completion import slot_world
 
 POLICY = FixedWeight(0.75)
 
@@ -202,6 +203,15 @@ def test_what_a_failed_robot_had_not_shared_is_lost() -> None:
     assert result.end_reason in ("explored", "unreachable") and result.coverage >= 0.99  # robot 0 saw it all again
 
 
+def test_a_failed_robot_is_mapped_where_it_stands() -> None:
+    """The teammates' laser filter kept a failed robot out of their maps as if it were passing: the
+    cells under it stayed unknown for good, and the episode ended ``unreachable`` with its frontier
+    the only one left (rooms 1, rendezvous, robot 1 failing at 60 s: 482 s; now explored in 365 s)."""
+    team = TeamConfig(robots=3, strategy=Strategy.RENDEZVOUS, failures=(Failure(1, 60.0),))
+    result = run_team_episode(generate_world("rooms", 1), NearestFrontier(), team=team, seed=1)
+    assert result.failed_at_s[1] is not None and result.end_reason == "explored", result.frontiers_left
+
+
 def test_random_failures_are_seeded() -> None:
     team = TeamConfig(robots=3, failures=(Failure(None, None),), random_failure_horizon=100.0)
     draws = [TeamSimulator(office(0), team=team, rng=np.random.default_rng(s)) for s in (7, 7, 8)]
@@ -255,3 +265,14 @@ def test_overlap_counts_cells_seen_by_more_than_one() -> None:
     b = np.array([[True, False], [True, False]])
     assert overlap_share([a, b], explorable) == pytest.approx(1 / 3)
     assert overlap_share([a], explorable) == 0.0
+
+
+def test_a_frontier_both_robots_left_is_counted_once() -> None:
+    """Two robots that shared their maps end beside the same slot: its frontiers were listed once
+    per robot, and the unseen area left twice what it is."""
+    grid, start = slot_world()
+    team = TeamConfig(robots=2, strategy=Strategy.COORDINATED)
+    result = run_team_episode(make_world(grid, "slot", start=start), NearestFrontier(), team=team, seed=0)
+    keys = [(f.x, f.y, f.cells) for f in result.frontiers_left]
+    assert result.end_reason == "unreachable" and keys and len(set(keys)) == len(keys), keys
+    assert result.unknown_left_m2 == pytest.approx(sum(f.unknown_m2 for f in result.frontiers_left))

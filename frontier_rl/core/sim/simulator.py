@@ -144,13 +144,12 @@ class ExplorationSimulator:
         """The robot's current map (grown to the seen area)."""
         return self.candidates().grid
 
-    def set_teammates(self, positions: NDArray[np.float64], radius: float | None = None) -> None:
-        """Other robots at ``positions`` ((k, 2) world points, m) of ``radius`` (m; this robot's own
-        by default), until the next call: the follower collides with them, the planner plans around
-        them and the LiDAR's beams stop at them. The map leaves them out (a laser filter drops the
-        scan's marks on and around them: they are passing, not walls)."""
-        own_radius = self.config.robot.radius
-        self.nearby_robots.place(positions, own_radius if radius is None else radius, (self.pose.x, self.pose.y))
+    def set_teammates(self, positions: NDArray[np.float64], passing: NDArray[np.bool_] | None = None) -> None:
+        """Other robots of this one's size at ``positions`` ((k, 2) world points, m), until the next
+        call: the follower collides with them, the planner plans around them and the LiDAR's beams
+        stop at them. The map leaves out those ``passing`` (all by default; a laser filter drops the
+        scan's marks on and around them: they move on), not a robot that stopped for good."""
+        self.nearby_robots.place(positions, self.config.robot.radius, (self.pose.x, self.pose.y), passing)
 
     @property
     def teammates(self) -> NDArray[np.float64]:

@@ -41,17 +41,28 @@ class Teammates:
         self._stamped = 0
         self.positions = np.zeros((0, 2))
         """(k, 2) world points (m) of the other robots."""
+        self._passing = np.zeros(0, np.bool_)  # those the laser filter keeps out of the map
         self.radius = robot_radius
         """The other robots' radius (m)."""
 
     def __len__(self) -> int:
         return int(self.positions.shape[0])
 
-    def place(self, positions: NDArray[np.float64], radius: float, at: tuple[float, float]) -> None:
+    def place(
+        self,
+        positions: NDArray[np.float64],
+        radius: float,
+        at: tuple[float, float],
+        passing: NDArray[np.bool_] | None = None,
+    ) -> None:
         """Other robots at ``positions`` ((k, 2) world points, m) of ``radius`` (m), seen from this
-        robot at ``at`` (m): stamped into the follower's clearance and the LiDAR's blocked grid."""
+        robot at ``at`` (m): stamped into the follower's clearance and the LiDAR's blocked grid.
+        The laser filter drops those ``passing`` (all by default): a robot that failed stays where
+        it is, and its disc, mapped as a wall, closes the map there (filtered, it left a patch of
+        unknown that no teammate could ever map, whose frontier ended the episode `unreachable`)."""
         self.radius = radius
         self.positions = np.asarray(positions, dtype=np.float64).reshape(-1, 2)
+        self._passing = np.ones(len(self), np.bool_) if passing is None else np.asarray(passing, np.bool_)
         if len(self) == 0 and self._stamped == 0:
             return
         if self.clearance is self.true_clearance:
@@ -84,7 +95,8 @@ class Teammates:
 
     def laser_filter(self) -> tuple[NDArray[np.float64], float] | None:
         """The discs (centres (k, 2) and radius, m) a scan's marks are dropped in; None if none."""
-        return (self.positions, self.radius + TEAMMATE_FILTER_MARGIN_M) if len(self) else None
+        passing = self.positions[self._passing]
+        return (passing, self.radius + TEAMMATE_FILTER_MARGIN_M) if len(passing) else None
 
 
 def obstacle_distance(occupied: NDArray[np.bool_], resolution: float) -> NDArray[np.float64]:
