@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import csv
+from dataclasses import replace
 from pathlib import Path
 from typing import Any
 
@@ -11,7 +12,7 @@ import numpy as np
 from stable_baselines3.common.callbacks import BaseCallback
 
 from frontier_rl.envs.world_source import VALIDATION_SEED_LOW
-from frontier_rl.rl.model_file import save_model
+from frontier_rl.rl.model_file import ModelInfo, save_model
 
 
 def run_validation(env: gym.Env[Any, Any], predict: Any, episodes: int) -> list[float]:
@@ -37,10 +38,15 @@ class ValidationCallback(BaseCallback):
         episodes: validation worlds per validation.
         csv_path: where rows ``timesteps, mean_time_s, times`` are appended.
         best_path: where the model with the lowest mean time is saved.
+        info: the run's model-file metadata, saved with it (its ``timesteps`` those of the best), so
+            that the best model is a model file even if the run never finishes.
     """
 
-    def __init__(self, env: gym.Env[Any, Any], every: int, episodes: int, csv_path: Path, best_path: Path) -> None:
+    def __init__(
+        self, env: gym.Env[Any, Any], every: int, episodes: int, csv_path: Path, best_path: Path, info: ModelInfo
+    ) -> None:
         super().__init__()
+        self.info = info
         self.env = env
         self.every = every
         self.episodes = episodes
@@ -74,7 +80,7 @@ class ValidationCallback(BaseCallback):
             writer.writerow([self.num_timesteps, f"{mean:.3f}", " ".join(f"{t:.1f}" for t in times)])
         if mean < self.best:
             self.best, self.best_timesteps = mean, self.num_timesteps
-            save_model(self.model, self.best_path)
+            save_model(self.model, self.best_path, replace(self.info, timesteps=self.num_timesteps))
         return True
 
 

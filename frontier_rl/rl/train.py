@@ -39,7 +39,6 @@ from frontier_rl.rl.model_file import (
     policy_setup,
     read_metadata,
     save_model,
-    write_metadata,
 )
 from frontier_rl.rl.networks import PRIVILEGED_HEAD
 from frontier_rl.world_spec import world_entries
@@ -234,12 +233,11 @@ def train(
         every = max(config.checkpoint_every // config.n_envs, 1)
         callbacks.append(AtomicCheckpoint(every, out / "checkpoints"))
     eval_env = None
-    validation = None
+    info = ModelInfo(config.model, config.env_id, config.observation_size, config.algo, config.features_dim, 0)
     if config.eval_every:
         eval_env = gym.make(config.env_id, **env_kwargs, world_split="validation")
-        validation = ValidationCallback(eval_env, config.eval_every, config.eval_episodes, out / "validation.csv",
-                                        out / "best_model.zip")  # fmt: skip
-        callbacks.append(validation)
+        callbacks.append(ValidationCallback(eval_env, config.eval_every, config.eval_episodes,
+                                            out / "validation.csv", out / "best_model.zip", info))  # fmt: skip
     callbacks.extend(extra_callbacks)
     torch.set_num_threads(1 if config.n_envs > 1 else torch.get_num_threads())
     started = time.perf_counter()
@@ -250,11 +248,7 @@ def train(
         if eval_env is not None:
             eval_env.close()
     final = out / "model.zip"
-    info = ModelInfo(config.model, config.env_id, config.observation_size, config.algo, config.features_dim,
-                     int(model.num_timesteps))  # fmt: skip
-    save_model(model, final, info)
-    if validation is not None and (out / "best_model.zip").exists():
-        write_metadata(out / "best_model.zip", replace(info, timesteps=validation.best_timesteps))
+    save_model(model, final, replace(info, timesteps=int(model.num_timesteps)))
     elapsed = time.perf_counter() - started
     with (out / "training_time.txt").open("a") as sink:
         sink.write(f"steps {start}..{model.num_timesteps}: {elapsed:.1f} s wall\n")

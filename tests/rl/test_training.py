@@ -92,6 +92,18 @@ def test_interrupted_run_resumes_from_its_last_checkpoint(tmp_path: Path) -> Non
     assert (run / "monitor_0.monitor.csv").exists() and (run / "monitor_64.monitor.csv").exists()
 
 
+def test_an_interrupted_runs_best_model_is_a_model_file(tmp_path: Path) -> None:
+    """The best model is saved with its metadata when it is found: it got them only when the run
+    finished, so an interrupted run's best model loaded only with --trust-model."""
+    run = tmp_path / "run"
+    with pytest.raises(KeyboardInterrupt):
+        train(_config(5, timesteps=96, eval_every=32, checkpoint_every=0), run, progress=False,
+              extra_callbacks=[_Interrupt(70)])  # fmt: skip
+    best = read_metadata(run / "best_model.zip")
+    assert best is not None and best.model == 5 and best.timesteps in (32, 64)
+    assert make_policy(f"learned:{run / 'best_model.zip'}").name
+
+
 class _RecordSim(BaseCallback):
     """Records the simulator settings the training envs run on."""
 
