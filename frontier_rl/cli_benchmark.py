@@ -14,6 +14,7 @@ from rich.table import Table
 from frontier_rl.atomic_write import write_text_atomic
 from frontier_rl.cli_output import OneLineGroup, comma_list, friendly_errors, int_list, stdout_console
 from frontier_rl.errors import ConfigError, short_repr
+from frontier_rl.render import check_output_file
 from frontier_rl.swarm.config import MAX_ROBOTS
 
 benchmark_app = typer.Typer(
@@ -37,6 +38,7 @@ def ariadne(
     from frontier_rl.evaluation.protocols import ariadne_maps, run_protocol, summary_rows
 
     names = _methods(methods)
+    _check_json(json_out)
     if limit < 0 or workers < 0:
         raise ConfigError(f"--limit and --workers must be >= 0, got {limit} and {workers}")
     files = ariadne_maps(maps, limit or None)
@@ -78,7 +80,8 @@ def explore_bench(
     from frontier_rl.evaluation.explore_bench import explore_bench_maps, explore_bench_rows, run_explore_bench_all
 
     names = _methods(methods)
-    sizes = int_list("--robots", robots)
+    _check_json(json_out)
+    sizes = list(dict.fromkeys(int_list("--robots", robots)))  # a size given twice runs once
     if not all(1 <= n <= MAX_ROBOTS for n in sizes):
         raise ConfigError(f"--robots takes team sizes 1 to {MAX_ROBOTS}, got {short_repr(robots)}")
     if not 1 <= seeds <= 10_000 or workers < 0:
@@ -99,11 +102,28 @@ def explore_bench(
 
 
 def _methods(text: str) -> list[str]:
-    """The policies of ``--methods``; none is an error."""
-    names = comma_list(text)
+    """The policies of ``--methods``, each once; none is an error."""
+    names = list(dict.fromkeys(comma_list(text)))
     if not names:
         raise ConfigError(f"--methods names no policy: {short_repr(text)}")
     return names
+
+
+def _check_json(json_out: Path | None) -> None:
+    """Refuse a ``--json`` path no file can be written to before the runs, not after them."""
+    if json_out is not None:
+        check_output_file(json_out, ".json", "--json")
+
+
+def _no_nan(value: Any) -> Any:
+    """``value`` with every float that is not finite (a mean over no run) as None: JSON has no NaN."""
+    if isinstance(value, float):
+        return value if math.isfinite(value) else None
+    if isinstance(value, dict):
+        return {k: _no_nan(v) for k, v in value.items()}
+    if isinstance(value, list | tuple):
+        return [_no_nan(v) for v in value]
+    return value
 
 
 def _shown(value: float | str | int) -> str:
@@ -117,7 +137,8 @@ def _finish(json_out: Path | None, payload: dict[str, Any], failures: list[str])
     from frontier_rl.evaluation.backends import EpisodeFailedError
 
     if json_out is not None:
-        write_text_atomic(json_out, json.dumps(payload | {"failures": failures}, indent=2) + "\n")
+        text = json.dumps(_no_nan(payload | {"failures": failures}), indent=2, allow_nan=False)
+        write_text_atomic(json_out, text + "\n")
     if failures:
         raise EpisodeFailedError(
             f"{len(failures)} run(s) failed (the table leaves them out): {'; '.join(failures[:3])}"

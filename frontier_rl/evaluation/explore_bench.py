@@ -3,7 +3,8 @@
 as those scripts compute them, on a ROS map given as the blueprint.
 
 - The *exploration rate* is the area the robots' (merged) map knows, free or occupied, over the
-  blueprint's known area (its pixels that are not unknown grey, 205).
+  blueprint's known area: the pixels of its image that are not unknown grey, 205, counted as the
+  script's ``get_gt`` counts them, whatever the YAML's thresholds make of that grey.
 - ``T_90`` is when the rate first reaches 0.9; ``T_total``, when it first reaches 0.99 (the end
   of an Explore-Bench run); the path length is the distance driven until then (all robots).
 - For two or more robots, at ``T_total``: each robot's own rate (the cells its own sensor reached,
@@ -29,15 +30,15 @@ import numpy as np
 
 from frontier_rl.core.sim.config import SimConfig
 from frontier_rl.core.sim.episode import ExplorationPolicy, drive_episode
-from frontier_rl.core.world.grid import CellState, OccupancyGrid
 from frontier_rl.core.world.worlds import World
 from frontier_rl.errors import ConfigError, short_repr
 from frontier_rl.evaluation.experiment import episode_policy
 from frontier_rl.evaluation.protocols import run_jobs
+from frontier_rl.io import ros_map_shades
 from frontier_rl.swarm import TeamConfig, TeamResult
 from frontier_rl.swarm.episode import check_team_policy
 from frontier_rl.swarm.team import TeamSimulator
-from frontier_rl.world_spec import parse_world_list, read_map, resolve_world
+from frontier_rl.world_spec import parse_world_list, resolve_world
 
 T90_RATE = 0.9
 """Explore-Bench's ``T_90``: the exploration rate at which it is taken."""
@@ -74,18 +75,26 @@ class ExploreBenchRun:
     explored: bool
 
 
-def blueprint_known_cells(grid: OccupancyGrid) -> int:
-    """The blueprint's known cells, free or occupied: Explore-Bench's ground-truth area (in cells)."""
-    return int(np.count_nonzero(grid.data != CellState.UNKNOWN))
+UNKNOWN_GREY = 205
+"""The pixel value of unknown space in a ROS map image; Explore-Bench's ground truth is the rest."""
+
+
+def blueprint_known_cells(map_file: Path, cell_m: float) -> float:
+    """Explore-Bench's ground-truth area, the pixels of the ROS map's image that are not
+    :data:`UNKNOWN_GREY`, in cells of ``cell_m`` m (the simulated world's, which may be coarser
+    than the image's). Not the cells the map loads as known: ``nav2_depot``'s YAML has a
+    ``free_thresh`` of 0.25, which loads its 8,894 grey pixels as free."""
+    shades, resolution = ros_map_shades(map_file)
+    return int(np.count_nonzero(np.rint(shades) != UNKNOWN_GREY)) * (resolution / cell_m) ** 2
 
 
 class _RateRecorder(TeamSimulator):
     """A team that notes Explore-Bench's figures at every map update: the rate of the cells the
     surviving robots know, ``T_90``, and at ``T_total`` the path driven and each robot's own rate."""
 
-    def __init__(self, world: World, config: SimConfig, team: TeamConfig, rng: np.random.Generator, known: int):
+    def __init__(self, world: World, config: SimConfig, team: TeamConfig, rng: np.random.Generator, known: float):
         # set before the team's constructor: it records the first scans
-        self.blueprint_cells = max(known, 1)
+        self.blueprint_cells = max(known, 1.0)
         self.t90_s: float | None = None
         self.t_total_s: float | None = None
         self.path_at_end: float | None = None
@@ -117,8 +126,8 @@ def run_explore_bench(
     method: str, map_file: Path, seed: int, robots: int = 1, config: SimConfig | None = None
 ) -> ExploreBenchRun:
     """One Explore-Bench run of ``method`` with ``robots`` robots on the ROS map ``map_file``."""
-    known = blueprint_known_cells(read_map(str(map_file)).grid)
     world = resolve_world(str(map_file), seed)
+    known = blueprint_known_cells(map_file, world.grid.resolution)
     policy: ExplorationPolicy = episode_policy(method, False)
     check_team_policy(policy, robots)
     team = TeamConfig(robots=robots)

@@ -31,6 +31,7 @@ from frontier_rl.io.ros_map import (
     load_map_image,
     load_ros_map,
     ros_map_image,
+    ros_map_shades,
     save_ros_map,
 )
 
@@ -46,6 +47,7 @@ __all__ = [
     "load_map_image",
     "load_ros_map",
     "ros_map_image",
+    "ros_map_shades",
     "save_ros_map",
 ]
 

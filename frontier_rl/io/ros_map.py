@@ -150,6 +150,13 @@ def _number(value: Any, key: str, path: Path) -> float:
     return number
 
 
+def _resolution(doc: dict[str, Any], path: Path) -> float:
+    resolution = _number(_field(doc, "resolution", path), "resolution", path)
+    if resolution <= 0:
+        raise MapError(f"{path}: field 'resolution' must be positive (m/cell), got {short_repr(resolution)}")
+    return resolution
+
+
 def _params(doc: dict[str, Any], path: Path) -> MapImageParams:
     negate = _field(doc, "negate", path)
     if negate not in (0, 1) or not isinstance(negate, int):
@@ -182,6 +189,15 @@ def ros_map_image(yaml_path: str | Path) -> Path:
     return _image_path(_read_yaml(path), path)
 
 
+def ros_map_shades(yaml_path: str | Path) -> tuple[NDArray[np.float64], float]:
+    """The brightness (0..255, image order) of every pixel of a ``map_server`` map's image, before
+    its thresholds, and the map's resolution (m/pixel): what tools that read the raw image see
+    (Explore-Bench's ground truth is its pixels that are not grey 205)."""
+    path = Path(yaml_path)
+    doc = _read_yaml(path)
+    return read_image(_image_path(doc, path)).shade, _resolution(doc, path)
+
+
 def load_ros_map(yaml_path: str | Path) -> OccupancyGrid:
     """Read a ``map_server`` map (YAML + image) into an :class:`OccupancyGrid`.
 
@@ -194,9 +210,7 @@ def load_ros_map(yaml_path: str | Path) -> OccupancyGrid:
     path = Path(yaml_path)
     doc = _read_yaml(path)
     image_path = _image_path(doc, path)
-    resolution = _number(_field(doc, "resolution", path), "resolution", path)
-    if resolution <= 0:
-        raise MapError(f"{path}: field 'resolution' must be positive (m/cell), got {short_repr(resolution)}")
+    resolution = _resolution(doc, path)
     origin = _field(doc, "origin", path)
     if not isinstance(origin, list | tuple) or len(origin) != 3:
         raise MapError(f"{path}: field 'origin' must be [x, y, yaw], got {short_repr(origin)}")

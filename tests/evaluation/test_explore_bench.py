@@ -22,7 +22,7 @@ from frontier_rl.evaluation.explore_bench import (
 from frontier_rl.io import save_ros_map
 from frontier_rl.policies import make_policy
 from frontier_rl.swarm import TeamConfig, run_team_episode
-from frontier_rl.world_spec import resolve_world
+from frontier_rl.world_spec import read_map, resolve_world
 
 
 def _blueprint(folder: Path, name: str, hidden: bool) -> Path:
@@ -39,9 +39,17 @@ def _blueprint(folder: Path, name: str, hidden: bool) -> Path:
     return save_ros_map(OccupancyGrid(data, 0.05), folder / f"{name}.yaml")
 
 
-def test_the_known_area_counts_free_and_occupied_cells() -> None:
+def test_the_known_area_counts_the_pixels_that_are_not_unknown_grey(tmp_path: Path) -> None:
     data = np.array([[CellState.UNKNOWN, CellState.FREE], [CellState.OCCUPIED, CellState.FREE]], np.int8)
-    assert blueprint_known_cells(OccupancyGrid(data, 0.05)) == 3
+    blueprint = save_ros_map(OccupancyGrid(data, 0.05), tmp_path / "four.yaml")
+    assert blueprint_known_cells(blueprint, 0.05) == 3
+    assert blueprint_known_cells(blueprint, 0.1) == pytest.approx(0.75)  # in the world's coarser cells
+    # a YAML whose free_thresh loads the grey as free (nav2_depot's 0.25): still unknown to Explore-Bench
+    yaml = blueprint.read_text().replace("free_thresh: 0.196", "free_thresh: 0.25")
+    assert "0.25" in yaml
+    blueprint.write_text(yaml)
+    assert (read_map(str(blueprint)).grid.data != CellState.UNKNOWN).sum() == 4
+    assert blueprint_known_cells(blueprint, 0.05) == 3
 
 
 @pytest.mark.parametrize("robots", [1, 2])
@@ -85,13 +93,19 @@ def test_the_command_prints_the_table_and_writes_every_run(tmp_path: Path) -> No
     result = CliRunner().invoke(app, ["benchmark", "explore-bench", "--maps", str(room), "--seeds", "1", "--robots",
                                       "1,2", "--workers", "1", "--json", str(out)])  # fmt: skip
     assert result.exit_code == 0, result.output
-    payload = json.loads(out.read_text())
+    payload = json.loads(out.read_text(), parse_constant=lambda name: pytest.fail(f"{name} is not JSON"))
     assert [r["robots"] for r in payload["runs"]] == [1, 2] and payload["failures"] == []
+    assert payload["summary"][0]["coverage_std"] is None  # one robot: no team figures (NaN was written)
     assert [row["ended"] for row in payload["summary"]] == [1, 1]
+    twice = ["--robots", "1,1", "--methods", "nearest,nearest"]
+    once = CliRunner().invoke(app, ["benchmark", "explore-bench", "--maps", str(room), "--seeds", "1", *twice,
+                                    "--workers", "1", "--json", str(out)])  # fmt: skip
+    assert once.exit_code == 0 and len(json.loads(out.read_text())["runs"]) == 1, once.output  # each given once
     bad_options: list[tuple[list[str], str]] = [
         (["--robots", "0"], "team sizes"),
         (["--seeds", "0"], "--seeds"),
         (["--maps", "office"], "ROS"),
+        (["--json", str(tmp_path / "nowhere" / "eb.json")], "does not exist"),  # refused before the runs
     ]
     for args, needle in bad_options:
         bad = CliRunner().invoke(app, ["benchmark", "explore-bench", "--maps", str(room), *args])
