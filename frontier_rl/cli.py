@@ -320,6 +320,8 @@ def evaluate(
     _output_folder(out)
     resolution = checked_resolution(resolution)
     names = comma_list(methods)
+    if not names:  # an empty shell variable, say: the baseline alone would compare nothing
+        raise ConfigError(f"--methods names no policy: {short_repr(methods)}")
     names = team_methods(names, int_list("--robots", robots), [parse_strategy(s) for s in comma_list(strategy)])
     ordered = list(dict.fromkeys([baseline, *names, *([ORACLE] if oracle else [])]))
     experiment = ExperimentConfig(

@@ -100,6 +100,13 @@ def test_evaluate_checks_the_resolution_first(tmp_path: Path, box: Path) -> None
     assert not (tmp_path / "r").exists()
 
 
+@pytest.mark.parametrize("methods", ["", " , "])
+def test_evaluate_with_no_method_is_one_line(tmp_path: Path, methods: str) -> None:
+    """An empty --methods (an empty shell variable) ran the baseline alone and exited 0."""
+    error_line(runner.invoke(app, ["evaluate", "--methods", methods, "--out", str(tmp_path / "r")]), "no policy")
+    assert not (tmp_path / "r").exists()
+
+
 @pytest.mark.parametrize("resolution", [0.0042, 0.012, 0.05, 0.105])
 def test_resolutions_in_the_documented_range_are_accepted(resolution: float) -> None:
     assert check_resolution(resolution) == resolution
