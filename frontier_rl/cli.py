@@ -21,6 +21,7 @@ from frontier_rl.cli_output import (
     friendly_errors,
     int_list,
     one_line,
+    policy_list,
     stdout_console,
 )
 from frontier_rl.config import dump_config, load_sim_config
@@ -319,10 +320,9 @@ def evaluate(
     _seed(seed)
     _output_folder(out)
     resolution = checked_resolution(resolution)
-    names = comma_list(methods)
-    if not names:  # an empty shell variable, say: the baseline alone would compare nothing
-        raise ConfigError(f"--methods names no policy: {short_repr(methods)}")
-    names = team_methods(names, int_list("--robots", robots), [parse_strategy(s) for s in comma_list(strategy)])
+    names = team_methods(
+        policy_list(methods), int_list("--robots", robots), [parse_strategy(s) for s in comma_list(strategy)]
+    )
     ordered = list(dict.fromkeys([baseline, *names, *([ORACLE] if oracle else [])]))
     experiment = ExperimentConfig(
         methods=tuple(ordered), worlds=expand_worlds(worlds), episodes=episodes, seed=seed, baseline=baseline,

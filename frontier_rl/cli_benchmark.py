@@ -12,7 +12,7 @@ import typer
 from rich.table import Table
 
 from frontier_rl.atomic_write import write_text_atomic
-from frontier_rl.cli_output import OneLineGroup, comma_list, friendly_errors, int_list, stdout_console
+from frontier_rl.cli_output import OneLineGroup, friendly_errors, int_list, policy_list, stdout_console
 from frontier_rl.errors import ConfigError, short_repr
 from frontier_rl.render import check_output_file
 from frontier_rl.swarm.config import MAX_ROBOTS
@@ -37,7 +37,7 @@ def ariadne(
     """ARiADNE's test protocol (80 px sensor, a run ends at <= 250 unseen free px, distance in px)."""
     from frontier_rl.evaluation.protocols import ariadne_maps, run_protocol, summary_rows
 
-    names = _methods(methods)
+    names = policy_list(methods)
     _check_json(json_out)
     if limit < 0 or workers < 0:
         raise ConfigError(f"--limit and --workers must be >= 0, got {limit} and {workers}")
@@ -79,7 +79,7 @@ def explore_bench(
     coverage std and the overlap rate) on ROS maps, beside our time to explore."""
     from frontier_rl.evaluation.explore_bench import explore_bench_maps, explore_bench_rows, run_explore_bench_all
 
-    names = _methods(methods)
+    names = policy_list(methods)
     _check_json(json_out)
     sizes = list(dict.fromkeys(int_list("--robots", robots)))  # a size given twice runs once
     if not all(1 <= n <= MAX_ROBOTS for n in sizes):
@@ -99,14 +99,6 @@ def explore_bench(
     stdout_console().print(table)
     _finish(json_out, {"protocol": "explore-bench", "maps": maps, "summary": rows, "runs": [vars(r) for r in runs]},
             failures)  # fmt: skip
-
-
-def _methods(text: str) -> list[str]:
-    """The policies of ``--methods``, each once; none is an error."""
-    names = list(dict.fromkeys(comma_list(text)))
-    if not names:
-        raise ConfigError(f"--methods names no policy: {short_repr(text)}")
-    return names
 
 
 def _check_json(json_out: Path | None) -> None:

@@ -16,7 +16,7 @@ from rich.console import Console
 from rich.text import Text
 from typer.core import TyperGroup
 
-from frontier_rl.errors import ConfigError, FrontierRLError
+from frontier_rl.errors import ConfigError, FrontierRLError, short_repr
 
 #: Longest message the error printer writes (characters); the rest is cut.
 MESSAGE_LIMIT = 600
@@ -49,6 +49,15 @@ def one_line(text: str, limit: int = MESSAGE_LIMIT) -> str:
 def comma_list(text: str) -> list[str]:
     """The items of a comma-separated option, stripped, empty ones dropped."""
     return [part.strip() for part in text.split(",") if part.strip()]
+
+
+def policy_list(text: str) -> list[str]:
+    """The policies of ``--methods``, each once; none (an empty shell variable, say) is an error:
+    a run of the baseline alone would compare nothing."""
+    names = list(dict.fromkeys(comma_list(text)))
+    if not names:
+        raise ConfigError(f"--methods names no policy: {short_repr(text)}")
+    return names
 
 
 def int_list(option: str, text: str) -> list[int]:
