@@ -351,8 +351,9 @@ def adopt_rows(out: Path) -> int:
     path = out / "experiment.json"
     if not path.is_file():
         raise ConfigError(f"{str(out)!r} has no experiment.json: it is not a results folder")
+    text = decode_utf8(path, read_result_file(path, _MAX_IDENTITY_BYTES))  # their errors say what is wrong
     try:
-        stored = json.loads(decode_utf8(path, read_result_file(path, _MAX_IDENTITY_BYTES)))
+        stored = json.loads(text)
     except (ValueError, RecursionError):  # not JSON, an integer of more than 4300 digits, too deep
         stored = None
     if not isinstance(stored, dict):

@@ -570,3 +570,12 @@ def test_rows_and_traces_signed_again_after_an_edit_are_checked(
     with pytest.raises(ConfigError, match=message) as caught:
         adopt_rows(out)
     assert "\n" not in str(caught.value)
+
+
+def test_adopting_names_an_experiment_json_too_large_to_read(complete: Path, tmp_path: Path) -> None:
+    """Its reading error was taken for JSON that is no experiment description."""
+    out = _copy(complete, tmp_path / "exp")
+    (out / "checksums.jsonl").unlink()
+    os.truncate(out / "experiment.json", 17 * 1024 * 1024)
+    with pytest.raises(ConfigError, match=r"experiment\.json holds 17,825,792 bytes, more than 16,777,216"):
+        adopt_rows(out)
