@@ -107,8 +107,9 @@ class LearnedPolicy:
             action = self._act(self._encoder.encode(grid, pose, frontiers))
         else:  # the frontier table's models
             radius, sensor_range = context.robot_radius, context.sensor_range
-            robot = replace(self.sim.robot, radius=radius)
-            costmap = context.costmap or Costmap.build(grid, robot, self.sim.navigation)
+            costmap = context.costmap or Costmap.build(
+                grid, replace(self.sim.robot, radius=radius), self.sim.navigation
+            )
             obs, slots = frontier_observation(
                 self._encoder, self._top_k, costmap, pose, frontiers, radius, sensor_range, self._tour
             )
