@@ -53,7 +53,6 @@ class ValidationCallback(BaseCallback):
         self.csv_path = csv_path
         self.best_path = best_path
         self.best = float("inf")
-        self.best_timesteps = 0
         self._next = 0
 
     def _on_training_start(self) -> None:
@@ -62,8 +61,7 @@ class ValidationCallback(BaseCallback):
             with self.csv_path.open() as source:
                 rows = list(csv.DictReader(source))
             if rows:
-                best = min(rows, key=lambda r: float(r["mean_time_s"]))
-                self.best, self.best_timesteps = float(best["mean_time_s"]), int(best["timesteps"])
+                self.best = min(float(r["mean_time_s"]) for r in rows)
 
     def _on_step(self) -> bool:
         if self.num_timesteps < self._next:
@@ -79,7 +77,7 @@ class ValidationCallback(BaseCallback):
                 writer.writerow(["timesteps", "mean_time_s", "times"])
             writer.writerow([self.num_timesteps, f"{mean:.3f}", " ".join(f"{t:.1f}" for t in times)])
         if mean < self.best:
-            self.best, self.best_timesteps = mean, self.num_timesteps
+            self.best = mean
             save_model(self.model, self.best_path, replace(self.info, timesteps=self.num_timesteps))
         return True
 
