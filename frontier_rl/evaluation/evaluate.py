@@ -17,9 +17,10 @@ from frontier_rl.evaluation.experiment import ExperimentConfig, check_methods, i
 from frontier_rl.evaluation.report import write_report
 from frontier_rl.evaluation.results import ResultStore
 from frontier_rl.evaluation.run_pictures import draw_runs
+from frontier_rl.evaluation.statistics import THESIS_OUTLIERS_S
 
-DEFAULT_OUTLIERS_S = (1000.0, 2000.0)
-"""The thesis's outlier thresholds (s)."""
+DEFAULT_OUTLIERS_S = THESIS_OUTLIERS_S
+"""The outlier thresholds (s) of an evaluation: the thesis's."""
 
 DEFAULT_PICTURE_WORLDS = 3
 """The report draws each method's first episode on this many worlds (the first ones)."""

@@ -11,7 +11,7 @@ import numpy as np
 
 from frontier_rl.evaluation.experiment import ORACLE, ExperimentConfig
 from frontier_rl.evaluation.method_notes import describe_method
-from frontier_rl.evaluation.statistics import stats_from_dict
+from frontier_rl.evaluation.statistics import THESIS_OUTLIERS_S, stats_from_dict
 from frontier_rl.evaluation.tables import (
     TABLE_4_1_HEADER,
     Table,
@@ -106,7 +106,8 @@ def outlier_note(summary: dict[str, Any]) -> str:
     clean = [t for t, cut in summary["outliers"].items() if not _left_out(cut)]
     if not clean:
         return ""
-    whose = " (the thesis's outlier thresholds)" if {float(t) for t in summary["outliers"]} == {1000.0, 2000.0} else ""
+    thesis = {float(t) for t in summary["outliers"]} == set(THESIS_OUTLIERS_S)
+    whose = " (the thesis's outlier thresholds)" if thesis else ""
     return (f"No episode took longer than {' or '.join(f'{t} s' for t in clean)}{whose}, so the tables "
             "without outliers would repeat the one above and are left out.")  # fmt: skip
 

@@ -20,6 +20,9 @@ from scipy import stats
 
 from frontier_rl.errors import ConfigError
 
+THESIS_OUTLIERS_S = (1000.0, 2000.0)
+"""The thesis's outlier thresholds (s): episodes above them left out of a comparison."""
+
 
 @dataclass(frozen=True)
 class PairedStats:
