@@ -3,7 +3,8 @@
 The commander (robot 0, or the lowest-numbered one still working) picks the meeting point: the
 frontier at the top of its own ranking, which it then drives to. Every robot explores on its own
 for ``explore_period`` seconds, then drives to the meeting point; once all working robots are
-within ``meeting_radius`` of it (or the meeting is ``meeting_timeout`` late), the robots there
+within ``meeting_radius`` of it or in contact with one already there (or the meeting is
+``meeting_timeout`` late), the robots there
 merge their maps and the commander picks the next meeting point. Between meetings, robots share
 only when they happen to come within communication range.
 """
@@ -74,7 +75,7 @@ class RendezvousCycle:
             robot.drop_leg()
             robot.phase = Phase.TO_MEETING
             robot.leg = sim.go_to_steps(*point)
-        arrived = math.dist(robot.xy, point) <= config.meeting_radius or robot.leg is None
+        arrived = math.dist(robot.xy, point) <= config.meeting_radius or robot.leg is None or self._joined(robot)
         if robot.phase is Phase.TO_MEETING and arrived:
             robot.drop_leg()
             robot.phase = Phase.WAITING
@@ -85,6 +86,16 @@ class RendezvousCycle:
                 self._meet([r for r in alive if r.phase is Phase.WAITING])
             elif robot.leg is None:
                 robot.leg = sim.wait_steps()
+
+    def _joined(self, robot: TeamRobot) -> bool:
+        """Whether ``robot`` is in contact with a robot waiting at the meeting: robots that gather
+        round the point stand in each other's way, so one that reaches the group has arrived."""
+        contact = robot.sim.nearby_robots.contact_distance
+        return any(
+            other.phase is Phase.WAITING and math.dist(robot.xy, other.xy) <= contact
+            for other in self.team.alive
+            if other is not robot
+        )
 
     def _meet(self, present: list[TeamRobot]) -> None:
         """The robots ``present`` merge their maps; everyone goes back to exploring."""

@@ -29,6 +29,7 @@ from frontier_rl.swarm import (
 from frontier_rl.swarm.result import overlap_share
 from frontier_rl.swarm.starts import team_starts
 from tests.core.sim.test_completion import slot_world
+from tests.swarm.test_traffic import room
 
 POLICY = FixedWeight(0.75)
 
@@ -97,46 +98,8 @@ def test_coordination_never_sends_two_robots_to_one_frontier_while_others_remain
     assert checked >= 10 and team.done
 
 
-def _room(height_cells: int) -> World:
-    """A free room 3 m long and ``height_cells`` high, walled all round."""
-    data = np.full((height_cells + 2, 62), CellState.FREE, np.int8)
-    data[[0, -1], :] = CellState.OCCUPIED
-    data[:, [0, -1]] = CellState.OCCUPIED
-    y = (height_cells + 2) * 0.05 / 2
-    return make_world(OccupancyGrid(data, 0.05), "room", start=Pose(0.4, y, 0.0))
-
-
-def _drive_past(world: World, mate: tuple[float, float]) -> tuple[ExplorationSimulator, float]:
-    """Drive from the start to the far end with a teammate standing at ``mate``; the closest the
-    robot came to it (m)."""
-    sim = ExplorationSimulator(world, rng=np.random.default_rng(0))
-    sim.set_teammates(np.array([mate]))
-    sim.go_to(2.7, world.start.y)
-    xy = sim.trajectory()[:, :2]
-    return sim, float(np.hypot(xy[:, 0] - mate[0], xy[:, 1] - mate[1]).min())
-
-
-def test_robots_plan_around_each_other() -> None:
-    world = _room(40)  # 2 m wide: room to pass
-    sim, closest = _drive_past(world, (1.5, world.start.y))
-    assert closest >= 2 * 0.105 and math.dist((sim.pose.x, sim.pose.y), (2.7, world.start.y)) < 0.2
-    free = sim.nearby_robots.true_clearance.copy()
-    sim.set_teammates(np.zeros((0, 2)))
-    assert np.array_equal(sim.nearby_robots.clearance, free)  # the teammate's stamp is gone once it has left
-
-
-def test_a_blocked_robot_waits_then_squeezes_past() -> None:
-    world = _room(8)  # 0.4 m wide: no way round another robot
-    alone = ExplorationSimulator(world, rng=np.random.default_rng(0))
-    alone.go_to(2.7, world.start.y)
-    sim, closest = _drive_past(world, (1.5, world.start.y))
-    assert closest < 2 * 0.105  # it went through in the end, rather than standing for ever
-    assert math.dist((sim.pose.x, sim.pose.y), (alone.pose.x, alone.pose.y)) < 0.05
-    assert sim.sim_time - alone.sim_time >= sim.config.navigation.teammate_patience
-
-
 def test_robots_hide_what_is_behind_them_and_stay_out_of_the_maps() -> None:
-    world = _room(40)
+    world = room(40)
     mate = np.array([[1.0, world.start.y]])  # 0.6 m ahead of the start, in the LiDAR's view
     alone = ExplorationSimulator(world, rng=np.random.default_rng(0))
     seen = ExplorationSimulator(world, rng=np.random.default_rng(0), teammates=mate)
@@ -177,7 +140,11 @@ def test_the_rendezvous_cycle_meets_merges_and_repeats() -> None:
             assert index == 0 and present == (0, 1, 2)
             states = [team.robots[i].sim.mapper.state for i in present]
             assert all(np.array_equal(states[0], s) for s in states[1:])  # merged
-            assert all(math.dist(team.robots[i].xy, point) <= config.meeting_radius for i in present)
+            xy = [team.robots[i].xy for i in present]
+            contact = team.robots[0].sim.nearby_robots.contact_distance
+            for here in xy:  # at the point, or in contact with a robot of the group round it
+                near = [math.dist(here, point) <= config.meeting_radius]
+                assert any(near + [0 < math.dist(here, other) <= contact for other in xy])
         team.assign(index, POLICY.rank(team.context(index), rng))
         if meetings == 0 and team.rendezvous.point is not None:
             assert team.rendezvous.due == pytest.approx(config.explore_period, abs=1.0)

@@ -52,9 +52,9 @@ class NavigationConfig:
         teammate_margin: in a team, paths keep this much room (m) from other robots when they can.
         teammate_range: ... from the robots within this distance (m); farther ones will have moved
             by the time the robot gets there.
-        teammate_patience: in a team, a robot blocked by another one for this long (s) in a leg
-            squeezes past it for the rest of the leg, instead of both standing for ever (a
-            simplification: real teams need a traffic rule for narrow corridors).
+        teammate_patience: in a team, a robot blocked by another one waits this long (s) for it
+            to move on; then it drives round it where there is room, or else gives way: its leg
+            ends, and it chooses again with that teammate as an obstacle.
     """
 
     inflation_radius: float = 0.55

@@ -106,10 +106,13 @@ class Costmap:
         """Distance (m) from each cell centre to the nearest occupied cell centre (chamfer, capped)."""
         return self.clearance_padded[1:-1, 1:-1] * self.grid.resolution
 
-    def with_discs_blocked(self, centres: NDArray[np.float64], radius: float) -> Costmap:
+    def with_discs_blocked(
+        self, centres: NDArray[np.float64], radius: float, backing_from: tuple[float, float] | None = None
+    ) -> Costmap:
         """A copy in which every cell whose centre lies within ``radius`` (m) of one of ``centres``
         ((k, 2) world points, m) is blocked (and costed) like a wall: other robots, for planning
-        around them."""
+        around them. With ``backing_from`` (a robot's position, m), the cells next to it that lie
+        farther from a centre than it does stay open, so that a robot in contact may back away."""
         open_p = self.open_padded.copy()
         clear_p = self.clearance_padded.copy()
         g = self.grid
@@ -122,7 +125,12 @@ class Costmap:
                 continue
             cy = g.origin[1] + (np.arange(r0, r1) + 0.5) * g.resolution
             cx = g.origin[0] + (np.arange(c0, c1) + 0.5) * g.resolution
-            inside = np.hypot(cx[None, :] - x, cy[:, None] - y) <= radius
+            gap = np.hypot(cx[None, :] - x, cy[:, None] - y)
+            inside = gap <= radius
+            if backing_from is not None:
+                bx, by = backing_from
+                beside = np.hypot(cx[None, :] - bx, cy[:, None] - by) <= 1.5 * g.resolution
+                inside &= ~(beside & (gap > math.hypot(bx - x, by - y)))
             open_p[r0 + 1 : r1 + 1, c0 + 1 : c1 + 1] &= ~inside
             clear_p[r0 + 1 : r1 + 1, c0 + 1 : c1 + 1][inside] = 0.0  # so the start's escape zone stays shut
         return Costmap(g, open_p, clear_p, self.inflation_table, self.inflation_radius, self.unknown_cost, self.scratch)

@@ -26,12 +26,14 @@ class FollowStatus(IntEnum):
     DRIVING = 0  # still on the way: the duration is over, or the scan gate opened
     REACHED = 1  # within the goal tolerance (the time used is exact)
     BLOCKED = 2  # a wall is in the way (the robot waits out the tick)
+    BLOCKED_BY_ROBOT = 3  # another robot is in the way, and no wall (the robot waits out the tick)
 
 
 # the compiled follower returns plain ints
 _DRIVING = int(FollowStatus.DRIVING)
 _REACHED = int(FollowStatus.REACHED)
 _BLOCKED = int(FollowStatus.BLOCKED)
+_BLOCKED_BY_ROBOT = int(FollowStatus.BLOCKED_BY_ROBOT)
 
 
 @nb.njit(cache=True)
@@ -119,6 +121,18 @@ def _clear(
     return bool(0 <= row < rows and 0 <= col < cols and clearance[row, col] >= radius)
 
 
+@nb.njit(cache=True, inline="always")
+def _deeper_into_a_mate(x: float, y: float, nx: float, ny: float, mates: NDArray[np.float64], gap: float) -> bool:
+    """Whether moving from (x, y) to (nx, ny) (m) puts the robot centre closer than ``gap`` (m) to
+    one of ``mates`` ((k, 2) centres, m), and closer to it than before: robots are discs that
+    collide exactly, and one already in contact may still move off."""
+    for k in range(mates.shape[0]):
+        after = math.hypot(nx - mates[k, 0], ny - mates[k, 1])
+        if after < gap and after < math.hypot(x - mates[k, 0], y - mates[k, 1]):
+            return True
+    return False
+
+
 _ALIGNED = 1e-3
 """Heading error (rad) below which a robot blocked by a wall counts as facing its waypoint."""
 
@@ -134,6 +148,8 @@ def follow_path(
     duration: float,
     params: NDArray[np.float64],
     clearance: NDArray[np.float64],
+    mates: NDArray[np.float64],
+    mate_gap: float,
     origin_x: float,
     origin_y: float,
     resolution: float,
@@ -144,7 +160,9 @@ def follow_path(
 
     ``params`` = (v_max, omega_max, turn_in_place_angle, heading_gain, lookahead, goal_tolerance,
     control_dt, robot_radius). ``clearance`` is the true distance (m) from each cell to the nearest
-    wall: a move that would put the robot centre closer than its radius is refused (collision).
+    wall: a move that would put the robot centre closer than its radius is refused (collision),
+    and so is one that takes it deeper within ``mate_gap`` (m) of one of ``mates`` ((k, 2) centres
+    of other robots, m; (0, 2) alone).
     ``gate`` = (tick, x0, y0, theta0, linear, angular): the drive also stops at the first tick
     boundary (every ``tick`` s) where the robot is ``linear`` m from (x0, y0) or has turned
     ``angular`` rad from theta0, the moment the mapper wants a new scan. ``careful`` (one flag,
@@ -183,7 +201,8 @@ def follow_path(
             elapsed += used
             continue
         nx, ny, new_theta = _drive_step(x, y, theta, err, step, to_goal, v_max, w_max, k_w)
-        if not _clear(nx, ny, clearance, origin_x, origin_y, resolution, radius):
+        wall = not _clear(nx, ny, clearance, origin_x, origin_y, resolution, radius)
+        if wall or _deeper_into_a_mate(x, y, nx, ny, mates, mate_gap):
             if careful[0]:
                 if abs(err) > _ALIGNED:
                     # Face the waypoint on the spot first (a turn never collides): in a slot one
@@ -191,7 +210,7 @@ def follow_path(
                     theta, used = _turn(theta, err, step, w_max)
                     elapsed += used
                     continue
-                return x, y, theta, index, driven, min(next_tick, duration), _BLOCKED
+                return x, y, theta, index, driven, min(next_tick, duration), _BLOCKED if wall else _BLOCKED_BY_ROBOT
             # Steering at the lookahead point cuts corners; in a tight spot follow the waypoints
             # one by one from now on, which keeps the robot on the planned cells.
             careful[0] = True

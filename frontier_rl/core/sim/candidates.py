@@ -18,6 +18,11 @@ from frontier_rl.core.sim.config import SimConfig, drop_cells_at
 from frontier_rl.core.world.grid import CellState, OccupancyGrid
 from frontier_rl.core.world.robot import Pose
 
+Discs = tuple[NDArray[np.float64], float, tuple[float, float]]
+"""Teammates to keep off: centres (k, 2) (m), the radius of the discs round them (m), and the
+robot's position (m), next to which it may back away from them
+(:meth:`~frontier_rl.core.navigation.costmap.Costmap.with_discs_blocked`)."""
+
 
 @dataclass(frozen=True)
 class Candidates:
@@ -47,6 +52,7 @@ def reachable_frontiers(
     scratch: SearchScratch | None = None,
     thin_except: NDArray[np.bool_] | None = None,
     memory: InflationMemory | None = None,
+    avoid: Discs | None = None,
 ) -> tuple[Costmap, NDArray[np.bool_], Frontiers]:
     """The navigator's costmap of ``grid`` (its searches using ``scratch``, its inflation updating
     ``memory``'s when there is one: not on the narrow-passage recovery's), the known free cells
@@ -54,14 +60,18 @@ def reachable_frontiers(
     ``config.min_frontier_cells``; cells of 0.05 m on coarser maps, :func:`drop_cells_at`) that
     touch them: what a decision chooses from, before any blacklist. With ``thin_except`` (a mask
     of ``grid``'s shape), the costmap is that of the narrow-passage recovery: the map's walls
-    thinned by a cell except at those cells (:func:`~frontier_rl.core.navigation.thin_walls.thin_walls`)."""
+    thinned by a cell except at those cells (:func:`~frontier_rl.core.navigation.thin_walls.thin_walls`).
+    With ``avoid``, discs blocked like walls: teammates the robot gives way to."""
     if thin_except is None:
         costmap = Costmap.build(grid, config.robot, config.navigation, scratch, memory)
-        reachable = costmap.reachable_known(grid.world_to_cell(pose.x, pose.y))
     else:
         thinned = OccupancyGrid(thin_walls(grid.data, thin_except), grid.resolution, grid.origin)
         costmap = Costmap.build(thinned, config.robot, config.navigation, scratch)
-        reachable = costmap.reachable_known(grid.world_to_cell(pose.x, pose.y)) & (grid.data == CellState.FREE)
+    if avoid is not None:
+        costmap = costmap.with_discs_blocked(*avoid)
+    reachable = costmap.reachable_known(grid.world_to_cell(pose.x, pose.y))
+    if thin_except is not None:
+        reachable &= grid.data == CellState.FREE
     cells = drop_cells_at(config.min_frontier_cells if min_cells is None else min_cells, grid.resolution)
     # a goal farther from its frontier than the map update reaches would map none of it
     reach = min(config.frontier_goal_reach, config.mapping_range)
@@ -78,16 +88,17 @@ def find_candidates(
     scratch: SearchScratch | None = None,
     felt: NDArray[np.bool_] | None = None,
     memory: InflationMemory | None = None,
+    avoid: Discs | None = None,
 ) -> Candidates:
     """The candidates on ``grid`` for a robot at ``pose``: on the normal costmap, or with ``felt``
     (the walls the robot touched, in ``grid``'s frame) on the narrow-passage recovery's, which
     thins every other wall. Goals the ``blacklist`` blocks are left out (refreshed against the
     robot's whole map ``map_state`` first); when that would leave none, the goals that may be
     retried are lifted once, so that the episode never ends with a frontier it gave up on after a
-    single failure. ``scratch`` and ``memory`` are the robot's, kept from map to map
-    (:func:`reachable_frontiers`)."""
+    single failure. ``scratch`` and ``memory`` are the robot's, kept from map to map; ``avoid``,
+    the teammates it gives way to (:func:`reachable_frontiers`)."""
     costmap, reachable, frontiers = reachable_frontiers(
-        grid, pose, config, scratch=scratch, thin_except=felt, memory=memory
+        grid, pose, config, scratch=scratch, thin_except=felt, memory=memory, avoid=avoid
     )
     if blacklist.entries and len(frontiers):
         blacklist.refresh(map_state)

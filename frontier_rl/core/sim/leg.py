@@ -3,8 +3,8 @@ goal's frontier is seen, or the goal is given up.
 
 The leg follows its path in map updates (the follower drives until the mapper wants the next
 scan), watches its progress, replans when a wall turns up on the path, turns on the spot to
-recover when no path is left, marks walls it bumps into, and in a team waits for, then squeezes
-past, a teammate in the way. It reaches the simulator only through :class:`LegPort`.
+recover when no path is left, marks walls it bumps into, and in a team waits for a teammate in the
+way, then goes round it or gives way. It reaches the simulator only through :class:`LegPort`.
 """
 
 from __future__ import annotations
@@ -24,6 +24,8 @@ from frontier_rl.core.sim.teammates import Teammates
 from frontier_rl.core.world.robot import Pose
 from frontier_rl.core.world.worlds import World
 
+_BLOCKED = (FollowStatus.BLOCKED, FollowStatus.BLOCKED_BY_ROBOT)
+
 
 class LegOutcome(Enum):
     """How a drive toward a goal ended."""
@@ -31,6 +33,7 @@ class LegOutcome(Enum):
     REACHED = "reached"
     EXPLORED = "explored"  # the goal's frontier was seen before the robot got there
     ABORTED = "aborted"  # no progress, no path, stuck, or a detour far longer than planned: the goal is blacklisted
+    GAVE_WAY = "gave_way"  # a teammate blocked the way, with no way round it: another goal is chosen
     TIMEOUT = "timeout"  # the episode's sim-time cap
     NONE = "none"  # no candidate could be planned to
 
@@ -95,8 +98,14 @@ class LegPort(Protocol):
     def bump(self) -> None:
         """Mark the walls the robot touches as occupied (its bumper)."""
 
-    def replan(self, goal: tuple[float, float], tight: bool) -> NDArray[np.float64] | None:
-        """A new path (n, 2) (m) to ``goal`` on the current map, or None."""
+    def replan(
+        self, goal: tuple[float, float], tight: bool, round_teammates: bool = False
+    ) -> NDArray[np.float64] | None:
+        """A new path (n, 2) (m) to ``goal`` on the current map (one that keeps out of the teammates
+        in contact, with ``round_teammates``), or None."""
+
+    def give_way(self) -> None:
+        """End the leg for the teammates in contact: the next decision sees them as obstacles."""
 
     def path_blocked(self, path_cells: NDArray[np.int64], first: int, tight: bool) -> bool:
         """Whether the map puts a wall on the path (world cells) from index ``first`` on."""
@@ -158,7 +167,6 @@ class Leg:
         self._tight = tight
         self._params = port.follow_params
         self._closing_in = False
-        self._clearance = port.nearby_robots.clearance
         self._blocked_by_robot_since: float | None = None
         nav = port.config.navigation
         self._watchdog = ProgressWatchdog(
@@ -191,8 +199,6 @@ class Leg:
             status, seen = self._follow()
             yield
             self._count(seen)
-            if status == FollowStatus.BLOCKED and self._closing_in:
-                status = FollowStatus.REACHED  # closing in and a wall is in the way: as close as it gets
             if status == FollowStatus.REACHED:
                 if self._closing_in or not self._frontier_alive():
                     return LegOutcome.REACHED
@@ -204,9 +210,11 @@ class Leg:
                 return LegOutcome.EXPLORED
             if self._giving_up():
                 return LegOutcome.ABORTED
-            if status == FollowStatus.BLOCKED and self._robot_in_the_way():
-                yield from self._wait_or_squeeze()
+            if status == FollowStatus.BLOCKED_BY_ROBOT:
+                if (yield from self._wait_or_give_way()):
+                    return LegOutcome.GAVE_WAY
                 continue
+            self._blocked_by_robot_since = None
             if status == FollowStatus.BLOCKED:
                 port.bump()
             # only a map update can put a new obstacle on the path
@@ -229,16 +237,21 @@ class Leg:
 
     def _follow(self) -> tuple[int, tuple[int, int] | None]:
         """Drive tick by tick until the mapper wants the next scan (nothing else changes before),
-        then scan: the follower's status and the scan's new cells."""
+        then scan: the follower's status (reached when closing in and blocked) and the scan's new
+        cells."""
         port = self._port
         truth = port.world.grid
+        mates = port.nearby_robots
         pose = port.pose
         duration, gate = port.until_next_scan()
         x, y, theta, self._index, driven, used, status = follow_path(
             self._path[:, 0], self._path[:, 1], self._index, pose.x, pose.y, pose.theta, duration, self._params,
-            self._clearance, truth.origin[0], truth.origin[1], truth.resolution, gate, self._careful,
+            mates.wall_clearance, mates.positions, mates.collision_gap, truth.origin[0], truth.origin[1],
+            truth.resolution, gate, self._careful,
         )  # fmt: skip
         self._driven += driven
+        if status in _BLOCKED and self._closing_in:
+            status = FollowStatus.REACHED  # closing in and a wall or robot is in the way: as close as it gets
         return status, port.advance(Pose(x, y, theta), driven, used)
 
     def _count(self, seen: tuple[int, int] | None) -> None:
@@ -269,21 +282,23 @@ class Leg:
         pose, i = self._port.pose, self._index
         return float(math.hypot(self._path[i, 0] - pose.x, self._path[i, 1] - pose.y) + self._tail[i])
 
-    def _robot_in_the_way(self) -> bool:
-        """Whether a teammate the robot may not squeeze past blocks it."""
-        mates = self._port.nearby_robots
-        return self._clearance is not mates.true_clearance and mates.touching((self._port.pose.x, self._port.pose.y))
-
-    def _wait_or_squeeze(self) -> Generator[None, None, None]:
-        """Give a teammate in the way a moment to pass; after ``teammate_patience`` squeeze past it
-        for the rest of the leg, instead of both standing for ever."""
+    def _wait_or_give_way(self) -> Generator[None, None, bool]:
+        """Give a teammate in the way ``teammate_patience`` to move on; then take a way round it if
+        there is one, or else give way (True: the leg ends, and the robot chooses again with the
+        teammate as an obstacle). Robots never drive through each other."""
         port = self._port
         if self._blocked_by_robot_since is None:
             self._blocked_by_robot_since = port.sim_time
-        if port.sim_time - self._blocked_by_robot_since >= port.config.navigation.teammate_patience:
-            self._clearance = port.nearby_robots.true_clearance
-        else:
+        if port.sim_time - self._blocked_by_robot_since < port.config.navigation.teammate_patience:
             yield from port.wait_steps()
+            return False
+        self._blocked_by_robot_since = None
+        path = port.replan(self.goal, self._tight, round_teammates=True)
+        if path is None:
+            port.give_way()
+            return True
+        self._set_path(path)
+        return False
 
     def _replan_or_recover(self) -> Generator[None, None, NDArray[np.float64] | None]:
         """A new path to the goal; while there is none, up to ``max_recoveries`` recovery

@@ -20,7 +20,8 @@ class DecisionRecord:
         x, y: robot position (m).
         goal_x, goal_y: chosen goal (m); NaN when no goal could be planned.
         weight: the ranking weight in use, None for policies without one.
-        outcome: how the leg ended ("reached", "explored", "aborted", "timeout", "none").
+        outcome: how the leg ended ("reached", "explored", "aborted", "gave_way", "timeout",
+            "none").
     """
 
     time_s: float

@@ -3,9 +3,12 @@ there is a way round), and checked against the robot's map as it grows."""
 
 from __future__ import annotations
 
+import math
+
 import numpy as np
 from numpy.typing import NDArray
 
+from frontier_rl.core.navigation.costmap import nearest_cell
 from frontier_rl.core.navigation.follower import path_blocked
 from frontier_rl.core.navigation.thin_walls import thin_walls
 from frontier_rl.core.sim.candidates import Candidates
@@ -57,3 +60,58 @@ def map_blocks_path(
         state = thin_walls(state[r0:r1, c0:c1], felt[r0:r1, c0:c1])
         rows, cols = rows - r0, cols - c0
     return path_blocked(state, rows, cols, 0, footprint)
+
+
+def replan_path(
+    cand: Candidates,
+    pose: Pose,
+    goal: tuple[float, float],
+    mates: Teammates,
+    config: SimConfig,
+    round_teammates: bool,
+) -> NDArray[np.float64] | None:
+    """A world-frame path (n, 2) (m) from ``pose`` to the cell of ``goal`` (m) a replan aims at
+    (:func:`passable_goal_cell`), or None: one that keeps out of the teammates in contact with
+    the robot with ``round_teammates`` (:func:`plan_round_teammates`), else :func:`plan_path`'s."""
+    cell = passable_goal_cell(cand, goal)
+    if cell is None:
+        return None
+    if round_teammates:
+        return plan_round_teammates(cand, pose, cell, mates)
+    return plan_path(cand, pose, cell, mates, config)
+
+
+def point_goal_cell(cand: Candidates, x: float, y: float) -> tuple[int, int] | None:
+    """The reachable cell of ``cand.grid`` nearest to world point (x, y) (m), a point outside the
+    grid taken at its edge; None if no cell is reachable."""
+    g = cand.grid
+    row, col = g.world_to_cell(x, y)
+    row, col = min(max(row, 0), g.height - 1), min(max(col, 0), g.width - 1)
+    return nearest_cell(cand.reachable, (row, col), max_radius=int(math.ceil(math.hypot(*g.shape))))
+
+
+def passable_goal_cell(cand: Candidates, goal: tuple[float, float]) -> tuple[int, int] | None:
+    """The cell of ``cand.grid`` a replan to ``goal`` (m) aims at: the goal's own cell when the
+    costmap lets the robot stand there, else the nearest one that does within 0.5 m, else None."""
+    g = cand.grid
+    row, col = g.world_to_cell(*goal)
+    passable = cand.costmap.traversable
+    if g.in_bounds(row, col) and passable[row, col]:
+        return row, col
+    return nearest_cell(passable, (row, col), max_radius=int(round(0.5 / g.resolution)))
+
+
+def plan_round_teammates(
+    cand: Candidates, pose: Pose, goal_cell: tuple[int, int], mates: Teammates
+) -> NDArray[np.float64] | None:
+    """A world-frame path (n, 2) (m) from ``pose`` to ``goal_cell`` of ``cand.grid`` that keeps out
+    of the teammates in contact with the robot (:meth:`Teammates.in_contact`), or None."""
+    here = (pose.x, pose.y)
+    centres, radius = mates.in_contact(here)
+    costmap = cand.costmap.with_discs_blocked(centres, radius, here) if len(centres) else cand.costmap
+    cells = costmap.plan(cand.grid.world_to_cell(pose.x, pose.y), goal_cell)
+    if len(cells) == 0:
+        return None
+    xy = cand.grid.cells_to_world(cells)
+    xy[-1] = cand.grid.cell_to_world(*goal_cell)
+    return xy

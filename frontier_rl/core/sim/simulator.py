@@ -20,18 +20,17 @@ from frontier_rl.core.frontiers.detection import Frontiers
 from frontier_rl.core.frontiers.fringe import count_fringe
 from frontier_rl.core.mapping.mapper import LogOddsMapper
 from frontier_rl.core.navigation.astar import SearchScratch
-from frontier_rl.core.navigation.costmap import nearest_cell
 from frontier_rl.core.navigation.follower import footprint_offsets
 from frontier_rl.core.navigation.inflation import InflationMemory
 from frontier_rl.core.sensing.lidar import Lidar
 from frontier_rl.core.sim.body import touched_walls, until_next_scan
-from frontier_rl.core.sim.candidates import Candidates, find_candidates
+from frontier_rl.core.sim.candidates import Candidates, Discs, find_candidates
 from frontier_rl.core.sim.config import SimConfig
 from frontier_rl.core.sim.episode_log import EndReason, EpisodeLog, completion_reason
 from frontier_rl.core.sim.frontiers_left import frontiers_left
 from frontier_rl.core.sim.leg import Leg, LegOutcome, LegResult, run_leg
 from frontier_rl.core.sim.metrics import EpisodeResult, FrontierLeft
-from frontier_rl.core.sim.paths import map_blocks_path, plan_path
+from frontier_rl.core.sim.paths import map_blocks_path, plan_path, point_goal_cell, replan_path
 from frontier_rl.core.sim.teammates import Teammates
 from frontier_rl.core.world.grid import CellState, OccupancyGrid
 from frontier_rl.core.world.robot import Pose
@@ -89,6 +88,7 @@ class ExplorationSimulator:
         self.blacklist = Blacklist(nav.blacklist_radius, nav.max_goal_failures, grid.resolution, grid.origin)
         self.log = EpisodeLog(self.world.explorable_count)
         self._candidates: Candidates | None = None
+        self._give_way_to: Discs | None = None  # see give_way
         self.target: tuple[float, float] | None = None  # the frontier centre or point of the leg under way
         self.set_teammates(np.zeros((0, 2)) if teammates is None else teammates)
         self._scan()
@@ -227,12 +227,23 @@ class ExplorationSimulator:
         if self._candidates is None:
             grid = self.mapper.occupancy_grid(margin=2)
             cand = self.candidates_on(grid, tight=False)
+            if len(cand.frontiers) == 0 and self._give_way_to is not None:
+                self._give_way_to = None  # nothing away from the teammates: try their way again
+                cand = self.candidates_on(grid, tight=False)
             if len(cand.frontiers) == 0:
                 tight = self.candidates_on(grid, tight=True)
                 if len(tight.frontiers):
                     cand = tight
             self._candidates = cand
         return self._candidates
+
+    def _decision_candidates(self) -> Candidates:
+        """The candidates of a decision: after :meth:`give_way`, of this decision only."""
+        cand = self.candidates()
+        if self._give_way_to is not None:
+            self._give_way_to = None
+            self._candidates = None
+        return cand
 
     def candidates_on(self, grid: OccupancyGrid, tight: bool) -> Candidates:
         """The candidates on ``grid`` (a crop of the robot's map) with the normal or the tight costmap."""
@@ -241,7 +252,7 @@ class ExplorationSimulator:
             top, left = self.world.grid.world_to_cell(*grid.cell_to_world(0, 0))
             felt = self.mapper.felt[top : top + grid.height, left : left + grid.width]
         return find_candidates(grid, self.pose, self.config, self.blacklist, self.mapper.state, self._scratch, felt,
-                               self._inflation)  # fmt: skip
+                               self._inflation, self._give_way_to)  # fmt: skip
 
     def frontiers(self) -> Frontiers:
         """The current candidate frontiers."""
@@ -259,14 +270,14 @@ class ExplorationSimulator:
         """:meth:`execute` step by step: the leg yields each time its clock has moved on (a drive up
         to the next map update, about 0.5 s of sim time, or one LiDAR tick of a turn) and returns
         its result, so that several robots can share one clock."""
-        cand = self.candidates()
+        cand = self._decision_candidates()
         for index in order:
             index = int(index)
             if not 0 <= index < len(cand.frontiers):
                 raise IndexError(f"frontier index {index} out of range 0..{len(cand.frontiers) - 1}")
             row, col = (int(v) for v in cand.frontiers.goal_cells[index])
             goal = cand.grid.cell_to_world(row, col)
-            path = self._plan(cand, (row, col))
+            path = plan_path(cand, self.pose, (row, col), self.nearby_robots, self.config)
             if path is None:
                 self.blacklist.fail(*goal, self.mapper.state)
                 self.log.aborts += 1
@@ -274,7 +285,9 @@ class ExplorationSimulator:
             frontier_cells = self.world.grid.world_to_cells(cand.grid.cells_to_world(cand.frontiers.cells_of(index)))
             return (yield from self._drive(Leg(self, path, goal, frontier_cells, cand.tight), index, weight))
         self._candidates = None  # the blacklist changed
-        return self._decided(LegOutcome.NONE, -1, (math.nan, math.nan), weight)
+        result = self._leg_result(LegOutcome.NONE, -1, (math.nan, math.nan), self.sim_time, 0, 0)
+        self.log.decision(result, weight)  # a decision that drove nowhere
+        return result
 
     def go_to(self, x: float, y: float, weight: float | None = None) -> LegResult:
         """Drive to the reachable cell nearest to world point (x, y) (m): the point-goal action. A
@@ -284,12 +297,9 @@ class ExplorationSimulator:
 
     def go_to_steps(self, x: float, y: float, weight: float | None = None) -> Generator[None, None, LegResult]:
         """:meth:`go_to` one map update at a time (see :meth:`execute_steps`)."""
-        cand = self.candidates()
-        row, col = cand.grid.world_to_cell(x, y)
-        row = min(max(row, 0), cand.grid.height - 1)
-        col = min(max(col, 0), cand.grid.width - 1)
-        goal_cell = nearest_cell(cand.reachable, (row, col), max_radius=int(math.ceil(math.hypot(*cand.grid.shape))))
-        path = None if goal_cell is None else self._plan(cand, goal_cell)
+        cand = self._decision_candidates()
+        goal_cell = point_goal_cell(cand, x, y)
+        path = None if goal_cell is None else plan_path(cand, self.pose, goal_cell, self.nearby_robots, self.config)
         if path is None or goal_cell is None:
             # move_base's answer to a goal it cannot plan to: a recovery rotation, then give up.
             # It costs time, so a point policy cannot pick unreachable cells for free.
@@ -325,12 +335,6 @@ class ExplorationSimulator:
         new_free, new_occ = yield from self.rotate_steps()
         return self._leg_result(outcome, -1, goal, start_time, new_free, new_occ)
 
-    def _decided(self, outcome: LegOutcome, index: int, goal: tuple[float, float], weight: float | None) -> LegResult:
-        """A decision that drove nowhere, logged."""
-        result = self._leg_result(outcome, index, goal, self.sim_time, 0, 0)
-        self.log.decision(result, weight)
-        return result
-
     def _leg_result(
         self, outcome: LegOutcome, index: int, goal: tuple[float, float], start_s: float, new_free: int, new_occ: int
     ) -> LegResult:
@@ -339,26 +343,24 @@ class ExplorationSimulator:
         return LegResult(outcome, index, goal, self.sim_time - start_s, 0.0, new_free, new_occ, start_s, xy)
 
     # ------------------------------------------------------------- navigation
-    def _plan(self, cand: Candidates, goal_cell: tuple[int, int]) -> NDArray[np.float64] | None:
-        """A world-frame path (n, 2) from the robot to ``goal_cell`` of ``cand``'s map, or None."""
-        return plan_path(cand, self.pose, goal_cell, self.nearby_robots, self.config)
-
-    def replan(self, goal: tuple[float, float], tight: bool) -> NDArray[np.float64] | None:
+    def replan(
+        self, goal: tuple[float, float], tight: bool, round_teammates: bool = False
+    ) -> NDArray[np.float64] | None:
         """A new path to ``goal`` on the current map, on the costmap the leg was planned on: a leg
         through a passage opened by the narrow-passage recovery keeps to it (on the normal
-        costmap the robot inside the passage could not move)."""
+        costmap the robot inside the passage could not move). With ``round_teammates``, only a
+        path that keeps out of the teammates in contact with the robot."""
         cand = self.candidates()
         if tight and not cand.tight:
             cand = self.candidates_on(cand.grid, tight=True)
-        g = cand.grid
-        row, col = g.world_to_cell(*goal)
-        passable = cand.costmap.traversable
-        if not (g.in_bounds(row, col) and passable[row, col]):
-            nearest = nearest_cell(passable, (row, col), max_radius=int(round(0.5 / g.resolution)))
-            if nearest is None:
-                return None
-            row, col = nearest
-        return self._plan(cand, (row, col))
+        return replan_path(cand, self.pose, goal, self.nearby_robots, self.config, round_teammates)
+
+    def give_way(self) -> None:
+        """A teammate blocks the leg, with no way round: the next decision's candidates have the
+        teammates in contact as obstacles (if that leaves any), so as not to choose them again."""
+        here = (self.pose.x, self.pose.y)
+        self._give_way_to = (*self.nearby_robots.in_contact(here), here)
+        self._candidates = None
 
     def path_blocked(self, path_cells: NDArray[np.int64], first: int, tight: bool) -> bool:
         """Whether the robot's map puts a wall on the path (world cells) from index ``first`` on;

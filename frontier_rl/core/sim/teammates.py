@@ -1,4 +1,4 @@
-"""Other robots as one robot meets them: obstacles its path follower collides with and its LiDAR
+"""Other robots as one robot meets them: discs its path follower collides with and its LiDAR
 cannot see through, discs its planner goes round, and passers-by its laser filter keeps out of its
 map (they are moving, not walls)."""
 
@@ -33,11 +33,10 @@ class Teammates:
         self._lidar = lidar
         self._robot_radius = robot_radius
         self._true_blocked = lidar.blocked_padded  # the LiDAR gets its own copy once a teammate shows up
-        self.true_clearance = obstacle_distance(grid.data == CellState.OCCUPIED, grid.resolution)
-        """Distance (m) from each cell to the nearest wall."""
-        self.clearance = self.true_clearance
-        """Distance (m) from each cell to the nearest wall or teammate: what the follower collides with."""
-        self._boxes = np.zeros((0, 4), np.int64)  # the discs stamped into clearance
+        self.wall_clearance = obstacle_distance(grid.data == CellState.OCCUPIED, grid.resolution)
+        """Distance (m) from each cell to the nearest wall: what the follower collides with, besides
+        the teammates' discs (:attr:`collision_gap`)."""
+        self._boxes = np.zeros((0, 4), np.int64)  # the discs stamped into the LiDAR's grid
         self._stamped = 0
         self.positions = np.zeros((0, 2))
         """(k, 2) world points (m) of the other robots."""
@@ -56,7 +55,7 @@ class Teammates:
         passing: NDArray[np.bool_] | None = None,
     ) -> None:
         """Other robots at ``positions`` ((k, 2) world points, m) of ``radius`` (m), seen from this
-        robot at ``at`` (m): stamped into the follower's clearance and the LiDAR's blocked grid.
+        robot at ``at`` (m): stamped into the LiDAR's blocked grid.
         The laser filter drops those ``passing`` (all by default): a robot that failed stays where
         it is, and its disc, mapped as a wall, closes the map there (filtered, it left a patch of
         unknown that no teammate could ever map, whose frontier ended the episode `unreachable`)."""
@@ -65,20 +64,23 @@ class Teammates:
         self._passing = np.ones(len(self), np.bool_) if passing is None else np.asarray(passing, np.bool_)
         if len(self) == 0 and self._stamped == 0:
             return
-        if self.clearance is self.true_clearance:
-            self.clearance = self.true_clearance.copy()
+        if self._lidar.blocked_padded is self._true_blocked:
             self._lidar.blocked_padded = self._true_blocked.copy()
         if len(self._boxes) < len(self):
             self._boxes = np.zeros((len(self), 4), np.int64)
         g = self._grid
-        reach = int(math.ceil((radius + 2.0 * self._robot_radius) / g.resolution)) + 1
-        # A teammate overlapping this robot (squeezing past) does not hide the world from it.
+        reach = int(math.ceil(radius / g.resolution)) + 1
+        # A teammate overlapping this robot (placed on it) does not hide the world from it.
         apart = self.distances(at) > radius + g.resolution
         self._stamped = stamp_discs(
-            self.clearance, self.true_clearance, self._lidar.blocked_padded, self._true_blocked, self._boxes,
-            self._stamped, self.positions[:, 0], self.positions[:, 1], apart, radius, reach, g.origin[0],
-            g.origin[1], g.resolution,
+            self._lidar.blocked_padded, self._true_blocked, self._boxes, self._stamped, self.positions[:, 0],
+            self.positions[:, 1], apart, radius, reach, g.origin[0], g.origin[1], g.resolution,
         )  # fmt: skip
+
+    @property
+    def collision_gap(self) -> float:
+        """Centre distance (m) below which this robot and a teammate collide."""
+        return self.radius + self._robot_radius
 
     def distances(self, point: tuple[float, float]) -> NDArray[np.float64]:
         """Distance (m) from ``point`` to each teammate."""
@@ -89,9 +91,17 @@ class Teammates:
         """Whether a teammate is within ``distance`` (m) of any of ``points``."""
         return len(self) > 0 and any(self.distances(point).min() <= distance for point in points)
 
-    def touching(self, at: tuple[float, float]) -> bool:
-        """Whether a teammate is (about) in contact with this robot at ``at``."""
-        return self.within(self.radius + self._robot_radius + 2.0 * self._grid.resolution, at)
+    @property
+    def contact_distance(self) -> float:
+        """Centre distance (m) within which a teammate is (about) in contact with this robot."""
+        return self.radius + self._robot_radius + 2.0 * self._grid.resolution
+
+    def in_contact(self, at: tuple[float, float]) -> tuple[NDArray[np.float64], float]:
+        """The teammates in contact with this robot at ``at`` ((k, 2) world points, m), and the
+        radius (m) of the discs round them that a path of grid cells must keep out of for the
+        robot to pass them: :attr:`collision_gap` and half a cell."""
+        close = self.distances(at) <= self.contact_distance
+        return self.positions[close], self.collision_gap + 0.5 * self._grid.resolution
 
     def laser_filter(self) -> tuple[NDArray[np.float64], float] | None:
         """The discs (centres (k, 2) and radius, m) a scan's marks are dropped in; None if none."""
@@ -108,8 +118,6 @@ def obstacle_distance(occupied: NDArray[np.bool_], resolution: float) -> NDArray
 
 @nb.njit(cache=True)
 def stamp_discs(
-    clearance: NDArray[np.float64],
-    true_clearance: NDArray[np.float64],
     blocked_padded: NDArray[np.bool_],
     true_blocked_padded: NDArray[np.bool_],
     boxes: NDArray[np.int64],
@@ -123,16 +131,14 @@ def stamp_discs(
     origin_y: float,
     resolution: float,
 ) -> int:
-    """Take back the ``stamped`` discs of ``boxes`` (row0, row1, col0, col1 per disc) from
-    ``clearance`` and the LiDAR's ``blocked_padded``, then stamp a disc of ``radius`` (m) at every
-    point (xs, ys) (m): ``clearance`` is lowered to the distance (m) from each cell centre to the
-    disc, within ``reach`` cells, and, where ``occlude`` is set, the cells whose centre lies in the
-    disc stop beams. ``boxes`` is rewritten. Returns the number of discs stamped."""
-    rows, cols = clearance.shape
+    """Take back the ``stamped`` discs of ``boxes`` (row0, row1, col0, col1 per disc) from the
+    LiDAR's ``blocked_padded``, then stamp a disc of ``radius`` (m) at every point (xs, ys) (m)
+    where ``occlude`` is set: the cells whose centre lies in it (within ``reach`` cells) stop
+    beams. ``boxes`` is rewritten. Returns the number of discs stamped."""
+    rows, cols = blocked_padded.shape[0] - 2, blocked_padded.shape[1] - 2
     for k in range(stamped):
         for r in range(boxes[k, 0], boxes[k, 1]):
             for c in range(boxes[k, 2], boxes[k, 3]):
-                clearance[r, c] = true_clearance[r, c]
                 blocked_padded[r + 1, c + 1] = true_blocked_padded[r + 1, c + 1]
     for k in range(xs.shape[0]):
         row = int(math.floor((ys[k] - origin_y) / resolution))
@@ -140,13 +146,12 @@ def stamp_discs(
         r0, r1 = max(row - reach, 0), min(row + reach + 1, rows)
         c0, c1 = max(col - reach, 0), min(col + reach + 1, cols)
         boxes[k, 0], boxes[k, 1], boxes[k, 2], boxes[k, 3] = r0, max(r1, r0), c0, max(c1, c0)
+        if not occlude[k]:
+            continue
         for r in range(r0, r1):
             cy = origin_y + (r + 0.5) * resolution
             for c in range(c0, c1):
                 cx = origin_x + (c + 0.5) * resolution
-                d = math.hypot(cx - xs[k], cy - ys[k]) - radius
-                if d < clearance[r, c]:
-                    clearance[r, c] = d
-                if occlude[k] and d <= 0.0:
+                if math.hypot(cx - xs[k], cy - ys[k]) <= radius:
                     blocked_padded[r + 1, c + 1] = True
     return int(xs.shape[0])

@@ -436,6 +436,7 @@ OPEN_ORIGIN = (-1.0, -1.0)
 
 
 NO_GATE = np.array([1e9, 0.0, 0.0, 0.0, np.inf, np.inf])  # one endless tick, no scan trigger
+NO_MATES = np.zeros((0, 2))
 
 
 def drive(path_xy: NDArray[np.float64], x: float, y: float, theta: float, duration: float,
@@ -444,7 +445,7 @@ def drive(path_xy: NDArray[np.float64], x: float, y: float, theta: float, durati
           gate: NDArray[np.float64] = NO_GATE) -> tuple[float, ...]:  # fmt: skip
     return tuple(
         follow_path(path_xy[:, 0].copy(), path_xy[:, 1].copy(), 0, x, y, theta, duration, p, clearance,
-                    origin[0], origin[1], res, gate, np.zeros(1, np.bool_))
+                    NO_MATES, 0.0, origin[0], origin[1], res, gate, np.zeros(1, np.bool_))
     )  # fmt: skip
 
 
@@ -522,6 +523,8 @@ def test_follow_path_refuses_to_enter_cells_closer_than_the_radius_to_a_wall() -
             0.2,
             params(),
             clearance,
+            NO_MATES,
+            0.0,
             0.0,
             0.0,
             0.05,

@@ -1,0 +1,139 @@
+"""Robots of a team in each other's way: they collide as discs, go round one another where there is
+room, and otherwise one gives way and chooses again; they never drive through each other."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+
+from frontier_rl.core.navigation.follower import FollowStatus, follow_path
+from frontier_rl.core.sim.candidates import reachable_frontiers
+from frontier_rl.core.sim.config import SimConfig
+from frontier_rl.core.sim.leg import LegOutcome
+from frontier_rl.core.sim.simulator import ExplorationSimulator
+from frontier_rl.core.world.catalog import generate_world
+from frontier_rl.core.world.grid import CellState, OccupancyGrid
+from frontier_rl.core.world.robot import Pose
+from frontier_rl.core.world.worlds import World, make_world
+from frontier_rl.policies import FixedWeight
+from frontier_rl.swarm import Failure, Strategy, TeamConfig, TeamSimulator
+from frontier_rl.swarm.team import TeamRobot
+
+RADIUS = SimConfig().robot.radius
+
+
+def room(height_cells: int) -> World:
+    """A free room 3 m long and ``height_cells`` high, walled all round."""
+    data = np.full((height_cells + 2, 62), CellState.FREE, np.int8)
+    data[[0, -1], :] = CellState.OCCUPIED
+    data[:, [0, -1]] = CellState.OCCUPIED
+    y = (height_cells + 2) * 0.05 / 2
+    return make_world(OccupancyGrid(data, 0.05), "room", start=Pose(0.4, y, 0.0))
+
+
+def drive_past(world: World, mate: tuple[float, float]) -> tuple[ExplorationSimulator, LegOutcome, float]:
+    """Drive from the start toward the far end with a teammate standing at ``mate``: the robot,
+    how the leg ended, and the closest (m) it came to the teammate."""
+    sim = ExplorationSimulator(world, rng=np.random.default_rng(0))
+    sim.set_teammates(np.array([mate]))
+    outcome = sim.go_to(2.7, world.start.y).outcome
+    xy = sim.trajectory()[:, :2]
+    return sim, outcome, float(np.hypot(xy[:, 0] - mate[0], xy[:, 1] - mate[1]).min())
+
+
+def test_robots_plan_around_each_other() -> None:
+    world = room(40)  # 2 m wide: room to pass
+    sim, outcome, closest = drive_past(world, (1.5, world.start.y))
+    assert outcome is LegOutcome.REACHED and closest >= 2 * RADIUS
+    assert math.dist((sim.pose.x, sim.pose.y), (2.7, world.start.y)) < 0.2
+
+
+def test_a_robot_in_contact_goes_round_after_waiting() -> None:
+    world = room(40)
+    mate = (world.start.x + 2 * RADIUS + 0.01, world.start.y)  # in contact, straight ahead
+    alone = ExplorationSimulator(world, rng=np.random.default_rng(0))
+    alone.go_to(2.7, world.start.y)
+    sim, outcome, closest = drive_past(world, mate)
+    assert outcome is LegOutcome.REACHED and closest >= 2 * RADIUS - 1e-9
+    assert sim.sim_time - alone.sim_time >= sim.config.navigation.teammate_patience
+
+
+def test_a_robot_with_no_way_round_gives_way_instead_of_driving_through() -> None:
+    world = room(8)  # 0.4 m wide: no way round another robot
+    sim, outcome, closest = drive_past(world, (1.5, world.start.y))
+    assert outcome is LegOutcome.GAVE_WAY and closest >= 2 * RADIUS - 1e-9
+    assert sim.sim_time >= sim.config.navigation.teammate_patience
+    assert not sim.blacklist.entries  # the goal is not given up: the teammate may move on
+
+
+def _follow_straight(x0: float, to_x: float) -> tuple[float, int]:
+    """Follow a straight path from (x0, 0) to (to_x, 0) (m) for 1 s with a teammate at the origin,
+    in open space: where the robot ends (x, m) and the follower's status."""
+    params = np.array([0.22, 2.84, 0.7, 2.0, 0.3, 0.02, 0.1, RADIUS])
+    path = np.array([[x0, 0.0], [to_x, 0.0]])
+    heading = 0.0 if to_x > x0 else math.pi
+    gate = np.array([1e9, 0.0, 0.0, 0.0, np.inf, np.inf])
+    open_space = np.full((100, 100), 10.0)
+    x, *_, status = follow_path(path[:, 0], path[:, 1], 0, x0, 0.0, heading, 1.0, params, open_space, np.zeros((1, 2)),
+                                2 * RADIUS, -2.5, -2.5, 0.05, gate, np.zeros(1, np.bool_))  # fmt: skip
+    return x, status
+
+
+def test_the_follower_lets_a_robot_in_contact_back_away_but_not_press_on() -> None:
+    x, _ = _follow_straight(2 * RADIUS - 0.01, 1.0)  # overlapping by 1 cm, driving away
+    assert x > 2 * RADIUS + 0.1
+    x, status = _follow_straight(2 * RADIUS + 0.05, -1.0)  # driving at the teammate
+    assert status == FollowStatus.BLOCKED_BY_ROBOT and 2 * RADIUS - 1e-9 <= x < 2 * RADIUS + 0.03
+
+
+def test_a_robot_that_gave_way_chooses_among_frontiers_its_teammate_does_not_block() -> None:
+    # a corridor 0.4 m wide, unknown past 5 m: farther than a frontier's goal may be from it
+    data = np.full((10, 120), CellState.FREE, np.int8)
+    data[[0, -1], :] = CellState.OCCUPIED
+    data[1:-1, 100:] = CellState.UNKNOWN
+    grid = OccupancyGrid(data, 0.05)
+    config = SimConfig()
+    here = Pose(0.6, 0.25, 0.0)
+    _, _, open_way = reachable_frontiers(grid, here, config)
+    assert len(open_way) == 1  # the unknown end
+    mate = np.array([[0.6 + 2 * RADIUS, 0.25]])
+    _, reachable, blocked = reachable_frontiers(grid, here, config, avoid=(mate, 2 * RADIUS + 0.025, (here.x, here.y)))
+    assert len(blocked) == 0  # behind the teammate
+    row, col = grid.world_to_cell(here.x, here.y)
+    assert reachable[row, col - 3] and not reachable[row, col + 3]  # it can still back away
+
+
+class WatchedTeam(TeamSimulator):
+    """A team that records the closest any two robots came at any step (m)."""
+
+    closest = math.inf
+
+    def _step(self, robot: TeamRobot) -> None:
+        super()._step(robot)
+        for other in self.robots:
+            if other is not robot:
+                self.closest = min(self.closest, math.dist(robot.xy, other.xy))
+
+
+@pytest.mark.parametrize(
+    ("world", "strategy", "robots", "failures"),
+    [
+        ("office", "rendezvous", 3, ()),
+        ("office", "coordinated", 4, ()),
+        ("rooms", "uncoordinated", 4, ()),
+        ("office", "rendezvous", 3, (Failure(robot=1, time_s=60.0),)),
+    ],
+)
+@pytest.mark.parametrize("seed", [0, 4])
+def test_robots_never_drive_through_each_other(
+    world: str, strategy: str, robots: int, failures: tuple[Failure, ...], seed: int
+) -> None:
+    team = WatchedTeam(generate_world(world, seed), team=TeamConfig(robots, Strategy(strategy), failures=failures),
+                       rng=np.random.default_rng(seed))  # fmt: skip
+    rng = np.random.default_rng(seed)
+    while (index := team.next_decision()) is not None:
+        team.assign(index, FixedWeight(0.75).rank(team.context(index), rng))
+    assert team.closest >= 2 * RADIUS - 1e-9
+    assert team.done and team.coverage >= 0.99
