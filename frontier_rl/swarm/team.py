@@ -6,7 +6,8 @@ clock is furthest behind by one step of its leg (up to its next map update, abou
 robots' clocks never drift apart by more than a step. Before its step a robot is told where the
 others are: its follower collides with them and its planner goes around them. After a map update
 it shares the scan's window with every teammate in communication range (a pair that comes into
-range first merges whole maps), by multirobot_map_merge's rule.
+range first merges whole maps), a cell taken from the map that has looked at it more often
+(:meth:`~frontier_rl.core.mapping.mapper.LogOddsMapper.merge_from`).
 """
 
 from __future__ import annotations

@@ -8,6 +8,7 @@ from functools import cache
 
 import numpy as np
 import pytest
+from scipy import ndimage
 
 from frontier_rl.core.sim.episode import run_episode
 from frontier_rl.core.sim.simulator import ExplorationSimulator
@@ -243,3 +244,16 @@ def test_a_frontier_both_robots_left_is_counted_once() -> None:
     keys = [(f.x, f.y, f.cells) for f in result.frontiers_left]
     assert result.end_reason == "unreachable" and keys and len(set(keys)) == len(keys), keys
     assert result.unknown_left_m2 == pytest.approx(sum(f.unknown_m2 for f in result.frontiers_left))
+
+
+@pytest.mark.parametrize("strategy", ["uncoordinated", "coordinated", "rendezvous"])
+def test_team_maps_hold_no_more_stray_walls_than_one_robots(strategy: str) -> None:
+    """Walls in the merged map farther than 2 cells from any true wall: a single robot's map holds
+    0-4 of them; with the merge rule occupied > free > unknown this 3-robot team's held 57-425."""
+    result = team_episode(1, 3, strategy)
+    world = office(1)
+    near_wall = ndimage.binary_dilation(world.grid.data == CellState.OCCUPIED, iterations=2)
+    merged = result.team_map
+    top, left = world.grid.world_to_cell(*merged.cell_to_world(0, 0))
+    near = near_wall[top : top + merged.height, left : left + merged.width]
+    assert int(np.count_nonzero((merged.data == CellState.OCCUPIED) & ~near)) <= 10

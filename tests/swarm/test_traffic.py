@@ -68,6 +68,18 @@ def test_a_robot_with_no_way_round_gives_way_instead_of_driving_through() -> Non
     assert not sim.blacklist.entries  # the goal is not given up: the teammate may move on
 
 
+def test_a_robot_whose_goal_a_teammate_stands_on_gets_as_close_as_it_can() -> None:
+    """Not a give-way: robots crowding round one goal had given way to each other for ever (3 robots
+    of a 4-robot `rendezvous` team on cluttered seed 2, from 1,500 s to the time cap)."""
+    world = room(40)
+    mate = (1.5, world.start.y)
+    sim = ExplorationSimulator(world, rng=np.random.default_rng(0))
+    sim.set_teammates(np.array([mate]))
+    result = sim.go_to(*mate)
+    assert result.outcome is LegOutcome.REACHED and result.duration_s >= sim.config.navigation.teammate_patience
+    assert math.dist((sim.pose.x, sim.pose.y), mate) >= 2 * RADIUS - 1e-9
+
+
 def _follow_straight(x0: float, to_x: float) -> tuple[float, int]:
     """Follow a straight path from (x0, 0) to (to_x, 0) (m) for 1 s with a teammate at the origin,
     in open space: where the robot ends (x, m) and the follower's status."""

@@ -25,6 +25,9 @@ _RING = 32  # the last cells of a beam kept to undo when the noisy reading falls
 _UNKNOWN = np.int8(CellState.UNKNOWN)
 _FREE = np.int8(CellState.FREE)
 _OCCUPIED = np.int8(CellState.OCCUPIED)
+MAX_LOOKS = np.uint16(np.iinfo(np.uint16).max)
+"""The most looks a cell counts (and the count of a wall the robot touched, which no teammate's
+scans outweigh in a merge)."""
 
 
 @nb.njit(cache=True, fastmath=FASTMATH, inline="always")
@@ -102,13 +105,15 @@ def apply_pending(
     state: NDArray[np.int8],
     seen: NDArray[np.bool_],
     observed: NDArray[np.bool_],
+    looks: NDArray[np.uint16],
     explorable: NDArray[np.bool_],
     params: NDArray[np.float64],
     bbox: NDArray[np.int64],
     counters: NDArray[np.int64],
 ) -> None:
-    """Update every marked cell in ``window`` (row0, row1, col0, col1; exclusive ends), clear its mark
-    and set it in ``observed`` (the cells this map's own sensor has reached).
+    """Update every marked cell in ``window`` (row0, row1, col0, col1; exclusive ends), clear its mark,
+    set it in ``observed`` (the cells this map's own sensor has reached) and count the look in
+    ``looks`` (up to :data:`MAX_LOOKS`).
 
     ``params`` = (clamp_min, clamp_max, free_below, occupied_above, hit, miss). A cell's class
     follows its log-odds past the thresholds; in between, a classified cell keeps its class (a
@@ -126,6 +131,8 @@ def apply_pending(
                 continue
             pending[row, col] = 0
             observed[row, col] = True
+            if looks[row, col] < MAX_LOOKS:
+                looks[row, col] += 1
             value = min(max(logodds[row, col] + (hit if mark & HIT else miss), low), high)
             logodds[row, col] = value
             if value > occupied_above:
@@ -259,30 +266,51 @@ def _unmark_beyond(
             tm_r += td_r
 
 
+@nb.njit(cache=True, inline="always")
+def _outweighs(looks: int, value: float, cls: int, other_looks: int, other_value: float, other_cls: int) -> bool:
+    """Whether a cell of (``looks``, log-odds ``value``, class ``cls``) wins a merge over the other:
+    more looks, then higher log-odds, then occupied over free."""
+    if looks != other_looks:
+        return looks > other_looks
+    if value != other_value:
+        return value > other_value
+    return cls == _OCCUPIED and other_cls != _OCCUPIED
+
+
 @nb.njit(cache=True)
 def merge_window(
     state: NDArray[np.int8],
     logodds: NDArray[np.float32],
+    looks: NDArray[np.uint16],
     seen: NDArray[np.bool_],
     explorable: NDArray[np.bool_],
     other_state: NDArray[np.int8],
     other_logodds: NDArray[np.float32],
+    other_looks: NDArray[np.uint16],
     window: tuple[int, int, int, int],
     bbox: NDArray[np.int64],
 ) -> int:
-    """Merge ``other_state`` into ``state`` over ``window`` (row0, row1, col0, col1; exclusive
-    ends, clipped) by multirobot_map_merge's rule, occupied > free > unknown; a cell that changes
-    class takes the other's log-odds. Returns the explorable cells newly seen; ``bbox`` grows."""
+    """Merge the other map into this one over ``window`` (row0, row1, col0, col1; exclusive ends,
+    clipped): a cell the other map has looked at more often (``looks``) takes its class, log-odds
+    and count; on a tie, the higher log-odds (the more occupied) wins, so that two maps merged both
+    ways agree. Returns the explorable cells newly seen; ``bbox`` grows."""
     r0, r1, c0, c1 = window
     gained = 0
     for row in range(max(r0, 0), min(r1, state.shape[0])):
         for col in range(max(c0, 0), min(c1, state.shape[1])):
             theirs = other_state[row, col]
-            mine = state[row, col]
-            if theirs in (mine, _UNKNOWN) or (theirs == _FREE and mine != _UNKNOWN):
+            if theirs == _UNKNOWN or not _outweighs(
+                other_looks[row, col],
+                other_logodds[row, col],
+                theirs,
+                looks[row, col],
+                logodds[row, col],
+                state[row, col],
+            ):
                 continue
             state[row, col] = theirs
             logodds[row, col] = other_logodds[row, col]
+            looks[row, col] = other_looks[row, col]
             if not seen[row, col]:
                 seen[row, col] = True
                 if explorable[row, col]:

@@ -14,7 +14,15 @@ import numba as nb
 import numpy as np
 from numpy.typing import NDArray
 
-from frontier_rl.core.mapping.log_odds import HIT, apply_pending, cast_and_mark, drop_marks, mark_beams, merge_window
+from frontier_rl.core.mapping.log_odds import (
+    HIT,
+    MAX_LOOKS,
+    apply_pending,
+    cast_and_mark,
+    drop_marks,
+    mark_beams,
+    merge_window,
+)
 from frontier_rl.core.sensing.lidar import MAX_BEAMS, Lidar, Scan
 from frontier_rl.core.world.grid import CellState, OccupancyGrid
 from frontier_rl.core.world.robot import Pose, wrap_angle
@@ -128,6 +136,7 @@ class LogOddsMapper:
         self.state = np.full(shape, CellState.UNKNOWN, dtype=np.int8)
         self.seen = np.zeros(shape, dtype=np.bool_)
         self.observed = np.zeros(shape, dtype=np.bool_)  # reached by this mapper's own scans, not merges
+        self.looks = np.zeros(shape, dtype=np.uint16)  # scans that reached a cell (a merge may bring its count)
         self.felt = np.zeros(shape, dtype=np.bool_)  # occupied from contact (:meth:`mark_occupied`)
         self.explorable = np.ones(shape, np.bool_) if explorable is None else explorable.astype(np.bool_)
         self._pending = np.zeros(shape, dtype=np.int16)
@@ -227,8 +236,9 @@ class LogOddsMapper:
         params[4] = self.config.clamp_max  # a hit that saturates
         self._counters[:] = 0
         window = (int(np.min(rows)), int(np.max(rows)) + 1, int(np.min(cols)), int(np.max(cols)) + 1)
-        apply_pending(self._pending, window, self.logodds, self.state, self.seen, self.observed, self.explorable,
-                      params, self._bbox, self._counters)  # fmt: skip
+        apply_pending(self._pending, window, self.logodds, self.state, self.seen, self.observed, self.looks,
+                      self.explorable, params, self._bbox, self._counters)  # fmt: skip
+        self.looks[rows, cols] = MAX_LOOKS
         self.explored_cells += int(self._counters[2])
 
     def _apply(self, pose: Pose, time_s: float, window: tuple[int, int, int, int] | None = None) -> ScanUpdate:
@@ -242,8 +252,8 @@ class LogOddsMapper:
             window = (row - reach, row + reach + 1, col - reach, col + reach + 1)
         self._counters[:] = 0
         apply_pending(
-            self._pending, window, self.logodds, self.state, self.seen, self.observed, self.explorable, self._params,
-            self._bbox, self._counters,
+            self._pending, window, self.logodds, self.state, self.seen, self.observed, self.looks, self.explorable,
+            self._params, self._bbox, self._counters,
         )  # fmt: skip
         self._last_update = (pose, time_s)
         update = ScanUpdate(int(self._counters[0]), int(self._counters[1]), int(self._counters[2]))
@@ -252,16 +262,18 @@ class LogOddsMapper:
 
     def merge_from(self, other: LogOddsMapper, window: tuple[int, int, int, int] | None = None) -> int:
         """Fold ``other``'s map (the same world and frame: known relative start poses) into this
-        one by multirobot_map_merge's rule, cell by cell occupied > free > unknown; a cell that
-        changes class takes ``other``'s log-odds, and the walls ``other`` touched are known here
-        too. ``window`` (row0, row1, col0, col1; exclusive ends) limits the merge to part of the
-        map. Returns the explorable cells newly known here."""
+        one, cell by cell: a cell ``other`` has looked at more often takes its class, log-odds and
+        count (on a tie the higher log-odds wins, then occupied), and the walls ``other`` touched
+        are known here too. Not multirobot_map_merge's rule, occupied > free > unknown: that rule
+        builds a merged map afresh from the robots' own maps, and written back into them it made a
+        stray hit a wall in every map for good. ``window`` (row0, row1, col0, col1; exclusive ends)
+        limits the merge to part of the map. Returns the explorable cells newly known here."""
         if other.state.shape != self.state.shape:
             raise ValueError(f"maps of shapes {self.state.shape} and {other.state.shape} cannot be merged")
         rows, cols = self.state.shape
         r0, r1, c0, c1 = window if window is not None else (0, rows, 0, cols)
-        gained = merge_window(self.state, self.logodds, self.seen, self.explorable, other.state, other.logodds,
-                              (r0, r1, c0, c1), self._bbox)  # fmt: skip
+        gained = merge_window(self.state, self.logodds, self.looks, self.seen, self.explorable, other.state,
+                              other.logodds, other.looks, (r0, r1, c0, c1), self._bbox)  # fmt: skip
         # the walls the other robot touched are known walls here too (never thinned, core/navigation/thin_walls.py);
         # a window may start before the map (merge_window clamps it), where a slice would count from the end
         r0, c0 = max(r0, 0), max(c0, 0)

@@ -53,8 +53,9 @@ class NavigationConfig:
         teammate_range: ... from the robots within this distance (m); farther ones will have moved
             by the time the robot gets there.
         teammate_patience: in a team, a robot blocked by another one waits this long (s) for it
-            to move on; then it drives round it where there is room, or else gives way: its leg
-            ends, and it chooses again with that teammate as an obstacle.
+            to move on; then it has reached its goal if it or that teammate stands by it, drives
+            round the teammate where there is room, or else gives way: its leg ends, and it
+            chooses again with that teammate as an obstacle.
     """
 
     inflation_radius: float = 0.55

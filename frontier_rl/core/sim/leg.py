@@ -211,8 +211,9 @@ class Leg:
             if self._giving_up():
                 return LegOutcome.ABORTED
             if status == FollowStatus.BLOCKED_BY_ROBOT:
-                if (yield from self._wait_or_give_way()):
-                    return LegOutcome.GAVE_WAY
+                ended = yield from self._wait_or_give_way()
+                if ended is not None:
+                    return ended
                 continue
             self._blocked_by_robot_since = None
             if status == FollowStatus.BLOCKED:
@@ -282,23 +283,31 @@ class Leg:
         pose, i = self._port.pose, self._index
         return float(math.hypot(self._path[i, 0] - pose.x, self._path[i, 1] - pose.y) + self._tail[i])
 
-    def _wait_or_give_way(self) -> Generator[None, None, bool]:
-        """Give a teammate in the way ``teammate_patience`` to move on; then take a way round it if
-        there is one, or else give way (True: the leg ends, and the robot chooses again with the
-        teammate as an obstacle). Robots never drive through each other."""
+    def _wait_or_give_way(self) -> Generator[None, None, LegOutcome | None]:
+        """Give a teammate in the way ``teammate_patience`` to move on. Then, when the robot or a
+        teammate in contact stands within a robot's width and the goal tolerance of the goal, the
+        robot is as close as it gets (REACHED: teammates crowding round one goal had given way to
+        each other for ever); else it takes a way round if there is one (None: the leg goes on), or
+        gives way (GAVE_WAY: the robot chooses again with the teammate as an obstacle). Robots
+        never drive through each other."""
         port = self._port
         if self._blocked_by_robot_since is None:
             self._blocked_by_robot_since = port.sim_time
         if port.sim_time - self._blocked_by_robot_since < port.config.navigation.teammate_patience:
             yield from port.wait_steps()
-            return False
+            return None
         self._blocked_by_robot_since = None
+        here = (port.pose.x, port.pose.y)
+        mates = port.nearby_robots
+        near = mates.collision_gap + port.config.navigation.goal_tolerance
+        if any(math.dist(xy, self.goal) <= near for xy in (here, *mates.in_contact(here)[0])):
+            return LegOutcome.REACHED
         path = port.replan(self.goal, self._tight, round_teammates=True)
         if path is None:
             port.give_way()
-            return True
+            return LegOutcome.GAVE_WAY
         self._set_path(path)
-        return False
+        return None
 
     def _replan_or_recover(self) -> Generator[None, None, NDArray[np.float64] | None]:
         """A new path to the goal; while there is none, up to ``max_recoveries`` recovery
