@@ -247,34 +247,44 @@ class TeamSimulator:
             self._share(robot, full=False)
 
     def _share(self, robot: TeamRobot, full: bool) -> None:
-        """Merge ``robot``'s new scan (or whole map) with the teammates in range, both ways, and add
-        it to what the team knows."""
+        """Merge ``robot``'s new scan (or whole map) with the teammates in range, and add it to what
+        the team knows. The robot takes from every teammate in range first, then every one takes
+        from it, so that afterwards all of them hold the same cells there. The scan's window is the
+        square its range reaches, which also passes on what the robot had from teammates there;
+        with an unlimited range every teammate had that directly, and the window is only the cells
+        the robot's own scans (and bumps) changed since it last shared: the same merge, at about
+        half the cells."""
         mapper = robot.sim.mapper
-        row, col = self.world.grid.world_to_cell(*robot.xy)
-        reach = self._reach
-        window = (row - reach, row + reach + 1, col - reach, col + reach + 1)
+        changed = mapper.take_changed()
+        if math.isinf(self._range):
+            window = changed or (0, 0, 0, 0)
+        else:
+            row, col = self.world.grid.world_to_cell(*robot.xy)
+            reach = self._reach
+            window = (row - reach, row + reach + 1, col - reach, col + reach + 1)
+        near = []
         for other in self.robots:
             if other is robot or not other.alive:
                 continue
             i, j = robot.index, other.index
-            near = math.dist(robot.xy, other.xy) <= self._range
-            if near:
-                part = window if (self._contact[i, j] and not full) else None
-                self.merge_pair(robot, other, part)
-            self._contact[i, j] = self._contact[j, i] = near
+            in_range = math.dist(robot.xy, other.xy) <= self._range
+            if in_range:
+                near.append((other, window if (self._contact[i, j] and not full) else None))
+            self._contact[i, j] = self._contact[j, i] = in_range
+        for other, part in near:
+            mapper.merge_from(other.sim.mapper, part)
+        for other, part in near:
+            other.sim.mapper.merge_from(mapper, part)
+            other.sim.refresh()
+        robot.sim.refresh()
+        if full:  # whole maps were merged
+            window = (0, mapper.state.shape[0], 0, mapper.state.shape[1])
         r0, c0 = max(window[0], 0), max(window[2], 0)
         rows, cols = slice(r0, window[1]), slice(c0, window[3])
         newly = mapper.seen[rows, cols] & ~self._known[rows, cols]
         self._known[rows, cols] |= newly
         self._known_count += int(np.count_nonzero(newly & self.world.explorable[rows, cols]))
         self._record(robot.sim.sim_time)
-
-    def merge_pair(self, a: TeamRobot, b: TeamRobot, window: tuple[int, int, int, int] | None = None) -> None:
-        """Merge the maps of ``a`` and ``b`` both ways (over ``window`` only, if given)."""
-        a.sim.mapper.merge_from(b.sim.mapper, window)
-        b.sim.mapper.merge_from(a.sim.mapper, window)
-        a.sim.refresh()
-        b.sim.refresh()
 
     def _recount(self) -> None:
         """Rebuild what the team knows from the surviving robots' maps."""

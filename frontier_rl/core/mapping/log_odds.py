@@ -109,6 +109,7 @@ def apply_pending(
     explorable: NDArray[np.bool_],
     params: NDArray[np.float64],
     bbox: NDArray[np.int64],
+    changed: NDArray[np.int64],
     counters: NDArray[np.int64],
 ) -> None:
     """Update every marked cell in ``window`` (row0, row1, col0, col1; exclusive ends), clear its mark,
@@ -118,7 +119,8 @@ def apply_pending(
     ``params`` = (clamp_min, clamp_max, free_below, occupied_above, hit, miss). A cell's class
     follows its log-odds past the thresholds; in between, a classified cell keeps its class (a
     seen cell never turns unknown again). ``counters`` += cells first classified free, occupied,
-    and explorable; ``bbox`` grows to hold every classified cell.
+    and explorable; ``bbox`` grows to hold every classified cell, ``changed`` (row_min, row_max,
+    col_min, col_max) every updated one.
     """
     low, high, free_below, occupied_above, hit, miss = (
         params[0], params[1], params[2], params[3], params[4], params[5],
@@ -131,6 +133,10 @@ def apply_pending(
                 continue
             pending[row, col] = 0
             observed[row, col] = True
+            changed[0] = min(changed[0], row)
+            changed[1] = max(changed[1], row)
+            changed[2] = min(changed[2], col)
+            changed[3] = max(changed[3], col)
             if looks[row, col] < MAX_LOOKS:
                 looks[row, col] += 1
             value = min(max(logodds[row, col] + (hit if mark & HIT else miss), low), high)
@@ -266,51 +272,46 @@ def _unmark_beyond(
             tm_r += td_r
 
 
-@nb.njit(cache=True, inline="always")
-def _outweighs(looks: int, value: float, cls: int, other_looks: int, other_value: float, other_cls: int) -> bool:
-    """Whether a cell of (``looks``, log-odds ``value``, class ``cls``) wins a merge over the other:
-    more looks, then higher log-odds, then occupied over free."""
-    if looks != other_looks:
-        return looks > other_looks
-    if value != other_value:
-        return value > other_value
-    return cls == _OCCUPIED and other_cls != _OCCUPIED
-
-
 @nb.njit(cache=True)
 def merge_window(
     state: NDArray[np.int8],
     logodds: NDArray[np.float32],
     looks: NDArray[np.uint16],
+    felt: NDArray[np.bool_],
     seen: NDArray[np.bool_],
     explorable: NDArray[np.bool_],
     other_state: NDArray[np.int8],
     other_logodds: NDArray[np.float32],
     other_looks: NDArray[np.uint16],
+    other_felt: NDArray[np.bool_],
     window: tuple[int, int, int, int],
     bbox: NDArray[np.int64],
 ) -> int:
     """Merge the other map into this one over ``window`` (row0, row1, col0, col1; exclusive ends,
-    clipped): a cell the other map has looked at more often (``looks``) takes its class, log-odds
-    and count; on a tie, the higher log-odds (the more occupied) wins, so that two maps merged both
-    ways agree. Returns the explorable cells newly seen; ``bbox`` grows."""
+    clipped): a cell the other map has looked at more often (``looks``) takes its class, log-odds,
+    count and ``felt`` flag; on a tie, the higher log-odds (the more occupied) wins, then occupied,
+    so that two maps merged both ways agree. A wall touched counts :data:`MAX_LOOKS`, so the other
+    map's touched walls are taken. Returns the explorable cells newly seen; ``bbox`` grows."""
     r0, r1, c0, c1 = window
     gained = 0
     for row in range(max(r0, 0), min(r1, state.shape[0])):
         for col in range(max(c0, 0), min(c1, state.shape[1])):
-            theirs = other_state[row, col]
-            if theirs == _UNKNOWN or not _outweighs(
-                other_looks[row, col],
-                other_logodds[row, col],
-                theirs,
-                looks[row, col],
-                logodds[row, col],
-                state[row, col],
-            ):
+            theirs_n = other_looks[row, col]
+            mine_n = looks[row, col]
+            if theirs_n < mine_n:
                 continue
+            theirs = other_state[row, col]
+            if theirs == _UNKNOWN:
+                continue
+            value = other_logodds[row, col]
+            if theirs_n == mine_n:  # a tie: the higher log-odds, then occupied
+                mine = logodds[row, col]
+                if value < mine or (value == mine and (theirs != _OCCUPIED or state[row, col] == _OCCUPIED)):
+                    continue
             state[row, col] = theirs
-            logodds[row, col] = other_logodds[row, col]
-            looks[row, col] = other_looks[row, col]
+            logodds[row, col] = value
+            looks[row, col] = theirs_n
+            felt[row, col] |= other_felt[row, col]
             if not seen[row, col]:
                 seen[row, col] = True
                 if explorable[row, col]:

@@ -141,6 +141,7 @@ class LogOddsMapper:
         self.explorable = np.ones(shape, np.bool_) if explorable is None else explorable.astype(np.bool_)
         self._pending = np.zeros(shape, dtype=np.int16)
         self._bbox = np.array([shape[0], -1, shape[1], -1], dtype=np.int64)
+        self._changed = self._bbox.copy()  # the cells its own scans and bumps updated, see take_changed
         self._counters = np.zeros(3, dtype=np.int64)
         self._ranges = np.empty(0)  # scratch: the simulated scan's ranges (cells)
         self._extent = np.zeros(4, np.int64)  # scratch: the window the simulated scan marked
@@ -237,7 +238,7 @@ class LogOddsMapper:
         self._counters[:] = 0
         window = (int(np.min(rows)), int(np.max(rows)) + 1, int(np.min(cols)), int(np.max(cols)) + 1)
         apply_pending(self._pending, window, self.logodds, self.state, self.seen, self.observed, self.looks,
-                      self.explorable, params, self._bbox, self._counters)  # fmt: skip
+                      self.explorable, params, self._bbox, self._changed, self._counters)  # fmt: skip
         self.looks[rows, cols] = MAX_LOOKS
         self.explored_cells += int(self._counters[2])
 
@@ -253,7 +254,7 @@ class LogOddsMapper:
         self._counters[:] = 0
         apply_pending(
             self._pending, window, self.logodds, self.state, self.seen, self.observed, self.looks, self.explorable,
-            self._params, self._bbox, self._counters,
+            self._params, self._bbox, self._changed, self._counters,
         )  # fmt: skip
         self._last_update = (pose, time_s)
         update = ScanUpdate(int(self._counters[0]), int(self._counters[1]), int(self._counters[2]))
@@ -272,14 +273,18 @@ class LogOddsMapper:
             raise ValueError(f"maps of shapes {self.state.shape} and {other.state.shape} cannot be merged")
         rows, cols = self.state.shape
         r0, r1, c0, c1 = window if window is not None else (0, rows, 0, cols)
-        gained = merge_window(self.state, self.logodds, self.looks, self.seen, self.explorable, other.state,
-                              other.logodds, other.looks, (r0, r1, c0, c1), self._bbox)  # fmt: skip
-        # the walls the other robot touched are known walls here too (never thinned, core/navigation/thin_walls.py);
-        # a window may start before the map (merge_window clamps it), where a slice would count from the end
-        r0, c0 = max(r0, 0), max(c0, 0)
-        self.felt[r0:r1, c0:c1] |= other.felt[r0:r1, c0:c1]
+        # the walls the other robot touched come with their cells (walls never thinned: core/navigation/thin_walls.py)
+        gained = merge_window(self.state, self.logodds, self.looks, self.felt, self.seen, self.explorable, other.state,
+                              other.logodds, other.looks, other.felt, (r0, r1, c0, c1), self._bbox)  # fmt: skip
         self.explored_cells += gained
         return int(gained)
+
+    def take_changed(self) -> tuple[int, int, int, int] | None:
+        """The window (row0, row1, col0, col1; exclusive ends) of the cells this map's own scans and
+        bumps have updated since the last call (None if none), and start the record afresh."""
+        r0, r1, c0, c1 = (int(v) for v in self._changed)
+        self._changed[:] = (self.state.shape[0], -1, self.state.shape[1], -1)
+        return None if r1 < r0 else (r0, r1 + 1, c0, c1 + 1)
 
     @property
     def known_bounds(self) -> tuple[int, int, int, int] | None:
