@@ -80,6 +80,43 @@ def test_a_robot_whose_goal_a_teammate_stands_on_gets_as_close_as_it_can() -> No
     assert math.dist((sim.pose.x, sim.pose.y), mate) >= 2 * RADIUS - 1e-9
 
 
+def test_a_way_round_from_contact_is_driven_in_open_space() -> None:
+    """In contact with a teammate at -30 degrees, goal beyond it: the way round planned from the
+    robot's own cell began at that cell's centre, inside the teammate's disc, so the follower refused
+    it at every try until the leg was given up (review of 2026-11-27, 1 of 100 such cases)."""
+    data = np.full((42, 62), CellState.FREE, np.int8)
+    data[[0, -1], :] = CellState.OCCUPIED
+    data[:, [0, -1]] = CellState.OCCUPIED
+    bearing = math.radians(-30)
+    start = Pose(0.63, 1.05, bearing)
+    mate = (start.x + (2 * RADIUS + 0.005) * math.cos(bearing), start.y + (2 * RADIUS + 0.005) * math.sin(bearing))
+    sim = ExplorationSimulator(make_world(OccupancyGrid(data, 0.05), "room", start=start), rng=np.random.default_rng(0))
+    sim.set_teammates(np.array([mate]))
+    result = sim.go_to(start.x + 1.8 * math.cos(bearing), start.y + 1.8 * math.sin(bearing))
+    assert result.outcome is LegOutcome.REACHED and not sim.blacklist.entries
+
+
+def test_a_teammate_standing_for_good_in_a_corridor_ends_the_episode() -> None:
+    """Robot 1 has given up the corridor's far end and stands in the way of robot 0, whose only
+    frontier lies behind it: robot 0 gives way, finds nothing else, and counts the goal as failed
+    each time, so the episode ends (`unreachable`) instead of giving way until the time cap."""
+    data = np.full((10, 200), CellState.FREE, np.int8)  # 0.4 m x 9.9 m
+    data[[0, -1], :] = CellState.OCCUPIED
+    data[:, [0, -1]] = CellState.OCCUPIED
+    world = make_world(OccupancyGrid(data, 0.05), "corridor", start=Pose(0.4, 0.25, 0.0))
+    team = TeamSimulator(world, SimConfig(max_sim_time=400.0), TeamConfig(robots=2), np.random.default_rng(0))
+    second = team.robots[1]
+    for goal in second.sim.frontiers().goals:
+        for _ in range(second.sim.blacklist.max_failures):
+            second.sim.blacklist.fail(float(goal[0]), float(goal[1]), second.sim.mapper.state)
+    second.sim.refresh()
+    rng = np.random.default_rng(0)
+    while (index := team.next_decision()) is not None:
+        team.assign(index, FixedWeight(0.75).rank(team.context(index), rng))
+    assert team.done and team.sim_time < 100.0
+    assert team.result().end_reason == "unreachable"
+
+
 def _follow_straight(x0: float, to_x: float) -> tuple[float, int]:
     """Follow a straight path from (x0, 0) to (to_x, 0) (m) for 1 s with a teammate at the origin,
     in open space: where the robot ends (x, m) and the follower's status."""
@@ -101,18 +138,20 @@ def test_the_follower_lets_a_robot_in_contact_back_away_but_not_press_on() -> No
 
 
 def test_a_robot_that_gave_way_chooses_among_frontiers_its_teammate_does_not_block() -> None:
-    # a corridor 0.4 m wide, unknown past 5 m: farther than a frontier's goal may be from it
-    data = np.full((10, 120), CellState.FREE, np.int8)
+    """The teammate is a wall for that decision: no way past it, and no view past it either (a goal
+    within 3 m of the frontier that saw it through the teammate stayed a candidate, at the robot's
+    own spot, which it then reached at once and blacklisted)."""
+    data = np.full((10, 80), CellState.FREE, np.int8)  # a corridor 0.4 m wide, unknown past 3 m
     data[[0, -1], :] = CellState.OCCUPIED
-    data[1:-1, 100:] = CellState.UNKNOWN
+    data[1:-1, 60:] = CellState.UNKNOWN
     grid = OccupancyGrid(data, 0.05)
     config = SimConfig()
     here = Pose(0.6, 0.25, 0.0)
     _, _, open_way = reachable_frontiers(grid, here, config)
     assert len(open_way) == 1  # the unknown end
-    mate = np.array([[0.6 + 2 * RADIUS, 0.25]])
-    _, reachable, blocked = reachable_frontiers(grid, here, config, avoid=(mate, 2 * RADIUS + 0.025, (here.x, here.y)))
-    assert len(blocked) == 0  # behind the teammate
+    mate = np.array([[0.6 + 2 * RADIUS, 0.25]])  # in contact, between the robot and the unknown end
+    _, reachable, blocked = reachable_frontiers(grid, here, config, avoid=(mate, RADIUS))
+    assert len(blocked) == 0
     row, col = grid.world_to_cell(here.x, here.y)
     assert reachable[row, col - 3] and not reachable[row, col + 3]  # it can still back away
 

@@ -18,10 +18,24 @@ from frontier_rl.core.sim.config import SimConfig, drop_cells_at
 from frontier_rl.core.world.grid import CellState, OccupancyGrid
 from frontier_rl.core.world.robot import Pose
 
-Discs = tuple[NDArray[np.float64], float, tuple[float, float]]
-"""Teammates to keep off: centres (k, 2) (m), the radius of the discs round them (m), and the
-robot's position (m), next to which it may back away from them
-(:meth:`~frontier_rl.core.navigation.costmap.Costmap.with_discs_blocked`)."""
+Discs = tuple[NDArray[np.float64], float]
+"""Other robots to see as walls: centres (k, 2) (m) and their radius (m)."""
+
+
+def with_robots_as_walls(grid: OccupancyGrid, robots: Discs) -> OccupancyGrid:
+    """A copy of ``grid`` with every cell whose centre lies within a robot's disc occupied: what a
+    costmap whose obstacle layer sees them would hold (inflated like any wall, and blocking the
+    view of a frontier's goal)."""
+    centres, radius = robots
+    data = grid.data.copy()
+    cy = grid.origin[1] + (np.arange(grid.height) + 0.5) * grid.resolution
+    cx = grid.origin[0] + (np.arange(grid.width) + 0.5) * grid.resolution
+    for x, y in centres:
+        rows = np.abs(cy - y) <= radius
+        cols = np.abs(cx - x) <= radius
+        inside = np.hypot(cx[None, cols] - x, cy[rows, None] - y) <= radius
+        data[np.ix_(rows, cols)] = np.where(inside, CellState.OCCUPIED, data[np.ix_(rows, cols)])
+    return OccupancyGrid(data, grid.resolution, grid.origin)
 
 
 @dataclass(frozen=True)
@@ -61,17 +75,17 @@ def reachable_frontiers(
     touch them: what a decision chooses from, before any blacklist. With ``thin_except`` (a mask
     of ``grid``'s shape), the costmap is that of the narrow-passage recovery: the map's walls
     thinned by a cell except at those cells (:func:`~frontier_rl.core.navigation.thin_walls.thin_walls`).
-    With ``avoid``, discs blocked like walls: teammates the robot gives way to."""
+    With ``avoid``, the teammates the robot gives way to are walls (:func:`with_robots_as_walls`;
+    ``memory`` is then left as it was)."""
+    if avoid is not None and len(avoid[0]):
+        grid, memory = with_robots_as_walls(grid, avoid), None
     if thin_except is None:
         costmap = Costmap.build(grid, config.robot, config.navigation, scratch, memory)
+        reachable = costmap.reachable_known(grid.world_to_cell(pose.x, pose.y))
     else:
         thinned = OccupancyGrid(thin_walls(grid.data, thin_except), grid.resolution, grid.origin)
         costmap = Costmap.build(thinned, config.robot, config.navigation, scratch)
-    if avoid is not None:
-        costmap = costmap.with_discs_blocked(*avoid)
-    reachable = costmap.reachable_known(grid.world_to_cell(pose.x, pose.y))
-    if thin_except is not None:
-        reachable &= grid.data == CellState.FREE
+        reachable = costmap.reachable_known(grid.world_to_cell(pose.x, pose.y)) & (grid.data == CellState.FREE)
     cells = drop_cells_at(config.min_frontier_cells if min_cells is None else min_cells, grid.resolution)
     # a goal farther from its frontier than the map update reaches would map none of it
     reach = min(config.frontier_goal_reach, config.mapping_range)

@@ -104,8 +104,8 @@ class LegPort(Protocol):
         """A new path (n, 2) (m) to ``goal`` on the current map (one that keeps out of the teammates
         in contact, with ``round_teammates``), or None."""
 
-    def give_way(self) -> None:
-        """End the leg for the teammates in contact: the next decision sees them as obstacles."""
+    def give_way(self, goal: tuple[float, float]) -> None:
+        """End the leg to ``goal`` for the teammates in contact: the next decision sees them as walls."""
 
     def path_blocked(self, path_cells: NDArray[np.int64], first: int, tight: bool) -> bool:
         """Whether the map puts a wall on the path (world cells) from index ``first`` on."""
@@ -304,7 +304,7 @@ class Leg:
             return LegOutcome.REACHED
         path = port.replan(self.goal, self._tight, round_teammates=True)
         if path is None:
-            port.give_way()
+            port.give_way(self.goal)
             return LegOutcome.GAVE_WAY
         self._set_path(path)
         return None

@@ -39,7 +39,19 @@ def plan_path(
             if len(detour):
                 xy = cand.grid.cells_to_world(detour)
     xy[-1] = cand.grid.cell_to_world(*goal_cell)
-    return xy
+    return clear_of_teammates(xy, mates)
+
+
+def clear_of_teammates(xy: NDArray[np.float64], mates: Teammates) -> NDArray[np.float64]:
+    """``xy`` (n, 2) (m) without its first points that lie closer to a teammate than the robots
+    collide (the centre of the cell of a robot in contact may): the follower would refuse to
+    drive to them, and the robot would stand until the leg was given up. The goal stays."""
+    if len(mates) == 0:
+        return xy
+    gaps = np.hypot(xy[:, None, 0] - mates.positions[None, :, 0], xy[:, None, 1] - mates.positions[None, :, 1])
+    inside = gaps.min(axis=1) < mates.collision_gap
+    first = int(np.argmin(inside)) if not inside.all() else len(xy) - 1
+    return xy[first:]
 
 
 def map_blocks_path(
@@ -114,4 +126,4 @@ def plan_round_teammates(
         return None
     xy = cand.grid.cells_to_world(cells)
     xy[-1] = cand.grid.cell_to_world(*goal_cell)
-    return xy
+    return clear_of_teammates(xy, mates)

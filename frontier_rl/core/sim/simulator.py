@@ -24,7 +24,7 @@ from frontier_rl.core.navigation.follower import footprint_offsets
 from frontier_rl.core.navigation.inflation import InflationMemory
 from frontier_rl.core.sensing.lidar import Lidar
 from frontier_rl.core.sim.body import touched_walls, until_next_scan
-from frontier_rl.core.sim.candidates import Candidates, Discs, find_candidates
+from frontier_rl.core.sim.candidates import Candidates, find_candidates
 from frontier_rl.core.sim.config import SimConfig
 from frontier_rl.core.sim.episode_log import EndReason, EpisodeLog, completion_reason
 from frontier_rl.core.sim.frontiers_left import frontiers_left
@@ -88,7 +88,7 @@ class ExplorationSimulator:
         self.blacklist = Blacklist(nav.blacklist_radius, nav.max_goal_failures, grid.resolution, grid.origin)
         self.log = EpisodeLog(self.world.explorable_count)
         self._candidates: Candidates | None = None
-        self._give_way_to: Discs | None = None  # see give_way
+        self._gave_way_on: tuple[float, float] | None = None  # the goal of a leg that gave way, see give_way
         self.target: tuple[float, float] | None = None  # the frontier centre or point of the leg under way
         self.set_teammates(np.zeros((0, 2)) if teammates is None else teammates)
         self._scan()
@@ -227,8 +227,9 @@ class ExplorationSimulator:
         if self._candidates is None:
             grid = self.mapper.occupancy_grid(margin=2)
             cand = self.candidates_on(grid, tight=False)
-            if len(cand.frontiers) == 0 and self._give_way_to is not None:
-                self._give_way_to = None  # nothing away from the teammates: try their way again
+            if len(cand.frontiers) == 0 and self._gave_way_on is not None:  # their way again, as a failure
+                self.blacklist.fail(*self._gave_way_on, self.mapper.state)
+                self._gave_way_on = None
                 cand = self.candidates_on(grid, tight=False)
             if len(cand.frontiers) == 0:
                 tight = self.candidates_on(grid, tight=True)
@@ -240,8 +241,8 @@ class ExplorationSimulator:
     def _decision_candidates(self) -> Candidates:
         """The candidates of a decision: after :meth:`give_way`, of this decision only."""
         cand = self.candidates()
-        if self._give_way_to is not None:
-            self._give_way_to = None
+        if self._gave_way_on is not None:
+            self._gave_way_on = None
             self._candidates = None
         return cand
 
@@ -251,8 +252,9 @@ class ExplorationSimulator:
         if tight:
             top, left = self.world.grid.world_to_cell(*grid.cell_to_world(0, 0))
             felt = self.mapper.felt[top : top + grid.height, left : left + grid.width]
+        walls = None if self._gave_way_on is None else self.nearby_robots.contact_discs((self.pose.x, self.pose.y))
         return find_candidates(grid, self.pose, self.config, self.blacklist, self.mapper.state, self._scratch, felt,
-                               self._inflation, self._give_way_to)  # fmt: skip
+                               self._inflation, walls)  # fmt: skip
 
     def frontiers(self) -> Frontiers:
         """The current candidate frontiers."""
@@ -355,11 +357,9 @@ class ExplorationSimulator:
             cand = self.candidates_on(cand.grid, tight=True)
         return replan_path(cand, self.pose, goal, self.nearby_robots, self.config, round_teammates)
 
-    def give_way(self) -> None:
-        """A teammate blocks the leg, with no way round: the next decision's candidates have the
-        teammates in contact as obstacles (if that leaves any), so as not to choose them again."""
-        here = (self.pose.x, self.pose.y)
-        self._give_way_to = (*self.nearby_robots.in_contact(here), here)
+    def give_way(self, goal: tuple[float, float]) -> None:
+        """A teammate blocks the leg to ``goal`` (m): the next decision sees those in contact as walls."""
+        self._gave_way_on = goal
         self._candidates = None
 
     def path_blocked(self, path_cells: NDArray[np.int64], first: int, tight: bool) -> bool:

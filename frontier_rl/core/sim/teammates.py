@@ -103,6 +103,10 @@ class Teammates:
         close = self.distances(at) <= self.contact_distance
         return self.positions[close], self.collision_gap + 0.5 * self._grid.resolution
 
+    def contact_discs(self, at: tuple[float, float]) -> tuple[NDArray[np.float64], float]:
+        """The teammates in contact with this robot at ``at``: their centres (k, 2) (m) and radius (m)."""
+        return self.positions[self.distances(at) <= self.contact_distance], self.radius
+
     def laser_filter(self) -> tuple[NDArray[np.float64], float] | None:
         """The discs (centres (k, 2) and radius, m) a scan's marks are dropped in; None if none."""
         passing = self.positions[self._passing]
