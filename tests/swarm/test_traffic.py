@@ -24,13 +24,14 @@ from frontier_rl.swarm.team import TeamRobot
 RADIUS = SimConfig().robot.radius
 
 
-def room(height_cells: int) -> World:
-    """A free room 3 m long and ``height_cells`` high, walled all round."""
-    data = np.full((height_cells + 2, 62), CellState.FREE, np.int8)
+def room(height_cells: int, length_cells: int = 62, start: Pose | None = None) -> World:
+    """A free room ``length_cells`` long (3 m by default) and ``height_cells`` high, walled all
+    round; the start 0.4 m from its left end, half way up, unless given."""
+    data = np.full((height_cells + 2, length_cells), CellState.FREE, np.int8)
     data[[0, -1], :] = CellState.OCCUPIED
     data[:, [0, -1]] = CellState.OCCUPIED
     y = (height_cells + 2) * 0.05 / 2
-    return make_world(OccupancyGrid(data, 0.05), "room", start=Pose(0.4, y, 0.0))
+    return make_world(OccupancyGrid(data, 0.05), "room", start=start or Pose(0.4, y, 0.0))
 
 
 def drive_past(world: World, mate: tuple[float, float]) -> tuple[ExplorationSimulator, LegOutcome, float]:
@@ -84,13 +85,10 @@ def test_a_way_round_from_contact_is_driven_in_open_space() -> None:
     """In contact with a teammate at -30 degrees, goal beyond it: the way round planned from the
     robot's own cell began at that cell's centre, inside the teammate's disc, so the follower refused
     it at every try until the leg was given up (review of 2026-11-27, 1 of 100 such cases)."""
-    data = np.full((42, 62), CellState.FREE, np.int8)
-    data[[0, -1], :] = CellState.OCCUPIED
-    data[:, [0, -1]] = CellState.OCCUPIED
     bearing = math.radians(-30)
     start = Pose(0.63, 1.05, bearing)
     mate = (start.x + (2 * RADIUS + 0.005) * math.cos(bearing), start.y + (2 * RADIUS + 0.005) * math.sin(bearing))
-    sim = ExplorationSimulator(make_world(OccupancyGrid(data, 0.05), "room", start=start), rng=np.random.default_rng(0))
+    sim = ExplorationSimulator(room(40, start=start), rng=np.random.default_rng(0))
     sim.set_teammates(np.array([mate]))
     result = sim.go_to(start.x + 1.8 * math.cos(bearing), start.y + 1.8 * math.sin(bearing))
     assert result.outcome is LegOutcome.REACHED and not sim.blacklist.entries
@@ -100,10 +98,7 @@ def test_a_teammate_standing_for_good_in_a_corridor_ends_the_episode() -> None:
     """Robot 1 has given up the corridor's far end and stands in the way of robot 0, whose only
     frontier lies behind it: robot 0 gives way, finds nothing else, and counts the goal as failed
     each time, so the episode ends (`unreachable`) instead of giving way until the time cap."""
-    data = np.full((10, 200), CellState.FREE, np.int8)  # 0.4 m x 9.9 m
-    data[[0, -1], :] = CellState.OCCUPIED
-    data[:, [0, -1]] = CellState.OCCUPIED
-    world = make_world(OccupancyGrid(data, 0.05), "corridor", start=Pose(0.4, 0.25, 0.0))
+    world = room(8, 200)  # 0.4 m x 9.9 m
     team = TeamSimulator(world, SimConfig(max_sim_time=400.0), TeamConfig(robots=2), np.random.default_rng(0))
     second = team.robots[1]
     for goal in second.sim.frontiers().goals:

@@ -300,7 +300,7 @@ class Leg:
         here = (port.pose.x, port.pose.y)
         mates = port.nearby_robots
         near = mates.collision_gap + port.config.navigation.goal_tolerance
-        if any(math.dist(xy, self.goal) <= near for xy in (here, *mates.in_contact(here)[0])):
+        if any(math.dist(xy, self.goal) <= near for xy in (here, *mates.in_contact(here))):
             return LegOutcome.REACHED
         path = port.replan(self.goal, self._tight, round_teammates=True)
         if path is None:

@@ -117,9 +117,11 @@ def plan_round_teammates(
     cand: Candidates, pose: Pose, goal_cell: tuple[int, int], mates: Teammates
 ) -> NDArray[np.float64] | None:
     """A world-frame path (n, 2) (m) from ``pose`` to ``goal_cell`` of ``cand.grid`` that keeps out
-    of the teammates in contact with the robot (:meth:`Teammates.in_contact`), or None."""
+    of the teammates in contact with the robot (:meth:`Teammates.in_contact`) by their collision
+    gap and half a cell (the path is of grid cells), or None."""
     here = (pose.x, pose.y)
-    centres, radius = mates.in_contact(here)
+    centres = mates.in_contact(here)
+    radius = mates.collision_gap + 0.5 * cand.grid.resolution
     costmap = cand.costmap.with_discs_blocked(centres, radius, here) if len(centres) else cand.costmap
     cells = costmap.plan(cand.grid.world_to_cell(pose.x, pose.y), goal_cell)
     if len(cells) == 0:

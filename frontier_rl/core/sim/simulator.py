@@ -242,8 +242,7 @@ class ExplorationSimulator:
         """The candidates of a decision: after :meth:`give_way`, of this decision only."""
         cand = self.candidates()
         if self._gave_way_on is not None:
-            self._gave_way_on = None
-            self._candidates = None
+            self._gave_way_on = self._candidates = None
         return cand
 
     def candidates_on(self, grid: OccupancyGrid, tight: bool) -> Candidates:
@@ -252,7 +251,8 @@ class ExplorationSimulator:
         if tight:
             top, left = self.world.grid.world_to_cell(*grid.cell_to_world(0, 0))
             felt = self.mapper.felt[top : top + grid.height, left : left + grid.width]
-        walls = None if self._gave_way_on is None else self.nearby_robots.contact_discs((self.pose.x, self.pose.y))
+        mates = self.nearby_robots
+        walls = None if self._gave_way_on is None else (mates.in_contact((self.pose.x, self.pose.y)), mates.radius)
         return find_candidates(grid, self.pose, self.config, self.blacklist, self.mapper.state, self._scratch, felt,
                                self._inflation, walls)  # fmt: skip
 

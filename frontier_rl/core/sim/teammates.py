@@ -96,16 +96,9 @@ class Teammates:
         """Centre distance (m) within which a teammate is (about) in contact with this robot."""
         return self.radius + self._robot_radius + 2.0 * self._grid.resolution
 
-    def in_contact(self, at: tuple[float, float]) -> tuple[NDArray[np.float64], float]:
-        """The teammates in contact with this robot at ``at`` ((k, 2) world points, m), and the
-        radius (m) of the discs round them that a path of grid cells must keep out of for the
-        robot to pass them: :attr:`collision_gap` and half a cell."""
-        close = self.distances(at) <= self.contact_distance
-        return self.positions[close], self.collision_gap + 0.5 * self._grid.resolution
-
-    def contact_discs(self, at: tuple[float, float]) -> tuple[NDArray[np.float64], float]:
-        """The teammates in contact with this robot at ``at``: their centres (k, 2) (m) and radius (m)."""
-        return self.positions[self.distances(at) <= self.contact_distance], self.radius
+    def in_contact(self, at: tuple[float, float]) -> NDArray[np.float64]:
+        """The teammates in contact with this robot at ``at``: (k, 2) world points (m)."""
+        return self.positions[self.distances(at) <= self.contact_distance]
 
     def laser_filter(self) -> tuple[NDArray[np.float64], float] | None:
         """The discs (centres (k, 2) and radius, m) a scan's marks are dropped in; None if none."""
