@@ -5,8 +5,10 @@ frontier at the top of its own ranking, which it then drives to. Every robot exp
 for ``explore_period`` seconds, then drives to the meeting point; once all working robots are
 within ``meeting_radius`` of it or in contact with one already there (or the meeting is
 ``meeting_timeout`` late), the robots there
-merge their maps and the commander picks the next meeting point. Between meetings, robots share
-only when they happen to come within communication range.
+merge their maps and the commander picks the next meeting point. A robot whose way to the point
+ends short of it (its leg aborted, or the point lies beyond what its map lets it plan to) waits
+where it stands and merges only if it is within communication range of the group at the point.
+Between meetings, robots share only when they happen to come within communication range.
 """
 
 from __future__ import annotations
@@ -75,35 +77,47 @@ class RendezvousCycle:
             robot.drop_leg()
             robot.phase = Phase.TO_MEETING
             robot.leg = sim.go_to_steps(*point)
-        arrived = math.dist(robot.xy, point) <= config.meeting_radius or robot.leg is None or self._joined(robot)
-        if robot.phase is Phase.TO_MEETING and arrived:
+        if robot.phase is Phase.TO_MEETING and (
+            math.dist(robot.xy, point) <= config.meeting_radius or robot.leg is None or self._joined(robot)
+        ):  # there, or as close as its map lets it get, or at the group round the point
             robot.drop_leg()
             robot.phase = Phase.WAITING
         if robot.phase is Phase.WAITING:
             alive = self.team.alive
             late = sim.sim_time >= self.due + config.meeting_timeout
             if late or all(r.phase is Phase.WAITING for r in alive):
-                self._meet([r for r in alive if r.phase is Phase.WAITING])
+                self._meet(self._gathered(self.team.team.range_m))
             elif robot.leg is None:
                 robot.leg = sim.wait_steps()
 
     def _joined(self, robot: TeamRobot) -> bool:
-        """Whether ``robot`` is in contact with a robot waiting at the meeting: robots that gather
-        round the point stand in each other's way, so one that reaches the group has arrived."""
+        """Whether ``robot`` is in contact with a robot of the group waiting at the meeting: robots
+        that gather round the point stand in each other's way, so one that reaches the group has
+        arrived."""
         contact = robot.sim.nearby_robots.contact_distance
-        return any(
-            other.phase is Phase.WAITING and math.dist(robot.xy, other.xy) <= contact
-            for other in self.team.alive
-            if other is not robot
-        )
+        return any(math.dist(robot.xy, other.xy) <= contact for other in self._gathered(0.0) if other is not robot)
+
+    def _gathered(self, reach: float) -> list[TeamRobot]:
+        """The waiting robots at the meeting, in index order: those within ``meeting_radius`` of the
+        point, and by a chain of links those within ``reach`` (m) or in contact of one of them."""
+        assert self.point is not None
+        point = self.point
+        waiting = [r for r in self.team.alive if r.phase is Phase.WAITING]
+        if not waiting:
+            return []
+        link = max(reach, waiting[0].sim.nearby_robots.contact_distance)
+        group = [r for r in waiting if math.dist(r.xy, point) <= self.team.team.meeting_radius]
+        for member in group:  # grows while it is walked: a breadth-first closure
+            group += [r for r in waiting if r not in group and math.dist(r.xy, member.xy) <= link]
+        return sorted(group, key=lambda r: r.index)
 
     def _meet(self, present: list[TeamRobot]) -> None:
-        """The robots ``present`` merge their maps; everyone goes back to exploring."""
-        first = present[0]
+        """The robots ``present`` (none when a late meeting finds nobody at the point) merge their
+        maps; everyone goes back to exploring."""
         for other in present[1:]:
-            first.sim.mapper.merge_from(other.sim.mapper)
+            present[0].sim.mapper.merge_from(other.sim.mapper)
         for other in present[1:]:
-            other.sim.mapper.merge_from(first.sim.mapper)
+            other.sim.mapper.merge_from(present[0].sim.mapper)
         for robot in self.team.alive:
             robot.drop_leg()
             robot.sim.refresh()

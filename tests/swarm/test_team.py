@@ -27,6 +27,7 @@ from frontier_rl.swarm import (
     frontier_request,
     run_team_episode,
 )
+from frontier_rl.swarm.rendezvous import Phase
 from frontier_rl.swarm.result import overlap_share
 from frontier_rl.swarm.starts import team_starts
 from tests.core.sim.test_completion import slot_world
@@ -150,6 +151,29 @@ def test_the_rendezvous_cycle_meets_merges_and_repeats() -> None:
         if meetings == 0 and team.rendezvous.point is not None:
             assert team.rendezvous.due == pytest.approx(config.explore_period, abs=1.0)
     assert meetings >= 2 and team.done
+
+
+@pytest.mark.parametrize(("x", "merges"), [(10.0, False), (4.2, True)])
+def test_only_the_robots_at_the_meeting_merge(x: float, merges: bool) -> None:
+    """A robot whose way to the meeting point ended short waits where it stands; the meeting merges
+    it only if it is within communication range of the group at the point (before, every waiting
+    robot merged, wherever it stood)."""
+    world = room(40, length_cells=240)  # 12 m by 2 m
+    config = TeamConfig(robots=3, strategy=Strategy.RENDEZVOUS)
+    team = TeamSimulator(world, team=config, rng=np.random.default_rng(0))
+    cycle = team.rendezvous
+    assert cycle is not None
+    y = world.start.y
+    cycle.point, cycle.due = (1.0, y), 0.0
+    for robot, at in zip(team.robots, (1.0, 2.5, x), strict=True):  # robot 2 ended its way short of the point
+        robot.sim.advance(Pose(at, y, 0.0), 0.0, 0.0)
+        robot.phase = Phase.WAITING
+    lone = team.robots[2].sim.mapper.state.copy()
+    cycle.before_step(team.robots[0])
+    _, _, present = cycle.meetings[-1]
+    assert present == ((0, 1, 2) if merges else (0, 1))  # 3.2 m from the point, 1.7 m from robot 1: in range
+    assert np.array_equal(team.robots[2].sim.mapper.state, lone) is not merges
+    assert all(robot.phase is Phase.EXPLORE for robot in team.robots)
 
 
 def test_a_failed_robot_stops_and_the_others_finish() -> None:
