@@ -24,7 +24,7 @@ from frontier_rl.core.mapping.mapper import LogOddsMapper
 from frontier_rl.core.sim.config import SimConfig
 from frontier_rl.core.sim.episode import DecisionContext, Ranking, decision_context
 from frontier_rl.core.sim.episode_log import EndReason, completion_reason
-from frontier_rl.core.sim.metrics import FrontierLeft, time_to_coverage
+from frontier_rl.core.sim.metrics import FrontierLeft, time_to_coverage, unseen_area_m2
 from frontier_rl.core.sim.simulator import ExplorationSimulator
 from frontier_rl.core.world.grid import CellState, OccupancyGrid
 from frontier_rl.core.world.worlds import World
@@ -353,7 +353,7 @@ class TeamSimulator:
             wall_time_s=wall,
             end_reason=reason,
             free_coverage=self._free_coverage(),
-            unknown_left_m2=sum(f.unknown_m2 for f in left),
+            unknown_left_m2=unseen_area_m2(left, self.world.grid.resolution),
             coverage_times_s=times,
             coverage_curve=curve,
             trajectory=first.trajectory,

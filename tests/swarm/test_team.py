@@ -267,7 +267,8 @@ def test_a_frontier_both_robots_left_is_counted_once() -> None:
     result = run_team_episode(make_world(grid, "slot", start=start), NearestFrontier(), team=team, seed=0)
     keys = [(f.x, f.y, f.cells) for f in result.frontiers_left]
     assert result.end_reason == "unreachable" and keys and len(set(keys)) == len(keys), keys
-    assert result.unknown_left_m2 == pytest.approx(sum(f.unknown_m2 for f in result.frontiers_left))
+    unseen = np.unique(np.concatenate([f.unseen_cells for f in result.frontiers_left]))
+    assert result.unknown_left_m2 == pytest.approx(unseen.size * grid.resolution**2)
 
 
 @pytest.mark.parametrize("strategy", ["uncoordinated", "coordinated", "rendezvous"])

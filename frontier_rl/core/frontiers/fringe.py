@@ -133,16 +133,18 @@ def count_fringe(state: NDArray[np.int8], rows_idx: NDArray[np.int64], cols_idx:
 @nb.njit(cache=True)
 def unknown_beside(
     state: NDArray[np.int8], rows_idx: NDArray[np.int64], cols_idx: NDArray[np.int64], truth: NDArray[np.int8]
-) -> tuple[int, int]:
+) -> tuple[int, NDArray[np.int64]]:
     """How many UNKNOWN cells of ``state`` are 8-neighbours of the given cells (each counted
-    once), and how many of those are FREE in ``truth`` (a grid of the same shape)."""
+    once), and the flat indices (row-major in ``state``) of those that are FREE in ``truth`` (a
+    grid of the same shape), in the order found."""
     rows, cols = state.shape
     counted = set()
-    free = 0
+    free = []
     for i in range(rows_idx.shape[0]):
         for k in range(8):
             r, c = rows_idx[i] + NEIGHBOURS_8[k, 0], cols_idx[i] + NEIGHBOURS_8[k, 1]
             if 0 <= r < rows and 0 <= c < cols and state[r, c] == _UNKNOWN and r * cols + c not in counted:
                 counted.add(r * cols + c)
-                free += truth[r, c] == _FREE
-    return len(counted), free
+                if truth[r, c] == _FREE:
+                    free.append(r * cols + c)
+    return len(counted), np.array(free, dtype=np.int64)

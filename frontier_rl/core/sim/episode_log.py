@@ -11,7 +11,7 @@ from numpy.typing import NDArray
 
 from frontier_rl.core.sim.config import UNSEEN_ROOM_M2
 from frontier_rl.core.sim.leg import LegResult
-from frontier_rl.core.sim.metrics import DecisionRecord, EpisodeResult, FrontierLeft, time_to_coverage
+from frontier_rl.core.sim.metrics import DecisionRecord, EpisodeResult, FrontierLeft, time_to_coverage, unseen_area_m2
 from frontier_rl.core.world.grid import OccupancyGrid
 from frontier_rl.core.world.robot import Pose
 
@@ -104,7 +104,7 @@ class EpisodeLog:
             wall_time_s=wall_time_s,
             end_reason=None if reason is None else reason.value,
             free_coverage=free_coverage,
-            unknown_left_m2=sum(f.unknown_m2 for f in left),
+            unknown_left_m2=unseen_area_m2(left, final_map.resolution),
             coverage_times_s=times,
             coverage_curve=curve,
             coverage_path_m=np.asarray(self._paths, dtype=np.float64),

@@ -83,8 +83,10 @@ def frontiers_left(
             x, y = (float(v) for v in frontiers.centers[i])
             failures = max((blacklist.failures_near(*g) for g in cand.grid.cells_to_world(cells)), default=0)
             unknown, unseen = unknown_beside(cand.grid.data, cells[:, 0], cells[:, 1], truth)
-            left.append(FrontierLeft(x, y, int(frontiers.sizes[i]), unknown, unseen, unseen * res * res, failures,
-                                     behind_m2))  # fmt: skip
+            rows, cols = np.divmod(unseen, cand.grid.width)
+            in_world = (rows + top) * truth_grid.width + cols + left_col
+            left.append(FrontierLeft(x, y, int(frontiers.sizes[i]), unknown, unseen.size, unseen.size * res * res,
+                                     failures, behind_m2, in_world))  # fmt: skip
     return tuple(left)
 
 

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+from collections.abc import Sequence
 from dataclasses import dataclass, field
 from typing import Any
 
@@ -48,6 +49,8 @@ class FrontierLeft:
             behind a gap narrower than the robot).
         unseen_behind_m2: the unseen free region its unseen free cells open onto (m²): the cells
             unknown in the map and free in the true world, 4-connected to them.
+        unseen_cells: the unseen free cells' flat indices in the world's grid (row-major), so that
+            a cell beside two frontiers is counted once in an episode's ``unknown_left_m2``.
     """
 
     x: float
@@ -58,6 +61,7 @@ class FrontierLeft:
     unknown_m2: float
     failures: int
     unseen_behind_m2: float
+    unseen_cells: NDArray[np.int64] = field(repr=False, compare=False, default_factory=lambda: np.zeros(0, np.int64))
 
     def summary(self) -> dict[str, Any]:
         """A JSON-ready dict."""
@@ -71,6 +75,16 @@ class FrontierLeft:
             "failures": self.failures,
             "unseen_behind_m2": round(self.unseen_behind_m2, 4),
         }
+
+
+def unseen_area_m2(left: Sequence[FrontierLeft], resolution: float) -> float:
+    """The unseen free area (m²) beside the frontiers ``left`` (of maps on one world grid with
+    ``resolution`` m cells), each cell once: segments of one frontier, or one frontier in two
+    robots' maps, border the same cells."""
+    if not left:
+        return 0.0
+    cells = np.unique(np.concatenate([f.unseen_cells for f in left]))
+    return float(cells.size * resolution * resolution)
 
 
 @dataclass(frozen=True)
@@ -94,7 +108,8 @@ class EpisodeResult:
         free_coverage: share of all the world's free cells (connected to the start) that are
             mapped, explorable or not.
         unknown_left_m2: the unseen free area (m²) beside the frontiers left: free in the true
-            world, unknown in the map.
+            world, unknown in the map; a cell beside several of them counted once
+            (:func:`unseen_area_m2`).
         coverage_times_s, coverage_curve: coverage after every map update, and when (s).
         coverage_path_m: the distance driven (m) by each map update of ``coverage_curve`` (a
             single robot's episode; None for a team).

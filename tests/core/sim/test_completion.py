@@ -22,6 +22,7 @@ from frontier_rl.core.world.worlds import make_world
 from frontier_rl.errors import MapError
 from frontier_rl.io import load_map
 from frontier_rl.policies import make_policy
+from tests.evaluation.maps import write_slit_map
 
 FREE, OCC, UNKNOWN = (np.int8(v) for v in (CellState.FREE, CellState.OCCUPIED, CellState.UNKNOWN))
 RES = 0.05
@@ -339,3 +340,19 @@ def test_the_warehouse_case_keeps_exploring(shared_maps: Path) -> None:
     result = run_episode(world, make_policy("nearest"), SimConfig(max_sim_time=300.0), seed=0)
     assert result.end_reason == "time_cap" and result.coverage > 0.05, result.summary()
     assert math.isclose(result.sim_time_s, 300.0)
+
+
+def test_an_unseen_cell_beside_two_frontiers_counts_once(tmp_path: Path) -> None:
+    """The frontier segments beside a slit share unknown cells: the unseen area left was their sum
+    (0.1225 m² where 0.12 m² is unseen)."""
+    world = load_map(write_slit_map(tmp_path))
+    result = run_episode(make_world(world.grid, "slit", start=Pose(1.0, 1.0, 0.0)), make_policy("nearest"), seed=0)
+    left = result.frontiers_left
+    cells = np.concatenate([f.unseen_cells for f in left])
+    assert result.end_reason == "unreachable" and np.unique(cells).size < cells.size  # shared cells
+    assert result.unknown_left_m2 == pytest.approx(np.unique(cells).size * 0.05**2)
+    assert result.unknown_left_m2 < sum(f.unknown_m2 for f in left)
+    assert result.final_map is not None and result.final_map.shape == world.grid.shape
+    rows, cols = np.divmod(cells, world.grid.width)  # the world's cells: free there, unknown in the map
+    assert (world.grid.data[rows, cols] == CellState.FREE).all()
+    assert (result.final_map.data[rows, cols] == CellState.UNKNOWN).all()
