@@ -8,7 +8,8 @@ within ``meeting_radius`` of it or in contact with one already there (or the mee
 merge their maps and the commander picks the next meeting point. A robot whose way to the point
 ends short of it (its leg aborted, or the point lies beyond what its map lets it plan to) waits
 where it stands and merges only if it is within communication range of the group at the point.
-Between meetings, robots share only when they happen to come within communication range.
+Between meetings, robots share only when they happen to come within communication range. A robot
+left alone (a team of one, or the others failed) explores as a single robot does.
 """
 
 from __future__ import annotations
@@ -48,7 +49,7 @@ class RendezvousCycle:
     def commander_to_decide(self) -> TeamRobot | None:
         """The commander, when it must pick the next meeting point now (before anyone else moves)."""
         commander = self.commander
-        if not self.needs_point or commander is None or commander.leg is not None:
+        if self._over() or not self.needs_point or commander is None or commander.leg is not None:
             return None
         if len(commander.sim.frontiers()) == 0:  # nothing left on its map: meet where it stands
             self._set_point(commander.xy, commander.sim.sim_time)
@@ -68,6 +69,11 @@ class RendezvousCycle:
 
     def before_step(self, robot: TeamRobot) -> None:
         """Move ``robot`` on in the cycle before its next step (and hold the meeting when due)."""
+        if self._over():
+            if robot.phase is not Phase.EXPLORE:  # on its way to a meeting, or waiting at one
+                robot.drop_leg()
+                robot.phase = Phase.EXPLORE
+            return
         point = self.point
         if point is None:
             return
@@ -89,6 +95,14 @@ class RendezvousCycle:
                 self._meet(self._gathered(self.team.team.range_m))
             elif robot.leg is None:
                 robot.leg = sim.wait_steps()
+
+    def _over(self) -> bool:
+        """Whether the cycle has ended for good: at most one robot works, with no one to meet (it
+        then ends it: no meeting point, none to pick)."""
+        if len(self.team.alive) > 1:
+            return False
+        self.point, self.due, self.needs_point = None, math.inf, False
+        return True
 
     def _joined(self, robot: TeamRobot) -> bool:
         """Whether ``robot`` is in contact with a robot of the group waiting at the meeting: robots

@@ -47,9 +47,13 @@ def team_episode(seed: int, robots: int, strategy: str, failures: tuple[Failure,
     return run_team_episode(office(seed), POLICY, team=team, seed=seed)
 
 
-def test_a_one_robot_team_explores_exactly_as_the_single_robot() -> None:
+@pytest.mark.parametrize("strategy", ["uncoordinated", "coordinated", "rendezvous"])
+def test_a_one_robot_team_explores_exactly_as_the_single_robot(strategy: str) -> None:
+    """With rendezvous too: a lone robot drove to its own meeting points (rooms seed 2: 431.6 s
+    against 392.2 s alone)."""
     single = run_episode(office(3), NearestFrontier(), seed=3)
-    team = run_team_episode(office(3), NearestFrontier(), team=TeamConfig(robots=1), seed=3)
+    alone = TeamConfig(robots=1, strategy=Strategy(strategy))
+    team = run_team_episode(office(3), NearestFrontier(), team=alone, seed=3)
     assert np.array_equal(single.trajectory, team.trajectory)
     assert team.sim_time_s == single.sim_time_s and team.coverage == single.coverage
     assert team.robots == 1 and team.overlap == 0.0
@@ -174,6 +178,20 @@ def test_only_the_robots_at_the_meeting_merge(x: float, merges: bool) -> None:
     assert present == ((0, 1, 2) if merges else (0, 1))  # 3.2 m from the point, 1.7 m from robot 1: in range
     assert np.array_equal(team.robots[2].sim.mapper.state, lone) is not merges
     assert all(robot.phase is Phase.EXPLORE for robot in team.robots)
+
+
+def test_a_rendezvous_robot_left_alone_stops_meeting() -> None:
+    """Once its teammate has failed, the commander no longer drives to meeting points (alone it did,
+    for nothing)."""
+    config = TeamConfig(robots=2, strategy=Strategy.RENDEZVOUS, explore_period=40.0, failures=(Failure(1, 30.0),))
+    team = TeamSimulator(office(2), team=config, rng=np.random.default_rng(2))
+    assert team.rendezvous is not None
+    rng = np.random.default_rng(0)
+    while (index := team.next_decision()) is not None:
+        assert team.robots[0].phase is Phase.EXPLORE or team.robots[1].failed_at is None
+        team.assign(index, POLICY.rank(team.context(index), rng))
+    assert team.robots[1].failed_at is not None and team.done
+    assert team.rendezvous.point is None and not team.rendezvous.meetings  # the first meeting was due at 40 s
 
 
 def test_a_failed_robot_stops_and_the_others_finish() -> None:
