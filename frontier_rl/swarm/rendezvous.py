@@ -49,7 +49,7 @@ class RendezvousCycle:
     def commander_to_decide(self) -> TeamRobot | None:
         """The commander, when it must pick the next meeting point now (before anyone else moves)."""
         commander = self.commander
-        if self._over() or not self.needs_point or commander is None or commander.leg is not None:
+        if self._end_if_alone() or not self.needs_point or commander is None or commander.leg is not None:
             return None
         if len(commander.sim.frontiers()) == 0:  # nothing left on its map: meet where it stands
             self._set_point(commander.xy, commander.sim.sim_time)
@@ -69,7 +69,7 @@ class RendezvousCycle:
 
     def before_step(self, robot: TeamRobot) -> None:
         """Move ``robot`` on in the cycle before its next step (and hold the meeting when due)."""
-        if self._over():
+        if self._end_if_alone():
             if robot.phase is not Phase.EXPLORE:  # on its way to a meeting, or waiting at one
                 robot.drop_leg()
                 robot.phase = Phase.EXPLORE
@@ -96,9 +96,9 @@ class RendezvousCycle:
             elif robot.leg is None:
                 robot.leg = sim.wait_steps()
 
-    def _over(self) -> bool:
-        """Whether the cycle has ended for good: at most one robot works, with no one to meet (it
-        then ends it: no meeting point, none to pick)."""
+    def _end_if_alone(self) -> bool:
+        """End the cycle for good when at most one robot works (no one to meet: no meeting point,
+        none to pick); whether it has ended."""
         if len(self.team.alive) > 1:
             return False
         self.point, self.due, self.needs_point = None, math.inf, False

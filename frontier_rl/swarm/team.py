@@ -372,14 +372,16 @@ class TeamSimulator:
 
     def _frontiers_left(self) -> tuple[FrontierLeft, ...]:
         """The frontiers the surviving robots ended without exploring (none before the end), each
-        once: robots that shared their maps see the same frontier, and counting it once per robot
-        doubled the unseen area reported."""
+        once (robots that shared their maps see the same frontier), with the space unseen by the
+        whole team beside and behind it: a robot's frontier whose cells a teammate mapped after their
+        last share is no space left."""
         if not self._done:
             return ()
         left: dict[tuple[float, float, int], FrontierLeft] = {}
         for robot in self.alive:
-            for frontier in robot.sim.frontiers_left():
-                left.setdefault((frontier.x, frontier.y, frontier.cells), frontier)
+            for frontier in robot.sim.frontiers_left(self._known):
+                if frontier.unknown_cells:  # else a teammate saw all round it
+                    left.setdefault((frontier.x, frontier.y, frontier.cells), frontier)
         return tuple(left.values())
 
     def _end_reason(self, left: tuple[FrontierLeft, ...]) -> str | None:

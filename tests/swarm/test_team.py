@@ -222,6 +222,19 @@ def test_a_failed_robot_is_mapped_where_it_stands() -> None:
     assert result.failed_at_s[1] is not None and result.end_reason == "explored", result.frontiers_left
 
 
+def test_space_a_teammate_mapped_is_not_left_unseen() -> None:
+    """Robot 0 gave up on a frontier whose unseen cells robot 2 mapped after their last meeting
+    (they share nothing between meetings): the team's episode ended ``unreachable`` with 0.0575 m²
+    left "unseen" that the team knew, each robot's frontiers judged on its own map alone."""
+    team = TeamConfig(robots=3, strategy=Strategy.RENDEZVOUS, comm_range=0.0, failures=(Failure(1, 60.0),))
+    result = run_team_episode(generate_world("cave", 0), NearestFrontier(), team=team, seed=0)
+    assert result.end_reason == "explored" and result.unknown_left_m2 == 0.0
+    assert result.team_map is not None
+    for frontier in result.frontiers_left:  # what is left is unseen by every robot
+        assert frontier.unknown_cells > 0
+        assert (result.team_map.data.ravel()[frontier.unseen_cells] == CellState.UNKNOWN).all()
+
+
 def test_random_failures_are_seeded() -> None:
     team = TeamConfig(robots=3, failures=(Failure(None, None),), random_failure_horizon=100.0)
     draws = [TeamSimulator(office(0), team=team, rng=np.random.default_rng(s)) for s in (7, 7, 8)]

@@ -67,6 +67,8 @@ def frontiers_left(
     top, left_col = truth_grid.world_to_cell(*cand.grid.cell_to_world(0, 0))
     truth = truth_grid.data[top : top + cand.grid.height, left_col : left_col + cand.grid.width]
     regions = UnseenRegions.of(map_state, truth_grid.data)
+    state = map_state[top : top + cand.grid.height, left_col : left_col + cand.grid.width]
+    beside = np.where(state == CellState.UNKNOWN, cand.grid.data, np.int8(CellState.FREE))  # unseen in both
     candidate_cells = np.zeros(cand.grid.shape[0] * cand.grid.shape[1], np.bool_)
     for start, end in cand.frontiers.spans:
         candidate_cells[cand.frontiers.flat_cells[start:end]] = True
@@ -82,7 +84,7 @@ def frontiers_left(
                 continue
             x, y = (float(v) for v in frontiers.centers[i])
             failures = max((blacklist.failures_near(*g) for g in cand.grid.cells_to_world(cells)), default=0)
-            unknown, unseen = unknown_beside(cand.grid.data, cells[:, 0], cells[:, 1], truth)
+            unknown, unseen = unknown_beside(beside, cells[:, 0], cells[:, 1], truth)
             rows, cols = np.divmod(unseen, cand.grid.width)
             in_world = (rows + top) * truth_grid.width + cols + left_col
             left.append(FrontierLeft(x, y, int(frontiers.sizes[i]), unknown, unseen.size, unseen.size * res * res,

@@ -41,7 +41,8 @@ class FrontierLeft:
     Attributes:
         x, y: its centre (m).
         cells: its fringe cells.
-        unknown_cells: the unknown cells next to its cells (8-neighbours).
+        unknown_cells: the unknown cells next to its cells (8-neighbours; in a team, unknown to
+            every surviving robot).
         unseen_free_cells: those of them that are free in the true world: space left unseen (the
             others are walls no beam reached, or noise).
         unknown_m2: the area of the unseen free cells (m²).

@@ -131,9 +131,9 @@ class ExplorationSimulator:
             return None
         return completion_reason(self.frontiers_left(), self.config.speck_cells(self.world.grid.resolution))
 
-    def frontiers_left(self) -> tuple[FrontierLeft, ...]:
-        """The frontiers that are not candidates, with the unseen space beside and behind each."""
-        state = self.mapper.state
+    def frontiers_left(self, known: NDArray[np.bool_] | None = None) -> tuple[FrontierLeft, ...]:
+        """The frontiers not candidates, with the unseen space beside and behind each (``known``: what a team saw)."""
+        state = self.mapper.state if known is None else np.where(known, CellState.FREE, self.mapper.state)
         return frontiers_left(self.candidates(), self.world.grid, self.pose, self.config, self.blacklist, state)
 
     def trajectory(self) -> NDArray[np.float64]:
