@@ -371,11 +371,11 @@ class TeamSimulator:
         )
 
     def _frontiers_left(self) -> tuple[FrontierLeft, ...]:
-        """The frontiers the surviving robots ended without exploring (none before the end), each
+        """The frontiers the surviving robots left at the end or the time cap (none before), each
         once (robots that shared their maps see the same frontier), with the space unseen by the
         whole team beside and behind it: a robot's frontier whose cells a teammate mapped after their
         last share is no space left."""
-        if not self._done:
+        if not (self._done or self.truncated):
             return ()
         left: dict[tuple[float, float, int], FrontierLeft] = {}
         for robot in self.alive:

@@ -10,6 +10,7 @@ import numpy as np
 import pytest
 from scipy import ndimage
 
+from frontier_rl.core.sim.config import SimConfig
 from frontier_rl.core.sim.episode import run_episode
 from frontier_rl.core.sim.simulator import ExplorationSimulator
 from frontier_rl.core.world.catalog import generate_world
@@ -56,6 +57,17 @@ def test_a_one_robot_team_explores_exactly_as_the_single_robot(strategy: str) ->
     team = run_team_episode(office(3), NearestFrontier(), team=alone, seed=3)
     assert np.array_equal(single.trajectory, team.trajectory)
     assert team.sim_time_s == single.sim_time_s and team.coverage == single.coverage
+
+
+@pytest.mark.parametrize("strategy", ["coordinated", "rendezvous"])
+def test_a_team_cut_off_by_the_time_cap_lists_what_it_left(strategy: str) -> None:
+    """As one robot's episode does: a team at the cap reported nothing left to explore."""
+    config = SimConfig(max_sim_time=60.0)
+    single = run_episode(office(3), NearestFrontier(), config, seed=3)
+    team = run_team_episode(office(3), NearestFrontier(), config, TeamConfig(robots=1, strategy=Strategy(strategy)), 3)
+    assert single.end_reason == team.end_reason == "time_cap" and single.frontiers_left
+    assert [f.summary() for f in team.frontiers_left] == [f.summary() for f in single.frontiers_left]
+    assert team.unknown_left_m2 == single.unknown_left_m2 > 0
     assert team.robots == 1 and team.overlap == 0.0
 
 
