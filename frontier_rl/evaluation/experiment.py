@@ -55,7 +55,9 @@ class ExperimentConfig:
         trust_model: admit SB3 zips from elsewhere for ``learned:`` methods (unpickles them).
         comm_range: communication range (m) of the team methods (``POLICY@N[:STRATEGY]``); None:
             the strategy's default.
-        failures: robot failures in every team method's episodes.
+        failures: robot failures in every team method's episodes, kept in one order (by robot,
+            then time; random ones last) so that the same failures given in another order are the
+            same experiment.
     """
 
     methods: tuple[str, ...]
@@ -72,6 +74,8 @@ class ExperimentConfig:
     def __post_init__(self) -> None:
         if not self.methods:
             raise ConfigError("an experiment needs at least one method")
+        order = sorted(self.failures, key=lambda f: (f.robot is None, f.robot or 0, f.time_s is None, f.time_s or 0.0))
+        object.__setattr__(self, "failures", tuple(order))  # frozen: set once, here
         canonical = [str(TeamMethod.parse(m)) for m in self.methods]
         if len(set(canonical)) != len(canonical):
             raise ConfigError(f"methods are listed twice: {', '.join(self.methods)}")
@@ -314,7 +318,13 @@ def _thin_curve(times: np.ndarray, curve: np.ndarray, end: float) -> tuple[list[
 
 def team_methods(methods: list[str], robots: list[int], strategies: list[Strategy]) -> list[str]:
     """Every method run by every team size (a size of 1 is the method alone) and, above 1, every
-    strategy; methods already written as POLICY@N[:STRATEGY] are kept as they are."""
+    strategy; methods already written as POLICY@N[:STRATEGY] are kept as they are.
+
+    Raises:
+        ConfigError: a team size out of range, or teams and no strategy (``--strategy ''``).
+    """
+    if not strategies and any(n > 1 for n in robots):
+        raise ConfigError("--strategy names no strategy for the teams of --robots")
     out: list[str] = []
     for method in methods:
         if TeamMethod.parse(method).robots is not None:
@@ -324,7 +334,7 @@ def team_methods(methods: list[str], robots: list[int], strategies: list[Strateg
             if n == 1:
                 out.append(method)
             else:
-                out += [str(TeamMethod(method, n, s)) for s in strategies or [Strategy.UNCOORDINATED]]
+                out += [str(TeamMethod(method, n, s)) for s in strategies]
     for n in robots:
         TeamConfig(robots=n)  # a size out of range fails here, named
     return list(dict.fromkeys(out))

@@ -24,6 +24,14 @@ def _config(methods: tuple[str, ...], **kw: object) -> ExperimentConfig:
     return ExperimentConfig(methods=methods, worlds=("office",), episodes=2, sim=SHORT, **kw)  # type: ignore[arg-type]
 
 
+def test_the_same_failures_in_another_order_are_the_same_experiment() -> None:
+    """A resume refused the folder of ``--fail 0@5 --fail 1@5`` when given ``--fail 1@5 --fail 0@5``."""
+    given = (Failure(2, 5.0), Failure(None, None), Failure(0, 7.0), Failure(None, 3.0))
+    configs = [_config(("fixed:0.75", "nearest@4"), failures=order) for order in (given, given[::-1])]
+    assert configs[0] == configs[1]
+    assert [str(f) for f in configs[0].failures] == ["0@7", "2@5", "random@3", "random@random"]
+
+
 def test_team_methods_expand_every_size_and_strategy() -> None:
     out = team_methods(["fixed:0.75", "nearest@3"], [1, 2], [Strategy.UNCOORDINATED, Strategy.COORDINATED])
     assert out == ["fixed:0.75", "fixed:0.75@2", "fixed:0.75@2:coordinated", "nearest@3"]
@@ -84,6 +92,7 @@ def test_a_team_experiment_reports_time_against_team_size(tmp_path: Path) -> Non
         (["--robots", "2", "--strategy", "swarm"], "swarm"),
         (["--robots", "2", "--comm-range", "-2"], "-2"),
         (["--robots", "2", "--fail", "3@10"], "robot 3"),
+        (["--robots", "1,2", "--strategy", ""], "--strategy"),  # ran uncoordinated teams, unasked
     ],
 )
 def test_bad_team_options_are_one_line(tmp_path: Path, args: list[str], needle: str) -> None:
