@@ -83,7 +83,8 @@ class TeamConfig:
             is that teammate's; a robot takes it only when no other is left.
         coordination_range: coordination: a teammate's goal lowers the utility of frontiers up to
             this far (m) from it, linearly (Burgard et al.'s P(d) = 1 - d / range).
-        start_spacing: distance (m) between neighbouring robots' start positions.
+        start_spacing: distance (m) between neighbouring robots' start positions; None: 0.5 m, or
+            a robot's diameter and 0.1 m more where that is larger (:meth:`spacing_for`).
         random_failure_horizon: random failure times are drawn in [0, this] (s).
     """
 
@@ -96,7 +97,7 @@ class TeamConfig:
     meeting_timeout: float = 120.0
     claim_radius: float = 1.0
     coordination_range: float = 3.0
-    start_spacing: float = 0.5
+    start_spacing: float | None = None
     random_failure_horizon: float = 300.0
 
     def __post_init__(self) -> None:
@@ -109,7 +110,7 @@ class TeamConfig:
         for name in ("explore_period", "meeting_radius", "meeting_timeout", "claim_radius", "coordination_range",
                      "start_spacing", "random_failure_horizon"):  # fmt: skip
             value = getattr(self, name)
-            if not (math.isfinite(value) and value > 0):
+            if value is not None and not (math.isfinite(value) and value > 0):
                 raise ConfigError(f"TeamConfig.{name} must be a positive number, got {value!r}")
         for failure in self.failures:
             if failure.robot is not None and failure.robot >= self.robots:
@@ -121,6 +122,12 @@ class TeamConfig:
             raise ConfigError(f"a robot can fail only once, got failures {', '.join(map(str, self.failures))}")
         if len(self.failures) > self.robots:
             raise ConfigError(f"{len(self.failures)} failures for a team of {self.robots}")
+
+    def spacing_for(self, radius: float) -> float:
+        """The start spacing (m) of robots of ``radius`` (m): ``start_spacing`` when set."""
+        if self.start_spacing is not None:
+            return self.start_spacing
+        return max(0.5, 2.0 * radius + 0.1)  # a fixed 0.5 m left no team of robots 0.5 m across or more
 
     @property
     def range_m(self) -> float:

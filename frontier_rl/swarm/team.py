@@ -100,7 +100,7 @@ class TeamSimulator:
         self.team = team or TeamConfig()
         rng = rng if rng is not None else np.random.default_rng(0)
         n = self.team.robots
-        starts = team_starts(world, n, self.config.robot.radius, self.team.start_spacing)
+        starts = team_starts(world, n, self.config.robot.radius, self.team.spacing_for(self.config.robot.radius))
         streams = [rng, *rng.spawn(n - 1)]
         xy = np.array([(pose.x, pose.y) for pose in starts])
         self.robots = [

@@ -15,7 +15,7 @@ from frontier_rl.core.sim.episode import run_episode
 from frontier_rl.core.sim.simulator import ExplorationSimulator
 from frontier_rl.core.world.catalog import generate_world
 from frontier_rl.core.world.grid import CellState, OccupancyGrid
-from frontier_rl.core.world.robot import Pose
+from frontier_rl.core.world.robot import Pose, RobotConfig
 from frontier_rl.core.world.worlds import World, make_world
 from frontier_rl.errors import ConfigError
 from frontier_rl.policies import FixedWeight, NearestFrontier
@@ -245,6 +245,17 @@ def test_space_a_teammate_mapped_is_not_left_unseen() -> None:
     for frontier in result.frontiers_left:  # what is left is unseen by every robot
         assert frontier.unknown_cells > 0
         assert (result.team_map.data.ravel()[frontier.unseen_cells] == CellState.UNKNOWN).all()
+
+
+def test_robots_wider_than_the_default_spacing_start_side_by_side() -> None:
+    """A team of robots 0.6 m across could not start: the start spacing was 0.5 m, fixed."""
+    config = SimConfig(robot=RobotConfig(radius=0.3))
+    team = TeamSimulator(generate_world("rooms", 0), config, TeamConfig(robots=3), np.random.default_rng(0))
+    xy = [robot.xy for robot in team.robots]
+    assert min(math.dist(a, b) for i, a in enumerate(xy) for b in xy[i + 1 :]) >= 0.7 - 1e-9
+    assert TeamConfig().spacing_for(SimConfig().robot.radius) == 0.5  # the TurtleBot's teams start as before
+    with pytest.raises(ConfigError, match="diameter"):  # a spacing asked for is kept, and checked
+        TeamSimulator(generate_world("rooms", 0), config, TeamConfig(robots=3, start_spacing=0.5))
 
 
 def test_random_failures_are_seeded() -> None:
