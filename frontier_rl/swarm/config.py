@@ -146,7 +146,7 @@ def parse_strategy(text: str) -> Strategy:
         raise ConfigError(f"unknown strategy {text!r}: choose one of {names}") from None
 
 
-_TEAM_SUFFIX = re.compile(r"^(?P<policy>.+)@(?P<robots>\d+)(?::(?P<strategy>[a-z]+))?$")
+_TEAM_SUFFIX = re.compile(r"^(?P<policy>.+)@(?P<robots>\d+)(?::(?P<strategy>[a-zA-Z]+))?$")
 
 
 @dataclass(frozen=True)
@@ -168,6 +168,8 @@ class TeamMethod:
         if match is None:
             return cls(method.strip())
         robots = int(match["robots"])
+        if _TEAM_SUFFIX.match(match["policy"]):  # else "unknown policy 'nearest@2'" for nearest@2@3
+            raise ConfigError(f"method {method!r} names two team sizes; write POLICY@N[:STRATEGY]")
         if not 1 <= robots <= MAX_ROBOTS:
             raise ConfigError(f"method {method!r}: a team has 1 to {MAX_ROBOTS} robots, got {robots}")
         strategy = parse_strategy(match["strategy"]) if match["strategy"] else Strategy.UNCOORDINATED

@@ -36,6 +36,10 @@ def test_team_methods_expand_every_size_and_strategy() -> None:
     out = team_methods(["fixed:0.75", "nearest@3"], [1, 2], [Strategy.UNCOORDINATED, Strategy.COORDINATED])
     assert out == ["fixed:0.75", "fixed:0.75@2", "fixed:0.75@2:coordinated", "nearest@3"]
     assert str(TeamMethod.parse("nearest@2:uncoordinated")) == "nearest@2"
+    assert str(TeamMethod.parse("nearest@2:Rendezvous")) == "nearest@2:rendezvous"  # as --strategy takes it
+    with pytest.raises(ConfigError, match="'nearest@2@3' names two team sizes"):  # not "unknown policy 'nearest@2'"
+        TeamMethod.parse("nearest@2@3")
+    assert TeamMethod.parse("learned:runs/a@2.zip@3").policy == "learned:runs/a@2.zip"  # an @ in a path
 
 
 @pytest.mark.parametrize(
