@@ -126,15 +126,37 @@ class OneLineGroup(TyperGroup):
             except _CLICK_EXCEPTION as exc:
                 code = int(getattr(exc, "exit_code", 2))
                 if type(exc).__name__ != "NoArgsIsHelpError":  # for that one typer has printed the help
-                    command = getattr(getattr(exc, "ctx", None), "command_path", None)
-                    hint = f" (see '{command} --help')" if command else ""
-                    print_error(f"{getattr(exc, 'format_message', exc.__str__)()}{hint}")
+                    print_error(_usage_message(exc, sys.argv[1:] if args is None else args))
             except typer.Abort:
                 print_error("aborted")
                 code = 1
         if code == 0:
             _print_warnings(caught)
         sys.exit(code)
+
+
+def _usage_message(exc: Exception, args: Sequence[str]) -> str:
+    """A usage error's message, with the value given where it names none (typer's "not a valid
+    integer" names only the option) and where to find the command's help."""
+    message = getattr(exc, "format_message", exc.__str__)()
+    given = _given(args, getattr(getattr(exc, "param", None), "opts", []))
+    if given is not None and given not in message:
+        message += f", got {short_repr(given)}"
+    command = getattr(getattr(exc, "ctx", None), "command_path", None)
+    return f"{message} (see '{command} --help')" if command else message
+
+
+def _given(args: Sequence[str], options: Sequence[str]) -> str | None:
+    """The value the command line gave last to one of ``options`` (``--opt VALUE`` or
+    ``--opt=VALUE``), if any."""
+    given = None
+    for i, arg in enumerate(args):
+        for option in options:
+            if arg == option and i + 1 < len(args):
+                given = args[i + 1]
+            elif arg.startswith(f"{option}="):
+                given = arg[len(option) + 1 :]
+    return given
 
 
 def friendly_errors(func: F) -> F:
