@@ -10,14 +10,12 @@ from __future__ import annotations
 import builtins
 import multiprocessing
 import os
-import signal
 import socket
 import threading
 import time
 import warnings
 from collections.abc import Callable, Iterator
 from concurrent.futures import FIRST_COMPLETED, ProcessPoolExecutor, wait
-from contextlib import contextmanager
 from typing import Any
 
 from frontier_rl.errors import ConfigError, FrontierRLError
@@ -171,46 +169,18 @@ def spawn_pool(workers: int) -> ProcessPoolExecutor:
 
 
 def _process_pool(jobs: list[EpisodeJob], settings: EpisodeSettings, workers: int) -> Iterator[tuple[EpisodeJob, Any]]:
-    """The episodes in a pool of worker processes, which never see Ctrl-C (it reaches the whole
-    process group: a worker interrupted while it started printed a traceback) and which this
-    process stops itself when it is interrupted or its caller stops (shutting the pool down and
-    waiting for it could hang, a worker left waiting for work)."""
-    pool = spawn_pool(min(workers, len(jobs)))
-    try:
-        with _ctrl_c_held():  # the workers are spawned as the jobs are submitted
-            pending = {pool.submit(run_job_catching_warnings, job, settings): job for job in jobs}
-        while pending:
-            finished, _ = wait(pending, return_when=FIRST_COMPLETED)
-            for future in finished:
-                job = pending.pop(future)
-                exc = future.exception()
-                yield job, exc if exc is not None else _warn_again(future.result())
-    except BaseException:
-        _stop(pool)
-        raise
-    finally:
-        pool.shutdown(wait=True, cancel_futures=True)  # returns at once after _stop
-
-
-@contextmanager
-def _ctrl_c_held() -> Iterator[None]:
-    """SIGINT blocked in this thread meanwhile, and for good in the processes it spawns (a child
-    keeps its parent's signal mask); here a Ctrl-C that came meanwhile is delivered after."""
-    signal.pthread_sigmask(signal.SIG_BLOCK, {signal.SIGINT})
-    try:
-        yield
-    finally:
-        signal.pthread_sigmask(signal.SIG_UNBLOCK, {signal.SIGINT})
-
-
-def _stop(pool: ProcessPoolExecutor) -> None:
-    """Cancel the pool's queued episodes and end its workers, the running episodes with them."""
-    processes = list((pool._processes or {}).values())  # no public way to end running work
-    pool.shutdown(wait=False, cancel_futures=True)
-    for process in processes:
-        process.terminate()
-    for process in processes:
-        process.join(timeout=5)
+    with spawn_pool(min(workers, len(jobs))) as pool:
+        pending = {pool.submit(run_job_catching_warnings, job, settings): job for job in jobs}
+        try:
+            while pending:
+                finished, _ = wait(pending, return_when=FIRST_COMPLETED)
+                for future in finished:
+                    job = pending.pop(future)
+                    exc = future.exception()
+                    yield job, exc if exc is not None else _warn_again(future.result())
+        finally:
+            for future in pending:
+                future.cancel()
 
 
 def _ray_tasks(

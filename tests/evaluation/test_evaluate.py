@@ -231,41 +231,6 @@ def test_resume_after_sigkill_ends_with_the_uninterrupted_table(
     assert (killed / "traces.jsonl").read_bytes() == (uninterrupted / "traces.jsonl").read_bytes()
 
 
-def _ctrl_c_as_in_a_terminal() -> None:
-    """A child's SIGINT as a shell gives it, whatever this test process holds (a child inherits an
-    ignored or blocked signal)."""
-    signal.signal(signal.SIGINT, signal.SIG_DFL)
-    signal.pthread_sigmask(signal.SIG_UNBLOCK, {signal.SIGINT})
-
-
-def test_ctrl_c_ends_the_run_with_one_line_and_its_workers(tmp_path: Path) -> None:
-    """Ctrl-C reaches the whole process group: workers interrupted while starting printed
-    tracebacks, and in about one try in five the run hung after its "interrupted" line, a worker
-    left waiting for work. Sent once the workers have started and once while they start."""
-    for delay, out in ((None, tmp_path / "running"), (0.3, tmp_path / "starting")):
-        run = _cli(out, "--workers", "2", "--episodes", "200", "--max-time", "600")  # the last value counts
-        process = subprocess.Popen(run, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True,
-                                   start_new_session=True, preexec_fn=_ctrl_c_as_in_a_terminal)  # fmt: skip
-        deadline = time.monotonic() + 60
-        while time.monotonic() < deadline and (len(_children(process.pid)) < 2 if delay is None else True):
-            time.sleep(delay or 0.05)
-            if delay is not None and (out / "experiment.json").exists():
-                break
-        workers = _children(process.pid)
-        os.killpg(process.pid, signal.SIGINT)
-        try:
-            _, err = process.communicate(timeout=15)
-        except subprocess.TimeoutExpired:  # a first Ctrl-C went unheeded once in 3 runs of these tests (why: not found)
-            os.killpg(process.pid, signal.SIGINT)
-            _, err = process.communicate(timeout=15)  # a hang after the interrupt fails here
-        lines = [line for line in err.splitlines() if line.strip()]
-        assert process.returncode == 130 and len(lines) == 1 and "interrupted" in lines[0], (out.name, err[-2000:])
-        deadline = time.monotonic() + 10
-        while time.monotonic() < deadline and not all(_gone(pid) for pid in workers):
-            time.sleep(0.1)
-        assert all(_gone(pid) for pid in workers)
-
-
 def test_a_failing_episode_keeps_every_other_one(tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> None:
     real = backends.run_job
 
