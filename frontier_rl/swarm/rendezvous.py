@@ -128,10 +128,8 @@ class RendezvousCycle:
     def _meet(self, present: list[TeamRobot]) -> None:
         """The robots ``present`` (none when a late meeting finds nobody at the point) merge their
         maps; everyone goes back to exploring."""
-        for other in present[1:]:
-            present[0].sim.mapper.merge_from(other.sim.mapper)
-        for other in present[1:]:
-            other.sim.mapper.merge_from(present[0].sim.mapper)
+        if present:
+            present[0].sim.mapper.merge_both_ways([other.sim.mapper for other in present[1:]])
         for robot in self.team.alive:
             robot.drop_leg()
             robot.sim.refresh()

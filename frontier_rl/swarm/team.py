@@ -248,12 +248,11 @@ class TeamSimulator:
 
     def _share(self, robot: TeamRobot, full: bool) -> None:
         """Merge ``robot``'s new scan (or whole map) with the teammates in range, and add it to what
-        the team knows. The robot takes from every teammate in range first, then every one takes
-        from it, so that afterwards all of them hold the same cells there. The scan's window is the
-        square its range reaches, which also passes on what the robot had from teammates there;
-        with an unlimited range every teammate had that directly, and the window is only the cells
-        the robot's own scans (and bumps) changed since it last shared: the same merge, at about
-        half the cells."""
+        the team knows (:meth:`~frontier_rl.core.mapping.mapper.LogOddsMapper.merge_both_ways`).
+        The scan's window is the square its range reaches, which also passes on what the robot had
+        from teammates there; with an unlimited range every teammate had that directly, and the
+        window is only the cells the robot's own scans (and bumps) changed since it last shared:
+        the same merge, at about half the cells."""
         mapper = robot.sim.mapper
         changed = mapper.take_changed()
         if math.isinf(self._range):
@@ -271,10 +270,8 @@ class TeamSimulator:
             if in_range:
                 near.append((other, window if (self._contact[i, j] and not full) else None))
             self._contact[i, j] = self._contact[j, i] = in_range
-        for other, part in near:
-            mapper.merge_from(other.sim.mapper, part)
-        for other, part in near:
-            other.sim.mapper.merge_from(mapper, part)
+        mapper.merge_both_ways([other.sim.mapper for other, _ in near], [part for _, part in near])
+        for other, _ in near:
             other.sim.refresh()
         robot.sim.refresh()
         if full:  # whole maps were merged

@@ -8,6 +8,7 @@ sees more, as a SLAM map does. Poses are taken as known (no localisation error).
 from __future__ import annotations
 
 import math
+from collections.abc import Sequence
 from dataclasses import dataclass
 
 import numba as nb
@@ -278,6 +279,18 @@ class LogOddsMapper:
                               other.logodds, other.looks, other.felt, (r0, r1, c0, c1), self._bbox)  # fmt: skip
         self.explored_cells += gained
         return int(gained)
+
+    def merge_both_ways(
+        self, others: Sequence[LogOddsMapper], windows: Sequence[tuple[int, int, int, int] | None] | None = None
+    ) -> None:
+        """Take from each of ``others`` in turn, then let each take from this map (each pair over
+        its window, None the whole map), so that afterwards all of them hold the same cells there:
+        merged pair by pair, a third map's cell could leave two maps differing."""
+        parts = [None] * len(others) if windows is None else windows
+        for other, part in zip(others, parts, strict=True):
+            self.merge_from(other, part)
+        for other, part in zip(others, parts, strict=True):
+            other.merge_from(self, part)
 
     def take_changed(self) -> tuple[int, int, int, int] | None:
         """The window (row0, row1, col0, col1; exclusive ends) of the cells this map's own scans and
