@@ -116,23 +116,19 @@ class Costmap:
         open_p = self.open_padded.copy()
         clear_p = self.clearance_padded.copy()
         g = self.grid
-        reach = int(math.ceil(radius / g.resolution))
         for x, y in centres:
-            row, col = g.world_to_cell(float(x), float(y))
-            r0, r1 = max(row - reach, 0), min(row + reach + 1, g.height)
-            c0, c1 = max(col - reach, 0), min(col + reach + 1, g.width)
-            if r0 >= r1 or c0 >= c1:
+            rows, cols, cx, cy = g.centres_near(float(x), float(y), radius)
+            if not (len(cx) and len(cy)):
                 continue
-            cy = g.origin[1] + (np.arange(r0, r1) + 0.5) * g.resolution
-            cx = g.origin[0] + (np.arange(c0, c1) + 0.5) * g.resolution
             gap = np.hypot(cx[None, :] - x, cy[:, None] - y)
             inside = gap <= radius
             if backing_from is not None:
                 bx, by = backing_from
                 beside = np.hypot(cx[None, :] - bx, cy[:, None] - by) <= 1.5 * g.resolution
                 inside &= ~(beside & (gap > math.hypot(bx - x, by - y)))
-            open_p[r0 + 1 : r1 + 1, c0 + 1 : c1 + 1] &= ~inside
-            clear_p[r0 + 1 : r1 + 1, c0 + 1 : c1 + 1][inside] = 0.0  # so the start's escape zone stays shut
+            padded = (slice(rows.start + 1, rows.stop + 1), slice(cols.start + 1, cols.stop + 1))
+            open_p[padded] &= ~inside
+            clear_p[padded][inside] = 0.0  # so the start's escape zone stays shut
         return Costmap(g, open_p, clear_p, self.inflation_table, self.inflation_radius, self.unknown_cost, self.scratch)
 
     def reachable_known(self, start: tuple[int, int], escape_radius: float = ESCAPE_RADIUS_M) -> NDArray[np.bool_]:

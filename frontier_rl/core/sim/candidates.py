@@ -28,13 +28,9 @@ def with_robots_as_walls(grid: OccupancyGrid, robots: Discs) -> OccupancyGrid:
     view of a frontier's goal)."""
     centres, radius = robots
     data = grid.data.copy()
-    cy = grid.origin[1] + (np.arange(grid.height) + 0.5) * grid.resolution
-    cx = grid.origin[0] + (np.arange(grid.width) + 0.5) * grid.resolution
     for x, y in centres:
-        rows = np.abs(cy - y) <= radius
-        cols = np.abs(cx - x) <= radius
-        inside = np.hypot(cx[None, cols] - x, cy[rows, None] - y) <= radius
-        data[np.ix_(rows, cols)] = np.where(inside, CellState.OCCUPIED, data[np.ix_(rows, cols)])
+        rows, cols, cx, cy = grid.centres_near(float(x), float(y), radius)
+        data[rows, cols][np.hypot(cx[None, :] - x, cy[:, None] - y) <= radius] = CellState.OCCUPIED
     return OccupancyGrid(data, grid.resolution, grid.origin)
 
 

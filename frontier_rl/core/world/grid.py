@@ -79,6 +79,22 @@ class OccupancyGrid:
             self.origin[1] + (row + 0.5) * self.resolution,
         )
 
+    def centres_near(
+        self, x: float, y: float, radius: float
+    ) -> tuple[slice, slice, NDArray[np.float64], NDArray[np.float64]]:
+        """The rows and columns (slices, clipped to the grid, maybe empty) of every cell whose
+        centre may lie within ``radius`` (m) of world point (x, y) (m), and the x of those columns'
+        centres and the y of those rows' (m)."""
+        reach = int(np.ceil(radius / self.resolution))
+        row, col = self.world_to_cell(x, y)
+        r0 = max(row - reach, 0)
+        r1 = max(min(row + reach + 1, self.height), r0)  # a negative end would count from the far edge
+        c0 = max(col - reach, 0)
+        c1 = max(min(col + reach + 1, self.width), c0)
+        cx = np.asarray(self.origin[0] + (np.arange(c0, c1) + 0.5) * self.resolution, np.float64)
+        cy = np.asarray(self.origin[1] + (np.arange(r0, r1) + 0.5) * self.resolution, np.float64)
+        return slice(r0, r1), slice(c0, c1), cx, cy
+
     def cells_to_world(self, cells: NDArray[np.int64]) -> NDArray[np.float64]:
         """World coordinates (m), shape (n, 2) as (x, y), of the centres of (n, 2) (row, col) cells."""
         cells = np.asarray(cells).reshape(-1, 2)
