@@ -386,10 +386,5 @@ def train(
     stdout_console().print(f"model: {final}   learning curve: {out / 'learning_curve.png'}")
 
 
-def main() -> None:
-    """Entry point of the ``frontier-rl`` script."""
-    app()
-
-
 if __name__ == "__main__":
-    main()
+    app()

@@ -7,7 +7,8 @@ from __future__ import annotations
 import re
 import sys
 import warnings
-from collections.abc import Callable, Sequence
+from collections.abc import Callable, Iterator, Sequence
+from contextlib import contextmanager
 from functools import wraps
 from typing import Any, TypeVar
 
@@ -101,11 +102,33 @@ def _print_warnings(caught: Sequence[warnings.WarningMessage]) -> None:
         print_warning(f"{len(texts) - MAX_WARNINGS} more warning(s) not shown")
 
 
+@contextmanager
+def _interrupt_ends_command() -> Iterator[None]:
+    """A Ctrl-C ends the command with the line ``interrupted`` and exit code 130."""
+    try:
+        yield
+    except KeyboardInterrupt:
+        err_console.print("interrupted", markup=False, highlight=False)
+        raise typer.Exit(130) from None
+
+
 class OneLineGroup(TyperGroup):
     """Typer's command group with a usage error (an unknown option, a value that is not a number)
     printed as one ``error:`` line, exit code 2, instead of a usage panel; warnings raised while a
     command runs are gathered and printed after it, one line each (none after an error: the error
-    is the one line)."""
+    is the one line). A Ctrl-C ends the command with the line ``interrupted`` and exit code 130,
+    where typer would end it without a word."""
+
+    def make_context(self, *args: Any, **kwargs: Any) -> Any:
+        """The group's click context (parses its options)."""
+        with _interrupt_ends_command():
+            return super().make_context(*args, **kwargs)
+
+    def invoke(self, ctx: Any) -> Any:
+        """Parse and run the command ``ctx`` (a click context: typer's own copy of click's, or
+        click's in older typer) names."""
+        with _interrupt_ends_command():
+            return super().invoke(ctx)
 
     def main(
         self,

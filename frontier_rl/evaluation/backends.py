@@ -8,18 +8,15 @@ Results are handed to ``on_result`` as episodes finish, in completion order.
 from __future__ import annotations
 
 import builtins
-import multiprocessing
 import os
 import socket
-import threading
-import time
 import warnings
 from collections.abc import Callable, Iterator
-from concurrent.futures import FIRST_COMPLETED, ProcessPoolExecutor, wait
 from typing import Any
 
 from frontier_rl.errors import ConfigError, FrontierRLError
 from frontier_rl.evaluation.experiment import EpisodeJob, EpisodeSettings, run_job
+from frontier_rl.evaluation.worker_pool import WorkerPool
 
 BACKENDS = ("serial", "process", "ray")
 ResultHandler = Callable[[dict[str, Any]], None]
@@ -148,39 +145,11 @@ def _warn_again(outcome: tuple[dict[str, Any], Caught]) -> dict[str, Any]:
     return row
 
 
-def exit_with_parent(parent: int) -> None:
-    """Pool initializer: end this worker when the process that started it is gone (killed with
-    SIGKILL, it cannot shut the pool down), instead of waiting on its queue forever."""
-
-    def watch() -> None:
-        while os.getppid() == parent:
-            time.sleep(0.5)
-        os._exit(1)
-
-    threading.Thread(target=watch, daemon=True).start()
-
-
-def spawn_pool(workers: int) -> ProcessPoolExecutor:
-    """A pool of ``workers`` spawned processes that end with this one. Spawned, not forked: the
-    parent may hold torch's and numba's threads, which fork does not copy safely (forked workers
-    were seen to hang)."""
-    context = multiprocessing.get_context("spawn")
-    return ProcessPoolExecutor(workers, mp_context=context, initializer=exit_with_parent, initargs=(os.getpid(),))
-
-
 def _process_pool(jobs: list[EpisodeJob], settings: EpisodeSettings, workers: int) -> Iterator[tuple[EpisodeJob, Any]]:
-    with spawn_pool(min(workers, len(jobs))) as pool:
-        pending = {pool.submit(run_job_catching_warnings, job, settings): job for job in jobs}
-        try:
-            while pending:
-                finished, _ = wait(pending, return_when=FIRST_COMPLETED)
-                for future in finished:
-                    job = pending.pop(future)
-                    exc = future.exception()
-                    yield job, exc if exc is not None else _warn_again(future.result())
-        finally:
-            for future in pending:
-                future.cancel()
+    with WorkerPool(min(workers, len(jobs))) as pool:
+        tasks = [(run_job_catching_warnings, (job, settings)) for job in jobs]
+        for index, outcome in pool.imap_unordered(tasks):
+            yield jobs[index], outcome if isinstance(outcome, BaseException) else _warn_again(outcome)
 
 
 def _ray_tasks(

@@ -33,8 +33,9 @@ from frontier_rl.core.sim.episode import run_episode
 from frontier_rl.core.world.robot import Pose
 from frontier_rl.core.world.worlds import World, make_world
 from frontier_rl.errors import ConfigError, MapError, short_path
-from frontier_rl.evaluation.backends import check_workers, default_workers, spawn_pool
+from frontier_rl.evaluation.backends import check_workers, default_workers
 from frontier_rl.evaluation.experiment import episode_policy
+from frontier_rl.evaluation.worker_pool import WorkerPool
 from frontier_rl.io.dungeon import DUNGEON_RESOLUTION, load_dungeon_map, marker_pixels
 from frontier_rl.policies import make_policy
 
@@ -120,7 +121,12 @@ class _Catching(Generic[R]):
         try:
             return self.run(*job)
         except Exception as exc:  # reported with the map's name; the other runs go on
-            return f"{job[0]} on {Path(job[1]).name}: {type(exc).__name__}: {exc}"
+            return _failure_line(job, exc)
+
+
+def _failure_line(job: tuple[Any, ...], exc: BaseException) -> str:
+    """The line that reports ``job`` (method, map file, ...) failing with ``exc``."""
+    return f"{job[0]} on {Path(job[1]).name}: {type(exc).__name__}: {exc}"
 
 
 def run_jobs(
@@ -138,8 +144,11 @@ def run_jobs(
     if workers == 1:
         outcomes = [catching(job) for job in jobs]
     else:
-        with spawn_pool(workers) as pool:
-            outcomes = list(pool.map(catching, jobs))
+        with WorkerPool(workers) as pool:
+            outcomes = [  # an exception: the job's worker ended while running it
+                _failure_line(job, o) if isinstance(o, BaseException) else o
+                for job, o in zip(jobs, pool.map(catching, jobs), strict=True)
+            ]
     return [o for o in outcomes if not isinstance(o, str)], [o for o in outcomes if isinstance(o, str)]
 
 

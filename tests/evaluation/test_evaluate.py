@@ -231,6 +231,56 @@ def test_resume_after_sigkill_ends_with_the_uninterrupted_table(
     assert (killed / "traces.jsonl").read_bytes() == (uninterrupted / "traces.jsonl").read_bytes()
 
 
+def _living_in_group(group: int) -> list[int]:
+    """Processes of a process group that have not exited (zombies have)."""
+    found = []
+    for entry in Path("/proc").iterdir():
+        if entry.name.isdigit():
+            try:
+                fields = (entry / "stat").read_text().rsplit(")", 1)[1].split()
+            except (FileNotFoundError, ProcessLookupError):
+                continue
+            if int(fields[2]) == group and fields[0] != "Z":
+                found.append(int(entry.name))
+    return found
+
+
+@pytest.mark.parametrize("moment", ["loading", "workers starting", "episodes running"])
+def test_ctrl_c_ends_the_run_with_one_line_and_every_worker(uninterrupted: Path, tmp_path: Path, moment: str) -> None:
+    """Ctrl-C (SIGINT to the whole process group, as a terminal sends it) at three moments: while
+    the command line loads, while the pool's workers start, while episodes run. The run ends at
+    once with one line and exit code 130, no worker outlives it, and a rerun completes the table."""
+    out = tmp_path / "interrupted"
+    command = [sys.executable, "-c", "import sys; from frontier_rl.launch import main; sys.exit(main())",
+               *_cli(out, "--backend", "process", "--workers", "2")[3:]]  # fmt: skip
+    process = subprocess.Popen(command, stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, text=True,
+                               start_new_session=True)  # fmt: skip
+    csv_path = out / "episodes.csv"
+    deadline = time.monotonic() + 120
+    if moment == "loading":
+        time.sleep(0.5)  # loading takes about 2 s
+    while moment == "workers starting" and time.monotonic() < deadline and not _children(process.pid):
+        time.sleep(0.002)
+    while (
+        moment == "episodes running"
+        and time.monotonic() < deadline
+        and not (csv_path.exists() and len(csv_path.read_text().splitlines()) >= 2)
+    ):
+        time.sleep(0.02)
+    os.killpg(process.pid, signal.SIGINT)
+    _, stderr = process.communicate(timeout=60)
+    assert process.returncode == 130, stderr
+    assert len(stderr.splitlines()) == 1 and stderr.startswith("interrupted"), stderr
+    deadline = time.monotonic() + 10
+    while time.monotonic() < deadline and _living_in_group(process.pid):
+        time.sleep(0.1)
+    assert not _living_in_group(process.pid)
+    if moment == "episodes running":
+        assert "rerun the same command to resume" in stderr
+        subprocess.run(_cli(out, "--backend", "process"), check=True, capture_output=True, timeout=300)
+        assert _rows(out) == _rows(uninterrupted)
+
+
 def test_a_failing_episode_keeps_every_other_one(tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> None:
     real = backends.run_job
 

@@ -1,0 +1,74 @@
+"""The evaluation's worker pool: every task gets an outcome, whatever it does to its worker, and
+closing the pool ends its workers at once."""
+
+from __future__ import annotations
+
+import math
+import operator
+import os
+import signal
+import threading
+import time
+from collections.abc import Iterator
+
+import pytest
+
+from frontier_rl.evaluation.worker_pool import WorkerDiedError, WorkerPool, interrupts_held
+
+
+@pytest.fixture(scope="module")
+def pool() -> Iterator[WorkerPool]:
+    with WorkerPool(2) as workers:
+        yield workers
+
+
+def test_results_come_back_in_order(pool: WorkerPool) -> None:
+    assert pool.map(math.sqrt, [0.0, 1.0, 4.0, 9.0, 16.0]) == [0.0, 1.0, 2.0, 3.0, 4.0]
+
+
+def test_a_task_that_raises_gives_its_exception_and_the_others_run(pool: WorkerPool) -> None:
+    outcomes = dict(pool.imap_unordered([(operator.truediv, (1, 2)), (operator.truediv, (1, 0))]))
+    assert outcomes[0] == 0.5
+    assert isinstance(outcomes[1], ZeroDivisionError)
+
+
+def test_tasks_and_results_that_cannot_be_pickled_fail_alone(pool: WorkerPool) -> None:
+    outcomes = dict(pool.imap_unordered([(lambda: 1, ()), (threading.Lock, ()), (abs, (-3,))]))
+    assert "pickle" in str(outcomes[0]).lower()  # never reached a worker
+    assert isinstance(outcomes[1], RuntimeError) and "could not be sent back" in str(outcomes[1])
+    assert outcomes[2] == 3
+
+
+def test_a_worker_that_dies_fails_only_its_task_and_is_replaced(pool: WorkerPool) -> None:
+    tasks = [(os._exit, (3,)), *[(abs, (-i,)) for i in range(6)], (os._exit, (4,)), (abs, (-9,))]
+    outcomes = dict(pool.imap_unordered(tasks))
+    assert isinstance(outcomes[0], WorkerDiedError) and "exit code 3" in str(outcomes[0])
+    assert isinstance(outcomes[7], WorkerDiedError) and "exit code 4" in str(outcomes[7])
+    assert [outcomes[i] for i in (*range(1, 7), 8)] == [0, 1, 2, 3, 4, 5, 9]
+    assert pool.map(abs, [-1, -2]) == [1, 2]  # still two working workers
+
+
+def test_closing_ends_running_tasks_at_once() -> None:
+    pool = WorkerPool(2)
+    processes = [w.process for w in pool._workers]
+    running = pool.imap_unordered([(time.sleep, (60.0,)), (abs, (-1,))])
+    assert next(running) == (1, 1)  # the other worker sleeps
+    start = time.monotonic()
+    pool.close()
+    assert time.monotonic() - start < 3.0
+    assert not any(p.is_alive() for p in processes)
+    running.close()
+
+
+def test_held_interrupts_are_raised_when_the_block_ends() -> None:
+    reached_end_of_block = False
+    with pytest.raises(KeyboardInterrupt), interrupts_held():
+        os.kill(os.getpid(), signal.SIGINT)
+        time.sleep(0.05)
+        reached_end_of_block = True
+    assert reached_end_of_block
+
+
+def test_a_pool_needs_a_worker() -> None:
+    with pytest.raises(ValueError, match="at least one worker, got 0"):
+        WorkerPool(0)
