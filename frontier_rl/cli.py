@@ -374,6 +374,7 @@ def train(
     _seed(seed)
     _output_folder(out)
     from frontier_rl.rl.config import TrainConfig
+    from frontier_rl.rl.train import interruption_note
     from frontier_rl.rl.train import train as run_training
 
     settings = TrainConfig(
@@ -382,7 +383,11 @@ def train(
         gamma=gamma, ent_coef=ent_coef, seed=seed, eval_every=eval_every, checkpoint_every=checkpoint_every, init=init,
         privileged_critic=privileged_critic, privileged_map=privileged_map, sim=_sim_config(config, None),
     )  # fmt: skip
-    final = run_training(settings, out, resume=resume, progress=progress)
+    try:
+        final = run_training(settings, out, resume=resume, progress=progress)
+    except KeyboardInterrupt:
+        err_console.print(Text(one_line(interruption_note(settings, out))))
+        raise typer.Exit(130) from None
     stdout_console().print(f"model: {final}   learning curve: {out / 'learning_curve.png'}")
 
 

@@ -204,6 +204,17 @@ def _env_kwargs(config: TrainConfig) -> dict[str, Any]:
     return env_kwargs
 
 
+def interruption_note(config: TrainConfig, out: Path) -> str:
+    """The line that ends a run in ``out`` stopped by Ctrl-C: what it kept, and how to go on."""
+    checkpoint = latest_checkpoint(out)
+    if checkpoint is None:
+        return f"interrupted: no checkpoint was written in {out}/ yet"
+    kept = f"interrupted: the last checkpoint ({checkpoint[1]} decisions) is {checkpoint[0]}"
+    if config.algo == "dagger":
+        return f"{kept}; a dagger run cannot be resumed"
+    return f"{kept}; add --resume to the same command to continue"
+
+
 def train(
     config: TrainConfig,
     out: Path,

@@ -19,7 +19,7 @@ from frontier_rl.errors import ConfigError, TrainingDivergedError
 from frontier_rl.policies import make_policy
 from frontier_rl.rl.config import TrainConfig
 from frontier_rl.rl.model_file import METADATA_ENTRY, load_policy, read_metadata, save_model
-from frontier_rl.rl.train import latest_checkpoint, train
+from frontier_rl.rl.train import interruption_note, latest_checkpoint, train
 
 SHORT = SimConfig(max_sim_time=120.0)
 
@@ -82,6 +82,12 @@ def test_interrupted_run_resumes_from_its_last_checkpoint(tmp_path: Path) -> Non
     assert not (run / "model.zip").exists()
     checkpoint = latest_checkpoint(run)
     assert checkpoint is not None and checkpoint[1] == 64
+    assert interruption_note(config, run) == (  # the line the command line ends with
+        f"interrupted: the last checkpoint (64 decisions) is {checkpoint[0]}; "
+        "add --resume to the same command to continue"
+    )
+    assert "cannot be resumed" in interruption_note(_config(5, algo="dagger"), run)
+    assert interruption_note(config, tmp_path) == f"interrupted: no checkpoint was written in {tmp_path}/ yet"
     with pytest.raises(ConfigError, match="--resume"):
         train(config, run, progress=False)
     with pytest.raises(ConfigError, match="timesteps"):
