@@ -8,10 +8,11 @@ Results are handed to ``on_result`` as episodes finish, in completion order.
 from __future__ import annotations
 
 import builtins
+import contextlib
 import os
 import socket
 import warnings
-from collections.abc import Callable, Iterator
+from collections.abc import Callable, Generator
 from typing import Any
 
 from frontier_rl.errors import ConfigError, FrontierRLError
@@ -20,6 +21,8 @@ from frontier_rl.evaluation.worker_pool import WorkerPool
 
 BACKENDS = ("serial", "process", "ray")
 ResultHandler = Callable[[dict[str, Any]], None]
+Outcomes = Generator[tuple[EpisodeJob, Any], None, None]
+"""Each episode with its row, or the exception it raised, as episodes finish."""
 Caught = list[tuple[str, str]]
 """Warnings an episode raised in another process: (category name, message)."""
 
@@ -96,16 +99,17 @@ def run_jobs(
         return
     failures: list[tuple[EpisodeJob, BaseException]] = []
     if backend == "serial":
-        outcomes: Iterator[tuple[EpisodeJob, dict[str, Any] | BaseException]] = _serial(jobs, settings)
+        outcomes: Outcomes = _serial(jobs, settings)
     elif backend == "process":
         outcomes = _process_pool(jobs, settings, workers)
     else:
         outcomes = _ray_tasks(jobs, settings, workers, ray_address)
-    for job, outcome in outcomes:
-        if isinstance(outcome, BaseException):
-            failures.append((job, outcome))
-        else:
-            on_result(outcome)
+    with contextlib.closing(outcomes):  # an error or Ctrl-C in on_result ends the workers at once
+        for job, outcome in outcomes:
+            if isinstance(outcome, BaseException):
+                failures.append((job, outcome))
+            else:
+                on_result(outcome)
     if failures:
         job, exc = failures[0]
         lines = [line for line in str(exc).splitlines() if line.strip()]
@@ -115,7 +119,7 @@ def run_jobs(
         )
 
 
-def _serial(jobs: list[EpisodeJob], settings: EpisodeSettings) -> Iterator[tuple[EpisodeJob, Any]]:
+def _serial(jobs: list[EpisodeJob], settings: EpisodeSettings) -> Outcomes:
     for job in jobs:
         try:
             yield job, run_job(job, settings)
@@ -145,16 +149,14 @@ def _warn_again(outcome: tuple[dict[str, Any], Caught]) -> dict[str, Any]:
     return row
 
 
-def _process_pool(jobs: list[EpisodeJob], settings: EpisodeSettings, workers: int) -> Iterator[tuple[EpisodeJob, Any]]:
+def _process_pool(jobs: list[EpisodeJob], settings: EpisodeSettings, workers: int) -> Outcomes:
     with WorkerPool(min(workers, len(jobs))) as pool:
         tasks = [(run_job_catching_warnings, (job, settings)) for job in jobs]
         for index, outcome in pool.imap_unordered(tasks):
             yield jobs[index], outcome if isinstance(outcome, BaseException) else _warn_again(outcome)
 
 
-def _ray_tasks(
-    jobs: list[EpisodeJob], settings: EpisodeSettings, workers: int, address: str | None
-) -> Iterator[tuple[EpisodeJob, Any]]:
+def _ray_tasks(jobs: list[EpisodeJob], settings: EpisodeSettings, workers: int, address: str | None) -> Outcomes:
     import ray
 
     started_here = not ray.is_initialized()

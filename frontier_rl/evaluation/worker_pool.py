@@ -13,9 +13,11 @@ from __future__ import annotations
 import contextlib
 import multiprocessing
 import os
+import pickle
 import signal
 import threading
 import time
+import traceback
 from collections import deque
 from collections.abc import Callable, Iterable, Iterator, Sequence
 from dataclasses import dataclass, field
@@ -49,45 +51,64 @@ def exit_with_parent(parent: int) -> None:
     threading.Thread(target=watch, daemon=True).start()
 
 
+class RemoteTracebackError(Exception):
+    """The traceback, as text, of an exception a task raised in a worker (set as its ``__cause__``)."""
+
+    def __str__(self) -> str:
+        return str(self.args[0]) if self.args else ""
+
+
+@dataclass(frozen=True)
+class _Failed:
+    """A task's exception, with its traceback as text, on its way back from a worker."""
+
+    exception: BaseException
+    traceback: str = ""
+
+
 def _serve(conn: Connection, parent: int) -> None:
-    """A worker's loop: run each task the pipe brings, send back its result or the exception it
-    raised; end when the pipe closes."""
+    """A worker's loop: run each task the pipe brings, send back its result or :class:`_Failed`;
+    end when the pipe closes."""
     signal.signal(signal.SIGINT, signal.SIG_IGN)  # drops a Ctrl-C held while this process started
     signal.pthread_sigmask(signal.SIG_UNBLOCK, {signal.SIGINT})
     exit_with_parent(parent)
     while True:
         try:
-            function, args = conn.recv()
+            message = conn.recv_bytes()
         except EOFError:
             return
         try:
+            function, args = pickle.loads(message)  # a task whose function cannot be found here fails alone
             outcome = function(*args)
         except Exception as exc:  # handed back: the task failed, the worker goes on
-            outcome = exc
+            outcome = _Failed(exc, "".join(traceback.format_exception(exc)))
         try:
             conn.send(outcome)
         except Exception as exc:  # the outcome cannot be pickled (nothing was sent yet)
-            conn.send(RuntimeError(f"the task's outcome could not be sent back: {type(exc).__name__}: {exc}"))
+            why = f"the task's outcome could not be sent back: {type(exc).__name__}: {exc}"
+            conn.send(_Failed(RuntimeError(why)))
 
 
 @contextlib.contextmanager
 def interrupts_held() -> Iterator[None]:
-    """Hold a Ctrl-C until the block ends, then raise it: a process half spawned, or half ended,
-    would print a traceback or be left behind. Processes started inside inherit SIGINT blocked.
-    Only the main thread can do this; elsewhere the block runs as it is."""
-    if threading.current_thread() is not threading.main_thread():
+    """Hold a Ctrl-C until the block ends, then hand it to the SIGINT handler that was there
+    before (Python's raises KeyboardInterrupt; an ignored Ctrl-C stays ignored): a process half
+    spawned, or half ended, would print a traceback or be left behind. Processes started inside
+    inherit SIGINT blocked. Only the main thread can hold it, and only where the handler was set
+    from Python; elsewhere the block runs as it is."""
+    if threading.current_thread() is not threading.main_thread() or signal.getsignal(signal.SIGINT) is None:
         yield
         return
     held: list[int] = []
     previous = signal.signal(signal.SIGINT, lambda signum, frame: held.append(signum))
-    signal.pthread_sigmask(signal.SIG_BLOCK, {signal.SIGINT})
+    mask = signal.pthread_sigmask(signal.SIG_BLOCK, {signal.SIGINT})
     try:
         yield
     finally:
-        signal.pthread_sigmask(signal.SIG_UNBLOCK, {signal.SIGINT})  # a pending Ctrl-C lands in `held`
+        signal.pthread_sigmask(signal.SIG_SETMASK, mask)  # a Ctrl-C pending meanwhile lands in `held`
         signal.signal(signal.SIGINT, previous)
-    if held:
-        raise KeyboardInterrupt
+        if held:
+            signal.raise_signal(signal.SIGINT)
 
 
 @contextlib.contextmanager
@@ -141,43 +162,75 @@ class WorkerPool:
 
     def imap_unordered(self, tasks: Sequence[Task]) -> Iterator[tuple[int, Any]]:
         """Run every task; yield ``(index, result)`` as each finishes, where a task that raised (or
-        whose worker died) gives its exception as the result."""
+        whose worker died) gives its exception as the result. Leaving the loop before its end
+        closes the pool: its workers still run tasks no one will read."""
+        if not self._workers:
+            raise ValueError("the worker pool is closed")
         todo = deque(range(len(tasks)))
-        while todo or any(w.task is not None for w in self._workers):
-            for worker in self._workers:
-                if worker.task is None and todo:
-                    index = todo.popleft()
-                    try:
-                        worker.conn.send(tasks[index])
-                        worker.task = index
-                    except OSError:  # the idle worker is gone
-                        self._replace(worker)
-                        yield index, WorkerDiedError("its worker process had ended")
-                    except Exception as exc:  # the task cannot be pickled: nothing was sent
-                        yield index, exc
-            busy = [w for w in self._workers if w.task is not None]
-            if not busy:
-                continue
-            ready = wait([w.conn for w in busy] + [w.process.sentinel for w in busy])
-            for worker in busy:
-                if worker.conn in ready or worker.process.sentinel in ready:
-                    yield self._collect(worker)
+        resent: set[int] = set()
+        finished = False
+        try:
+            while todo or any(w.task is not None for w in self._workers):
+                for slot, worker in enumerate(self._workers):
+                    if worker.task is None and todo:
+                        index = todo.popleft()
+                        failure = self._send(slot, index, tasks[index])
+                        if failure is None:
+                            continue
+                        if isinstance(failure, WorkerDiedError) and index not in resent:
+                            resent.add(index)  # it never reached a worker: once more
+                            todo.appendleft(index)
+                        else:
+                            yield index, failure
+                busy = [w for w in self._workers if w.task is not None]
+                if busy:
+                    ready = wait([w.conn for w in busy] + [w.process.sentinel for w in busy])
+                    for worker in busy:
+                        if worker.conn in ready or worker.process.sentinel in ready:
+                            yield self._collect(worker)
+            finished = True
+        finally:
+            if not finished:
+                self.close()
+
+    def _send(self, slot: int, index: int, task: Task) -> BaseException | None:
+        """Hand task ``index`` to the idle worker in ``slot`` (a fresh one if it has ended); the
+        reason it could not be sent, if so."""
+        if not self._workers[slot].process.is_alive():
+            self._replace(self._workers[slot])
+        worker = self._workers[slot]
+        try:
+            worker.conn.send(task)
+        except OSError:  # the worker ended meanwhile
+            self._replace(worker)
+            return WorkerDiedError("its worker process had ended")
+        except Exception as exc:  # the task cannot be pickled: nothing was sent
+            return exc
+        worker.task = index
+        return None
 
     def _collect(self, worker: _Worker) -> tuple[int, Any]:
         """The outcome of ``worker``'s task; a dead worker is replaced by a fresh one."""
         index, worker.task = worker.task, None
         assert index is not None
         try:
-            return index, worker.conn.recv()
-        except EOFError:
+            outcome = worker.conn.recv()
+        except (EOFError, OSError):  # it ended before or while sending its outcome
             code = self._replace(worker)
             return index, WorkerDiedError(f"its worker process ended (exit code {code}) while running it")
         except Exception as exc:  # sent whole but cannot be unpickled here: the pipe is still in step
             return index, exc
+        if isinstance(outcome, _Failed):
+            if outcome.traceback:
+                outcome.exception.__cause__ = RemoteTracebackError(outcome.traceback)
+            return index, outcome.exception
+        return index, outcome
 
     def _replace(self, worker: _Worker) -> int | None:
-        """Put a fresh worker in the place of ``worker``, which has ended; its exit code."""
+        """Put a fresh worker in the place of ``worker``, which has ended (or is killed); its exit code."""
         worker.conn.close()
+        if worker.process.is_alive():
+            worker.process.terminate()
         _end(worker.process, time.monotonic())
         with _spawning():
             self._workers[self._workers.index(worker)] = self._start()
@@ -193,6 +246,8 @@ class WorkerPool:
 
     def close(self) -> None:
         """Terminate every worker and wait for it (killed after :data:`_STOP_WAIT_S`)."""
+        if not self._workers:
+            return
         with interrupts_held():
             for worker in self._workers:
                 if worker.process.is_alive():

@@ -183,8 +183,27 @@ def _cli(out: Path, *extra: str) -> list[str]:
 def _children(pid: int) -> list[int]:
     found = []
     for task in Path(f"/proc/{pid}/task").iterdir():
-        found += [int(c) for c in (task / "children").read_text().split()]
+        try:
+            found += [int(c) for c in (task / "children").read_text().split()]
+        except FileNotFoundError:  # a thread that ended meanwhile
+            continue
     return found
+
+
+def _workers_started(pid: int) -> bool:
+    """Whether one of the pool's workers has started (not multiprocessing's resource tracker)."""
+    for child in _children(pid):
+        try:
+            if b"spawn_main" in Path(f"/proc/{child}/cmdline").read_bytes():
+                return True
+        except FileNotFoundError:
+            continue
+    return False
+
+
+def _loads_numpy(pid: int) -> bool:
+    """Whether the process is loading the command line (NumPy's compiled core is mapped)."""
+    return "_multiarray_umath" in Path(f"/proc/{pid}/maps").read_text()
 
 
 def _gone(pid: int) -> bool:
@@ -247,9 +266,9 @@ def _living_in_group(group: int) -> list[int]:
 
 @pytest.mark.parametrize("moment", ["loading", "workers starting", "episodes running"])
 def test_ctrl_c_ends_the_run_with_one_line_and_every_worker(uninterrupted: Path, tmp_path: Path, moment: str) -> None:
-    """Ctrl-C (SIGINT to the whole process group, as a terminal sends it) at three moments: while
-    the command line loads, while the pool's workers start, while episodes run. The run ends at
-    once with one line and exit code 130, no worker outlives it, and a rerun completes the table."""
+    """Ctrl-C (SIGINT to the whole process group, as a terminal sends it), twice, at three moments:
+    while the command line loads, while the pool's workers start, while episodes run. The run ends
+    at once with one line and exit code 130, no worker outlives it, and a rerun completes the table."""
     out = tmp_path / "interrupted"
     command = [sys.executable, "-c", "import sys; from frontier_rl.launch import main; sys.exit(main())",
                *_cli(out, "--backend", "process", "--workers", "2")[3:]]  # fmt: skip
@@ -257,9 +276,9 @@ def test_ctrl_c_ends_the_run_with_one_line_and_every_worker(uninterrupted: Path,
                                start_new_session=True)  # fmt: skip
     csv_path = out / "episodes.csv"
     deadline = time.monotonic() + 120
-    if moment == "loading":
-        time.sleep(0.5)  # loading takes about 2 s
-    while moment == "workers starting" and time.monotonic() < deadline and not _children(process.pid):
+    while moment == "loading" and time.monotonic() < deadline and not _loads_numpy(process.pid):
+        time.sleep(0.002)
+    while moment == "workers starting" and time.monotonic() < deadline and not _workers_started(process.pid):
         time.sleep(0.002)
     while (
         moment == "episodes running"
@@ -268,6 +287,8 @@ def test_ctrl_c_ends_the_run_with_one_line_and_every_worker(uninterrupted: Path,
     ):
         time.sleep(0.02)
     os.killpg(process.pid, signal.SIGINT)
+    time.sleep(0.02)
+    os.killpg(process.pid, signal.SIGINT)  # impatient: a second one, while the run ends
     _, stderr = process.communicate(timeout=60)
     assert process.returncode == 130, stderr
     assert len(stderr.splitlines()) == 1 and stderr.startswith("interrupted"), stderr

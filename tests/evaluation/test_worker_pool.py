@@ -3,17 +3,20 @@ closing the pool ends its workers at once."""
 
 from __future__ import annotations
 
+import importlib
 import math
 import operator
 import os
 import signal
+import sys
 import threading
 import time
 from collections.abc import Iterator
+from pathlib import Path
 
 import pytest
 
-from frontier_rl.evaluation.worker_pool import WorkerDiedError, WorkerPool, interrupts_held
+from frontier_rl.evaluation.worker_pool import RemoteTracebackError, WorkerDiedError, WorkerPool, interrupts_held
 
 
 @pytest.fixture(scope="module")
@@ -30,6 +33,21 @@ def test_a_task_that_raises_gives_its_exception_and_the_others_run(pool: WorkerP
     outcomes = dict(pool.imap_unordered([(operator.truediv, (1, 2)), (operator.truediv, (1, 0))]))
     assert outcomes[0] == 0.5
     assert isinstance(outcomes[1], ZeroDivisionError)
+    cause = outcomes[1].__cause__  # where it was raised, as the worker saw it
+    assert isinstance(cause, RemoteTracebackError) and "ZeroDivisionError" in str(cause)
+
+
+def test_a_task_the_worker_cannot_unpickle_fails_alone(pool: WorkerPool, tmp_path: Path) -> None:
+    (tmp_path / "only_here.py").write_text("def double(x):\n    return 2 * x\n")
+    sys.path.insert(0, str(tmp_path))  # after the workers started: they cannot import it
+    try:
+        only_here = importlib.import_module("only_here")
+        outcomes = dict(pool.imap_unordered([(only_here.double, (2,)), (abs, (-5,))]))
+    finally:
+        sys.path.remove(str(tmp_path))
+        sys.modules.pop("only_here", None)
+    assert isinstance(outcomes[0], ModuleNotFoundError) and outcomes[1] == 5
+    assert pool.map(abs, [-1, -2]) == [1, 2]  # no worker was lost
 
 
 def test_tasks_and_results_that_cannot_be_pickled_fail_alone(pool: WorkerPool) -> None:
@@ -48,6 +66,25 @@ def test_a_worker_that_dies_fails_only_its_task_and_is_replaced(pool: WorkerPool
     assert pool.map(abs, [-1, -2]) == [1, 2]  # still two working workers
 
 
+def test_a_worker_killed_while_idle_costs_no_task(pool: WorkerPool) -> None:
+    os.kill(pool._workers[0].process.pid, signal.SIGKILL)  # as the out-of-memory killer would
+    pool._workers[0].process.join(5)
+    assert pool.map(abs, [-10, -20, -30, -40]) == [10, 20, 30, 40]
+
+
+def test_a_worker_killed_before_it_reads_its_task_fails_that_task_only() -> None:
+    """Killed while it still starts (importing takes most of a second), with its first task unread
+    in its pipe: that task fails as a died worker's, and a fresh worker runs the next one."""
+    with WorkerPool(1) as pool:
+        victim = pool._workers[0].process.pid
+        killer = threading.Timer(0.05, os.kill, (victim, signal.SIGKILL))
+        killer.start()
+        outcomes = dict(pool.imap_unordered([(abs, (-1,)), (abs, (-2,))]))
+        killer.join()
+    assert outcomes[0] == 1 or isinstance(outcomes[0], WorkerDiedError)  # 1: the kill came before the task
+    assert outcomes[1] == 2
+
+
 def test_closing_ends_running_tasks_at_once() -> None:
     pool = WorkerPool(2)
     processes = [w.process for w in pool._workers]
@@ -60,6 +97,17 @@ def test_closing_ends_running_tasks_at_once() -> None:
     running.close()
 
 
+def test_leaving_the_loop_early_closes_the_pool() -> None:
+    pool = WorkerPool(2)
+    processes = [w.process for w in pool._workers]
+    running = pool.imap_unordered([(time.sleep, (60.0,)), (abs, (-1,))])
+    assert next(running) == (1, 1)
+    running.close()  # a result no one reads: its worker is ended
+    assert not any(p.is_alive() for p in processes)
+    with pytest.raises(ValueError, match="closed"):
+        pool.map(abs, [1])
+
+
 def test_held_interrupts_are_raised_when_the_block_ends() -> None:
     reached_end_of_block = False
     with pytest.raises(KeyboardInterrupt), interrupts_held():
@@ -67,6 +115,18 @@ def test_held_interrupts_are_raised_when_the_block_ends() -> None:
         time.sleep(0.05)
         reached_end_of_block = True
     assert reached_end_of_block
+
+
+def test_an_ignored_interrupt_stays_ignored() -> None:
+    previous = signal.signal(signal.SIGINT, signal.SIG_IGN)
+    try:
+        with interrupts_held():
+            os.kill(os.getpid(), signal.SIGINT)
+            time.sleep(0.05)
+        time.sleep(0.05)
+        assert signal.getsignal(signal.SIGINT) is signal.SIG_IGN
+    finally:
+        signal.signal(signal.SIGINT, previous)
 
 
 def test_a_pool_needs_a_worker() -> None:
