@@ -77,8 +77,9 @@ class CommandInterrupts:
     def on_redelivery(self, signum: int, frame: FrameType | None) -> None:
         """SIGALRM handler: the deferred Ctrl-C, sent again, to whichever SIGINT handler is set now
         (a pool holds it while it spawns a worker)."""
-        self.deferred = False
-        signal.raise_signal(signal.SIGINT)
+        if self.deferred:  # else not ours: no Ctrl-C waits
+            self.deferred = False
+            signal.raise_signal(signal.SIGINT)
 
 
 def _in_import(frame: FrameType | None) -> bool:

@@ -150,9 +150,9 @@ def _warn_again(outcome: tuple[dict[str, Any], Caught]) -> dict[str, Any]:
 
 
 def _process_pool(jobs: list[EpisodeJob], settings: EpisodeSettings, workers: int) -> Outcomes:
-    with WorkerPool(min(workers, len(jobs))) as pool:
-        tasks = [(run_job_catching_warnings, (job, settings)) for job in jobs]
-        for index, outcome in pool.imap_unordered(tasks):
+    tasks = [(run_job_catching_warnings, (job, settings)) for job in jobs]
+    with WorkerPool(min(workers, len(jobs))) as pool, contextlib.closing(pool.imap_unordered(tasks)) as outcomes:
+        for index, outcome in outcomes:
             yield jobs[index], outcome if isinstance(outcome, BaseException) else _warn_again(outcome)
 
 

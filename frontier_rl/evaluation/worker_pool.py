@@ -19,11 +19,12 @@ import threading
 import time
 import traceback
 from collections import deque
-from collections.abc import Callable, Iterable, Iterator, Sequence
+from collections.abc import Callable, Generator, Iterable, Iterator, Sequence
 from dataclasses import dataclass, field
 from multiprocessing import resource_tracker
 from multiprocessing.connection import Connection, wait
 from multiprocessing.process import BaseProcess
+from multiprocessing.reduction import ForkingPickler
 from typing import Any
 
 from frontier_rl.errors import FrontierRLError
@@ -83,10 +84,11 @@ def _serve(conn: Connection, parent: int) -> None:
         except Exception as exc:  # handed back: the task failed, the worker goes on
             outcome = _Failed(exc, "".join(traceback.format_exception(exc)))
         try:
-            conn.send(outcome)
-        except Exception as exc:  # the outcome cannot be pickled (nothing was sent yet)
+            data = ForkingPickler.dumps(outcome)
+        except Exception as exc:  # the outcome cannot be pickled
             why = f"the task's outcome could not be sent back: {type(exc).__name__}: {exc}"
-            conn.send(_Failed(RuntimeError(why)))
+            data = ForkingPickler.dumps(_Failed(RuntimeError(why)))
+        conn.send_bytes(data)
 
 
 @contextlib.contextmanager
@@ -94,10 +96,14 @@ def interrupts_held() -> Iterator[None]:
     """Hold a Ctrl-C until the block ends, then hand it to the SIGINT handler that was there
     before (Python's raises KeyboardInterrupt; an ignored Ctrl-C stays ignored): a process half
     spawned, or half ended, would print a traceback or be left behind. Processes started inside
-    inherit SIGINT blocked. Only the main thread can hold it, and only where the handler was set
-    from Python; elsewhere the block runs as it is."""
+    inherit SIGINT blocked. In another thread, or where the handler was not set from Python, only
+    those processes are kept from it (a Ctrl-C goes to the main thread meanwhile)."""
     if threading.current_thread() is not threading.main_thread() or signal.getsignal(signal.SIGINT) is None:
-        yield
+        mask = signal.pthread_sigmask(signal.SIG_BLOCK, {signal.SIGINT})  # for the processes started here
+        try:
+            yield
+        finally:
+            signal.pthread_sigmask(signal.SIG_SETMASK, mask)
         return
     held: list[int] = []
     previous = signal.signal(signal.SIGINT, lambda signum, frame: held.append(signum))
@@ -131,13 +137,16 @@ class _Worker:
 
 class WorkerPool:
     """``workers`` spawned processes, each running one task at a time; use as a context manager.
-    Leaving it (normally, on an error or on Ctrl-C) terminates every worker and waits for them."""
+    Leaving it (normally, on an error or on Ctrl-C) terminates every worker and waits for them.
+    Tasks are run from one thread; :meth:`close` may come from another."""
 
     def __init__(self, workers: int) -> None:
         if workers < 1:
             raise ValueError(f"a pool needs at least one worker, got {workers}")
         self._context = multiprocessing.get_context("spawn")
         self._workers: list[_Worker] = []
+        self._iterating = False
+        self._lock = threading.RLock()
         try:
             with _spawning():
                 for _ in range(workers):
@@ -160,17 +169,20 @@ class WorkerPool:
         theirs.close()
         return _Worker(process, ours)
 
-    def imap_unordered(self, tasks: Sequence[Task]) -> Iterator[tuple[int, Any]]:
+    def imap_unordered(self, tasks: Sequence[Task]) -> Generator[tuple[int, Any], None, None]:
         """Run every task; yield ``(index, result)`` as each finishes, where a task that raised (or
-        whose worker died) gives its exception as the result. Leaving the loop before its end
-        closes the pool: its workers still run tasks no one will read."""
-        if not self._workers:
-            raise ValueError("the worker pool is closed")
+        whose worker died) gives its exception as the result. One loop at a time; leaving it
+        before its end closes the pool: its workers still run tasks no one will read."""
+        if self._iterating:
+            raise ValueError("the worker pool is running another loop over tasks")
+        self._iterating = True
         todo = deque(range(len(tasks)))
         resent: set[int] = set()
         finished = False
         try:
             while todo or any(w.task is not None for w in self._workers):
+                if not self._workers:
+                    raise ValueError("the worker pool is closed")
                 for slot, worker in enumerate(self._workers):
                     if worker.task is None and todo:
                         index = todo.popleft()
@@ -190,6 +202,7 @@ class WorkerPool:
                             yield self._collect(worker)
             finished = True
         finally:
+            self._iterating = False
             if not finished:
                 self.close()
 
@@ -200,12 +213,14 @@ class WorkerPool:
             self._replace(self._workers[slot])
         worker = self._workers[slot]
         try:
-            worker.conn.send(task)
+            data = ForkingPickler.dumps(task)
+        except Exception as exc:  # the task cannot be pickled
+            return exc
+        try:
+            worker.conn.send_bytes(data)
         except OSError:  # the worker ended meanwhile
             self._replace(worker)
             return WorkerDiedError("its worker process had ended")
-        except Exception as exc:  # the task cannot be pickled: nothing was sent
-            return exc
         worker.task = index
         return None
 
@@ -214,11 +229,13 @@ class WorkerPool:
         index, worker.task = worker.task, None
         assert index is not None
         try:
-            outcome = worker.conn.recv()
-        except (EOFError, OSError):  # it ended before or while sending its outcome
+            data = worker.conn.recv_bytes()
+        except (EOFError, OSError):  # it ended before sending the outcome, or while sending it
             code = self._replace(worker)
-            return index, WorkerDiedError(f"its worker process ended (exit code {code}) while running it")
-        except Exception as exc:  # sent whole but cannot be unpickled here: the pipe is still in step
+            return index, WorkerDiedError(f"its worker process ended (exit code {code}) before sending its outcome")
+        try:
+            outcome = pickle.loads(data)
+        except Exception as exc:  # cannot be unpickled here
             return index, exc
         if isinstance(outcome, _Failed):
             if outcome.traceback:
@@ -227,36 +244,42 @@ class WorkerPool:
         return index, outcome
 
     def _replace(self, worker: _Worker) -> int | None:
-        """Put a fresh worker in the place of ``worker``, which has ended (or is killed); its exit code."""
+        """Put a fresh worker in the place of ``worker``, which has ended (or is ended here); its
+        exit code. None is started if the pool was closed meanwhile."""
         worker.conn.close()
         if worker.process.is_alive():
             worker.process.terminate()
         _end(worker.process, time.monotonic())
-        with _spawning():
-            self._workers[self._workers.index(worker)] = self._start()
+        with self._lock:  # a close() from another thread waits for the new worker, and ends it
+            if worker in self._workers:
+                slot = self._workers.index(worker)
+                with _spawning():
+                    self._workers[slot] = self._start()
         return worker.process.exitcode
 
     def map(self, function: Callable[[Any], Any], items: Iterable[Any]) -> list[Any]:
         """``function(item)`` for every item, in order; a task that raised gives its exception."""
         tasks = [(function, (item,)) for item in items]
         results: list[Any] = [None] * len(tasks)
-        for index, result in self.imap_unordered(tasks):
-            results[index] = result
+        with contextlib.closing(self.imap_unordered(tasks)) as outcomes:
+            for index, result in outcomes:
+                results[index] = result
         return results
 
     def close(self) -> None:
         """Terminate every worker and wait for it (killed after :data:`_STOP_WAIT_S`)."""
-        if not self._workers:
-            return
-        with interrupts_held():
-            for worker in self._workers:
-                if worker.process.is_alive():
-                    worker.process.terminate()
-            start = time.monotonic()
-            for worker in self._workers:
-                _end(worker.process, start)
-                worker.conn.close()
-            self._workers = []
+        with self._lock:
+            if not self._workers:
+                return
+            with interrupts_held():
+                for worker in self._workers:
+                    if worker.process.is_alive():
+                        worker.process.terminate()
+                start = time.monotonic()
+                for worker in self._workers:
+                    _end(worker.process, start)
+                    worker.conn.close()
+                self._workers = []
 
 
 def _end(process: BaseProcess, since: float) -> None:

@@ -37,6 +37,31 @@ def test_a_task_that_raises_gives_its_exception_and_the_others_run(pool: WorkerP
     assert isinstance(cause, RemoteTracebackError) and "ZeroDivisionError" in str(cause)
 
 
+class _PicklingFails:
+    """An argument whose pickling raises OSError (as pickling an open connection may)."""
+
+    def __reduce__(self) -> tuple[object, ...]:
+        raise OSError("not picklable here")
+
+
+def test_an_oserror_while_pickling_is_the_tasks_error_not_a_dead_worker(pool: WorkerPool) -> None:
+    before = [w.process.pid for w in pool._workers]
+    outcomes = dict(pool.imap_unordered([(abs, (_PicklingFails(),)), (abs, (-4,))]))
+    assert isinstance(outcomes[0], OSError) and "not picklable here" in str(outcomes[0])
+    assert outcomes[1] == 4
+    assert [w.process.pid for w in pool._workers] == before  # no worker was ended for it
+
+
+def test_one_loop_at_a_time(pool: WorkerPool) -> None:
+    first = pool.imap_unordered([(abs, (-1,)), (abs, (-2,))])
+    outcomes = [next(first)]
+    with pytest.raises(ValueError, match="another loop"):
+        next(pool.imap_unordered([(abs, (-3,))]))
+    outcomes += list(first)  # the first loop goes on unharmed
+    assert sorted(outcomes) == [(0, 1), (1, 2)]
+    assert pool.map(abs, [-5]) == [5]  # and a loop after it may start
+
+
 def test_a_task_the_worker_cannot_unpickle_fails_alone(pool: WorkerPool, tmp_path: Path) -> None:
     (tmp_path / "only_here.py").write_text("def double(x):\n    return 2 * x\n")
     sys.path.insert(0, str(tmp_path))  # after the workers started: they cannot import it
@@ -106,6 +131,29 @@ def test_leaving_the_loop_early_closes_the_pool() -> None:
     assert not any(p.is_alive() for p in processes)
     with pytest.raises(ValueError, match="closed"):
         pool.map(abs, [1])
+
+
+def test_a_loop_resumed_after_close_is_refused() -> None:
+    pool = WorkerPool(1)
+    running = pool.imap_unordered([(abs, (-1,)), (abs, (-2,)), (abs, (-3,))])
+    assert next(running) == (0, 1)
+    pool.close()
+    with pytest.raises(ValueError, match="closed"):
+        next(running)
+
+
+def test_spawning_from_another_thread_keeps_ctrl_c_from_the_workers() -> None:
+    masks: list[set[signal.Signals]] = []
+
+    def spawn() -> None:
+        with interrupts_held():
+            masks.append(signal.pthread_sigmask(signal.SIG_BLOCK, []))
+        masks.append(signal.pthread_sigmask(signal.SIG_BLOCK, []))
+
+    thread = threading.Thread(target=spawn)
+    thread.start()
+    thread.join()
+    assert signal.SIGINT in masks[0] and signal.SIGINT not in masks[1]
 
 
 def test_held_interrupts_are_raised_when_the_block_ends() -> None:
