@@ -145,7 +145,7 @@ def run_jobs(
         outcomes = [catching(job) for job in jobs]
     else:
         with WorkerPool(workers) as pool:
-            outcomes = [  # an exception: the job's worker ended while running it
+            outcomes = [  # an exception: the job's outcome never came back (its worker died)
                 _failure_line(job, o) if isinstance(o, BaseException) else o
                 for job, o in zip(jobs, pool.map(catching, jobs), strict=True)
             ]
