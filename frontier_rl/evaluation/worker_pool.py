@@ -98,23 +98,18 @@ def interrupts_held() -> Iterator[None]:
     spawned, or half ended, would print a traceback or be left behind. Processes started inside
     inherit SIGINT blocked. In another thread, or where the handler was not set from Python, only
     those processes are kept from it (a Ctrl-C goes to the main thread meanwhile)."""
-    if threading.current_thread() is not threading.main_thread() or signal.getsignal(signal.SIGINT) is None:
-        mask = signal.pthread_sigmask(signal.SIG_BLOCK, {signal.SIGINT})  # for the processes started here
-        try:
-            yield
-        finally:
-            signal.pthread_sigmask(signal.SIG_SETMASK, mask)
-        return
+    holding = threading.current_thread() is threading.main_thread() and signal.getsignal(signal.SIGINT) is not None
     held: list[int] = []
-    previous = signal.signal(signal.SIGINT, lambda signum, frame: held.append(signum))
-    mask = signal.pthread_sigmask(signal.SIG_BLOCK, {signal.SIGINT})
+    previous = signal.signal(signal.SIGINT, lambda signum, frame: held.append(signum)) if holding else None
+    mask = signal.pthread_sigmask(signal.SIG_BLOCK, {signal.SIGINT})  # inherited by the processes started here
     try:
         yield
     finally:
         signal.pthread_sigmask(signal.SIG_SETMASK, mask)  # a Ctrl-C pending meanwhile lands in `held`
-        signal.signal(signal.SIGINT, previous)
-        if held:
-            signal.raise_signal(signal.SIGINT)
+        if holding:
+            signal.signal(signal.SIGINT, previous)
+            if held:
+                signal.raise_signal(signal.SIGINT)
 
 
 @contextlib.contextmanager
