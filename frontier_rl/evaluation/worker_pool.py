@@ -14,20 +14,19 @@ import contextlib
 import multiprocessing
 import os
 import pickle
-import signal
 import threading
 import time
 import traceback
 from collections import deque
-from collections.abc import Callable, Generator, Iterable, Iterator, Sequence
+from collections.abc import Callable, Generator, Iterable, Sequence
 from dataclasses import dataclass, field
-from multiprocessing import resource_tracker
 from multiprocessing.connection import Connection, wait
 from multiprocessing.process import BaseProcess
 from multiprocessing.reduction import ForkingPickler
 from typing import Any
 
 from frontier_rl.errors import FrontierRLError
+from frontier_rl.worker_signals import ignore_interrupts, interrupts_held, spawning_workers
 
 Task = tuple[Callable[..., Any], tuple[Any, ...]]
 """A function and its arguments; both are pickled to the worker."""
@@ -70,8 +69,7 @@ class _Failed:
 def _serve(conn: Connection, parent: int) -> None:
     """A worker's loop: run each task the pipe brings, send back its result or :class:`_Failed`;
     end when the pipe closes."""
-    signal.signal(signal.SIGINT, signal.SIG_IGN)  # drops a Ctrl-C held while this process started
-    signal.pthread_sigmask(signal.SIG_UNBLOCK, {signal.SIGINT})
+    ignore_interrupts()
     exit_with_parent(parent)
     while True:
         try:
@@ -89,37 +87,6 @@ def _serve(conn: Connection, parent: int) -> None:
             why = f"the task's outcome could not be sent back: {type(exc).__name__}: {exc}"
             data = ForkingPickler.dumps(_Failed(RuntimeError(why)))
         conn.send_bytes(data)
-
-
-@contextlib.contextmanager
-def interrupts_held() -> Iterator[None]:
-    """Hold a Ctrl-C until the block ends, then hand it to the SIGINT handler that was there
-    before (Python's raises KeyboardInterrupt; an ignored Ctrl-C stays ignored): a process half
-    spawned, or half ended, would print a traceback or be left behind. Processes started inside
-    inherit SIGINT blocked. In another thread, or where the handler was not set from Python, only
-    those processes are kept from it (a Ctrl-C goes to the main thread meanwhile)."""
-    holding = threading.current_thread() is threading.main_thread() and signal.getsignal(signal.SIGINT) is not None
-    held: list[int] = []
-    previous = signal.signal(signal.SIGINT, lambda signum, frame: held.append(signum)) if holding else None
-    mask = signal.pthread_sigmask(signal.SIG_BLOCK, {signal.SIGINT})  # inherited by the processes started here
-    try:
-        yield
-    finally:
-        signal.pthread_sigmask(signal.SIG_SETMASK, mask)  # a Ctrl-C pending meanwhile lands in `held`
-        if holding:
-            signal.signal(signal.SIGINT, previous)
-            if held:
-                signal.raise_signal(signal.SIGINT)
-
-
-@contextlib.contextmanager
-def _spawning() -> Iterator[None]:
-    """:func:`interrupts_held`, for spawning workers. Multiprocessing's resource tracker is started
-    first: starting it unblocks SIGINT (it does so for its own spawn), and the first worker would
-    start with it unblocked."""
-    resource_tracker.ensure_running()
-    with interrupts_held():
-        yield
 
 
 @dataclass(eq=False)
@@ -143,7 +110,7 @@ class WorkerPool:
         self._iterating = False
         self._lock = threading.RLock()
         try:
-            with _spawning():
+            with spawning_workers():
                 for _ in range(workers):
                     self._workers.append(self._start())
         except BaseException:  # Ctrl-C, or a process that could not start: end those that did
@@ -157,7 +124,7 @@ class WorkerPool:
         self.close()
 
     def _start(self) -> _Worker:
-        """A new worker (call inside :func:`_spawning`)."""
+        """A new worker (call inside :func:`~frontier_rl.worker_signals.spawning_workers`)."""
         ours, theirs = self._context.Pipe()
         process = self._context.Process(target=_serve, args=(theirs, os.getpid()), daemon=True)
         process.start()
@@ -248,7 +215,7 @@ class WorkerPool:
         with self._lock:  # a close() from another thread waits for the new worker, and ends it
             if worker in self._workers:
                 slot = self._workers.index(worker)
-                with _spawning():
+                with spawning_workers():
                     self._workers[slot] = self._start()
         return worker.process.exitcode
 

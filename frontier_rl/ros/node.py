@@ -26,7 +26,8 @@ say so, or ``empty``), ``~keep_last_map`` (true), ``~max_pending`` (requests que
 ``~master_check_period`` (s, 1.0, at most 3600). A parameter of the wrong kind or out of range
 stops the node at once with one line naming it (exit status 2).
 
-Run: ``python -m frontier_rl.ros.node _robots:=tb3_0,tb3_1 _weight:=0.75``.
+Run: ``python -m frontier_rl.ros _robots:=tb3_0,tb3_1 _weight:=0.75`` (or ``-m frontier_rl.ros.node``, where
+a Ctrl-C in the first second or so prints a traceback: see :mod:`frontier_rl.ros.__main__`).
 """
 
 from __future__ import annotations
@@ -245,7 +246,10 @@ def _topic(ns: str, name: str) -> str:
 def main() -> None:
     """Run the node until shutdown."""
     rospy = import_rospy()
-    rospy.init_node("frontier_rl")
+    try:
+        rospy.init_node("frontier_rl")
+    except rospy.exceptions.ROSInitException as exc:  # Ctrl-C while it registered: one line, not a traceback
+        raise SystemExit(f"frontier_rl: {exc}") from None
     try:
         node = FrontierNode()
     except (FrontierRLError, ValueError) as exc:  # a bad parameter: one line, not a traceback

@@ -10,7 +10,6 @@ from __future__ import annotations
 
 import contextlib
 import multiprocessing
-import signal
 import sys
 import threading
 import time
@@ -29,6 +28,7 @@ from frontier_rl.errors import FrontierRLError
 from frontier_rl.policies import make_policy
 from frontier_rl.policies.frontier_request import grid_from_message, rank_frontiers
 from frontier_rl.ros.answers import MapInfo
+from frontier_rl.worker_signals import ignore_interrupts, spawning_workers
 
 
 @dataclass(frozen=True)
@@ -94,7 +94,7 @@ def _serve(conn: Connection, policy_spec: str, top_k: int, min_cells: int) -> No
     pipe closes (the node exited, however), never on SIGINT: Ctrl-C in a terminal reaches the whole
     process group, and the node stops its workers itself (a worker that died of it printed a
     traceback and was restarted while the node shut down)."""
-    signal.signal(signal.SIGINT, signal.SIG_IGN)
+    ignore_interrupts()  # spawned with SIGINT blocked: a Ctrl-C while it started is dropped
     policy = make_policy(policy_spec)
     if "torch" in sys.modules:  # a learned policy: one thread, as every robot has a worker of its own
         sys.modules["torch"].set_num_threads(1)
@@ -222,7 +222,8 @@ class RobotWorker:
         context = multiprocessing.get_context("spawn")  # no fork of a process that runs rospy's threads
         self._conn, child = context.Pipe()
         self._process = context.Process(target=_serve, args=(child, *self._args), daemon=True)
-        self._process.start()
+        with spawning_workers():
+            self._process.start()
         child.close()
         self._outbox = _Outbox()
         if self._last_map is not None:

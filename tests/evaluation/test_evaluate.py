@@ -31,6 +31,7 @@ from frontier_rl.evaluation.experiment import (
 )
 from frontier_rl.evaluation.results import ResultStore
 from frontier_rl.evaluation.tables import short_labels
+from tests.processes import children, gone, living_in_group, loads_numpy, workers_started
 
 SHORT = SimConfig(max_sim_time=80.0)  # episodes cut at 80 s of sim time: a fraction of a second each
 runner = CliRunner()
@@ -180,40 +181,6 @@ def _cli(out: Path, *extra: str) -> list[str]:
             "--max-time", "150", "--no-oracle", "--no-progress", "--out", str(out), *extra]  # fmt: skip
 
 
-def _children(pid: int) -> list[int]:
-    found = []
-    for task in Path(f"/proc/{pid}/task").iterdir():
-        try:
-            found += [int(c) for c in (task / "children").read_text().split()]
-        except FileNotFoundError:  # a thread that ended meanwhile
-            continue
-    return found
-
-
-def _workers_started(pid: int) -> bool:
-    """Whether one of the pool's workers has started (not multiprocessing's resource tracker)."""
-    for child in _children(pid):
-        try:
-            if b"spawn_main" in Path(f"/proc/{child}/cmdline").read_bytes():
-                return True
-        except FileNotFoundError:
-            continue
-    return False
-
-
-def _loads_numpy(pid: int) -> bool:
-    """Whether the process is loading the command line (NumPy's compiled core is mapped)."""
-    return "_multiarray_umath" in Path(f"/proc/{pid}/maps").read_text()
-
-
-def _gone(pid: int) -> bool:
-    try:
-        status = Path(f"/proc/{pid}/status").read_text()
-    except FileNotFoundError:
-        return True
-    return "State:\tZ" in status  # a zombie has exited (nobody reaps it in some containers)
-
-
 @pytest.fixture(scope="module")
 def uninterrupted(tmp_path_factory: pytest.TempPathFactory) -> Path:
     whole = tmp_path_factory.mktemp("whole") / "exp"
@@ -231,16 +198,16 @@ def test_resume_after_sigkill_ends_with_the_uninterrupted_table(
     deadline = time.monotonic() + 120
     while time.monotonic() < deadline and (not csv_path.exists() or len(csv_path.read_text().splitlines()) < 4):
         time.sleep(0.02)
-    workers = _children(process.pid)
+    workers = children(process.pid)
     os.kill(process.pid, signal.SIGKILL)
     process.wait(timeout=30)
     finished = len(csv_path.read_text().splitlines()) - 1
     assert 3 <= finished < 8, "the kill should land mid-run"
     if backend == "process":  # the pool's workers do not outlive the killed run
         deadline = time.monotonic() + 10
-        while time.monotonic() < deadline and not all(_gone(pid) for pid in workers):
+        while time.monotonic() < deadline and not all(gone(pid) for pid in workers):
             time.sleep(0.1)
-        assert workers and all(_gone(pid) for pid in workers)
+        assert workers and all(gone(pid) for pid in workers)
     with csv_path.open("a") as handle:  # as if killed while writing a row
         handle.write("nearest,office,3,3,1.0")
     with (killed / "traces.jsonl").open("a") as handle:
@@ -248,20 +215,6 @@ def test_resume_after_sigkill_ends_with_the_uninterrupted_table(
     subprocess.run(_cli(killed, "--backend", backend), check=True, capture_output=True, timeout=300)
     assert _rows(killed) == _rows(uninterrupted)
     assert (killed / "traces.jsonl").read_bytes() == (uninterrupted / "traces.jsonl").read_bytes()
-
-
-def _living_in_group(group: int) -> list[int]:
-    """Processes of a process group that have not exited (zombies have)."""
-    found = []
-    for entry in Path("/proc").iterdir():
-        if entry.name.isdigit():
-            try:
-                fields = (entry / "stat").read_text().rsplit(")", 1)[1].split()
-            except (FileNotFoundError, ProcessLookupError):
-                continue
-            if int(fields[2]) == group and fields[0] != "Z":
-                found.append(int(entry.name))
-    return found
 
 
 @pytest.mark.parametrize("moment", ["loading", "workers starting", "episodes running"])
@@ -276,9 +229,9 @@ def test_ctrl_c_ends_the_run_with_one_line_and_every_worker(uninterrupted: Path,
                                start_new_session=True)  # fmt: skip
     csv_path = out / "episodes.csv"
     deadline = time.monotonic() + 120
-    while moment == "loading" and time.monotonic() < deadline and not _loads_numpy(process.pid):
+    while moment == "loading" and time.monotonic() < deadline and not loads_numpy(process.pid):
         time.sleep(0.002)
-    while moment == "workers starting" and time.monotonic() < deadline and not _workers_started(process.pid):
+    while moment == "workers starting" and time.monotonic() < deadline and not workers_started(process.pid):
         time.sleep(0.002)
     while (
         moment == "episodes running"
@@ -293,9 +246,9 @@ def test_ctrl_c_ends_the_run_with_one_line_and_every_worker(uninterrupted: Path,
     assert process.returncode == 130, stderr
     assert len(stderr.splitlines()) == 1 and stderr.startswith("interrupted"), stderr
     deadline = time.monotonic() + 10
-    while time.monotonic() < deadline and _living_in_group(process.pid):
+    while time.monotonic() < deadline and living_in_group(process.pid):
         time.sleep(0.1)
-    assert not _living_in_group(process.pid)
+    assert not living_in_group(process.pid)
     if moment == "episodes running":
         assert "rerun the same command to resume" in stderr
         subprocess.run(_cli(out, "--backend", "process"), check=True, capture_output=True, timeout=300)

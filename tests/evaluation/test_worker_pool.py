@@ -16,7 +16,8 @@ from pathlib import Path
 
 import pytest
 
-from frontier_rl.evaluation.worker_pool import RemoteTracebackError, WorkerDiedError, WorkerPool, interrupts_held
+from frontier_rl.evaluation.worker_pool import RemoteTracebackError, WorkerDiedError, WorkerPool
+from frontier_rl.worker_signals import interrupts_held
 
 
 @pytest.fixture(scope="module")

@@ -21,6 +21,7 @@ import numpy as np
 import pytest
 
 from frontier_rl.core.world.robot import Pose
+from tests.processes import living_in_group, loads_numpy, spawned_workers
 from tests.ros.test_node import _free_port, _ros_available, _scene
 
 pytestmark = pytest.mark.slow
@@ -229,6 +230,37 @@ def test_a_bad_parameter_stops_the_node_with_one_line(
     finally:
         _kill(core)
     assert node.returncode == 2 and needle in log and "Traceback" not in log, log[-2000:]
+
+
+def _a_worker_loads(pid: int) -> bool:
+    return any(loads_numpy(worker) for worker in spawned_workers(pid))
+
+
+@pytest.mark.parametrize("moment", ["loading", "workers loading"])
+def test_ctrl_c_stops_the_node_without_a_traceback(moment: str, ros_master: tuple[dict[str, str], int]) -> None:
+    """Ctrl-C (SIGINT to the whole process group, as a terminal sends it) while the node's modules
+    load or while its three workers load theirs, run as the launch file runs it: no traceback, and no
+    process of it outlives it."""
+    env, port = ros_master
+    core = _start_core(port, env)
+    node = subprocess.Popen([sys.executable, "-m", "frontier_rl.ros", "_robots:=a,b,c"], env=env, cwd=REPO,
+                            stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True,
+                            start_new_session=True)  # fmt: skip
+    try:
+        deadline = time.monotonic() + 60
+        started = loads_numpy if moment == "loading" else _a_worker_loads
+        while time.monotonic() < deadline and not started(node.pid):
+            time.sleep(0.002)
+        os.killpg(node.pid, signal.SIGINT)
+        log, _ = node.communicate(timeout=60)
+    finally:
+        node.kill()
+        _kill(core)
+    deadline = time.monotonic() + 10
+    while time.monotonic() < deadline and living_in_group(node.pid):
+        time.sleep(0.1)
+    assert not living_in_group(node.pid)
+    assert "Traceback" not in log and "KeyboardInterrupt" not in log, log[-3000:]
 
 
 def test_a_restarted_master_gets_the_node_back_by_respawn(
