@@ -111,6 +111,7 @@ def test_dagger_rounds_teacher_schedule_and_callbacks(
 ) -> None:
     monkeypatch.setattr(imitation, "ROUND_DECISIONS", 8)
     monkeypatch.setattr(imitation, "TEACHER_DECAY", 0.0)  # the teacher drives round 0 only
+    monkeypatch.setattr(imitation, "EPOCHS", 2)  # the rounds are tested here, not the fit (its own test)
     config = _config(map_file, n_envs=2)
     venv = _Spy(DummyVecEnv([lambda: FrontierChoiceEnv(worlds=(str(map_file),), max_decisions=24)] * 2))
     model = build_model(config, venv, tmp_path)
