@@ -71,13 +71,8 @@ class FrontierNode:
     """The node's state and callbacks (call :func:`main` to run it)."""
 
     def __init__(self) -> None:
+        """Read and check the parameters and load the policy (a bad one raises, naming it)."""
         self.rospy = rospy = import_rospy()
-        from geometry_msgs.msg import PoseArray, PoseStamped
-        from nav_msgs.msg import OccupancyGrid
-        from rospy.numpy_msg import numpy_msg
-        from std_msgs.msg import Float32, String
-        from visualization_msgs.msg import MarkerArray
-
         self.robots = robot_namespaces(rospy.get_param("~robots", [""]))
         self.top_k = count_parameter("top_k", rospy.get_param("~top_k", 10), 1)
         min_cells = count_parameter("min_cluster_size", rospy.get_param("~min_cluster_size", 4), 0,
@@ -107,10 +102,25 @@ class FrontierNode:
         self._job_count = self._request_count = 0
         self._lock = threading.Lock()  # the job table and the publishers' order (answer, then status)
         self.log = ThrottledLog()
-        self.workers = {ns: RobotWorker(spec, self.top_k, min_cells, self._on_result) for ns in self.robots}
-        for ns, worker in self.workers.items():
-            if not worker.ready.wait(_WORKER_START_S):
-                raise FrontierRLError(f"the worker of robot {ns!r} did not start within {_WORKER_START_S:g} s")
+        self._worker_args = (spec, self.top_k, min_cells)
+        self.workers: dict[str, RobotWorker] = {}
+
+    def start(self) -> bool:
+        """Start the workers, then publish and subscribe; False if the node was shut down first (a
+        Ctrl-C while it started: it then has no topics, and its workers are stopped)."""
+        from geometry_msgs.msg import PoseArray, PoseStamped
+        from nav_msgs.msg import OccupancyGrid
+        from rospy.numpy_msg import numpy_msg
+        from std_msgs.msg import Float32, String
+        from visualization_msgs.msg import MarkerArray
+
+        rospy = self.rospy
+        if rospy.is_shutdown():  # during the policy's loading (torch takes seconds)
+            return False
+        self.workers = {ns: RobotWorker(*self._worker_args, self._on_result) for ns in self.robots}
+        rospy.on_shutdown(self.close)  # a Ctrl-C from now on stops the workers at once, even while they start
+        if not self._workers_started():
+            return False
         self.list_pub = rospy.Publisher("/frontier_list", PoseArray, queue_size=100)
         self.marker_pub = rospy.Publisher("/frontier_markers", MarkerArray, queue_size=10)
         self.weight_pub = rospy.Publisher("/frontier_weight", Float32, queue_size=100, latch=True)
@@ -124,6 +134,23 @@ class FrontierNode:
             rospy.Subscriber(_topic(ns, pose_topic), PoseStamped, self._on_pose, callback_args=ns, queue_size=1)
         rospy.Subscriber("/frontier_request", String, self._on_request, queue_size=100)
         rospy.loginfo("frontier_rl node: robots %s, policy %s, top %d", self.robots, self.policy_name, self.top_k)
+        return True
+
+    def _workers_started(self) -> bool:
+        """Wait for every worker to load its policy; False if the node is shut down meanwhile."""
+        deadline = time.monotonic() + _WORKER_START_S
+        for ns, worker in self.workers.items():
+            while not worker.ready.wait(0.1):
+                if self.rospy.is_shutdown():
+                    return False
+                if time.monotonic() > deadline:
+                    raise FrontierRLError(f"the worker of robot {ns!r} did not start within {_WORKER_START_S:g} s")
+        return True
+
+    def close(self) -> None:
+        """Stop every worker (none is started again)."""
+        for worker in self.workers.values():
+            worker.close()
 
     def _tf_buffer(self) -> Any:
         try:
@@ -257,10 +284,17 @@ def main() -> None:
         raise SystemExit(2) from None
     import rosgraph
 
-    MasterWatch(rosgraph.get_master_uri(), rospy.get_name(), node.master_check_period, node.on_master_restart).start()
-    rospy.spin()
-    for worker in node.workers.values():
-        worker.close()
+    try:
+        if node.start():
+            watch = MasterWatch(rosgraph.get_master_uri(), rospy.get_name(), node.master_check_period,
+                                node.on_master_restart)  # fmt: skip
+            watch.start()
+            rospy.spin()
+    except FrontierRLError as exc:  # a worker that did not start
+        rospy.logfatal("frontier_rl: %s", exc)
+        raise SystemExit(1) from None
+    finally:
+        node.close()
 
 
 if __name__ == "__main__":

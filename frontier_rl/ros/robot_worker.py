@@ -99,9 +99,9 @@ def _serve(conn: Connection, policy_spec: str, top_k: int, min_cells: int) -> No
     if "torch" in sys.modules:  # a learned policy: one thread, as every robot has a worker of its own
         sys.modules["torch"].set_num_threads(1)
     _warm_up(policy, top_k, min_cells)
-    conn.send(READY)
     held: _HeldMap | None = None
     try:
+        conn.send(READY)  # the node may have gone meanwhile
         while True:
             jobs: list[RankJob] = []
             message = conn.recv()
@@ -251,13 +251,15 @@ class RobotWorker:
             self._outbox.put(job)  # a dead worker: the restart answers the pending jobs
 
     def close(self) -> None:
-        """Stop the process (its reader and writer threads then end)."""
-        self._closing = True
-        self._outbox.close()
-        self._process.terminate()
-        self._process.join(timeout=5)
-        if self._process.is_alive():
-            self._process.kill()
+        """Stop the process (its reader and writer threads then end); none is started again."""
+        with self._lock:  # a restart under way finishes first, and then none follows
+            self._closing = True
+            process, outbox = self._process, self._outbox
+        outbox.close()
+        process.terminate()
+        process.join(timeout=5)
+        if process.is_alive():
+            process.kill()
 
     @staticmethod
     def _write(conn: Connection, outbox: _Outbox) -> None:
@@ -290,6 +292,8 @@ class RobotWorker:
         self._process.join(timeout=5)
         code = self._process.exitcode
         with self._lock:
+            if self._closing:  # closed while it slept
+                return
             lost, self._pending = sorted(self._pending), set()
             self._start()
         for job in lost:
