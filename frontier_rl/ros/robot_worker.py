@@ -209,7 +209,7 @@ class RobotWorker:
     def __init__(self, policy_spec: str, top_k: int, min_cells: int, on_result: Callable[[RankResult], None]) -> None:
         self._args = (policy_spec, top_k, min_cells)
         self._on_result = on_result
-        self._lock = threading.Lock()
+        self._lock = threading.RLock()  # close() may run again, from a shutdown hook, on a thread inside it
         self._pending: set[int] = set()
         self._last_map: MapCells | None = None
         self._closing = False
