@@ -3,6 +3,7 @@ whether they have exited."""
 
 from __future__ import annotations
 
+import time
 from pathlib import Path
 
 
@@ -63,3 +64,11 @@ def living_in_group(group: int) -> list[int]:
             if int(fields[2]) == group and fields[0] != "Z":
                 found.append(int(entry.name))
     return found
+
+
+def left_in_group(group: int, wait_s: float = 10.0) -> list[int]:
+    """The processes of a process group still alive after waiting up to ``wait_s`` (s) for them to end."""
+    deadline = time.monotonic() + wait_s
+    while time.monotonic() < deadline and living_in_group(group):
+        time.sleep(0.1)
+    return living_in_group(group)

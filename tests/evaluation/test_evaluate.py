@@ -31,7 +31,7 @@ from frontier_rl.evaluation.experiment import (
 )
 from frontier_rl.evaluation.results import ResultStore
 from frontier_rl.evaluation.tables import short_labels
-from tests.processes import children, gone, living_in_group, loads_numpy, workers_started
+from tests.processes import children, gone, left_in_group, loads_numpy, workers_started
 
 SHORT = SimConfig(max_sim_time=80.0)  # episodes cut at 80 s of sim time: a fraction of a second each
 runner = CliRunner()
@@ -245,10 +245,7 @@ def test_ctrl_c_ends_the_run_with_one_line_and_every_worker(uninterrupted: Path,
     _, stderr = process.communicate(timeout=60)
     assert process.returncode == 130, stderr
     assert len(stderr.splitlines()) == 1 and stderr.startswith("interrupted"), stderr
-    deadline = time.monotonic() + 10
-    while time.monotonic() < deadline and living_in_group(process.pid):
-        time.sleep(0.1)
-    assert not living_in_group(process.pid)
+    assert not left_in_group(process.pid)
     if moment == "episodes running":
         assert "rerun the same command to resume" in stderr
         subprocess.run(_cli(out, "--backend", "process"), check=True, capture_output=True, timeout=300)
