@@ -47,8 +47,10 @@ lint: $(STAMP)
 typecheck: $(STAMP)
 	$(BIN)/mypy
 
+# the tests one per core at a time (pytest-xdist), then those timed against the wall clock alone
 pytest: $(STAMP) ros-deps browser-deps
-	$(BIN)/pytest -q
+	$(BIN)/pytest -q -n auto --dist loadfile -m "not serial"
+	$(BIN)/pytest -q -m serial
 
 test: lint typecheck pytest
 

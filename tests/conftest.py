@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import os
 from collections.abc import Callable
 from pathlib import Path
 
@@ -10,6 +11,12 @@ import pytest
 
 from frontier_rl.core.frontiers.detection import Frontiers
 from frontier_rl.core.world.grid import CellState, OccupancyGrid
+
+if "PYTEST_XDIST_WORKER" in os.environ:
+    # pytest -n runs a worker per core: each keeps to one thread (torch's and BLAS's pools, set
+    # before either is imported), where two threads each would make two workers share one core.
+    for _variable in ("OMP_NUM_THREADS", "OPENBLAS_NUM_THREADS", "MKL_NUM_THREADS"):
+        os.environ.setdefault(_variable, "1")
 
 _REPO_ROOT = Path(__file__).resolve().parents[1]
 #: Where the development maps live: beside the checkout, or inside it on some machines.

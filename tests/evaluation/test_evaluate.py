@@ -217,6 +217,7 @@ def test_resume_after_sigkill_ends_with_the_uninterrupted_table(
     assert (killed / "traces.jsonl").read_bytes() == (uninterrupted / "traces.jsonl").read_bytes()
 
 
+@pytest.mark.serial
 @pytest.mark.parametrize("moment", ["loading", "workers starting", "episodes running"])
 def test_ctrl_c_ends_the_run_with_one_line_and_every_worker(uninterrupted: Path, tmp_path: Path, moment: str) -> None:
     """Ctrl-C (SIGINT to the whole process group, as a terminal sends it), twice, at three moments:

@@ -19,6 +19,9 @@ import pytest
 from frontier_rl.evaluation.worker_pool import RemoteTracebackError, WorkerDiedError, WorkerPool
 from frontier_rl.worker_signals import interrupts_held
 
+#: Closing is timed (within 3 s) and Ctrl-C is sent to this process: ``make test`` runs these alone.
+pytestmark = pytest.mark.serial
+
 
 @pytest.fixture(scope="module")
 def pool() -> Iterator[WorkerPool]:

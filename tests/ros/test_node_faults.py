@@ -134,6 +134,7 @@ def _core_and_node(env: dict[str, str], port: int, *params: str) -> Iterator[lis
         _kill(core)
 
 
+@pytest.mark.serial
 def test_every_request_is_answered_with_a_reason(
     ros_master: tuple[dict[str, str], int], shared_maps: Path, tmp_path: Path
 ) -> None:
@@ -162,6 +163,7 @@ def test_every_request_is_answered_with_a_reason(
     assert log.count("not finite") == 1  # the NaN and inf poses share one throttled warning
 
 
+@pytest.mark.serial
 def test_one_robots_large_map_does_not_delay_another(
     ros_master: tuple[dict[str, str], int], shared_maps: Path, tmp_path: Path
 ) -> None:
@@ -238,6 +240,7 @@ def _a_worker_loads(pid: int) -> bool:
     return any(loads_numpy(worker) for worker in spawned_workers(pid))
 
 
+@pytest.mark.serial
 @pytest.mark.parametrize("moment", ["loading", "workers loading", "answering"])
 def test_ctrl_c_stops_the_node_at_once_without_a_traceback(
     moment: str, ros_master: tuple[dict[str, str], int], shared_maps: Path, tmp_path: Path
@@ -271,6 +274,7 @@ def test_ctrl_c_stops_the_node_at_once_without_a_traceback(
     assert took < STOP_S, f"{took:.1f} s to stop"
 
 
+@pytest.mark.serial
 def test_a_restarted_master_gets_the_node_back_by_respawn(
     ros_master: tuple[dict[str, str], int], shared_maps: Path, tmp_path: Path
 ) -> None:

@@ -197,6 +197,7 @@ def test_a_worker_ranks_and_comes_back_after_it_is_killed(worker: tuple[RobotWor
     assert results.wait(2).centres == first.centres
 
 
+@pytest.mark.serial
 def test_maps_and_jobs_are_handed_over_at_once_while_the_worker_is_busy(worker: tuple[RobotWorker, _Results]) -> None:
     """The node's callbacks hand over and return: with the worker stopped (a long ranking), a map
     larger than the pipe's buffer and a job take no time, and the job is answered on that map once
@@ -248,6 +249,7 @@ def test_a_worker_that_dies_again_while_it_restarts_comes_back(worker: tuple[Rob
     assert results.wait(2).centres == first.centres
 
 
+@pytest.mark.serial
 def test_a_worker_outlives_a_sigint_to_its_process_group(worker: tuple[RobotWorker, _Results]) -> None:
     """Ctrl-C in a terminal reaches the node and its workers; the node stops them itself."""
     handle, results = worker
