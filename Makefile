@@ -16,7 +16,7 @@ BROWSER_CHECK := command -v chromium >/dev/null && command -v chromedriver >/dev
 $(STAMP): pyproject.toml
 	$(PYTHON) -m venv $(VENV)
 	$(BIN)/python -m pip install --quiet --upgrade pip
-	$(BIN)/python -m pip install --quiet -e ".[rl,ray,dev]"
+	$(BIN)/python -m pip install --quiet -e ".[rl,ray,dev,docs]"
 	touch $(STAMP)
 
 setup: $(STAMP)
