@@ -33,7 +33,7 @@ from frontier_rl.core.sim.metrics import EpisodeResult
 from frontier_rl.core.world.catalog import WORLD_GENERATORS
 from frontier_rl.core.world.worlds import resolution_bounds
 from frontier_rl.errors import ConfigError, short_path, short_repr
-from frontier_rl.policies import POLICY_NAMES, make_policy
+from frontier_rl.policies import ENTRY_POINT_GROUP, POLICY_NAMES, make_policy
 from frontier_rl.recording import EpisodeRecorder, save_team_png
 from frontier_rl.render import check_output_file
 from frontier_rl.swarm import Failure, TeamConfig, parse_strategy, run_team_episode
@@ -42,7 +42,10 @@ from frontier_rl.world_spec import checked_resolution, parse_pose, resolve_world
 #: Largest seed a command accepts (0 to 2**32 - 1: NumPy's legacy seeding, which SB3 uses, takes no more).
 MAX_SEED = 2**32 - 1
 WORLD_HELP = f"{' | '.join(WORLD_GENERATORS)} | a map file (ROS .yaml, Dungeon .png, HouseExpo .json)"
-POLICY_HELP = f"One of: {', '.join(POLICY_NAMES)} (W in [0, 1], N stops 1 to {MAX_STOPS})."
+POLICY_HELP = (
+    f"One of: {', '.join(POLICY_NAMES)} (W in [0, 1], N stops 1 to {MAX_STOPS}); or your own: FILE.py:CLASS, "
+    f"MODULE:CLASS (on PYTHONPATH) or a name an installed package registers under {ENTRY_POINT_GROUP}."
+)
 
 app = typer.Typer(
     add_completion=False, no_args_is_help=True, help="Frontier exploration for search and rescue.", cls=OneLineGroup

@@ -24,7 +24,8 @@ from frontier_rl.core.sim.metrics import sample_step
 from frontier_rl.core.world.catalog import WORLD_GENERATORS
 from frontier_rl.core.world.worlds import World
 from frontier_rl.errors import ConfigError, model_file_label, short_repr
-from frontier_rl.policies import make_policy
+from frontier_rl.policies import PolicySpec, make_policy
+from frontier_rl.policies.user_policies import user_policy_fingerprint
 from frontier_rl.swarm import Failure, Strategy, TeamConfig, TeamMethod, TeamResult, run_team_episode
 from frontier_rl.world_spec import parse_world_list, read_map, resolve_world
 
@@ -165,13 +166,17 @@ def expand_worlds(text: str) -> tuple[str, ...]:
 
 
 def method_fingerprint(method: str) -> str:
-    """What a method's results depend on besides its name: a model file's content hash."""
-    name, _, arg = TeamMethod.parse(method).policy.partition(":")
-    if name != "learned":
+    """What a method's results depend on besides its name: a model file's or a policy file's content
+    hash, a policy module's source hash, an installed policy's package and version."""
+    spec = TeamMethod.parse(method).policy_spec
+    if spec.is_user_code:
+        extra = user_policy_fingerprint(spec)
+        return f"{method}#{extra}" if extra else method
+    if spec.name != "learned":
         return method
-    path = Path(arg)
+    path = Path(spec.argument)
     if not path.is_file():
-        raise ConfigError(f"{model_file_label(arg)} of method {short_repr(method)} does not exist")
+        raise ConfigError(f"{model_file_label(spec.argument)} of method {short_repr(method)} does not exist")
     return f"{method}#sha256:{file_sha256(path)}"
 
 
@@ -215,21 +220,25 @@ def check_methods(config: ExperimentConfig) -> None:
         episode_policy(TeamMethod.parse(method).policy, config.trust_model)
 
 
-def episode_policy(method: str, trust_model: bool) -> ExplorationPolicy:
-    """One policy object per method, process and version of its model file: loading a model takes
-    longer than an episode."""
-    name, _, arg = method.partition(":")
-    stat = Path(arg).stat() if name == "learned" and Path(arg).is_file() else None
-    return _policy_version(method, trust_model, None if stat is None else (stat.st_size, stat.st_mtime_ns))
+def episode_policy(method: str | PolicySpec, trust_model: bool) -> ExplorationPolicy:
+    """The policy of ``method`` for an episode: a built-in one is built once per process and version of
+    its model file (loading a model takes longer than an episode); a user policy afresh for every
+    episode (its module is loaded once), so that no state it keeps carries over from another episode."""
+    spec = method if isinstance(method, PolicySpec) else PolicySpec.parse(method)
+    if spec.is_user_code:
+        return make_policy(spec)
+    path = spec.file
+    stat = path.stat() if path is not None and path.is_file() else None
+    return _policy_version(spec, trust_model, None if stat is None else (stat.st_size, stat.st_mtime_ns))
 
 
 @lru_cache(maxsize=32)
-def _policy_version(method: str, trust_model: bool, version: tuple[int, int] | None) -> ExplorationPolicy:
-    if method.startswith("learned:"):
+def _policy_version(spec: PolicySpec, trust_model: bool, version: tuple[int, int] | None) -> ExplorationPolicy:
+    if spec.name == "learned":
         import torch
 
         torch.set_num_threads(1)  # one episode per core; a tiny network gains nothing from threads
-    return make_policy(method, trust_model=trust_model)
+    return make_policy(spec, trust_model=trust_model)
 
 
 @lru_cache(maxsize=1)
@@ -245,8 +254,7 @@ def job_parts(job: EpisodeJob, settings: EpisodeSettings) -> tuple[World, Explor
     base = Path(settings.base_dir)
     world_spec = job.world if job.world in WORLD_GENERATORS else str(base / job.world)
     method = TeamMethod.parse(job.method)
-    name, _, model = method.policy.partition(":")
-    spec = f"learned:{base / model}" if name == "learned" else method.policy
+    spec = method.policy_spec.against(base)  # a relative model or policy file, against the experiment's folder
     world = resolve_world(world_spec, job.seed, resolution=settings.resolution)
     return (
         world,

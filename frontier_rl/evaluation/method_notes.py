@@ -7,9 +7,11 @@ from dataclasses import dataclass
 from pathlib import Path
 
 from frontier_rl.core.frontiers.ranking import THESIS_WEIGHT
-from frontier_rl.errors import FrontierRLError, short_repr
+from frontier_rl.errors import FrontierRLError, short_repr, short_text
 from frontier_rl.evaluation.experiment import ORACLE, file_sha256
+from frontier_rl.policies import PolicySpec
 from frontier_rl.policies.tour import FrontierTour
+from frontier_rl.policies.user_policies import describe_user_policy, user_policy_fingerprint
 from frontier_rl.registration import MODELS
 from frontier_rl.swarm.config import Strategy, TeamMethod
 
@@ -58,18 +60,35 @@ def describe_method(method: str, base_dir: Path | None = None) -> MethodNote:
 
 
 def _policy(policy: str, base_dir: Path) -> tuple[str, str]:
-    name, _, arg = policy.partition(":")
-    if name == "fixed":
-        baseline = " (the thesis's baseline)" if float(arg) == THESIS_WEIGHT else ""
+    spec = PolicySpec.parse(policy)
+    if spec.is_user_code:
+        return _user(spec.against(base_dir))
+    if spec.name == "fixed":
+        weight = float(spec.argument)
+        baseline = " (the thesis's baseline)" if weight == THESIS_WEIGHT else ""
         return ("Ranks frontiers by eq. 3.1, cost = w·d + (1−w)·(1−g), with a constant weight.",
-                f"w = {float(arg):g}{baseline}")  # fmt: skip
-    if name == "learned":
-        return _learned(base_dir / arg)
-    if name == "tour":
+                f"w = {weight:g}{baseline}")  # fmt: skip
+    if spec.name == "learned":
+        return _learned(base_dir / spec.argument)
+    if spec.name == "tour":
         return ("Drives to the first stop of the shortest open tour (Held-Karp, on planner path costs) through the "
                 "frontiers cheapest to reach, as FUEL (Zhou et al. 2021) and TARE (Cao et al. 2021) order theirs.",
-                f"{arg or TOUR_STOPS} stops")  # fmt: skip
+                f"{spec.argument or TOUR_STOPS} stops")  # fmt: skip
     return _POLICIES.get(policy, "A policy of this project."), ""
+
+
+def _user(spec: PolicySpec) -> tuple[str, str]:
+    """A user policy's description: the first line of its docstring, and where it comes from."""
+    try:
+        info = describe_user_policy(spec)
+        fingerprint = user_policy_fingerprint(spec)
+    except FrontierRLError as exc:
+        return "A user policy that could not be loaded now.", short_text(str(exc))
+    summary = info.summary or "(its class has no docstring)"
+    parameters = f"{info.member} from {info.origin}"
+    if fingerprint.startswith("sha256:"):  # a file's hash, as a model file's is shown
+        parameters += f", sha256 {fingerprint.removeprefix('sha256:')}"
+    return f"A user policy: {summary}", parameters
 
 
 def _learned(path: Path) -> tuple[str, str]:

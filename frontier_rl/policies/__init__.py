@@ -1,4 +1,5 @@
-"""Exploration policies: classic baselines (and, later, learned ones) behind one interface."""
+"""Exploration policies behind one interface: the classic baselines, the oracle and tour, learned
+models (``learned:PATH``), and the user's own (``FILE.py:CLASS``, ``MODULE:CLASS``, installed packages)."""
 
 from frontier_rl.policies.baselines import (
     ExploreLite,
@@ -9,10 +10,13 @@ from frontier_rl.policies.baselines import (
     RandomFrontier,
 )
 from frontier_rl.policies.oracle import OracleTour
-from frontier_rl.policies.registry import POLICY_NAMES, make_policy
+from frontier_rl.policies.registry import make_policy
+from frontier_rl.policies.spec import POLICY_NAMES, PolicyKind, PolicySpec
 from frontier_rl.policies.tour import FrontierTour
+from frontier_rl.policies.user_policies import ENTRY_POINT_GROUP, installed_policies
 
 __all__ = [
+    "ENTRY_POINT_GROUP",
     "POLICY_NAMES",
     "ExploreLite",
     "FixedWeight",
@@ -21,6 +25,9 @@ __all__ = [
     "LargestFrontier",
     "NearestFrontier",
     "OracleTour",
+    "PolicyKind",
+    "PolicySpec",
     "RandomFrontier",
+    "installed_policies",
     "make_policy",
 ]

@@ -8,6 +8,7 @@ from dataclasses import dataclass
 from enum import StrEnum
 
 from frontier_rl.errors import ConfigError
+from frontier_rl.policies.spec import PolicySpec
 
 MAX_ROBOTS = 8
 
@@ -174,6 +175,11 @@ class TeamMethod:
             raise ConfigError(f"method {method!r}: a team has 1 to {MAX_ROBOTS} robots, got {robots}")
         strategy = parse_strategy(match["strategy"]) if match["strategy"] else Strategy.UNCOORDINATED
         return cls(match["policy"], robots, strategy)
+
+    @property
+    def policy_spec(self) -> PolicySpec:
+        """The policy, parsed (:class:`~frontier_rl.policies.spec.PolicySpec`)."""
+        return PolicySpec.parse(self.policy)
 
     def __str__(self) -> str:
         if self.robots is None:

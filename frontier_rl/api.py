@@ -1,0 +1,210 @@
+"""The main jobs as Python functions: load a world, explore it, run a paired experiment, train a model.
+
+Each is what a ``frontier-rl`` command does, with typed values in and out::
+
+    import frontier_rl
+
+    world = frontier_rl.load_world("office", seed=3)
+    result = frontier_rl.explore(world, "nearest", seed=3)
+    print(f"{result.sim_time_s:.0f} s, {result.coverage:.0%} covered")
+
+    summary = frontier_rl.evaluate(["nearest", "my_policy.py:Greedy"], ["office"], 10, out="results/mine")
+    print(summary.methods["my_policy.py:Greedy"].reduction_pct)
+
+Only :func:`train` loads torch (and Gymnasium); the other three need neither.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Callable, Sequence
+from functools import cache
+from pathlib import Path
+from typing import TYPE_CHECKING
+
+from frontier_rl.core.frontiers.ranking import THESIS_BASELINE
+from frontier_rl.core.sim.config import SimConfig
+from frontier_rl.core.sim.episode import DecisionContext, ExplorationPolicy, Ranking, run_episode, warm_up
+from frontier_rl.core.sim.metrics import EpisodeResult
+from frontier_rl.core.sim.simulator import ExplorationSimulator
+from frontier_rl.core.world.robot import Pose
+from frontier_rl.core.world.worlds import World
+from frontier_rl.errors import ConfigError, short_repr
+from frontier_rl.evaluation.summary import ExperimentSummary
+from frontier_rl.policies import make_policy
+from frontier_rl.swarm import Failure, TeamConfig, run_team_episode
+from frontier_rl.world_spec import resolve_world
+
+if TYPE_CHECKING:
+    from frontier_rl.rl.config import TrainConfig
+
+DecisionHook = Callable[[ExplorationSimulator, DecisionContext, Ranking], None]
+"""Called at every decision of a single robot's episode, before the robot drives."""
+
+
+def load_world(
+    name_or_path: str | Path, seed: int = 0, *, start: Pose | None = None, resolution: float | None = None
+) -> World:
+    """The world ``name_or_path`` names: a generator (``office``, ``rooms``, ``cluttered``, ``building``,
+    ``cave``) drawn with ``seed``, a map of the catalogue (``nav2_depot``, ``dungeon/easy/img_10``) or a
+    map file (ROS ``.yaml``, DungeonMaps ``.png``, HouseExpo ``.json``).
+
+    Args:
+        name_or_path: generator, catalogue name or path.
+        seed: seeds the generator, or the random start on a map without a stored one.
+        start: the start pose (m, m, rad), replacing the generated or stored one.
+        resolution: cell size (m) of a map file that carries none (a bitmap, HouseExpo).
+
+    Raises:
+        UnknownNameError: no such generator, catalogue name or file.
+        ConfigError: a start pose or resolution no world can use.
+        MapError: a map file that cannot be used.
+    """
+    return resolve_world(str(name_or_path), seed, start, resolution)
+
+
+def explore(
+    world: World | str | Path,
+    policy: ExplorationPolicy | str,
+    *,
+    seed: int = 0,
+    config: SimConfig | None = None,
+    team: TeamConfig | None = None,
+    resolution: float | None = None,
+    trust_model: bool = False,
+    on_decision: DecisionHook | None = None,
+) -> EpisodeResult:
+    """Explore ``world`` with ``policy`` until no frontier is left (or the sim-time cap), as
+    ``frontier-rl explore`` does; the same seed gives the same episode, bit for bit.
+
+    Args:
+        world: a world, or a name or path for :func:`load_world` (drawn with ``seed``).
+        policy: a policy object (anything with ``name`` and ``rank``), or a spec as on the command
+            line: ``nearest``, ``fixed:0.75``, ``learned:models/model7.zip``, ``my_policy.py:Greedy``, ...
+        seed: seeds the world (when named), the sensor noise and the policy's random stream.
+        config: simulation settings (robot, LiDAR, mapping, navigation, time cap); the defaults if None.
+        team: a team of robots that all run ``policy``; None for one robot. A team's result is a
+            :class:`~frontier_rl.swarm.TeamResult`.
+        resolution: cell size (m) of a map file that carries none.
+        trust_model: admit SB3 zips from elsewhere for ``learned:`` (unpickles them: runs their code).
+        on_decision: called at every decision of a single robot, before it drives (not for a team).
+
+    Raises:
+        FrontierRLError: a bad world, policy or setting, named in one line.
+    """
+    if team is not None and on_decision is not None:
+        raise ConfigError("on_decision follows one robot's decisions; it cannot be given with a team")
+    chosen = make_policy(policy, trust_model=trust_model) if isinstance(policy, str) else policy
+    the_world = world if isinstance(world, World) else load_world(world, seed, resolution=resolution)
+    _warm_up()
+    if team is not None:
+        return run_team_episode(the_world, chosen, config, team, seed)
+    return run_episode(the_world, chosen, config, seed, on_decision=on_decision)
+
+
+@cache
+def _warm_up() -> None:
+    """Compile (or load) the engine's kernels once per process, so that no episode's wall time counts it."""
+    warm_up()
+
+
+def evaluate(
+    methods: Sequence[str],
+    worlds: Sequence[str | Path],
+    episodes: int,
+    *,
+    out: str | Path,
+    baseline: str = THESIS_BASELINE,
+    oracle: bool = True,
+    seed: int = 0,
+    workers: int | None = None,
+    backend: str = "process",
+    config: SimConfig | None = None,
+    resolution: float | None = None,
+    trust_model: bool = False,
+    comm_range: float | None = None,
+    failures: Sequence[Failure] = (),
+    outliers: Sequence[float] | None = None,
+    pictures: int | None = None,
+    progress: bool = False,
+) -> ExperimentSummary:
+    """The paired experiment of ``frontier-rl evaluate``: every method on the same worlds, starts and
+    sensor noise, compared with ``baseline``; the report, plots and ``summary.json`` go to ``out``
+    (rerunning with the same ``out`` resumes), and the summary comes back typed.
+
+    Args:
+        methods: policy specs as on the command line (``nearest``, ``learned:models/model7.zip``,
+            ``my_policy.py:Greedy``, ``nearest@2:coordinated`` for a team, ...); ``baseline`` is added if missing.
+        worlds: generators, catalogue names, map files and folders of maps.
+        episodes: episodes per world; episode i uses seed ``seed + i``.
+        out: the results folder.
+        config: the simulation settings of every episode (the defaults if None).
+        outliers: also compare without the episodes above these times (s); None: 1000 and 2000 s.
+        pictures: draw each method's first episode on this many worlds (None: 3).
+        baseline, oracle, seed, workers, backend, resolution, trust_model, comm_range, failures, progress: as
+            the options of ``frontier-rl evaluate`` of the same names.
+
+    Raises:
+        FrontierRLError: a bad method, world or setting, or ``out`` holding another experiment.
+    """
+    from frontier_rl.evaluation.evaluate import evaluate as run_evaluation
+    from frontier_rl.evaluation.experiment import ExperimentConfig
+
+    names, places = _names(methods, worlds, baseline, oracle)
+    experiment = ExperimentConfig(
+        methods=names,
+        worlds=places,
+        episodes=episodes,
+        seed=seed,
+        baseline=baseline,
+        sim=config or SimConfig(),
+        resolution=resolution,
+        trust_model=trust_model,
+        comm_range=comm_range,
+        failures=tuple(failures),
+    )
+    command = f"frontier_rl.evaluate({list(experiment.methods)}, {list(experiment.worlds)}, {episodes}, seed={seed})"
+    cuts, shown = _report_settings(outliers, pictures)
+    report = run_evaluation(experiment, Path(out), backend, workers, None, cuts, progress, command, pictures=shown)
+    return ExperimentSummary.load(report.parent)
+
+
+def _names(
+    methods: Sequence[str], worlds: Sequence[str | Path], baseline: str, oracle: bool
+) -> tuple[tuple[str, ...], tuple[str, ...]]:
+    """The methods (the baseline first, the oracle last) and worlds (folders expanded) of :func:`evaluate`."""
+    from frontier_rl.evaluation.experiment import ORACLE, expand_worlds
+
+    if isinstance(methods, str) or isinstance(worlds, str):
+        raise ConfigError(f"methods and worlds must be lists of names, got {short_repr(methods)}, {short_repr(worlds)}")
+    names = tuple(dict.fromkeys([baseline, *methods, *([ORACLE] if oracle else [])]))
+    return names, tuple(w for item in worlds for w in expand_worlds(str(item)))
+
+
+def _report_settings(outliers: Sequence[float] | None, pictures: int | None) -> tuple[tuple[float, ...], int]:
+    """The outlier thresholds (s) and pictured worlds of :func:`evaluate`, checked; None: the command's defaults."""
+    from frontier_rl.evaluation.evaluate import DEFAULT_OUTLIERS_S, DEFAULT_PICTURE_WORLDS
+
+    cuts = DEFAULT_OUTLIERS_S if outliers is None else tuple(outliers)
+    if not all(isinstance(t, int | float) and 0 < t < math.inf for t in cuts):
+        raise ConfigError(f"outliers must be positive numbers of seconds, got {short_repr(outliers)}")
+    if pictures is not None and not (isinstance(pictures, int) and pictures >= 0):
+        raise ConfigError(f"pictures must be a whole number of worlds, 0 or more, got {short_repr(pictures)}")
+    return cuts, DEFAULT_PICTURE_WORLDS if pictures is None else pictures
+
+
+def train(config: TrainConfig, out: str | Path, *, resume: bool = False, progress: bool = False) -> Path:
+    """Train the model ``config`` describes into the run folder ``out`` (as ``frontier-rl train``
+    does: checkpoints, validation, learning curve); returns the final model file, which
+    ``learned:PATH`` names. Loads torch, Stable-Baselines3 and Gymnasium.
+
+    Args:
+        config: the run's settings (:class:`~frontier_rl.rl.config.TrainConfig`: model, worlds,
+            timesteps, algorithm, ...).
+        out: the run folder.
+        resume: continue the run in ``out`` from its last checkpoint (same settings).
+        progress: show a progress bar.
+    """
+    from frontier_rl.rl.train import train as run_training
+
+    return run_training(config, Path(out), resume=resume, progress=progress)

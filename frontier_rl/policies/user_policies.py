@@ -1,0 +1,251 @@
+"""Policies of the user's own: a class in a Python file, in a module on the Python path, or registered
+by an installed package under the entry-point group ``frontier_rl.policies``.
+
+Naming code on the command line (``--policy my_policy.py:Greedy``) is the user's consent to run it;
+a model file (``learned:``) never names code. The class (or factory) is called with no arguments and
+must give an object with a ``name`` (str) and a ``rank(context, rng)`` method
+(:class:`~frontier_rl.core.sim.episode.ExplorationPolicy`). Whatever goes wrong on the way (a missing
+file, a syntax error, a module not found, no such class, an exception on import or construction, an
+object that is not a policy) is one :class:`~frontier_rl.errors.FrontierRLError` line naming the spec.
+
+An installed package registers a policy in its ``pyproject.toml``::
+
+    [project.entry-points."frontier_rl.policies"]
+    my-policy = "my_package.policies:MyPolicy"
+"""
+
+from __future__ import annotations
+
+import hashlib
+import importlib
+import importlib.util
+import inspect
+import sys
+from collections.abc import Callable
+from dataclasses import dataclass
+from functools import lru_cache
+from importlib.metadata import EntryPoint, entry_points
+from pathlib import Path
+from types import ModuleType
+from typing import cast
+
+from frontier_rl.core.sim.episode import ExplorationPolicy
+from frontier_rl.errors import ConfigError, FrontierRLError, UnknownNameError, short_path, short_repr, short_text
+from frontier_rl.policies.spec import SIMPLE_POLICIES, PolicyKind, PolicySpec, unknown_policy
+
+ENTRY_POINT_GROUP = "frontier_rl.policies"
+"""The entry-point group installed packages register policies under (name -> class or factory)."""
+
+_FILE_MODULE_PREFIX = "frontier_rl_user_policy_"
+"""Prefix of the ``sys.modules`` names policy files are loaded as (with a hash of their path)."""
+
+PolicyFactory = Callable[[], object]
+"""A class or function that, called with no arguments, gives a policy."""
+
+
+@dataclass(frozen=True)
+class UserPolicyInfo:
+    """Where a user policy comes from, for a report.
+
+    Attributes:
+        origin: ``file PATH``, ``module NAME`` or ``package DIST VERSION (entry point NAME)``.
+        member: the class or factory's name.
+        summary: the first line of its docstring ("" if it has none).
+    """
+
+    origin: str
+    member: str
+    summary: str
+
+
+def build_user_policy(spec: PolicySpec) -> ExplorationPolicy:
+    """The policy a file, module or entry-point ``spec`` names: its factory called with no arguments.
+
+    Raises:
+        FrontierRLError: anything that stops it (see the module docstring), in one line.
+    """
+    factory = load_factory(spec)
+    label = f"policy {short_repr(str(spec))}"
+    shown = getattr(factory, "__name__", None) or spec.argument or spec.name
+    try:
+        policy = factory()
+    except Exception as exc:  # the user's code may raise anything: one line, never a traceback
+        raise ConfigError(f"{label}: calling {shown}() with no arguments raised {_exception_line(exc)}") from None
+    name = getattr(policy, "name", None)
+    if not isinstance(name, str) or not name.strip():
+        raise ConfigError(f"{label}: {shown}() gave {_kind(policy)}, not a policy: it needs a 'name' string")
+    if not callable(getattr(policy, "rank", None)):
+        raise ConfigError(
+            f"{label}: {shown}() gave {_kind(policy)}, not a policy: it needs a rank(context, rng) method"
+        )
+    return cast(ExplorationPolicy, policy)
+
+
+def load_factory(spec: PolicySpec) -> PolicyFactory:
+    """The class or factory ``spec`` names, loaded (its module imported) but not called."""
+    if spec.kind is PolicyKind.ENTRY_POINT:
+        return _entry_point_factory(spec)
+    if spec.kind is PolicyKind.FILE:
+        module = _file_module(spec)
+    elif spec.kind is PolicyKind.MODULE:
+        module = _import_module(spec)
+    else:
+        raise ConfigError(f"policy {short_repr(str(spec))} is built in, not user code")
+    target: object = module
+    for part in spec.argument.split("."):
+        if not hasattr(target, part):
+            found = ", ".join(_policy_classes(module)) or "none"
+            raise UnknownNameError(
+                f"policy {short_repr(str(spec))}: {_origin(spec)} has no {spec.argument!r} (classes with a rank "
+                f"method there: {found})"
+            )
+        target = getattr(target, part)
+    if not callable(target):
+        raise ConfigError(f"policy {short_repr(str(spec))}: {spec.argument!r} is {_kind(target)}, not a class")
+    return cast(PolicyFactory, target)
+
+
+def describe_user_policy(spec: PolicySpec) -> UserPolicyInfo:
+    """Where ``spec``'s policy comes from and the first line of its docstring (loads its module)."""
+    factory = load_factory(spec)
+    doc = inspect.getdoc(factory) or ""
+    summary = doc.strip().splitlines()[0] if doc.strip() else ""
+    if spec.kind is PolicyKind.ENTRY_POINT:
+        point = _entry_point(spec)
+        dist = point.dist
+        where = f"package {dist.name} {dist.version}" if dist is not None else "an installed package"
+        origin = f"{where} (entry point {point.name} = {point.value})"
+    else:
+        origin = _origin(spec)
+    return UserPolicyInfo(origin, spec.argument or getattr(factory, "__qualname__", spec.name), summary)
+
+
+def installed_policies() -> tuple[str, ...]:
+    """The names installed packages register under :data:`ENTRY_POINT_GROUP`, sorted; a name of a
+    built-in policy is left out (built-in names win)."""
+    names = {point.name for point in entry_points(group=ENTRY_POINT_GROUP)}
+    return tuple(sorted(names - set(SIMPLE_POLICIES) - {"fixed", "learned"}))
+
+
+def user_policy_fingerprint(spec: PolicySpec) -> str:
+    """What a user policy's results depend on besides its spec: a hash of the file's content for a
+    file, of the module's source file for a module (when it is one), the distribution's name and
+    version for an entry point ("" where none is known)."""
+    if spec.kind is PolicyKind.FILE:
+        return f"sha256:{_sha256(_policy_file(spec))}"
+    if spec.kind is PolicyKind.MODULE:
+        origin = getattr(_import_module(spec), "__file__", None)
+        return f"sha256:{_sha256(Path(origin))}" if origin and Path(origin).is_file() else ""
+    if spec.kind is PolicyKind.ENTRY_POINT:
+        dist = _entry_point(spec).dist
+        return f"dist:{dist.name}=={dist.version}" if dist is not None else ""
+    return ""
+
+
+def _policy_file(spec: PolicySpec) -> Path:
+    path = Path(spec.name)
+    if not path.exists():
+        raise ConfigError(f"policy file {short_path(spec.name)} does not exist")
+    if not path.is_file():
+        raise ConfigError(f"policy file {short_path(spec.name)} is not a file")
+    return path
+
+
+def _file_module(spec: PolicySpec) -> ModuleType:
+    """The policy file's module, executed once per process and version of the file."""
+    path = _policy_file(spec).resolve()
+    stat = path.stat()
+    return _load_file(str(path), stat.st_size, stat.st_mtime_ns, spec.name)
+
+
+@lru_cache(maxsize=32)
+def _load_file(path: str, size: int, mtime_ns: int, shown: str) -> ModuleType:
+    """Execute the file at ``path`` as a module of its own (``size`` and ``mtime_ns`` key its version)."""
+    name = _FILE_MODULE_PREFIX + hashlib.sha256(path.encode()).hexdigest()[:16]
+    module_spec = importlib.util.spec_from_file_location(name, path)
+    if module_spec is None or module_spec.loader is None:
+        raise ConfigError(f"policy file {short_path(shown)} cannot be loaded as Python")
+    module = importlib.util.module_from_spec(module_spec)
+    sys.modules[name] = module  # dataclasses and pickle look their classes' modules up here
+    try:
+        module_spec.loader.exec_module(module)
+    except SyntaxError as exc:
+        del sys.modules[name]
+        raise ConfigError(f"policy file {short_path(shown)}: {_syntax_line(exc)}") from None
+    except Exception as exc:
+        del sys.modules[name]
+        raise ConfigError(f"policy file {short_path(shown)} raised on import: {_exception_line(exc)}") from None
+    return module
+
+
+def _import_module(spec: PolicySpec) -> ModuleType:
+    try:
+        return importlib.import_module(spec.name)
+    except ModuleNotFoundError as exc:
+        missing = exc.name or ""
+        if missing == spec.name or spec.name.startswith(missing + "."):
+            raise UnknownNameError(
+                f"policy {short_repr(str(spec))}: no module named {missing!r} on the Python path (add its folder "
+                "to PYTHONPATH)"
+            ) from None
+        raise ConfigError(f"module {spec.name!r} raised on import: {_exception_line(exc)}") from None
+    except SyntaxError as exc:
+        raise ConfigError(f"module {spec.name!r}: {_syntax_line(exc)}") from None
+    except Exception as exc:
+        raise ConfigError(f"module {spec.name!r} raised on import: {_exception_line(exc)}") from None
+
+
+def _entry_point(spec: PolicySpec) -> EntryPoint:
+    points = entry_points(group=ENTRY_POINT_GROUP, name=spec.name)
+    for point in points:
+        return point
+    installed = ", ".join(installed_policies()) or "none installed"
+    raise unknown_policy(spec.name, f"{ENTRY_POINT_GROUP}: {installed}")
+
+
+def _entry_point_factory(spec: PolicySpec) -> PolicyFactory:
+    point = _entry_point(spec)
+    try:
+        loaded = point.load()
+    except FrontierRLError:
+        raise
+    except Exception as exc:
+        raise ConfigError(
+            f"installed policy {spec.name!r} ({point.value}) raised on load: {_exception_line(exc)}"
+        ) from None
+    if not callable(loaded):
+        raise ConfigError(f"installed policy {spec.name!r} ({point.value}) is {_kind(loaded)}, not a class")
+    return cast(PolicyFactory, loaded)
+
+
+def _origin(spec: PolicySpec) -> str:
+    return f"file {spec.name}" if spec.kind is PolicyKind.FILE else f"module {spec.name}"
+
+
+def _policy_classes(module: ModuleType) -> list[str]:
+    """Names of the classes defined in ``module`` that have a ``rank`` attribute."""
+    return [
+        name
+        for name, value in vars(module).items()
+        if inspect.isclass(value) and value.__module__ == module.__name__ and hasattr(value, "rank")
+    ]
+
+
+def _sha256(path: Path) -> str:
+    """The first 16 hex digits of the SHA-256 of a (source) file's content."""
+    with path.open("rb") as handle:
+        return hashlib.file_digest(handle, "sha256").hexdigest()[:16]
+
+
+def _syntax_line(exc: SyntaxError) -> str:
+    where = f"{exc.filename}:{exc.lineno}" if exc.filename else f"line {exc.lineno}"
+    return f"syntax error at {where}: {exc.msg}"
+
+
+def _exception_line(exc: BaseException) -> str:
+    return short_text(f"{type(exc).__name__}: {exc}")
+
+
+def _kind(value: object) -> str:
+    """A value for a message: its repr, cut short, and its type."""
+    return f"{short_repr(value, 40)} (type {type(value).__name__})"

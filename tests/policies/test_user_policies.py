@@ -1,0 +1,279 @@
+"""Tests of the user's own policies: FILE.py:CLASS, MODULE:CLASS and the frontier_rl.policies entry points,
+parsed into a PolicySpec, loaded, checked, and run by explore (the CLI); evaluate's runs are in
+tests/policies/test_user_policy_experiments.py."""
+
+from __future__ import annotations
+
+import json
+import os
+import subprocess
+import sys
+import textwrap
+from pathlib import Path
+
+import pytest
+from typer.testing import CliRunner
+
+from frontier_rl.cli import app
+from frontier_rl.core.sim.episode import run_episode
+from frontier_rl.core.world.catalog import generate_world
+from frontier_rl.errors import ConfigError, FrontierRLError, UnknownNameError
+from frontier_rl.evaluation.experiment import episode_policy, method_fingerprint
+from frontier_rl.evaluation.method_notes import describe_method
+from frontier_rl.policies import (
+    ENTRY_POINT_GROUP,
+    NearestFrontier,
+    PolicyKind,
+    PolicySpec,
+    installed_policies,
+    make_policy,
+)
+from frontier_rl.swarm.config import TeamMethod
+
+runner = CliRunner()
+
+GREEDY = '''
+"""A module of the user's."""
+import numpy as np
+from frontier_rl import DecisionContext, Ranking
+
+
+class Greedy:
+    """The largest frontier per metre to drive.
+
+    More text that the report leaves out.
+    """
+
+    name = "greedy"
+
+    def rank(self, context: DecisionContext, rng: np.random.Generator) -> Ranking:
+        frontiers = context.frontiers
+        return Ranking(np.argsort(-frontiers.sizes / (1.0 + frontiers.distances), kind="stable"))
+
+
+class Counting:
+    """Counts its decisions (state that must not carry over between episodes)."""
+
+    name = "counting"
+
+    def __init__(self) -> None:
+        self.decisions = 0
+
+    def rank(self, context: DecisionContext, rng: np.random.Generator) -> Ranking:
+        self.decisions += 1
+        return Ranking(np.argsort(context.frontiers.distances, kind="stable"))
+'''
+
+
+@pytest.fixture
+def policy_dir(tmp_path: Path) -> Path:
+    """A folder outside the repository with the user's policy file ``greedy.py``."""
+    folder = tmp_path / "user code"  # a blank in the path, as users' folders have
+    folder.mkdir()
+    (folder / "greedy.py").write_text(GREEDY)
+    return folder
+
+
+@pytest.mark.parametrize(
+    ("text", "kind", "name", "argument"),
+    [
+        ("nearest", PolicyKind.BUILTIN, "nearest", ""),
+        (" fixed:0.75 ", PolicyKind.BUILTIN, "fixed", "0.75"),
+        ("learned:runs/a:b.zip", PolicyKind.BUILTIN, "learned", "runs/a:b.zip"),
+        ("tour:4", PolicyKind.BUILTIN, "tour", "4"),
+        ("my.py:Greedy", PolicyKind.FILE, "my.py", "Greedy"),
+        ("/abs/dir:x/my.py:Outer.Inner", PolicyKind.FILE, "/abs/dir:x/my.py", "Outer.Inner"),
+        ("my_pkg.policies:Greedy", PolicyKind.MODULE, "my_pkg.policies", "Greedy"),
+        ("my-policy", PolicyKind.ENTRY_POINT, "my-policy", ""),
+    ],
+)
+def test_a_spec_is_parsed_once_into_its_kind_and_parts(text: str, kind: PolicyKind, name: str, argument: str) -> None:
+    spec = PolicySpec.parse(text)
+    assert (spec.kind, spec.name, spec.argument) == (kind, name, argument)
+    assert PolicySpec.parse(str(spec)) == spec
+    assert spec.is_user_code == (kind is not PolicyKind.BUILTIN)
+
+
+def test_relative_files_resolve_against_a_base_folder(tmp_path: Path) -> None:
+    assert PolicySpec.parse("sub/my.py:G").against(tmp_path).name == str(tmp_path / "sub/my.py")
+    assert PolicySpec.parse("learned:m.zip").against(tmp_path).argument == str(tmp_path / "m.zip")
+    assert PolicySpec.parse("/abs/my.py:G").against(tmp_path).name == "/abs/my.py"
+    assert PolicySpec.parse("nearest").against(tmp_path) == PolicySpec.parse("nearest")
+
+
+def test_a_team_method_of_a_file_policy_keeps_the_spec() -> None:
+    method = TeamMethod.parse("my.py:Greedy@2:coordinated")
+    assert (method.policy, method.robots, method.strategy.value) == ("my.py:Greedy", 2, "coordinated")
+    assert method.policy_spec == PolicySpec(PolicyKind.FILE, "my.py", "Greedy")
+
+
+def test_a_policy_file_outside_the_repository_runs_an_episode(policy_dir: Path) -> None:
+    policy = make_policy(f"{policy_dir / 'greedy.py'}:Greedy")
+    assert policy.name == "greedy"
+    world = generate_world("office", 1)
+    result = run_episode(world, policy, seed=1)
+    nearest = run_episode(world, NearestFrontier(), seed=1)
+    assert result.decisions > 0 and result.coverage > 0.5
+    assert result.sim_time_s != nearest.sim_time_s  # it ranks by its own rule, not the nearest's
+
+
+def test_a_relative_policy_file_resolves_against_the_working_folder(
+    policy_dir: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    monkeypatch.chdir(policy_dir)
+    assert make_policy("greedy.py:Greedy").name == "greedy"
+
+
+def test_explore_json_runs_a_policy_file(policy_dir: Path) -> None:
+    spec = f"{policy_dir / 'greedy.py'}:Greedy"
+    result = runner.invoke(app, ["explore", "--policy", spec, "--seed", "2", "--max-time", "120", "--json"])
+    assert result.exit_code == 0, result.output
+    summary = json.loads(result.output)
+    assert summary["policy"] == "greedy" and summary["decisions"] > 0
+
+
+def test_explore_runs_a_team_of_a_policy_file(policy_dir: Path) -> None:
+    spec = f"{policy_dir / 'greedy.py'}:Greedy"
+    args = ["explore", "--policy", spec, "--robots", "2", "--strategy", "coordinated", "--max-time", "60", "--json"]
+    result = runner.invoke(app, args)
+    assert result.exit_code == 0, result.output
+    assert json.loads(result.output)["robots"] == 2
+
+
+def _frontier_rl(args: list[str], cwd: Path, pythonpath: Path) -> subprocess.CompletedProcess[str]:
+    """The installed ``frontier-rl`` command, run in ``cwd`` with ``pythonpath`` on PYTHONPATH."""
+    command = Path(sys.executable).with_name("frontier-rl")
+    env = os.environ | {"PYTHONPATH": str(pythonpath)}
+    return subprocess.run([str(command), *args], cwd=cwd, env=env, capture_output=True, text=True, timeout=120)
+
+
+def test_module_class_works_with_pythonpath(policy_dir: Path, tmp_path: Path) -> None:
+    package = policy_dir / "my_policies"
+    package.mkdir()
+    (package / "__init__.py").write_text("")
+    (package / "greedy.py").write_text(GREEDY)
+    run = _frontier_rl(
+        ["explore", "--policy", "my_policies.greedy:Greedy", "--max-time", "60", "--json"], tmp_path, policy_dir
+    )
+    assert run.returncode == 0, run.stderr
+    assert json.loads(run.stdout)["policy"] == "greedy"
+
+
+def _fake_distribution(root: Path, entry_points: str, module: str = GREEDY) -> Path:
+    """An installed distribution ``fake-policies`` 1.2 in ``root`` (a folder for sys.path), whose
+    ``entry_points.txt`` has ``entry_points`` under the frontier_rl.policies group."""
+    root.mkdir(exist_ok=True)
+    (root / "fake_policies.py").write_text(module)
+    info = root / "fake_policies-1.2.dist-info"
+    info.mkdir()
+    (info / "METADATA").write_text("Metadata-Version: 2.1\nName: fake-policies\nVersion: 1.2\n")
+    (info / "entry_points.txt").write_text(f"[{ENTRY_POINT_GROUP}]\n{textwrap.dedent(entry_points)}")
+    return root
+
+
+def test_an_installed_package_registers_policies_by_entry_point(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    root = _fake_distribution(tmp_path / "site", "fake-greedy = fake_policies:Greedy\nnearest = fake_policies:Greedy\n")
+    monkeypatch.syspath_prepend(str(root))
+    assert installed_policies() == ("fake-greedy",)  # a built-in name is never taken from a package
+    assert make_policy("fake-greedy").name == "greedy"
+    assert isinstance(make_policy("nearest"), NearestFrontier)  # built-in names win
+    assert method_fingerprint("fake-greedy") == "fake-greedy#dist:fake-policies==1.2"
+    note = describe_method("fake-greedy")
+    assert note.description == "A user policy: The largest frontier per metre to drive."
+    assert "package fake-policies 1.2" in note.parameters
+
+
+def test_explore_runs_an_installed_policy(tmp_path: Path) -> None:
+    root = _fake_distribution(tmp_path / "site", "fake-greedy = fake_policies:Greedy\n")
+    run = _frontier_rl(["explore", "--policy", "fake-greedy", "--max-time", "60", "--json"], tmp_path, root)
+    assert run.returncode == 0, run.stderr
+    assert json.loads(run.stdout)["policy"] == "greedy"
+
+
+def test_a_user_policy_is_built_afresh_for_every_episode(policy_dir: Path) -> None:
+    spec = f"{policy_dir / 'greedy.py'}:Counting"
+    first, second = episode_policy(spec, False), episode_policy(spec, False)
+    assert first is not second and type(first) is type(second)  # the module is loaded once
+    assert episode_policy("nearest", False) is episode_policy("nearest", False)  # built-ins stay cached
+
+
+def test_the_fingerprint_holds_the_policy_file_hash(policy_dir: Path) -> None:
+    path = policy_dir / "greedy.py"
+    before = method_fingerprint(f"{path}:Greedy@2")
+    assert before.startswith(f"{path}:Greedy@2#sha256:")
+    path.write_text(GREEDY + "\n# edited\n")
+    assert method_fingerprint(f"{path}:Greedy@2") != before
+
+
+def test_the_method_note_names_the_file_the_class_and_its_docstring(policy_dir: Path) -> None:
+    note = describe_method("greedy.py:Greedy@2", base_dir=policy_dir)
+    assert "a user policy: The largest frontier per metre to drive." in note.description
+    assert f"Greedy from file {policy_dir / 'greedy.py'}" in note.parameters and "sha256 " in note.parameters
+
+
+BAD_MODULES = {
+    "syntax.py": "x = 1\ndef broken(:\n",
+    "raises.py": "raise RuntimeError('no map server here')\n",
+    "needs_args.py": "class Weighted:\n    name = 'w'\n    def __init__(self, w):\n        self.w = w\n"
+    "    def rank(self, context, rng):\n        return None\n",
+    "no_rank.py": "class NoRank:\n    name = 'no-rank'\n",
+    "bad_name.py": "class BadName:\n    name = 3\n    def rank(self, context, rng):\n        return None\n",
+    "constant.py": "GREEDY = 3\n",
+    "imports_missing.py": "import no_such_dependency_xyz\n",
+}
+
+
+@pytest.mark.parametrize(
+    ("spec", "error", "needle"),
+    [
+        ("missing.py:Greedy", ConfigError, "policy file 'missing.py' does not exist"),
+        ("syntax.py:X", ConfigError, "syntax error at {dir}/syntax.py:2"),
+        ("raises.py:X", ConfigError, "raised on import: RuntimeError: no map server here"),
+        ("needs_args.py:Weighted", ConfigError, "calling Weighted() with no arguments raised TypeError"),
+        ("no_rank.py:NoRank", ConfigError, "not a policy: it needs a rank(context, rng) method"),
+        ("bad_name.py:BadName", ConfigError, "not a policy: it needs a 'name' string"),
+        ("constant.py:GREEDY", ConfigError, "'GREEDY' is 3 (type int), not a class"),
+        ("greedy.py:Nope", UnknownNameError, "has no 'Nope' (classes with a rank method there: Greedy, Counting)"),
+        ("greedy.py", ConfigError, "names a file: write FILE.py:CLASS"),
+        ("greedy.py:1x", ConfigError, "needs a class name after its last colon"),
+        ("no_such_module_xyz:Greedy", UnknownNameError, "no module named 'no_such_module_xyz' on the Python path"),
+        ("imports_missing.py:X", ConfigError, "ModuleNotFoundError: No module named 'no_such_dependency_xyz'"),
+        ("no-such-policy", UnknownNameError, "unknown policy 'no-such-policy'; choose one of nearest"),
+    ],
+)
+def test_every_bad_user_policy_is_one_line_with_exit_code_2(
+    policy_dir: Path, monkeypatch: pytest.MonkeyPatch, spec: str, error: type[FrontierRLError], needle: str
+) -> None:
+    for name, text in BAD_MODULES.items():
+        (policy_dir / name).write_text(text)
+    monkeypatch.chdir(policy_dir)
+    needle = needle.format(dir=policy_dir.resolve())
+    with pytest.raises(error) as info:
+        make_policy(spec)
+    assert needle in str(info.value)
+    result = runner.invoke(app, ["explore", "--policy", spec, "--max-time", "5"])
+    assert result.exit_code == 2, result.output
+    assert needle in result.output and len(result.output.strip().splitlines()) == 1, result.output
+    assert "Traceback" not in result.output
+
+
+def test_an_entry_point_that_fails_to_load_is_one_line(tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> None:
+    root = _fake_distribution(tmp_path / "site", "broken = fake_policies:Missing\n", module="X = 1\n")
+    monkeypatch.syspath_prepend(str(root))
+    with pytest.raises(ConfigError, match=r"installed policy 'broken' \(fake_policies:Missing\) raised on load"):
+        make_policy("broken")
+
+
+def test_a_model_file_never_names_code(policy_dir: Path) -> None:
+    """learned: reads a model file and never runs it, even where it names a Python file."""
+    code = policy_dir / "evil.py"
+    code.write_text("import pathlib\npathlib.Path(__file__).with_suffix('.ran').write_text('ran')\n")
+    for spec in (f"learned:{code}", f"learned:{code}:Greedy"):
+        with pytest.raises(FrontierRLError, match=r"evil\.py"):
+            make_policy(spec)
+    assert not code.with_suffix(".ran").exists()
+    with pytest.raises(UnknownNameError):  # named as FILE.py:CLASS, the same file runs: the user's consent
+        make_policy(f"{code}:Greedy")
+    assert code.with_suffix(".ran").exists()
