@@ -42,13 +42,13 @@ class PairedSummary:
 
     n: int
     mean_time_s: float | None
-    var_time_s: float | None
-    mean_diff_s: float | None
-    ci95_s: tuple[float | None, float | None]
-    p_one_tailed: float | None
-    p_two_tailed: float | None
-    p_wilcoxon: float | None
-    reduction_pct: float | None
+    var_time_s: float | None = None
+    mean_diff_s: float | None = None
+    ci95_s: tuple[float | None, float | None] = (None, None)
+    p_one_tailed: float | None = None
+    p_two_tailed: float | None = None
+    p_wilcoxon: float | None = None
+    reduction_pct: float | None = None
 
 
 @dataclass(frozen=True)
@@ -254,7 +254,7 @@ def _summary(kind: type[_S], entry: Mapping[str, Any]) -> _S:
             values[f.name] = _value(entry, f.name, int)
         else:
             values[f.name] = _number(entry[f.name], f.name)
-    missing = [name for name in ("n", "mean_time_s", "ci95_s") if name not in values]
+    missing = [name for name in ("n", "mean_time_s") if name not in values]
     if missing:
         raise ConfigError(f"a method entry lacks {', '.join(missing)}")
     return kind(**values)

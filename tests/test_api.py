@@ -1,0 +1,190 @@
+"""Tests of the package's Python API: the lazy top-level names, frontier_rl.api's load_world / explore /
+evaluate / train, and the typed experiment summary read back from summary.json."""
+
+from __future__ import annotations
+
+import json
+import subprocess
+import sys
+import textwrap
+from dataclasses import replace
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+import frontier_rl
+from frontier_rl.core.sim.config import SimConfig
+from frontier_rl.core.world.robot import Pose
+from frontier_rl.errors import ConfigError, UnknownNameError
+from frontier_rl.evaluation.summary import ExperimentSummary, MethodSummary
+from frontier_rl.swarm import TeamConfig, TeamResult
+
+HEAVY = ("numba", "gymnasium", "torch", "stable_baselines3")
+"""Modules the light imports must not load."""
+
+SHORT = SimConfig(max_sim_time=90.0)
+
+
+def _loaded_after(code: str) -> set[str]:
+    """The top-level modules loaded after ``code`` runs in a fresh interpreter."""
+    script = f"{code}\nimport sys, json\nprint(json.dumps(sorted({{m.split('.')[0] for m in sys.modules}})))"
+    run = subprocess.run([sys.executable, "-c", script], capture_output=True, text=True, timeout=120, check=True)
+    return set(json.loads(run.stdout.strip().splitlines()[-1]))
+
+
+def test_importing_the_package_loads_none_of_the_heavy_libraries() -> None:
+    loaded = _loaded_after("import frontier_rl")
+    assert not loaded & {*HEAVY, "numpy", "scipy"}, loaded & {*HEAVY, "numpy", "scipy"}
+
+
+def test_the_policy_interface_and_the_api_load_neither_gymnasium_nor_torch() -> None:
+    light = [n for n in frontier_rl.__all__ if n not in ("train", "TrainConfig")]
+    loaded = _loaded_after(f"from frontier_rl import {', '.join(light)}")
+    assert not loaded & {"gymnasium", "torch", "stable_baselines3"}
+
+
+def test_every_public_name_resolves_and_is_listed() -> None:
+    for name in frontier_rl.__all__:
+        assert getattr(frontier_rl, name) is not None, name
+    assert set(frontier_rl.__all__) <= set(dir(frontier_rl))
+    assert frontier_rl.Ranking.__module__ == "frontier_rl.core.sim.episode"
+    assert frontier_rl.ExperimentSummary is ExperimentSummary
+    assert isinstance(frontier_rl.__version__, str)
+    with pytest.raises(AttributeError, match="no attribute 'Nope'"):
+        _ = frontier_rl.Nope  # type: ignore[attr-defined]
+
+
+def test_the_package_docstring_example_runs() -> None:
+    doc = frontier_rl.__doc__ or ""
+    example = textwrap.dedent(doc.split("office::\n", 1)[1].split("\nSaved in", 1)[0])
+    namespace: dict[str, object] = {}
+    exec(compile(example, "frontier_rl.__doc__", "exec"), namespace)
+    assert namespace["result"].coverage > 0.9  # type: ignore[attr-defined]
+
+
+def test_load_world_draws_a_generator_and_reads_a_file(tmp_path: Path) -> None:
+    world = frontier_rl.load_world("office", seed=3)
+    assert world.name == "office"
+    assert np.array_equal(world.grid.data, frontier_rl.load_world("office", 3).grid.data)
+    moved = frontier_rl.load_world("office", 3, start=Pose(1.0, 1.0, 0.0))
+    assert (moved.start.x, moved.start.y) == (1.0, 1.0)
+    with pytest.raises(UnknownNameError, match="unknown world 'atlantis'"):
+        frontier_rl.load_world("atlantis")
+
+
+def test_load_world_finds_a_catalogue_map() -> None:
+    world = frontier_rl.load_world("nav2_depot")
+    assert world.grid.shape[0] > 100 and world.explorable_count > 0
+
+
+def test_explore_takes_a_policy_object_or_a_spec_and_repeats_exactly() -> None:
+    by_spec = frontier_rl.explore("rooms", "nearest", seed=4, config=SHORT)
+    by_object = frontier_rl.explore(
+        frontier_rl.load_world("rooms", 4), frontier_rl.NearestFrontier(), seed=4, config=SHORT
+    )
+    assert by_spec.sim_time_s == by_object.sim_time_s and by_spec.decisions == by_object.decisions
+    assert np.array_equal(by_spec.trajectory, by_object.trajectory)
+    other = frontier_rl.explore("rooms", "largest", seed=4, config=SHORT)
+    assert other.sim_time_s != by_spec.sim_time_s or other.path_length_m != by_spec.path_length_m
+
+
+def test_explore_runs_a_team_and_calls_the_decision_hook() -> None:
+    team = frontier_rl.explore("office", "nearest", seed=1, config=SHORT, team=TeamConfig(robots=2))
+    assert isinstance(team, TeamResult) and team.robots == 2
+    seen: list[float] = []
+    result = frontier_rl.explore(
+        "office", "nearest", seed=1, config=SHORT, on_decision=lambda s, c, r: seen.append(c.sim_time)
+    )
+    assert len(seen) == result.decisions
+    with pytest.raises(ConfigError, match="on_decision"):
+        frontier_rl.explore("office", "nearest", team=TeamConfig(robots=2), on_decision=lambda s, c, r: None)
+
+
+def test_evaluate_returns_the_typed_summary_it_wrote(tmp_path: Path) -> None:
+    summary = frontier_rl.evaluate(
+        ["nearest", "largest"],
+        ["office"],
+        2,
+        out=tmp_path / "run",
+        baseline="nearest",
+        oracle=False,
+        config=SHORT,
+        backend="serial",
+        pictures=0,
+    )
+    assert isinstance(summary, ExperimentSummary)
+    assert (summary.baseline, summary.reference, summary.worlds, summary.episodes) == ("nearest", None, ("office",), 2)
+    assert list(summary.methods) == ["nearest", "largest"] and summary.tested == ("largest",)
+    largest = summary.methods["largest"]
+    assert isinstance(largest, MethodSummary) and largest.n == 2 and largest.robots == 1
+    assert largest.end_reasons is not None and sum(largest.end_reasons.values()) == 2
+    assert [cut.threshold_s for cut in summary.outliers] == [1000.0, 2000.0]
+    raw = json.loads((tmp_path / "run/summary.json").read_text())
+    assert largest.mean_time_s == raw["methods"]["largest"]["mean_time_s"]
+    assert ExperimentSummary.load(tmp_path / "run") == summary == ExperimentSummary.load(tmp_path / "run/summary.json")
+
+
+@pytest.mark.parametrize(
+    ("kwargs", "needle"),
+    [
+        ({"methods": "nearest"}, "methods and worlds must be lists"),
+        ({"outliers": [-1.0]}, "outliers must be positive"),
+        ({"pictures": -1}, "pictures must be a whole number"),
+        ({"methods": ["nearest", "bogus"]}, "unknown policy 'bogus'"),
+    ],
+)
+def test_evaluate_refuses_bad_arguments_before_running(tmp_path: Path, kwargs: dict[str, object], needle: str) -> None:
+    arguments: dict[str, object] = {"methods": ["nearest"], "worlds": ["office"], "episodes": 1} | kwargs
+    with pytest.raises((ConfigError, UnknownNameError), match=needle):
+        frontier_rl.evaluate(**arguments, out=tmp_path / "run", backend="serial")  # type: ignore[arg-type]
+    assert not (tmp_path / "run" / "summary.json").exists()
+
+
+def test_a_summary_with_a_bad_field_is_one_line_naming_it(tmp_path: Path) -> None:
+    good = {
+        "baseline": "nearest",
+        "reference": None,
+        "worlds": ["office"],
+        "episodes": 1,
+        "seed": 0,
+        "methods": {"nearest": {"n": 1, "mean_time_s": 10.0, "ci95_s": [None, None]}},
+        "outliers": {},
+    }
+    summary = ExperimentSummary.from_json(good)
+    assert summary.methods["nearest"].mean_time_s == 10.0 and summary.methods["nearest"].p_holm is None
+    bad_cases = [
+        ({**good, "episodes": "1"}, "episodes must be a whole number"),
+        (
+            {**good, "methods": {"nearest": {"n": 1, "mean_time_s": "fast", "ci95_s": [0, 1]}}},
+            "mean_time_s must be a number",
+        ),
+        ({**good, "methods": {"nearest": {"n": 1}}}, "lacks mean_time_s"),
+        ({**good, "outliers": {"soon": {"methods": {}}}}, "outlier threshold 'soon'"),
+    ]
+    for data, needle in bad_cases:
+        with pytest.raises(ConfigError, match=needle):
+            ExperimentSummary.from_json(data)
+    (tmp_path / "summary.json").write_text("{not json")
+    with pytest.raises(ConfigError, match="is not JSON"):
+        ExperimentSummary.load(tmp_path)
+    with pytest.raises(ConfigError, match="no experiment summary"):
+        ExperimentSummary.load(tmp_path / "missing")
+
+
+@pytest.mark.slow
+def test_train_writes_a_model_that_learned_names(tmp_path: Path) -> None:
+    config = frontier_rl.TrainConfig(
+        model=4,
+        timesteps=32,
+        n_envs=1,
+        eval_every=0,
+        checkpoint_every=0,
+        n_steps=8,
+        max_decisions=16,
+        sim=replace(SimConfig(), max_sim_time=60.0),
+    )
+    model = frontier_rl.train(config, tmp_path / "run")
+    assert model == tmp_path / "run" / "model.zip" and model.is_file()
+    result = frontier_rl.explore("office", f"learned:{model}", config=SHORT)
+    assert result.decisions > 0
