@@ -20,7 +20,7 @@ import math
 from collections.abc import Callable, Sequence
 from functools import cache
 from pathlib import Path
-from typing import TYPE_CHECKING
+from typing import TYPE_CHECKING, overload
 
 from frontier_rl.core.frontiers.ranking import THESIS_BASELINE
 from frontier_rl.core.sim.config import SimConfig
@@ -32,7 +32,7 @@ from frontier_rl.core.world.worlds import World
 from frontier_rl.errors import ConfigError, short_repr
 from frontier_rl.evaluation.summary import ExperimentSummary
 from frontier_rl.policies import make_policy
-from frontier_rl.swarm import Failure, TeamConfig, run_team_episode
+from frontier_rl.swarm import Failure, TeamConfig, TeamResult, run_team_episode
 from frontier_rl.world_spec import resolve_world
 
 if TYPE_CHECKING:
@@ -63,6 +63,34 @@ def load_world(
     return resolve_world(str(name_or_path), seed, start, resolution)
 
 
+@overload
+def explore(
+    world: World | str | Path,
+    policy: ExplorationPolicy | str,
+    *,
+    seed: int = ...,
+    config: SimConfig | None = ...,
+    team: TeamConfig,
+    resolution: float | None = ...,
+    trust_model: bool = ...,
+    on_decision: None = ...,
+) -> TeamResult: ...
+
+
+@overload
+def explore(
+    world: World | str | Path,
+    policy: ExplorationPolicy | str,
+    *,
+    seed: int = ...,
+    config: SimConfig | None = ...,
+    team: None = ...,
+    resolution: float | None = ...,
+    trust_model: bool = ...,
+    on_decision: DecisionHook | None = ...,
+) -> EpisodeResult: ...
+
+
 def explore(
     world: World | str | Path,
     policy: ExplorationPolicy | str,
@@ -83,8 +111,8 @@ def explore(
             line: ``nearest``, ``fixed:0.75``, ``learned:models/model7.zip``, ``my_policy.py:Greedy``, ...
         seed: seeds the world (when named), the sensor noise and the policy's random stream.
         config: simulation settings (robot, LiDAR, mapping, navigation, time cap); the defaults if None.
-        team: a team of robots that all run ``policy``; None for one robot. A team's result is a
-            :class:`~frontier_rl.swarm.TeamResult`.
+        team: a team of robots that all run ``policy``, whose result is a :class:`~frontier_rl.swarm.TeamResult`
+            (per-robot coverage, overlap, ...); None for one robot.
         resolution: cell size (m) of a map file that carries none.
         trust_model: admit SB3 zips from elsewhere for ``learned:`` (unpickles them: runs their code).
         on_decision: called at every decision of a single robot, before it drives (not for a team).
