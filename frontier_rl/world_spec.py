@@ -1,6 +1,11 @@
-"""World arguments: a generator name or a map file turned into a :class:`World`, and world lists
-("office,rooms=2,maps/") parsed into families of worlds with sampling weights and train /
-validation splits."""
+"""World arguments: a generator name, a map file or a catalogue map turned into a :class:`World`,
+and world lists ("office,rooms=2,maps/,dungeon/easy") parsed into families of worlds with sampling
+weights and train / validation splits.
+
+A world is looked up in this order: a generator's name, then an existing file or folder, then a
+name of the map catalogue (:mod:`frontier_rl.io.catalogue`; ``frontier-rl maps`` lists it). A
+catalogue collection stands where a folder would, its members by their catalogue names, so a
+results folder names them as given, wherever the package is installed."""
 
 from __future__ import annotations
 
@@ -24,6 +29,7 @@ from frontier_rl.core.world.worlds import (
 )
 from frontier_rl.errors import ConfigError, MapError, UnknownNameError, short_repr
 from frontier_rl.io import LoadedMap, load_map
+from frontier_rl.io.catalogue import CatalogueMap, MapCollection, catalogue
 
 
 def checked_resolution(resolution: float | None, what: str = "--resolution") -> float | None:
@@ -41,27 +47,92 @@ def checked_resolution(resolution: float | None, what: str = "--resolution") -> 
         raise ConfigError(str(exc)) from None
 
 
+def _unknown_world(spec: str) -> UnknownNameError:
+    return UnknownNameError(
+        f"unknown world {short_repr(spec)}: not one of {', '.join(sorted(WORLD_GENERATORS))}, no such file or "
+        "folder, and no catalogue map of that name (`frontier-rl maps` lists them)"
+    )
+
+
+def _catalogued(spec: str, base_dir: str | Path | None) -> CatalogueMap | MapCollection | None:
+    """The catalogue entry ``spec`` names, or None for a generator or an existing path (which come first).
+
+    Raises:
+        UnknownNameError: none of the three.
+    """
+    if spec in WORLD_GENERATORS or _exists(str(Path(base_dir or ".", spec))):
+        return None
+    entry = catalogue().find(spec)
+    if entry is None:
+        raise _unknown_world(spec)
+    return entry
+
+
+def world_path(spec: str, base_dir: str | Path | None = None) -> Path | None:
+    """The file or folder the world ``spec`` names: None for a generator, an existing path (a
+    relative one against ``base_dir``, default the current directory), else a catalogue map's file
+    or a collection's folder.
+
+    Raises:
+        UnknownNameError: none of these.
+        MapError: a catalogue map that is not installed (the message says where to get it).
+    """
+    if spec in WORLD_GENERATORS:
+        return None
+    entry = _catalogued(spec, base_dir)
+    if entry is None:
+        return Path(spec) if base_dir is None else Path(base_dir, spec)
+    if isinstance(entry, MapCollection):
+        return entry.folder
+    if not entry.installed:
+        raise MapError(entry.not_installed())
+    return entry.path
+
+
+def map_file(spec: str, base_dir: str | Path | None = None) -> Path:
+    """The map file the world ``spec`` names (:func:`world_path`), given a path or a catalogue map.
+
+    Raises:
+        ConfigError: a generator or a catalogue collection (they name no one file).
+        UnknownNameError, MapError: as :func:`world_path`.
+    """
+    path = world_path(spec, base_dir)
+    if path is None:
+        raise ConfigError(f"world {short_repr(spec)} is a generator, not a map file")
+    if isinstance(_catalogued(spec, base_dir), MapCollection):
+        raise ConfigError(f"world {short_repr(spec)} is a collection of maps; `frontier-rl maps {spec}` lists them")
+    return path
+
+
 def resolve_world(
-    spec: str, seed: int, start: Pose | None = None, resolution: float | None = None, *, stored_start: bool = True
+    spec: str,
+    seed: int,
+    start: Pose | None = None,
+    resolution: float | None = None,
+    *,
+    stored_start: bool = True,
+    base_dir: str | Path | None = None,
 ) -> World:
     """The world named by ``spec``: a procedural generator ("office", "rooms", "cluttered", ...)
-    drawn with ``seed``, or a map file (ROS YAML, DungeonMaps PNG, HouseExpo JSON, bitmap) read
-    once per process and version of the file (:func:`read_map`). The one resolver of the CLI,
-    the evaluation's episodes and the environments' worlds.
+    drawn with ``seed``, or a map file (ROS YAML, DungeonMaps PNG, HouseExpo JSON, bitmap) or a
+    catalogue map read once per process and version of the file (:func:`read_map`). The one
+    resolver of the CLI, the evaluation's episodes and the environments' worlds. A catalogue
+    map's world is called by its catalogue name, a file's by its stem.
 
     Args:
-        spec: generator name or path.
+        spec: generator name, path or catalogue name.
         seed: seeds the generator, or the random start on a map file without one.
         start: a start pose that replaces the generated / stored one.
         resolution: cell size (m) for map files that carry none (bitmaps, HouseExpo); checked
             (:func:`checked_resolution`) before the file is read, whatever the world.
         stored_start: keep a start stored in the map file; False draws one with ``seed`` all the
             same (training starts every episode at a random free cell).
+        base_dir: the folder a relative path is found in (default: the current directory).
 
     Raises:
-        UnknownNameError: neither a generator nor an existing file.
-        ConfigError: a resolution or start no world can use.
-        MapError: a map file that cannot be used.
+        UnknownNameError: neither a generator, an existing file nor a catalogue name.
+        ConfigError: a resolution or start no world can use; a catalogue collection.
+        MapError: a map file that cannot be used, a catalogue map that is not installed.
     """
     resolution = checked_resolution(resolution, "resolution")
     if start is not None:
@@ -69,27 +140,26 @@ def resolve_world(
     if spec in WORLD_GENERATORS:
         world = generate_world(spec, seed)
         return world if start is None else make_world(world.grid, world.name, start=start)
-    path = Path(spec)
-    if not path.exists():
-        raise UnknownNameError(
-            f"unknown world {short_repr(spec)}: not one of {', '.join(sorted(WORLD_GENERATORS))}, and no such file"
-        )
-    loaded = read_map(spec, resolution)
+    path = map_file(spec, base_dir)
+    loaded = read_map(str(path), resolution)
     start = start or (loaded.start if stored_start else None)
-    return make_world(loaded.grid, path.stem, start=start, rng=np.random.default_rng(seed))
+    name = spec if _catalogued(spec, base_dir) else path.stem
+    return make_world(loaded.grid, name, start=start, rng=np.random.default_rng(seed))
 
 
 def read_map(path: str, resolution: float | None = None) -> LoadedMap:
-    """The map file ``path`` (:func:`~frontier_rl.io.load_map`) as the robot maps it: a grid on
+    """The map file or catalogue map ``path`` (:func:`~frontier_rl.io.load_map`) as the robot maps it: a grid on
     cells finer than ``RESAMPLE_BELOW_M`` (0.04 m) is resampled to ``MAPPING_CELL_M`` (0.05 m;
     :meth:`~frontier_rl.core.world.grid.OccupancyGrid.resampled`), as a robot's SLAM maps a
     finely drawn building on its own cells. Read once per process and version
     of the file (its resolved path, size and modification time; for a ROS map, the YAML's: an
     image rewritten without its YAML is not noticed), the last 128 kept: reading can take longer
-    than an episode. Errors name ``path`` as given."""
-    resolved = Path(path).resolve()
+    than an episode. Errors name a file ``path`` as given."""
+    file = map_file(path)
+    given = path if file == Path(path) else str(file)
+    resolved = file.resolve()
     stat = resolved.stat()
-    return _read_map_version(_MapVersion(str(resolved), resolution, stat.st_size, stat.st_mtime_ns, path))
+    return _read_map_version(_MapVersion(str(resolved), resolution, stat.st_size, stat.st_mtime_ns, given))
 
 
 @dataclass(frozen=True)
@@ -174,8 +244,12 @@ class WorldFamily:
         return held_out if part == "validation" else tuple(m for m in self.members if m not in held_out)
 
 
-def _name_hash(path: str) -> int:
-    digest = hashlib.sha256(Path(path).name.encode("utf-8", "surrogateescape")).digest()
+def _name_hash(member: str) -> int:
+    """A hash of the member's file name: a catalogue map's is its file's, so that a collection
+    splits as its folder does."""
+    entry = _catalogued(member, None)
+    name = entry.path.name if isinstance(entry, CatalogueMap) else Path(member).name
+    digest = hashlib.sha256(name.encode("utf-8", "surrogateescape")).digest()
     return int.from_bytes(digest[:8], "big")
 
 
@@ -183,7 +257,7 @@ def _weighted(item: str) -> tuple[str, float | None]:
     """``item`` split into its spec and its weight ("rooms=2" -> ("rooms", 2.0)); no weight when
     it has no "=" or names an existing file or folder as it is."""
     spec, sep, text = item.rpartition("=")
-    if not sep or item in WORLD_GENERATORS or _exists(item):
+    if not sep or item in WORLD_GENERATORS or _exists(item) or catalogue().find(item):
         return item, None
     if not spec.strip():
         raise ConfigError(f"world {short_repr(item)} names no world before its weight")
@@ -205,29 +279,38 @@ def _exists(item: str) -> bool:
 
 
 def _members(item: str) -> tuple[str, ...]:
-    """The generator name, the map file, or a folder's map files (a ROS map's image is read
-    through its YAML, so it is not also listed as a bitmap)."""
+    """The generator name, the map file or catalogue map, a folder's map files (a ROS map's image
+    is read through its YAML, so it is not also listed as a bitmap), or a catalogue collection's
+    maps (by their catalogue names)."""
+    entry = _catalogued(item, None)
+    if isinstance(entry, MapCollection):
+        if not entry.members:
+            raise ConfigError(f"catalogue collection {short_repr(item)} has no maps installed ({entry.folder})")
+        return entry.members
+    if entry is not None:
+        return (item,)
     path = Path(item)
-    if item not in WORLD_GENERATORS and _exists(item) and path.is_dir():
+    if item not in WORLD_GENERATORS and path.is_dir():
         files = sorted(str(p) for p in path.iterdir() if p.suffix.lower() in MAP_SUFFIXES)
         yaml_stems = {Path(p).stem for p in files if p.endswith((".yaml", ".yml"))}
         files = [p for p in files if p.endswith((".yaml", ".yml")) or Path(p).stem not in yaml_stems]
         if not files:
             raise ConfigError(f"world folder {short_repr(item)} holds no map files ({', '.join(MAP_SUFFIXES)})")
         return tuple(files)
-    if item in WORLD_GENERATORS or (_exists(item) and path.is_file()):
+    if item in WORLD_GENERATORS or path.is_file():
         return (item,)
-    names = ", ".join(sorted(WORLD_GENERATORS))
-    raise UnknownNameError(f"unknown world {short_repr(item)}: not one of {names}, and no such file or folder")
+    raise _unknown_world(item)
 
 
 def parse_world_mix(text: str) -> tuple[WorldFamily, ...]:
-    """A comma-separated world list ("office=2,rooms,maps/=0.5") as families of worlds: each
-    entry a generator name, a map file or a folder of map files, with an optional sampling
-    weight after "=" (default 1; a folder's weight is shared by its files).
+    """A comma-separated world list ("office=2,rooms,maps/=0.5,dungeon/easy") as families of
+    worlds: each entry a generator name, a map file or a folder of map files, or a catalogue map
+    or collection, with an optional sampling weight after "=" (default 1; a folder's or a
+    collection's weight is shared by its files).
 
     Raises:
-        UnknownNameError: an entry that is neither a generator nor an existing file or folder.
+        UnknownNameError: an entry that is neither a generator, an existing file or folder nor a
+            catalogue name.
         ConfigError: no entries, a weight that is not a number in (0, 10⁶], a folder without map files.
     """
     families = tuple(world_family(item) for item in world_entries(text))
@@ -249,8 +332,9 @@ def world_family(item: str) -> WorldFamily:
 
 
 def parse_world_list(text: str) -> tuple[str, ...]:
-    """The worlds of a comma-separated list ("office,rooms,maps/"), folders expanded into the map
-    files they hold: what an evaluation runs its episodes on, each world alike.
+    """The worlds of a comma-separated list ("office,rooms,maps/,dungeon/easy"), folders expanded
+    into the map files they hold and catalogue collections into their maps' names: what an
+    evaluation runs its episodes on, each world alike.
 
     Raises:
         ConfigError: an entry with a weight ("rooms=2": weights are for training mixes), and the

@@ -18,6 +18,7 @@ from frontier_rl.io import load_map
 from frontier_rl.world_spec import (
     WorldFamily,
     checked_resolution,
+    map_file,
     parse_world_list,
     read_map,
     resolve_world,
@@ -157,5 +158,5 @@ def check_world_files(worlds: tuple[str, ...], resolution: float | None = None) 
     :class:`~frontier_rl.errors.MapError` naming it); returns how many there are."""
     files = [m for entry in worlds for m in world_family(entry).members if m not in WORLD_GENERATORS]
     for spec in files:
-        load_map(spec, resolution=resolution)
+        load_map(map_file(spec), resolution=resolution)
     return len(files)

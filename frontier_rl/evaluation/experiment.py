@@ -190,7 +190,8 @@ def file_sha256(path: Path) -> str:
 
 
 def world_fingerprint(world: str, resolution: float | None) -> str:
-    """A generator's name, or a map file's name with a hash of the grid it loads as."""
+    """A generator's name, or a map file's path or catalogue name as given with a hash of the grid
+    it loads as (the same for a catalogue map wherever the package is installed)."""
     if world in WORLD_GENERATORS:
         return world
     loaded = read_map(world, resolution)
@@ -252,10 +253,9 @@ def job_parts(job: EpisodeJob, settings: EpisodeSettings) -> tuple[World, Explor
     """The world, policy and team (None for one robot) of ``job``; relative paths resolve against
     ``settings.base_dir``."""
     base = Path(settings.base_dir)
-    world_spec = job.world if job.world in WORLD_GENERATORS else str(base / job.world)
     method = TeamMethod.parse(job.method)
     spec = method.policy_spec.against(base)  # a relative model or policy file, against the experiment's folder
-    world = resolve_world(world_spec, job.seed, resolution=settings.resolution)
+    world = resolve_world(job.world, job.seed, resolution=settings.resolution, base_dir=base)
     return (
         world,
         episode_policy(spec, settings.trust_model),

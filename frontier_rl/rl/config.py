@@ -31,7 +31,7 @@ MAX_LOSS_COEF = 100.0
 
 MAX_ROLLOUT_PIXELS = 2**28
 """Most map pixels one rollout may hold (``n_steps`` × ``n_envs`` observations of
-``observation_size``² pixels, float32: 1 GiB); 65,536 decisions at 64², 4,294 at 250²."""
+``observation_size`` × ``observation_size`` pixels, float32: 1 GiB); 65,536 decisions at 64², 4,294 at 250²."""
 
 ALGOS = ("a2c", "ppo", "dagger")
 #: Longest error message passed on from a check of ``worlds`` (characters).
@@ -53,9 +53,10 @@ class TrainConfig:
     Attributes:
         model: model 1-7: the thesis's 1-4, its future work 5, and 6 and 7 (see
             :data:`frontier_rl.registration.MODELS`).
-        worlds: comma-separated generator names, map files and folders, each optionally with a
-            sampling weight ("office=2,../shared/maps/dungeon/train=3"), drawn per episode; a
-            folder's validation files (one in ten) are never trained on.
+        worlds: comma-separated generator names, map files, folders and catalogue maps or
+            collections (``frontier-rl maps``), each optionally with a sampling weight
+            ("office=2,dungeon/train=3"), drawn per episode; a folder's or a collection's
+            validation files (one in ten) are never trained on.
         timesteps: decisions to train for (one env step = one decision).
         n_envs: parallel environments (subprocesses when > 1).
         algo: "a2c" (the thesis), "ppo", or "dagger" (models 5 and 7: imitation of a teacher that
