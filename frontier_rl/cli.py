@@ -14,6 +14,7 @@ from rich.table import Table
 from rich.text import Text
 
 from frontier_rl.cli_benchmark import benchmark_app
+from frontier_rl.cli_maps import maps_command
 from frontier_rl.cli_output import (
     OneLineGroup,
     comma_list,
@@ -41,7 +42,7 @@ from frontier_rl.world_spec import checked_resolution, parse_pose, resolve_world
 
 #: Largest seed a command accepts (0 to 2**32 - 1: NumPy's legacy seeding, which SB3 uses, takes no more).
 MAX_SEED = 2**32 - 1
-WORLD_HELP = f"{' | '.join(WORLD_GENERATORS)} | a map file (ROS .yaml, Dungeon .png, HouseExpo .json)"
+WORLD_HELP = f"{' | '.join(WORLD_GENERATORS)} | a map file (ROS .yaml, Dungeon .png, HouseExpo .json) | a catalogue map"
 POLICY_HELP = (
     f"One of: {', '.join(POLICY_NAMES)} (W in [0, 1], N stops 1 to {MAX_STOPS}); or your own: FILE.py:CLASS, "
     f"MODULE:CLASS (on PYTHONPATH) or a name an installed package registers under {ENTRY_POINT_GROUP}."
@@ -51,6 +52,7 @@ app = typer.Typer(
     add_completion=False, no_args_is_help=True, help="Frontier exploration for search and rescue.", cls=OneLineGroup
 )
 app.add_typer(benchmark_app, name="benchmark")
+app.command("maps")(maps_command)
 
 _RES_LO, _RES_HI = resolution_bounds()
 
@@ -285,7 +287,7 @@ def _not_explored(methods: dict[str, dict[str, Any]], labels: dict[str, str]) ->
 def evaluate(
     methods: Annotated[str, typer.Option(help="Comma-separated policies, e.g. fixed:0.75,learned:models/model5.zip")],
     out: Annotated[Path, typer.Option(help="Results folder; rerunning with it resumes.")],
-    worlds: Annotated[str, typer.Option(help="Comma-separated generators, map files and folders of maps.")] = "office",
+    worlds: Annotated[str, typer.Option(help="Comma-separated generators, files, folders, catalogue maps.")] = "office",
     episodes: Annotated[int, typer.Option(help="Episodes per world; episode i uses seed SEED + i.")] = 120,
     seed: Annotated[int, typer.Option(help="Seed of the first episode.")] = 0,
     baseline: Annotated[str, typer.Option(help="The method every other is compared with.")] = THESIS_BASELINE,
@@ -349,7 +351,7 @@ def evaluate(
 def train(
     out: Annotated[Path, typer.Option(help="Run directory: config, checkpoints, logs, model.zip, learning curve.")],
     model: Annotated[int, typer.Option(help="Model: 1, 2 (point), 3, 4, 6 (weight), 5, 7 (frontier).")] = 4,
-    worlds: Annotated[str, typer.Option(help="Generators, map files or folders, each optionally =WEIGHT.")] = "office",
+    worlds: Annotated[str, typer.Option(help="Generators, files, folders, catalogue maps, each [=WEIGHT].")] = "office",
     timesteps: Annotated[int, typer.Option(help="Decisions to train for.")] = 100_000,
     n_envs: Annotated[int, typer.Option(help="Parallel environments (subprocesses).")] = 2,
     algo: Annotated[str, typer.Option(help="a2c (the thesis), ppo or dagger (models 5 and 7).")] = "a2c",

@@ -16,11 +16,13 @@ from frontier_rl.cli_output import OneLineGroup, friendly_errors, int_list, poli
 from frontier_rl.errors import ConfigError, short_repr
 from frontier_rl.render import check_output_file
 from frontier_rl.swarm.config import MAX_ROBOTS
+from frontier_rl.world_spec import world_entries, world_path
 
 benchmark_app = typer.Typer(
     no_args_is_help=True, cls=OneLineGroup, help="Run a published evaluation protocol, its metric beside ours."
 )
-DEFAULT_DUNGEON_TESTS = Path("../shared/maps/dungeon/complex")
+DEFAULT_DUNGEON_TESTS = "dungeon/complex"
+"""ARiADNE's hardest test set, a catalogue collection (``frontier-rl maps dungeon/complex``)."""
 
 
 @benchmark_app.command()
@@ -29,7 +31,9 @@ def ariadne(
     methods: Annotated[
         str, typer.Option(help="Comma-separated policies (as for explore --policy).")
     ] = "nearest,oracle",
-    maps: Annotated[Path, typer.Option(help="A folder of DungeonMaps test PNGs.")] = DEFAULT_DUNGEON_TESTS,
+    maps: Annotated[
+        str, typer.Option(help="A folder of DungeonMaps test PNGs, or a catalogue collection (dungeon/easy, ...).")
+    ] = DEFAULT_DUNGEON_TESTS,
     limit: Annotated[int, typer.Option(help="Run only the first N maps in ARiADNE's order (0: all).")] = 0,
     workers: Annotated[int, typer.Option(help="Processes (0: every core).")] = 0,
     json_out: Annotated[Path | None, typer.Option("--json", help="Also write every run and the summary here.")] = None,
@@ -41,7 +45,7 @@ def ariadne(
     _check_json(json_out)
     if limit < 0 or workers < 0:
         raise ConfigError(f"--limit and --workers must be >= 0, got {limit} and {workers}")
-    files = ariadne_maps(maps, limit or None)
+    files = ariadne_maps(_folder(maps), limit or None)
     runs, failures = run_protocol(names, files, workers or None)
     rows = summary_rows(runs, names)
     table = Table(title=f"ARiADNE protocol on {maps} ({len(files)} maps)")
@@ -58,18 +62,21 @@ def ariadne(
     for row in rows:  # as ARiADNE's test driver prints them
         console.print(f"{row['method']}: |#Total test: {row['tests']} |#Average length: {row['average_length_px']:.2f} "
                       f"|#Length std: {row['length_std_px']:.2f}")  # fmt: skip
-    _finish(json_out, {"protocol": "ariadne", "maps": str(maps), "summary": rows, "runs": [vars(r) for r in runs]},
+    _finish(json_out, {"protocol": "ariadne", "maps": maps, "summary": rows, "runs": [vars(r) for r in runs]},
             failures)  # fmt: skip
 
 
-DEFAULT_BLUEPRINTS = "../shared/maps/turtlebot3_world,../shared/maps/aws_small_house,../shared/maps/nav2_depot"
+DEFAULT_BLUEPRINTS = "turtlebot3_world,aws_small_house,nav2_depot"
+"""Explore-Bench's blueprints here: three ROS maps of the catalogue."""
 
 
 @benchmark_app.command("explore-bench")
 @friendly_errors
 def explore_bench(
     methods: Annotated[str, typer.Option(help="Comma-separated policies (as for explore --policy).")] = "nearest",
-    maps: Annotated[str, typer.Option(help="ROS maps (YAML) or folders of them: the blueprints.")] = DEFAULT_BLUEPRINTS,
+    maps: Annotated[
+        str, typer.Option(help="ROS maps (YAML or catalogue names) or folders of them: the blueprints.")
+    ] = DEFAULT_BLUEPRINTS,
     robots: Annotated[str, typer.Option(help="Team sizes, e.g. 1,2 (Explore-Bench runs one and two).")] = "1,2",
     seeds: Annotated[int, typer.Option(help="Starts per map and team size: seeds 0..N-1.")] = 5,
     workers: Annotated[int, typer.Option(help="Processes (0: every core).")] = 0,
@@ -86,7 +93,8 @@ def explore_bench(
         raise ConfigError(f"--robots takes team sizes 1 to {MAX_ROBOTS}, got {short_repr(robots)}")
     if not 1 <= seeds <= 10_000 or workers < 0:
         raise ConfigError(f"--seeds must be in 1..10000 and --workers >= 0, got {seeds} and {workers}")
-    runs, failures = run_explore_bench_all(names, explore_bench_maps(maps), seeds, sizes, workers or None)
+    blueprints = [m for entry in world_entries(maps) for m in explore_bench_maps(_located(entry))]
+    runs, failures = run_explore_bench_all(names, blueprints, seeds, sizes, workers or None)
     rows = explore_bench_rows(runs)
     table = Table(title=f"Explore-Bench metrics, {seeds} start(s) per map and team size")
     for column in ("method", "robots", "map", "ended / runs", "T_90 (s)", "T_total (s)", "path (m)", "coverage std",
@@ -99,6 +107,21 @@ def explore_bench(
     stdout_console().print(table)
     _finish(json_out, {"protocol": "explore-bench", "maps": maps, "summary": rows, "runs": [vars(r) for r in runs]},
             failures)  # fmt: skip
+
+
+def _located(entry: str) -> str:
+    """The file or folder a ``--maps`` entry names (a path, or a catalogue map or collection); a
+    generator's name as it is (the protocol refuses it)."""
+    path = world_path(entry)
+    return entry if path is None else str(path)
+
+
+def _folder(entry: str) -> Path:
+    """The folder of ARiADNE test maps that ``--maps`` names (a path or a catalogue collection)."""
+    path = Path(_located(entry))
+    if not path.is_dir():
+        raise ConfigError(f"--maps {short_repr(entry)} is not a folder or a collection of maps")
+    return path
 
 
 def _check_json(json_out: Path | None) -> None:
