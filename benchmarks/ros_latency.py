@@ -1,9 +1,9 @@
 """Latency of the ROS frontier node against a real roscore: 1 and 4 robots, each publishing its map
-once a second and asking ``--rate`` times a second (10), on maps of ../shared/maps, with a fixed weight, model
+once a second and asking ``--rate`` times a second (10), on maps the package ships, with a fixed weight, model
 5, ``tour`` and model 7. Prints one JSON line per run and a Markdown table (median and 99th percentile of the time
 from publishing a request to receiving its status line, in the requesting process).
 
-    .venv/bin/python benchmarks/ros_latency.py [--maps ../shared/maps] [--seconds 10] [--rate 10] [--robots 1,4]
+    .venv/bin/python benchmarks/ros_latency.py [--maps FOLDER] [--seconds 10] [--rate 10] [--robots 1,4]
         [--map-names turtlebot3_world,nav2_depot] [--policies "model 5"]
 """
 
@@ -24,6 +24,8 @@ from pathlib import Path
 from typing import Any
 
 import numpy as np
+
+from frontier_rl.io.catalogue import MAPS_DIR
 
 REPO = Path(__file__).resolve().parents[1]
 MAPS = {"turtlebot3_world": "turtlebot3_world/map.yaml", "nav2_depot": "nav2_depot/depot.yaml",
@@ -163,7 +165,7 @@ def _run_client(command: list[str], env: dict[str, str], node: subprocess.Popen[
 
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--maps", type=Path, default=REPO.parent / "shared" / "maps")
+    parser.add_argument("--maps", type=Path, default=MAPS_DIR, help="the maps folder (default: the package's)")
     parser.add_argument("--seconds", type=float, default=10.0)
     parser.add_argument("--rate", type=float, default=10.0, help="requests per second per robot")
     parser.add_argument("--robots", default="1,4", help="team sizes, e.g. 1,4")

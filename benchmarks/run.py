@@ -42,6 +42,7 @@ from frontier_rl.core.world.catalog import building_world, generate_world
 from frontier_rl.core.world.grid import OccupancyGrid
 from frontier_rl.core.world.robot import Pose
 from frontier_rl.core.world.worlds import World
+from frontier_rl.io.catalogue import MAPS_DIR
 from frontier_rl.policies import make_policy
 
 POLICY = "fixed:0.75"
@@ -189,7 +190,8 @@ def bench_episodes(n_seeds: int) -> list[Row]:
 def bench_large_map(n_seeds: int, maps: Path) -> list[Row]:
     """Whole episodes on ``nav2_warehouse`` (a SLAM map of 1,006 × 1,674 cells of 0.03 m, read as
     drawn: ``resolve_world`` would resample it to 0.05 m) from random starts: wall time and wall
-    time per decision. No rows without the shared maps."""
+    time per decision. No rows where ``maps`` (default: the folder of the maps the package ships)
+    lacks it."""
     from frontier_rl.core.world.worlds import make_world
     from frontier_rl.io import load_map
 
@@ -371,8 +373,8 @@ def main(argv: list[str] | None = None) -> int:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0] if __doc__ else None)
     parser.add_argument("--quick", action="store_true", help="fewer repeats and seeds (a smoke run)")
     parser.add_argument("--json", type=Path, metavar="PATH", help="also write the results as JSON")
-    parser.add_argument("--maps", type=Path, default=Path(__file__).resolve().parents[2] / "shared" / "maps",
-                        help="the shared maps folder, for the large-map rows (default ../shared/maps)")  # fmt: skip
+    parser.add_argument("--maps", type=Path, default=MAPS_DIR,
+                        help="the folder holding nav2_warehouse/ (default: the package's maps)")  # fmt: skip
     parser.add_argument("--model", type=Path, default=Path(__file__).resolve().parents[1] / "models" / "model5.zip",
                         help="the frontier-choice model of the decision rows (default models/model5.zip)")  # fmt: skip
     args = parser.parse_args(argv)

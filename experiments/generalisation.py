@@ -3,9 +3,10 @@ against ``nearest``, with the oracle as the reference.
 
 Families: the generators' held-out seeds (``office``, ``rooms``, ``cluttered``, ``building``,
 ``cave``: seeds from 0 up; training draws seeds from 10⁶ up, and no shipped model saw a cave)
-and the DungeonMaps test folders ``easy``, ``medium`` and ``complex`` (never trained on: training
-reads ``dungeon/train`` only), the first ``--maps`` files of each by name, one episode each from a
-random start. Each family's results go to ``OUT/FAMILY`` (a ``frontier-rl evaluate`` folder:
+and the DungeonMaps test sets ``dungeon/easy``, ``dungeon/medium`` and ``dungeon/complex`` of the
+map catalogue, or the folders ``easy``, ``medium`` and ``complex`` of ``--dungeon`` (never trained
+on: training reads ``dungeon/train`` only), the first ``--maps`` maps of each by file name, one
+episode each from a random start. Each family's results go to ``OUT/FAMILY`` (a ``frontier-rl evaluate`` folder:
 rerunning continues it); the table printed and written to ``OUT/generalisation.json`` holds, per
 family and method, the mean time, the reduction against ``nearest`` with its one-tailed paired
 t-test, and the time over the oracle's.
@@ -32,15 +33,17 @@ DUNGEON_TESTS = ("easy", "medium", "complex")
 BASELINE = "nearest"
 
 
-def families(dungeon: Path, maps: int, only: set[str] | None) -> dict[str, tuple[str, ...]]:
-    """Family name -> the worlds of its experiment."""
+def families(dungeon: Path | None, maps: int, only: set[str] | None) -> dict[str, tuple[str, ...]]:
+    """Family name -> the worlds of its experiment (the DungeonMaps by catalogue name where
+    ``dungeon`` is None)."""
     out: dict[str, tuple[str, ...]] = {name: (name,) for name in GENERATORS}
     for level in DUNGEON_TESTS:
-        folder = dungeon / level
-        if folder.is_dir():
-            out[f"dungeon-{level}"] = expand_worlds(str(folder))[:maps]
+        if dungeon is None:
+            out[f"dungeon-{level}"] = expand_worlds(f"dungeon/{level}")[:maps]
+        elif (dungeon / level).is_dir():
+            out[f"dungeon-{level}"] = expand_worlds(str(dungeon / level))[:maps]
         else:
-            print(f"- {folder} not found: dungeon-{level} skipped")
+            print(f"- {dungeon / level} not found: dungeon-{level} skipped")
     return {k: v for k, v in out.items() if only is None or k in only}
 
 
@@ -64,7 +67,9 @@ def main() -> None:
     parser.add_argument("--episodes", type=int, default=30, help="episodes (seeds 0..N-1) per generator")
     parser.add_argument("--building-episodes", type=int, default=10, help="episodes of the large buildings")
     parser.add_argument("--maps", type=int, default=30, help="DungeonMaps test maps per level (first by name)")
-    parser.add_argument("--dungeon", type=Path, default=Path("../shared/maps/dungeon"))
+    parser.add_argument(
+        "--dungeon", type=Path, default=None, help="a folder of easy/, medium/, complex/ (default: the catalogue's)"
+    )
     parser.add_argument("--families", default="", help="comma-separated subset of the families")
     parser.add_argument("--workers", type=int, default=None)
     parser.add_argument("--config", type=Path, default=None, help="SimConfig YAML (default: the defaults)")

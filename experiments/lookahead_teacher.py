@@ -8,9 +8,9 @@ teacher much faster than ``nearest`` is what makes imitating it worth trying. Ev
 the same world from the same start with the same sensor noise; each row gives every method's end
 reason beside its time.
 
-    .venv/bin/python experiments/lookahead_teacher.py --worlds office,../shared/maps/dungeon/easy \\
+    .venv/bin/python experiments/lookahead_teacher.py --worlds office,dungeon/easy \\
         --episodes 4 --out results/lookahead_teacher.json
-    .venv/bin/python experiments/lookahead_teacher.py --teacher tour --worlds ../shared/maps/dungeon/easy \\
+    .venv/bin/python experiments/lookahead_teacher.py --teacher tour --worlds dungeon/easy \\
         --episodes 6 --out results/tour_teacher.json    # model 7's: fresh noise, a 10 % margin
 """
 

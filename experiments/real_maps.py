@@ -1,11 +1,12 @@
 """Does 'done' mean the building is explored? The real-map completion experiment of issue 13.
 
-Runs ``frontier-rl evaluate`` on every ROS, Stage and HouseExpo map of ``../shared/maps`` (random
-starts) and on the first ``--dungeon`` DungeonMaps of easy, medium and complex (their own
-starts), then prints per map family: episodes, end reasons, episodes that ended with a frontier
-the robot could still have tried, coverage, mean time and mean time to 99 % of the free space.
+Runs ``frontier-rl evaluate`` on every ROS, Stage and HouseExpo map of ``--maps`` (default: the
+maps the package ships, named in the results by their catalogue names; random starts) and on the
+first ``--dungeon`` DungeonMaps of easy, medium and complex (their own starts), then prints per map
+family: episodes, end reasons, episodes that ended with a frontier the robot could still have
+tried, coverage, mean time and mean time to 99 % of the free space.
 
-    .venv/bin/python experiments/real_maps.py --maps ../shared/maps --methods nearest,fixed:0.75 \\
+    .venv/bin/python experiments/real_maps.py --methods nearest,fixed:0.75 \\
         --episodes 5 --dungeon 20 --out results/real_maps
 """
 
@@ -19,6 +20,7 @@ from collections import defaultdict
 from pathlib import Path
 
 from frontier_rl.atomic_write import write_text_atomic
+from frontier_rl.io.catalogue import MAPS_DIR, catalogue
 
 FAMILIES = {"ros": ("turtlebot3_world", "aws_small_house", "nav2_depot", "nav2_warehouse", "lse_arena")}
 
@@ -75,7 +77,7 @@ def family_table(rows: list[dict[str, str]], family_of: dict[str, str]) -> str:
 
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
-    parser.add_argument("--maps", type=Path, default=Path("../shared/maps"))
+    parser.add_argument("--maps", type=Path, default=MAPS_DIR, help="the maps folder (default: the package's)")
     parser.add_argument("--methods", default="nearest,fixed:0.75,explore-lite,info-gain")
     parser.add_argument("--episodes", type=int, default=5, help="random starts per ROS/Stage/HouseExpo map")
     parser.add_argument("--dungeon", type=int, default=20, help="DungeonMaps per difficulty (their own start)")
@@ -86,6 +88,7 @@ def main() -> None:
     args = parser.parse_args()
     skip = set(filter(None, args.skip.split(",")))
     families = {k: [p for p in v if p.stem not in skip] for k, v in map_files(args.maps, args.dungeon).items()}
+    names = {m.path.resolve(): m.name for m in catalogue().maps}  # the shipped maps by their catalogue names
     frl = Path(sys.executable).with_name("frontier-rl")
     family_of: dict[str, str] = {}
     for family, files in families.items():
@@ -94,7 +97,8 @@ def main() -> None:
         episodes = 1 if family.startswith("dungeon") else args.episodes
         out = args.out / family
         baseline = args.methods.split(",")[0]
-        cmd = [str(frl), "evaluate", "--methods", args.methods, "--worlds", ",".join(map(str, files)),
+        worlds = ",".join(names.get(p.resolve(), str(p)) for p in files)
+        cmd = [str(frl), "evaluate", "--methods", args.methods, "--worlds", worlds,
                "--episodes", str(episodes), "--no-oracle", "--baseline", baseline, "--out", str(out)]  # fmt: skip
         if args.workers is not None:
             cmd += ["--workers", str(args.workers)]

@@ -11,16 +11,13 @@ import pytest
 
 from frontier_rl.core.frontiers.detection import Frontiers
 from frontier_rl.core.world.grid import CellState, OccupancyGrid
+from frontier_rl.io.catalogue import MAPS_DIR
 
 if "PYTEST_XDIST_WORKER" in os.environ:
     # pytest -n runs a worker per core: each keeps torch to one thread (its pool reads this when
     # torch is first imported, after this file), where two threads each made two workers share a
     # core (a training test took 35 s, 5 s alone).
     os.environ.setdefault("OMP_NUM_THREADS", "1")
-
-_REPO_ROOT = Path(__file__).resolve().parents[1]
-#: Where the development maps live: beside the checkout, or inside it on some machines.
-_SHARED_MAPS_CANDIDATES = (_REPO_ROOT.parent / "shared" / "maps", _REPO_ROOT / "shared" / "maps")
 
 
 #: Whole experiments, training runs, the ROS node against a roscore, real maps, subprocesses: the
@@ -41,19 +38,17 @@ _SLOW_MODULES = frozenset(
 
 
 def pytest_collection_modifyitems(items: list[pytest.Item]) -> None:
-    """Mark every test of :data:`_SLOW_MODULES` and every test that reads the shared maps ``slow``."""
+    """Mark every test of :data:`_SLOW_MODULES` and every test that reads the real maps ``slow``."""
     for item in items:
-        if item.path.name in _SLOW_MODULES or "shared_maps" in getattr(item, "fixturenames", ()):
+        if item.path.name in _SLOW_MODULES or "real_maps" in getattr(item, "fixturenames", ()):
             item.add_marker(pytest.mark.slow)
 
 
 @pytest.fixture(scope="session")
-def shared_maps() -> Path:
-    """The folder of real maps (``../shared/maps``); skips the test where it is missing."""
-    for candidate in _SHARED_MAPS_CANDIDATES:
-        if candidate.is_dir():
-            return candidate
-    pytest.skip(f"shared maps not found at {_SHARED_MAPS_CANDIDATES[0]}")
+def real_maps() -> Path:
+    """The folder of the real maps the package ships (``frontier_rl/data/maps``, one sub-folder
+    per origin; :mod:`frontier_rl.io.catalogue` names them)."""
+    return MAPS_DIR
 
 
 # ----------------------------------------------------------------------------- hand-made grids

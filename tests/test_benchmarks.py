@@ -29,5 +29,5 @@ def test_the_frontier_benchmark_runs_and_tabulates(bench: ModuleType) -> None:
     assert bench.table(rows).count("\n") == len(rows) + 1
 
 
-def test_the_large_map_rows_are_skipped_without_the_shared_maps(bench: ModuleType, tmp_path: Path) -> None:
+def test_the_large_map_rows_are_skipped_without_the_real_maps(bench: ModuleType, tmp_path: Path) -> None:
     assert bench.bench_large_map(1, tmp_path) == []

@@ -28,9 +28,9 @@ def test_explore_json_has_the_documented_fields(tmp_path: Path) -> None:
     assert 0 < data["t90_s"] <= data["t99_s"] <= data["sim_time_s"]
 
 
-def test_explore_writes_png_and_gif(tmp_path: Path, shared_maps: Path) -> None:
+def test_explore_writes_png_and_gif(tmp_path: Path, real_maps: Path) -> None:
     png, gif = tmp_path / "run.png", tmp_path / "run.gif"
-    world = shared_maps / "lse_arena" / "lse_arena.yaml"
+    world = real_maps / "lse_arena" / "lse_arena.yaml"
     result = runner.invoke(app, ["explore", "--world", str(world), "--png", str(png), "--gif", str(gif)])
     assert result.exit_code == 0, result.output
     from PIL import Image
@@ -78,8 +78,8 @@ def test_bad_map_file_is_one_line_and_exit_2(tmp_path: Path, yaml_text: str, nee
     assert len(lines) == 1 and needle in lines[0], result.output
 
 
-def test_start_inside_a_wall_is_rejected(shared_maps: Path) -> None:
-    world = shared_maps / "lse_arena" / "lse_arena.yaml"
+def test_start_inside_a_wall_is_rejected(real_maps: Path) -> None:
+    world = real_maps / "lse_arena" / "lse_arena.yaml"
     result = runner.invoke(app, ["explore", "--world", str(world), "--start", "0,0"])
     assert result.exit_code == 2
     assert "(0.00, 0.00)" in result.output
@@ -93,8 +93,8 @@ def test_bad_config_key_is_rejected(tmp_path: Path) -> None:
     assert "num_beams" in result.output
 
 
-def test_max_time_truncates(shared_maps: Path) -> None:
-    world = shared_maps / "lse_arena" / "lse_arena.yaml"
+def test_max_time_truncates(real_maps: Path) -> None:
+    world = real_maps / "lse_arena" / "lse_arena.yaml"
     result = runner.invoke(app, ["explore", "--world", str(world), "--max-time", "4", "--json"])
     data = json.loads(result.stdout.strip().splitlines()[-1])
     assert data["truncated"] is True and data["done"] is False and data["end_reason"] == "time_cap"

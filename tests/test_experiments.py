@@ -62,10 +62,10 @@ def test_generalisation_table_per_family(tmp_path: Path) -> None:
         assert family in run.stdout
 
 
-def test_the_real_map_experiment_runs_on_the_config_it_is_given(tmp_path: Path, shared_maps: Path) -> None:
+def test_the_real_map_experiment_runs_on_the_config_it_is_given(tmp_path: Path, real_maps: Path) -> None:
     """``experiments/real_maps.py --config``: every family's evaluation runs on those settings."""
     maps = tmp_path / "maps"
-    shutil.copytree(shared_maps / "lse_arena", maps / "lse_arena")
+    shutil.copytree(real_maps / "lse_arena", maps / "lse_arena")
     sim = tmp_path / "sim.yaml"
     sim.write_text("mapper:\n  hit: 0.75\n  miss: -0.5\n")
     args = [sys.executable, str(SCRIPT.parent / "real_maps.py"), "--maps", str(maps), "--methods", "nearest",

@@ -27,8 +27,8 @@ def test_a_generator_is_drawn_with_the_seed_and_a_start_replaces_its_own() -> No
     assert moved.start.theta == 1.0 and np.array_equal(moved.grid.data, world.grid.data)
 
 
-def test_a_stored_start_is_kept_unless_the_caller_draws_one(shared_maps: Path) -> None:
-    dungeon = shared_maps / "dungeon" / "easy" / "img_1.png"
+def test_a_stored_start_is_kept_unless_the_caller_draws_one(real_maps: Path) -> None:
+    dungeon = real_maps / "dungeon" / "easy" / "img_1.png"
     stored = load_map(dungeon).start
     assert stored is not None
     assert resolve_world(str(dungeon), 0).start == stored == resolve_world(str(dungeon), 5).start
@@ -115,11 +115,11 @@ def test_a_map_on_cells_no_world_accepts_is_named_with_its_own_cell_size(tmp_pat
 @pytest.mark.parametrize(
     ("path", "shape"), [("stage/uoa_robotics_lab.yaml", (303, 136)), ("stage/cave.yaml", (320, 320))]
 )
-def test_resampling_a_shared_map_keeps_its_rooms(shared_maps: Path, path: str, shape: tuple[int, int]) -> None:
+def test_resampling_a_real_map_keeps_its_rooms(real_maps: Path, path: str, shape: tuple[int, int]) -> None:
     """Thickening the walls by up to a cell loses no room: the explorable area stays within 2 %
-    of the map's as drawn (measured 98.5-99.1 % on the four shared maps finer than 0.04 m)."""
-    drawn = make_world(load_map(shared_maps / path).grid, "drawn", rng=np.random.default_rng(0))
-    world = resolve_world(str(shared_maps / path), 0)
+    of the map's as drawn (measured 98.5-99.1 % on the four real maps finer than 0.04 m)."""
+    drawn = make_world(load_map(real_maps / path).grid, "drawn", rng=np.random.default_rng(0))
+    world = resolve_world(str(real_maps / path), 0)
     assert world.grid.resolution == 0.05 and world.grid.shape == shape
     area = [w.explorable.sum() * w.grid.resolution**2 for w in (drawn, world)]
     assert 0.98 * area[0] <= area[1] <= area[0]

@@ -168,8 +168,8 @@ def test_bad_options_are_named() -> None:
         WeightEnv(render_mode="human")
 
 
-def test_runs_on_map_files(shared_maps: Any) -> None:
-    env = WeightEnv(worlds=str(shared_maps / "turtlebot3_world"), observation_size=64, resolution=0.05)
+def test_runs_on_map_files(real_maps: Any) -> None:
+    env = WeightEnv(worlds=str(real_maps / "turtlebot3_world"), observation_size=64, resolution=0.05)
     obs, info = env.reset(seed=0)
     assert obs.shape == (1, 64, 64)
     assert info["world"] == "map"

@@ -17,11 +17,11 @@ from frontier_rl.io import LoadedMap, load_map
 from frontier_rl.world_spec import VALIDATION_SHARE, parse_world_list, parse_world_mix
 
 
-def test_parse_names_files_and_folders(shared_maps: Path) -> None:
+def test_parse_names_files_and_folders(real_maps: Path) -> None:
     assert parse_world_list("office, rooms") == ("office", "rooms")
-    entries = parse_world_list(f"cluttered,{shared_maps / 'turtlebot3_world'}")
-    assert entries == ("cluttered", str(shared_maps / "turtlebot3_world" / "map.yaml"))  # not also map.pgm
-    houses = parse_world_list(str(shared_maps / "houseexpo"))
+    entries = parse_world_list(f"cluttered,{real_maps / 'turtlebot3_world'}")
+    assert entries == ("cluttered", str(real_maps / "turtlebot3_world" / "map.yaml"))  # not also map.pgm
+    houses = parse_world_list(str(real_maps / "houseexpo"))
     assert len(houses) == 2 and all(h.endswith(".json") for h in houses)
 
 
@@ -49,8 +49,8 @@ def test_sample_is_seeded_and_uses_training_seeds() -> None:
     assert TRAIN_SEED_LOW >= 1_000_000
 
 
-def test_map_files_get_random_starts(shared_maps: Path) -> None:
-    source = WorldSource(parse_world_list(str(shared_maps / "turtlebot3_world")))
+def test_map_files_get_random_starts(real_maps: Path) -> None:
+    source = WorldSource(parse_world_list(str(real_maps / "turtlebot3_world")))
     starts = {source.sample(np.random.default_rng(k)).start for k in range(4)}
     assert len(starts) == 4
 

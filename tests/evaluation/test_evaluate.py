@@ -162,11 +162,11 @@ def test_a_changed_model_file_is_refused(tmp_path: Path) -> None:
         evaluate(config, tmp_path / "exp", backend="serial", progress=False)
 
 
-def test_map_files_and_folders_are_worlds(shared_maps: Path, tmp_path: Path) -> None:
+def test_map_files_and_folders_are_worlds(real_maps: Path, tmp_path: Path) -> None:
     folder = tmp_path / "maps"
     folder.mkdir()
     for name in ("map.yaml", "map.pgm"):
-        (folder / name).write_bytes((shared_maps / "turtlebot3_world" / name).read_bytes())
+        (folder / name).write_bytes((real_maps / "turtlebot3_world" / name).read_bytes())
     worlds = expand_worlds(f"{folder},office")
     assert worlds == (str(folder / "map.yaml"), "office")
     config = ExperimentConfig(methods=("fixed:0.75", "nearest"), worlds=worlds, episodes=1, sim=SHORT)

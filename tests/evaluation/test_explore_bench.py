@@ -80,9 +80,9 @@ def test_a_blueprint_that_knows_what_no_robot_can_see_has_no_t_total(tmp_path: P
     assert rows[0]["ended"] == 0 and np.isnan(rows[0]["t_total_s"])
 
 
-def test_only_ros_maps_are_blueprints(tmp_path: Path, shared_maps: Path) -> None:
-    assert explore_bench_maps(str(shared_maps / "turtlebot3_world")) == [shared_maps / "turtlebot3_world" / "map.yaml"]
-    for bad in ("office", str(shared_maps / "dungeon" / "easy" / "img_1.png")):
+def test_only_ros_maps_are_blueprints(tmp_path: Path, real_maps: Path) -> None:
+    assert explore_bench_maps(str(real_maps / "turtlebot3_world")) == [real_maps / "turtlebot3_world" / "map.yaml"]
+    for bad in ("office", str(real_maps / "dungeon" / "easy" / "img_1.png")):
         with pytest.raises(ConfigError, match="ROS map"):
             explore_bench_maps(bad)
 

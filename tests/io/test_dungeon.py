@@ -63,8 +63,8 @@ def test_greyscale_start_marker(tmp_path: Path) -> None:
     assert loaded.grid.data[loaded.grid.world_to_cell(loaded.start.x, loaded.start.y)] == CellState.FREE
 
 
-def test_real_map(shared_maps: Path) -> None:
-    path = shared_maps / "dungeon" / "easy" / "img_1.png"
+def test_real_map(real_maps: Path) -> None:
+    path = real_maps / "dungeon" / "easy" / "img_1.png"
     loaded = load_dungeon_map(path)
     grid = loaded.grid
     assert grid.shape == (480, 640)
@@ -85,8 +85,8 @@ def test_real_map(shared_maps: Path) -> None:
 
 
 @pytest.mark.parametrize("folder", ["train", "easy", "medium", "complex"])
-def test_every_start_lies_in_free_space(shared_maps: Path, folder: str) -> None:
-    for path in sorted((shared_maps / "dungeon" / folder).glob("*.png"))[:10]:
+def test_every_start_lies_in_free_space(real_maps: Path, folder: str) -> None:
+    for path in sorted((real_maps / "dungeon" / folder).glob("*.png"))[:10]:
         loaded = load_dungeon_map(path, resolution=0.05)
         assert loaded.start is not None
         cell = loaded.grid.world_to_cell(loaded.start.x, loaded.start.y)
@@ -94,11 +94,11 @@ def test_every_start_lies_in_free_space(shared_maps: Path, folder: str) -> None:
         assert loaded.grid.data[cell] == CellState.FREE, path
 
 
-def test_detection(tmp_path: Path, shared_maps: Path) -> None:
-    assert is_dungeon_image(shared_maps / "dungeon" / "easy" / "img_1.png")
+def test_detection(tmp_path: Path, real_maps: Path) -> None:
+    assert is_dungeon_image(real_maps / "dungeon" / "easy" / "img_1.png")
     assert is_dungeon_image(synthetic(tmp_path / "d.png"))
     assert not is_dungeon_image(synthetic(tmp_path / "n.png", start=None))
-    for path in (shared_maps / "stage").glob("*.png"):
+    for path in (real_maps / "stage").glob("*.png"):
         assert not is_dungeon_image(path), path
     photo = np.random.default_rng(0).integers(0, 256, size=(20, 20, 3), dtype=np.uint8)
     photo[0, 0] = YELLOW  # a start-coloured pixel in a non-dungeon palette

@@ -45,8 +45,8 @@ def outline_leaks(grid: OccupancyGrid, verts: NDArray[np.float64]) -> int:
     return leaks
 
 
-def test_real_house_placement_and_walls(shared_maps: Path) -> None:
-    path = shared_maps / "houseexpo" / HOUSE
+def test_real_house_placement_and_walls(real_maps: Path) -> None:
+    path = real_maps / "houseexpo" / HOUSE
     loaded = load_houseexpo(path)
     assert isinstance(loaded, LoadedMap)
     assert loaded.start is None
@@ -66,8 +66,8 @@ def test_real_house_placement_and_walls(shared_maps: Path) -> None:
     assert grid.data[grid.world_to_cell(0.05, 4.0)] == CellState.OCCUPIED
 
 
-def test_interior_wall_of_real_house(shared_maps: Path) -> None:
-    grid = load_houseexpo(shared_maps / "houseexpo" / HOUSE_WITH_SLITS).grid
+def test_interior_wall_of_real_house(real_maps: Path) -> None:
+    grid = load_houseexpo(real_maps / "houseexpo" / HOUSE_WITH_SLITS).grid
     # The wall between the gym and the bedroom is the slit y = 1.90..2.02 m for x = 0.1..1.97 m.
     assert grid.data[grid.world_to_cell(1.0, 1.96)] == CellState.OCCUPIED
     assert grid.data[grid.world_to_cell(1.0, 1.8)] == CellState.FREE
@@ -78,8 +78,8 @@ def test_interior_wall_of_real_house(shared_maps: Path) -> None:
 # Cell centres then fall at x.xx5 m, never on the files' 0.01 m outline (an outline through a row of
 # centres is a tie that point-in-polygon may settle either way, not a lost wall).
 @pytest.mark.parametrize("resolution", [0.17, 0.29])
-def test_walls_survive_coarse_resolutions(shared_maps: Path, name: str, resolution: float) -> None:
-    path = shared_maps / "houseexpo" / name
+def test_walls_survive_coarse_resolutions(real_maps: Path, name: str, resolution: float) -> None:
+    path = real_maps / "houseexpo" / name
     verts = np.asarray(json.loads(path.read_text())["verts"], dtype=np.float64)
     grid = load_houseexpo(path, resolution=resolution).grid
     assert grid.count(CellState.FREE) > 0

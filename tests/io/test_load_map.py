@@ -26,9 +26,9 @@ def test_loaded_map_is_re_exported_and_frozen(tmp_path: Path) -> None:
 
 
 @pytest.mark.parametrize("suffix", [".yaml", ".yml"])
-def test_ros_yaml(tmp_path: Path, shared_maps: Path, suffix: str) -> None:
+def test_ros_yaml(tmp_path: Path, real_maps: Path, suffix: str) -> None:
     folder = tmp_path / "lse"
-    shutil.copytree(shared_maps / "lse_arena", folder)
+    shutil.copytree(real_maps / "lse_arena", folder)
     yaml_path = folder / f"arena{suffix}"
     (folder / "lse_arena.yaml").rename(yaml_path)
     loaded = load_map(yaml_path)
@@ -39,24 +39,24 @@ def test_ros_yaml(tmp_path: Path, shared_maps: Path, suffix: str) -> None:
     assert loaded.grid.resolution == 0.05
 
 
-def test_image_with_a_yaml_beside_it_uses_the_yaml(shared_maps: Path) -> None:
-    loaded = load_map(shared_maps / "stage" / "cave.png")
+def test_image_with_a_yaml_beside_it_uses_the_yaml(real_maps: Path) -> None:
+    loaded = load_map(real_maps / "stage" / "cave.png")
     assert loaded.grid.resolution == 0.032
     assert loaded.grid.shape == (500, 500)
-    assert load_map(shared_maps / "stage" / "cave.png", resolution=0.1).grid.resolution == 0.1
+    assert load_map(real_maps / "stage" / "cave.png", resolution=0.1).grid.resolution == 0.1
 
 
-def test_dungeon_png(shared_maps: Path) -> None:
-    loaded = load_map(shared_maps / "dungeon" / "medium" / "img_10.png")
+def test_dungeon_png(real_maps: Path) -> None:
+    loaded = load_map(real_maps / "dungeon" / "medium" / "img_10.png")
     assert loaded.start is not None
     assert loaded.grid.resolution == DUNGEON_RESOLUTION
     assert loaded.grid.shape == (480, 640)
-    coarse = load_map(shared_maps / "dungeon" / "medium" / "img_10.png", resolution=0.05)
+    coarse = load_map(real_maps / "dungeon" / "medium" / "img_10.png", resolution=0.05)
     assert coarse.grid.resolution == 0.05
 
 
-def test_houseexpo_json(shared_maps: Path) -> None:
-    path = shared_maps / "houseexpo" / "house_expo_room_0000.json"
+def test_houseexpo_json(real_maps: Path) -> None:
+    path = real_maps / "houseexpo" / "house_expo_room_0000.json"
     loaded = load_map(path)
     assert loaded.start is None
     assert loaded.grid.resolution == 0.05
@@ -80,11 +80,11 @@ def test_plain_bitmap(tmp_path: Path, suffix: str) -> None:
     assert load_map(path, resolution=0.2).grid.resolution == 0.2
 
 
-def test_stage_bitmap_without_its_yaml(tmp_path: Path, shared_maps: Path) -> None:
-    shutil.copy(shared_maps / "stage" / "simple_rooms.png", tmp_path / "rooms.png")
+def test_stage_bitmap_without_its_yaml(tmp_path: Path, real_maps: Path) -> None:
+    shutil.copy(real_maps / "stage" / "simple_rooms.png", tmp_path / "rooms.png")
     grid = load_map(tmp_path / "rooms.png").grid
     assert grid.resolution == 0.05
-    np.testing.assert_array_equal(grid.data, load_ros_map(shared_maps / "stage" / "simple_rooms.yaml").data)
+    np.testing.assert_array_equal(grid.data, load_ros_map(real_maps / "stage" / "simple_rooms.yaml").data)
 
 
 def test_saved_map_loads_back(tmp_path: Path) -> None:

@@ -120,21 +120,21 @@ def test_numeric_strings_and_absolute_image_path(tmp_path: Path) -> None:
     assert grid.resolution == 0.25
 
 
-def test_lse_arena(shared_maps: Path) -> None:
-    yaml_path = shared_maps / "lse_arena" / "lse_arena.yaml"
+def test_lse_arena(real_maps: Path) -> None:
+    yaml_path = real_maps / "lse_arena" / "lse_arena.yaml"
     grid = load_ros_map(yaml_path)
     assert grid.shape == (60, 80)
     assert grid.resolution == 0.05
     assert grid.origin == (0.0, 0.0)
     assert grid.count(UNK) == 0
     assert grid.count(OCC) == 345
-    with Image.open(shared_maps / "lse_arena" / "lse_arena.pgm") as image:
+    with Image.open(real_maps / "lse_arena" / "lse_arena.pgm") as image:
         pixels = np.asarray(image)
     np.testing.assert_array_equal(grid.data[::-1] == OCC, pixels == 0)
 
 
-def test_turtlebot3_world(shared_maps: Path) -> None:
-    grid = load_ros_map(shared_maps / "turtlebot3_world" / "map.yaml")  # image: ./map.pgm
+def test_turtlebot3_world(real_maps: Path) -> None:
+    grid = load_ros_map(real_maps / "turtlebot3_world" / "map.yaml")  # image: ./map.pgm
     assert grid.shape == (384, 384)
     assert grid.origin == (-10.0, -10.0)
     assert set(np.unique(grid.data)) == {UNK, FREE, OCC}
@@ -144,8 +144,8 @@ def test_turtlebot3_world(shared_maps: Path) -> None:
     assert grid.data[grid.world_to_cell(-9.9, -9.9)] == UNK
 
 
-def test_warehouse_is_tall_and_uses_its_own_free_thresh(shared_maps: Path) -> None:
-    grid = load_ros_map(shared_maps / "nav2_warehouse" / "warehouse.yaml")
+def test_warehouse_is_tall_and_uses_its_own_free_thresh(real_maps: Path) -> None:
+    grid = load_ros_map(real_maps / "nav2_warehouse" / "warehouse.yaml")
     assert grid.shape == (1674, 1006)
     assert grid.resolution == 0.03
     assert grid.origin == (-15.1, -25.0)
@@ -176,8 +176,8 @@ def test_saved_yaml_has_the_map_saver_fields(tmp_path: Path) -> None:
         assert line in text.splitlines()
 
 
-def test_round_trip_of_a_real_map(tmp_path: Path, shared_maps: Path) -> None:
-    grid = load_ros_map(shared_maps / "turtlebot3_world" / "map.yaml")
+def test_round_trip_of_a_real_map(tmp_path: Path, real_maps: Path) -> None:
+    grid = load_ros_map(real_maps / "turtlebot3_world" / "map.yaml")
     again = load_ros_map(save_ros_map(grid, tmp_path / "tb3.yaml"))
     np.testing.assert_array_equal(again.data, grid.data)
     assert (again.resolution, again.origin) == (grid.resolution, grid.origin)

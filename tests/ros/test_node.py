@@ -75,10 +75,10 @@ def ros_env(tmp_path_factory: pytest.TempPathFactory) -> Iterator[dict[str, str]
     core.wait(timeout=30)
 
 
-def _scene(shared_maps: Path, tmp_path: Path) -> tuple[Path, dict[str, np.ndarray]]:
+def _scene(real_maps: Path, tmp_path: Path) -> tuple[Path, dict[str, np.ndarray]]:
     """turtlebot3_world's map, seen only within 1.5 m of a pose (so that it has frontiers), with
     probabilities instead of 0 and 100 in places: a map as a running SLAM publishes it."""
-    grid = load_map(shared_maps / "turtlebot3_world" / "map.yaml").grid
+    grid = load_map(real_maps / "turtlebot3_world" / "map.yaml").grid
     rows, cols = np.indices(grid.shape)
     free = np.argwhere(grid.data == CellState.FREE)
     centre = free[len(free) // 2]
@@ -115,8 +115,8 @@ def _expected(arrays: dict[str, np.ndarray]) -> list[list[float]]:
     return [[float(frontiers.centers[i, 0]), float(frontiers.centers[i, 1])] for i in order]
 
 
-def test_node_answers_with_frontier_rls_own_ranking(ros_env: dict[str, str], shared_maps: Path, tmp_path: Path) -> None:
-    scene, arrays = _scene(shared_maps, tmp_path)
+def test_node_answers_with_frontier_rls_own_ranking(ros_env: dict[str, str], real_maps: Path, tmp_path: Path) -> None:
+    scene, arrays = _scene(real_maps, tmp_path)
     expected = _expected(arrays)
     assert len(expected) >= 2, "the scene should have several frontiers"
     node = subprocess.Popen(
@@ -178,13 +178,13 @@ def test_probabilities_are_thresholded_like_map_server() -> None:
 
 
 @pytest.mark.parametrize("model", ["models/model4.zip", "models/model5.zip"])
-def test_learned_models_rank_a_map_message(model: str, shared_maps: Path, tmp_path: Path) -> None:
+def test_learned_models_rank_a_map_message(model: str, real_maps: Path, tmp_path: Path) -> None:
     if not Path(model).exists():
         pytest.skip("shipped model missing")
     from frontier_rl.policies import make_policy
     from frontier_rl.policies.frontier_request import rank_frontiers
 
-    _, arrays = _scene(shared_maps, tmp_path)
+    _, arrays = _scene(real_maps, tmp_path)
     grid = grid_from_message(int(arrays["width"]), int(arrays["height"]), float(arrays["resolution"]), arrays["data"])
     origin = arrays["origin"]
     pose = Pose(float(arrays["pose"][0] - origin[0]), float(arrays["pose"][1] - origin[1]), 0.0)

@@ -136,10 +136,10 @@ def _core_and_node(env: dict[str, str], port: int, *params: str) -> Iterator[lis
 
 @pytest.mark.serial
 def test_every_request_is_answered_with_a_reason(
-    ros_master: tuple[dict[str, str], int], shared_maps: Path, tmp_path: Path
+    ros_master: tuple[dict[str, str], int], real_maps: Path, tmp_path: Path
 ) -> None:
     env, port = ros_master
-    scene, _ = _scene(shared_maps, tmp_path)
+    scene, _ = _scene(real_maps, tmp_path)
     with _core_and_node(env, port, "_robots:=tb3_0", "_max_map_age:=5") as logs:
         r = _client(env, "faults", str(scene))
     log = logs[0]
@@ -165,10 +165,10 @@ def test_every_request_is_answered_with_a_reason(
 
 @pytest.mark.serial
 def test_one_robots_large_map_does_not_delay_another(
-    ros_master: tuple[dict[str, str], int], shared_maps: Path, tmp_path: Path
+    ros_master: tuple[dict[str, str], int], real_maps: Path, tmp_path: Path
 ) -> None:
     env, port = ros_master
-    scene, _ = _scene(shared_maps, tmp_path)
+    scene, _ = _scene(real_maps, tmp_path)
     with _core_and_node(env, port, "_robots:=tb3_0,tb3_1"):
         # the second robot's SLAM runs on that robot in the field, not beside the node: here it yields the CPU
         big = subprocess.Popen([sys.executable, str(CLIENT), "big_maps", str(scene)], env=env, cwd=REPO,
@@ -195,13 +195,13 @@ def test_one_robots_large_map_does_not_delay_another(
 
 @pytest.mark.parametrize("policy", ["tour", "learned:models/model7.zip"])
 def test_the_node_ranks_with_the_policy_it_is_given(
-    policy: str, ros_master: tuple[dict[str, str], int], shared_maps: Path, tmp_path: Path
+    policy: str, ros_master: tuple[dict[str, str], int], real_maps: Path, tmp_path: Path
 ) -> None:
     from frontier_rl.policies import make_policy
     from frontier_rl.policies.frontier_request import grid_from_message, rank_frontiers
 
     env, port = ros_master
-    scene, arrays = _scene(shared_maps, tmp_path)
+    scene, arrays = _scene(real_maps, tmp_path)
     grid = grid_from_message(int(arrays["width"]), int(arrays["height"]), float(arrays["resolution"]), arrays["data"])
     origin = arrays["origin"]
     pose = Pose(float(arrays["pose"][0] - origin[0]), float(arrays["pose"][1] - origin[1]), 0.0)
@@ -243,7 +243,7 @@ def _a_worker_loads(pid: int) -> bool:
 @pytest.mark.serial
 @pytest.mark.parametrize("moment", ["loading", "workers loading", "answering"])
 def test_ctrl_c_stops_the_node_at_once_without_a_traceback(
-    moment: str, ros_master: tuple[dict[str, str], int], shared_maps: Path, tmp_path: Path
+    moment: str, ros_master: tuple[dict[str, str], int], real_maps: Path, tmp_path: Path
 ) -> None:
     """Ctrl-C (SIGINT to the whole process group, as a terminal sends it) while the node's modules
     load, while its three workers load theirs (they compile the engine's kernels on a fresh
@@ -256,7 +256,7 @@ def test_ctrl_c_stops_the_node_at_once_without_a_traceback(
                             stderr=subprocess.STDOUT, text=True, start_new_session=True)  # fmt: skip
     try:
         if moment == "answering":
-            scene, _ = _scene(shared_maps, tmp_path)
+            scene, _ = _scene(real_maps, tmp_path)
             assert _client(env, "first_answer", str(scene), str(time.time()))["frontiers"] >= 2
         deadline = time.monotonic() + 60
         started = loads_numpy if moment == "loading" else _a_worker_loads
@@ -276,11 +276,11 @@ def test_ctrl_c_stops_the_node_at_once_without_a_traceback(
 
 @pytest.mark.serial
 def test_a_restarted_master_gets_the_node_back_by_respawn(
-    ros_master: tuple[dict[str, str], int], shared_maps: Path, tmp_path: Path
+    ros_master: tuple[dict[str, str], int], real_maps: Path, tmp_path: Path
 ) -> None:
     env, port = ros_master
     core = _start_core(port, env)
-    scene, _ = _scene(shared_maps, tmp_path)
+    scene, _ = _scene(real_maps, tmp_path)
     launch = subprocess.Popen(["roslaunch", "frontier_rl_ros", "frontier.launch", "robots:=tb3_0"], env=env,
                               stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True,
                               start_new_session=True)  # fmt: skip

@@ -324,18 +324,18 @@ def test_a_start_in_a_pocket_smaller_than_the_robot_is_refused() -> None:
 
 
 @pytest.mark.parametrize("policy", ["nearest", "fixed:0.75"])
-def test_the_depot_case_no_longer_ends_after_one_decision(shared_maps: Path, policy: str) -> None:
+def test_the_depot_case_no_longer_ends_after_one_decision(real_maps: Path, policy: str) -> None:
     """nav2_depot seed 1 ended `done` after 0.55 s at 6.5 % (the ring's centre was the robot)."""
-    loaded = load_map(shared_maps / "nav2_depot/depot.yaml")
+    loaded = load_map(real_maps / "nav2_depot/depot.yaml")
     world = make_world(loaded.grid, "depot", start=loaded.start, rng=np.random.default_rng(1))
     result = run_episode(world, make_policy(policy), seed=1)
     assert result.coverage >= 0.99 and result.decisions > 50, result.summary()
     assert result.end_reason in ("explored", "unreachable") and not result.truncated
 
 
-def test_the_warehouse_case_keeps_exploring(shared_maps: Path) -> None:
+def test_the_warehouse_case_keeps_exploring(real_maps: Path) -> None:
     """nav2_warehouse seed 0 ended `done` at 14 s with 3.3 %; within 300 s it now keeps going."""
-    loaded = load_map(shared_maps / "nav2_warehouse/warehouse.yaml")
+    loaded = load_map(real_maps / "nav2_warehouse/warehouse.yaml")
     world = make_world(loaded.grid, "warehouse", start=loaded.start, rng=np.random.default_rng(0))
     result = run_episode(world, make_policy("nearest"), SimConfig(max_sim_time=300.0), seed=0)
     assert result.end_reason == "time_cap" and result.coverage > 0.05, result.summary()

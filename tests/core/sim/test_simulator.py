@@ -77,18 +77,18 @@ def test_every_baseline_explores_every_generated_world(world_name: str, policy: 
 @pytest.mark.parametrize("policy", POLICIES)
 @pytest.mark.parametrize("k", [0, 1])
 @pytest.mark.parametrize("map_name", sorted(REAL_MAPS))
-def test_every_baseline_explores_the_real_maps(shared_maps: Path, map_name: str, k: int, policy: str) -> None:
-    check_episode(run_episode(real(shared_maps, map_name, k), make_policy(policy), seed=k))
+def test_every_baseline_explores_the_real_maps(real_maps: Path, map_name: str, k: int, policy: str) -> None:
+    check_episode(run_episode(real(real_maps, map_name, k), make_policy(policy), seed=k))
 
 
 MORE_MAPS = ["nav2_depot/depot.yaml", "aws_small_house/map.yaml", "dungeon/easy/img_1.png", "stage/autolab.yaml"]
 
 
 @pytest.mark.parametrize("path", MORE_MAPS)
-def test_the_other_shared_maps_are_explored_without_stalling(shared_maps: Path, path: str) -> None:
+def test_the_other_real_maps_are_explored_without_stalling(real_maps: Path, path: str) -> None:
     """nav2_depot once left a frontier the robot could reach but never resolve: the same zero-time
     decision repeated for ever. Reached-but-unresolved frontiers are now blacklisted."""
-    loaded = load_map(shared_maps / path)
+    loaded = load_map(real_maps / path)
     world = make_world(loaded.grid, path, start=loaded.start, rng=np.random.default_rng(0))
     result = run_episode(world, make_policy("fixed:0.75"), seed=0)
     if result.end_reason == "unreachable":  # e.g. the depot's floor behind scattered SLAM noise
