@@ -11,7 +11,7 @@ ROS_CHECK := command -v roscore >/dev/null && /usr/bin/python3 -c "import rospy,
 BROWSER_APT := chromium chromium-driver
 BROWSER_CHECK := command -v chromium >/dev/null && command -v chromedriver >/dev/null
 
-.PHONY: setup ros-deps browser-deps demo test test-fast lint typecheck pytest bench clean
+.PHONY: setup ros-deps browser-deps demo test test-fast lint typecheck docs pytest bench clean
 
 $(STAMP): pyproject.toml
 	$(PYTHON) -m venv $(VENV)
@@ -52,7 +52,11 @@ pytest: $(STAMP) ros-deps browser-deps
 	$(BIN)/pytest -q -n auto --dist loadfile -m "not serial"
 	$(BIN)/pytest -q -m serial
 
-test: lint typecheck pytest
+# the documentation site, offline, into docs/_build/html: warnings are errors, references are checked (-n)
+docs: $(STAMP)
+	$(BIN)/sphinx-build -b html -W --keep-going -n -q docs docs/_build/html
+
+test: lint typecheck docs pytest
 
 # the same checks without the tests marked slow (real maps, training, the ROS node, whole experiments)
 test-fast: lint typecheck
