@@ -33,9 +33,23 @@ RUNS = Path("results/studies")
 DATA = Path("docs/results/data")
 
 EPISODE_COLUMNS = (
-    "method", "world", "episode", "seed", "sim_time_s", "path_length_m", "coverage", "free_coverage", "t90_s",
-    "decisions", "aborts", "end_reason", "unknown_left_m2", "robots",
-)  # fmt: skip
+    "method",
+    "world",
+    "episode",
+    "seed",
+    "sim_time_s",
+    "path_length_m",
+    "coverage",
+    "free_coverage",
+    "t90_s",
+    "t99_s",
+    "decisions",
+    "aborts",
+    "end_reason",
+    "unknown_left_m2",
+    "mean_weight",
+    "robots",
+)
 """The columns of ``episodes.csv`` kept for the pages (the rest stay in the run folder)."""
 
 FRONTIER_RL = ".venv/bin/frontier-rl"
@@ -58,42 +72,70 @@ class Study:
 
 
 def _teams(out: str, methods: str, robots: str, strategy: str, extra: str = "") -> str:
-    return (f"{FRONTIER_RL} evaluate --methods {methods} --robots {robots} --strategy {strategy} "
-            f"--worlds office,rooms --episodes 20 --no-oracle {extra}--out {out}")  # fmt: skip
+    return (
+        f"{FRONTIER_RL} evaluate --methods {methods} --robots {robots} --strategy {strategy} "
+        f"--worlds office,rooms --episodes 20 --no-oracle {extra}--out {out}"
+    )
 
 
 STUDIES: tuple[Study, ...] = (
-    Study("thesis", (
-        f"{FRONTIER_RL} evaluate --methods fixed:0.75,learned:models/model4.zip --worlds office --episodes 120 "
-        "--out {out}",
-    )),
-    Study("office", (
-        f"{PYTHON} experiments/weight_sweep.py --methods learned:models/model4.zip,learned:models/model5.zip,"
-        "learned:models/model7.zip,tour,nearest,explore-lite,info-gain --worlds office --episodes 100 --out {out}",
-    )),
-    Study("families", (
-        f"{PYTHON} experiments/generalisation.py --methods tour,learned:models/model7.zip --episodes 100 --maps 100 "
-        "--building-episodes 24 --out {out}",
-    ), keep=("generalisation.json", "*/summary.json", "*/episodes.csv")),
-    Study("thesis_models", (
-        *(f"{FRONTIER_RL} train --model {n} --worlds office --timesteps 25000 --n-envs 2 --out {{out}}/model{n}"
-          for n in (1, 2, 3)),
-        f"{FRONTIER_RL} evaluate --methods learned:{{out}}/model1/model.zip,learned:{{out}}/model2/model.zip,"
-        "learned:{out}/model3/model.zip,learned:models/model4.zip,learned:models/model5.zip,"
-        "learned:models/model7.zip,fixed:0.75,nearest --worlds office --episodes 30 --out {out}/evaluation",
-    ), keep=("evaluation/summary.json", "evaluation/episodes.csv", "model*/validation.csv", "model*/config.yaml")),
-    Study("teams", (
-        _teams("{out}/strategies", "fixed:0.75", "1,2,3,4", "uncoordinated,coordinated,rendezvous"),
-        _teams("{out}/policies", "fixed:0.75,nearest,tour,learned:models/model7.zip", "1,2,4", "coordinated"),
-        *(_teams(f"{{out}}/fail_{s}", "fixed:0.75", "3", s, "--fail 2@82 ")
-          for s in ("uncoordinated", "coordinated", "rendezvous")),
-    ), keep=("*/summary.json", "*/episodes.csv")),
-    Study("real_buildings", (
-        f"{PYTHON} experiments/real_maps.py --methods nearest,fixed:0.75,tour,learned:models/model7.zip "
-        "--out {out}",
-    ), keep=("*.json", "*/summary.json", "*/episodes.csv")),
+    Study(
+        "thesis",
+        (
+            f"{FRONTIER_RL} evaluate --methods fixed:0.75,learned:models/model4.zip --worlds office --episodes 120 "
+            "--out {out}",
+        ),
+    ),
+    Study(
+        "office",
+        (
+            f"{PYTHON} experiments/weight_sweep.py --methods learned:models/model4.zip,learned:models/model5.zip,"
+            "learned:models/model7.zip,tour,nearest,explore-lite,info-gain --worlds office --episodes 100 --out {out}",
+        ),
+    ),
+    Study(
+        "families",
+        (
+            f"{PYTHON} experiments/generalisation.py --methods tour,learned:models/model7.zip --episodes 100 --maps 100 "
+            "--building-episodes 24 --out {out}",
+        ),
+        keep=("generalisation.json", "*/summary.json", "*/episodes.csv"),
+    ),
+    Study(
+        "thesis_models",
+        (
+            *(
+                f"{FRONTIER_RL} train --model {n} --worlds office --timesteps 25000 --n-envs 2 --out {{out}}/model{n}"
+                for n in (1, 2, 3)
+            ),
+            f"{FRONTIER_RL} evaluate --methods learned:{{out}}/model1/model.zip,learned:{{out}}/model2/model.zip,"
+            "learned:{out}/model3/model.zip,learned:models/model4.zip,learned:models/model5.zip,"
+            "learned:models/model7.zip,fixed:0.75,nearest --worlds office --episodes 30 --out {out}/evaluation",
+        ),
+        keep=("evaluation/summary.json", "evaluation/episodes.csv", "model*/validation.csv", "model*/config.yaml"),
+    ),
+    Study(
+        "teams",
+        (
+            _teams("{out}/strategies", "fixed:0.75", "1,2,3,4", "uncoordinated,coordinated,rendezvous"),
+            _teams("{out}/policies", "fixed:0.75,nearest,tour,learned:models/model7.zip", "1,2,4", "coordinated"),
+            *(
+                _teams(f"{{out}}/fail_{s}", "fixed:0.75", "3", s, "--fail 2@82 ")
+                for s in ("uncoordinated", "coordinated", "rendezvous")
+            ),
+        ),
+        keep=("*/summary.json", "*/episodes.csv"),
+    ),
+    Study(
+        "real_buildings",
+        (
+            f"{PYTHON} experiments/real_maps.py --methods nearest,fixed:0.75,tour,learned:models/model7.zip "
+            "--out {out}",
+        ),
+        keep=("*.json", "*/summary.json", "*/episodes.csv"),
+    ),
     Study("speed", (f"{PYTHON} benchmarks/run.py --json {{out}}/speed.json",), keep=("speed.json",)),
-)  # fmt: skip
+)
 
 
 def study(name: str) -> Study:
@@ -108,6 +150,7 @@ def run(entry: Study) -> None:
     """Run ``entry``'s commands (each resumes what an earlier run of it finished), then collect."""
     out = RUNS / entry.name
     out.mkdir(parents=True, exist_ok=True)
+    provenance = _provenance()
     timings = []
     for template in entry.commands:
         command = template.format(out=out)
@@ -115,7 +158,7 @@ def run(entry: Study) -> None:
         started = time.monotonic()
         subprocess.run(shlex.split(command), cwd=REPO, check=True)
         timings.append({"command": _shown(command), "wall_time_s": round(time.monotonic() - started, 1)})
-    collect(entry, timings)
+    collect(entry, {"commands": timings, **provenance})
 
 
 def _shown(command: str) -> str:
@@ -123,13 +166,29 @@ def _shown(command: str) -> str:
     return command.replace(f"{FRONTIER_RL} ", "frontier-rl ").replace(f"{PYTHON} ", "python ")
 
 
-def collect(entry: Study, timings: list[dict[str, object]] | None = None) -> None:
-    """Copy ``entry``'s kept files from its run folder into its data folder, with ``study.json``."""
+def _provenance() -> dict[str, object]:
+    """The code a run measures: its commit, whether the package or the models differed from it, the
+    day and the machine."""
+    return {
+        "commit": _git("rev-parse", "--short", "HEAD"),
+        "changes_not_committed": bool(_git("status", "--porcelain", "--untracked-files=no", "frontier_rl", "models")),
+        "measured": time.strftime("%Y-%m-%d"),
+        "machine": {"cores": os.cpu_count(), "cpu": _cpu_name(), "python": platform.python_version()},
+    }
+
+
+def collect(entry: Study, run_record: dict[str, object] | None = None) -> None:
+    """Copy ``entry``'s kept files from its run folder into its data folder, with ``study.json``
+    (``run_record``: the commands' wall times and the run's provenance; by default those of the data
+    folder's last ``study.json``, or the commands alone with no times)."""
     source, target = REPO / RUNS / entry.name, REPO / DATA / entry.name
+    if run_record is None and (target / "study.json").exists():
+        run_record = json.loads((target / "study.json").read_text())
+    if run_record is None:
+        commands = [{"command": _shown(c.format(out=RUNS / entry.name)), "wall_time_s": None} for c in entry.commands]
+        run_record = {"commands": commands, **_provenance()}
     if target.exists():
-        old = json.loads((target / "study.json").read_text()) if (target / "study.json").exists() else {}
         shutil.rmtree(target)
-        timings = timings or old.get("commands")
     target.mkdir(parents=True)
     for pattern in entry.keep:
         for path in sorted(source.glob(pattern)):
@@ -139,15 +198,7 @@ def collect(entry: Study, timings: list[dict[str, object]] | None = None) -> Non
                 _copy_columns(path, destination)
             else:
                 shutil.copyfile(path, destination)
-    meta = {
-        "study": entry.name,
-        "commands": timings or [{"command": _shown(c.format(out=RUNS / entry.name)), "wall_time_s": None}
-                                for c in entry.commands],
-        "commit": _git("rev-parse", "--short", "HEAD"),
-        "changes_not_committed": bool(_git("status", "--porcelain", "--untracked-files=no", "frontier_rl", "models")),
-        "measured": time.strftime("%Y-%m-%d"),
-        "machine": {"cores": os.cpu_count(), "cpu": _cpu_name(), "python": platform.python_version()},
-    }  # fmt: skip
+    meta = {"study": entry.name, **run_record}
     (target / "study.json").write_text(json.dumps(meta, indent=1) + "\n")
     print(f"collected {entry.name} into {target.relative_to(REPO)}")
 

@@ -1,0 +1,111 @@
+"""The results pages of the engine itself: whether real buildings get explored, and its speed."""
+
+from __future__ import annotations
+
+from collections import defaultdict
+from pathlib import Path
+from statistics import mean
+
+from results_data import Episode, Study, label
+from results_format import markdown_table, reproduce_section, seconds
+
+FAMILY_NAMES = {
+    "ros": "ROS map_server maps (SLAM)",
+    "stage": "Stage bitmaps",
+    "houseexpo": "HouseExpo floor plans",
+    "dungeon_easy": "DungeonMaps easy",
+    "dungeon_medium": "DungeonMaps medium",
+    "dungeon_complex": "DungeonMaps complex",
+}
+
+
+def _completion_row(name: str, method: str, episodes: list[Episode]) -> list[str]:
+    reasons = [e.end_reason for e in episodes]
+    coverage = [e.coverage for e in episodes]
+    return [
+        name,
+        f"`{label(method)}`",
+        str(len(episodes)),
+        str(reasons.count("explored")),
+        str(reasons.count("unreachable")),
+        str(reasons.count("time_cap")),
+        f"{100 * mean(coverage):.2f} % / {100 * min(coverage):.2f} %",
+        f"{mean(e.unknown_left_m2 for e in episodes):.2f}",
+        seconds(mean(e.sim_time_s for e in episodes)),
+    ]
+
+
+COMPLETION_HEADER = (
+    "maps",
+    "method",
+    "episodes",
+    "explored",
+    "unreachable",
+    "time cap",
+    "coverage mean / min",
+    "unseen area left (m², mean)",
+    "mean time (s)",
+)
+
+
+def real_buildings_page(study: Study, images: Path) -> str:
+    """Per family of real maps and per method: how the episodes ended and how much was left."""
+    family_rows, map_rows = [], []
+    for part in study.parts():
+        run = study.experiment(part)
+        for method in run.summary.methods:
+            family_rows.append(_completion_row(FAMILY_NAMES.get(part, part), method, run.of(method)))
+        if part == "ros" or part == "stage":
+            by_map: dict[tuple[str, str], list[Episode]] = defaultdict(list)
+            for episode in run.episodes:
+                by_map[(Path(episode.world).stem, episode.method)].append(episode)
+            map_rows += [_completion_row(world, method, group) for (world, method), group in sorted(by_map.items())]
+    return f"""# Real buildings
+
+Does "done" mean the building is explored? Each map of the catalogue's real maps (the SLAM maps of
+ROS map_server, the Stage bitmaps, the HouseExpo floor plans) is explored from several random starts,
+and the first DungeonMaps test maps of each level from their own start, by each method. An episode
+ends `explored` only when no frontier touches the space the robot can reach; `unreachable` when the
+frontiers left could not be reached; `time_cap` when cut by the sim-time cap. Coverage is the share
+of the explorable space: the cells a robot of this size can see from the poses it can reach on the
+true map ([concepts](../concepts.md)).
+
+## Per family of maps
+
+{markdown_table(COMPLETION_HEADER, family_rows)}
+`unseen area left`: the unknown free area beside the frontiers an episode left.
+
+## Per map
+
+{markdown_table(COMPLETION_HEADER, map_rows)}
+{reproduce_section(study)}"""
+
+
+def _value(row: dict[str, object]) -> str:
+    value, unit = float(row["value"]), str(row["unit"])  # type: ignore[arg-type]
+    text = f"{value:,.0f}" if abs(value) >= 100 else f"{value:.3g}" if abs(value) >= 1 else f"{value:.3f}"
+    return (f"{text}×" if unit == "×" else f"{text} {unit}") + str(row.get("detail", ""))
+
+
+def speed_page(study: Study, images: Path) -> str:
+    """The speed benchmarks against the speed budget."""
+    report = study.json("speed.json")
+    assert isinstance(report, dict)
+    rows = []
+    for row in report["results"]:
+        target = row["target"]
+        goal = "" if target is None else f"{'≥' if row['higher_is_better'] else '≤'} {target:,g} {row['unit']}"
+        rows.append([row["metric"], _value(row), goal, {None: "", True: "met", False: "**missed**"}[row["ok"]]])
+    machine = report["machine"]
+    return f"""# Speed
+
+The simulator is the product's engine: an experiment that took the thesis a week in Gazebo should take
+minutes. These are the benchmarks of `benchmarks/run.py` (`make bench`): one process pinned to one core,
+numba and BLAS on one thread, each benchmark warmed up first so that compilation is never timed,
+and the median over repeats.
+
+{markdown_table(("benchmark", "measured", "target", ""), rows)}
+Machine: {machine["cpu"]}, Python {machine["python"]}, NumPy {machine["numpy"]}, numba {machine["numba"]};
+the whole benchmark took {seconds(report["runtime_s"])} s.
+
+{reproduce_section(study)}"""
