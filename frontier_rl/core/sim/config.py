@@ -21,7 +21,7 @@ UNSEEN_ROOM_M2 = 0.5
 room, not a speck: the episode ends ``unreachable``. 0.5 m² is 0.7 m x 0.7 m, room for a person.
 On 0.1 m cells a slot of 3 cells (a speck) led to 2.5 m² never seen, an episode that would have
 ended ``explored``; the most found behind a speck in 94 ``nearest`` episodes of the generators and
-the shared maps that ended ``explored`` was 0.14 m² (under furniture in ``aws_small_house``)."""
+the catalogue's real maps that ended ``explored`` was 0.14 m² (under furniture in ``aws_small_house``)."""
 MAX_FRONTIER_DROP_CELLS = 1_000_000
 """Largest ``min_frontier_cells`` (and the ROS node's ``~min_cluster_size``): a drop of a million
 cells is more than any frontier of a map file holds (2**63 overflowed the frontier kernels' integers)."""
