@@ -35,6 +35,7 @@ root_doc = "index"
 exclude_patterns = ["_build", "_generated", "_ext", "_templates", "**/data/**"]
 templates_path = ["_templates"]
 nitpicky = True
+smartquotes = False  # options stay "--world", quotes stay straight: text a reader copies
 # Sphinx's own anchors (``#heading``) are checked by MyST; a missing page or anchor is an error.
 suppress_warnings: list[str] = []
 

@@ -53,7 +53,7 @@ def generate(out_dir: Path) -> None:
     team = team_facts(out_dir / f"{TEAM_PAGE}.png")
     _run(_TEAM_SNIPPET)
     (out_dir / f"{TEAM_PAGE}.md").write_text(render_page(team, TEAM_PAGE, _TEAM_SNIPPET))
-    (out_dir / "index.md").write_text(render_index(rows))
+    (out_dir / "index.md").write_text(render_index(rows, team.name))
 
 
 def page_name(env_id: str) -> str:
@@ -70,27 +70,36 @@ def _run(snippet: str) -> None:
         env.close()
 
 
-def render_index(rows: list[EnvFacts]) -> str:
-    """The table of every id, then the team environment."""
+def render_index(rows: list[EnvFacts], team_name: str) -> str:
+    """The table of every id, a row per model, then the team environment."""
     lines = [
         "# Environments",
         "",
-        "Importing `frontier_rl.envs` registers these Gymnasium ids, one per model and map image size "
-        "(250 × 250 pixels, the thesis's, or 64 × 64). One `step()` is one decision: the robot drives to "
-        "the goal the action picks while the LiDAR and the mapper keep running. "
+        "Importing `frontier_rl.envs` registers these Gymnasium ids: one per model and map image size, 250 × 250 "
+        "pixels (the thesis's) or 64 × 64 (the ids ending in `64-v0`). One `step()` is one decision: the robot "
+        "drives to the goal the action picks while the LiDAR and the mapper keep running. "
         '`gymnasium.make("frontier_rl.envs:FrontierRL/WeightMap-v0")` imports the module on the way.',
         "",
-        "| id | model | observation | action | in short |",
+        "| model | ids | observation | action | in short |",
         "|---|---|---|---|---|",
     ]
+    by_model: dict[int, list[EnvFacts]] = {}
     for facts in rows:
         assert facts.model is not None
-        link = f"[`{facts.name}`]({page_name(facts.name)}.md)"
-        spaces = f"{_space_summary(facts.observation_space)} | {_space_summary(facts.action_space)}"
-        lines.append(f"| {link} | {facts.model.number} | {spaces} | {facts.model.description} |")
+        by_model.setdefault(facts.model.number, []).append(facts)
+    for number, variants in by_model.items():
+        ids = "<br>".join(f"[`{f.name}`]({page_name(f.name)}.md)" for f in variants)
+        first = variants[0]
+        assert first.model is not None
+        observation = _space_summary(first.observation_space)
+        lines.append(
+            f"| {number} | {ids} | {observation} | {_space_summary(first.action_space)} | {first.model.description} |"
+        )
     lines += [
         "",
-        f"The team environment, [`{TEAM_PAGE}`]({TEAM_PAGE}.md), is a PettingZoo `ParallelEnv` in which every robot "
+        "The observation and action columns give the 250 × 250 id's spaces; the environment pages give each id's.",
+        "",
+        f"The team environment, [`{team_name}`]({TEAM_PAGE}.md), is a PettingZoo `ParallelEnv` in which every robot "
         "of a team is an agent.",
         "",
         "```{toctree}",
@@ -180,7 +189,7 @@ def _space_summary(space: gym.Space[Any]) -> str:
     if isinstance(space, gym.spaces.Dict):
         return "`Dict`: " + ", ".join(f"`{key}`" for key in space.spaces)
     if isinstance(space, gym.spaces.Box):
-        return f"`Box{tuple(space.shape)}` of `{space.dtype}`"
+        return f"`{space.dtype}` array of shape `{tuple(space.shape)}`"
     return f"`{space}`"
 
 

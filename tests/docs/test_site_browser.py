@@ -69,7 +69,7 @@ def page_of(site: Path, kind: str) -> Path:
     if kind == "environment":
         return site / "reference" / "envs" / "weightmap-v0.html"
     folder = {"guide": "guides", "results": "results"}[kind]
-    found = sorted(p for p in (site / folder).glob("*.html") if p.name != "index.html")
+    found = sorted(p for p in (site / folder).rglob("*.html") if p.name != "index.html")
     assert found, f"the site has no page in {folder}/"
     return found[0]
 
