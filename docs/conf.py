@@ -32,12 +32,9 @@ extensions = [
 
 source_suffix = {".md": "markdown"}
 root_doc = "index"
-exclude_patterns = ["_build", "_generated", "_ext", "_templates", "**/data/**"]
-templates_path = ["_templates"]
+exclude_patterns = ["_build", "_generated", "_ext", "**/data/**"]
 nitpicky = True
 smartquotes = False  # options stay "--world", quotes stay straight: text a reader copies
-# Sphinx's own anchors (``#heading``) are checked by MyST; a missing page or anchor is an error.
-suppress_warnings: list[str] = []
 
 # ----------------------------------------------------------------------------------------- MyST
 myst_enable_extensions = ["colon_fence", "deflist", "attrs_block", "attrs_inline", "dollarmath"]
