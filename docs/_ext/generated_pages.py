@@ -43,6 +43,7 @@ GENERATORS: tuple[Generator, ...] = (
     Generator("_generated/cli", "cli_reference"),
     Generator("_generated/config", "config_reference"),
     Generator("reference/envs", "env_pages"),
+    Generator("results/pages", "results_pages"),
 )
 """Every generator of the site, run in this order."""
 
