@@ -254,9 +254,10 @@ def office_readme_table(study: Study, figure: Path) -> tuple[str, str]:
     for method in methods:
         e = summary.methods[method]
         compared = method != summary.baseline
+        shown = f"`{method}`" if names[method] == method else f"{names[method]} (`{method}`)"
         rows.append(
             [
-                f"`{method}`" if names[method] == method else f"{names[method]} (`{method}`)",
+                f"{shown} (knows the map: a reference)" if method == summary.reference else shown,
                 seconds(e.mean_time_s),
                 percent(e.reduction_pct) if compared else "baseline",
                 p_text(e.p_holm) if compared and method != summary.reference else "",

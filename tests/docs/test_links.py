@@ -51,6 +51,8 @@ def problem(link: Link) -> str | None:
     path = (link.page.parent / unquote(path_part)).resolve() if path_part else link.page
     if _generated_folder(path) is not None:
         path = generated_root() / path.relative_to(DOCS)
+    if path.is_dir() and link.page == ROOT / "README.md" and not anchor:
+        return None  # GitHub shows a folder's listing; the site's pages link files only
     if not path.is_file():
         return f"{target}: no such file"
     if anchor and path.suffix == ".md" and anchor not in anchors(path):
