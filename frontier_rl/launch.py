@@ -1,7 +1,7 @@
 """The ``frontier-rl`` script's entry point, kept apart from the command line it loads, so that a
 Ctrl-C at any moment after Python has started (its first ~0.05 s) ends the command with one line on
 standard error and exit code 130, as one while a command runs does
-(:class:`~frontier_rl.cli_output.OneLineGroup`).
+(:class:`~frontier_rl.cli.output.OneLineGroup`).
 
 A Ctrl-C is never raised inside an import: NumPy, SciPy, torch and typer load for a second or more
 (more again when a command loads what it needs), and an interrupt raised there was seen to print

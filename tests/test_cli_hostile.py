@@ -15,9 +15,9 @@ import pytest
 from PIL import Image
 from typer.testing import CliRunner
 
-import frontier_rl.cli as cli
+import frontier_rl.cli.explore as cli
 from frontier_rl.cli import MAX_SEED, app
-from frontier_rl.cli_output import one_line, print_error
+from frontier_rl.cli.output import one_line, print_error
 from frontier_rl.core.world.grid import CellState, OccupancyGrid
 from frontier_rl.core.world.robot import MAX_HEADING_RAD, Pose, checked_pose
 from frontier_rl.core.world.worlds import check_resolution, make_world, resolution_bounds

@@ -96,7 +96,7 @@ def test_explore_and_evaluate_take_catalogue_names(tmp_path: Path, monkeypatch: 
 
 
 def test_the_benchmarks_default_to_catalogue_maps(tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> None:
-    from frontier_rl.cli_benchmark import DEFAULT_BLUEPRINTS, DEFAULT_DUNGEON_TESTS
+    from frontier_rl.cli.protocols import DEFAULT_BLUEPRINTS, DEFAULT_DUNGEON_TESTS
 
     assert (DEFAULT_DUNGEON_TESTS, DEFAULT_BLUEPRINTS) == (
         "dungeon/complex",

@@ -4,7 +4,7 @@ the baseline, by how much and how surely, how far from the oracle, and how the e
 from __future__ import annotations
 
 import math
-from collections.abc import Callable
+from collections.abc import Callable, Mapping
 from dataclasses import dataclass
 from typing import Any
 
@@ -107,14 +107,13 @@ def _change(entry: dict[str, Any]) -> str:
 
 
 def unfinished(
-    methods: dict[str, dict[str, Any]], labels: dict[str, str], reason_text: Callable[[str], str] = str
+    end_reasons: Mapping[str, Mapping[str, int]], labels: dict[str, str], reason_text: Callable[[str], str] = str
 ) -> list[str]:
     """Per method with episodes that did not end explored: "LABEL N REASON, N REASON" (each
-    reason as ``reason_text`` writes it), from ``summary.json``'s method entries."""
+    reason as ``reason_text`` writes it), from each method's episodes per end reason."""
     parts = []
-    for method, entry in methods.items():
-        ends = [f"{n} {reason_text(reason)}" for reason, n in entry["end_reasons"].items()
-                if n and reason != "explored"]  # fmt: skip
+    for method, reasons in end_reasons.items():
+        ends = [f"{n} {reason_text(reason)}" for reason, n in reasons.items() if n and reason != "explored"]
         if ends:
             parts.append(f"{labels[method]} {', '.join(ends)}")
     return parts
@@ -125,7 +124,8 @@ def _completion(methods: dict[str, dict[str, Any]], labels: dict[str, str]) -> s
     explored = sum(e["end_reasons"].get("explored", 0) for e in methods.values())
     if explored == total:
         return f"All {total} episodes ended with the map explored."
-    parts = unfinished(methods, labels, lambda reason: reason.replace("_", " "))
+    by_method = {method: entry["end_reasons"] for method, entry in methods.items()}
+    parts = unfinished(by_method, labels, lambda reason: reason.replace("_", " "))
     reasons = {r for e in methods.values() for r, n in e["end_reasons"].items() if n and r != "explored"}
     meaning = [_REASONS[r] for r in sorted(reasons) if r in _REASONS]
     return f"{explored} of {total} episodes ended with the map explored; the others: {'; '.join(parts)}" + (

@@ -12,7 +12,7 @@ from frontier_rl.core.sim.config import SimConfig
 from frontier_rl.envs.rewards import REWARD_PRESETS, reward_preset
 from frontier_rl.errors import ConfigError, FrontierRLError, short_repr, short_text
 from frontier_rl.registration import FRONTIER_CHOICE_MODELS, MODELS, env_id
-from frontier_rl.world_spec import parse_world_mix
+from frontier_rl.world_spec import checked_resolution, parse_world_mix
 
 MAX_FEATURES_DIM = 8192
 """Largest ``features_dim`` a run may use and a model file may hold (the shipped models use 128)."""
@@ -41,7 +41,7 @@ _MESSAGE_LIMIT = 300
 _CLI_OPTIONS = (
     "model", "worlds", "timesteps", "n_envs", "algo", "observation_size", "reward", "learning_rate", "n_steps",
     "gamma", "ent_coef", "seed", "eval_every", "checkpoint_every", "init", "privileged_critic",
-    "privileged_map",
+    "privileged_map", "resolution",
 )  # fmt: skip
 """The fields ``frontier-rl train`` sets by an option of the same name."""
 
@@ -86,6 +86,8 @@ class TrainConfig:
             space not yet seen, as an image over the map window (a CNN of its own).
         sim: the simulator trained on (robot, LiDAR, map update, navigation, time cap), the
             defaults unless ``frontier-rl train --config`` names a SimConfig file.
+        resolution: cell size (m) of the map files that carry none (bitmaps, HouseExpo floor plans);
+            None: each format's own default (DungeonMaps 0.04375 m).
     """
 
     model: int = 4
@@ -110,6 +112,7 @@ class TrainConfig:
     privileged_critic: bool = False
     privileged_map: bool = False
     sim: SimConfig = field(default_factory=SimConfig)
+    resolution: float | None = None
 
     def __post_init__(self) -> None:  # noqa: C901 (a validator: one check per field)
         if self.model not in MODELS:
@@ -129,6 +132,8 @@ class TrainConfig:
         for name in ("worlds", "init"):
             if not isinstance(getattr(self, name), str):
                 raise ConfigError(f"{name} must be a string, got {short_repr(getattr(self, name))}")
+        if self.resolution is not None:
+            checked_resolution(coerce(float, self.resolution, "resolution"), "resolution")
         try:
             parse_world_mix(self.worlds)  # checks every world now, not in a subprocess later
         except FrontierRLError as exc:  # it quotes the whole list: keep the message bounded

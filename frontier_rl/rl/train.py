@@ -155,7 +155,7 @@ def _start(config: TrainConfig, out: Path, resume: bool) -> tuple[int, ActorCrit
     """The step to start from and the ``--init`` policy to start with, if any; a bad map file or
     ``--init`` fails before the run directory is written or a subprocess started, and a resumed
     run that has a checkpoint never reads ``--init``."""
-    check_world_files(world_entries(config.worlds))
+    check_world_files(world_entries(config.worlds), config.resolution)
     initial = _initial_policy(config) if config.init and not resume else None
     start = _check_run_dir(config, out, resume)
     if config.init and resume and not start:
@@ -197,6 +197,8 @@ def _env_kwargs(config: TrainConfig) -> dict[str, Any]:
     env_kwargs: dict[str, Any] = {"worlds": config.worlds, "reward": config.reward}
     env_kwargs["max_decisions"] = config.max_decisions
     env_kwargs["sim"] = config.sim
+    if config.resolution is not None:
+        env_kwargs["resolution"] = config.resolution
     if config.privileged_critic:
         env_kwargs["privileged"] = True
     if config.privileged_map:

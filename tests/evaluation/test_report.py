@@ -169,10 +169,10 @@ def test_the_training_command_names_each_simulator_setting_that_differs() -> Non
 def test_the_command_options_are_the_train_commands() -> None:
     import inspect
 
-    from frontier_rl import cli
+    from frontier_rl.cli.train import train
     from frontier_rl.rl.config import _CLI_OPTIONS
 
-    parameters = inspect.signature(cli.train).parameters
+    parameters = inspect.signature(train).parameters
     assert set(_CLI_OPTIONS) == set(parameters) - {"out", "resume", "progress", "config"}
     for name in _CLI_OPTIONS:  # the same defaults, so a default left out of the command is the command's
         assert parameters[name].default == getattr(TrainConfig(), name), name

@@ -12,7 +12,7 @@ import typer
 from rich.table import Table
 
 from frontier_rl.atomic_write import write_text_atomic
-from frontier_rl.cli_output import OneLineGroup, friendly_errors, int_list, policy_list, stdout_console
+from frontier_rl.cli.output import OneLineGroup, friendly_errors, int_list, policy_list, stdout_console
 from frontier_rl.errors import ConfigError, short_repr
 from frontier_rl.render import check_output_file
 from frontier_rl.swarm.config import MAX_ROBOTS

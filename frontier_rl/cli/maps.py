@@ -10,7 +10,7 @@ import typer
 from rich import box
 from rich.table import Table
 
-from frontier_rl.cli_output import friendly_errors, stdout_console
+from frontier_rl.cli.output import friendly_errors, stdout_console
 from frontier_rl.io.catalogue import Catalogue, CatalogueMap, MapCollection, catalogue
 from frontier_rl.io.map_size import MapSize
 

@@ -1,0 +1,178 @@
+"""``frontier-rl evaluate`` (the paired experiment) and ``frontier-rl demo`` (the compact one on the
+built-in worlds), with the summary they print."""
+
+from __future__ import annotations
+
+import sys
+from pathlib import Path
+from typing import Annotated
+
+import typer
+from rich.table import Table
+from rich.text import Text
+
+from frontier_rl.cli.options import (
+    ResolutionOption,
+    SimConfigOption,
+    TrustModelOption,
+    checked_comm_range,
+    checked_count,
+    checked_seed,
+    output_folder,
+    sim_config,
+)
+from frontier_rl.cli.output import (
+    comma_list,
+    err_console,
+    friendly_errors,
+    int_list,
+    one_line,
+    policy_list,
+    stdout_console,
+)
+from frontier_rl.config import dump_config
+from frontier_rl.core.frontiers.ranking import THESIS_BASELINE
+from frontier_rl.swarm import Failure, parse_strategy
+
+_INTERRUPTED = "interrupted: finished episodes are saved in {out}/; rerun the same command to resume"
+DEMO_WORLDS = ("office", "rooms", "cluttered")
+SHIPPED_MODELS = (Path("models/model4.zip"), Path("models/model5.zip"), Path("models/model7.zip"))
+"""Trained models in the repository; the demo runs them too when run from the checkout."""
+
+
+@friendly_errors
+def demo(
+    out: Annotated[Path, typer.Option(help="Folder for the report and pictures (rewritten).")] = Path("demo_output"),
+    seed: Annotated[int, typer.Option(help="Seed of the first episode.")] = 0,
+    episodes: Annotated[int, typer.Option(help="Episodes per world.")] = 10,
+    workers: Annotated[int | None, typer.Option(help="Episodes run at once (default: every core).")] = None,
+    max_time: Annotated[float | None, typer.Option(help="Sim-time cap of every episode (s).")] = None,
+    progress: Annotated[bool, typer.Option(help="Show a progress bar.")] = True,
+) -> None:
+    """The compact experiment: the shipped models against fixed:0.75, nearest, tour and the oracle
+    on the built-in worlds, with a report in OUT/experiment, and a picture of each method's first
+    episode on each world (plus an animation of one)."""
+    import shutil
+
+    from frontier_rl.evaluation.evaluate import DEFAULT_OUTLIERS_S
+    from frontier_rl.evaluation.evaluate import evaluate as run_evaluation
+    from frontier_rl.evaluation.experiment import ORACLE, ExperimentConfig
+
+    checked_seed(seed)
+    output_folder(out)
+    learned = (f"learned:{path}" for path in SHIPPED_MODELS if path.exists())
+    methods = (THESIS_BASELINE, "nearest", "tour", *learned, ORACLE)
+    sim = sim_config(None, max_time)
+    experiment = ExperimentConfig(methods=methods, worlds=DEMO_WORLDS, episodes=episodes, seed=seed, sim=sim)
+    out.mkdir(parents=True, exist_ok=True)
+    results = out / "experiment"
+    if results.exists():  # the demo starts afresh: a retrained model must not meet its old rows
+        shutil.rmtree(results)
+    dump_config(experiment.sim, out / "config.yaml")
+    command = _command_line("demo")
+    report = run_evaluation(experiment, results, "process", workers, None, DEFAULT_OUTLIERS_S, progress, command,
+                            pictures=len(DEMO_WORLDS), animate=("office", THESIS_BASELINE))  # fmt: skip
+    _print_summary(report, f"{episodes} episode(s) per world on {', '.join(DEMO_WORLDS)}", experiment.baseline)
+    stdout_console().print(
+        f"report: {report.with_suffix('.html')} (and .md); pictures of seed {seed} in {results}/pictures/"
+    )
+
+
+def _print_summary(report: Path, title: str, baseline: str) -> None:
+    """The main numbers of the experiment's summary (beside ``report``) as a table on the terminal."""
+    from frontier_rl.evaluation.conclusion import unfinished
+    from frontier_rl.evaluation.summary import ExperimentSummary
+    from frontier_rl.evaluation.tables import short_labels
+
+    methods = ExperimentSummary.load(report.parent).methods
+    labels = short_labels(methods)
+    ends = unfinished({name: e.end_reasons or {} for name, e in methods.items()}, labels)
+    table = Table(title=title, caption="not explored: " + "; ".join(ends) if ends else None, caption_justify="left")
+    for column in ("method", "mean time (s)", "vs baseline", "p one-tailed", "time / oracle", "done"):
+        table.add_column(column, justify="left" if column == "method" else "right", no_wrap=column == "method")
+    for name, e in methods.items():
+        compared = name != baseline and e.reduction_pct is not None
+        change = f"{0.0 - (e.reduction_pct or 0.0) + 0.0:+.1f} %" if compared else "baseline"  # + 0.0: no "-0.0"
+        table.add_row(
+            labels[name],
+            f"{e.mean_time_s:.1f}",
+            change,
+            f"{e.p_one_tailed:.2g}" if compared and e.p_one_tailed is not None else "",
+            f"{e.oracle_ratio:.2f}" if e.oracle_ratio is not None else "",
+            f"{e.episodes_done}/{e.n}",
+        )
+    stdout_console().print(table)
+
+
+@friendly_errors
+def evaluate(
+    methods: Annotated[str, typer.Option(help="Comma-separated policies, e.g. fixed:0.75,learned:models/model5.zip")],
+    out: Annotated[Path, typer.Option(help="Results folder; rerunning with it resumes.")],
+    worlds: Annotated[str, typer.Option(help="Comma-separated generators, files, folders, catalogue maps.")] = "office",
+    episodes: Annotated[int, typer.Option(help="Episodes per world; episode i uses seed SEED + i.")] = 120,
+    seed: Annotated[int, typer.Option(help="Seed of the first episode.")] = 0,
+    baseline: Annotated[str, typer.Option(help="The method every other is compared with.")] = THESIS_BASELINE,
+    oracle: Annotated[bool, typer.Option(help="Also run the full-knowledge oracle tour (reference).")] = True,
+    workers: Annotated[int | None, typer.Option(help="Episodes run at once (default: every core).")] = None,
+    backend: Annotated[str, typer.Option(help="serial, process or ray.")] = "process",
+    ray_address: Annotated[str | None, typer.Option(help="Ray head host:port (default: a local Ray).")] = None,
+    outliers: Annotated[str, typer.Option(help="Also compare without episodes above these times (s).")] = "1000,2000",
+    config: SimConfigOption = None,
+    max_time: Annotated[float | None, typer.Option(help="Sim-time cap of every episode (s).")] = None,
+    resolution: ResolutionOption = None,
+    trust_model: TrustModelOption = False,
+    progress: Annotated[bool, typer.Option(help="Show a progress bar.")] = True,
+    robots: Annotated[
+        str, typer.Option(help="Team sizes to run every method with, e.g. 1,2,4 (a method POLICY@N runs as given).")
+    ] = "1",
+    strategy: Annotated[
+        str, typer.Option(help="Team strategies for sizes above 1: uncoordinated, coordinated, rendezvous (a list).")
+    ] = "uncoordinated",
+    comm_range: Annotated[
+        float | None, typer.Option(help="Teams' communication range (m); default unlimited, rendezvous 2 m.")
+    ] = None,
+    fail: Annotated[
+        list[str] | None, typer.Option(help="ROBOT@SECONDS: a failure in every team episode (repeatable).")
+    ] = None,
+    pictures: Annotated[int, typer.Option(help="Draw each method's first episode on this many worlds.")] = 3,
+) -> None:
+    """The paired experiment: every method on the same worlds, starts and noise; statistics against the
+    baseline, plots, and a Markdown and HTML report in --out. With --robots, teams of each size run each
+    method, and the report adds exploration time against team size, overlap and per-robot coverage."""
+    from frontier_rl.evaluation.evaluate import evaluate as run_evaluation
+    from frontier_rl.evaluation.evaluate import parse_thresholds
+    from frontier_rl.evaluation.experiment import ExperimentConfig, expand_worlds
+    from frontier_rl.world_spec import checked_resolution
+
+    checked_seed(seed)
+    output_folder(out)
+    experiment = ExperimentConfig(
+        methods=_method_list(methods, robots, strategy, baseline, oracle), worlds=expand_worlds(worlds),
+        episodes=episodes, seed=seed, baseline=baseline, sim=sim_config(config, max_time),
+        resolution=checked_resolution(resolution), trust_model=trust_model, comm_range=checked_comm_range(comm_range),
+        failures=tuple(Failure.parse(text) for text in fail or []),
+    )  # fmt: skip
+    command = _command_line("evaluate")
+    try:
+        report = run_evaluation(experiment, out, backend, workers, ray_address, parse_thresholds(outliers), progress,
+                                command, pictures=checked_count("--pictures", pictures))  # fmt: skip
+    except KeyboardInterrupt:
+        err_console.print(Text(one_line(_INTERRUPTED.format(out=out))))
+        raise typer.Exit(130) from None
+    _print_summary(report, f"{episodes} episode(s) per world on {', '.join(experiment.worlds)}", baseline)
+    stdout_console().print(f"report: {report} and {report.with_suffix('.html')}")
+
+
+def _method_list(methods: str, robots: str, strategy: str, baseline: str, oracle: bool) -> tuple[str, ...]:
+    """``--methods`` with the baseline first, each run by every team size of ``--robots`` and strategy of
+    ``--strategy``, and the oracle last when ``--oracle``."""
+    from frontier_rl.evaluation.experiment import ORACLE, team_methods
+
+    strategies = [parse_strategy(s) for s in comma_list(strategy)]
+    names = team_methods(policy_list(methods), int_list("--robots", robots), strategies)
+    return tuple(dict.fromkeys([baseline, *names, *([ORACLE] if oracle else [])]))
+
+
+def _command_line(command: str) -> str:
+    """The command as the user typed it, for the report."""
+    return f"frontier-rl {command} " + " ".join(sys.argv[2:]) if len(sys.argv) > 2 else f"frontier-rl {command}"

@@ -1,0 +1,121 @@
+"""``frontier-rl explore``: one world, one policy (or a team of robots), one episode."""
+
+from __future__ import annotations
+
+import json
+from pathlib import Path
+from typing import Annotated
+
+import typer
+from rich.table import Table
+
+from frontier_rl.cli.options import (
+    MAX_SEED,
+    POLICY_HELP,
+    WORLD_HELP,
+    ResolutionOption,
+    SimConfigOption,
+    TrustModelOption,
+    checked_comm_range,
+    checked_seed,
+    sim_config,
+)
+from frontier_rl.cli.output import friendly_errors, stdout_console
+from frontier_rl.core.frontiers.ranking import THESIS_BASELINE
+from frontier_rl.core.sim.episode import run_episode, warm_up
+from frontier_rl.core.sim.metrics import EpisodeResult
+from frontier_rl.errors import ConfigError
+from frontier_rl.policies import make_policy
+from frontier_rl.recording import EpisodeRecorder, save_team_png
+from frontier_rl.render import check_output_file
+from frontier_rl.swarm import Failure, TeamConfig, parse_strategy, run_team_episode
+from frontier_rl.world_spec import checked_resolution, parse_pose, resolve_world
+
+
+@friendly_errors
+def explore(
+    world: Annotated[str, typer.Option(help=WORLD_HELP)] = "office",
+    seed: Annotated[int, typer.Option(help=f"Seeds the world, the start and the sensor noise (0 to {MAX_SEED}).")] = 0,
+    policy: Annotated[str, typer.Option(help=POLICY_HELP)] = THESIS_BASELINE,
+    png: Annotated[Path | None, typer.Option(help="Write a picture of the episode to this .png file.")] = None,
+    gif: Annotated[
+        Path | None, typer.Option(help="Write an animation, one frame per decision, to this .gif file.")
+    ] = None,
+    as_json: Annotated[bool, typer.Option("--json", help="Print the metrics as one JSON object.")] = False,
+    start: Annotated[str | None, typer.Option(help="Start pose 'x,y[,theta]' (m, rad; |theta| <= 1e6).")] = None,
+    resolution: ResolutionOption = None,
+    config: SimConfigOption = None,
+    max_time: Annotated[float | None, typer.Option(help="Sim-time cap of the episode (s).")] = None,
+    trust_model: TrustModelOption = False,
+    robots: Annotated[int, typer.Option(help="Team size, 1 to 8; robot 0 starts on the start pose.")] = 1,
+    strategy: Annotated[
+        str, typer.Option(help="Team coordination: uncoordinated | coordinated | rendezvous.")
+    ] = "uncoordinated",
+    comm_range: Annotated[
+        float | None,
+        typer.Option(help="Robots this close (m) merge maps and share goals (default: unlimited; rendezvous: 2 m)."),
+    ] = None,
+    fail: Annotated[
+        list[str] | None,
+        typer.Option(help="ROBOT@SECONDS: that robot stops for good then (either may be 'random'); repeatable."),
+    ] = None,
+) -> None:
+    """Explore one world with one policy (or a team of robots) and report time, distance and coverage."""
+    # Every option is checked before the episode runs (outputs included); the metrics are printed
+    # before the pictures are written, so a picture that cannot be written loses no result.
+    checked_seed(seed)
+    settings = sim_config(config, max_time)
+    team = _team_config(robots, strategy, comm_range, fail or [])
+    if gif is not None and team is not None:
+        raise ConfigError("--gif records one robot's decisions; use --png for a team")
+    if png is not None:
+        check_output_file(png, ".png", "--png")
+    if gif is not None:
+        check_output_file(gif, ".gif", "--gif")
+    resolution = checked_resolution(resolution)
+    pose = parse_pose(start) if start is not None else None
+    chosen = make_policy(policy, trust_model=trust_model)
+    the_world = resolve_world(world, seed, pose, resolution)
+    warm_up()
+    recorder = None
+    if team is not None:
+        result: EpisodeResult = run_team_episode(the_world, chosen, settings, team, seed)
+    else:
+        recorder = EpisodeRecorder(the_world, frames=gif is not None) if (png or gif) else None
+        result = run_episode(the_world, chosen, settings, seed, on_decision=recorder)
+    _print_episode(the_world.name, seed, chosen.name, result, as_json)
+    title = f"{the_world.name} / {chosen.name}"
+    if team is not None and png is not None:
+        save_team_png(png, the_world, result, title)  # type: ignore[arg-type]
+    if recorder is not None and png is not None:
+        recorder.save_png(png, result, title)
+    if recorder is not None and gif is not None:
+        recorder.save_gif(gif, result, title)
+
+
+def _print_episode(world: str, seed: int, policy: str, result: EpisodeResult, as_json: bool) -> None:
+    """An episode's metrics on standard output: one JSON object, or a table."""
+    summary = {"world": world, "seed": seed, "policy": policy, **result.summary()}
+    weights = [d.weight for d in result.decision_log if d.weight is not None]
+    if weights and as_json:
+        summary["weights"] = weights  # the weight of every decision, in order
+    elif weights:
+        summary["mean_weight"] = round(float(sum(weights) / len(weights)), 3)
+    if as_json:
+        summary["frontiers_left"] = [f.summary() for f in result.frontiers_left]
+        typer.echo(json.dumps(summary))
+        return
+    summary["frontiers_left"] = len(result.frontiers_left)
+    table = Table(title=f"{world}, seed {seed}, {policy}")
+    table.add_column("metric")
+    table.add_column("value", justify="right")
+    for key, value in summary.items():
+        table.add_row(key, str(value))
+    stdout_console().print(table)
+
+
+def _team_config(robots: int, strategy: str, comm_range: float | None, fail: list[str]) -> TeamConfig | None:
+    """The team of ``explore``'s options; None for a single robot with no team option."""
+    failures = tuple(Failure.parse(text) for text in fail)
+    team = TeamConfig(robots, parse_strategy(strategy), checked_comm_range(comm_range), failures)
+    return None if team == TeamConfig() else team

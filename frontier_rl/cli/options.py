@@ -1,0 +1,93 @@
+"""What several ``frontier-rl`` commands share: the seed, world and policy options, their checks, and
+the simulation settings from ``--config`` and ``--max-time``."""
+
+from __future__ import annotations
+
+import dataclasses
+import os
+from pathlib import Path
+from typing import Annotated, NoReturn
+
+import typer
+
+from frontier_rl.config import load_sim_config
+from frontier_rl.core.navigation.tours import MAX_STOPS
+from frontier_rl.core.sim.config import SimConfig
+from frontier_rl.core.world.catalog import WORLD_GENERATORS
+from frontier_rl.core.world.worlds import resolution_bounds
+from frontier_rl.errors import ConfigError, short_path, short_repr
+from frontier_rl.policies import ENTRY_POINT_GROUP, POLICY_NAMES
+
+#: Largest seed a command accepts (0 to 2**32 - 1: NumPy's legacy seeding, which SB3 uses, takes no more).
+MAX_SEED = 2**32 - 1
+WORLD_HELP = f"{' | '.join(WORLD_GENERATORS)} | a map file (ROS .yaml, Dungeon .png, HouseExpo .json) | a catalogue map"
+POLICY_HELP = (
+    f"One of: {', '.join(POLICY_NAMES)} (W in [0, 1], N stops 1 to {MAX_STOPS}); or your own: FILE.py:CLASS, "
+    f"MODULE:CLASS (on PYTHONPATH) or a name an installed package registers under {ENTRY_POINT_GROUP}."
+)
+
+_RES_LO, _RES_HI = resolution_bounds()
+
+# Options that several commands share
+ResolutionOption = Annotated[
+    float | None,
+    typer.Option(
+        help=f"Cell size (m) for map files, {_RES_LO:.2g} to {_RES_HI:.3g} (the robot's radius); "
+        "below 0.04 m the robot maps on 0.05 m cells."
+    ),
+]
+TrustModelOption = Annotated[
+    bool, typer.Option(help="Allow learned:PATH to be an SB3 zip from elsewhere (unpickles it: runs its code).")
+]
+SimConfigOption = Annotated[Path | None, typer.Option(help="SimConfig YAML (any subset of its fields).")]
+
+
+def fail(message: str) -> NoReturn:
+    """Stop the command with a one-line error."""
+    raise ConfigError(message)
+
+
+def checked_seed(value: int, option: str = "--seed") -> int:
+    """A seed option, checked: a whole number from 0 to :data:`MAX_SEED`."""
+    if not 0 <= value <= MAX_SEED:
+        fail(f"{option} must be a whole number from 0 to {MAX_SEED}, got {short_repr(value)}")
+    return value
+
+
+def checked_count(option: str, value: int) -> int:
+    """A count option, checked: a whole number of at least 0."""
+    if value < 0:
+        fail(f"{option} must be 0 or more, got {short_repr(value)}")
+    return value
+
+
+def output_folder(path: Path, option: str = "--out") -> Path:
+    """A results folder option, checked before any work: an existing folder, or a path whose
+    nearest existing ancestor is a writable folder (the command creates the rest)."""
+    if path.exists() and not path.is_dir():
+        fail(f"{option} {short_path(path)} is a file, not a folder")
+    ancestor = path
+    while not ancestor.exists() and ancestor != ancestor.parent:
+        ancestor = ancestor.parent
+    if not ancestor.is_dir():
+        fail(f"{option} {short_path(path)}: {short_path(ancestor)} is a file, not a folder")
+    if not os.access(ancestor, os.W_OK | os.X_OK):
+        fail(f"{option} {short_path(path)}: folder {short_path(ancestor)} is not writable")
+    return path
+
+
+def checked_comm_range(value: float | None) -> float | None:
+    """``--comm-range``, checked (m; None: the strategy's default)."""
+    if value is not None and not value >= 0:
+        raise ConfigError(f"--comm-range must be >= 0 m, got {value!r}")
+    return value
+
+
+def sim_config(config: Path | None, max_time: float | None) -> SimConfig:
+    """The settings of ``--config`` (a SimConfig YAML; the defaults without one) with ``--max-time`` (s) applied."""
+    cfg = load_sim_config(config) if config is not None else SimConfig()
+    if max_time is not None:
+        if not max_time > 0:
+            raise ConfigError(f"--max-time must be a positive number of seconds, got {max_time!r}")
+        cfg = dataclasses.replace(cfg, max_sim_time=max_time)
+    return cfg

@@ -1,0 +1,64 @@
+"""``frontier-rl train``: a model trained with Stable-Baselines3 (the ``rl`` extra: torch loads only here)."""
+
+from __future__ import annotations
+
+from pathlib import Path
+from typing import Annotated
+
+import typer
+from rich.text import Text
+
+from frontier_rl.cli.options import ResolutionOption, SimConfigOption, checked_seed, output_folder, sim_config
+from frontier_rl.cli.output import err_console, friendly_errors, one_line, stdout_console
+
+
+@friendly_errors
+def train(
+    out: Annotated[Path, typer.Option(help="Run directory: config, checkpoints, logs, model.zip, learning curve.")],
+    model: Annotated[int, typer.Option(help="Model: 1, 2 (point), 3, 4, 6 (weight), 5, 7 (frontier).")] = 4,
+    worlds: Annotated[str, typer.Option(help="Generators, files, folders, catalogue maps, each [=WEIGHT].")] = "office",
+    timesteps: Annotated[int, typer.Option(help="Decisions to train for.")] = 100_000,
+    n_envs: Annotated[int, typer.Option(help="Parallel environments (subprocesses).")] = 2,
+    algo: Annotated[str, typer.Option(help="a2c (the thesis), ppo or dagger (models 5 and 7).")] = "a2c",
+    observation_size: Annotated[int, typer.Option(help="Map image edge: 64 or 250 pixels.")] = 64,
+    reward: Annotated[str, typer.Option(help="Reward preset: normalised or thesis.")] = "normalised",
+    learning_rate: Annotated[float, typer.Option(help="Optimizer step size.")] = 7e-4,
+    n_steps: Annotated[int, typer.Option(help="Decisions per env between updates.")] = 8,
+    gamma: Annotated[float, typer.Option(help="Discount per decision, in (0, 1].")] = 0.99,
+    ent_coef: Annotated[float, typer.Option(help="Entropy bonus: keeps the policy trying other actions.")] = 0.001,
+    seed: Annotated[int, typer.Option(help="Seeds the envs and the network.")] = 0,
+    eval_every: Annotated[int, typer.Option(help="Decisions between validations (0: none).")] = 10_000,
+    checkpoint_every: Annotated[int, typer.Option(help="Decisions between checkpoints (0: none).")] = 10_000,
+    init: Annotated[str, typer.Option(help="Model file whose weights start the run (same model).")] = "",
+    privileged_critic: Annotated[
+        bool, typer.Option(help="Models 5 and 7: the critic also reads the true map's unseen share (training only).")
+    ] = False,
+    privileged_map: Annotated[
+        bool, typer.Option(help="With --privileged-critic: it also sees the true map's unseen space as an image.")
+    ] = False,
+    config: SimConfigOption = None,
+    resolution: ResolutionOption = None,
+    resume: Annotated[bool, typer.Option(help="Continue the run in --out from its last checkpoint.")] = False,
+    progress: Annotated[bool, typer.Option(help="Show a progress bar.")] = True,
+) -> None:
+    """Train a model (1-4 the thesis's, 5-7 ours) with Stable-Baselines3 (A2C as in the thesis, or PPO)."""
+    checked_seed(seed)
+    output_folder(out)
+    from frontier_rl.rl.config import TrainConfig
+    from frontier_rl.rl.train import interruption_note
+    from frontier_rl.rl.train import train as run_training
+    from frontier_rl.world_spec import checked_resolution
+
+    settings = TrainConfig(
+        model=model, worlds=worlds, timesteps=timesteps, n_envs=n_envs, algo=algo,
+        observation_size=observation_size, reward=reward, learning_rate=learning_rate, n_steps=n_steps,
+        gamma=gamma, ent_coef=ent_coef, seed=seed, eval_every=eval_every, checkpoint_every=checkpoint_every, init=init,
+        privileged_critic=privileged_critic, privileged_map=privileged_map, sim=sim_config(config, None),
+        resolution=checked_resolution(resolution),
+    )  # fmt: skip
+    try:
+        final = run_training(settings, out, resume=resume, progress=progress)
+    except KeyboardInterrupt:
+        err_console.print(Text(one_line(interruption_note(settings, out))))
+        raise typer.Exit(130) from None
+    stdout_console().print(f"model: {final}   learning curve: {out / 'learning_curve.png'}")
