@@ -68,7 +68,7 @@ and the first DungeonMaps test maps of each level from their own start, by each 
 ends `explored` only when no frontier touches the space the robot can reach; `unreachable` when the
 frontiers left could not be reached; `time_cap` when cut by the sim-time cap. Coverage is the share
 of the explorable space: the cells a robot of this size can see from the poses it can reach on the
-true map ([concepts](../concepts.md)).
+true map ([concepts](../../concepts.md)).
 
 ## Per family of maps
 

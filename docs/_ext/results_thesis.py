@@ -134,7 +134,7 @@ baseline.
 
 {markdown_table(COMPARISON_HEADER, comparison_rows(run, names))}
 `time / oracle`: the mean time over the oracle's. `explored`: episodes that ended with no frontier
-left that the robot could reach ([end reasons](../concepts.md#end-reasons)).
+left that the robot could reach ([end reasons](../../concepts.md#end-reasons)).
 
 ![Box plot of the time to explore]({relative(box)})
 
