@@ -10,7 +10,7 @@ from results_format import markdown_table, p_text, percent, reproduce_section, s
 
 from frontier_rl.evaluation.statistics import paired_stats
 from frontier_rl.evaluation.summary import ExperimentSummary, TeamPoint
-from frontier_rl.swarm.config import TeamMethod
+from frontier_rl.swarm.config import Strategy, TeamMethod
 
 
 def _mean_with_ci(point: TeamPoint) -> str:
@@ -82,9 +82,12 @@ def _policies_table(study: Study) -> str:
 
 def _failure_rows(study: Study, without: ExperimentSummary) -> list[list[str]]:
     rows = []
-    for part in (p for p in study.parts() if p.startswith("fail_")):
+    order = [strategy.value for strategy in Strategy]
+    failures = sorted((p for p in study.parts() if p.startswith("fail_")), key=lambda p: order.index(p[len("fail_") :]))
+    for part in failures:
         run = study.experiment(part)
-        ((method, entry),) = run.summary.methods.items()
+        method = next(m for m in run.summary.methods if TeamMethod.parse(m).robots is not None)
+        entry = run.summary.methods[method]
         reasons = entry.end_reasons or {}
         same = without.methods.get(method)
         without_s = seconds(same.mean_time_s) if same else "n/a"
