@@ -111,7 +111,7 @@ def test_cli_prints_both_metrics_and_writes_json(tmp_path: Path) -> None:
         (["--methods", "teleport"], "teleport"),
         (["--methods", " , "], "names no policy"),
         (["--limit", "-1"], ">= 0"),
-        (["--maps", "/nonexistent/folder"], "not a folder"),
+        (["--maps", "/nonexistent/folder"], "no such file or folder"),
         (["--workers", "1000"], "--workers must be at most 256"),
     ],
 )
