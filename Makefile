@@ -40,8 +40,8 @@ demo: $(STAMP)
 	$(BIN)/frontier-rl demo --out demo_output
 
 lint: $(STAMP)
-	$(BIN)/ruff check frontier_rl tests benchmarks experiments examples
-	$(BIN)/ruff format --check frontier_rl tests benchmarks experiments examples
+	$(BIN)/ruff check frontier_rl tests benchmarks experiments examples docs/_ext
+	$(BIN)/ruff format --check frontier_rl tests benchmarks experiments examples docs/_ext
 	$(BIN)/lint-imports --no-cache
 
 typecheck: $(STAMP)

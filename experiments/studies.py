@@ -96,8 +96,8 @@ STUDIES: tuple[Study, ...] = (
     Study(
         "families",
         (
-            f"{PYTHON} experiments/generalisation.py --methods tour,learned:models/model7.zip --episodes 100 --maps 100 "
-            "--building-episodes 24 --out {out}",
+            f"{PYTHON} experiments/generalisation.py --methods tour,learned:models/model7.zip --episodes 100 "
+            "--maps 100 --building-episodes 24 --out {out}",
         ),
         keep=("generalisation.json", "*/summary.json", "*/episodes.csv"),
     ),
@@ -148,8 +148,8 @@ def study(name: str) -> Study:
 
 def run(entry: Study) -> None:
     """Run ``entry``'s commands (each resumes what an earlier run of it finished), then collect."""
-    out = RUNS / entry.name
-    out.mkdir(parents=True, exist_ok=True)
+    out = RUNS / entry.name  # relative: the commands run in the repository and show it so
+    (REPO / out).mkdir(parents=True, exist_ok=True)
     provenance = _provenance()
     timings = []
     for template in entry.commands:
@@ -171,7 +171,9 @@ def _provenance() -> dict[str, object]:
     day and the machine."""
     return {
         "commit": _git("rev-parse", "--short", "HEAD"),
-        "changes_not_committed": bool(_git("status", "--porcelain", "--untracked-files=no", "frontier_rl", "models")),
+        "changes_not_committed": bool(
+            _git("status", "--porcelain", "--untracked-files=no", "frontier_rl", "models", "experiments", "benchmarks")
+        ),
         "measured": time.strftime("%Y-%m-%d"),
         "machine": {"cores": os.cpu_count(), "cpu": _cpu_name(), "python": platform.python_version()},
     }

@@ -86,8 +86,9 @@ class TrainConfig:
             space not yet seen, as an image over the map window (a CNN of its own).
         sim: the simulator trained on (robot, LiDAR, map update, navigation, time cap), the
             defaults unless ``frontier-rl train --config`` names a SimConfig file.
-        resolution: cell size (m) of the map files that carry none (bitmaps, HouseExpo floor plans);
-            None: each format's own default (DungeonMaps 0.04375 m).
+        resolution: cell size (m) of every map file trained on, a ROS YAML's own replaced; None: each
+            file's own (a ROS YAML's) or its format's default (DungeonMaps 0.04375 m, HouseExpo and
+            bitmaps 0.05 m). Generated worlds keep theirs.
     """
 
     model: int = 4
