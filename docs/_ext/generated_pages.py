@@ -44,6 +44,7 @@ GENERATORS: tuple[Generator, ...] = (
     Generator("_generated/config", "config_reference"),
     Generator("reference/envs", "env_pages"),
     Generator("results/pages", "results_pages"),
+    Generator("_generated/architecture", "architecture_layers"),
 )
 """Every generator of the site, run in this order."""
 
