@@ -19,6 +19,7 @@ from __future__ import annotations
 import json
 import math
 import numbers
+from dataclasses import dataclass
 from pathlib import Path
 
 import numpy as np
@@ -224,6 +225,55 @@ def _restore_thin_walls(
     return free
 
 
+@dataclass(frozen=True, eq=False)
+class HouseExpoPlan:
+    """A HouseExpo floor plan, read and checked, and the grid it is rasterised on.
+
+    Attributes:
+        verts: the polygon, an (n, 2) array (m), repeated consecutive vertices dropped.
+        origin: the grid's lower-left corner (x, y) (m).
+        cols: cells along x.
+        rows: cells along y.
+        resolution: cell size (m).
+    """
+
+    verts: NDArray[np.float64]
+    origin: tuple[float, float]
+    cols: int
+    rows: int
+    resolution: float
+
+
+def read_houseexpo_plan(
+    json_path: str | Path, resolution: float = HOUSEEXPO_RESOLUTION, margin_m: float = HOUSEEXPO_MARGIN
+) -> HouseExpoPlan:
+    """Read a HouseExpo file's polygon and size its grid, without rasterising: the polygon's
+    bounding box and a band of ``margin_m`` (m) around it, in cells of ``resolution`` (m). The one
+    place the grid's size is computed (:func:`load_houseexpo` rasterises this plan).
+
+    Raises:
+        MapError: a missing or malformed file, no or a degenerate polygon, or bad sizes.
+    """
+    path = Path(json_path)
+    res = positive_metres(resolution, "resolution", path)
+    if isinstance(margin_m, bool) or not isinstance(margin_m, numbers.Real) or not math.isfinite(margin_m):
+        raise MapError(f"{path}: margin_m must be a finite number of metres >= 0, got {margin_m!r}")
+    if margin_m < 0:
+        raise MapError(f"{path}: margin_m must be a finite number of metres >= 0, got {margin_m!r}")
+    verts = _read_verts(path)
+    origin = verts.min(axis=0) - float(margin_m)
+    extent = verts.max(axis=0) + float(margin_m) - origin
+    with np.errstate(over="ignore"):
+        span = extent / res  # cells along x and y, before anything is allocated
+    if not (np.isfinite(span).all() and float(np.maximum(span, 1.0)[0]) * float(np.maximum(span, 1.0)[1]) <= MAX_CELLS):
+        size = f"{extent[0]:g} m x {extent[1]:g} m"
+        raise MapError(f"{path}: {size} at resolution {res!r} m is more than {MAX_CELLS} cells")
+    cols, rows = (max(math.ceil(e / res - 1e-9), 1) for e in extent)
+    if rows * cols > MAX_CELLS:
+        raise MapError(f"{path}: a {rows} x {cols} grid at resolution {res!r} m is too large")
+    return HouseExpoPlan(verts, (float(origin[0]), float(origin[1])), cols, rows, res)
+
+
 def load_houseexpo(
     json_path: str | Path, resolution: float = HOUSEEXPO_RESOLUTION, margin_m: float = HOUSEEXPO_MARGIN
 ) -> LoadedMap:
@@ -242,23 +292,9 @@ def load_houseexpo(
     """
     from matplotlib.path import Path as PolygonPath  # deferred: matplotlib is slow to import
 
-    path = Path(json_path)
-    res = positive_metres(resolution, "resolution", path)
-    if isinstance(margin_m, bool) or not isinstance(margin_m, numbers.Real) or not math.isfinite(margin_m):
-        raise MapError(f"{path}: margin_m must be a finite number of metres >= 0, got {margin_m!r}")
-    if margin_m < 0:
-        raise MapError(f"{path}: margin_m must be a finite number of metres >= 0, got {margin_m!r}")
-    verts = _read_verts(path)
-    origin = verts.min(axis=0) - float(margin_m)
-    extent = verts.max(axis=0) + float(margin_m) - origin
-    with np.errstate(over="ignore"):
-        span = extent / res  # cells along x and y, before anything is allocated
-    if not (np.isfinite(span).all() and float(np.maximum(span, 1.0)[0]) * float(np.maximum(span, 1.0)[1]) <= MAX_CELLS):
-        size = f"{extent[0]:g} m x {extent[1]:g} m"
-        raise MapError(f"{path}: {size} at resolution {res!r} m is more than {MAX_CELLS} cells")
-    cols, rows = (max(math.ceil(e / res - 1e-9), 1) for e in extent)
-    if rows * cols > MAX_CELLS:
-        raise MapError(f"{path}: a {rows} x {cols} grid at resolution {res!r} m is too large")
+    plan = read_houseexpo_plan(json_path, resolution, margin_m)
+    verts, res, rows, cols = plan.verts, plan.resolution, plan.rows, plan.cols
+    origin = np.array(plan.origin)
     xs = origin[0] + (np.arange(cols) + 0.5) * res
     ys = origin[1] + (np.arange(rows) + 0.5) * res
     centres = np.column_stack([np.tile(xs, rows), np.repeat(ys, cols)])
@@ -266,5 +302,5 @@ def load_houseexpo(
     inside = np.asarray(polygon.contains_points(centres), dtype=np.bool_).reshape(rows, cols)
     free = _restore_thin_walls(inside, verts, origin, res)
     data = np.where(free, CellState.FREE, CellState.OCCUPIED).astype(np.int8)
-    grid = OccupancyGrid(data, res, (float(origin[0]), float(origin[1])))
-    return LoadedMap(grid=grid, start=None, source=path)
+    grid = OccupancyGrid(data, res, plan.origin)
+    return LoadedMap(grid=grid, start=None, source=Path(json_path))

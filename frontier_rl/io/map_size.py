@@ -1,20 +1,18 @@
 """A map file's size in cells and metres, read cheaply: an image's header (Pillow reads no pixels
-for it), a ``map_server`` YAML's resolution, a HouseExpo polygon's bounding box. The sizes are
-those :func:`~frontier_rl.io.load_map` gives the file with its default resolution (before a world
+for it), a ``map_server`` YAML's resolution, a HouseExpo plan sized by the loader's own function
+(its polygon read and checked, not rasterised). The sizes are those
+:func:`~frontier_rl.io.load_map` gives the file with its default resolution (before a world
 resamples cells finer than 0.04 m)."""
 
 from __future__ import annotations
 
-import json
-import math
 from dataclasses import dataclass
 from pathlib import Path
 
-import numpy as np
 from PIL import Image, UnidentifiedImageError
 
-from frontier_rl.errors import MapError, short_repr
-from frontier_rl.io.houseexpo import HOUSEEXPO_MARGIN, HOUSEEXPO_RESOLUTION, MAX_FILE_BYTES
+from frontier_rl.errors import MapError
+from frontier_rl.io.houseexpo import HOUSEEXPO_RESOLUTION, read_houseexpo_plan
 from frontier_rl.io.loaded_map import positive_metres
 from frontier_rl.io.ros_map import ros_map_image
 from frontier_rl.safe_yaml import load_yaml_file
@@ -72,22 +70,13 @@ def ros_map_size(yaml_path: Path) -> MapSize:
 
 
 def houseexpo_size(json_path: Path, resolution: float = HOUSEEXPO_RESOLUTION) -> MapSize:
-    """The grid :func:`~frontier_rl.io.houseexpo.load_houseexpo` makes of a HouseExpo file: the
-    bounding box of its polygon and a band of :data:`~frontier_rl.io.houseexpo.HOUSEEXPO_MARGIN`
-    (m) around it, in cells of ``resolution`` (m), without rasterising it.
+    """The grid :func:`~frontier_rl.io.houseexpo.load_houseexpo` makes of a HouseExpo file, sized
+    as it sizes it (:func:`~frontier_rl.io.houseexpo.read_houseexpo_plan`: the polygon read and
+    checked, its bounding box and a band of wall around it, in cells of ``resolution`` (m)),
+    without rasterising it.
 
     Raises:
-        MapError: a missing, oversized or malformed file.
+        MapError: as :func:`~frontier_rl.io.houseexpo.load_houseexpo`.
     """
-    res = positive_metres(resolution, "resolution", json_path)
-    try:
-        if json_path.stat().st_size > MAX_FILE_BYTES:
-            raise MapError(f"{json_path}: a HouseExpo file larger than {MAX_FILE_BYTES} bytes")
-        verts = np.asarray(json.loads(json_path.read_text(encoding="utf-8"))["verts"], dtype=np.float64)
-    except (OSError, ValueError, KeyError, TypeError) as exc:
-        raise MapError(f"{json_path}: cannot read a HouseExpo polygon: {short_repr(str(exc))}") from None
-    if verts.ndim != 2 or verts.shape[1:] != (2,) or len(verts) < 3 or not np.isfinite(verts).all():
-        raise MapError(f"{json_path}: 'verts' must be at least 3 finite [x, y] pairs, got shape {verts.shape}")
-    extent = verts.max(axis=0) - verts.min(axis=0) + 2 * HOUSEEXPO_MARGIN
-    width, height = (max(math.ceil(float(e) / res - 1e-9), 1) for e in extent)
-    return MapSize(width, height, res)
+    plan = read_houseexpo_plan(json_path, resolution)
+    return MapSize(plan.cols, plan.rows, plan.resolution)

@@ -15,6 +15,7 @@ from frontier_rl.core.world.grid import CellState, OccupancyGrid
 from frontier_rl.errors import MapError
 from frontier_rl.io import LoadedMap
 from frontier_rl.io.houseexpo import load_houseexpo
+from frontier_rl.io.map_size import houseexpo_size
 
 HOUSE = "house_expo_room_0000.json"
 HOUSE_WITH_SLITS = "0a1b29dba355df2ab02630133187bfab.json"
@@ -123,6 +124,31 @@ def test_closed_ring_is_accepted(tmp_path: Path) -> None:
     ring = [[0, 0], [1, 0], [1, 1], [0, 1], [0, 0]]
     grid = load_houseexpo(write_json(tmp_path / "ring.json", {"verts": ring}), 0.25, 0.0).grid
     assert grid.count(CellState.FREE) == 16
+
+
+@pytest.mark.parametrize("resolution", [0.05, 0.03, 0.1, 0.0125])
+def test_the_listed_size_is_the_loaded_grids(tmp_path: Path, real_maps: Path, resolution: float) -> None:
+    odd = write_json(tmp_path / "odd.json", {"verts": [[-3.3, 0.15], [7.05, 0.15], [7.05, 4.45], [-3.3, 4.45]]})
+    for path in (real_maps / "houseexpo" / HOUSE, real_maps / "houseexpo" / HOUSE_WITH_SLITS, odd):
+        size, grid = houseexpo_size(path, resolution), load_houseexpo(path, resolution).grid
+        assert (size.height_cells, size.width_cells, size.resolution_m) == (*grid.shape, grid.resolution)
+
+
+@pytest.mark.parametrize(
+    "verts",
+    [
+        [[0, 0], [2, 2], [2, 0], [0, 2]],  # a bow tie
+        [[0, 0], [2e6, 0], [2e6, 1], [0, 1]],  # a coordinate beyond the bound
+        [[0, 0], [1, 0], [1, 1], [True, 1]],  # a vertex that is no pair of numbers
+    ],
+)
+def test_the_size_refuses_what_loading_refuses(tmp_path: Path, verts: list[list[object]]) -> None:
+    path = write_json(tmp_path / "bad.json", {"verts": verts})
+    with pytest.raises(MapError) as loading:
+        load_houseexpo(path)
+    with pytest.raises(MapError) as sizing:
+        houseexpo_size(path)
+    assert str(sizing.value) == str(loading.value)
 
 
 # --- bad input -------------------------------------------------------------------------------
