@@ -29,7 +29,7 @@ from frontier_rl.core.world.worlds import (
 )
 from frontier_rl.errors import ConfigError, MapError, UnknownNameError, short_repr
 from frontier_rl.io import LoadedMap, load_map
-from frontier_rl.io.catalogue import CatalogueMap, MapCollection, catalogue
+from frontier_rl.io.catalogue import CatalogueEntry, CatalogueMap, MapCollection, catalogue
 
 
 def checked_resolution(resolution: float | None, what: str = "--resolution") -> float | None:
@@ -54,7 +54,7 @@ def _unknown_world(spec: str) -> UnknownNameError:
     )
 
 
-def _catalogued(spec: str, base_dir: str | Path | None) -> CatalogueMap | MapCollection | None:
+def _catalogued(spec: str, base_dir: str | Path | None) -> CatalogueEntry | None:
     """The catalogue entry ``spec`` names, or None for a generator or an existing path (which come first).
 
     Raises:
@@ -68,6 +68,21 @@ def _catalogued(spec: str, base_dir: str | Path | None) -> CatalogueMap | MapCol
     return entry
 
 
+def _located(spec: str, base_dir: str | Path | None) -> tuple[Path | None, CatalogueEntry | None]:
+    """What :func:`world_path` gives, and the catalogue entry it was found as (None for a generator
+    or an existing path): the catalogue is looked up once."""
+    if spec in WORLD_GENERATORS:
+        return None, None
+    entry = _catalogued(spec, base_dir)
+    if entry is None:
+        return (Path(spec) if base_dir is None else Path(base_dir, spec)), None
+    if isinstance(entry, MapCollection):
+        return entry.folder, entry
+    if not entry.installed:
+        raise MapError(entry.not_installed())
+    return entry.path, entry
+
+
 def world_path(spec: str, base_dir: str | Path | None = None) -> Path | None:
     """The file or folder the world ``spec`` names: None for a generator, an existing path (a
     relative one against ``base_dir``, default the current directory), else a catalogue map's file
@@ -77,16 +92,17 @@ def world_path(spec: str, base_dir: str | Path | None = None) -> Path | None:
         UnknownNameError: none of these.
         MapError: a catalogue map that is not installed (the message says where to get it).
     """
-    if spec in WORLD_GENERATORS:
-        return None
-    entry = _catalogued(spec, base_dir)
-    if entry is None:
-        return Path(spec) if base_dir is None else Path(base_dir, spec)
+    return _located(spec, base_dir)[0]
+
+
+def _map_located(spec: str, base_dir: str | Path | None) -> tuple[Path, CatalogueMap | None]:
+    """What :func:`map_file` gives, and the catalogue map it was found as (None for a path)."""
+    path, entry = _located(spec, base_dir)
+    if path is None:
+        raise ConfigError(f"world {short_repr(spec)} is a generator, not a map file")
     if isinstance(entry, MapCollection):
-        return entry.folder
-    if not entry.installed:
-        raise MapError(entry.not_installed())
-    return entry.path
+        raise ConfigError(f"world {short_repr(spec)} is a collection of maps; `frontier-rl maps {spec}` lists them")
+    return path, entry
 
 
 def map_file(spec: str, base_dir: str | Path | None = None) -> Path:
@@ -96,12 +112,7 @@ def map_file(spec: str, base_dir: str | Path | None = None) -> Path:
         ConfigError: a generator or a catalogue collection (they name no one file).
         UnknownNameError, MapError: as :func:`world_path`.
     """
-    path = world_path(spec, base_dir)
-    if path is None:
-        raise ConfigError(f"world {short_repr(spec)} is a generator, not a map file")
-    if isinstance(_catalogued(spec, base_dir), MapCollection):
-        raise ConfigError(f"world {short_repr(spec)} is a collection of maps; `frontier-rl maps {spec}` lists them")
-    return path
+    return _map_located(spec, base_dir)[0]
 
 
 def resolve_world(
@@ -140,10 +151,10 @@ def resolve_world(
     if spec in WORLD_GENERATORS:
         world = generate_world(spec, seed)
         return world if start is None else make_world(world.grid, world.name, start=start)
-    path = map_file(spec, base_dir)
+    path, entry = _map_located(spec, base_dir)
     loaded = read_map(str(path), resolution)
     start = start or (loaded.start if stored_start else None)
-    name = spec if _catalogued(spec, base_dir) else path.stem
+    name = spec if entry is not None else path.stem
     return make_world(loaded.grid, name, start=start, rng=np.random.default_rng(seed))
 
 

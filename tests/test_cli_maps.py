@@ -1,62 +1,123 @@
-"""``frontier-rl maps`` and catalogue names on the command line: the listing, a collection's
-members, JSON, and worlds given by catalogue name to explore and evaluate."""
+"""``frontier-rl maps`` and catalogue names on the command line: the listing at 80 and 200
+columns, a collection's members, one map's fields, JSON, maps that are not installed, and worlds
+given by catalogue name to explore and evaluate."""
 
 from __future__ import annotations
 
 import csv
 import json
+import shutil
 from pathlib import Path
 
 import pytest
 from typer.testing import CliRunner
 
 from frontier_rl.cli import WORLD_HELP, app
-from frontier_rl.io.catalogue import MAPS_DIR
+from frontier_rl.io.catalogue import MAPS_DIR, load_catalogue
+
+STANDALONE = ("turtlebot3_world", "aws_small_house", "nav2_depot", "nav2_warehouse", "lse_arena")
 
 runner = CliRunner()
+WIDTHS = (80, 200)
+"""The terminal widths the listing is read at: the default of a terminal, and a wide one."""
 
 
-def _invoke(*args: str) -> str:
-    result = runner.invoke(app, list(args), env={"COLUMNS": "200"})
+def _invoke(*args: str, width: int = 200) -> str:
+    result = runner.invoke(app, list(args), env={"COLUMNS": str(width)})
     assert result.exit_code == 0, result.output
     return result.stdout
 
 
-def test_maps_lists_each_map_and_each_collection_once() -> None:
-    lines = _invoke("maps").splitlines()
-    row = {line.split()[0]: line for line in lines if line.strip() and not line.lstrip().startswith(("name", "─"))}
-    for name in ("turtlebot3_world", "aws_small_house", "nav2_depot", "nav2_warehouse", "lse_arena"):
-        assert name in row
-    assert "604 × 307" in row["nav2_depot"] and "30.2 × 15.3" in row["nav2_depot"]
-    assert "0.03" in row["nav2_warehouse"] and "Apache-2.0" in row["nav2_warehouse"]
-    assert "ros-navigation/navigation2" in row["nav2_depot"]
-    assert (
-        "(100 maps)" in row["dungeon/easy"] and "640 × 480" in row["dungeon/easy"] and "0.04375" in row["dungeon/easy"]
+def _rows(out: str) -> dict[str, str]:
+    """The table's rows by their first word (the name): the lines from under the header row to the
+    first blank one."""
+    lines = out.splitlines()
+    first = next(k for k, line in enumerate(lines) if line.startswith("name ")) + 2
+    last = next((k for k in range(first, len(lines)) if not lines[k].strip()), len(lines))
+    return {line.split()[0]: line for line in lines[first:last]}
+
+
+@pytest.mark.parametrize("width", WIDTHS)
+def test_maps_lists_each_map_and_each_collection_once_on_one_line(width: int) -> None:
+    out = _invoke("maps", width=width)
+    assert all(len(line) <= width for line in out.splitlines())
+    header = next(line.split() for line in out.splitlines() if line.startswith("name "))
+    row = _rows(out)
+    assert list(row) == [
+        *STANDALONE,
+        "stage",
+        "houseexpo",
+        "dungeon/train",
+        "dungeon/easy",
+        "dungeon/medium",
+        "dungeon/complex",
+    ]
+    assert header[:2] == ["name", "maps" if width == 200 else "family"] and "licence" in header
+    assert row["nav2_depot"].split()[1:] == ["ros", "604", "×", "307", "30.2", "×", "15.3", "0.05", "Apache-2.0"] + (
+        ["ros-navigation/navigation2"] if width == 200 else []
     )
-    assert "(5 maps)" in row["stage"] and "GPL-2.0-or-later" in row["stage"] and "varies" in row["stage"]
-    assert "(500 maps)" in row["dungeon/train"] and "(2 maps)" in row["houseexpo"]
-    assert not any(name.startswith(("dungeon/easy/", "stage/")) for name in row)  # collections are one row each
-    assert "installed" not in " ".join(lines)  # every map is here, so the column is left out
+    assert row["nav2_warehouse"].split()[-2 if width == 200 else -1] == "Apache-2.0"
+    dungeon = row["dungeon/easy"].split()
+    assert "640" in dungeon and "0.04375" in dungeon and ("100" in dungeon) == (width == 200)
+    assert "stage" in row["stage"].split()[1:] and "GPL-2.0-or-later" in row["stage"] and "varies" in row["stage"]
+    assert "installed" not in out  # every map is here, so the column is left out
 
 
-def test_maps_of_a_collection_lists_its_members() -> None:
-    out = _invoke("maps", "dungeon/easy")
-    members = [line.split()[0] for line in out.splitlines() if line.strip().startswith("dungeon/easy/")]
-    assert len(members) == 100 and "dungeon/easy/img_10" in members
-    stage = _invoke("maps", "stage")
-    assert "stage/autolab" in stage and "809 × 689" in stage and "0.025" in stage
+def test_maps_of_a_collection_lists_its_members_under_what_they_share() -> None:
+    for width in WIDTHS:
+        out = _invoke("maps", "dungeon/easy", width=width)
+        assert all(len(line) <= width for line in out.splitlines())
+        members = [name for name in _rows(out) if name.startswith("dungeon/easy/")]
+        assert len(members) == 100 and "dungeon/easy/img_10" in members
+        heading = out[: out.index("\nname ")]
+        assert "dungeon/easy (100 maps)" in heading and "licence    MIT" in heading
+        assert "  source     https://github.com/marmotlab/ARiADNE/tree/main/DungeonMaps/easy\n" in heading
+        assert "28.00 m × 21.00 m (640 × 480 cells of 0.04375 m)" in heading
+    stage = _rows(_invoke("maps", "stage", width=80))
+    assert stage["stage/autolab"].split()[1:] == ["809", "×", "689", "20.2", "×", "17.2", "0.025"]
+    houseexpo = _invoke("maps", "houseexpo", width=80)  # long names: the columns still fit
+    assert _rows(houseexpo)["houseexpo/0a1b29dba355df2ab02630133187bfab"].split()[-1] == "0.05"
+
+
+def test_maps_of_one_map_gives_every_field_whole_at_80_columns() -> None:
+    out = _invoke("maps", "aws_small_house", width=80)
+    source = "https://github.com/aws-robotics/aws-robomaker-small-house-world/tree/ros1/maps/turtlebot3_waffle_pi"
+    assert len(source) > 80 and f"  source     {source}\n" in out  # one line: it copies as one address
+    assert "  family     ros\n" in out and "  licence    MIT-0\n" in out and "  installed  yes\n" in out
+    assert f"  file       {MAPS_DIR / 'aws_small_house' / 'map.yaml'}\n" in out
+    assert "25.00 m × 25.00 m (500 × 500 cells of 0.05 m)" in out and "furnished house" in out
+    assert "licence    BSD\n" in _invoke("maps", "lse_arena", width=80)
 
 
 def test_maps_json_gives_every_field() -> None:
-    records = json.loads(_invoke("maps", "--json"))
+    records = json.loads(_invoke("maps", "--json", width=80))
     by_name = {r["name"]: r for r in records}
     depot = by_name["nav2_depot"]
-    expected = {"kind": "map", "family": "ros", "width_cells": 604, "height_cells": 307, "width_m": 30.2}
-    expected |= {"height_m": 15.35, "resolution_m": 0.05, "licence": "Apache-2.0", "installed": "yes"}
-    assert depot == depot | expected
-    assert depot["source"] == "https://github.com/ros-navigation/navigation2/tree/main/nav2_bringup/maps"
-    assert by_name["dungeon/complex"]["count"] == 100 and by_name["dungeon/complex"]["kind"] == "collection"
-    assert by_name["stage"]["width_cells"] is None  # its members differ in size
+    assert depot == {
+        "name": "nav2_depot",
+        "kind": "map",
+        "family": "ros",
+        "description": "a depot with shelves (Nav2 sample map)",
+        "width_cells": 604,
+        "height_cells": 307,
+        "width_m": 30.2,
+        "height_m": 15.35,
+        "resolution_m": 0.05,
+        "licence": "Apache-2.0",
+        "source": "https://github.com/ros-navigation/navigation2/tree/main/nav2_bringup/maps",
+        "in_wheel": True,
+        "installed": True,
+        "count": None,
+        "installed_count": None,
+    }
+    complex_ = by_name["dungeon/complex"]
+    assert (complex_["kind"], complex_["count"], complex_["installed_count"], complex_["installed"]) == (
+        "collection",
+        100,
+        100,
+        True,
+    )
+    assert by_name["stage"]["width_cells"] is None and by_name["stage"]["in_wheel"] is False  # sizes differ
     members = json.loads(_invoke("maps", "houseexpo", "--json"))
     assert [m["name"] for m in members] == [
         "houseexpo/0a1b29dba355df2ab02630133187bfab",
@@ -64,6 +125,34 @@ def test_maps_json_gives_every_field() -> None:
     ]
     assert all(m["resolution_m"] == 0.05 and m["width_cells"] > 100 for m in members)
     assert json.loads(_invoke("maps", "lse_arena", "--json"))[0]["width_cells"] == 80
+
+
+def test_maps_not_installed_are_listed_with_where_to_get_them(tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> None:
+    """As a wheel install sees Stage's bitmaps (their YAMLs are there, their images are not), with
+    one Stage map's image present here."""
+    (tmp_path / "stage").mkdir()
+    for name in ("cave", "mbicp"):
+        shutil.copy(MAPS_DIR / "stage" / f"{name}.yaml", tmp_path / "stage" / f"{name}.yaml")
+    shutil.copy(MAPS_DIR / "stage" / "cave.png", tmp_path / "stage" / "cave.png")
+    shutil.copytree(MAPS_DIR / "lse_arena", tmp_path / "lse_arena")
+    maps = load_catalogue(MAPS_DIR / "catalogue.yaml", tmp_path)
+    monkeypatch.setattr("frontier_rl.cli.maps.catalogue", lambda: maps)
+    for width in WIDTHS:
+        out = _invoke("maps", width=width)
+        assert all(len(line) <= width for line in out.splitlines())
+        row = _rows(out)
+        assert row["lse_arena"].split()[-2 if width == 200 else -1] == "yes"
+        assert " 1 of 2 " in row["stage"] and row["nav2_depot"].split()[-2 if width == 200 else -1] == "no"
+        assert "catalogue collection 'stage' has 1 of its 2 maps installed" in " ".join(out.split())
+    records = {r["name"]: r for r in json.loads(_invoke("maps", "--json"))}
+    assert (records["stage"]["installed"], records["stage"]["installed_count"], records["stage"]["count"]) == (
+        False,
+        1,
+        2,
+    )
+    assert records["nav2_depot"]["installed"] is False and records["nav2_depot"]["width_cells"] is None
+    one = _invoke("maps", "stage/mbicp", width=80)
+    assert "  installed  no\n" in one and "catalogue map 'stage/mbicp' is not installed" in " ".join(one.split())
 
 
 @pytest.mark.parametrize(

@@ -54,7 +54,9 @@ class CatalogueMap:
         path: the file a world is loaded from (a ROS or Stage map's YAML).
         description: what it is, in a few words.
         source: the upstream address of the file (where to get it when it is not installed).
-        licence: SPDX identifier of its licence.
+        licence: its licence as its origin states it: an SPDX identifier where the origin names one
+            (``Apache-2.0``), otherwise the origin's own words (``BSD``: a package.xml's ``<license>``
+            that names no variant); the SOURCE.md beside the file says more.
         in_wheel: whether the wheel carries it (False where the licence does not fit the package's).
     """
 
@@ -101,23 +103,61 @@ class MapCollection:
 
     Attributes:
         name: its catalogue name.
-        family: the family of its members.
+        family: the family of its maps.
         folder: the folder of its files.
-        members: its maps' names, in the order of their file names (as a folder's files are).
+        maps: its maps, in the order of their file names (as a folder's files are): the files
+            present, so a missing folder has none.
         description: what it is, in a few words.
         source: the upstream address of the folder.
-        licence: SPDX identifier of its members' licence.
-        uniform_size: every member has the same size (so the first one's stands for all).
+        licence: its maps' licence, as :attr:`CatalogueMap.licence`.
+        uniform_size: every map has the same size (so one stands for all).
+        in_wheel: whether the wheel carries its maps.
     """
 
     name: str
     family: MapFamily
     folder: Path
-    members: tuple[str, ...]
+    maps: tuple[CatalogueMap, ...]
     description: str
     source: str
     licence: str
     uniform_size: bool = False
+    in_wheel: bool = True
+
+    @property
+    def members(self) -> tuple[str, ...]:
+        """Its maps' names (what a world list expands it into)."""
+        return tuple(m.name for m in self.maps)
+
+    @property
+    def installed_count(self) -> int:
+        """How many of its maps are installed."""
+        return sum(m.installed for m in self.maps)
+
+    @property
+    def installed(self) -> bool:
+        """Whether it has maps and every one of them is installed."""
+        return bool(self.maps) and all(m.installed for m in self.maps)
+
+    def size(self) -> MapSize | None:
+        """The size its maps share (an installed one's), or None: sizes that differ (not
+        ``uniform_size``) or no map installed."""
+        if not self.uniform_size:
+            return None
+        return next((m.size() for m in self.maps if m.installed), None)
+
+    def not_installed(self) -> str:
+        """Which of its maps are missing and where to get them (one line), for a collection that is
+        not wholly installed."""
+        why = "its licence keeps its maps out of the wheel" if not self.in_wheel else "its files are missing"
+        return (
+            f"catalogue collection {self.name!r} has {self.installed_count} of its {len(self.maps)} maps installed "
+            f"({why}; {self.licence}): get them from {self.source} and pass their folder as the world"
+        )
+
+
+CatalogueEntry = CatalogueMap | MapCollection
+"""A name of the catalogue: one map or a collection."""
 
 
 @dataclass(frozen=True)
@@ -132,22 +172,22 @@ class Catalogue:
 
     maps: tuple[CatalogueMap, ...]
     collections: tuple[MapCollection, ...]
-    _by_name: Mapping[str, CatalogueMap | MapCollection] = field(init=False, repr=False, compare=False)
+    _by_name: Mapping[str, CatalogueEntry] = field(init=False, repr=False, compare=False)
 
     def __post_init__(self) -> None:
-        by_name: dict[str, CatalogueMap | MapCollection] = {}
-        entries: tuple[CatalogueMap | MapCollection, ...] = (*self.maps, *self.collections)
+        by_name: dict[str, CatalogueEntry] = {}
+        entries: tuple[CatalogueEntry, ...] = (*self.maps, *self.collections)
         for entry in entries:
             if entry.name in by_name or entry.name in WORLD_GENERATORS:
                 raise MapError(f"the map catalogue names {entry.name!r} twice (or as a world generator)")
             by_name[entry.name] = entry
         object.__setattr__(self, "_by_name", MappingProxyType(by_name))
 
-    def find(self, name: str) -> CatalogueMap | MapCollection | None:
+    def find(self, name: str) -> CatalogueEntry | None:
         """The map or collection called ``name``, or None."""
         return self._by_name.get(name)
 
-    def get(self, name: str) -> CatalogueMap | MapCollection:
+    def get(self, name: str) -> CatalogueEntry:
         """The map or collection called ``name``.
 
         Raises:
@@ -158,12 +198,7 @@ class Catalogue:
             raise UnknownNameError(f"no map {short_repr(name)} in the catalogue; `frontier-rl maps` lists them")
         return entry
 
-    def members(self, collection: MapCollection) -> tuple[CatalogueMap, ...]:
-        """The maps of ``collection``."""
-        found = (self._by_name[name] for name in collection.members)
-        return tuple(m for m in found if isinstance(m, CatalogueMap))
-
-    def listed(self) -> tuple[CatalogueMap | MapCollection, ...]:
+    def listed(self) -> tuple[CatalogueEntry, ...]:
         """What a listing shows: the maps that belong to no collection, then the collections."""
         members = {name for collection in self.collections for name in collection.members}
         return (*(m for m in self.maps if m.name not in members), *self.collections)
@@ -190,9 +225,9 @@ def load_catalogue(path: Path, maps_dir: Path | None = None) -> Catalogue:
     maps = {m.name: m for m in listed}
     collections = []
     for name, fields in _section(doc, "collections", path).items():
-        collection, found = _collection(name, fields, root, path, maps)
+        collection = _collection(name, fields, root, path, maps)
         collections.append(collection)
-        maps.update((m.name, m) for m in found if m.name not in maps)
+        maps.update((m.name, m) for m in collection.maps if m.name not in maps)
     return Catalogue(tuple(maps.values()), tuple(collections))
 
 
@@ -248,12 +283,10 @@ def _map(name: str, raw: Any, root: Path, path: Path) -> CatalogueMap:
     )
 
 
-def _collection(
-    name: str, raw: Any, root: Path, path: Path, maps: dict[str, CatalogueMap]
-) -> tuple[MapCollection, list[CatalogueMap]]:
-    """A collection and its members: each file of its folder with its suffix, named
-    ``NAME/STEM``, described by the map of that name where ``maps`` has one (it must be the same
-    file), otherwise by the collection."""
+def _collection(name: str, raw: Any, root: Path, path: Path, maps: dict[str, CatalogueMap]) -> MapCollection:
+    """A collection, its maps each file of its folder with its suffix, named ``NAME/STEM``,
+    described by the map of that name where ``maps`` has one (it must be the same file), otherwise
+    by the collection."""
     where = f"{path}: collection {name!r}"
     allowed = {"family", "folder", "suffix", "description", "source", "licence", "uniform_size", "wheel"}
     fields = _checked(raw, allowed, where)
@@ -274,5 +307,4 @@ def _collection(
             raise MapError(f"{where}: map {member.name!r} is not its file {file.name} of family {family}")
         members.append(member)
     uniform = _flag(fields, "uniform_size", False, where)
-    names = tuple(m.name for m in members)
-    return MapCollection(name, family, folder, names, description, source, licence, uniform), members
+    return MapCollection(name, family, folder, tuple(members), description, source, licence, uniform, in_wheel)

@@ -19,6 +19,7 @@ from frontier_rl.evaluation.experiment import EpisodeSettings, ExperimentConfig,
 from frontier_rl.io import load_map
 from frontier_rl.io.catalogue import (
     MAPS_DIR,
+    Catalogue,
     CatalogueMap,
     MapCollection,
     MapFamily,
@@ -80,8 +81,30 @@ def test_every_map_loads_as_a_world_with_the_listed_size(name: str) -> None:
 def test_a_uniform_collection_is_uniform() -> None:
     maps = catalogue()
     for collection in maps.collections:
-        sizes = {m.size() for m in maps.members(collection)}
+        sizes = {m.size() for m in collection.maps}
         assert (len(sizes) == 1) == collection.uniform_size, collection.name
+        assert collection.size() == (sizes.pop() if collection.uniform_size else None), collection.name
+        assert collection.installed and collection.installed_count == len(collection.maps) > 0
+        assert collection.members == tuple(m.name for m in collection.maps)
+        assert all(maps.get(m.name) is m for m in collection.maps)
+
+
+def test_resolving_a_world_looks_the_catalogue_up_once(monkeypatch: pytest.MonkeyPatch) -> None:
+    looked_up: list[str] = []
+    find = Catalogue.find
+
+    def counted(self: Catalogue, name: str) -> CatalogueMap | MapCollection | None:
+        looked_up.append(name)
+        return find(self, name)
+
+    monkeypatch.setattr(Catalogue, "find", counted)
+    for name in ("lse_arena", "dungeon/easy/img_10"):
+        looked_up.clear()
+        assert resolve_world(name, 0).name == name
+        assert looked_up == [name]
+    looked_up.clear()
+    resolve_world("office", 0)
+    assert looked_up == []
 
 
 def test_every_map_folder_has_its_licence_and_source() -> None:
@@ -163,9 +186,13 @@ def test_a_map_that_is_not_installed_says_where_to_get_it(tmp_path: Path, monkey
     maps = load_catalogue(MAPS_DIR / "catalogue.yaml", tmp_path)
     cave = maps.get("stage/cave")
     assert isinstance(cave, CatalogueMap) and not cave.installed and cave.size() is None
-    assert maps.get("nav2_depot").installed is False  # type: ignore[union-attr]
+    assert maps.get("nav2_depot").installed is False
     stage = maps.get("stage")
     assert isinstance(stage, MapCollection) and stage.members == ("stage/cave",)
+    assert (stage.installed, stage.installed_count, stage.size(), stage.in_wheel) == (False, 0, None, False)
+    assert "'stage' has 0 of its 1 maps installed (its licence keeps its maps out of the wheel" in stage.not_installed()
+    easy = maps.get("dungeon/easy")
+    assert isinstance(easy, MapCollection) and easy.maps == () and not easy.installed  # no folder: no maps
     assert "dungeon/easy/img_1" not in {m.name for m in maps.maps}  # its folder is missing here
     monkeypatch.setattr(world_spec, "catalogue", lambda: maps)
     with pytest.raises(MapError, match=r"'stage/cave' is not installed .*GPL-2.0.*github.com/rtv/Stage"):
