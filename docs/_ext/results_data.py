@@ -150,7 +150,7 @@ def _episodes(path: Path) -> Iterable[Episode]:
             )
 
 
-_MODEL = re.compile(r"^learned:(?:.*/)?model(\d+)\.zip$")
+_MODEL = re.compile(r"^learned:(?:.*/)?model(\d+)(?:/(?:best_)?model)?\.zip$")
 
 
 def label(method: str) -> str:

@@ -10,7 +10,7 @@ import numpy as np
 from matplotlib.figure import Figure
 from results_data import Experiment, Study, label, labels
 from results_format import markdown_table, p_text, percent, ratio, relative, reproduce_section, save, seconds
-from results_thesis import COMPARISON_HEADER, comparison_rows
+from results_thesis import COMPARISON_HEADER, comparison_rows, tested_p
 
 from frontier_rl.evaluation.plots import box_plot
 from frontier_rl.evaluation.statistics import paired_stats
@@ -178,9 +178,9 @@ def thesis_models_page(study: Study, images: Path) -> str:
         )
         rows.append(
             [
-                names[method],
+                names[method] + (" (baseline)" if method == s.baseline else ""),
                 seconds(e.mean_time_s),
-                "" if method == s.baseline else f"{percent(e.reduction_pct)}, p = {p_text(e.p_one_tailed)}",
+                "" if method == s.baseline else f"{percent(e.reduction_pct)}, p = {p_text(tested_p(e))}",
                 percent(100 * (e.mean_coverage or 0.0)),
                 f"{reasons.get('explored', 0)} / {e.n}",
                 str(reasons.get("time_cap", 0)),
@@ -191,7 +191,7 @@ def thesis_models_page(study: Study, images: Path) -> str:
         (
             "model",
             "mean time (s)",
-            f"less time than `{s.baseline}`",
+            f"less time than `{s.baseline}` (p: one-tailed, Holm)",
             "mean coverage",
             "explored",
             "time cap",
