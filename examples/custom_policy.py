@@ -15,7 +15,6 @@ command resumes it. The same class runs on the command line as ``examples/custom
 from __future__ import annotations
 
 import argparse
-import os
 import sys
 from pathlib import Path
 
@@ -37,8 +36,10 @@ class SizePerMetre:
 
 
 # Experiments run episodes in worker processes, which load a policy by its spec, FILE.py:CLASS:
-# this very file (the workers import it, so the code below runs only as a script).
-POLICY = f"{os.path.relpath(__file__)}:SizePerMetre"
+# this very file (the workers import it, so the code below runs only as a script). The spec is the
+# method's name in the results: the absolute path keeps it the same from any working folder, so a
+# rerun with the same --out resumes instead of adding a method.
+POLICY = f"{Path(__file__).resolve()}:SizePerMetre"
 MODEL_7 = Path(__file__).resolve().parent.parent / "models" / "model7.zip"
 
 
@@ -47,29 +48,46 @@ def main() -> None:
     parser.add_argument("--episodes", type=int, default=20, help="episodes per world")
     parser.add_argument("--worlds", default="office,rooms", help="generators, catalogue maps or map files")
     parser.add_argument("--out", type=Path, default=Path("results/custom_policy"), help="results folder")
-    parser.add_argument("--model", type=Path, default=MODEL_7, help="a model file to compare with")
+    parser.add_argument("--model", type=Path, default=None, help="a model file to compare with (default: model 7)")
     parser.add_argument("--max-time", type=float, default=None, help="sim-time cap of an episode (s)")
-    parser.add_argument("--workers", type=int, default=None, help="episodes at once (default: every core)")
+    parser.add_argument(
+        "--workers", type=int, default=None, help="episodes at once (default: every core; 1: in this process)"
+    )
     parser.add_argument(
         "--oracle", action=argparse.BooleanOptionalAction, default=True, help="also run the full-knowledge oracle"
     )
     args = parser.parse_args()
 
-    methods = [POLICY, f"learned:{args.model}"] if args.model.is_file() else [POLICY]
+    model = compared_model(args.model)
+    methods = [POLICY] if model is None else [POLICY, f"learned:{model}"]
     config = SimConfig() if args.max_time is None else SimConfig(max_sim_time=args.max_time)
-    worlds = args.worlds.split(",")
     summary = frontier_rl.evaluate(
         methods,
-        worlds,
+        args.worlds.split(","),
         args.episodes,
         out=args.out,
         baseline="nearest",
         oracle=args.oracle,
         workers=args.workers,
+        backend="serial" if args.workers == 1 else "process",  # one at a time: no worker process to start
         config=config,
     )
-    print_summary(summary, labels={POLICY: SizePerMetre.name, f"learned:{args.model}": args.model.stem})
+    labels = {POLICY: SizePerMetre.name} | ({f"learned:{model}": model.stem} if model else {})
+    print_summary(summary, labels)
     print(f"report: {args.out / 'report.md'}")
+
+
+def compared_model(model: Path | None) -> Path | None:
+    """The model file to compare with: ``model``, which must exist, or model 7, left out (with a
+    line saying so) where this file is not in a clone that has it."""
+    if model is not None:
+        if not model.is_file():
+            raise frontier_rl.ConfigError(f"--model {str(model)!r} is not a file")
+        return model
+    if MODEL_7.is_file():
+        return MODEL_7
+    print(f"model 7 left out: no {MODEL_7} (--model names another model file)", file=sys.stderr)
+    return None
 
 
 def print_summary(summary: ExperimentSummary, labels: dict[str, str]) -> None:
@@ -96,4 +114,5 @@ if __name__ == "__main__":
     try:
         main()
     except frontier_rl.FrontierRLError as exc:  # bad worlds or settings: one line, no traceback
-        sys.exit(f"error: {exc}")
+        print(f"error: {exc}", file=sys.stderr)
+        sys.exit(2)

@@ -20,7 +20,7 @@ from frontier_rl import Failure, SimConfig, Strategy, TeamConfig
 
 def main() -> None:
     parser = argparse.ArgumentParser(description=(__doc__ or "").splitlines()[0])
-    parser.add_argument("--robots", type=int, default=3, help="team size, 2 to 8")
+    parser.add_argument("--robots", type=int, default=3, help="team size, 1 to 8")
     parser.add_argument("--world", default="office", help="a generator, catalogue map or map file")
     parser.add_argument("--policy", default="nearest", help="every robot's policy, as for frontier-rl explore")
     parser.add_argument("--seed", type=int, default=0, help="seeds the world, the starts and the sensor noise")
@@ -53,4 +53,5 @@ if __name__ == "__main__":
     try:
         main()
     except frontier_rl.FrontierRLError as exc:  # a bad world, team or failure: one line, no traceback
-        sys.exit(f"error: {exc}")
+        print(f"error: {exc}", file=sys.stderr)
+        sys.exit(2)

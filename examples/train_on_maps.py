@@ -28,6 +28,9 @@ def main() -> None:
     parser.add_argument("--timesteps", type=int, default=60_000, help="decisions to train for")
     parser.add_argument("--n-envs", type=int, default=2, help="environments (processes) trained in parallel")
     parser.add_argument("--episodes", type=int, default=1, help="evaluation episodes per test map")
+    parser.add_argument(
+        "--workers", type=int, default=None, help="test episodes at once (default: every core; 1: in this process)"
+    )
     parser.add_argument("--max-time", type=float, default=None, help="sim-time cap of an episode (s)")
     parser.add_argument("--out", type=Path, default=Path("runs/train_on_maps"), help="run folder")
     args = parser.parse_args()
@@ -47,6 +50,8 @@ def main() -> None:
         out=args.out / "evaluation",
         baseline="nearest",
         oracle=False,
+        workers=args.workers,
+        backend="serial" if args.workers == 1 else "process",  # one at a time: no worker process to start
         config=sim,
         pictures=1,
     )
@@ -70,4 +75,5 @@ if __name__ == "__main__":
     try:
         main()
     except frontier_rl.FrontierRLError as exc:  # bad maps or settings: one line, no traceback
-        sys.exit(f"error: {exc}")
+        print(f"error: {exc}", file=sys.stderr)
+        sys.exit(2)

@@ -2,12 +2,16 @@
 
 from __future__ import annotations
 
+import importlib.util
 import json
 import subprocess
 import sys
 from pathlib import Path
+from types import ModuleType
 
 import pytest
+
+from frontier_rl import ConfigError, TeamConfig
 
 pytestmark = pytest.mark.slow  # each trains, evaluates in worker processes or runs several episodes
 
@@ -19,8 +23,18 @@ def _run(script: str, args: list[str], cwd: Path) -> subprocess.CompletedProcess
     return subprocess.run(command, cwd=cwd, capture_output=True, text=True, timeout=300)
 
 
+def _example(script: str) -> ModuleType:
+    """An example imported as a module (its main() does not run)."""
+    spec = importlib.util.spec_from_file_location(f"example_{Path(script).stem}", EXAMPLES / script)
+    assert spec is not None and spec.loader is not None
+    module = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(module)
+    return module
+
+
 def test_custom_policy_is_compared_with_nearest_and_model_7(tmp_path: Path) -> None:
-    args = ["--episodes", "1", "--worlds", "office", "--max-time", "60", "--workers", "2", "--no-oracle"]
+    # --workers 1: the episodes one after another in the script's own process, no worker to start
+    args = ["--episodes", "1", "--worlds", "office", "--max-time", "60", "--workers", "1", "--no-oracle"]
     run = _run("custom_policy.py", [*args, "--out", "results"], tmp_path)
     assert run.returncode == 0, run.stderr
     lines = run.stdout.splitlines()
@@ -28,12 +42,26 @@ def test_custom_policy_is_compared_with_nearest_and_model_7(tmp_path: Path) -> N
     assert [line.split(":")[0].strip() for line in lines[1:4]] == ["nearest", "size-per-metre", "model7"]
     assert "(baseline)" in lines[1] and "saves" in lines[2] and "p = " in lines[3]
     summary = json.loads((tmp_path / "results/summary.json").read_text())
-    policy_file = next(m for m in summary["methods"] if m.endswith("custom_policy.py:SizePerMetre"))
-    assert (tmp_path / policy_file.rpartition(":")[0]).resolve() == EXAMPLES / "custom_policy.py"
+    # the policy's name holds the script's absolute path: the same from any working folder, so a rerun resumes
+    policy = f"{EXAMPLES / 'custom_policy.py'}:SizePerMetre"
+    assert list(summary["methods"]) == ["nearest", policy, f"learned:{EXAMPLES.parent / 'models/model7.zip'}"]
+
+
+def test_custom_policy_leaves_out_model_7_with_a_line_only_where_it_is_missing(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch, capsys: pytest.CaptureFixture[str]
+) -> None:
+    example = _example("custom_policy.py")
+    assert example.compared_model(None) == EXAMPLES.parent / "models/model7.zip"
+    assert capsys.readouterr().err == ""
+    monkeypatch.setattr(example, "MODEL_7", tmp_path / "model7.zip")  # as in a copy of the script alone
+    assert example.compared_model(None) is None
+    left_out = f"model 7 left out: no {tmp_path / 'model7.zip'} (--model names another model file)\n"
+    assert capsys.readouterr().err == left_out
 
 
 def test_train_on_maps_trains_on_the_catalogue_and_evaluates_on_held_out_maps(tmp_path: Path) -> None:
     args = ["--timesteps", "16", "--n-envs", "1", "--test-maps", "dungeon/easy/img_10", "--max-time", "60"]
+    args += ["--workers", "1"]  # the test episodes in the process that trained: torch and the kernels are loaded
     run = _run("train_on_maps.py", [*args, "--out", "run"], tmp_path)
     assert run.returncode == 0, run.stderr
     assert "model: run/training/model.zip" in run.stdout
@@ -50,6 +78,28 @@ def test_team_runs_every_strategy_and_a_failure(tmp_path: Path) -> None:
     assert all("each robot saw" in line and "1 failed" in line for line in lines[1:])
 
 
-def test_a_bad_argument_is_one_line(tmp_path: Path) -> None:
-    run = _run("team.py", ["--robots", "9"], tmp_path)
-    assert run.returncode == 1 and run.stderr == "error: robots must be 1 to 8, got 9\n"
+@pytest.mark.parametrize(
+    ("script", "args", "error"),
+    [
+        ("team.py", ["--robots", "9"], "error: robots must be 1 to 8, got 9"),
+        ("custom_policy.py", ["--model", "missing.zip"], "error: --model 'missing.zip' is not a file"),
+        ("train_on_maps.py", ["--model", "9"], "error: unknown model 9; choose one of 1, 2, 3, 4, 5, 6, 7"),
+    ],
+)
+def test_bad_input_ends_with_one_error_line_and_exit_code_2(
+    script: str, args: list[str], error: str, tmp_path: Path
+) -> None:
+    run = _run(script, args, tmp_path)
+    assert (run.returncode, run.stderr) == (2, error + "\n")
+
+
+def test_the_team_size_in_the_help_is_the_one_accepted(
+    monkeypatch: pytest.MonkeyPatch, capsys: pytest.CaptureFixture[str]
+) -> None:
+    monkeypatch.setattr(sys, "argv", ["team.py", "--help"])
+    with pytest.raises(SystemExit):
+        _example("team.py").main()
+    assert "team size, 1 to 8" in " ".join(capsys.readouterr().out.split())
+    TeamConfig(1)  # the smallest team is accepted
+    with pytest.raises(ConfigError, match="robots must be 1 to 8"):
+        TeamConfig(9)
