@@ -11,7 +11,6 @@ from pathlib import Path
 
 from markdown_it import MarkdownIt
 from markdown_it.token import Token
-from myst_parser.slugs import github_slugify, unique_slug
 
 ROOT = Path(__file__).resolve().parents[2]
 DOCS = ROOT / "docs"
@@ -20,6 +19,9 @@ README = ROOT / "README.md"
 SKIP_MARKER = re.compile(r"<!--\s*not run:\s*(?P<reason>\S.*?)\s*-->")
 """Put ``<!-- not run: REASON -->`` on the line just above a ```python block to keep the tests from
 running it (for code that needs a robot or a ROS master); the reason is required."""
+SAME_AS = re.compile(r"same as (?P<page>\S+\.md)")
+"""The reason ``same as PAGE`` (PAGE from the repository's root): a block that runs on PAGE does what
+this one does, which the tests check instead of running it again."""
 
 _LABEL = re.compile(r"^\((?P<name>[\w.:-]+)\)=\s*$", re.MULTILINE)
 _HTML_IMAGE = re.compile(r"<img\b[^>]*\bsrc=[\"'](?P<src>[^\"']+)[\"']", re.IGNORECASE)
@@ -39,8 +41,14 @@ class CodeBlock:
 
     @property
     def name(self) -> str:
-        """``PAGE:LINE``, relative to the repository."""
-        return f"{self.page.relative_to(ROOT)}:{self.line}"
+        """``PAGE:LINE``, relative to the repository (a page outside it by its absolute path)."""
+        return f"{self.page.relative_to(ROOT) if self.page.is_relative_to(ROOT) else self.page}:{self.line}"
+
+    @property
+    def same_as(self) -> Path | None:
+        """The page named by a ``not run: same as PAGE`` marker; None for any other block."""
+        match = SAME_AS.fullmatch(self.skip_reason or "")
+        return ROOT / match["page"] if match else None
 
 
 @dataclass(frozen=True)
@@ -108,7 +116,9 @@ def links(page: Path) -> list[Link]:
 
 def anchors(page: Path) -> set[str]:
     """The ``#anchor`` names of ``page``: its headings' slugs (GitHub's, made as MyST makes them: a
-    repeated one numbered ``-1``, ``-2``, ...) and its explicit targets (``(name)=``)."""
+    repeated one numbered ``-1``, ``-2``, ...) and its explicit targets (``(name)=``). Needs the docs extra."""
+    from myst_parser.slugs import github_slugify, unique_slug
+
     labels = set(_LABEL.findall(page.read_text(encoding="utf-8")))
     slugs: list[str] = []
     items = tokens(page)
