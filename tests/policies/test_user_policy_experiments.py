@@ -34,7 +34,7 @@ class Greedy:
 
 def test_evaluate_runs_a_relative_policy_file_beside_nearest(tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> None:
     (tmp_path / "greedy.py").write_text(GREEDY)
-    monkeypatch.chdir(tmp_path)  # the spec is relative: it resolves against the experiment's folder
+    monkeypatch.chdir(tmp_path)  # the spec is relative: it resolves against the working folder (Path.cwd())
     args = shlex.split(
         "evaluate --methods greedy.py:Greedy,greedy.py:Greedy@2:coordinated --baseline nearest --out results "
         "--episodes 2 --max-time 90 --no-oracle --pictures 0 --backend process --workers 2 --no-progress"
