@@ -25,6 +25,12 @@ class TrainingDivergedError(FrontierRLError, RuntimeError):
     """A training run whose updates left the policy with NaN or infinite weights."""
 
 
+class PolicyError(FrontierRLError, RuntimeError):
+    """A policy that failed during an episode: its ``rank()`` returned something the simulator cannot
+    follow (not a :class:`~frontier_rl.core.sim.episode.Ranking`, an index that is no candidate's, ...),
+    or the user's code of a policy raised."""
+
+
 class UnknownNameError(FrontierRLError, KeyError):
     """A world, policy or method name that does not exist."""
 

@@ -2,10 +2,12 @@
 
 from __future__ import annotations
 
+import math
+import numbers
 import time
 from collections.abc import Callable
 from dataclasses import dataclass, field
-from typing import Protocol, TypeVar, runtime_checkable
+from typing import NoReturn, Protocol, TypeVar, runtime_checkable
 
 import numpy as np
 from numpy.typing import NDArray
@@ -18,8 +20,11 @@ from frontier_rl.core.sim.simulator import ExplorationSimulator
 from frontier_rl.core.world.grid import OccupancyGrid
 from frontier_rl.core.world.robot import Pose
 from frontier_rl.core.world.worlds import World
+from frontier_rl.errors import PolicyError, short_repr
 
 _MAX_STALLED_DECISIONS = 1000
+_SHORT_ORDER = 64
+"""Up to this many indices, an order is checked in Python; beyond, in NumPy (faster on long ones)."""
 
 
 @dataclass(frozen=True)
@@ -49,7 +54,10 @@ class DecisionContext:
 @dataclass(frozen=True)
 class Ranking:
     """A policy's answer: frontier indices best first, and the weight it used (if any); or, for
-    point-goal policies, a ``goal`` (x, y) in m to drive to instead (``order`` is then ignored)."""
+    point-goal policies, a ``goal`` (x, y) in m to drive to instead (``order`` is then ignored).
+
+    ``order`` is a 1-D NumPy array of distinct candidate indices (any integer type), at least one
+    unless ``goal`` is set; the episode runner refuses anything else (:func:`checked_ranking`)."""
 
     order: NDArray[np.int64]
     weight: float | None = None
@@ -143,13 +151,82 @@ def drive_episode(
     policy_rngs = [policy_rng, *policy_rng.spawn(robots - 1)]
     while (index := loop.next_decision()) is not None:
         context = loop.context(index)
-        ranking = policy.rank(context, policy_rngs[index])
+        ranking = checked_ranking(policy.rank(context, policy_rngs[index]), len(context.frontiers), policy)
         if on_decision is not None:
             hook_started = time.perf_counter()
             on_decision(loop, context, ranking)
             hook_time += time.perf_counter() - hook_started
         loop.assign(index, ranking)
     return loop, time.perf_counter() - started - hook_time
+
+
+def checked_ranking(ranking: object, candidates: int, policy: ExplorationPolicy) -> Ranking:
+    """``ranking``, the answer of ``policy`` to a decision among ``candidates`` frontiers, if the
+    simulator can follow it: a :class:`Ranking` whose ``order`` is a 1-D integer array of distinct
+    candidate indices, empty only where it sets a ``goal`` (or there is no candidate), whose ``goal``
+    is two finite numbers (m) and whose ``weight`` a finite number, where they are set.
+
+    Raises:
+        PolicyError: what is wrong, naming the policy, in one line.
+    """
+    if not isinstance(ranking, Ranking):
+        _refuse(policy, f"rank() returned {_described(ranking)}, not a Ranking")
+    order = ranking.order
+    if not isinstance(order, np.ndarray) or order.ndim != 1 or order.dtype.kind not in "iu":
+        _refuse(policy, f"its Ranking's order is {_described(order)}, not a 1-D integer array of candidate indices")
+    if order.size and (problem := _order_problem(order, candidates)):
+        _refuse(policy, f"its Ranking's order {problem}")
+    if not order.size and ranking.goal is None and candidates:
+        _refuse(policy, f"its Ranking's order is empty and it sets no goal: rank the {candidates} candidate(s)")
+    if ranking.goal is not None and not _is_point(ranking.goal):
+        _refuse(policy, f"its Ranking's goal is {_described(ranking.goal)}, not a point (x, y) of finite metres")
+    if ranking.weight is not None and not _is_finite_number(ranking.weight):
+        _refuse(policy, f"its Ranking's weight is {_described(ranking.weight)}, not a finite number")
+    return ranking
+
+
+def _order_problem(order: NDArray[np.integer], candidates: int) -> str | None:
+    """What is wrong with a non-empty ``order`` of indices among ``candidates`` frontiers, or None."""
+    distinct: bool | None = None
+    if order.size <= _SHORT_ORDER:  # a few Python calls: cheaper than NumPy's on a short order
+        indices = order.tolist()
+        low, high, distinct = min(indices), max(indices), len(set(indices)) == len(indices)
+    else:
+        low, high = int(order.min()), int(order.max())
+    if low < 0 or high >= candidates:
+        among = f"0 to {candidates - 1}" if candidates else "there is none"
+        return f"holds {low if low < 0 else high}, not a candidate's index ({among})"
+    if distinct is None:
+        seen = np.zeros(candidates, np.bool_)
+        seen[order] = True
+        distinct = np.count_nonzero(seen) == order.size
+    if not distinct:
+        values, counts = np.unique(order, return_counts=True)
+        return f"lists candidate {values[counts > 1][0]} more than once"
+    return None
+
+
+def _refuse(policy: ExplorationPolicy, problem: str) -> NoReturn:
+    name = getattr(policy, "name", None)
+    raise PolicyError(f"policy {short_repr(name if isinstance(name, str) else type(policy).__name__)}: {problem}")
+
+
+def _described(value: object) -> str:
+    """A value for a message: an array's type and shape, another value's repr (cut short) and type."""
+    if isinstance(value, np.ndarray):
+        return f"an array of {value.dtype} with shape {value.shape}"
+    return f"{short_repr(value, 40)} (type {type(value).__name__})"
+
+
+def _is_finite_number(value: object) -> bool:
+    return isinstance(value, numbers.Real) and not isinstance(value, bool) and math.isfinite(value)
+
+
+def _is_point(value: object) -> bool:
+    """Whether ``value`` is a pair of finite numbers."""
+    if isinstance(value, np.ndarray) and value.ndim != 1:
+        return False
+    return isinstance(value, tuple | list | np.ndarray) and len(value) == 2 and all(map(_is_finite_number, value))
 
 
 class SingleRobotLoop:

@@ -14,18 +14,11 @@ from frontier_rl.policies import make_policy
 from frontier_rl.swarm import TeamConfig, run_team_episode
 
 
-class _Nothing:
-    """Chooses no frontier at every decision: no decision takes simulated time."""
-
-    name = "nothing"
-
-    def rank(self, context: DecisionContext, rng: np.random.Generator) -> Ranking:
-        return Ranking(np.zeros(0, np.int64))
-
-
-def test_decisions_that_take_no_time_end_in_an_error_not_a_hang() -> None:
+def test_decisions_that_take_no_time_end_in_an_error_not_a_hang(monkeypatch: pytest.MonkeyPatch) -> None:
+    # a leg that takes no simulated time (a policy cannot cause one: tests/core/sim/test_ranking_check.py)
+    monkeypatch.setattr(ExplorationSimulator, "execute", lambda self, order, weight=None: None)
     with pytest.raises(RuntimeError, match=r"stalled: 1001 decisions in a row took no simulated time at t = 0\.0 s"):
-        run_episode(generate_world("office", 0), _Nothing())
+        run_episode(generate_world("office", 0), make_policy("nearest"))
 
 
 def test_the_hook_sees_every_decision_and_its_time_is_not_counted() -> None:
