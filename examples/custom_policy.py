@@ -17,6 +17,7 @@ from __future__ import annotations
 import argparse
 import sys
 from pathlib import Path
+from typing import NoReturn
 
 import numpy as np
 
@@ -43,8 +44,15 @@ POLICY = f"{Path(__file__).resolve()}:SizePerMetre"
 MODEL_7 = Path(__file__).resolve().parent.parent / "models" / "model7.zip"
 
 
+class OneLineErrors(argparse.ArgumentParser):
+    """Bad arguments end the script as bad values do: one ``error:`` line, exit code 2 (as frontier-rl)."""
+
+    def error(self, message: str) -> NoReturn:
+        self.exit(2, f"error: {message}\n")
+
+
 def main() -> None:
-    parser = argparse.ArgumentParser(description=(__doc__ or "").splitlines()[0])
+    parser = OneLineErrors(description=(__doc__ or "").splitlines()[0])
     parser.add_argument("--episodes", type=int, default=20, help="episodes per world")
     parser.add_argument("--worlds", default="office,rooms", help="generators, catalogue maps or map files")
     parser.add_argument("--out", type=Path, default=Path("results/custom_policy"), help="results folder")

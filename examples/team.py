@@ -13,13 +13,21 @@ from __future__ import annotations
 
 import argparse
 import sys
+from typing import NoReturn
 
 import frontier_rl
 from frontier_rl import Failure, SimConfig, Strategy, TeamConfig
 
 
+class OneLineErrors(argparse.ArgumentParser):
+    """Bad arguments end the script as bad values do: one ``error:`` line, exit code 2 (as frontier-rl)."""
+
+    def error(self, message: str) -> NoReturn:
+        self.exit(2, f"error: {message}\n")
+
+
 def main() -> None:
-    parser = argparse.ArgumentParser(description=(__doc__ or "").splitlines()[0])
+    parser = OneLineErrors(description=(__doc__ or "").splitlines()[0])
     parser.add_argument("--robots", type=int, default=3, help="team size, 1 to 8")
     parser.add_argument("--world", default="office", help="a generator, catalogue map or map file")
     parser.add_argument("--policy", default="nearest", help="every robot's policy, as for frontier-rl explore")

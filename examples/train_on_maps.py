@@ -15,13 +15,21 @@ from __future__ import annotations
 import argparse
 import sys
 from pathlib import Path
+from typing import NoReturn
 
 import frontier_rl
 from frontier_rl import SimConfig, TrainConfig
 
 
+class OneLineErrors(argparse.ArgumentParser):
+    """Bad arguments end the script as bad values do: one ``error:`` line, exit code 2 (as frontier-rl)."""
+
+    def error(self, message: str) -> NoReturn:
+        self.exit(2, f"error: {message}\n")
+
+
 def main() -> None:
-    parser = argparse.ArgumentParser(description=(__doc__ or "").splitlines()[0])
+    parser = OneLineErrors(description=(__doc__ or "").splitlines()[0])
     parser.add_argument("--maps", default="dungeon/train", help="maps to train on")
     parser.add_argument("--test-maps", default="dungeon/easy", help="maps to evaluate on, never trained on")
     parser.add_argument("--model", type=int, default=7, help="model 1-7 (7: frontier choice with tour costs)")

@@ -93,13 +93,18 @@ def test_bad_input_ends_with_one_error_line_and_exit_code_2(
     assert (run.returncode, run.stderr) == (2, error + "\n")
 
 
-def test_the_team_size_in_the_help_is_the_one_accepted(
+def test_the_team_size_in_the_help_is_the_one_accepted_and_a_bad_argument_is_one_line(
     monkeypatch: pytest.MonkeyPatch, capsys: pytest.CaptureFixture[str]
 ) -> None:
+    team = _example("team.py")
     monkeypatch.setattr(sys, "argv", ["team.py", "--help"])
     with pytest.raises(SystemExit):
-        _example("team.py").main()
+        team.main()
     assert "team size, 1 to 8" in " ".join(capsys.readouterr().out.split())
     TeamConfig(1)  # the smallest team is accepted
     with pytest.raises(ConfigError, match="robots must be 1 to 8"):
         TeamConfig(9)
+    monkeypatch.setattr(sys, "argv", ["team.py", "--robots", "two"])
+    with pytest.raises(SystemExit) as exited:
+        team.main()
+    assert (exited.value.code, capsys.readouterr().err) == (2, "error: argument --robots: invalid int value: 'two'\n")
