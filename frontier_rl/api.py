@@ -16,10 +16,10 @@ Only :func:`train` loads torch (and Gymnasium); the other three need neither.
 
 from __future__ import annotations
 
-import math
 from collections.abc import Callable, Sequence
 from functools import cache
 from pathlib import Path
+from types import UnionType
 from typing import TYPE_CHECKING, overload
 
 from frontier_rl.core.frontiers.ranking import THESIS_BASELINE
@@ -30,12 +30,13 @@ from frontier_rl.core.sim.simulator import ExplorationSimulator
 from frontier_rl.core.world.robot import Pose
 from frontier_rl.core.world.worlds import World
 from frontier_rl.errors import ConfigError, short_repr
-from frontier_rl.evaluation.summary import ExperimentSummary
 from frontier_rl.policies import make_policy
+from frontier_rl.policies.user_policies import checked_policy
 from frontier_rl.swarm import Failure, TeamConfig, TeamResult, run_team_episode
-from frontier_rl.world_spec import resolve_world
+from frontier_rl.world_spec import checked_resolution, checked_seed, resolve_world
 
-if TYPE_CHECKING:
+if TYPE_CHECKING:  # loaded by the functions that need them: the command line's help loads this module
+    from frontier_rl.evaluation.summary import ExperimentSummary
     from frontier_rl.rl.config import TrainConfig
 
 DecisionHook = Callable[[ExplorationSimulator, DecisionContext, Ranking], None]
@@ -57,10 +58,10 @@ def load_world(
 
     Raises:
         UnknownNameError: no such generator, catalogue name or file.
-        ConfigError: a start pose or resolution no world can use.
+        ConfigError: a seed, start pose or resolution no world can use.
         MapError: a map file that cannot be used.
     """
-    return resolve_world(str(name_or_path), seed, start, resolution)
+    return resolve_world(str(name_or_path), checked_seed(seed), start, checked_resolution(resolution, "resolution"))
 
 
 @overload
@@ -122,7 +123,12 @@ def explore(
     """
     if team is not None and on_decision is not None:
         raise ConfigError("on_decision follows one robot's decisions; it cannot be given with a team")
-    chosen = make_policy(policy, trust_model=trust_model) if isinstance(policy, str) else policy
+    seed = checked_seed(seed)
+    chosen = (
+        make_policy(policy, trust_model=trust_model)
+        if isinstance(policy, str)
+        else checked_policy(policy, "explore() got")
+    )
     the_world = world if isinstance(world, World) else load_world(world, seed, resolution=resolution)
     _warm_up()
     if team is not None:
@@ -147,6 +153,7 @@ def evaluate(
     seed: int = 0,
     workers: int | None = None,
     backend: str = "process",
+    ray_address: str | None = None,
     config: SimConfig | None = None,
     resolution: float | None = None,
     trust_model: bool = False,
@@ -155,6 +162,7 @@ def evaluate(
     outliers: Sequence[float] | None = None,
     pictures: int | None = None,
     progress: bool = False,
+    command: str | None = None,
 ) -> ExperimentSummary:
     """The paired experiment of ``frontier-rl evaluate``: every method on the same worlds, starts and
     sensor noise, compared with ``baseline``; the report, plots and ``summary.json`` go to ``out``
@@ -163,12 +171,14 @@ def evaluate(
     Args:
         methods: policy specs as on the command line (``nearest``, ``learned:models/model7.zip``,
             ``my_policy.py:Greedy``, ``nearest@2:coordinated`` for a team, ...); ``baseline`` is added if missing.
-        worlds: generators, catalogue names, map files and folders of maps.
+        worlds: generators, catalogue names, map files, folders of maps (each may be a comma list, as ``--worlds``).
         episodes: episodes per world; episode i uses seed ``seed + i``.
         out: the results folder.
         config: the simulation settings of every episode (the defaults if None).
         outliers: also compare without the episodes above these times (s); None: 1000 and 2000 s.
         pictures: draw each method's first episode on this many worlds (None: 3).
+        command: how the report says to run the experiment again (None: this call).
+        ray_address: the Ray head (host:port) of ``backend="ray"``; None: a local Ray.
         baseline, oracle, seed, workers, backend, resolution, trust_model, comm_range, failures, progress: as
             the options of ``frontier-rl evaluate`` of the same names.
 
@@ -177,23 +187,20 @@ def evaluate(
     """
     from frontier_rl.evaluation.evaluate import evaluate as run_evaluation
     from frontier_rl.evaluation.experiment import ExperimentConfig
+    from frontier_rl.evaluation.summary import ExperimentSummary
 
+    checked_seed(seed)
     names, places = _names(methods, worlds, baseline, oracle)
+    sim = config or SimConfig()
     experiment = ExperimentConfig(
-        methods=names,
-        worlds=places,
-        episodes=episodes,
-        seed=seed,
-        baseline=baseline,
-        sim=config or SimConfig(),
-        resolution=resolution,
-        trust_model=trust_model,
-        comm_range=comm_range,
-        failures=tuple(failures),
+        names, places, episodes, seed, baseline, sim, resolution, trust_model, comm_range, tuple(failures)
     )
-    command = f"frontier_rl.evaluate({list(experiment.methods)}, {list(experiment.worlds)}, {episodes}, seed={seed})"
+    if command is None:
+        command = f"frontier_rl.evaluate({list(names)}, {list(places)}, {episodes}, seed={seed})"
     cuts, shown = _report_settings(outliers, pictures)
-    report = run_evaluation(experiment, Path(out), backend, workers, None, cuts, progress, command, pictures=shown)
+    report = run_evaluation(
+        experiment, Path(out), backend, workers, ray_address, cuts, progress, command, pictures=shown
+    )
     return ExperimentSummary.load(report.parent)
 
 
@@ -201,22 +208,24 @@ def _names(
     methods: Sequence[str], worlds: Sequence[str | Path], baseline: str, oracle: bool
 ) -> tuple[tuple[str, ...], tuple[str, ...]]:
     """The methods (the baseline first, the oracle last) and worlds (folders expanded) of :func:`evaluate`."""
-    from frontier_rl.evaluation.experiment import ORACLE, expand_worlds
+    from frontier_rl.evaluation.experiment import expand_worlds, method_list
 
-    if isinstance(methods, str) or isinstance(worlds, str):
+    if not (_list_of(methods, str) and _list_of(worlds, str | Path)):
         raise ConfigError(f"methods and worlds must be lists of names, got {short_repr(methods)}, {short_repr(worlds)}")
-    names = tuple(dict.fromkeys([baseline, *methods, *([ORACLE] if oracle else [])]))
-    return names, tuple(w for item in worlds for w in expand_worlds(str(item)))
+    return method_list(methods, baseline, oracle), tuple(w for item in worlds for w in expand_worlds(str(item)))
+
+
+def _list_of(value: object, kind: type | UnionType) -> bool:
+    """Whether ``value`` is a list (or tuple) of ``kind`` values, not a string."""
+    return isinstance(value, Sequence) and not isinstance(value, str) and all(isinstance(v, kind) for v in value)
 
 
 def _report_settings(outliers: Sequence[float] | None, pictures: int | None) -> tuple[tuple[float, ...], int]:
     """The outlier thresholds (s) and pictured worlds of :func:`evaluate`, checked; None: the command's defaults."""
-    from frontier_rl.evaluation.evaluate import DEFAULT_OUTLIERS_S, DEFAULT_PICTURE_WORLDS
+    from frontier_rl.evaluation.evaluate import DEFAULT_OUTLIERS_S, DEFAULT_PICTURE_WORLDS, checked_thresholds
 
-    cuts = DEFAULT_OUTLIERS_S if outliers is None else tuple(outliers)
-    if not all(isinstance(t, int | float) and 0 < t < math.inf for t in cuts):
-        raise ConfigError(f"outliers must be positive numbers of seconds, got {short_repr(outliers)}")
-    if pictures is not None and not (isinstance(pictures, int) and pictures >= 0):
+    cuts = DEFAULT_OUTLIERS_S if outliers is None else checked_thresholds(outliers, "outliers")
+    if pictures is not None and (isinstance(pictures, bool) or not isinstance(pictures, int) or pictures < 0):
         raise ConfigError(f"pictures must be a whole number of worlds, 0 or more, got {short_repr(pictures)}")
     return cuts, DEFAULT_PICTURE_WORLDS if pictures is None else pictures
 

@@ -31,6 +31,22 @@ from frontier_rl.errors import ConfigError, MapError, UnknownNameError, short_re
 from frontier_rl.io import LoadedMap, load_map
 from frontier_rl.io.catalogue import CatalogueEntry, CatalogueMap, MapCollection, catalogue
 
+MAX_SEED = 2**32 - 1
+"""Largest seed of a world and an episode (NumPy's legacy seeding, which SB3 uses, takes no more)."""
+
+
+def checked_seed(value: object, what: str = "seed") -> int:
+    """``value`` if it is a seed: a whole number from 0 to :data:`MAX_SEED` (a NumPy integer too).
+
+    Raises:
+        ConfigError: any other value, named with ``what``.
+    """
+    if isinstance(value, np.integer):
+        value = int(value)
+    if isinstance(value, bool) or not isinstance(value, int) or not 0 <= value <= MAX_SEED:
+        raise ConfigError(f"{what} must be a whole number from 0 to {MAX_SEED}, got {short_repr(value)}")
+    return value
+
 
 def checked_resolution(resolution: float | None, what: str = "--resolution") -> float | None:
     """``resolution`` (m) if a world can use it (:func:`~frontier_rl.core.world.worlds.check_resolution`

@@ -4,6 +4,7 @@ evaluate / train, and the typed experiment summary read back from summary.json."
 from __future__ import annotations
 
 import json
+import math
 import subprocess
 import sys
 import textwrap
@@ -16,9 +17,10 @@ import pytest
 import frontier_rl
 from frontier_rl.core.sim.config import SimConfig
 from frontier_rl.core.world.robot import Pose
-from frontier_rl.errors import ConfigError, UnknownNameError
+from frontier_rl.errors import ConfigError, PolicyError, UnknownNameError
 from frontier_rl.evaluation.summary import ExperimentSummary, MethodSummary
 from frontier_rl.swarm import TeamConfig, TeamResult
+from frontier_rl.world_spec import MAX_SEED
 
 HEAVY = ("numba", "gymnasium", "torch", "stable_baselines3")
 """Modules the light imports must not load."""
@@ -89,6 +91,59 @@ def test_explore_takes_a_policy_object_or_a_spec_and_repeats_exactly() -> None:
     assert other.sim_time_s != by_spec.sim_time_s or other.path_length_m != by_spec.path_length_m
 
 
+@pytest.mark.parametrize("seed", [-1, 1.5, MAX_SEED + 1, True, "3", None])
+def test_a_bad_seed_is_one_line_naming_it(tmp_path: Path, seed: object) -> None:
+    needle = f"seed must be a whole number from 0 to {MAX_SEED}, got "
+    with pytest.raises(ConfigError, match=needle):
+        frontier_rl.load_world("office", seed=seed)  # type: ignore[arg-type]
+    with pytest.raises(ConfigError, match=needle):
+        frontier_rl.explore("office", "nearest", seed=seed)  # type: ignore[call-overload]
+    with pytest.raises(ConfigError, match=needle):
+        frontier_rl.explore(frontier_rl.load_world("office"), "nearest", seed=seed)  # type: ignore[call-overload]
+    with pytest.raises(ConfigError, match=needle):
+        frontier_rl.evaluate(["nearest"], ["office"], 1, out=tmp_path / "run", seed=seed)  # type: ignore[arg-type]
+    assert not (tmp_path / "run").exists()
+
+
+def test_a_numpy_seed_is_a_seed() -> None:
+    assert frontier_rl.load_world("office", np.int64(3)).start == frontier_rl.load_world("office", 3).start  # type: ignore[arg-type]
+
+
+class _Answers:
+    """A policy whose rank() returns ``answer``."""
+
+    name = "answers"
+
+    def __init__(self, answer: object = None) -> None:
+        self.answer = answer
+
+    def rank(self, context: frontier_rl.DecisionContext, rng: np.random.Generator) -> frontier_rl.Ranking:
+        return self.answer  # type: ignore[return-value]
+
+
+@pytest.mark.parametrize(
+    ("policy", "needle"),
+    [
+        (None, "explore() got None (type NoneType), not a policy: it needs a 'name' string"),
+        (frontier_rl.NearestFrontier, "got the class NearestFrontier, not a policy object: pass an instance"),
+        (_Answers, "got the class _Answers, not a policy object: pass an instance, _Answers()"),
+        (3, "explore() got 3 (type int), not a policy"),
+        (type("Unnamed", (), {})(), "explore() got an object of type Unnamed, not a policy: it needs a 'name' string"),
+    ],
+)
+def test_what_is_not_a_policy_is_refused_before_the_episode(policy: object, needle: str) -> None:
+    with pytest.raises(ConfigError) as info:
+        frontier_rl.explore("office", policy)  # type: ignore[call-overload]
+    assert needle in str(info.value)
+
+
+def test_a_policy_object_that_returns_a_bad_ranking_is_one_line() -> None:
+    with pytest.raises(
+        PolicyError, match=r"^policy 'answers': rank\(\) returned \[2, 1\] \(type list\), not a Ranking$"
+    ):
+        frontier_rl.explore("office", _Answers([2, 1]), config=SHORT)
+
+
 def test_explore_runs_a_team_and_calls_the_decision_hook() -> None:
     team = frontier_rl.explore("office", "nearest", seed=1, config=SHORT, team=TeamConfig(robots=2))
     assert isinstance(team, TeamResult) and team.robots == 2
@@ -112,8 +167,10 @@ def test_evaluate_returns_the_typed_summary_it_wrote(tmp_path: Path) -> None:
         config=SHORT,
         backend="serial",
         pictures=0,
+        command="python my_study.py",
     )
     assert isinstance(summary, ExperimentSummary)
+    assert "python my_study.py" in (tmp_path / "run/report.md").read_text()
     assert (summary.baseline, summary.reference, summary.worlds, summary.episodes) == ("nearest", None, ("office",), 2)
     assert list(summary.methods) == ["nearest", "largest"] and summary.tested == ("largest",)
     largest = summary.methods["largest"]
@@ -130,6 +187,11 @@ def test_evaluate_returns_the_typed_summary_it_wrote(tmp_path: Path) -> None:
     [
         ({"methods": "nearest"}, "methods and worlds must be lists"),
         ({"outliers": [-1.0]}, "outliers must be positive"),
+        ({"outliers": "1000"}, "outliers must be a list of seconds, got '1000'"),
+        ({"outliers": [math.inf]}, "outliers must be positive numbers of seconds, got inf"),
+        ({"pictures": True}, "pictures must be a whole number"),
+        ({"methods": ["nearest", None]}, "methods and worlds must be lists of names"),
+        ({"worlds": [3]}, "methods and worlds must be lists of names"),
         ({"pictures": -1}, "pictures must be a whole number"),
         ({"methods": ["nearest", "bogus"]}, "unknown policy 'bogus'"),
     ],

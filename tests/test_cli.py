@@ -9,6 +9,8 @@ import pytest
 from typer.testing import CliRunner
 
 from frontier_rl.cli import app
+from frontier_rl.errors import ConfigError
+from frontier_rl.evaluation.experiment import ExperimentConfig
 from tests.evaluation.maps import write_slit_map
 
 runner = CliRunner()
@@ -167,7 +169,8 @@ def test_demo_runs_the_compact_experiment_and_draws_every_method(tmp_path: Path)
     assert result.exit_code == 0, result.output
     summary = json.loads((out / "experiment" / "summary.json").read_text())
     methods = set(summary["methods"])
-    assert {"fixed:0.75", "nearest", "oracle"} <= methods
+    assert {"fixed:0.75", "nearest", "oracle", "learned:models/model7.zip"} <= methods
+    assert "not found" not in result.stderr  # run in the checkout: every shipped model is there
     assert summary["worlds"] == ["office", "rooms", "cluttered"] and summary["episodes"] == 1
     assert "| fixed:0.75 (baseline) | 3 |" in (out / "experiment" / "report.md").read_text()
     assert "**Completion**" in (out / "experiment" / "report.md").read_text()
@@ -182,6 +185,27 @@ def test_demo_runs_the_compact_experiment_and_draws_every_method(tmp_path: Path)
     charts = len(list((out / "experiment").glob("*.png")))  # box plot, scatter, coverage (and weights)
     assert charts >= 3 and page.count("data:image/png;base64,") == charts + 3 * len(methods)
     assert page.count("data:image/gif;base64,") == 1
+
+
+def test_demo_outside_the_checkout_says_which_models_it_leaves_out(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    import frontier_rl.evaluation.evaluate as evaluation
+
+    ran: list[tuple[str, ...]] = []
+
+    def stop(experiment: ExperimentConfig, *args: object, **kwargs: object) -> Path:
+        ran.append(experiment.methods)
+        raise ConfigError("stopped before the episodes")
+
+    monkeypatch.setattr(evaluation, "evaluate", stop)
+    monkeypatch.chdir(tmp_path)
+    result = runner.invoke(app, ["demo", "--out", "demo", "--episodes", "1", "--no-progress"])
+    assert result.exit_code == 2
+    note, error = result.stderr.splitlines()
+    assert note.startswith("note: models/model4.zip, models/model5.zip, models/model7.zip not found in ")
+    assert "the demo runs without them" in note and error == "error: stopped before the episodes"
+    assert ran == [("fixed:0.75", "nearest", "tour", "oracle")]
 
 
 def test_explore_with_a_team_reports_every_robot(tmp_path: Path) -> None:

@@ -15,7 +15,7 @@ import pytest
 from PIL import Image
 from typer.testing import CliRunner
 
-import frontier_rl.cli.explore as cli
+import frontier_rl.api as api
 from frontier_rl.cli import MAX_SEED, app
 from frontier_rl.cli.output import one_line, print_error
 from frontier_rl.core.world.grid import CellState, OccupancyGrid
@@ -48,8 +48,8 @@ def no_episode(monkeypatch: pytest.MonkeyPatch) -> None:
     def refuse(*args: Any, **kwargs: Any) -> Any:
         raise AssertionError("an episode ran before the bad input was refused")
 
-    monkeypatch.setattr(cli, "run_episode", refuse)
-    monkeypatch.setattr(cli, "run_team_episode", refuse)
+    monkeypatch.setattr(api, "run_episode", refuse)  # the command runs its episode through the API
+    monkeypatch.setattr(api, "run_team_episode", refuse)
 
 
 def error_line(result: Any, needle: str) -> str:
@@ -331,7 +331,7 @@ def test_warnings_are_one_line_each_after_the_results(box: Path, monkeypatch: py
             warnings.warn("careful:\n[/x] twice", UserWarning, stacklevel=1)
         warnings.warn("second", RuntimeWarning, stacklevel=1)
 
-    monkeypatch.setattr(cli, "warm_up", noisy)
+    monkeypatch.setattr(api, "_warm_up", noisy)
     with warnings.catch_warnings():
         warnings.simplefilter("always")
         result = runner.invoke(app, ["explore", "--world", str(box), "--max-time", "2", "--json"])
@@ -347,7 +347,7 @@ def test_an_error_is_the_only_line_even_after_warnings(box: Path, monkeypatch: p
         warnings.warn("noise", UserWarning, stacklevel=1)
         raise MapError("broken [/x]")
 
-    monkeypatch.setattr(cli, "warm_up", noisy)
+    monkeypatch.setattr(api, "_warm_up", noisy)
     with warnings.catch_warnings():
         warnings.simplefilter("always")
         result = runner.invoke(app, ["explore", "--world", str(box)])

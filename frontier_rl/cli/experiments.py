@@ -4,20 +4,22 @@ built-in worlds), with the summary they print."""
 from __future__ import annotations
 
 import sys
+from collections.abc import Iterator
+from contextlib import contextmanager
 from pathlib import Path
-from typing import Annotated
+from typing import TYPE_CHECKING, Annotated
 
 import typer
 from rich.table import Table
 from rich.text import Text
 
+from frontier_rl import api
 from frontier_rl.cli.options import (
     ResolutionOption,
     SimConfigOption,
     TrustModelOption,
     checked_comm_range,
     checked_count,
-    checked_seed,
     output_folder,
     sim_config,
 )
@@ -33,8 +35,27 @@ from frontier_rl.cli.output import (
 from frontier_rl.config import dump_config
 from frontier_rl.core.frontiers.ranking import THESIS_BASELINE
 from frontier_rl.swarm import Failure, parse_strategy
+from frontier_rl.world_spec import checked_resolution, checked_seed
+
+if TYPE_CHECKING:
+    from frontier_rl.evaluation.summary import ExperimentSummary
 
 _INTERRUPTED = "interrupted: finished episodes are saved in {out}/; rerun the same command to resume"
+WorkersOption = Annotated[int | None, typer.Option(help="Episodes run at once (default: every core).")]
+MaxTimeOption = Annotated[float | None, typer.Option(help="Sim-time cap of every episode (s).")]
+ProgressOption = Annotated[bool, typer.Option(help="Show a progress bar.")]
+RobotsOption = Annotated[
+    str, typer.Option(help="Team sizes to run every method with, e.g. 1,2,4 (a method POLICY@N runs as given).")
+]
+StrategyOption = Annotated[
+    str, typer.Option(help="Team strategies for sizes above 1: uncoordinated, coordinated, rendezvous (a list).")
+]
+CommRangeOption = Annotated[
+    float | None, typer.Option(help="Teams' communication range (m); default unlimited, rendezvous 2 m.")
+]
+FailOption = Annotated[
+    list[str] | None, typer.Option(help="ROBOT@SECONDS: a failure in every team episode (repeatable).")
+]
 DEMO_WORLDS = ("office", "rooms", "cluttered")
 SHIPPED_MODELS = (Path("models/model4.zip"), Path("models/model5.zip"), Path("models/model7.zip"))
 """Trained models in the repository; the demo runs them too when run from the checkout."""
@@ -45,9 +66,9 @@ def demo(
     out: Annotated[Path, typer.Option(help="Folder for the report and pictures (rewritten).")] = Path("demo_output"),
     seed: Annotated[int, typer.Option(help="Seed of the first episode.")] = 0,
     episodes: Annotated[int, typer.Option(help="Episodes per world.")] = 10,
-    workers: Annotated[int | None, typer.Option(help="Episodes run at once (default: every core).")] = None,
-    max_time: Annotated[float | None, typer.Option(help="Sim-time cap of every episode (s).")] = None,
-    progress: Annotated[bool, typer.Option(help="Show a progress bar.")] = True,
+    workers: WorkersOption = None,
+    max_time: MaxTimeOption = None,
+    progress: ProgressOption = True,
 ) -> None:
     """The compact experiment: the shipped models against fixed:0.75, nearest, tour and the oracle
     on the built-in worlds, with a report in OUT/experiment, and a picture of each method's first
@@ -57,34 +78,56 @@ def demo(
     from frontier_rl.evaluation.evaluate import DEFAULT_OUTLIERS_S
     from frontier_rl.evaluation.evaluate import evaluate as run_evaluation
     from frontier_rl.evaluation.experiment import ORACLE, ExperimentConfig
+    from frontier_rl.evaluation.summary import ExperimentSummary
 
-    checked_seed(seed)
+    checked_seed(seed, "--seed")
     output_folder(out)
-    learned = (f"learned:{path}" for path in SHIPPED_MODELS if path.exists())
+    learned = [f"learned:{path}" for path in SHIPPED_MODELS if path.is_file()]
     methods = (THESIS_BASELINE, "nearest", "tour", *learned, ORACLE)
     sim = sim_config(None, max_time)
     experiment = ExperimentConfig(methods=methods, worlds=DEMO_WORLDS, episodes=episodes, seed=seed, sim=sim)
+    _note_missing_models()
     out.mkdir(parents=True, exist_ok=True)
     results = out / "experiment"
     if results.exists():  # the demo starts afresh: a retrained model must not meet its old rows
         shutil.rmtree(results)
     dump_config(experiment.sim, out / "config.yaml")
     command = _command_line("demo")
-    report = run_evaluation(experiment, results, "process", workers, None, DEFAULT_OUTLIERS_S, progress, command,
-                            pictures=len(DEMO_WORLDS), animate=("office", THESIS_BASELINE))  # fmt: skip
-    _print_summary(report, f"{episodes} episode(s) per world on {', '.join(DEMO_WORLDS)}", experiment.baseline)
+    report = run_evaluation(
+        experiment,
+        results,
+        "process",
+        workers,
+        None,
+        DEFAULT_OUTLIERS_S,
+        progress,
+        command,
+        pictures=len(DEMO_WORLDS),
+        animate=("office", THESIS_BASELINE),
+    )
+    title = f"{episodes} episode(s) per world on {', '.join(DEMO_WORLDS)}"
+    _print_summary(ExperimentSummary.load(report.parent), title, experiment.baseline)
     stdout_console().print(
         f"report: {report.with_suffix('.html')} (and .md); pictures of seed {seed} in {results}/pictures/"
     )
 
 
-def _print_summary(report: Path, title: str, baseline: str) -> None:
-    """The main numbers of the experiment's summary (beside ``report``) as a table on the terminal."""
+def _note_missing_models() -> None:
+    """A line on standard error naming the shipped models the working folder lacks (outside a
+    checkout of the repository, all of them), which the demo leaves out."""
+    missing = [str(path) for path in SHIPPED_MODELS if not path.is_file()]
+    if missing:
+        note = f"note: {', '.join(missing)} not found in {Path.cwd()}: the demo runs without "
+        note += "them (run it in a checkout of the repository to include the shipped models)"
+        err_console.print(Text(one_line(note)))
+
+
+def _print_summary(summary: ExperimentSummary, title: str, baseline: str) -> None:
+    """The main numbers of the experiment's summary as a table on the terminal."""
     from frontier_rl.evaluation.conclusion import unfinished
-    from frontier_rl.evaluation.summary import ExperimentSummary
     from frontier_rl.evaluation.tables import short_labels
 
-    methods = ExperimentSummary.load(report.parent).methods
+    methods = summary.methods
     labels = short_labels(methods)
     ends = unfinished({name: e.end_reasons or {} for name, e in methods.items()}, labels)
     table = Table(title=title, caption="not explored: " + "; ".join(ends) if ends else None, caption_justify="left")
@@ -113,64 +156,66 @@ def evaluate(
     seed: Annotated[int, typer.Option(help="Seed of the first episode.")] = 0,
     baseline: Annotated[str, typer.Option(help="The method every other is compared with.")] = THESIS_BASELINE,
     oracle: Annotated[bool, typer.Option(help="Also run the full-knowledge oracle tour (reference).")] = True,
-    workers: Annotated[int | None, typer.Option(help="Episodes run at once (default: every core).")] = None,
+    workers: WorkersOption = None,
     backend: Annotated[str, typer.Option(help="serial, process or ray.")] = "process",
     ray_address: Annotated[str | None, typer.Option(help="Ray head host:port (default: a local Ray).")] = None,
     outliers: Annotated[str, typer.Option(help="Also compare without episodes above these times (s).")] = "1000,2000",
     config: SimConfigOption = None,
-    max_time: Annotated[float | None, typer.Option(help="Sim-time cap of every episode (s).")] = None,
+    max_time: MaxTimeOption = None,
     resolution: ResolutionOption = None,
     trust_model: TrustModelOption = False,
-    progress: Annotated[bool, typer.Option(help="Show a progress bar.")] = True,
-    robots: Annotated[
-        str, typer.Option(help="Team sizes to run every method with, e.g. 1,2,4 (a method POLICY@N runs as given).")
-    ] = "1",
-    strategy: Annotated[
-        str, typer.Option(help="Team strategies for sizes above 1: uncoordinated, coordinated, rendezvous (a list).")
-    ] = "uncoordinated",
-    comm_range: Annotated[
-        float | None, typer.Option(help="Teams' communication range (m); default unlimited, rendezvous 2 m.")
-    ] = None,
-    fail: Annotated[
-        list[str] | None, typer.Option(help="ROBOT@SECONDS: a failure in every team episode (repeatable).")
-    ] = None,
+    progress: ProgressOption = True,
+    robots: RobotsOption = "1",
+    strategy: StrategyOption = "uncoordinated",
+    comm_range: CommRangeOption = None,
+    fail: FailOption = None,
     pictures: Annotated[int, typer.Option(help="Draw each method's first episode on this many worlds.")] = 3,
 ) -> None:
     """The paired experiment: every method on the same worlds, starts and noise; statistics against the
     baseline, plots, and a Markdown and HTML report in --out. With --robots, teams of each size run each
     method, and the report adds exploration time against team size, overlap and per-robot coverage."""
-    from frontier_rl.evaluation.evaluate import evaluate as run_evaluation
     from frontier_rl.evaluation.evaluate import parse_thresholds
-    from frontier_rl.evaluation.experiment import ExperimentConfig, expand_worlds
-    from frontier_rl.world_spec import checked_resolution
+    from frontier_rl.evaluation.experiment import team_methods
 
-    checked_seed(seed)
+    checked_seed(seed, "--seed")
     output_folder(out)
-    experiment = ExperimentConfig(
-        methods=_method_list(methods, robots, strategy, baseline, oracle), worlds=expand_worlds(worlds),
-        episodes=episodes, seed=seed, baseline=baseline, sim=sim_config(config, max_time),
-        resolution=checked_resolution(resolution), trust_model=trust_model, comm_range=checked_comm_range(comm_range),
-        failures=tuple(Failure.parse(text) for text in fail or []),
-    )  # fmt: skip
-    command = _command_line("evaluate")
-    try:
-        report = run_evaluation(experiment, out, backend, workers, ray_address, parse_thresholds(outliers), progress,
-                                command, pictures=checked_count("--pictures", pictures))  # fmt: skip
-    except KeyboardInterrupt:
-        err_console.print(Text(one_line(_INTERRUPTED.format(out=out))))
-        raise typer.Exit(130) from None
-    _print_summary(report, f"{episodes} episode(s) per world on {', '.join(experiment.worlds)}", baseline)
+    strategies = [parse_strategy(s) for s in comma_list(strategy)]
+    names = team_methods(policy_list(methods), int_list("--robots", robots), strategies)
+    with _resumable(out):
+        summary = api.evaluate(
+            names,
+            [worlds],  # a comma list, as --worlds takes
+            episodes,
+            out=out,
+            baseline=baseline,
+            oracle=oracle,
+            seed=seed,
+            workers=workers,
+            backend=backend,
+            ray_address=ray_address,
+            config=sim_config(config, max_time),
+            resolution=checked_resolution(resolution),
+            trust_model=trust_model,
+            comm_range=checked_comm_range(comm_range),
+            failures=tuple(Failure.parse(text) for text in fail or []),
+            outliers=parse_thresholds(outliers),
+            pictures=checked_count("--pictures", pictures),
+            progress=progress,
+            command=_command_line("evaluate"),
+        )
+    _print_summary(summary, f"{episodes} episode(s) per world on {', '.join(summary.worlds)}", baseline)
+    report = out / "report.md"
     stdout_console().print(f"report: {report} and {report.with_suffix('.html')}")
 
 
-def _method_list(methods: str, robots: str, strategy: str, baseline: str, oracle: bool) -> tuple[str, ...]:
-    """``--methods`` with the baseline first, each run by every team size of ``--robots`` and strategy of
-    ``--strategy``, and the oracle last when ``--oracle``."""
-    from frontier_rl.evaluation.experiment import ORACLE, team_methods
-
-    strategies = [parse_strategy(s) for s in comma_list(strategy)]
-    names = team_methods(policy_list(methods), int_list("--robots", robots), strategies)
-    return tuple(dict.fromkeys([baseline, *names, *([ORACLE] if oracle else [])]))
+@contextmanager
+def _resumable(out: Path) -> Iterator[None]:
+    """Ctrl-C in the block ends the command (exit code 130) with a line saying how to resume it."""
+    try:
+        yield
+    except KeyboardInterrupt:
+        err_console.print(Text(one_line(_INTERRUPTED.format(out=out))))
+        raise typer.Exit(130) from None
 
 
 def _command_line(command: str) -> str:

@@ -9,6 +9,7 @@ from typing import Annotated
 import typer
 from rich.table import Table
 
+from frontier_rl import api
 from frontier_rl.cli.options import (
     MAX_SEED,
     POLICY_HELP,
@@ -17,19 +18,21 @@ from frontier_rl.cli.options import (
     SimConfigOption,
     TrustModelOption,
     checked_comm_range,
-    checked_seed,
     sim_config,
 )
 from frontier_rl.cli.output import friendly_errors, stdout_console
 from frontier_rl.core.frontiers.ranking import THESIS_BASELINE
-from frontier_rl.core.sim.episode import run_episode, warm_up
+from frontier_rl.core.sim.config import SimConfig
+from frontier_rl.core.sim.episode import ExplorationPolicy
 from frontier_rl.core.sim.metrics import EpisodeResult
+from frontier_rl.core.world.worlds import World
 from frontier_rl.errors import ConfigError
-from frontier_rl.policies import make_policy
+from frontier_rl.policies import PolicySpec, make_policy
+from frontier_rl.policies.user_failures import user_code_failure
 from frontier_rl.recording import EpisodeRecorder, save_team_png
 from frontier_rl.render import check_output_file
-from frontier_rl.swarm import Failure, TeamConfig, parse_strategy, run_team_episode
-from frontier_rl.world_spec import checked_resolution, parse_pose, resolve_world
+from frontier_rl.swarm import Failure, TeamConfig, parse_strategy
+from frontier_rl.world_spec import checked_resolution, checked_seed, parse_pose
 
 
 @friendly_errors
@@ -63,7 +66,7 @@ def explore(
     """Explore one world with one policy (or a team of robots) and report time, distance and coverage."""
     # Every option is checked before the episode runs (outputs included); the metrics are printed
     # before the pictures are written, so a picture that cannot be written loses no result.
-    checked_seed(seed)
+    checked_seed(seed, "--seed")
     settings = sim_config(config, max_time)
     team = _team_config(robots, strategy, comm_range, fail or [])
     if gif is not None and team is not None:
@@ -75,14 +78,9 @@ def explore(
     resolution = checked_resolution(resolution)
     pose = parse_pose(start) if start is not None else None
     chosen = make_policy(policy, trust_model=trust_model)
-    the_world = resolve_world(world, seed, pose, resolution)
-    warm_up()
-    recorder = None
-    if team is not None:
-        result: EpisodeResult = run_team_episode(the_world, chosen, settings, team, seed)
-    else:
-        recorder = EpisodeRecorder(the_world, frames=gif is not None) if (png or gif) else None
-        result = run_episode(the_world, chosen, settings, seed, on_decision=recorder)
+    the_world = api.load_world(world, seed, start=pose, resolution=resolution)
+    recorder = EpisodeRecorder(the_world, frames=gif is not None) if team is None and (png or gif) else None
+    result = _episode(the_world, PolicySpec.parse(policy), chosen, seed, settings, team, recorder)
     _print_episode(the_world.name, seed, chosen.name, result, as_json)
     title = f"{the_world.name} / {chosen.name}"
     if team is not None and png is not None:
@@ -91,6 +89,29 @@ def explore(
         recorder.save_png(png, result, title)
     if recorder is not None and gif is not None:
         recorder.save_gif(gif, result, title)
+
+
+def _episode(
+    world: World,
+    spec: PolicySpec,
+    policy: ExplorationPolicy,
+    seed: int,
+    settings: SimConfig,
+    team: TeamConfig | None,
+    recorder: EpisodeRecorder | None,
+) -> EpisodeResult:
+    """The episode of ``policy`` (named ``spec``) on ``world`` (:func:`frontier_rl.api.explore`); an
+    exception the user's own policy code raises becomes one line naming the spec, the exception
+    and the user's file and line."""
+    try:
+        if team is not None:
+            return api.explore(world, policy, seed=seed, config=settings, team=team)
+        return api.explore(world, policy, seed=seed, config=settings, on_decision=recorder)
+    except Exception as exc:
+        failure = user_code_failure(spec, policy, exc)
+        if failure is None:
+            raise
+        raise failure from None
 
 
 def _print_episode(world: str, seed: int, policy: str, result: EpisodeResult, as_json: bool) -> None:

@@ -17,9 +17,8 @@ from frontier_rl.core.world.catalog import WORLD_GENERATORS
 from frontier_rl.core.world.worlds import resolution_bounds
 from frontier_rl.errors import ConfigError, short_path, short_repr
 from frontier_rl.policies import ENTRY_POINT_GROUP, POLICY_NAMES
+from frontier_rl.world_spec import MAX_SEED as MAX_SEED  # the largest --seed, named in the commands' help
 
-#: Largest seed a command accepts (0 to 2**32 - 1: NumPy's legacy seeding, which SB3 uses, takes no more).
-MAX_SEED = 2**32 - 1
 WORLD_HELP = f"{' | '.join(WORLD_GENERATORS)} | a map file (ROS .yaml, Dungeon .png, HouseExpo .json) | a catalogue map"
 POLICY_HELP = (
     f"One of: {', '.join(POLICY_NAMES)} (W in [0, 1], N stops 1 to {MAX_STOPS}); or your own: FILE.py:CLASS, "
@@ -45,13 +44,6 @@ SimConfigOption = Annotated[Path | None, typer.Option(help="SimConfig YAML (any 
 def fail(message: str) -> NoReturn:
     """Stop the command with a one-line error."""
     raise ConfigError(message)
-
-
-def checked_seed(value: int, option: str = "--seed") -> int:
-    """A seed option, checked: a whole number from 0 to :data:`MAX_SEED`."""
-    if not 0 <= value <= MAX_SEED:
-        fail(f"{option} must be a whole number from 0 to {MAX_SEED}, got {short_repr(value)}")
-    return value
 
 
 def checked_count(option: str, value: int) -> int:

@@ -8,8 +8,10 @@ from typing import Annotated
 import typer
 from rich.text import Text
 
-from frontier_rl.cli.options import ResolutionOption, SimConfigOption, checked_seed, output_folder, sim_config
+from frontier_rl.api import train as run_training
+from frontier_rl.cli.options import ResolutionOption, SimConfigOption, output_folder, sim_config
 from frontier_rl.cli.output import err_console, friendly_errors, one_line, stdout_console
+from frontier_rl.world_spec import checked_resolution, checked_seed
 
 
 @friendly_errors
@@ -42,12 +44,10 @@ def train(
     progress: Annotated[bool, typer.Option(help="Show a progress bar.")] = True,
 ) -> None:
     """Train a model (1-4 the thesis's, 5-7 ours) with Stable-Baselines3 (A2C as in the thesis, or PPO)."""
-    checked_seed(seed)
+    checked_seed(seed, "--seed")
     output_folder(out)
     from frontier_rl.rl.config import TrainConfig
     from frontier_rl.rl.train import interruption_note
-    from frontier_rl.rl.train import train as run_training
-    from frontier_rl.world_spec import checked_resolution
 
     settings = TrainConfig(
         model=model, worlds=worlds, timesteps=timesteps, n_envs=n_envs, algo=algo,

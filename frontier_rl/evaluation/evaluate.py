@@ -2,7 +2,8 @@
 
 from __future__ import annotations
 
-from collections.abc import Iterator
+import math
+from collections.abc import Iterator, Sequence
 from contextlib import contextmanager
 from pathlib import Path
 from typing import Any
@@ -11,7 +12,7 @@ from rich.console import Console
 from rich.progress import BarColumn, MofNCompleteColumn, Progress, TextColumn, TimeElapsedColumn, TimeRemainingColumn
 
 from frontier_rl.atomic_write import OutputWriteError
-from frontier_rl.errors import ConfigError
+from frontier_rl.errors import ConfigError, short_repr
 from frontier_rl.evaluation.backends import EpisodeFailedError, check_backend, default_workers, run_jobs
 from frontier_rl.evaluation.experiment import ExperimentConfig, check_methods, identity
 from frontier_rl.evaluation.report import write_report
@@ -33,13 +34,24 @@ def parse_thresholds(text: str) -> tuple[float, ...]:
         if not part:
             continue
         try:
-            value = float(part)
+            values.append(float(part))
         except ValueError:
             raise ConfigError(f"outlier thresholds must be seconds like '1000,2000', got {text!r}") from None
-        if not value > 0 or value == float("inf"):
-            raise ConfigError(f"outlier thresholds must be positive seconds, got {part!r}")
-        values.append(value)
-    return tuple(values)
+    return checked_thresholds(values, "outlier thresholds")
+
+
+def checked_thresholds(values: object, what: str = "outliers") -> tuple[float, ...]:
+    """Outlier thresholds (s), checked: a list of positive, finite numbers.
+
+    Raises:
+        ConfigError: anything else, named with ``what``.
+    """
+    if isinstance(values, str) or not isinstance(values, Sequence):
+        raise ConfigError(f"{what} must be a list of seconds, got {short_repr(values)}")
+    for value in values:
+        if isinstance(value, bool) or not isinstance(value, int | float) or not 0 < value < math.inf:
+            raise ConfigError(f"{what} must be positive numbers of seconds, got {short_repr(value)}")
+    return tuple(float(value) for value in values)
 
 
 def evaluate(

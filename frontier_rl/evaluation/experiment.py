@@ -9,6 +9,7 @@ backend (a loop, a process pool, Ray tasks) runs the same episode and returns th
 from __future__ import annotations
 
 import hashlib
+from collections.abc import Sequence
 from dataclasses import dataclass, field
 from functools import lru_cache
 from pathlib import Path
@@ -322,6 +323,12 @@ def _thin_curve(times: np.ndarray, curve: np.ndarray, end: float) -> tuple[list[
     grid = np.linspace(0.0, max(end, float(times[-1])), _TRACE_POINTS)
     values = sample_step(times, curve, grid)
     return [round(float(t), 2) for t in grid], [round(float(v), 5) for v in values]
+
+
+def method_list(methods: Sequence[str], baseline: str, oracle: bool) -> tuple[str, ...]:
+    """The methods of an experiment, each once: ``baseline`` first, then ``methods``, and the
+    :data:`ORACLE` last when ``oracle``."""
+    return tuple(dict.fromkeys([baseline, *methods, *([ORACLE] if oracle else [])]))
 
 
 def team_methods(methods: list[str], robots: list[int], strategies: list[Strategy]) -> list[str]:

@@ -70,15 +70,33 @@ def build_user_policy(spec: PolicySpec) -> ExplorationPolicy:
     try:
         policy = factory()
     except Exception as exc:  # the user's code may raise anything: one line, never a traceback
-        raise ConfigError(f"{label}: calling {shown}() with no arguments raised {_exception_line(exc)}") from None
-    name = getattr(policy, "name", None)
+        raise ConfigError(f"{label}: calling {shown}() with no arguments raised {exception_line(exc)}") from None
+    return checked_policy(policy, f"{label}: {shown}() gave")
+
+
+def checked_policy(value: object, given: str = "got") -> ExplorationPolicy:
+    """``value`` if it is a policy object: a ``name`` that is a non-blank string and a ``rank`` method.
+
+    Args:
+        value: the object to check.
+        given: how the message starts, saying where ``value`` came from (``policy 'my.py:Greedy':
+            Greedy() gave``); it goes on with what ``value`` is and what it lacks.
+
+    Raises:
+        ConfigError: ``value`` is not a policy (a class where an instance is needed, no name, no
+            rank method), in one line.
+    """
+    if inspect.isclass(value):
+        raise ConfigError(f"{given} {_kind(value)}, not a policy object: pass an instance, {value.__qualname__}()")
+    try:
+        name = getattr(value, "name", None)
+    except Exception as exc:  # a property of the user's that raises
+        raise ConfigError(f"{given} {_kind(value)}, whose name raised {exception_line(exc)}") from None
     if not isinstance(name, str) or not name.strip():
-        raise ConfigError(f"{label}: {shown}() gave {_kind(policy)}, not a policy: it needs a 'name' string")
-    if not callable(getattr(policy, "rank", None)):
-        raise ConfigError(
-            f"{label}: {shown}() gave {_kind(policy)}, not a policy: it needs a rank(context, rng) method"
-        )
-    return cast(ExplorationPolicy, policy)
+        raise ConfigError(f"{given} {_kind(value)}, not a policy: it needs a 'name' string")
+    if not callable(getattr(value, "rank", None)):
+        raise ConfigError(f"{given} {_kind(value)}, not a policy: it needs a rank(context, rng) method")
+    return cast(ExplorationPolicy, value)
 
 
 def load_factory(spec: PolicySpec) -> PolicyFactory:
@@ -130,7 +148,11 @@ def installed_policies() -> tuple[str, ...]:
 def user_policy_fingerprint(spec: PolicySpec) -> str:
     """What a user policy's results depend on besides its spec: a hash of the file's content for a
     file, of the module's source file for a module (when it is one), the distribution's name and
-    version for an entry point ("" where none is known)."""
+    version for an entry point ("" where none is known).
+
+    A resumed experiment sees only these change: a ``MODULE:CLASS``'s hash covers the named module's
+    file alone, not the modules it imports, and an entry point's version stays the same while the
+    code of an editable install changes. Use a new results folder after changing such code."""
     if spec.kind is PolicyKind.FILE:
         return f"sha256:{_sha256(_policy_file(spec))}"
     if spec.kind is PolicyKind.MODULE:
@@ -174,7 +196,7 @@ def _load_file(path: str, size: int, mtime_ns: int, shown: str) -> ModuleType:
         raise ConfigError(f"policy file {short_path(shown)}: {_syntax_line(exc)}") from None
     except Exception as exc:
         del sys.modules[name]
-        raise ConfigError(f"policy file {short_path(shown)} raised on import: {_exception_line(exc)}") from None
+        raise ConfigError(f"policy file {short_path(shown)} raised on import: {exception_line(exc)}") from None
     return module
 
 
@@ -188,11 +210,11 @@ def _import_module(spec: PolicySpec) -> ModuleType:
                 f"policy {short_repr(str(spec))}: no module named {missing!r} on the Python path (add its folder "
                 "to PYTHONPATH)"
             ) from None
-        raise ConfigError(f"module {spec.name!r} raised on import: {_exception_line(exc)}") from None
+        raise ConfigError(f"module {spec.name!r} raised on import: {exception_line(exc)}") from None
     except SyntaxError as exc:
         raise ConfigError(f"module {spec.name!r}: {_syntax_line(exc)}") from None
     except Exception as exc:
-        raise ConfigError(f"module {spec.name!r} raised on import: {_exception_line(exc)}") from None
+        raise ConfigError(f"module {spec.name!r} raised on import: {exception_line(exc)}") from None
 
 
 def _entry_point(spec: PolicySpec) -> EntryPoint:
@@ -211,7 +233,7 @@ def _entry_point_factory(spec: PolicySpec) -> PolicyFactory:
         raise
     except Exception as exc:
         raise ConfigError(
-            f"installed policy {spec.name!r} ({point.value}) raised on load: {_exception_line(exc)}"
+            f"installed policy {spec.name!r} ({point.value}) raised on load: {exception_line(exc)}"
         ) from None
     if not callable(loaded):
         raise ConfigError(f"installed policy {spec.name!r} ({point.value}) is {_kind(loaded)}, not a class")
@@ -242,10 +264,17 @@ def _syntax_line(exc: SyntaxError) -> str:
     return f"syntax error at {where}: {exc.msg}"
 
 
-def _exception_line(exc: BaseException) -> str:
+def exception_line(exc: BaseException) -> str:
+    """An exception for a message: its type and message, on one line, cut short."""
     return short_text(f"{type(exc).__name__}: {exc}")
 
 
 def _kind(value: object) -> str:
-    """A value for a message: its repr, cut short, and its type."""
-    return f"{short_repr(value, 40)} (type {type(value).__name__})"
+    """A value for a message: a class by its name, an object of the user's by its type (its repr would
+    name the module a policy file is loaded as), a built-in value by its repr, cut short, and its type."""
+    if inspect.isclass(value):
+        return f"the class {value.__qualname__}"
+    kind = type(value)
+    if kind.__module__ != "builtins":
+        return f"an object of type {kind.__qualname__}"
+    return f"{short_repr(value, 40)} (type {kind.__name__})"

@@ -8,7 +8,6 @@ import json
 import os
 import subprocess
 import sys
-import textwrap
 from pathlib import Path
 
 import pytest
@@ -21,7 +20,6 @@ from frontier_rl.errors import ConfigError, FrontierRLError, UnknownNameError
 from frontier_rl.evaluation.experiment import episode_policy, method_fingerprint
 from frontier_rl.evaluation.method_notes import describe_method
 from frontier_rl.policies import (
-    ENTRY_POINT_GROUP,
     NearestFrontier,
     PolicyKind,
     PolicySpec,
@@ -29,40 +27,9 @@ from frontier_rl.policies import (
     make_policy,
 )
 from frontier_rl.swarm.config import TeamMethod
+from tests.policies.user_code import GREEDY, fake_distribution
 
 runner = CliRunner()
-
-GREEDY = '''
-"""A module of the user's."""
-import numpy as np
-from frontier_rl import DecisionContext, Ranking
-
-
-class Greedy:
-    """The largest frontier per metre to drive.
-
-    More text that the report leaves out.
-    """
-
-    name = "greedy"
-
-    def rank(self, context: DecisionContext, rng: np.random.Generator) -> Ranking:
-        frontiers = context.frontiers
-        return Ranking(np.argsort(-frontiers.sizes / (1.0 + frontiers.distances), kind="stable"))
-
-
-class Counting:
-    """Counts its decisions (state that must not carry over between episodes)."""
-
-    name = "counting"
-
-    def __init__(self) -> None:
-        self.decisions = 0
-
-    def rank(self, context: DecisionContext, rng: np.random.Generator) -> Ranking:
-        self.decisions += 1
-        return Ranking(np.argsort(context.frontiers.distances, kind="stable"))
-'''
 
 
 @pytest.fixture
@@ -159,22 +126,10 @@ def test_module_class_works_with_pythonpath(policy_dir: Path, tmp_path: Path) ->
     assert json.loads(run.stdout)["policy"] == "greedy"
 
 
-def _fake_distribution(root: Path, entry_points: str, module: str = GREEDY) -> Path:
-    """An installed distribution ``fake-policies`` 1.2 in ``root`` (a folder for sys.path), whose
-    ``entry_points.txt`` has ``entry_points`` under the frontier_rl.policies group."""
-    root.mkdir(exist_ok=True)
-    (root / "fake_policies.py").write_text(module)
-    info = root / "fake_policies-1.2.dist-info"
-    info.mkdir()
-    (info / "METADATA").write_text("Metadata-Version: 2.1\nName: fake-policies\nVersion: 1.2\n")
-    (info / "entry_points.txt").write_text(f"[{ENTRY_POINT_GROUP}]\n{textwrap.dedent(entry_points)}")
-    return root
-
-
 def test_an_installed_package_registers_policies_by_entry_point(
     tmp_path: Path, monkeypatch: pytest.MonkeyPatch
 ) -> None:
-    root = _fake_distribution(tmp_path / "site", "fake-greedy = fake_policies:Greedy\nnearest = fake_policies:Greedy\n")
+    root = fake_distribution(tmp_path / "site", "fake-greedy = fake_policies:Greedy\nnearest = fake_policies:Greedy\n")
     monkeypatch.syspath_prepend(str(root))
     assert installed_policies() == ("fake-greedy",)  # a built-in name is never taken from a package
     assert make_policy("fake-greedy").name == "greedy"
@@ -186,7 +141,7 @@ def test_an_installed_package_registers_policies_by_entry_point(
 
 
 def test_explore_runs_an_installed_policy(tmp_path: Path) -> None:
-    root = _fake_distribution(tmp_path / "site", "fake-greedy = fake_policies:Greedy\n")
+    root = fake_distribution(tmp_path / "site", "fake-greedy = fake_policies:Greedy\n")
     run = _frontier_rl(["explore", "--policy", "fake-greedy", "--max-time", "60", "--json"], tmp_path, root)
     assert run.returncode == 0, run.stderr
     assert json.loads(run.stdout)["policy"] == "greedy"
@@ -260,7 +215,7 @@ def test_every_bad_user_policy_is_one_line_with_exit_code_2(
 
 
 def test_an_entry_point_that_fails_to_load_is_one_line(tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> None:
-    root = _fake_distribution(tmp_path / "site", "broken = fake_policies:Missing\n", module="X = 1\n")
+    root = fake_distribution(tmp_path / "site", "broken = fake_policies:Missing\n", module="X = 1\n")
     monkeypatch.syspath_prepend(str(root))
     with pytest.raises(ConfigError, match=r"installed policy 'broken' \(fake_policies:Missing\) raised on load"):
         make_policy("broken")
