@@ -16,18 +16,9 @@ from frontier_rl.cli import app
 from frontier_rl.errors import ConfigError
 from frontier_rl.policies import NearestFrontier
 from frontier_rl.policies.user_policies import checked_policy
-from tests.policies.user_code import GREEDY, fake_distribution
+from tests.policies.user_code import fake_distribution
 
 runner = CliRunner()
-
-
-@pytest.fixture
-def policy_dir(tmp_path: Path) -> Path:
-    """A folder outside the repository with the user's policy file ``greedy.py``."""
-    folder = tmp_path / "user code"  # a blank in the path, as users' folders have
-    folder.mkdir()
-    (folder / "greedy.py").write_text(GREEDY)
-    return folder
 
 
 FAILING = """
