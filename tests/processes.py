@@ -3,8 +3,16 @@ whether they have exited."""
 
 from __future__ import annotations
 
+import signal
 import time
 from pathlib import Path
+
+
+def sigint_as_in_a_terminal() -> None:
+    """A ``preexec_fn`` for a process a test sends Ctrl-C to: SIGINT's default action, as a terminal's
+    command has it, whatever the test process inherited (a background job, ``nohup make test &``,
+    ignores SIGINT, and its children would too)."""
+    signal.signal(signal.SIGINT, signal.SIG_DFL)
 
 
 def children(pid: int) -> list[int]:

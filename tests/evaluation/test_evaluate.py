@@ -31,7 +31,7 @@ from frontier_rl.evaluation.experiment import (
 )
 from frontier_rl.evaluation.results import ResultStore
 from frontier_rl.evaluation.tables import short_labels
-from tests.processes import children, gone, left_in_group, loads_numpy, workers_started
+from tests.processes import children, gone, left_in_group, loads_numpy, sigint_as_in_a_terminal, workers_started
 
 SHORT = SimConfig(max_sim_time=80.0)  # episodes cut at 80 s of sim time: a fraction of a second each
 runner = CliRunner()
@@ -227,7 +227,7 @@ def test_ctrl_c_ends_the_run_with_one_line_and_every_worker(uninterrupted: Path,
     command = [sys.executable, "-c", "import sys; from frontier_rl.launch import main; sys.exit(main())",
                *_cli(out, "--backend", "process", "--workers", "2")[3:]]  # fmt: skip
     process = subprocess.Popen(command, stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, text=True,
-                               start_new_session=True)  # fmt: skip
+                               start_new_session=True, preexec_fn=sigint_as_in_a_terminal)  # fmt: skip
     csv_path = out / "episodes.csv"
     deadline = time.monotonic() + 120
     while moment == "loading" and time.monotonic() < deadline and not loads_numpy(process.pid):

@@ -162,10 +162,14 @@ def test_spawning_from_another_thread_keeps_ctrl_c_from_the_workers() -> None:
 
 def test_held_interrupts_are_raised_when_the_block_ends() -> None:
     reached_end_of_block = False
-    with pytest.raises(KeyboardInterrupt), interrupts_held():
-        os.kill(os.getpid(), signal.SIGINT)
-        time.sleep(0.05)
-        reached_end_of_block = True
+    previous = signal.signal(signal.SIGINT, signal.default_int_handler)  # as in a terminal, however pytest started
+    try:
+        with pytest.raises(KeyboardInterrupt), interrupts_held():
+            os.kill(os.getpid(), signal.SIGINT)
+            time.sleep(0.05)
+            reached_end_of_block = True
+    finally:
+        signal.signal(signal.SIGINT, previous)
     assert reached_end_of_block
 
 

@@ -21,7 +21,7 @@ import numpy as np
 import pytest
 
 from frontier_rl.core.world.robot import Pose
-from tests.processes import left_in_group, loads_numpy, spawned_workers
+from tests.processes import left_in_group, loads_numpy, sigint_as_in_a_terminal, spawned_workers
 from tests.ros.test_node import _free_port, _ros_available, _scene
 
 pytestmark = pytest.mark.slow
@@ -253,7 +253,8 @@ def test_ctrl_c_stops_the_node_at_once_without_a_traceback(
     core = _start_core(port, env)
     script = REPO / "ros" / "frontier_rl_ros" / "scripts" / "frontier_node"
     node = subprocess.Popen([str(script), "_robots:=tb3_0,b,c"], env=env, cwd=REPO, stdout=subprocess.PIPE,
-                            stderr=subprocess.STDOUT, text=True, start_new_session=True)  # fmt: skip
+                            stderr=subprocess.STDOUT, text=True, start_new_session=True,
+                            preexec_fn=sigint_as_in_a_terminal)  # fmt: skip
     try:
         if moment == "answering":
             scene, _ = _scene(real_maps, tmp_path)
@@ -283,7 +284,7 @@ def test_a_restarted_master_gets_the_node_back_by_respawn(
     scene, _ = _scene(real_maps, tmp_path)
     launch = subprocess.Popen(["roslaunch", "frontier_rl_ros", "frontier.launch", "robots:=tb3_0"], env=env,
                               stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True,
-                              start_new_session=True)  # fmt: skip
+                              start_new_session=True, preexec_fn=sigint_as_in_a_terminal)  # fmt: skip
     try:
         assert _client(env, "first_answer", str(scene), str(time.time()))["frontiers"] >= 2
         _kill(core)
