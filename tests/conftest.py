@@ -20,27 +20,11 @@ if "PYTEST_XDIST_WORKER" in os.environ:
     os.environ.setdefault("OMP_NUM_THREADS", "1")
 
 
-#: Whole experiments, training runs, the ROS node against a roscore, real maps, subprocesses: the
-#: tests ``make test-fast`` (``pytest -m "not slow"``) leaves out.
-_SLOW_MODULES = frozenset(
-    {
-        "test_evaluate.py",
-        "test_training.py",
-        "test_imitation.py",
-        "test_node.py",
-        "test_teams.py",
-        "test_experiments.py",
-        "test_benchmarks.py",
-        "test_model_file_security.py",
-        "test_results_integrity.py",
-    }
-)
-
-
 def pytest_collection_modifyitems(items: list[pytest.Item]) -> None:
-    """Mark every test of :data:`_SLOW_MODULES` and every test that reads the real maps ``slow``."""
+    """Mark every test that reads the real maps ``slow`` (the other slow tests say so in their own
+    file, with ``pytestmark``): the tests ``make test-fast`` (``pytest -m "not slow"``) leaves out."""
     for item in items:
-        if item.path.name in _SLOW_MODULES or "real_maps" in getattr(item, "fixturenames", ()):
+        if "real_maps" in getattr(item, "fixturenames", ()):
             item.add_marker(pytest.mark.slow)
 
 

@@ -20,6 +20,8 @@ from frontier_rl.core.sim.simulator import ExplorationSimulator
 from frontier_rl.core.world.catalog import generate_world
 from frontier_rl.policies import make_policy
 
+pytestmark = pytest.mark.slow  # the experiment scripts, run whole
+
 SCRIPT = Path(__file__).resolve().parents[1] / "experiments" / "weight_sweep.py"
 
 

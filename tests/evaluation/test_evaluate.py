@@ -33,6 +33,8 @@ from frontier_rl.evaluation.results import ResultStore
 from frontier_rl.evaluation.tables import short_labels
 from tests.processes import children, gone, left_in_group, loads_numpy, sigint_as_in_a_terminal, workers_started
 
+pytestmark = pytest.mark.slow  # whole experiments, in worker processes and as subprocesses
+
 SHORT = SimConfig(max_sim_time=80.0)  # episodes cut at 80 s of sim time: a fraction of a second each
 runner = CliRunner()
 

@@ -30,6 +30,8 @@ from frontier_rl.evaluation.evaluate import evaluate
 from frontier_rl.evaluation.experiment import ROW_COLUMNS, ExperimentConfig, identity
 from frontier_rl.evaluation.results import ResultStore, adopt_rows
 
+pytestmark = pytest.mark.slow  # experiments resumed from damaged results folders
+
 SHORT = SimConfig(max_sim_time=40.0)  # a fraction of a second per episode
 METHODS = ("fixed:0.75", "nearest")
 FILES = ("experiment.json", "episodes.csv", "traces.jsonl", "checksums.jsonl")

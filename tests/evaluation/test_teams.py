@@ -16,6 +16,8 @@ from frontier_rl.evaluation.evaluate import evaluate
 from frontier_rl.evaluation.experiment import ExperimentConfig, identity, team_methods
 from frontier_rl.swarm import Failure, Strategy, TeamMethod
 
+pytestmark = pytest.mark.slow  # team experiments
+
 SHORT = SimConfig(max_sim_time=120.0)
 runner = CliRunner()
 

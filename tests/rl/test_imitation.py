@@ -23,6 +23,8 @@ from frontier_rl.rl.model_file import read_metadata
 from frontier_rl.rl.train import build_model, train
 from tests.envs.test_lookahead import _rooms, _world
 
+pytestmark = pytest.mark.slow  # training runs with a lookahead teacher
+
 
 def _config(map_file: Path, **changes: object) -> TrainConfig:
     values: dict[str, object] = {

@@ -40,7 +40,10 @@ MODEL4, MODEL5 = REPO / "models" / "model4.zip", REPO / "models" / "model5.zip"
 MESSAGE_CHARS = 400
 """No error message about a model file is longer than this (the temporary paths included)."""
 
-pytestmark = pytest.mark.skipif(not MODEL4.exists() or not MODEL5.exists(), reason="shipped models missing")
+pytestmark = [
+    pytest.mark.slow,  # model files loaded in fresh interpreters
+    pytest.mark.skipif(not MODEL4.exists() or not MODEL5.exists(), reason="shipped models missing"),
+]
 
 
 # ------------------------------------------------------------------------------ helpers

@@ -21,6 +21,8 @@ from frontier_rl.rl.config import TrainConfig
 from frontier_rl.rl.model_file import METADATA_ENTRY, load_policy, read_metadata, save_model
 from frontier_rl.rl.train import interruption_note, latest_checkpoint, train
 
+pytestmark = pytest.mark.slow  # training runs
+
 SHORT = SimConfig(max_sim_time=120.0)
 
 

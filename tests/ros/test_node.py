@@ -31,6 +31,8 @@ from frontier_rl.errors import FrontierRLError, MapError
 from frontier_rl.io import load_map
 from frontier_rl.policies.frontier_request import grid_from_message
 
+pytestmark = pytest.mark.slow  # the ROS node against a real roscore
+
 WEIGHT = 0.6
 CLIENT = Path(__file__).with_name("ros_client.py")
 
