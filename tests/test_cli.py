@@ -17,7 +17,7 @@ runner = CliRunner()
 
 
 def test_explore_json_has_the_documented_fields(tmp_path: Path) -> None:
-    result = runner.invoke(app, ["explore", "--world", "office", "--seed", "2", "--policy", "nearest", "--json"])
+    result = runner.invoke(app, ["explore", "--world", "lse_arena", "--policy", "nearest", "--json"])
     assert result.exit_code == 0, result.output
     data = json.loads(result.stdout.strip().splitlines()[-1])
     for key in ("sim_time_s", "path_length_m", "coverage", "t90_s", "t99_s", "decisions", "aborts", "done",
