@@ -112,7 +112,9 @@ FAMILY_NAMES = {
 def families_page(study: Study, images: Path) -> str:
     """A learned policy in buildings it never saw: every family against ``nearest``."""
     rows = []
-    for part in study.parts():
+    order = list(FAMILY_NAMES)
+    parts = sorted(study.parts(), key=lambda part: order.index(part) if part in order else len(order))
+    for part in parts:
         run = study.experiment(part)
         s = run.summary
         tested = list(s.tested)
@@ -131,7 +133,7 @@ def families_page(study: Study, images: Path) -> str:
         unfinished = sum(e.n - (e.end_reasons or {}).get("explored", 0) for e in s.methods.values())
         cells += [seconds(s.methods[s.reference].mean_time_s) if s.reference else "n/a", str(unfinished)]
         rows.append(cells)
-    first = study.experiment(study.parts()[0]).summary
+    first = study.experiment(parts[0]).summary
     tested = [label(m) for m in first.tested]
     header = (
         "family (episodes)",
