@@ -24,7 +24,7 @@ def _completion_row(name: str, method: str, episodes: list[Episode]) -> list[str
     coverage = [e.coverage for e in episodes]
     return [
         name,
-        f"`{label(method)}`",
+        f"`{method}`" if label(method) == method else label(method),
         str(len(episodes)),
         str(reasons.count("explored")),
         str(reasons.count("unreachable")),
@@ -51,7 +51,8 @@ COMPLETION_HEADER = (
 def real_buildings_page(study: Study, images: Path) -> str:
     """Per family of real maps and per method: how the episodes ended and how much was left."""
     family_rows, map_rows = [], []
-    for part in study.parts():
+    order = list(FAMILY_NAMES)
+    for part in sorted(study.parts(), key=lambda part: order.index(part) if part in order else len(order)):
         run = study.experiment(part)
         for method in run.summary.methods:
             family_rows.append(_completion_row(FAMILY_NAMES.get(part, part), method, run.of(method)))
@@ -59,7 +60,9 @@ def real_buildings_page(study: Study, images: Path) -> str:
             by_map: dict[tuple[str, str], list[Episode]] = defaultdict(list)
             for episode in run.episodes:
                 by_map[(Path(episode.world).stem, episode.method)].append(episode)
-            map_rows += [_completion_row(world, method, group) for (world, method), group in sorted(by_map.items())]
+            methods = list(run.summary.methods)
+            ordered = sorted(by_map.items(), key=lambda item: (item[0][0], methods.index(item[0][1])))
+            map_rows += [_completion_row(world, method, group) for (world, method), group in ordered]
     return f"""# Real buildings
 
 Does "done" mean the building is explored? Each map of the catalogue's real maps (the SLAM maps of
