@@ -23,7 +23,7 @@ from numpy.typing import NDArray
 from frontier_rl.core.mapping.mapper import LogOddsMapper
 from frontier_rl.core.sim.config import SimConfig
 from frontier_rl.core.sim.episode import DecisionContext, Ranking, decision_context
-from frontier_rl.core.sim.episode_log import EndReason, completion_reason
+from frontier_rl.core.sim.episode_log import EndReason, aborts_by_cause, completion_reason
 from frontier_rl.core.sim.metrics import FrontierLeft, time_to_coverage, unseen_area_m2
 from frontier_rl.core.sim.simulator import ExplorationSimulator
 from frontier_rl.core.world.grid import CellState, OccupancyGrid
@@ -345,6 +345,7 @@ class TeamSimulator:
             t99_s=time_to_coverage(times, curve, 0.99),
             decisions=sum(len(s.log.decisions) for s in sims),
             aborts=sum(s.log.aborts for s in sims),
+            aborts_by_cause=aborts_by_cause([s.log.aborts_by_cause for s in sims]),
             done=self._done and reason == EndReason.EXPLORED.value,
             truncated=self.truncated,
             wall_time_s=wall,

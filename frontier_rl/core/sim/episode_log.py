@@ -3,6 +3,7 @@
 
 from __future__ import annotations
 
+from collections import Counter
 from collections.abc import Sequence
 from enum import Enum
 
@@ -10,7 +11,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from frontier_rl.core.sim.config import UNSEEN_ROOM_M2
-from frontier_rl.core.sim.leg import LegResult
+from frontier_rl.core.sim.leg import AbortCause, LegResult
 from frontier_rl.core.sim.metrics import DecisionRecord, EpisodeResult, FrontierLeft, time_to_coverage, unseen_area_m2
 from frontier_rl.core.world.grid import OccupancyGrid
 from frontier_rl.core.world.robot import Pose
@@ -46,11 +47,20 @@ class EpisodeLog:
     def __init__(self, explorable_cells: int) -> None:
         self._explorable = max(explorable_cells, 1)
         self.decisions: list[DecisionRecord] = []
-        self.aborts = 0
+        self.aborts_by_cause: Counter[AbortCause] = Counter()
         self._times: list[float] = []
         self._explored: list[int] = []
         self._paths: list[float] = []
         self._poses: list[tuple[float, float, float]] = []
+
+    @property
+    def aborts(self) -> int:
+        """Goals given up so far."""
+        return sum(self.aborts_by_cause.values())
+
+    def abort(self, cause: AbortCause) -> None:
+        """A goal was given up, for ``cause``."""
+        self.aborts_by_cause[cause] += 1
 
     def pose(self, pose: Pose) -> None:
         """The robot is at ``pose`` (a LiDAR tick)."""
@@ -99,6 +109,7 @@ class EpisodeLog:
             t99_s=time_to_coverage(times, curve, 0.99),
             decisions=len(self.decisions),
             aborts=self.aborts,
+            aborts_by_cause=aborts_by_cause([self.aborts_by_cause]),
             done=reason is EndReason.EXPLORED,
             truncated=truncated,
             wall_time_s=wall_time_s,
@@ -113,3 +124,10 @@ class EpisodeLog:
             final_map=final_map,
             frontiers_left=left,
         )
+
+
+def aborts_by_cause(counts: Sequence[Counter[AbortCause]]) -> dict[str, int]:
+    """The goals given up per cause, summed over ``counts`` (a robot's, or a team's robots'), every
+    cause named (0 where none), in :class:`~frontier_rl.core.sim.leg.AbortCause`'s order."""
+    total: Counter[AbortCause] = sum(counts, Counter())
+    return {cause.value: total[cause] for cause in AbortCause}

@@ -12,7 +12,7 @@ from __future__ import annotations
 import math
 from collections.abc import Generator
 from dataclasses import dataclass
-from enum import Enum
+from enum import Enum, StrEnum
 from typing import Protocol, TypeVar
 
 import numpy as np
@@ -36,6 +36,15 @@ class LegOutcome(Enum):
     GAVE_WAY = "gave_way"  # a teammate blocked the way, with no way round it: another goal is chosen
     TIMEOUT = "timeout"  # the episode's sim-time cap
     NONE = "none"  # no candidate could be planned to
+
+
+class AbortCause(StrEnum):
+    """Why a goal was given up (a leg ABORTED, or no path to it at the decision)."""
+
+    NOT_PLANNED = "not_planned"  # no path to the goal on the costmap at the decision
+    NO_PROGRESS = "no_progress"  # the way left did not get shorter for progress_timeout
+    DETOUR = "detour"  # the robot drove farther than detour_factor times its first plan
+    NO_PATH = "no_path"  # a wall turned up on the path, and no new path after the recovery rotations
 
 
 @dataclass(frozen=True)
@@ -174,6 +183,8 @@ class Leg:
         )
         self._next_frontier_check = port.sim_time + nav.frontier_check_period
         self._recoveries = 0
+        self.abort_cause: AbortCause | None = None
+        """Why the leg gave its goal up, once it has."""
         self._driven = 0.0  # m
         self.new_free = 0
         self.new_occupied = 0
@@ -208,7 +219,8 @@ class Leg:
                 break
             if self._frontier_explored():
                 return LegOutcome.EXPLORED
-            if self._giving_up():
+            self.abort_cause = self._giving_up()
+            if self.abort_cause is not None:
                 return LegOutcome.ABORTED
             if status == FollowStatus.BLOCKED_BY_ROBOT:
                 ended = yield from self._wait_or_give_way()
@@ -224,17 +236,27 @@ class Leg:
             ):
                 path = yield from self._replan_or_recover()
                 if path is None:
-                    return LegOutcome.TIMEOUT if port.truncated else LegOutcome.ABORTED
+                    return self._lost_way()
                 self._set_path(path)
         return LegOutcome.TIMEOUT
 
-    def _giving_up(self) -> bool:
-        """Whether the leg has gone ``progress_timeout`` without progress, or driven farther than
-        its detour limit (``detour_factor`` times its first plan and ``detour_slack`` more)."""
+    def _lost_way(self) -> LegOutcome:
+        """No path is left after the recovery rotations: the time cap ended the leg, or it gives up."""
+        if self._port.truncated:
+            return LegOutcome.TIMEOUT
+        self.abort_cause = AbortCause.NO_PATH
+        return LegOutcome.ABORTED
+
+    def _giving_up(self) -> AbortCause | None:
+        """Why the leg gives up now: it has gone ``progress_timeout`` without progress, or driven
+        farther than its detour limit (``detour_factor`` times its first plan and ``detour_slack``
+        more); None while it goes on."""
         port = self._port
         here = (port.pose.x, port.pose.y)
         stalled = self._watchdog.stalled_for(self._remaining(), here, port.sim_time)
-        return stalled > port.config.navigation.progress_timeout or self._driven > self._detour_limit
+        if stalled > port.config.navigation.progress_timeout:
+            return AbortCause.NO_PROGRESS
+        return AbortCause.DETOUR if self._driven > self._detour_limit else None
 
     def _follow(self) -> tuple[int, tuple[int, int] | None]:
         """Drive tick by tick until the mapper wants the next scan (nothing else changes before),

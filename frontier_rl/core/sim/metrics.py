@@ -2,7 +2,7 @@
 
 from __future__ import annotations
 
-from collections.abc import Sequence
+from collections.abc import Mapping, Sequence
 from dataclasses import dataclass, field
 from typing import Any
 
@@ -99,6 +99,9 @@ class EpisodeResult:
         t90_s, t99_s: sim time at which coverage first reached 90 % / 99 % (s); None if never.
         decisions: number of decisions taken.
         aborts: goals given up (no progress, unreachable) and blacklisted.
+        aborts_by_cause: ``aborts`` by why each goal was given up (the values of
+            :class:`~frontier_rl.core.sim.leg.AbortCause`: ``not_planned``, ``no_progress``,
+            ``detour``, ``no_path``); a team's summed over its robots.
         done: the map is explored: no frontier is left that the robot could see from where it can go
             (``end_reason == "explored"``).
         truncated: the sim-time cap ended the episode.
@@ -140,6 +143,7 @@ class EpisodeResult:
     final_map: OccupancyGrid | None = field(repr=False, default=None)
     frontiers_left: tuple[FrontierLeft, ...] = field(repr=False, default=())
     coverage_path_m: NDArray[np.float64] | None = field(repr=False, default=None)
+    aborts_by_cause: Mapping[str, int] = field(default_factory=dict)
 
     @property
     def real_time_factor(self) -> float:
@@ -156,6 +160,7 @@ class EpisodeResult:
             "t99_s": None if self.t99_s is None else round(self.t99_s, 3),
             "decisions": self.decisions,
             "aborts": self.aborts,
+            "aborts_by_cause": dict(self.aborts_by_cause),
             "done": self.done,
             "truncated": self.truncated,
             "end_reason": self.end_reason,

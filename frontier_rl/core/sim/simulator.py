@@ -28,7 +28,7 @@ from frontier_rl.core.sim.candidates import Candidates, find_candidates
 from frontier_rl.core.sim.config import SimConfig
 from frontier_rl.core.sim.episode_log import EndReason, EpisodeLog, completion_reason
 from frontier_rl.core.sim.frontiers_left import frontiers_left
-from frontier_rl.core.sim.leg import Leg, LegOutcome, LegResult, run_leg
+from frontier_rl.core.sim.leg import AbortCause, Leg, LegOutcome, LegResult, run_leg
 from frontier_rl.core.sim.metrics import EpisodeResult, FrontierLeft
 from frontier_rl.core.sim.paths import map_blocks_path, plan_path, point_goal_cell, replan_path
 from frontier_rl.core.sim.teammates import Teammates
@@ -282,7 +282,7 @@ class ExplorationSimulator:
             path = plan_path(cand, self.pose, (row, col), self.nearby_robots, self.config)
             if path is None:
                 self.blacklist.fail(*goal, self.mapper.state)
-                self.log.aborts += 1
+                self.log.abort(AbortCause.NOT_PLANNED)
                 continue
             frontier_cells = self.world.grid.world_to_cells(cand.grid.cells_to_world(cand.frontiers.cells_of(index)))
             return (yield from self._drive(Leg(self, path, goal, frontier_cells, cand.tight), index, weight))
@@ -305,7 +305,7 @@ class ExplorationSimulator:
         if path is None or goal_cell is None:
             # move_base's answer to a goal it cannot plan to: a recovery rotation, then give up.
             # It costs time, so a point policy cannot pick unreachable cells for free.
-            self.log.aborts += 1
+            self.log.abort(AbortCause.NOT_PLANNED)
             return (yield from self._turn_on_the_spot(LegOutcome.ABORTED, (x, y), weight))
         goal = cand.grid.cell_to_world(*goal_cell)
         if math.hypot(goal[0] - self.pose.x, goal[1] - self.pose.y) <= self.config.navigation.goal_tolerance:
@@ -321,8 +321,8 @@ class ExplorationSimulator:
             outcome = yield from leg.run()
         finally:
             self.target = None
-        if outcome is LegOutcome.ABORTED:
-            self.log.aborts += 1
+        if outcome is LegOutcome.ABORTED and leg.abort_cause is not None:
+            self.log.abort(leg.abort_cause)
         result = LegResult(outcome, index, leg.goal, self.sim_time - start_time, self.path_length - start_len,
                            leg.new_free, leg.new_occupied, start_time, start_xy)  # fmt: skip
         self.log.decision(result, weight)

@@ -13,7 +13,7 @@ from numpy.typing import NDArray
 from frontier_rl.core.navigation.config import NavigationConfig
 from frontier_rl.core.sensing.lidar import Lidar
 from frontier_rl.core.sim.config import SimConfig
-from frontier_rl.core.sim.leg import Leg, LegOutcome, run_leg
+from frontier_rl.core.sim.leg import AbortCause, Leg, LegOutcome, run_leg
 from frontier_rl.core.sim.simulator import ExplorationSimulator
 from frontier_rl.core.sim.teammates import Teammates
 from frontier_rl.core.world.grid import CellState, OccupancyGrid
@@ -111,8 +111,9 @@ def test_a_leg_without_progress_for_30_s_is_aborted_and_its_goal_blacklisted() -
     world = _hall(wall_at_col=40)  # a wall 2 m ahead, across the hall
     path = _straight(9.0)
     port = ScriptedPort(world, replans=FROM_HERE)  # replanning finds a path, through the wall again
-    outcome = run_leg(Leg(port, path, (9.0, 1.0), FRONTIER, tight=False).run())
-    assert outcome is LegOutcome.ABORTED
+    leg = Leg(port, path, (9.0, 1.0), FRONTIER, tight=False)
+    outcome = run_leg(leg.run())
+    assert outcome is LegOutcome.ABORTED and leg.abort_cause is AbortCause.NO_PROGRESS
     timeout = port.config.navigation.progress_timeout
     assert timeout < port.sim_time <= timeout + 10.0  # it drove to the wall, then waited out the timeout
     assert port.pose.x < 2.0
@@ -144,8 +145,9 @@ def test_the_bumper_marks_the_wall_the_robot_runs_into() -> None:
 def test_a_newly_seen_obstacle_replans_then_rotates_to_recover_before_giving_up(recoveries: int) -> None:
     port = ScriptedPort(_hall(), blocked_after=1.0)  # replanning never finds a path
     port.config = SimConfig(navigation=NavigationConfig(max_recoveries=recoveries))
-    outcome = run_leg(Leg(port, _straight(9.0), (9.0, 1.0), FRONTIER, tight=False).run())
-    assert outcome is LegOutcome.ABORTED
+    leg = Leg(port, _straight(9.0), (9.0, 1.0), FRONTIER, tight=False)
+    outcome = run_leg(leg.run())
+    assert outcome is LegOutcome.ABORTED and leg.abort_cause is AbortCause.NO_PATH
     assert port.calls.count("rotate") == recoveries
     assert port.calls[: 2 * recoveries + 1] == ["replan"] + ["rotate", "replan"] * recoveries
     assert port.calls[-1] == "blacklist"
@@ -195,10 +197,12 @@ def test_a_leg_that_drives_far_beyond_its_plan_is_aborted(detour_factor: float) 
     port = WanderingPort(_hall())
     port.config = SimConfig(navigation=NavigationConfig(detour_factor=detour_factor))
     first = _straight(2.5)  # 2 m to the goal, as planned
-    outcome = run_leg(Leg(port, first, (2.5, 1.0), FRONTIER, tight=False).run())
+    leg = Leg(port, first, (2.5, 1.0), FRONTIER, tight=False)
+    outcome = run_leg(leg.run())
     if detour_factor == 1000.0:  # no limit to speak of: the robot wanders until the episode's time cap
-        assert outcome is LegOutcome.TIMEOUT and port.driven > 200.0
+        assert outcome is LegOutcome.TIMEOUT and port.driven > 200.0 and leg.abort_cause is None
         return
     limit = 10.0 * 2.0 + port.config.navigation.detour_slack
     assert outcome is LegOutcome.ABORTED and limit < port.driven < limit + 0.5
+    assert leg.abort_cause is AbortCause.DETOUR
     assert port.calls.count("blacklist") == 1 and port.calls.count("replan") > 30
