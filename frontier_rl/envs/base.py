@@ -148,7 +148,8 @@ class ExplorationEnv(gym.Env[ObsT, np.int64], Generic[ObsT]):
     def _check_action(self, action: Any) -> int:
         """``action`` as an int in the action space, or a ValueError naming it."""
         value = np.asarray(action)
-        if value.size != 1 or not np.issubdtype(value.dtype, np.number):
+        real = np.issubdtype(value.dtype, np.integer) or np.issubdtype(value.dtype, np.floating)
+        if value.size != 1 or not real:  # a complex number, a string, a list of several, ...
             raise ValueError(f"action must be one integer, got {action!r}")
         scalar = value.reshape(()).item()
         if not math.isfinite(scalar) or scalar != int(scalar):

@@ -133,7 +133,8 @@ def test_random_training_worlds_never_use_small_seeds() -> None:
 @pytest.mark.parametrize(
     ("action", "match"),
     [(100, "outside the action space 0..99"), (-1, "outside"), (np.nan, "finite"), (1.5, "finite"),
-     ([1, 2], "one integer"), ("3", "one integer")],
+     ([1, 2], "one integer"), ("3", "one integer"), (5 + 0j, r"one integer, got \(5\+0j\)"),
+     (True, "one integer")],
 )  # fmt: skip
 def test_bad_actions_are_named(action: Any, match: str) -> None:
     env = WeightEnv(observation_size=64)
