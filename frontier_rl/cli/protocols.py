@@ -5,6 +5,7 @@ from __future__ import annotations
 
 import json
 import math
+from collections.abc import Sequence
 from pathlib import Path
 from typing import Annotated, Any
 
@@ -47,6 +48,7 @@ def ariadne(
         raise ConfigError(f"--limit and --workers must be >= 0, got {limit} and {workers}")
     files = ariadne_maps(_folder(maps), limit or None)
     runs, failures = run_protocol(names, files, workers or None)
+    _some_finished(runs, failures)
     rows = summary_rows(runs, names)
     table = Table(title=f"ARiADNE protocol on {maps} ({len(files)} maps)")
     for column in ("method", "tests", "average length (px)", "length std (px)", "rule met", "ours: time (s)",
@@ -95,6 +97,7 @@ def explore_bench(
         raise ConfigError(f"--seeds must be in 1..10000 and --workers >= 0, got {seeds} and {workers}")
     blueprints = [m for entry in world_entries(maps) for m in explore_bench_maps(_located(entry))]
     runs, failures = run_explore_bench_all(names, blueprints, seeds, sizes, workers or None)
+    _some_finished(runs, failures)
     rows = explore_bench_rows(runs)
     table = Table(title=f"Explore-Bench metrics, {seeds} start(s) per map and team size")
     for column in ("method", "robots", "map", "ended / runs", "T_90 (s)", "T_total (s)", "path (m)", "coverage std",
@@ -144,6 +147,14 @@ def _no_nan(value: Any) -> Any:
 def _shown(value: float | str | int) -> str:
     """A table cell: 3 significant digits, a dash where there is no value (NaN)."""
     return "—" if isinstance(value, float) and math.isnan(value) else f"{value:.3g}"
+
+
+def _some_finished(runs: Sequence[object], failures: list[str]) -> None:
+    """Stop with one line when every run failed, before an empty table (or one of NaN) is printed."""
+    from frontier_rl.evaluation.backends import EpisodeFailedError
+
+    if failures and not runs:
+        raise EpisodeFailedError(f"every one of the {len(failures)} run(s) failed: {'; '.join(failures[:3])}")
 
 
 def _finish(json_out: Path | None, payload: dict[str, Any], failures: list[str]) -> None:

@@ -123,3 +123,18 @@ def test_cli_bad_input_is_one_line(tmp_path: Path, args: list[str], message: str
     result = CliRunner().invoke(app, base + args)
     assert result.exit_code == 2
     assert message in result.output and "Traceback" not in result.output
+
+
+def test_when_every_run_fails_one_line_says_so_and_no_empty_table_comes_before(tmp_path: Path) -> None:
+    maps = tmp_path / "maps"
+    maps.mkdir()
+    dungeon_png(maps / "img_1.png")
+    policy = tmp_path / "broken.py"
+    policy.write_text(
+        "class Broken:\n    name = 'broken'\n\n    def rank(self, context, rng):\n        raise RuntimeError('boom')\n"
+    )
+    args = ["benchmark", "ariadne", "--methods", f"{policy}:Broken", "--maps", str(maps), "--workers", "1"]
+    result = CliRunner().invoke(app, args)
+    assert result.exit_code == 2, result.output
+    assert result.stdout == ""  # no table of nothing
+    assert result.stderr.startswith("error: every one of the 1 run(s) failed") and result.stderr.count("\n") == 1
