@@ -15,7 +15,10 @@ from typer.testing import CliRunner
 from frontier_rl.cli import WORLD_HELP, app
 from frontier_rl.io.catalogue import MAPS_DIR, load_catalogue
 
-STANDALONE = ("turtlebot3_world", "aws_small_house", "nav2_depot", "nav2_warehouse", "lse_arena")
+STANDALONE = (
+    "turtlebot3_world", "aws_small_house", "nav2_depot", "nav2_warehouse", "lse_arena", "aws_bookstore", "willow_full",
+    "willow_2010", "gdc_3ne", "gdc_3", "stata_basement", "ipa_office", "ipa_plant", "adblab", "brsu_c069",
+)  # fmt: skip
 
 runner = CliRunner()
 WIDTHS = (80, 200)

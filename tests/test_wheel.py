@@ -14,6 +14,8 @@ from pathlib import Path
 
 import pytest
 
+from frontier_rl.io.catalogue import MAPS_DIR, catalogue
+
 pytestmark = pytest.mark.slow
 
 REPO = Path(__file__).resolve().parents[1]
@@ -64,6 +66,9 @@ def test_the_wheel_holds_the_maps_and_their_licences_but_no_stage_bitmap(wheel: 
     stage = {m for m in maps if m.startswith("stage/")}
     assert not any(m.endswith(".png") for m in stage) and "stage/COPYING.txt" not in stage
     assert "stage/cave.yaml" in stage  # this project's YAMLs stay: the catalogue reads their resolution
+    for entry in catalogue().maps:  # every map the catalogue leaves out of the wheel is out of it
+        image = entry.path.with_suffix(".png").relative_to(MAPS_DIR).as_posix()
+        assert (image in maps) == entry.in_wheel or not entry.path.with_suffix(".png").exists(), entry.name
     assert not any("__pycache__" in name or name.endswith((".nbi", ".nbc")) for name in names)
 
 

@@ -29,7 +29,10 @@ from frontier_rl.io.catalogue import (
 from frontier_rl.rl.config import TrainConfig
 from frontier_rl.world_spec import map_file, parse_world_list, parse_world_mix, resolve_world, world_path
 
-STANDALONE = ("turtlebot3_world", "aws_small_house", "nav2_depot", "nav2_warehouse", "lse_arena")
+STANDALONE = (
+    "turtlebot3_world", "aws_small_house", "nav2_depot", "nav2_warehouse", "lse_arena", "aws_bookstore", "willow_full",
+    "willow_2010", "gdc_3ne", "gdc_3", "stata_basement", "ipa_office", "ipa_plant", "adblab", "brsu_c069",
+)  # fmt: skip
 STAGE = ("stage/autolab", "stage/uoa_robotics_lab", "stage/simple_rooms", "stage/cave", "stage/mbicp")
 COLLECTIONS = {
     "stage": 5,
@@ -62,7 +65,11 @@ def test_the_catalogue_holds_the_documented_names() -> None:
     for entry in maps.maps:
         assert entry.path.is_relative_to(MAPS_DIR) and entry.installed, entry.name
         assert entry.source.startswith("https://github.com/") and entry.licence, entry.name
-    assert {m.name for m in maps.maps if not m.in_wheel} == set(STAGE)
+    assert {m.name for m in maps.maps if not m.in_wheel} == {
+        *STAGE,
+        "adblab",
+        "brsu_c069",
+    }  # copyleft: in the repository only
 
 
 @pytest.mark.parametrize("name", _checked_maps())
@@ -109,8 +116,8 @@ def test_resolving_a_world_looks_the_catalogue_up_once(monkeypatch: pytest.Monke
 
 def test_every_map_folder_has_its_licence_and_source() -> None:
     folders = sorted(p for p in MAPS_DIR.iterdir() if p.is_dir())
-    expected = {"aws_small_house", "dungeon", "houseexpo", "lse_arena", "nav2_depot", "nav2_warehouse", "stage"}
-    assert [p.name for p in folders] == sorted({*expected, "turtlebot3_world"})
+    expected = {"dungeon", "houseexpo", "stage", *STANDALONE}
+    assert [p.name for p in folders] == sorted(expected)
     for folder in folders:
         licences = [p for p in folder.iterdir() if p.name.startswith(("LICENSE", "COPYING"))]
         assert licences and all(p.stat().st_size > 100 for p in licences), folder.name
