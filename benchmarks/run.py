@@ -228,13 +228,13 @@ def decision_snapshots(world: World, count: int) -> list[tuple[OccupancyGrid, Po
     return states[step // 2 :: step][:count]
 
 
-def bench_decisions(n_states: int, repeats: int, model: Path) -> list[Row]:
+def bench_decisions(n_states: int, repeats: int, model: Path, worlds: dict[str, World] | None = None) -> list[Row]:
     """The work of one decision (the candidates on the robot's map, then the policy's ranking) for
     ``nearest``, the frontier-choice model ``model``, model 7 (``model7.zip`` beside it, when there
-    is one) and ``tour``, on office maps and on a 1,000 × 1,000 building (50 m × 50 m), each over
-    ``n_states`` map states of a ``nearest`` episode (median). The policies run back to back in
-    every repeat, and each ratio to ``nearest`` is the median of the repeats' ratios: the machine's
-    speed drifts between repeats far more than within one."""
+    is one) and ``tour``, on ``worlds`` (by label; by default office maps and a 1,000 × 1,000
+    building, 50 m × 50 m), each over ``n_states`` map states of a ``nearest`` episode (median). The
+    policies run back to back in every repeat, and each ratio to ``nearest`` is the median of the
+    repeats' ratios: the machine's speed drifts between repeats far more than within one."""
     if not model.is_file():
         print(f"- decision rows skipped: {model} not found")
         return []
@@ -244,8 +244,9 @@ def bench_decisions(n_states: int, repeats: int, model: Path) -> list[Row]:
     if (model7 := model.with_name("model7.zip")).is_file():
         policies["model 7"], labels["model 7"] = make_policy(f"learned:{model7}"), "Model-7"
     policies["tour"], labels["tour"] = make_policy("tour"), "`tour`"
-    worlds = {"office": generate_world("office", 0),
-              "1,000² building": building_world(np.random.default_rng(0), (50.0, 50.0))}  # fmt: skip
+    if worlds is None:
+        worlds = {"office": generate_world("office", 0),
+                  "1,000² building": building_world(np.random.default_rng(0), (50.0, 50.0))}  # fmt: skip
     rows: list[Row] = []
     for label, world in worlds.items():
         states = decision_snapshots(world, n_states)
@@ -256,7 +257,8 @@ def bench_decisions(n_states: int, repeats: int, model: Path) -> list[Row]:
                 blacklist = Blacklist(nav.blacklist_radius, nav.max_goal_failures, grid.resolution, grid.origin)
                 cand = find_candidates(grid, pose, config, blacklist, grid.data)
                 if len(cand.frontiers):
-                    ctx = DecisionContext(grid, cand.frontiers, pose, 0.0, config.lidar.max_range, cand.costmap)
+                    ctx = DecisionContext(grid, cand.frontiers, pose, 0.0, config.lidar.max_range, cand.costmap,
+                                          robot_radius=config.robot.radius)  # fmt: skip
                     policy.rank(ctx, np.random.default_rng(0))
 
         for policy in policies.values():

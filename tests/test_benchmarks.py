@@ -13,6 +13,7 @@ import pytest
 pytestmark = pytest.mark.slow  # the benchmark scripts, run whole
 
 SCRIPT = Path(__file__).resolve().parents[1] / "benchmarks" / "run.py"
+MODELS = SCRIPT.parents[1] / "models"
 
 
 @pytest.fixture(scope="module")
@@ -33,3 +34,14 @@ def test_the_frontier_benchmark_runs_and_tabulates(bench: ModuleType) -> None:
 
 def test_the_large_map_rows_are_skipped_without_the_real_maps(bench: ModuleType, tmp_path: Path) -> None:
     assert bench.bench_large_map(1, tmp_path) == []
+
+
+def test_the_decision_benchmark_runs_every_policy(bench: ModuleType) -> None:
+    from frontier_rl.core.world.catalog import generate_world
+
+    rows = bench.bench_decisions(1, 1, MODELS / "model5.zip", {"office": generate_world("office", 0)})
+    names = " ".join(row.metric for row in rows)
+    assert all(
+        what in names for what in ("`nearest` decision", "Model-5 decision", "Model-7 decision", "`tour` decision")
+    )
+    assert all(row.value > 0 for row in rows)
