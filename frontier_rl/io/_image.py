@@ -26,7 +26,7 @@ from PIL import Image
 from frontier_rl.errors import MapError, short_repr, short_text
 
 #: Largest map image accepted (pixels, width x height): 4096 x 4096 or the same area in any shape,
-#: about 10 times the largest map the package ships (nav2_warehouse, 1006 x 1674 = 1.7 Mpx).
+#: about 5 times the largest map the package ships (ipa_plant, 1985 x 1536 = 3.0 Mpx).
 #: Decoding one takes about 32 bytes of memory per pixel (0.5 GiB at the limit).
 MAX_MAP_PIXELS = 4096 * 4096
 #: Longest Netpbm header read (bytes), comments included.

@@ -169,7 +169,7 @@ def test_real_maps_pass_the_limits(real_maps: Path) -> None:
         header = read_netpbm_header(path)
         if header is not None:
             assert (header.height, header.width) == image.shape
-    assert largest == 1006 * 1674  # nav2_warehouse
+    assert largest == 1985 * 1536  # ipa_plant, the largest map the package ships
     assert largest * 8 < MAX_MAP_PIXELS
 
 
