@@ -214,3 +214,21 @@ def test_teacher_experiment_pairs_its_noise_with_run_episode() -> None:
     ours = teacher._simulator(world, 7)
     assert seen == [(ours.rng.bit_generator.state, ours.map().data.tobytes())]
     assert teacher._simulator(world, 8).rng.bit_generator.state != seen[0][0]
+
+
+def test_the_harder_survey_tabulates_causes_and_draws_the_worst(tmp_path: Path) -> None:
+    out = tmp_path / "survey"
+    args = [sys.executable, str(SCRIPT.parent / "harder_survey.py"), "--maps", "lse_arena", "--methods", "nearest,tour",
+            "--episodes", "2", "--workers", "1", "--out", str(out)]  # fmt: skip
+    subprocess.run(args, capture_output=True, text=True, check=True, timeout=300)
+    survey = json.loads((out / "survey.json").read_text())
+    assert [(row["map"], row["method"], row["episodes"]) for row in survey["rows"]] == [
+        ("lse_arena", "nearest", 2),
+        ("lse_arena", "tour", 2),
+    ]
+    for row in survey["rows"]:
+        assert row["explored"] + row["unreachable"] + row["time_cap"] == 2
+        assert set(row["aborts"]) == {"not_planned", "no_progress", "detour", "no_path"}
+        assert row["explorable_left_m2"] >= 0 and 0.99 <= row["min_coverage"] <= 1
+    assert min(row["time_over_fastest"] for row in survey["rows"]) == 1.0
+    assert len(survey["worst"]) == 4 and len(list((out / "worst").glob("*.png"))) == 4

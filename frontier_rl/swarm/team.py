@@ -352,6 +352,7 @@ class TeamSimulator:
             end_reason=reason,
             free_coverage=self._free_coverage(),
             unknown_left_m2=unseen_area_m2(left, self.world.grid.resolution),
+            explorable_m2=self.world.explorable_count * self.world.grid.resolution**2,
             coverage_times_s=times,
             coverage_curve=curve,
             trajectory=first.trajectory,

@@ -116,6 +116,7 @@ class EpisodeLog:
             end_reason=None if reason is None else reason.value,
             free_coverage=free_coverage,
             unknown_left_m2=unseen_area_m2(left, final_map.resolution),
+            explorable_m2=self._explorable * final_map.resolution**2,
             coverage_times_s=times,
             coverage_curve=curve,
             coverage_path_m=np.asarray(self._paths, dtype=np.float64),

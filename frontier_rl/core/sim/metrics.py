@@ -99,6 +99,8 @@ class EpisodeResult:
         t90_s, t99_s: sim time at which coverage first reached 90 % / 99 % (s); None if never.
         decisions: number of decisions taken.
         aborts: goals given up (no progress, unreachable) and blacklisted.
+        explorable_m2: the world's explorable area (m²): what a robot of this size can see from the
+            poses it can reach on the true map, the denominator of ``coverage``.
         aborts_by_cause: ``aborts`` by why each goal was given up (the values of
             :class:`~frontier_rl.core.sim.leg.AbortCause`: ``not_planned``, ``no_progress``,
             ``detour``, ``no_path``); a team's summed over its robots.
@@ -144,6 +146,13 @@ class EpisodeResult:
     frontiers_left: tuple[FrontierLeft, ...] = field(repr=False, default=())
     coverage_path_m: NDArray[np.float64] | None = field(repr=False, default=None)
     aborts_by_cause: Mapping[str, int] = field(default_factory=dict)
+    explorable_m2: float = 0.0
+
+    @property
+    def explorable_left_m2(self) -> float:
+        """The explorable area (m²) the episode left unmapped: what the robot gave up (or had no time
+        for) of the space it could have seen on the true map."""
+        return (1.0 - self.coverage) * self.explorable_m2
 
     @property
     def real_time_factor(self) -> float:
@@ -166,6 +175,7 @@ class EpisodeResult:
             "end_reason": self.end_reason,
             "free_coverage": round(self.free_coverage, 5),
             "unknown_left_m2": round(self.unknown_left_m2, 4),
+            "explorable_left_m2": round(self.explorable_left_m2, 4),
             "wall_time_s": round(self.wall_time_s, 4),
             "real_time_factor": round(self.real_time_factor, 1),
         }

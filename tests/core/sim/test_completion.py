@@ -16,6 +16,7 @@ from frontier_rl.core.sim.config import UNSEEN_ROOM_M2, SimConfig, drop_cells_at
 from frontier_rl.core.sim.episode import run_episode
 from frontier_rl.core.sim.episode_log import EndReason, completion_reason
 from frontier_rl.core.sim.frontiers_left import UnseenRegions, frontiers_left
+from frontier_rl.core.world.catalog import generate_world
 from frontier_rl.core.world.grid import CellState, OccupancyGrid
 from frontier_rl.core.world.robot import Pose
 from frontier_rl.core.world.worlds import make_world
@@ -356,3 +357,11 @@ def test_an_unseen_cell_beside_two_frontiers_counts_once(tmp_path: Path) -> None
     rows, cols = np.divmod(cells, world.grid.width)  # the world's cells: free there, unknown in the map
     assert (world.grid.data[rows, cols] == CellState.FREE).all()
     assert (result.final_map.data[rows, cols] == CellState.UNKNOWN).all()
+
+
+def test_the_explorable_area_left_is_what_the_coverage_leaves_of_the_world() -> None:
+    world = generate_world("cluttered", 0)
+    result = run_episode(world, make_policy("nearest"), SimConfig(), seed=0)
+    assert result.explorable_m2 == world.explorable_count * world.grid.resolution**2
+    assert result.explorable_left_m2 == pytest.approx((1.0 - result.coverage) * result.explorable_m2)
+    assert 0.0 < result.summary()["explorable_left_m2"] < 0.01 * result.explorable_m2

@@ -1,0 +1,200 @@
+"""The harder survey of real buildings: SLAM maps with radial streaks, glass, clutter, narrow doors
+and floors of 50-100 m, each explored from several random starts by each method.
+
+Runs ``frontier-rl evaluate`` once per map into ``OUT/MAP`` (rerunning resumes), then writes
+``OUT/survey.md`` and ``OUT/survey.json``: per map and method the end reasons, the goals given up
+by cause, the explorable area left (m², what the robot could have seen on the true map and did not),
+the lowest coverage, and the mean time against the map's fastest method; and the five worst
+episodes (lowest coverage, a time cap first), each drawn again with ``frontier-rl explore --png``
+into ``OUT/worst/``.
+
+    .venv/bin/python experiments/harder_survey.py --episodes 5 --out results/harder_survey
+"""
+
+from __future__ import annotations
+
+import argparse
+import csv
+import json
+import subprocess
+import sys
+from collections import Counter, defaultdict
+from dataclasses import dataclass
+from pathlib import Path
+from statistics import mean
+
+from frontier_rl.atomic_write import write_text_atomic
+from frontier_rl.core.sim.leg import AbortCause
+
+MAPS = (
+    "aws_bookstore",
+    "willow_full",
+    "willow_2010",
+    "gdc_3ne",
+    "gdc_3",
+    "stata_basement",
+    "ipa_office",
+    "ipa_plant",
+    "adblab",
+    "brsu_c069",
+    "nav2_depot",
+    "aws_small_house",
+)
+"""Catalogue maps with what real SLAM maps have (the last two from the first survey, for reference)."""
+METHODS = "nearest,fixed:0.75,tour,learned:models/model7.zip"
+WORST = 5
+
+
+@dataclass(frozen=True)
+class Episode:
+    """One episode of the survey, from its row and trace."""
+
+    world: str
+    method: str
+    seed: int
+    end_reason: str
+    coverage: float
+    sim_time_s: float
+    explorable_left_m2: float
+    aborts: Counter[str]
+
+
+def run_map(frontier_rl: Path, world: str, methods: str, episodes: int, out: Path, workers: int | None) -> None:
+    """``evaluate`` on one map (no oracle: the survey asks how episodes end, not how far from optimal)."""
+    command = [
+        str(frontier_rl),
+        "evaluate",
+        "--methods",
+        methods,
+        "--worlds",
+        world,
+        "--episodes",
+        str(episodes),
+        "--no-oracle",
+        "--baseline",
+        methods.split(",")[0],
+        "--pictures",
+        "0",
+        "--out",
+        str(out / world),
+    ]
+    if workers is not None:
+        command += ["--workers", str(workers)]
+    subprocess.run(command, check=True)
+
+
+def read_episodes(folder: Path) -> list[Episode]:
+    """The episodes of one map's results folder."""
+    traces = {}
+    for line in (folder / "traces.jsonl").read_text().splitlines():
+        trace = json.loads(line)
+        traces[(trace["method"], trace["episode"])] = trace
+    found = []
+    with (folder / "episodes.csv").open(newline="") as handle:
+        for row in csv.DictReader(handle):
+            trace = traces[(row["method"], int(row["episode"]))]
+            found.append(
+                Episode(
+                    row["world"],
+                    row["method"],
+                    int(row["seed"]),
+                    row["end_reason"],
+                    float(row["coverage"]),
+                    float(row["sim_time_s"]),
+                    float(trace.get("explorable_left_m2", "nan")),
+                    Counter(trace.get("aborts_by_cause", {})),
+                )
+            )
+    return found
+
+
+def table(episodes: list[Episode]) -> tuple[str, list[dict[str, object]]]:
+    """The per-map, per-method table (Markdown) and its rows."""
+    groups: dict[tuple[str, str], list[Episode]] = defaultdict(list)
+    for episode in episodes:
+        groups[(episode.world, episode.method)].append(episode)
+    fastest = {w: min(mean(e.sim_time_s for e in g) for (w2, _), g in groups.items() if w2 == w) for w, _ in groups}
+    rows: list[dict[str, object]] = []
+    for (world, method), group in groups.items():
+        reasons = Counter(e.end_reason for e in group)
+        aborts = {cause.value: sum(e.aborts[cause.value] for e in group) for cause in AbortCause}
+        rows.append(
+            {
+                "map": world,
+                "method": method,
+                "episodes": len(group),
+                **{r: reasons[r] for r in ("explored", "unreachable", "time_cap")},
+                "aborts": aborts,
+                "explorable_left_m2": round(mean(e.explorable_left_m2 for e in group), 2),
+                "min_coverage": round(min(e.coverage for e in group), 4),
+                "time_over_fastest": round(mean(e.sim_time_s for e in group) / fastest[world], 2),
+            }
+        )
+    lines = [
+        "| map | method | episodes | explored | unreachable | time cap | aborts by cause | explorable left (m², mean) "
+        "| coverage min | time / fastest |",
+        "|---|---|---:|---:|---:|---:|---|---:|---:|---:|",
+    ]
+    for row in rows:
+        causes = ", ".join(f"{k} {v}" for k, v in sorted(row["aborts"].items()) if v) or "none"  # type: ignore[attr-defined]
+        lines.append(
+            f"| {row['map']} | {row['method']} | {row['episodes']} | {row['explored']} | {row['unreachable']} "
+            f"| {row['time_cap']} | {causes} | {row['explorable_left_m2']} | {row['min_coverage']:.2%} "
+            f"| {row['time_over_fastest']} |"
+        )
+    return "\n".join(lines) + "\n", rows
+
+
+def draw_worst(frontier_rl: Path, episodes: list[Episode], out: Path) -> list[str]:
+    """The :data:`WORST` episodes (a time cap first, then the lowest coverage), drawn again."""
+    worst = sorted(episodes, key=lambda e: (e.end_reason != "time_cap", e.coverage))[:WORST]
+    (out / "worst").mkdir(parents=True, exist_ok=True)
+    lines = []
+    for e in worst:
+        picture = out / "worst" / f"{e.world}-{e.method.replace(':', '_').replace('/', '_')}-{e.seed}.png"
+        subprocess.run(
+            [
+                str(frontier_rl),
+                "explore",
+                "--world",
+                e.world,
+                "--policy",
+                e.method,
+                "--seed",
+                str(e.seed),
+                "--png",
+                str(picture),
+            ],
+            check=True,
+            stdout=subprocess.DEVNULL,
+        )
+        lines.append(
+            f"- {e.world}, {e.method}, seed {e.seed}: {e.end_reason} at {e.coverage:.2%} of the explorable "
+            f"space, {e.explorable_left_m2:.1f} m² left, {e.sim_time_s:.0f} s ({picture.name})"
+        )
+    return lines
+
+
+def main() -> None:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--maps", default=",".join(MAPS), help="comma-separated catalogue maps or map files")
+    parser.add_argument("--methods", default=METHODS)
+    parser.add_argument("--episodes", type=int, default=5, help="random starts per map")
+    parser.add_argument("--workers", type=int, default=None)
+    parser.add_argument("--out", type=Path, required=True)
+    args = parser.parse_args()
+    frontier_rl = Path(sys.executable).with_name("frontier-rl")
+    maps = [m.strip() for m in args.maps.split(",") if m.strip()]
+    for world in maps:
+        run_map(frontier_rl, world, args.methods, args.episodes, args.out, args.workers)
+    episodes = [e for world in maps for e in read_episodes(args.out / world)]
+    markdown, rows = table(episodes)
+    worst = draw_worst(frontier_rl, episodes, args.out)
+    write_text_atomic(args.out / "survey.md", markdown + "\nThe worst episodes:\n\n" + "\n".join(worst) + "\n")
+    write_text_atomic(args.out / "survey.json", json.dumps({"rows": rows, "worst": worst}, indent=1) + "\n")
+    print(markdown)
+    print("\n".join(worst))
+
+
+if __name__ == "__main__":
+    main()
