@@ -27,6 +27,7 @@ from dataclasses import asdict, dataclass
 import numba
 import numpy as np
 
+from benchmarks.startup import bench_startup
 from frontier_rl.atomic_write import write_text_atomic
 from frontier_rl.core.frontiers.blacklist import Blacklist
 from frontier_rl.core.frontiers.detection import detect_frontiers
@@ -342,6 +343,12 @@ def bench_envs(n_episodes: int) -> list[Row]:
     return rows
 
 
+def bench_processes(repeats: int) -> list[Row]:
+    """Whole ``frontier-rl`` processes (start-up included): ``--help`` and an explore on a small map."""
+    timings = bench_startup(repeats)
+    return [Row(metric, seconds, "s", target, higher_is_better=False) for metric, seconds, target in timings]
+
+
 def machine_info() -> dict[str, str]:
     """CPU model, core pinning and library versions."""
     cpu = platform.processor() or "unknown"
@@ -394,6 +401,7 @@ def main(argv: list[str] | None = None) -> int:
         + bench_decisions(6 if args.quick else 20, 3 if args.quick else 9, args.model)
         + bench_teams(3 if args.quick else 10)
         + bench_envs(2 if args.quick else 10)
+        + bench_processes(2 if args.quick else 5)
     )
     total = time.perf_counter() - started
 

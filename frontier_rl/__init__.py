@@ -43,14 +43,14 @@ Saved in ``greedy.py``, the same class runs on the command line as ``greedy.py:G
 
 from __future__ import annotations
 
-import importlib
 from typing import TYPE_CHECKING
 
+from frontier_rl.lazy_exports import lazy_exports
 from frontier_rl.registration import ENV_IDS, env_id
 
 __version__ = "0.1.0"
 
-_LAZY: dict[str, str] = {
+_NAMES: dict[str, str] = {
     "DecisionContext": "frontier_rl.core.sim.episode",
     "EpisodeAwarePolicy": "frontier_rl.core.sim.episode",
     "ExplorationPolicy": "frontier_rl.core.sim.episode",
@@ -91,6 +91,8 @@ _LAZY: dict[str, str] = {
     "TrainConfig": "frontier_rl.rl.config",
 }
 """Each name importable from the package, and the module that defines it (loaded on first use)."""
+
+__getattr__, __dir__ = lazy_exports(__name__, _NAMES)
 
 __all__ = [
     "ENV_IDS",
@@ -168,17 +170,3 @@ if TYPE_CHECKING:
     )
     from frontier_rl.rl.config import TrainConfig
     from frontier_rl.swarm import Failure, Strategy, TeamConfig, TeamResult
-
-
-def __getattr__(name: str) -> object:
-    """Load a public name's module on first use (PEP 562)."""
-    module = _LAZY.get(name)
-    if module is None:
-        raise AttributeError(f"module 'frontier_rl' has no attribute {name!r}")
-    value = getattr(importlib.import_module(module), name)
-    globals()[name] = value  # later uses find it without this function
-    return value
-
-
-def __dir__() -> list[str]:
-    return sorted({*globals(), *_LAZY})

@@ -22,18 +22,20 @@ from pathlib import Path
 from types import UnionType
 from typing import TYPE_CHECKING, overload
 
-from frontier_rl.core.frontiers.ranking import THESIS_BASELINE
+from frontier_rl.core.frontiers.thesis import THESIS_BASELINE
 from frontier_rl.core.sim.config import SimConfig
 from frontier_rl.core.sim.episode import DecisionContext, ExplorationPolicy, Ranking, run_episode, warm_up
 from frontier_rl.core.sim.metrics import EpisodeResult
 from frontier_rl.core.sim.simulator import ExplorationSimulator
 from frontier_rl.core.world.robot import Pose
+from frontier_rl.core.world.scale import checked_resolution
 from frontier_rl.core.world.worlds import World
 from frontier_rl.errors import ConfigError, short_repr
 from frontier_rl.policies import make_policy
 from frontier_rl.policies.user_policies import checked_policy
+from frontier_rl.seeds import checked_seed
 from frontier_rl.swarm import Failure, TeamConfig, TeamResult, run_team_episode
-from frontier_rl.world_spec import checked_resolution, checked_seed, resolve_world
+from frontier_rl.world_spec import resolve_world
 
 if TYPE_CHECKING:  # loaded by the functions that need them: the command line's help loads this module
     from frontier_rl.evaluation.summary import ExperimentSummary

@@ -19,48 +19,11 @@ import numpy as np
 
 from frontier_rl.core.world.catalog import WORLD_GENERATORS, generate_world
 from frontier_rl.core.world.robot import Pose, checked_pose
-from frontier_rl.core.world.worlds import (
-    MAPPING_CELL_M,
-    RESAMPLE_BELOW_M,
-    World,
-    check_resolution,
-    make_world,
-    resolution_bounds,
-)
+from frontier_rl.core.world.scale import MAPPING_CELL_M, RESAMPLE_BELOW_M, checked_resolution, resolution_bounds
+from frontier_rl.core.world.worlds import World, make_world
 from frontier_rl.errors import ConfigError, MapError, UnknownNameError, short_repr
 from frontier_rl.io import LoadedMap, load_map
 from frontier_rl.io.catalogue import CatalogueEntry, CatalogueMap, MapCollection, catalogue
-
-MAX_SEED = 2**32 - 1
-"""Largest seed of a world and an episode (NumPy's legacy seeding, which SB3 uses, takes no more)."""
-
-
-def checked_seed(value: object, what: str = "seed") -> int:
-    """``value`` if it is a seed: a whole number from 0 to :data:`MAX_SEED` (a NumPy integer too).
-
-    Raises:
-        ConfigError: any other value, named with ``what``.
-    """
-    if isinstance(value, np.integer):
-        value = int(value)
-    if isinstance(value, bool) or not isinstance(value, int) or not 0 <= value <= MAX_SEED:
-        raise ConfigError(f"{what} must be a whole number from 0 to {MAX_SEED}, got {short_repr(value)}")
-    return value
-
-
-def checked_resolution(resolution: float | None, what: str = "--resolution") -> float | None:
-    """``resolution`` (m) if a world can use it (:func:`~frontier_rl.core.world.worlds.check_resolution`
-    for the default robot: 0.0042 to 0.105 m), None for None.
-
-    Raises:
-        ConfigError: any other value, named with ``what``.
-    """
-    if resolution is None:
-        return None
-    try:
-        return check_resolution(resolution, what)
-    except MapError as exc:
-        raise ConfigError(str(exc)) from None
 
 
 def _unknown_world(spec: str) -> UnknownNameError:
@@ -206,26 +169,6 @@ def _read_map_version(version: _MapVersion) -> LoadedMap:
     if not resolution_bounds()[0] <= loaded.grid.resolution < RESAMPLE_BELOW_M:
         return loaded  # as drawn, or a cell no world accepts, which make_world names as the file has it
     return replace(loaded, grid=loaded.grid.resampled(MAPPING_CELL_M))
-
-
-def parse_pose(text: str) -> Pose:
-    """A pose from "x,y" or "x,y,theta" (m, m, rad): finite, the heading within +-1e6 rad and
-    wrapped into [-pi, pi) (:func:`~frontier_rl.core.world.robot.checked_pose`).
-
-    Raises:
-        ConfigError: anything else, quoting ``text`` (cut to 80 characters).
-    """
-    usage = f"start pose must be 'x,y' or 'x,y,theta' in metres/radians, got {short_repr(text)}"
-    parts = text.split(",")
-    if len(parts) not in (2, 3):
-        raise ConfigError(usage)
-    try:
-        values = [float(p) for p in parts]
-    except ValueError:
-        raise ConfigError(usage) from None
-    if not all(np.isfinite(values)):
-        raise ConfigError(usage)
-    return checked_pose(Pose(*values), f"start pose {short_repr(text)}")
 
 
 MAP_SUFFIXES = (".yaml", ".yml", ".png", ".pgm", ".json")

@@ -19,8 +19,8 @@ from frontier_rl.core.sim.config import SimConfig
 from frontier_rl.core.world.robot import Pose
 from frontier_rl.errors import ConfigError, PolicyError, UnknownNameError
 from frontier_rl.evaluation.summary import ExperimentSummary, MethodSummary
+from frontier_rl.seeds import MAX_SEED
 from frontier_rl.swarm import TeamConfig, TeamResult
-from frontier_rl.world_spec import MAX_SEED
 
 HEAVY = ("numba", "gymnasium", "torch", "stable_baselines3")
 """Modules the light imports must not load."""

@@ -45,3 +45,9 @@ def test_the_decision_benchmark_runs_every_policy(bench: ModuleType) -> None:
         what in names for what in ("`nearest` decision", "Model-5 decision", "Model-7 decision", "`tour` decision")
     )
     assert all(row.value > 0 for row in rows)
+
+
+def test_the_process_benchmark_times_help_and_a_small_explore(bench: ModuleType) -> None:
+    rows = bench.bench_processes(1)
+    assert [row.target for row in rows] == [0.3, 0.8]
+    assert all(0 < row.value < 60 and not row.higher_is_better for row in rows)

@@ -19,10 +19,10 @@ import frontier_rl.api as api
 from frontier_rl.cli import MAX_SEED, app
 from frontier_rl.cli.output import one_line, print_error
 from frontier_rl.core.world.grid import CellState, OccupancyGrid
-from frontier_rl.core.world.robot import MAX_HEADING_RAD, Pose, checked_pose
-from frontier_rl.core.world.worlds import check_resolution, make_world, resolution_bounds
+from frontier_rl.core.world.robot import MAX_HEADING_RAD, Pose, checked_pose, parse_pose
+from frontier_rl.core.world.scale import check_resolution, resolution_bounds
+from frontier_rl.core.world.worlds import make_world
 from frontier_rl.errors import ConfigError, MapError
-from frontier_rl.world_spec import parse_pose
 
 runner = CliRunner()
 

@@ -139,7 +139,7 @@ def test_maps_not_installed_are_listed_with_where_to_get_them(tmp_path: Path, mo
     shutil.copy(MAPS_DIR / "stage" / "cave.png", tmp_path / "stage" / "cave.png")
     shutil.copytree(MAPS_DIR / "lse_arena", tmp_path / "lse_arena")
     maps = load_catalogue(MAPS_DIR / "catalogue.yaml", tmp_path)
-    monkeypatch.setattr("frontier_rl.cli.maps.catalogue", lambda: maps)
+    monkeypatch.setattr("frontier_rl.cli.map_listing.catalogue", lambda: maps)
     for width in WIDTHS:
         out = _invoke("maps", width=width)
         assert all(len(line) <= width for line in out.splitlines())

@@ -13,14 +13,13 @@ import typer
 from rich.table import Table
 from rich.text import Text
 
-from frontier_rl import api
 from frontier_rl.cli.options import (
     ResolutionOption,
     SimConfigOption,
     TrustModelOption,
     checked_comm_range,
     checked_count,
-    output_folder,
+    checked_run_arguments,
     sim_config,
 )
 from frontier_rl.cli.output import (
@@ -32,10 +31,8 @@ from frontier_rl.cli.output import (
     policy_list,
     stdout_console,
 )
-from frontier_rl.config import dump_config
-from frontier_rl.core.frontiers.ranking import THESIS_BASELINE
+from frontier_rl.core.frontiers.thesis import THESIS_BASELINE
 from frontier_rl.swarm import Failure, parse_strategy
-from frontier_rl.world_spec import checked_resolution, checked_seed
 
 if TYPE_CHECKING:
     from frontier_rl.evaluation.summary import ExperimentSummary
@@ -75,13 +72,13 @@ def demo(
     episode on each world (plus an animation of one)."""
     import shutil
 
+    checked_run_arguments(seed, out)
+    from frontier_rl.config import dump_config
     from frontier_rl.evaluation.evaluate import DEFAULT_OUTLIERS_S
     from frontier_rl.evaluation.evaluate import evaluate as run_evaluation
     from frontier_rl.evaluation.experiment import ORACLE, ExperimentConfig
     from frontier_rl.evaluation.summary import ExperimentSummary
 
-    checked_seed(seed, "--seed")
-    output_folder(out)
     learned = [f"learned:{path}" for path in SHIPPED_MODELS if path.is_file()]
     methods = (THESIS_BASELINE, "nearest", "tour", *learned, ORACLE)
     sim = sim_config(None, max_time)
@@ -174,11 +171,11 @@ def evaluate(
     """The paired experiment: every method on the same worlds, starts and noise; statistics against the
     baseline, plots, and a Markdown and HTML report in --out. With --robots, teams of each size run each
     method, and the report adds exploration time against team size, overlap and per-robot coverage."""
+    resolution = checked_run_arguments(seed, out, resolution)
+    from frontier_rl import api
     from frontier_rl.evaluation.evaluate import parse_thresholds
     from frontier_rl.evaluation.experiment import team_methods
 
-    checked_seed(seed, "--seed")
-    output_folder(out)
     strategies = [parse_strategy(s) for s in comma_list(strategy)]
     names = team_methods(policy_list(methods), int_list("--robots", robots), strategies)
     with _resumable(out):
@@ -194,7 +191,7 @@ def evaluate(
             backend=backend,
             ray_address=ray_address,
             config=sim_config(config, max_time),
-            resolution=checked_resolution(resolution),
+            resolution=resolution,
             trust_model=trust_model,
             comm_range=checked_comm_range(comm_range),
             failures=tuple(Failure.parse(text) for text in fail or []),

@@ -4,12 +4,11 @@ from __future__ import annotations
 
 import json
 from pathlib import Path
-from typing import Annotated
+from typing import TYPE_CHECKING, Annotated
 
 import typer
 from rich.table import Table
 
-from frontier_rl import api
 from frontier_rl.cli.options import (
     MAX_SEED,
     POLICY_HELP,
@@ -21,18 +20,20 @@ from frontier_rl.cli.options import (
     sim_config,
 )
 from frontier_rl.cli.output import friendly_errors, stdout_console
-from frontier_rl.core.frontiers.ranking import THESIS_BASELINE
-from frontier_rl.core.sim.config import SimConfig
-from frontier_rl.core.sim.episode import ExplorationPolicy
-from frontier_rl.core.sim.metrics import EpisodeResult
-from frontier_rl.core.world.worlds import World
+from frontier_rl.core.frontiers.thesis import THESIS_BASELINE
+from frontier_rl.core.world.robot import parse_pose
+from frontier_rl.core.world.scale import checked_resolution
 from frontier_rl.errors import ConfigError
-from frontier_rl.policies import PolicySpec, make_policy
-from frontier_rl.policies.user_failures import user_code_failure
-from frontier_rl.recording import EpisodeRecorder, save_team_png
-from frontier_rl.render import check_output_file
-from frontier_rl.swarm import Failure, TeamConfig, parse_strategy
-from frontier_rl.world_spec import checked_resolution, checked_seed, parse_pose
+from frontier_rl.policies.spec import PolicySpec
+from frontier_rl.seeds import checked_seed
+from frontier_rl.swarm.config import Failure, TeamConfig, parse_strategy
+
+if TYPE_CHECKING:
+    from frontier_rl.core.sim.config import SimConfig
+    from frontier_rl.core.sim.episode import ExplorationPolicy
+    from frontier_rl.core.sim.metrics import EpisodeResult
+    from frontier_rl.core.world.worlds import World
+    from frontier_rl.recording import EpisodeRecorder
 
 
 @friendly_errors
@@ -67,20 +68,26 @@ def explore(
     # Every option is checked before the episode runs (outputs included); the metrics are printed
     # before the pictures are written, so a picture that cannot be written loses no result.
     checked_seed(seed, "--seed")
-    settings = sim_config(config, max_time)
     team = _team_config(robots, strategy, comm_range, fail or [])
     if gif is not None and team is not None:
         raise ConfigError("--gif records one robot's decisions; use --png for a team")
+    resolution = checked_resolution(resolution)
+    pose = parse_pose(start) if start is not None else None
+    spec = PolicySpec.parse(policy)  # a malformed name, before the engine loads
+    from frontier_rl import api  # the engine: after every check of the arguments
+    from frontier_rl.policies.registry import make_policy
+    from frontier_rl.recording import EpisodeRecorder, save_team_png
+    from frontier_rl.render import check_output_file
+
+    settings = sim_config(config, max_time)
     if png is not None:
         check_output_file(png, ".png", "--png")
     if gif is not None:
         check_output_file(gif, ".gif", "--gif")
-    resolution = checked_resolution(resolution)
-    pose = parse_pose(start) if start is not None else None
-    chosen = make_policy(policy, trust_model=trust_model)
+    chosen = make_policy(spec, trust_model=trust_model)
     the_world = api.load_world(world, seed, start=pose, resolution=resolution)
     recorder = EpisodeRecorder(the_world, frames=gif is not None) if team is None and (png or gif) else None
-    result = _episode(the_world, PolicySpec.parse(policy), chosen, seed, settings, team, recorder)
+    result = _episode(the_world, spec, chosen, seed, settings, team, recorder)
     _print_episode(the_world.name, seed, chosen.name, result, as_json)
     title = f"{the_world.name} / {chosen.name}"
     if team is not None and png is not None:
@@ -103,6 +110,9 @@ def _episode(
     """The episode of ``policy`` (named ``spec``) on ``world`` (:func:`frontier_rl.api.explore`); an
     exception the user's own policy code raises becomes one line naming the spec, the exception
     and the user's file and line."""
+    from frontier_rl import api
+    from frontier_rl.policies.user_failures import user_code_failure
+
     try:
         if team is not None:
             return api.explore(world, policy, seed=seed, config=settings, team=team)

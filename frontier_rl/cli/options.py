@@ -1,25 +1,28 @@
 """What several ``frontier-rl`` commands share: the seed, world and policy options, their checks, and
-the simulation settings from ``--config`` and ``--max-time``."""
+the simulation settings from ``--config`` and ``--max-time``. It loads none of the engine (the help
+and the argument errors of every command need none): what the options quote are plain names."""
 
 from __future__ import annotations
 
 import dataclasses
 import os
 from pathlib import Path
-from typing import Annotated, NoReturn
+from typing import TYPE_CHECKING, Annotated, NoReturn
 
 import typer
 
-from frontier_rl.config import load_sim_config
-from frontier_rl.core.navigation.tours import MAX_STOPS
-from frontier_rl.core.sim.config import SimConfig
-from frontier_rl.core.world.catalog import WORLD_GENERATORS
-from frontier_rl.core.world.worlds import resolution_bounds
+from frontier_rl.core.navigation.config import MAX_STOPS
+from frontier_rl.core.world.names import GENERATOR_NAMES
+from frontier_rl.core.world.scale import checked_resolution, resolution_bounds
 from frontier_rl.errors import ConfigError, short_path, short_repr
-from frontier_rl.policies import ENTRY_POINT_GROUP, POLICY_NAMES
-from frontier_rl.world_spec import MAX_SEED as MAX_SEED  # the largest --seed, named in the commands' help
+from frontier_rl.policies.spec import ENTRY_POINT_GROUP, POLICY_NAMES
+from frontier_rl.seeds import MAX_SEED as MAX_SEED  # the largest --seed, named in the commands' help
+from frontier_rl.seeds import checked_seed
 
-WORLD_HELP = f"{' | '.join(WORLD_GENERATORS)} | a map file (ROS .yaml, Dungeon .png, HouseExpo .json) | a catalogue map"
+if TYPE_CHECKING:
+    from frontier_rl.core.sim.config import SimConfig
+
+WORLD_HELP = f"{' | '.join(GENERATOR_NAMES)} | a map file (ROS .yaml, Dungeon .png, HouseExpo .json) | a catalogue map"
 POLICY_HELP = (
     f"One of: {', '.join(POLICY_NAMES)} (W in [0, 1], N stops 1 to {MAX_STOPS}); or your own: FILE.py:CLASS, "
     f"MODULE:CLASS (on PYTHONPATH) or a name an installed package registers under {ENTRY_POINT_GROUP}."
@@ -68,6 +71,14 @@ def output_folder(path: Path, option: str = "--out") -> Path:
     return path
 
 
+def checked_run_arguments(seed: int, out: Path, resolution: float | None = None) -> float | None:
+    """A run's ``--seed``, ``--out`` and ``--resolution``, checked before the engine's imports (a
+    second): returns the resolution (m, None for the map's own)."""
+    checked_seed(seed, "--seed")
+    output_folder(out)
+    return checked_resolution(resolution)
+
+
 def checked_comm_range(value: float | None) -> float | None:
     """``--comm-range``, checked (m; None: the strategy's default)."""
     if value is not None and not value >= 0:
@@ -77,6 +88,9 @@ def checked_comm_range(value: float | None) -> float | None:
 
 def sim_config(config: Path | None, max_time: float | None) -> SimConfig:
     """The settings of ``--config`` (a SimConfig YAML; the defaults without one) with ``--max-time`` (s) applied."""
+    from frontier_rl.config import load_sim_config
+    from frontier_rl.core.sim.config import SimConfig
+
     cfg = load_sim_config(config) if config is not None else SimConfig()
     if max_time is not None:
         if not max_time > 0:

@@ -15,9 +15,7 @@ from rich.table import Table
 from frontier_rl.atomic_write import write_text_atomic
 from frontier_rl.cli.output import OneLineGroup, friendly_errors, int_list, policy_list, stdout_console
 from frontier_rl.errors import ConfigError, short_repr
-from frontier_rl.render import check_output_file
 from frontier_rl.swarm.config import MAX_ROBOTS
-from frontier_rl.world_spec import world_entries, world_path
 
 benchmark_app = typer.Typer(
     no_args_is_help=True, cls=OneLineGroup, help="Run a published evaluation protocol, its metric beside ours."
@@ -95,6 +93,8 @@ def explore_bench(
         raise ConfigError(f"--robots takes team sizes 1 to {MAX_ROBOTS}, got {short_repr(robots)}")
     if not 1 <= seeds <= 10_000 or workers < 0:
         raise ConfigError(f"--seeds must be in 1..10000 and --workers >= 0, got {seeds} and {workers}")
+    from frontier_rl.world_spec import world_entries
+
     blueprints = [m for entry in world_entries(maps) for m in explore_bench_maps(_located(entry))]
     runs, failures = run_explore_bench_all(names, blueprints, seeds, sizes, workers or None)
     _some_finished(runs, failures)
@@ -115,6 +115,8 @@ def explore_bench(
 def _located(entry: str) -> str:
     """The file or folder a ``--maps`` entry names (a path, or a catalogue map or collection); a
     generator's name as it is (the protocol refuses it)."""
+    from frontier_rl.world_spec import world_path
+
     path = world_path(entry)
     return entry if path is None else str(path)
 
@@ -130,6 +132,8 @@ def _folder(entry: str) -> Path:
 def _check_json(json_out: Path | None) -> None:
     """Refuse a ``--json`` path no file can be written to before the runs, not after them."""
     if json_out is not None:
+        from frontier_rl.render import check_output_file
+
         check_output_file(json_out, ".json", "--json")
 
 

@@ -8,10 +8,8 @@ from typing import Annotated
 import typer
 from rich.text import Text
 
-from frontier_rl.api import train as run_training
-from frontier_rl.cli.options import ResolutionOption, SimConfigOption, output_folder, sim_config
+from frontier_rl.cli.options import ResolutionOption, SimConfigOption, checked_run_arguments, sim_config
 from frontier_rl.cli.output import err_console, friendly_errors, one_line, stdout_console
-from frontier_rl.world_spec import checked_resolution, checked_seed
 
 
 @friendly_errors
@@ -44,8 +42,8 @@ def train(
     progress: Annotated[bool, typer.Option(help="Show a progress bar.")] = True,
 ) -> None:
     """Train a model (1-4 the thesis's, 5-7 ours) with Stable-Baselines3 (A2C as in the thesis, or PPO)."""
-    checked_seed(seed, "--seed")
-    output_folder(out)
+    resolution = checked_run_arguments(seed, out, resolution)
+    from frontier_rl.api import train as run_training
     from frontier_rl.rl.config import TrainConfig
     from frontier_rl.rl.train import interruption_note
 
@@ -54,7 +52,7 @@ def train(
         observation_size=observation_size, reward=reward, learning_rate=learning_rate, n_steps=n_steps,
         gamma=gamma, ent_coef=ent_coef, seed=seed, eval_every=eval_every, checkpoint_every=checkpoint_every, init=init,
         privileged_critic=privileged_critic, privileged_map=privileged_map, sim=sim_config(config, None),
-        resolution=checked_resolution(resolution),
+        resolution=resolution,
     )  # fmt: skip
     try:
         final = run_training(settings, out, resume=resume, progress=progress)

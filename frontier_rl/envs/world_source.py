@@ -12,12 +12,12 @@ import numpy as np
 from numpy.typing import NDArray
 
 from frontier_rl.core.world.catalog import WORLD_GENERATORS
+from frontier_rl.core.world.scale import checked_resolution
 from frontier_rl.core.world.worlds import World
 from frontier_rl.errors import ConfigError
 from frontier_rl.io import load_map
 from frontier_rl.world_spec import (
     WorldFamily,
-    checked_resolution,
     map_file,
     parse_world_list,
     read_map,

@@ -6,7 +6,7 @@ from __future__ import annotations
 from dataclasses import dataclass
 from pathlib import Path
 
-from frontier_rl.core.frontiers.ranking import THESIS_WEIGHT
+from frontier_rl.core.frontiers.thesis import THESIS_WEIGHT
 from frontier_rl.errors import FrontierRLError, short_repr, short_text
 from frontier_rl.evaluation.experiment import ORACLE, file_sha256
 from frontier_rl.policies import PolicySpec

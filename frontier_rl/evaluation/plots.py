@@ -16,7 +16,7 @@ import numpy as np
 from matplotlib.figure import Figure
 
 from frontier_rl.atomic_write import save_figure_atomic
-from frontier_rl.core.frontiers.ranking import THESIS_WEIGHT
+from frontier_rl.core.frontiers.thesis import THESIS_WEIGHT
 from frontier_rl.core.sim.metrics import sample_step
 
 _DPI = 110

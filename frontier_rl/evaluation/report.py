@@ -14,7 +14,7 @@ from pathlib import Path
 from typing import Any
 
 from frontier_rl.atomic_write import write_text_atomic
-from frontier_rl.core.frontiers.ranking import THESIS_WEIGHT
+from frontier_rl.core.frontiers.thesis import THESIS_WEIGHT
 from frontier_rl.evaluation.analysis import paired_times, summarise
 from frontier_rl.evaluation.conclusion import conclude
 from frontier_rl.evaluation.experiment import ExperimentConfig

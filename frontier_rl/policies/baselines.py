@@ -7,7 +7,6 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from frontier_rl.core.frontiers.ranking import (
-    THESIS_WEIGHT,
     ExploreLiteParams,
     check_weight,
     explore_lite_cost,
@@ -18,6 +17,7 @@ from frontier_rl.core.frontiers.ranking import (
     rank,
     weighted_cost,
 )
+from frontier_rl.core.frontiers.thesis import THESIS_WEIGHT
 from frontier_rl.core.sim.episode import DecisionContext, Ranking
 
 

@@ -33,6 +33,9 @@ _PARAMETERISED = {
 POLICY_NAMES: tuple[str, ...] = (*SIMPLE_POLICIES, "fixed:W", "tour:N", "learned:PATH.zip")
 """The built-in policies as the command line's help lists them."""
 
+ENTRY_POINT_GROUP = "frontier_rl.policies"
+"""The entry-point group installed packages register policies under (name -> class or factory)."""
+
 USER_POLICY_FORMS = "FILE.py:CLASS, MODULE:CLASS or an installed policy"
 """How error messages name the ways to give a policy of one's own."""
 

@@ -14,7 +14,8 @@ from dataclasses import dataclass
 import numpy as np
 
 from frontier_rl.core.frontiers.ranking import nearest_cost, rank
-from frontier_rl.core.navigation.tours import MAX_STOPS, costs_to_stops, open_tour, stop_costs
+from frontier_rl.core.navigation.config import MAX_STOPS
+from frontier_rl.core.navigation.tours import costs_to_stops, open_tour, stop_costs
 from frontier_rl.core.sim.episode import DecisionContext, Ranking
 from frontier_rl.errors import ConfigError
 

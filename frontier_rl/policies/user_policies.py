@@ -31,10 +31,7 @@ from typing import cast
 
 from frontier_rl.core.sim.episode import ExplorationPolicy
 from frontier_rl.errors import ConfigError, FrontierRLError, UnknownNameError, short_path, short_repr, short_text
-from frontier_rl.policies.spec import SIMPLE_POLICIES, PolicyKind, PolicySpec, unknown_policy
-
-ENTRY_POINT_GROUP = "frontier_rl.policies"
-"""The entry-point group installed packages register policies under (name -> class or factory)."""
+from frontier_rl.policies.spec import ENTRY_POINT_GROUP, SIMPLE_POLICIES, PolicyKind, PolicySpec, unknown_policy
 
 _FILE_MODULE_PREFIX = "frontier_rl_user_policy_"
 """Prefix of the ``sys.modules`` names policy files are loaded as (with a hash of their path)."""

@@ -9,10 +9,11 @@ from typing import Any
 
 from frontier_rl.config import coerce, dump_config, from_dict, load_config, to_dict
 from frontier_rl.core.sim.config import SimConfig
+from frontier_rl.core.world.scale import checked_resolution
 from frontier_rl.envs.rewards import REWARD_PRESETS, reward_preset
 from frontier_rl.errors import ConfigError, FrontierRLError, short_repr, short_text
 from frontier_rl.registration import FRONTIER_CHOICE_MODELS, MODELS, env_id
-from frontier_rl.world_spec import checked_resolution, parse_world_mix
+from frontier_rl.world_spec import parse_world_mix
 
 MAX_FEATURES_DIM = 8192
 """Largest ``features_dim`` a run may use and a model file may hold (the shipped models use 128)."""

@@ -39,7 +39,7 @@ import time
 from typing import Any
 
 from frontier_rl.config import coerce
-from frontier_rl.core.frontiers.ranking import THESIS_WEIGHT
+from frontier_rl.core.frontiers.thesis import THESIS_WEIGHT
 from frontier_rl.core.sim.config import MAX_FRONTIER_DROP_CELLS
 from frontier_rl.errors import FrontierRLError, MapError
 from frontier_rl.policies import make_policy

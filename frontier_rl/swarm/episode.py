@@ -7,7 +7,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from frontier_rl.core.frontiers.ranking import THESIS_WEIGHT
+from frontier_rl.core.frontiers.thesis import THESIS_WEIGHT
 from frontier_rl.core.sim.config import SimConfig
 from frontier_rl.core.sim.episode import EpisodeAwarePolicy, ExplorationPolicy, drive_episode
 from frontier_rl.core.world.worlds import World

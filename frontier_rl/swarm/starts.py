@@ -9,7 +9,8 @@ import numpy as np
 from frontier_rl.core.sim.teammates import obstacle_distance
 from frontier_rl.core.world.grid import CellState
 from frontier_rl.core.world.robot import Pose
-from frontier_rl.core.world.worlds import START_MARGIN_M, World
+from frontier_rl.core.world.scale import START_MARGIN_M
+from frontier_rl.core.world.worlds import World
 from frontier_rl.errors import ConfigError
 
 

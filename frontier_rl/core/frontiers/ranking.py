@@ -15,12 +15,6 @@ from numpy.typing import NDArray
 from frontier_rl.core.frontiers.detection import Frontiers
 from frontier_rl.errors import ConfigError
 
-THESIS_WEIGHT = 0.75
-"""The thesis's fixed ranking weight w of eq. 3.1, its baseline."""
-
-THESIS_BASELINE = f"fixed:{THESIS_WEIGHT}"
-"""The thesis's baseline as a policy spec."""
-
 
 def normalise(values: NDArray[np.float64]) -> NDArray[np.float64]:
     """Min-max scale to [0, 1] over the candidates; all zeros when every value is equal."""

@@ -22,6 +22,10 @@ MIN_CONTROL_DT = 1e-3
 would take an episode years of wall time."""
 
 
+MAX_STOPS = 16
+"""The most stops a tour may have (``tour:N``): Held-Karp's table has 2ⁿ·n entries."""
+
+
 @dataclass(frozen=True)
 class NavigationConfig:
     """Costmap, planner and controller settings (TurtleBot3 / move_base / explore_lite flavoured).

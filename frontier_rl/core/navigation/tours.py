@@ -17,9 +17,6 @@ from frontier_rl.core.navigation.path_costs import path_costs
 UNREACHABLE_M = 1.0e6
 """Path cost (m) standing in for no path between two stops, so that a tour always exists."""
 
-MAX_STOPS = 16
-"""The most stops a tour here may have: Held-Karp's table has 2ⁿ·n entries."""
-
 
 @nb.njit(cache=True)
 def _paths_through_all(

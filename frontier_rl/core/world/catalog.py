@@ -14,6 +14,7 @@ from frontier_rl.core.world import generators as gen
 from frontier_rl.core.world.building import building_layout
 from frontier_rl.core.world.cave import CAVE_BLOCK_M, cave_layout
 from frontier_rl.core.world.grid import CellState, OccupancyGrid
+from frontier_rl.core.world.names import GENERATOR_NAMES
 from frontier_rl.core.world.rubble import RUBBLE_GAP_M, close_diagonal_contacts, rubble_layout, upsample
 from frontier_rl.core.world.worlds import World, dilate, make_world
 from frontier_rl.errors import ConfigError, MapError, UnknownNameError
@@ -120,13 +121,7 @@ def cave_world(rng: np.random.Generator, size_m: tuple[float, float] = (26.0, 20
 
 
 WORLD_GENERATORS: Mapping[str, Callable[[np.random.Generator], World]] = MappingProxyType(
-    {
-        "office": office_world,
-        "rooms": rooms_world,
-        "cluttered": cluttered_world,
-        "building": building_world,
-        "cave": cave_world,
-    }
+    dict(zip(GENERATOR_NAMES, (office_world, rooms_world, cluttered_world, building_world, cave_world), strict=True))
 )
 """Procedural worlds by name; each takes a ``numpy.random.Generator`` and uses default sizes."""
 

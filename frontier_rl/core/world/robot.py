@@ -6,7 +6,7 @@ import math
 from dataclasses import dataclass
 from typing import NamedTuple
 
-from frontier_rl.errors import ConfigError
+from frontier_rl.errors import ConfigError, short_repr
 
 
 class Pose(NamedTuple):
@@ -66,3 +66,23 @@ def checked_pose(pose: Pose, what: str = "pose") -> Pose:
     if not (math.isfinite(theta) and abs(theta) <= MAX_HEADING_RAD):
         raise ConfigError(f"{what} heading must be a finite angle within +-{MAX_HEADING_RAD:g} rad, got {theta!r}")
     return Pose(x, y, theta if -math.pi <= theta < math.pi else wrap_angle(theta))
+
+
+def parse_pose(text: str) -> Pose:
+    """A pose from "x,y" or "x,y,theta" (m, m, rad): finite, the heading within +-1e6 rad and
+    wrapped into [-pi, pi) (:func:`~frontier_rl.core.world.robot.checked_pose`).
+
+    Raises:
+        ConfigError: anything else, quoting ``text`` (cut to 80 characters).
+    """
+    usage = f"start pose must be 'x,y' or 'x,y,theta' in metres/radians, got {short_repr(text)}"
+    parts = text.split(",")
+    if len(parts) not in (2, 3):
+        raise ConfigError(usage)
+    try:
+        values = [float(p) for p in parts]
+    except ValueError:
+        raise ConfigError(usage) from None
+    if not all(math.isfinite(v) for v in values):
+        raise ConfigError(usage)
+    return checked_pose(Pose(*values), f"start pose {short_repr(text)}")

@@ -9,8 +9,8 @@ from frontier_rl.core.sensing.lidar import LidarConfig
 from frontier_rl.core.sim.config import SimConfig
 from frontier_rl.core.sim.simulator import ExplorationSimulator
 from frontier_rl.core.world.catalog import generate_world
+from frontier_rl.core.world.scale import MAPPING_RANGE_M, ROBOT_RADIUS_M
 from frontier_rl.core.world.visibility import visible_from
-from frontier_rl.core.world.worlds import MAPPING_RANGE_M, ROBOT_RADIUS_M
 
 
 def open_room(rows: int = 40, cols: int = 40) -> np.ndarray:

@@ -13,8 +13,9 @@ from scipy import ndimage
 from frontier_rl.core.world.catalog import WORLD_GENERATORS, cluttered_world, generate_world, office_world, rooms_world
 from frontier_rl.core.world.grid import CellState, OccupancyGrid
 from frontier_rl.core.world.robot import Pose
+from frontier_rl.core.world.scale import MAPPING_RANGE_M, ROBOT_RADIUS_M, START_MARGIN_M
 from frontier_rl.core.world.visibility import visible_from
-from frontier_rl.core.world.worlds import MAPPING_RANGE_M, ROBOT_RADIUS_M, START_MARGIN_M, World, dilate, make_world
+from frontier_rl.core.world.worlds import World, dilate, make_world
 from frontier_rl.errors import ConfigError, MapError, UnknownNameError
 
 NAMES = sorted(WORLD_GENERATORS)

@@ -1,0 +1,23 @@
+"""Seeds: the range every entry point accepts (a world, an episode, a training run), checked."""
+
+from __future__ import annotations
+
+import numbers
+
+from frontier_rl.errors import ConfigError, short_repr
+
+MAX_SEED = 2**32 - 1
+"""Largest seed of a world and an episode (NumPy's legacy seeding, which SB3 uses, takes no more)."""
+
+
+def checked_seed(value: object, what: str = "seed") -> int:
+    """``value`` if it is a seed: a whole number from 0 to :data:`MAX_SEED` (a NumPy integer too).
+
+    Raises:
+        ConfigError: any other value, named with ``what``.
+    """
+    if isinstance(value, numbers.Integral) and not isinstance(value, bool | int):  # a NumPy integer
+        value = int(value)
+    if isinstance(value, bool) or not isinstance(value, int) or not 0 <= value <= MAX_SEED:
+        raise ConfigError(f"{what} must be a whole number from 0 to {MAX_SEED}, got {short_repr(value)}")
+    return value

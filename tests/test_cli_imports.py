@@ -1,0 +1,53 @@
+"""The command line loads what a command runs, no more: its help and its argument errors need none of
+the engine (numba, SciPy, the simulator) and neither Gymnasium nor torch."""
+
+from __future__ import annotations
+
+import json
+import subprocess
+import sys
+
+import pytest
+
+PROBE = """
+import json, sys
+from frontier_rl.cli import app
+try:
+    app(sys.argv[1:])
+except SystemExit as end:
+    code = end.code
+heavy = ("numba", "scipy", "torch", "gymnasium", "matplotlib", "frontier_rl.core.sim.simulator", "frontier_rl.api")
+print(json.dumps({"code": code, "loaded": [name for name in heavy if name in sys.modules]}))
+"""
+
+
+def _run(*args: str) -> dict[str, object]:
+    done = subprocess.run([sys.executable, "-c", PROBE, *args], capture_output=True, text=True, timeout=60)
+    return json.loads(done.stdout.strip().splitlines()[-1])  # type: ignore[no-any-return]
+
+
+@pytest.mark.parametrize(
+    ("args", "code"),
+    [
+        (["--help"], 0),
+        (["explore", "--help"], 0),
+        (["evaluate", "--help"], 0),
+        (["train", "--help"], 0),
+        (["maps", "--help"], 0),
+        (["benchmark", "ariadne", "--help"], 0),
+        (["explore", "--seed", "-5"], 2),
+        (["explore", "--resolution", "9"], 2),
+        (["explore", "--start", "1,nan"], 2),
+        (["explore", "--policy", "nearest:3"], 2),
+        (["evaluate", "--methods", "nearest", "--out", "x", "--seed", "-1"], 2),
+        (["train", "--out", "x", "--seed", "-1"], 2),
+    ],
+)
+def test_help_and_argument_errors_load_none_of_the_engine(args: list[str], code: int) -> None:
+    outcome = _run(*args)
+    assert outcome == {"code": code, "loaded": []}, outcome
+
+
+def test_a_command_that_runs_loads_the_engine() -> None:
+    outcome = _run("explore", "--world", "lse_arena", "--max-time", "5", "--json")
+    assert outcome["code"] in (0, None) and "numba" in outcome["loaded"]  # type: ignore[operator]
