@@ -8,6 +8,7 @@ import math
 import numpy as np
 import pytest
 
+from frontier_rl.core.frontiers.blacklist import AUDIT_BUDGET
 from frontier_rl.core.navigation.follower import FollowStatus, follow_path
 from frontier_rl.core.sim.candidates import reachable_frontiers
 from frontier_rl.core.sim.config import SimConfig
@@ -95,14 +96,15 @@ def test_a_way_round_from_contact_is_driven_in_open_space() -> None:
 
 
 def test_a_teammate_standing_for_good_in_a_corridor_ends_the_episode() -> None:
-    """Robot 1 has given up the corridor's far end and stands in the way of robot 0, whose only
+    """Robot 1 has given up the corridor's far end for good (its audit budget spent too) and stands
+    in the way of robot 0, whose only
     frontier lies behind it: robot 0 gives way, finds nothing else, and counts the goal as failed
     each time, so the episode ends (`unreachable`) instead of giving way until the time cap."""
     world = room(8, 200)  # 0.4 m x 9.9 m
     team = TeamSimulator(world, SimConfig(max_sim_time=400.0), TeamConfig(robots=2), np.random.default_rng(0))
     second = team.robots[1]
     for goal in second.sim.frontiers().goals:
-        for _ in range(second.sim.blacklist.max_failures):
+        for _ in range(AUDIT_BUDGET * second.sim.blacklist.max_failures):
             second.sim.blacklist.fail(float(goal[0]), float(goal[1]), second.sim.mapper.state)
     second.sim.refresh()
     rng = np.random.default_rng(0)
@@ -121,7 +123,7 @@ def _follow_straight(x0: float, to_x: float) -> tuple[float, int]:
     gate = np.array([1e9, 0.0, 0.0, 0.0, np.inf, np.inf])
     open_space = np.full((100, 100), 10.0)
     x, *_, status = follow_path(path[:, 0], path[:, 1], 0, x0, 0.0, heading, 1.0, params, open_space, np.zeros((1, 2)),
-                                2 * RADIUS, -2.5, -2.5, 0.05, gate, np.zeros(1, np.bool_))  # fmt: skip
+                                2 * RADIUS, -2.5, -2.5, 0.05, gate, np.zeros(2, np.bool_))  # fmt: skip
     return x, status
 
 

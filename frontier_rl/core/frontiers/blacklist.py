@@ -8,10 +8,13 @@ lies within ``radius`` of it), and the entry is lifted
 - when the map around it changes (as paulbovbel/frontier_exploration does after its PR #25): the
   robot saw something new there, so the way or the view may have opened;
 - once, before the episode would end with that frontier unexplored: the robot retries it from
-  wherever it then is, another approach.
+  wherever it then is, another approach;
+- and when that too would leave nothing to go to, for a goal the robot's map still has a way to
+  (it is found among the reachable frontiers again), as many tries again as it had: the audit
+  before giving up, with a bounded budget (``AUDIT_BUDGET`` times ``max_failures`` in all).
 
-A goal that has failed ``max_failures`` times stays blacklisted: the episode can then end, and
-names it among the frontiers it could not explore.
+A goal that has used up that budget stays blacklisted: the episode can then end, and names it
+among the frontiers it could not explore.
 """
 
 from __future__ import annotations
@@ -25,6 +28,8 @@ from numpy.typing import NDArray
 from frontier_rl.core.world.grid import CellState
 
 _UNKNOWN = np.int8(CellState.UNKNOWN)
+AUDIT_BUDGET = 2
+"""A goal is given up for good after this many times ``max_failures`` failed legs."""
 
 
 @dataclass
@@ -113,10 +118,12 @@ class Blacklist:
                 blocked |= np.hypot(goals[:, 0] - entry.x, goals[:, 1] - entry.y) <= self.radius
         return blocked
 
-    def retry(self) -> None:
-        """Lift every entry that may still be retried (failed fewer than ``max_failures`` times)."""
+    def retry(self, budget: int | None = None) -> None:
+        """Lift every entry that may still be retried: failed fewer than ``budget`` times
+        (``max_failures`` by default; the audit's is ``AUDIT_BUDGET * max_failures``)."""
+        limit = self.max_failures if budget is None else budget
         for entry in self.entries:
-            if entry.failures < self.max_failures:
+            if entry.failures < limit:
                 entry.active = False
 
     def failures_near(self, x: float, y: float) -> int:

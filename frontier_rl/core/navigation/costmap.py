@@ -131,6 +131,15 @@ class Costmap:
             clear_p[padded][inside] = 0.0  # so the start's escape zone stays shut
         return Costmap(g, open_p, clear_p, self.inflation_table, self.inflation_radius, self.unknown_cost, self.scratch)
 
+    def with_cells_blocked(self, blocked: NDArray[np.bool_]) -> Costmap:
+        """A copy in which the cells set in ``blocked`` (the map's shape) are blocked like a wall."""
+        open_p = self.open_padded.copy()
+        clear_p = self.clearance_padded.copy()
+        open_p[1:-1, 1:-1] &= ~blocked
+        clear_p[1:-1, 1:-1][blocked] = 0.0  # so the start's escape zone stays shut
+        return Costmap(self.grid, open_p, clear_p, self.inflation_table, self.inflation_radius, self.unknown_cost,
+                       self.scratch)  # fmt: skip
+
     def reachable_known(self, start: tuple[int, int], escape_radius: float = ESCAPE_RADIUS_M) -> NDArray[np.bool_]:
         """Known-free cells the robot at ``start`` (row, col) can drive to: traversable cells
         connected (8-way) to it, through the cells within ``escape_radius`` (m) it may cross to

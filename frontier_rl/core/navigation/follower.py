@@ -85,15 +85,56 @@ def _drive_step(
     return x + v * step * math.cos(mid), y + v * step * math.sin(mid), new_theta
 
 
+_CENTRED = 0.25
+"""A careful robot this close (cells) to its nearest waypoint stands on it."""
+_BACK_SEARCH_LOOKAHEADS = 4.0
+"""How far back along the path (in lookaheads of path length) the careful follower looks for the
+waypoint nearest to the robot: far enough to find where it stands on a path that winds around a
+corner within the lookahead, short enough never to send it back around a loop it has driven."""
+
+
 @nb.njit(cache=True, inline="always")
-def _next_waypoint(path_x: NDArray[np.float64], path_y: NDArray[np.float64], index: int, x: float, y: float) -> int:
-    """The waypoint right after the one nearest to (x, y), searching back from ``index``."""
-    near = index
-    while near > 0 and math.hypot(path_x[near - 1] - x, path_y[near - 1] - y) <= math.hypot(
-        path_x[near] - x, path_y[near] - y
-    ):
-        near -= 1
-    return int(min(near + 1, path_x.shape[0] - 1))
+def _nearest_waypoint(
+    path_x: NDArray[np.float64], path_y: NDArray[np.float64], index: int, x: float, y: float, lookahead: float
+) -> int:
+    """The waypoint nearest to (x, y) among those up to ``index`` within :data:`_BACK_SEARCH_LOOKAHEADS`
+    lookaheads (m) of path before it (the earlier one on a tie).
+
+    The nearest, not the first local minimum searching back: a path that turns around a wall
+    corner within the lookahead comes nearer, goes away and comes nearer again, and the first
+    minimum then lies past the corner, straight through the wall."""
+    near, best = index, math.hypot(path_x[index] - x, path_y[index] - y)
+    window = _BACK_SEARCH_LOOKAHEADS * lookahead
+    travelled = 0.0
+    k = index
+    while k > 0 and travelled <= window:
+        travelled += math.hypot(path_x[k] - path_x[k - 1], path_y[k] - path_y[k - 1])
+        k -= 1
+        gap = math.hypot(path_x[k] - x, path_y[k] - y)
+        if gap <= best:
+            near, best = k, gap
+    return near
+
+
+@nb.njit(cache=True, inline="always")
+def _careful_target(
+    path_x: NDArray[np.float64],
+    path_y: NDArray[np.float64],
+    index: int,
+    x: float,
+    y: float,
+    lookahead: float,
+    resolution: float,
+    careful: NDArray[np.bool_],
+) -> tuple[int, int, bool]:
+    """The waypoint a careful robot at (x, y) (m) steers at: the one after its nearest, or the
+    nearest itself while ``careful[1]`` (cleared once it stands on it). Returns the target, the
+    nearest waypoint and whether the robot stands off its centre (m, cells of ``resolution``)."""
+    near = _nearest_waypoint(path_x, path_y, index, x, y, lookahead)
+    off_centre = math.hypot(path_x[near] - x, path_y[near] - y) > _CENTRED * resolution
+    if careful[1] and not off_centre:
+        careful[1] = False
+    return (near if careful[1] else min(near + 1, path_x.shape[0] - 1)), near, off_centre
 
 
 @nb.njit(cache=True, inline="always")
@@ -119,6 +160,14 @@ def _clear(
     row = int(math.floor((y - origin_y) / resolution))
     rows, cols = clearance.shape
     return bool(0 <= row < rows and 0 <= col < cols and clearance[row, col] >= radius)
+
+
+@nb.njit(cache=True, inline="always")
+def _same_cell(x0: float, y0: float, x1: float, y1: float, origin_x: float, origin_y: float, resolution: float) -> bool:
+    """Whether the points (x0, y0) and (x1, y1) (m) lie in one cell of the grid."""
+    return math.floor((x0 - origin_x) / resolution) == math.floor((x1 - origin_x) / resolution) and math.floor(
+        (y0 - origin_y) / resolution
+    ) == math.floor((y1 - origin_y) / resolution)
 
 
 @nb.njit(cache=True, inline="always")
@@ -165,10 +214,11 @@ def follow_path(
     of other robots, m; (0, 2) alone).
     ``gate`` = (tick, x0, y0, theta0, linear, angular): the drive also stops at the first tick
     boundary (every ``tick`` s) where the robot is ``linear`` m from (x0, y0) or has turned
-    ``angular`` rad from theta0, the moment the mapper wants a new scan. ``careful`` (one flag,
-    kept by the caller for the whole path) switches from steering at the lookahead point to
-    following the waypoints one by one; it is set the first time the lookahead cuts a corner into
-    a wall.
+    ``angular`` rad from theta0, the moment the mapper wants a new scan. ``careful`` (two flags,
+    kept by the caller for the whole path): the first switches from steering at the lookahead
+    point to following the waypoints one by one, set the first time the lookahead cuts a corner
+    into a wall; the second steers back to the nearest waypoint before the next, set when the way
+    to the next from off its centre is walled.
 
     Returns (x, y, theta, index, distance driven (m), time used (s), status), the status a
     :class:`FollowStatus`.
@@ -192,7 +242,9 @@ def follow_path(
             return x, y, theta, n - 1, driven, elapsed, _REACHED
         while index < n - 1 and math.hypot(path_x[index] - x, path_y[index] - y) < lookahead:
             index += 1
-        target = _next_waypoint(path_x, path_y, index, x, y) if careful[0] else index
+        target, near, off_centre = index, index, False
+        if careful[0]:
+            target, near, off_centre = _careful_target(path_x, path_y, index, x, y, lookahead, resolution, careful)
         err = math.atan2(path_y[target] - y, path_x[target] - x) - theta
         err = (err + math.pi) % (2.0 * math.pi) - math.pi
         step = min(h, next_tick - elapsed, duration - elapsed)
@@ -209,6 +261,12 @@ def follow_path(
                     # cell wide, driving on while turning would keep leaving it.
                     theta, used = _turn(theta, err, step, w_max)
                     elapsed += used
+                    continue
+                cut = not _same_cell(nx, ny, path_x[target], path_y[target], origin_x, origin_y, resolution)
+                if wall and cut and not careful[1] and off_centre and target != near:
+                    # The straight line to the next waypoint cuts the corner of a cell the robot
+                    # may not enter (it stands at its cell's edge): its own waypoint first.
+                    careful[1] = True
                     continue
                 return x, y, theta, index, driven, min(next_tick, duration), _BLOCKED if wall else _BLOCKED_BY_ROBOT
             # Steering at the lookahead point cuts corners; in a tight spot follow the waypoints

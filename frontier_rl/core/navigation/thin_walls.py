@@ -5,17 +5,25 @@ front of it, and a hit outweighs a miss in the log-odds update (as in Gmapping a
 mapped wall is about one cell thicker than the true one on each side the LiDAR saw, and a passage
 about two cells narrower. A gap the robot fits through by a few centimetres is closed on its map.
 When the normal costmap leaves no frontier to go to, the simulator plans once more on a map whose
-walls have their outer layer peeled (:func:`thin_walls`); the robot's collision check on the true
-map still holds it back where the gap really is too narrow, and the wall cells it touches are kept
-from then on.
+walls have their outer layer peeled (:func:`thin_walls`), for a robot half a cell slimmer
+(:func:`recovery_robot`); the robot's collision check on the true map still holds it back where
+the gap really is too narrow, and the wall cells it touches are kept from then on.
 """
 
 from __future__ import annotations
 
+import dataclasses
+import math
+
 import numpy as np
 from numpy.typing import NDArray
+from scipy import ndimage
 
-from frontier_rl.core.world.grid import CellState
+from frontier_rl.core.navigation.astar import SearchScratch
+from frontier_rl.core.navigation.config import NavigationConfig
+from frontier_rl.core.navigation.costmap import Costmap
+from frontier_rl.core.world.grid import CellState, OccupancyGrid
+from frontier_rl.core.world.robot import RobotConfig
 
 _FREE = np.int8(CellState.FREE)
 _OCCUPIED = np.int8(CellState.OCCUPIED)
@@ -43,3 +51,40 @@ def thin_walls(state: NDArray[np.int8], felt: NDArray[np.bool_] | None = None) -
     out = state.copy()
     out[peel] = _FREE
     return out
+
+
+def recovery_costmap(
+    grid: OccupancyGrid,
+    felt: NDArray[np.bool_],
+    robot: RobotConfig,
+    navigation: NavigationConfig,
+    scratch: SearchScratch | None = None,
+) -> Costmap:
+    """The narrow-passage recovery's costmap of the robot's map ``grid``: its walls thinned
+    (:func:`thin_walls`) for a robot half a cell slimmer (:func:`recovery_robot`), except round the
+    walls the robot touched (``felt``, ``grid``'s shape), whose every cell closer than the robot's
+    radius stays blocked, as the collision check on the true map found them."""
+    thinned = OccupancyGrid(thin_walls(grid.data, felt), grid.resolution, grid.origin)
+    costmap = Costmap.build(thinned, recovery_robot(robot, grid.resolution), navigation, scratch)
+    if not felt.any():
+        return costmap
+    reach = robot.radius / grid.resolution
+    n = int(math.ceil(reach))
+    dr, dc = np.mgrid[-n : n + 1, -n : n + 1]
+    return costmap.with_cells_blocked(ndimage.binary_dilation(felt, dr**2 + dc**2 < reach**2))
+
+
+def recovery_robot(robot: RobotConfig, resolution: float) -> RobotConfig:
+    """``robot`` as the narrow-passage recovery plans for it: half a cell of ``resolution`` (m)
+    slimmer, never thinner than a quarter of a cell.
+
+    The normal costmap keeps the robot's centre a radius from a wall's surface; the collision check
+    on the true map asks a radius from a wall cell's centre, half a cell less. Where the peel cannot
+    find every cell a wall grew by (a wall grown along a diagonal, a chair leg seen from every side,
+    a speck beside a wall), a robot that drove into a cluttered corner can find itself walled in on
+    its own map with room to move on the true map; planned with the collision check's own margin,
+    the gaps open by the half cell the map grew into them, and where one is still too tight on the
+    true map the collision check stops the robot and the leg is given up like any other. (A whole
+    cell slimmer reopened the 0.1 m SLAM maps as well, but sent robots into gaps they bumped in, 382
+    legs without progress in one episode.)"""
+    return dataclasses.replace(robot, radius=max(robot.radius - 0.5 * resolution, 0.25 * resolution))

@@ -8,12 +8,12 @@ from dataclasses import dataclass
 import numpy as np
 from numpy.typing import NDArray
 
-from frontier_rl.core.frontiers.blacklist import Blacklist
+from frontier_rl.core.frontiers.blacklist import AUDIT_BUDGET, Blacklist
 from frontier_rl.core.frontiers.detection import Frontiers, detect_frontiers
 from frontier_rl.core.navigation.astar import SearchScratch
 from frontier_rl.core.navigation.costmap import Costmap
 from frontier_rl.core.navigation.inflation import InflationMemory
-from frontier_rl.core.navigation.thin_walls import thin_walls
+from frontier_rl.core.navigation.thin_walls import recovery_costmap
 from frontier_rl.core.sim.config import SimConfig, drop_cells_at
 from frontier_rl.core.world.grid import CellState, OccupancyGrid
 from frontier_rl.core.world.robot import Pose
@@ -79,8 +79,7 @@ def reachable_frontiers(
         costmap = Costmap.build(grid, config.robot, config.navigation, scratch, memory)
         reachable = costmap.reachable_known(grid.world_to_cell(pose.x, pose.y))
     else:
-        thinned = OccupancyGrid(thin_walls(grid.data, thin_except), grid.resolution, grid.origin)
-        costmap = Costmap.build(thinned, config.robot, config.navigation, scratch)
+        costmap = recovery_costmap(grid, thin_except, config.robot, config.navigation, scratch)
         reachable = costmap.reachable_known(grid.world_to_cell(pose.x, pose.y)) & (grid.data == CellState.FREE)
     cells = drop_cells_at(config.min_frontier_cells if min_cells is None else min_cells, grid.resolution)
     # a goal farther from its frontier than the map update reaches would map none of it
@@ -105,8 +104,10 @@ def find_candidates(
     thins every other wall. Goals the ``blacklist`` blocks are left out (refreshed against the
     robot's whole map ``map_state`` first); when that would leave none, the goals that may be
     retried are lifted once, so that the episode never ends with a frontier it gave up on after a
-    single failure. ``scratch`` and ``memory`` are the robot's, kept from map to map; ``avoid``,
-    the teammates it gives way to (:func:`reachable_frontiers`)."""
+    single failure, and then those still within the audit's budget
+    (:data:`~frontier_rl.core.frontiers.blacklist.AUDIT_BUDGET`). ``scratch`` and ``memory`` are
+    the robot's, kept from map to map; ``avoid``, the teammates it gives way to
+    (:func:`reachable_frontiers`)."""
     costmap, reachable, frontiers = reachable_frontiers(
         grid, pose, config, scratch=scratch, thin_except=felt, memory=memory, avoid=avoid
     )
@@ -116,6 +117,9 @@ def find_candidates(
         kept = frontiers.subset(~blacklist.blocked(goals))
         if len(kept) == 0:
             blacklist.retry()
+            kept = frontiers.subset(~blacklist.blocked(goals))
+        if len(kept) == 0:  # the audit: goals the map has a way to get as many tries again
+            blacklist.retry(AUDIT_BUDGET * blacklist.max_failures)
             kept = frontiers.subset(~blacklist.blocked(goals))
         frontiers = kept
     return Candidates(grid, costmap, reachable, frontiers, felt is not None)

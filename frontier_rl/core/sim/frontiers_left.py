@@ -14,7 +14,7 @@ from scipy import ndimage
 from frontier_rl.core.frontiers.blacklist import Blacklist
 from frontier_rl.core.frontiers.detection import Frontiers, detect_frontiers
 from frontier_rl.core.frontiers.fringe import NEIGHBOURS_8, unknown_beside
-from frontier_rl.core.sim.candidates import Candidates
+from frontier_rl.core.sim.candidates import Candidates, reachable_frontiers
 from frontier_rl.core.sim.config import UNSEEN_ROOM_M2, SimConfig
 from frontier_rl.core.sim.metrics import FrontierLeft
 from frontier_rl.core.world.grid import CellState, OccupancyGrid
@@ -56,15 +56,19 @@ def frontiers_left(
     config: SimConfig,
     blacklist: Blacklist,
     map_state: NDArray[np.int8],
+    felt: NDArray[np.bool_],
 ) -> tuple[FrontierLeft, ...]:
     """The frontiers of ``cand``'s map that are not candidates (blacklisted after failed attempts,
     with no reachable cell that sees them, or no larger than the drop size), with the unseen
     space beside and behind each (free cells read from ``truth_grid``, the world; ``map_state`` is
-    the robot's whole map, the world's shape). A cluster of at most ``config.speck_cells`` cells is
-    a speck and left out, unless more than :data:`UNSEEN_ROOM_M2` of unseen free space lies behind
-    it: a room seen only through a slot is not a speck."""
+    the robot's whole map and ``felt`` the walls it touched, the world's shape), and the audit:
+    whether the map has a path to each (:func:`with_a_path`). A cluster of at most
+    ``config.speck_cells`` cells is a speck and left out, unless more than :data:`UNSEEN_ROOM_M2`
+    of unseen free space lies behind it: a room seen only through a slot is not a speck."""
     res = cand.grid.resolution
     top, left_col = truth_grid.world_to_cell(*cand.grid.cell_to_world(0, 0))
+    felt_crop = felt[top : top + cand.grid.height, left_col : left_col + cand.grid.width]
+    audited = with_a_path(cand.grid, pose, config, felt_crop)
     truth = truth_grid.data[top : top + cand.grid.height, left_col : left_col + cand.grid.width]
     regions = UnseenRegions.of(map_state, truth_grid.data)
     state = map_state[top : top + cand.grid.height, left_col : left_col + cand.grid.width]
@@ -87,9 +91,24 @@ def frontiers_left(
             unknown, unseen = unknown_beside(beside, cells[:, 0], cells[:, 1], truth)
             rows, cols = np.divmod(unseen, cand.grid.width)
             in_world = (rows + top) * truth_grid.width + cols + left_col
+            has_path = bool(audited[cells[:, 0] * cand.grid.width + cells[:, 1]].any())
             left.append(FrontierLeft(x, y, int(frontiers.sizes[i]), unknown, unseen.size, unseen.size * res * res,
-                                     failures, behind_m2, in_world))  # fmt: skip
+                                     failures, behind_m2, in_world, has_path))  # fmt: skip
     return tuple(left)
+
+
+def with_a_path(grid: OccupancyGrid, pose: Pose, config: SimConfig, felt: NDArray[np.bool_]) -> NDArray[np.bool_]:
+    """The audit before an episode gives up: the cells (flat, of ``grid``) of every frontier the
+    robot at ``pose`` could drive to on its map ``grid`` as it is now, planned afresh (a new
+    costmap, no blacklist), on the normal costmap or the narrow-passage recovery's (``felt``: the
+    walls it touched, ``grid``'s shape). A frontier left with such a cell was given up on after
+    its failed attempts, not for want of a way."""
+    found = np.zeros(grid.height * grid.width, np.bool_)
+    for thin_except in (None, felt):
+        _, _, frontiers = reachable_frontiers(grid, pose, config, thin_except=thin_except)
+        for start, end in frontiers.spans:
+            found[frontiers.flat_cells[start:end]] = True
+    return found
 
 
 def _frontiers(grid: OccupancyGrid, pose: Pose, config: SimConfig, specks: bool) -> Frontiers:

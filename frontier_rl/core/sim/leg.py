@@ -73,8 +73,30 @@ class LegResult:
     start_xy: tuple[float, float]
 
 
+class LegNavigation(Protocol):
+    """What a leg needs of the robot's navigation (:class:`~frontier_rl.core.sim.navigator.Navigator`)."""
+
+    def replan(
+        self, goal: tuple[float, float], tight: bool, pose: Pose, round_teammates: bool = False
+    ) -> NDArray[np.float64] | None:
+        """A new path (n, 2) (m) from ``pose`` to ``goal`` on the current map (one that keeps out of
+        the teammates in contact, with ``round_teammates``), or None."""
+
+    def give_way(self, goal: tuple[float, float]) -> None:
+        """End the leg to ``goal`` for the teammates in contact: the next decision sees them as walls."""
+
+    def path_blocked(self, path_cells: NDArray[np.int64], first: int, tight: bool) -> bool:
+        """Whether the map puts a wall on the path (world cells) from index ``first`` on."""
+
+    def frontier_alive(self, cells: NDArray[np.int64]) -> bool:
+        """Whether a frontier's cells (world cells) are still a frontier."""
+
+    def blacklist_goal(self, goal: tuple[float, float]) -> None:
+        """Record a failed attempt at ``goal`` (m)."""
+
+
 class LegPort(Protocol):
-    """What a leg needs from the simulator: its clock and body, its map, and its blacklist."""
+    """What a leg needs from the simulator: its clock and body, and where it can go on its map."""
 
     @property
     def config(self) -> SimConfig: ...
@@ -90,6 +112,8 @@ class LegPort(Protocol):
     def nearby_robots(self) -> Teammates: ...
     @property
     def follow_params(self) -> NDArray[np.float64]: ...
+    @property
+    def navigator(self) -> LegNavigation: ...
 
     def advance(self, pose: Pose, driven: float, duration: float) -> tuple[int, int] | None:
         """Move the clock on by ``duration`` (s), the robot to ``pose`` having driven ``driven`` (m),
@@ -106,24 +130,6 @@ class LegPort(Protocol):
 
     def bump(self) -> None:
         """Mark the walls the robot touches as occupied (its bumper)."""
-
-    def replan(
-        self, goal: tuple[float, float], tight: bool, round_teammates: bool = False
-    ) -> NDArray[np.float64] | None:
-        """A new path (n, 2) (m) to ``goal`` on the current map (one that keeps out of the teammates
-        in contact, with ``round_teammates``), or None."""
-
-    def give_way(self, goal: tuple[float, float]) -> None:
-        """End the leg to ``goal`` for the teammates in contact: the next decision sees them as walls."""
-
-    def path_blocked(self, path_cells: NDArray[np.int64], first: int, tight: bool) -> bool:
-        """Whether the map puts a wall on the path (world cells) from index ``first`` on."""
-
-    def frontier_alive(self, cells: NDArray[np.int64]) -> bool:
-        """Whether a frontier's cells (world cells) are still a frontier."""
-
-    def blacklist_goal(self, goal: tuple[float, float]) -> None:
-        """Record a failed attempt at ``goal`` (m)."""
 
 
 class ProgressWatchdog:
@@ -195,7 +201,7 @@ class Leg:
         self._path = path
         self._path_cells = self._port.world.grid.world_to_cells(path)
         self._tail = tail_lengths(path)
-        self._careful = np.zeros(1, np.bool_)  # the follower's waypoint-by-waypoint mode, per path
+        self._careful = np.zeros(2, np.bool_)  # the follower's waypoint-by-waypoint modes, per path
         self._index = 0
 
     def run(self) -> Generator[None, None, LegOutcome]:
@@ -232,7 +238,7 @@ class Leg:
                 port.bump()
             # only a map update can put a new obstacle on the path
             if status == FollowStatus.BLOCKED or (
-                seen is not None and port.path_blocked(self._path_cells, self._index, self._tight)
+                seen is not None and port.navigator.path_blocked(self._path_cells, self._index, self._tight)
             ):
                 path = yield from self._replan_or_recover()
                 if path is None:
@@ -283,7 +289,7 @@ class Leg:
             self.new_occupied += seen[1]
 
     def _frontier_alive(self) -> bool:
-        return self._frontier_cells is not None and self._port.frontier_alive(self._frontier_cells)
+        return self._frontier_cells is not None and self._port.navigator.frontier_alive(self._frontier_cells)
 
     def _close_in(self) -> None:
         """Within the goal tolerance and the frontier is still there: close in on the goal cell
@@ -298,7 +304,7 @@ class Leg:
         if self._frontier_cells is None or port.sim_time < self._next_frontier_check:
             return False
         self._next_frontier_check = port.sim_time + port.config.navigation.frontier_check_period
-        return not port.frontier_alive(self._frontier_cells)
+        return not port.navigator.frontier_alive(self._frontier_cells)
 
     def _remaining(self) -> float:
         """The way (m) left along the path from the robot."""
@@ -324,9 +330,9 @@ class Leg:
         near = mates.collision_gap + port.config.navigation.goal_tolerance
         if any(math.dist(xy, self.goal) <= near for xy in (here, *mates.in_contact(here))):
             return LegOutcome.REACHED
-        path = port.replan(self.goal, self._tight, round_teammates=True)
+        path = port.navigator.replan(self.goal, self._tight, port.pose, round_teammates=True)
         if path is None:
-            port.give_way(self.goal)
+            port.navigator.give_way(self.goal)
             return LegOutcome.GAVE_WAY
         self._set_path(path)
         return None
@@ -335,11 +341,11 @@ class Leg:
         """A new path to the goal; while there is none, up to ``max_recoveries`` recovery
         rotations, each followed by another try."""
         port = self._port
-        path = port.replan(self.goal, self._tight)
+        path = port.navigator.replan(self.goal, self._tight, port.pose)
         while path is None and self._recoveries < port.config.navigation.max_recoveries and not port.truncated:
             self._recoveries += 1
             self._count((yield from port.rotate_steps()))
-            path = port.replan(self.goal, self._tight)
+            path = port.navigator.replan(self.goal, self._tight, port.pose)
         return path
 
     def _settle(self, outcome: LegOutcome) -> Generator[None, None, None]:
@@ -350,9 +356,9 @@ class Leg:
         if outcome is LegOutcome.REACHED and self._frontier_alive():
             yield from self._port.wait_steps()
             if self._frontier_alive():
-                self._port.blacklist_goal(self.goal)
+                self._port.navigator.blacklist_goal(self.goal)
         if outcome is LegOutcome.ABORTED:
-            self._port.blacklist_goal(self.goal)
+            self._port.navigator.blacklist_goal(self.goal)
 
 
 def tail_lengths(path: NDArray[np.float64]) -> NDArray[np.float64]:

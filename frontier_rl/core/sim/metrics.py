@@ -52,6 +52,9 @@ class FrontierLeft:
             unknown in the map and free in the true world, 4-connected to them.
         unseen_cells: the unseen free cells' flat indices in the world's grid (row-major), so that
             a cell beside two frontiers is counted once in an episode's ``unknown_left_m2``.
+        has_path: the audit: the robot's final map, planned afresh from where it stands (a new
+            costmap, no blacklist, normal or narrow-passage recovery), has a path to it: it was
+            given up on after its failed attempts, not for want of a way.
     """
 
     x: float
@@ -63,6 +66,7 @@ class FrontierLeft:
     failures: int
     unseen_behind_m2: float
     unseen_cells: NDArray[np.int64] = field(repr=False, compare=False, default_factory=lambda: np.zeros(0, np.int64))
+    has_path: bool = False
 
     def summary(self) -> dict[str, Any]:
         """A JSON-ready dict."""
@@ -75,6 +79,7 @@ class FrontierLeft:
             "unknown_m2": round(self.unknown_m2, 4),
             "failures": self.failures,
             "unseen_behind_m2": round(self.unseen_behind_m2, 4),
+            "has_path": self.has_path,
         }
 
 
@@ -155,6 +160,12 @@ class EpisodeResult:
         return (1.0 - self.coverage) * self.explorable_m2
 
     @property
+    def frontiers_with_path_left(self) -> int:
+        """The audit's count: frontiers left to which the robot's final map has a path
+        (:attr:`FrontierLeft.has_path`), given up on after their failed attempts."""
+        return sum(f.has_path for f in self.frontiers_left)
+
+    @property
     def real_time_factor(self) -> float:
         """Simulated seconds per wall-clock second."""
         return self.sim_time_s / self.wall_time_s if self.wall_time_s > 0 else float("inf")
@@ -176,6 +187,7 @@ class EpisodeResult:
             "free_coverage": round(self.free_coverage, 5),
             "unknown_left_m2": round(self.unknown_left_m2, 4),
             "explorable_left_m2": round(self.explorable_left_m2, 4),
+            "frontiers_with_path_left": self.frontiers_with_path_left,
             "wall_time_s": round(self.wall_time_s, 4),
             "real_time_factor": round(self.real_time_factor, 1),
         }

@@ -17,20 +17,19 @@ from numpy.typing import NDArray
 
 from frontier_rl.core.frontiers.blacklist import Blacklist
 from frontier_rl.core.frontiers.detection import Frontiers
-from frontier_rl.core.frontiers.fringe import count_fringe
 from frontier_rl.core.mapping.mapper import LogOddsMapper
 from frontier_rl.core.navigation.astar import SearchScratch
-from frontier_rl.core.navigation.follower import footprint_offsets
 from frontier_rl.core.navigation.inflation import InflationMemory
 from frontier_rl.core.sensing.lidar import Lidar
 from frontier_rl.core.sim.body import touched_walls, until_next_scan
-from frontier_rl.core.sim.candidates import Candidates, find_candidates
+from frontier_rl.core.sim.candidates import Candidates
 from frontier_rl.core.sim.config import SimConfig
 from frontier_rl.core.sim.episode_log import EndReason, EpisodeLog, completion_reason
 from frontier_rl.core.sim.frontiers_left import frontiers_left
 from frontier_rl.core.sim.leg import AbortCause, Leg, LegOutcome, LegResult, run_leg
 from frontier_rl.core.sim.metrics import EpisodeResult, FrontierLeft
-from frontier_rl.core.sim.paths import map_blocks_path, plan_path, point_goal_cell, replan_path
+from frontier_rl.core.sim.navigator import Navigator
+from frontier_rl.core.sim.paths import plan_path, point_goal_cell
 from frontier_rl.core.sim.teammates import Teammates
 from frontier_rl.core.world.grid import CellState, OccupancyGrid
 from frontier_rl.core.world.robot import Pose
@@ -66,7 +65,6 @@ class ExplorationSimulator:
         grid = world.grid
         self._lidar = Lidar(grid, self.config.lidar)
         self.nearby_robots = Teammates(grid, self._lidar, self.config.robot.radius)
-        self._footprint = footprint_offsets(self.config.robot.radius, grid.resolution)
         # the planner's, reused by every costmap of the episode: they are crops of the world, padded
         self._scratch = SearchScratch((grid.height + 2) * (grid.width + 2))
         self._inflation = InflationMemory()  # the last costmap's, inflated again where the map changed
@@ -87,15 +85,15 @@ class ExplorationSimulator:
         nav, grid = self.config.navigation, self.world.grid
         self.blacklist = Blacklist(nav.blacklist_radius, nav.max_goal_failures, grid.resolution, grid.origin)
         self.log = EpisodeLog(self.world.explorable_count)
-        self._candidates: Candidates | None = None
-        self._gave_way_on: tuple[float, float] | None = None  # the goal of a leg that gave way, see give_way
+        self.navigator = Navigator(self.world, self.config, self.mapper, self.blacklist, self.nearby_robots,
+                                   self._scratch, self._inflation)  # fmt: skip
         self.target: tuple[float, float] | None = None  # the frontier centre or point of the leg under way
         self.set_teammates(np.zeros((0, 2)) if teammates is None else teammates)
         self._scan()
 
     def refresh(self) -> None:
         """The map was changed from outside (merged with a teammate's): forget the cached candidates."""
-        self._candidates = None
+        self.navigator.forget()
 
     @property
     def pose(self) -> Pose:
@@ -134,7 +132,8 @@ class ExplorationSimulator:
     def frontiers_left(self, known: NDArray[np.bool_] | None = None) -> tuple[FrontierLeft, ...]:
         """The frontiers not candidates, with the unseen space beside and behind each (``known``: what a team saw)."""
         state = self.mapper.state if known is None else np.where(known, CellState.FREE, self.mapper.state)
-        return frontiers_left(self.candidates(), self.world.grid, self.pose, self.config, self.blacklist, state)
+        return frontiers_left(self.candidates(), self.world.grid, self.pose, self.config, self.blacklist, state,
+                              self.mapper.felt)  # fmt: skip
 
     def trajectory(self) -> NDArray[np.float64]:
         """(n, 3) robot poses (x, y, theta) so far: after every drive step, at least at every map update."""
@@ -175,7 +174,7 @@ class ExplorationSimulator:
         filtered = self.nearby_robots.laser_filter()
         update = self.mapper.integrate_simulated(self._lidar, self.pose, noise, self.sim_time, filtered)
         self.log.map_update(self.sim_time, self.mapper.explored_cells, self.path_length)
-        self._candidates = None
+        self.navigator.forget()
         return update.new_free, update.new_occupied
 
     def until_next_scan(self) -> tuple[float, NDArray[np.float64]]:
@@ -216,45 +215,13 @@ class ExplorationSimulator:
         """The robot ran into a wall its map did not show (the LiDAR is blind closer than its
         minimum range): the wall cells it touches are marked occupied, as a bumper would."""
         self.mapper.mark_occupied(*touched_walls(self.world.grid, self.pose, self.config.robot.radius))
-        self._candidates = None
+        self.navigator.forget()
 
     # -------------------------------------------------------------- decisions
     def candidates(self) -> Candidates:
         """The current map, its costmap and the reachable, non-blacklisted frontiers (cached;
-        see :func:`~frontier_rl.core.sim.candidates.find_candidates`). When the normal costmap
-        leaves none, those of the narrow-passage recovery (``tight``: the map with its walls a cell
-        thinner, as range noise made them a cell thicker) are the candidates if there are any."""
-        if self._candidates is None:
-            grid = self.mapper.occupancy_grid(margin=2)
-            cand = self.candidates_on(grid, tight=False)
-            if len(cand.frontiers) == 0 and self._gave_way_on is not None:  # their way again, as a failure
-                self.blacklist.fail(*self._gave_way_on, self.mapper.state)
-                self._gave_way_on = None
-                cand = self.candidates_on(grid, tight=False)
-            if len(cand.frontiers) == 0:
-                tight = self.candidates_on(grid, tight=True)
-                if len(tight.frontiers):
-                    cand = tight
-            self._candidates = cand
-        return self._candidates
-
-    def _decision_candidates(self) -> Candidates:
-        """The candidates of a decision: after :meth:`give_way`, of this decision only."""
-        cand = self.candidates()
-        if self._gave_way_on is not None:
-            self._gave_way_on = self._candidates = None
-        return cand
-
-    def candidates_on(self, grid: OccupancyGrid, tight: bool) -> Candidates:
-        """The candidates on ``grid`` (a crop of the robot's map) with the normal or the tight costmap."""
-        felt = None
-        if tight:
-            top, left = self.world.grid.world_to_cell(*grid.cell_to_world(0, 0))
-            felt = self.mapper.felt[top : top + grid.height, left : left + grid.width]
-        mates = self.nearby_robots
-        walls = None if self._gave_way_on is None else (mates.in_contact((self.pose.x, self.pose.y)), mates.radius)
-        return find_candidates(grid, self.pose, self.config, self.blacklist, self.mapper.state, self._scratch, felt,
-                               self._inflation, walls)  # fmt: skip
+        see :meth:`Navigator.candidates <frontier_rl.core.sim.navigator.Navigator.candidates>`)."""
+        return self.navigator.candidates(self.pose)
 
     def frontiers(self) -> Frontiers:
         """The current candidate frontiers."""
@@ -272,7 +239,7 @@ class ExplorationSimulator:
         """:meth:`execute` step by step: the leg yields each time its clock has moved on (a drive up
         to the next map update, about 0.5 s of sim time, or one LiDAR tick of a turn) and returns
         its result, so that several robots can share one clock."""
-        cand = self._decision_candidates()
+        cand = self.navigator.decision_candidates(self.pose)
         for index in order:
             index = int(index)
             if not 0 <= index < len(cand.frontiers):
@@ -286,7 +253,7 @@ class ExplorationSimulator:
                 continue
             frontier_cells = self.world.grid.world_to_cells(cand.grid.cells_to_world(cand.frontiers.cells_of(index)))
             return (yield from self._drive(Leg(self, path, goal, frontier_cells, cand.tight), index, weight))
-        self._candidates = None  # the blacklist changed
+        self.navigator.forget()  # the blacklist changed
         result = self._leg_result(LegOutcome.NONE, -1, (math.nan, math.nan), self.sim_time, 0, 0)
         self.log.decision(result, weight)  # a decision that drove nowhere
         return result
@@ -299,7 +266,7 @@ class ExplorationSimulator:
 
     def go_to_steps(self, x: float, y: float, weight: float | None = None) -> Generator[None, None, LegResult]:
         """:meth:`go_to` one map update at a time (see :meth:`execute_steps`)."""
-        cand = self._decision_candidates()
+        cand = self.navigator.decision_candidates(self.pose)
         goal_cell = point_goal_cell(cand, x, y)
         path = None if goal_cell is None else plan_path(cand, self.pose, goal_cell, self.nearby_robots, self.config)
         if path is None or goal_cell is None:
@@ -343,41 +310,6 @@ class ExplorationSimulator:
         """A leg that drove no distance since ``start_s``."""
         xy = (self.pose.x, self.pose.y)
         return LegResult(outcome, index, goal, self.sim_time - start_s, 0.0, new_free, new_occ, start_s, xy)
-
-    # ------------------------------------------------------------- navigation
-    def replan(
-        self, goal: tuple[float, float], tight: bool, round_teammates: bool = False
-    ) -> NDArray[np.float64] | None:
-        """A new path to ``goal`` on the current map, on the costmap the leg was planned on: a leg
-        through a passage opened by the narrow-passage recovery keeps to it (on the normal
-        costmap the robot inside the passage could not move). With ``round_teammates``, only a
-        path that keeps out of the teammates in contact with the robot."""
-        cand = self.candidates()
-        if tight and not cand.tight:
-            cand = self.candidates_on(cand.grid, tight=True)
-        return replan_path(cand, self.pose, goal, self.nearby_robots, self.config, round_teammates)
-
-    def give_way(self, goal: tuple[float, float]) -> None:
-        """A teammate blocks the leg to ``goal`` (m): the next decision sees those in contact as walls."""
-        self._gave_way_on = goal
-        self._candidates = None
-
-    def path_blocked(self, path_cells: NDArray[np.int64], first: int, tight: bool) -> bool:
-        """Whether the robot's map puts a wall on the path (world cells) from index ``first`` on;
-        for a leg of the narrow-passage recovery, the map with its walls thinned around the path,
-        as it was planned on."""
-        felt = self.mapper.felt if tight else None
-        return map_blocks_path(self.mapper.state, path_cells[first:], self._footprint, felt)
-
-    def frontier_alive(self, cells: NDArray[np.int64]) -> bool:
-        """Whether more than the drop size of a frontier's cells (world cells) are still fringe cells."""
-        drop = self.config.drop_cells(self.world.grid.resolution)
-        return count_fringe(self.mapper.state, cells[:, 0], cells[:, 1]) > drop
-
-    def blacklist_goal(self, goal: tuple[float, float]) -> None:
-        """A leg to ``goal`` (m) failed: blacklist it, and find the candidates afresh."""
-        self.blacklist.fail(*goal, self.mapper.state)
-        self._candidates = None
 
     # ---------------------------------------------------------------- results
     def result(self, wall_time_s: float) -> EpisodeResult:

@@ -445,7 +445,7 @@ def drive(path_xy: NDArray[np.float64], x: float, y: float, theta: float, durati
           gate: NDArray[np.float64] = NO_GATE) -> tuple[float, ...]:  # fmt: skip
     return tuple(
         follow_path(path_xy[:, 0].copy(), path_xy[:, 1].copy(), 0, x, y, theta, duration, p, clearance,
-                    NO_MATES, 0.0, origin[0], origin[1], res, gate, np.zeros(1, np.bool_))
+                    NO_MATES, 0.0, origin[0], origin[1], res, gate, np.zeros(2, np.bool_))
     )  # fmt: skip
 
 
@@ -510,7 +510,7 @@ def test_follow_path_refuses_to_enter_cells_closer_than_the_radius_to_a_wall() -
     clearance, grid = wall_world()
     path = np.column_stack((np.linspace(0.525, 2.8, 50), np.full(50, 0.525)))
     x, y, theta, pose_index = 0.525, 0.525, 0.0, 0
-    careful = np.zeros(1, np.bool_)
+    careful = np.zeros(2, np.bool_)
     status = 0
     for _ in range(400):  # tick by tick, checking every pose on the way
         x, y, theta, pose_index, _, _, status = follow_path(

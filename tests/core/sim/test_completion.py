@@ -181,7 +181,7 @@ def test_a_speck_is_left_out_unless_a_room_lies_behind_it(room: bool) -> None:
     blacklist = Blacklist(0.25, 2, RES, (0.0, 0.0))
     cand = find_candidates(OccupancyGrid(state, RES), start, config, blacklist, state)
     assert len(cand.frontiers) == 0
-    left = frontiers_left(cand, world.grid, start, config, blacklist, state)
+    left = frontiers_left(cand, world.grid, start, config, blacklist, state, np.zeros(state.shape, np.bool_))
     reason = completion_reason(left, config.speck_cells(RES))
     if room:
         [speck] = left
@@ -279,7 +279,7 @@ def test_the_time_cap_is_an_end_reason_and_scales_with_the_building() -> None:
     assert SimConfig().time_cap(world) == SimConfig().min_time_cap  # small: the floor of the rule
     n = int(60.0 / RES)
     big = make_world(OccupancyGrid(walled(n, n), RES), "big", start=Pose(30.0, 30.0, 0.0))
-    assert SimConfig().time_cap(big) == pytest.approx(10.0 * big.explorable_count * RES * RES)
+    assert SimConfig().time_cap(big) == pytest.approx(SimConfig().time_per_area * big.explorable_count * RES * RES)
     assert SimConfig().time_cap(big) > 30_000  # a 60 m x 60 m floor is not cut at one hour
     assert SimConfig(max_sim_time=50.0).time_cap(big) == 50.0  # an explicit cap wins
 

@@ -83,7 +83,13 @@ class ScriptedPort:
     def bump(self) -> None:
         self.calls.append("bump")
 
-    def replan(self, goal: tuple[float, float], tight: bool) -> NDArray[np.float64] | None:
+    @property
+    def navigator(self) -> ScriptedPort:
+        return self
+
+    def replan(
+        self, goal: tuple[float, float], tight: bool, pose: Pose, round_teammates: bool = False
+    ) -> NDArray[np.float64] | None:
         self.calls.append("replan")
         if self.replans is FROM_HERE:
             return _straight(goal[0], self.pose.x)
@@ -185,7 +191,9 @@ class WanderingPort(ScriptedPort):
         self.driven += driven
         return super().advance(pose, driven, duration)
 
-    def replan(self, goal: tuple[float, float], tight: bool) -> NDArray[np.float64] | None:
+    def replan(
+        self, goal: tuple[float, float], tight: bool, pose: Pose, round_teammates: bool = False
+    ) -> NDArray[np.float64] | None:
         self.calls.append("replan")
         self.east = self.pose.x < 8.5 if self.east else self.pose.x < 1.5
         xs = np.linspace(self.pose.x, 9.5 if self.east else 0.5, 100)

@@ -1,0 +1,132 @@
+"""Where one robot can go on its own map: the candidates of a decision, the paths a leg replans,
+and the map checks along them. The :class:`~frontier_rl.core.sim.simulator.ExplorationSimulator`
+keeps one per episode (it moves the robot; this decides where it may move)."""
+
+from __future__ import annotations
+
+import numpy as np
+from numpy.typing import NDArray
+
+from frontier_rl.core.frontiers.blacklist import Blacklist
+from frontier_rl.core.frontiers.fringe import count_fringe
+from frontier_rl.core.mapping.mapper import LogOddsMapper
+from frontier_rl.core.navigation.astar import SearchScratch
+from frontier_rl.core.navigation.follower import footprint_offsets
+from frontier_rl.core.navigation.inflation import InflationMemory
+from frontier_rl.core.navigation.thin_walls import recovery_robot
+from frontier_rl.core.sim.candidates import Candidates, find_candidates
+from frontier_rl.core.sim.config import SimConfig
+from frontier_rl.core.sim.paths import map_blocks_path, replan_path
+from frontier_rl.core.sim.teammates import Teammates
+from frontier_rl.core.world.grid import OccupancyGrid
+from frontier_rl.core.world.robot import Pose
+from frontier_rl.core.world.worlds import World
+
+
+class Navigator:
+    """The robot's map as its navigation sees it, for one episode.
+
+    Args:
+        world: the world (its grid is the frame of the map and of the paths' cells).
+        config: the settings.
+        mapper: the robot's map; blacklist: its failed goals; robots: the other robots, as obstacles.
+        scratch, inflation: the planner's scratch and the last costmap's inflation, kept from map
+            to map (and from episode to episode: they belong to the simulator).
+    """
+
+    def __init__(
+        self,
+        world: World,
+        config: SimConfig,
+        mapper: LogOddsMapper,
+        blacklist: Blacklist,
+        robots: Teammates,
+        scratch: SearchScratch,
+        inflation: InflationMemory,
+    ) -> None:
+        self._world, self._config, self._mapper, self._robots = world, config, mapper, robots
+        self.blacklist = blacklist
+        self._scratch, self._inflation = scratch, inflation
+        res = world.grid.resolution
+        self._footprint = footprint_offsets(config.robot.radius, res)
+        self._recovery_footprint = footprint_offsets(recovery_robot(config.robot, res).radius, res)
+        self._cached: Candidates | None = None
+        self._gave_way_on: tuple[float, float] | None = None  # the goal of a leg that gave way, see give_way
+
+    def forget(self) -> None:
+        """The map or the blacklist changed: find the candidates afresh."""
+        self._cached = None
+
+    def candidates(self, pose: Pose) -> Candidates:
+        """The current map, its costmap and the reachable, non-blacklisted frontiers for a robot at
+        ``pose`` (cached until :meth:`forget`; see :func:`~frontier_rl.core.sim.candidates.find_candidates`).
+        When the normal costmap leaves none, those of the narrow-passage recovery (``tight``: the
+        map with its walls a cell thinner, as range noise made them a cell thicker, for a robot half a
+        cell slimmer) are the candidates if there are any."""
+        if self._cached is None:
+            grid = self._mapper.occupancy_grid(margin=2)
+            cand = self.candidates_on(grid, False, pose)
+            if len(cand.frontiers) == 0 and self._gave_way_on is not None:  # their way again, as a failure
+                self.blacklist.fail(*self._gave_way_on, self._mapper.state)
+                self._gave_way_on = None
+                cand = self.candidates_on(grid, False, pose)
+            if len(cand.frontiers) == 0:
+                tight = self.candidates_on(grid, True, pose)
+                if len(tight.frontiers):
+                    cand = tight
+            self._cached = cand
+        return self._cached
+
+    def decision_candidates(self, pose: Pose) -> Candidates:
+        """The candidates of a decision: after :meth:`give_way`, of this decision only."""
+        cand = self.candidates(pose)
+        if self._gave_way_on is not None:
+            self._gave_way_on = self._cached = None
+        return cand
+
+    def candidates_on(self, grid: OccupancyGrid, tight: bool, pose: Pose) -> Candidates:
+        """The candidates on ``grid`` (a crop of the robot's map) with the normal or the tight costmap."""
+        felt = None
+        if tight:
+            top, left = self._world.grid.world_to_cell(*grid.cell_to_world(0, 0))
+            felt = self._mapper.felt[top : top + grid.height, left : left + grid.width]
+        mates = self._robots
+        walls = None if self._gave_way_on is None else (mates.in_contact((pose.x, pose.y)), mates.radius)
+        return find_candidates(grid, pose, self._config, self.blacklist, self._mapper.state, self._scratch, felt,
+                               self._inflation, walls)  # fmt: skip
+
+    def replan(
+        self, goal: tuple[float, float], tight: bool, pose: Pose, round_teammates: bool = False
+    ) -> NDArray[np.float64] | None:
+        """A new path from ``pose`` to ``goal`` (m) on the current map, on the costmap the leg was
+        planned on: a leg through a passage opened by the narrow-passage recovery keeps to it (on
+        the normal costmap the robot inside the passage could not move). With ``round_teammates``,
+        only a path that keeps out of the teammates in contact with the robot."""
+        cand = self.candidates(pose)
+        if tight and not cand.tight:
+            cand = self.candidates_on(cand.grid, True, pose)
+        return replan_path(cand, pose, goal, self._robots, self._config, round_teammates)
+
+    def give_way(self, goal: tuple[float, float]) -> None:
+        """A teammate blocks the leg to ``goal`` (m): the next decision sees those in contact as walls."""
+        self._gave_way_on = goal
+        self._cached = None
+
+    def path_blocked(self, path_cells: NDArray[np.int64], first: int, tight: bool) -> bool:
+        """Whether the robot's map puts a wall on the path (world cells) from index ``first`` on;
+        for a leg of the narrow-passage recovery, the map with its walls thinned around the path
+        and the slimmer robot, as it was planned on."""
+        state = self._mapper.state
+        if tight:
+            return map_blocks_path(state, path_cells[first:], self._recovery_footprint, self._mapper.felt)
+        return map_blocks_path(state, path_cells[first:], self._footprint)
+
+    def frontier_alive(self, cells: NDArray[np.int64]) -> bool:
+        """Whether more than the drop size of a frontier's cells (world cells) are still fringe cells."""
+        drop = self._config.drop_cells(self._world.grid.resolution)
+        return count_fringe(self._mapper.state, cells[:, 0], cells[:, 1]) > drop
+
+    def blacklist_goal(self, goal: tuple[float, float]) -> None:
+        """A leg to ``goal`` (m) failed: blacklist it, and find the candidates afresh."""
+        self.blacklist.fail(*goal, self._mapper.state)
+        self._cached = None

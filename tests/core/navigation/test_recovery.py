@@ -1,0 +1,120 @@
+"""The recoveries of a robot in a tight spot: the careful follower's waypoints, and the narrow-passage
+recovery's costmap (the map thinned, the robot half a cell slimmer, the walls it touched kept whole)."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+from numpy.typing import NDArray
+
+from frontier_rl.core.navigation.config import NavigationConfig
+from frontier_rl.core.navigation.costmap import Costmap
+from frontier_rl.core.navigation.follower import _nearest_waypoint, follow_path
+from frontier_rl.core.navigation.thin_walls import recovery_costmap, recovery_robot
+from frontier_rl.core.sim.teammates import obstacle_distance
+from frontier_rl.core.world.grid import CellState, OccupancyGrid
+from frontier_rl.core.world.robot import RobotConfig
+
+FREE, OCC = CellState.FREE, CellState.OCCUPIED
+ROBOT, NAV = RobotConfig(), NavigationConfig()
+RES = 0.1  # the coarse SLAM maps where the robot got stuck
+NO_MATES = np.zeros((0, 2))
+NO_GATE = np.array([1e9, 0.0, 0.0, 0.0, np.inf, np.inf])
+
+
+def _params() -> NDArray[np.float64]:
+    return np.array([ROBOT.max_linear_speed, ROBOT.max_angular_speed, ROBOT.turn_in_place_angle, NAV.heading_gain,
+                     NAV.lookahead, NAV.goal_tolerance, NAV.control_dt, ROBOT.radius])  # fmt: skip
+
+
+def _centres(cells: list[tuple[int, int]]) -> NDArray[np.float64]:
+    return np.array([((c + 0.5) * RES, (r + 0.5) * RES) for r, c in cells])
+
+
+def test_the_nearest_waypoint_is_found_past_a_path_that_winds_round_a_corner() -> None:
+    # down, left, left, up, left, left: the robot stands on the first; the first local minimum
+    # searching back from the last lies past the corner
+    path = _centres([(5, 5), (6, 5), (6, 4), (6, 3), (5, 3), (5, 2), (5, 1)])
+    x, y = path[0, 0] - 0.04, path[0, 1]
+    assert _nearest_waypoint(path[:, 0], path[:, 1], 6, x, y, NAV.lookahead) == 0
+
+
+def test_a_stretch_of_path_driven_long_ago_is_not_searched_even_where_it_passes_closer() -> None:
+    # out along row 5 to column 30, down a row, back along row 6: the robot on the way back at
+    # column 5, nearer to the way out (0.04 m) than to its own waypoint (0.06 m)
+    path = _centres([(5, c) for c in range(31)] + [(6, c) for c in range(30, -1, -1)])
+    here = 31 + 25  # (6, 5)
+    x, y = path[here, 0], path[here, 1] - 0.06
+    assert _nearest_waypoint(path[:, 0], path[:, 1], here + 2, x, y, NAV.lookahead) == here
+
+
+def _corner_world() -> tuple[NDArray[np.float64], NDArray[np.float64]]:
+    """A robot at the left edge of cell (5, 5) with a wall at (4, 4): cell (5, 4) is too close to
+    the wall to stand in, the planned path goes round it through (6, 5) and (6, 4)."""
+    data = np.full((12, 12), FREE, np.int8)
+    data[4, 4] = OCC
+    clearance = obstacle_distance(data == OCC, RES)
+    assert clearance[5, 4] < ROBOT.radius <= clearance[5, 5]
+    return clearance, _centres([(5, 5), (6, 4), (6, 3), (6, 2), (6, 1)])
+
+
+def _follow(path: NDArray[np.float64], clearance: NDArray[np.float64], x: float, y: float, theta: float,
+            ticks: int) -> tuple[float, float, list[tuple[int, int]]]:  # fmt: skip
+    careful = np.array([True, False])
+    index, cells = 0, []
+    for _ in range(ticks):
+        x, y, theta, index, _, _, status = follow_path(
+            path[:, 0], path[:, 1], index, x, y, theta, 0.2, _params(), clearance, NO_MATES, 0.0, 0.0, 0.0, RES,
+            NO_GATE, careful,
+        )  # fmt: skip
+        cells.append((math.floor(y / RES), math.floor(x / RES)))
+        if status == 1:
+            break
+    return x, y, cells
+
+
+def test_a_careful_robot_at_its_cells_edge_steps_back_onto_its_waypoint_instead_of_stalling() -> None:
+    clearance, path = _corner_world()
+    start_x, start_y = 5 * RES + 0.001, 5.4 * RES  # the cell's left edge, facing the wall's corner
+    x, y, cells = _follow(path, clearance, start_x, start_y, math.atan2(path[1, 1] - start_y, path[1, 0] - start_x),
+                          200)  # fmt: skip
+    assert math.hypot(x - path[-1, 0], y - path[-1, 1]) <= NAV.goal_tolerance + 1e-9  # it got there
+    assert all(clearance[c] >= ROBOT.radius for c in cells)  # never into a cell too close to the wall
+
+
+def test_a_careful_robot_blocked_on_its_waypoint_reports_blocked() -> None:
+    clearance, _ = _corner_world()
+    path = _centres([(5, 5), (5, 4), (5, 3)])  # straight through the cell too close to the wall
+    careful = np.array([True, False])
+    *_, status = follow_path(path[:, 0], path[:, 1], 0, 5.5 * RES, 5.5 * RES, math.pi, 2.0, _params(), clearance,
+                             NO_MATES, 0.0, 0.0, 0.0, RES, NO_GATE, careful)  # fmt: skip
+    assert status == 2  # blocked: the bumper may feel the wall, and the leg replans
+
+
+@pytest.mark.parametrize(("res", "radius"), [(0.05, 0.08), (0.1, 0.055), (0.3, 0.075)])
+def test_the_recovery_plans_for_a_robot_half_a_cell_slimmer_never_thinner_than_a_quarter_cell(
+    res: float, radius: float
+) -> None:
+    assert recovery_robot(ROBOT, res).radius == pytest.approx(radius)
+
+
+def _gap_map(width: int) -> OccupancyGrid:
+    """A wall three cells thick across a 3 m x 2 m map, with a gap ``width`` cells wide (0.1 m cells)."""
+    data = np.full((20, 30), FREE, np.int8)
+    data[10:13, :] = OCC
+    data[10:13, 14 : 14 + width] = FREE
+    return OccupancyGrid(data, RES)
+
+
+def test_a_gap_the_map_closed_opens_on_the_recovery_costmap_and_closes_again_where_it_was_felt() -> None:
+    grid = _gap_map(2)  # 0.2 m: the map's walls grew a cell into it (the true gap is wider)
+    start, goal = (3, 15), (17, 15)
+    assert len(Costmap.build(grid, ROBOT, NAV).plan(start, goal)) == 0
+    felt = np.zeros(grid.shape, np.bool_)
+    assert len(recovery_costmap(grid, felt, ROBOT, NAV).plan(start, goal)) > 0
+    felt[10:13, 13] = felt[10:13, 16] = True  # the robot touched both sides: the gap really is that narrow
+    assert len(recovery_costmap(grid, felt, ROBOT, NAV).plan(start, goal)) == 0
+    blocked = ~recovery_costmap(grid, felt, ROBOT, NAV).traversable
+    assert blocked[9, 13] and blocked[9, 16] and blocked[10, 14]  # within the radius of a felt cell
