@@ -13,7 +13,7 @@ from frontier_rl.core.frontiers.detection import Frontiers, detect_frontiers
 from frontier_rl.core.navigation.astar import SearchScratch
 from frontier_rl.core.navigation.costmap import Costmap
 from frontier_rl.core.navigation.inflation import InflationMemory
-from frontier_rl.core.navigation.thin_walls import recovery_costmap
+from frontier_rl.core.navigation.thin_walls import Recovery, recovery_costmap
 from frontier_rl.core.sim.config import SimConfig, drop_cells_at
 from frontier_rl.core.world.grid import CellState, OccupancyGrid
 from frontier_rl.core.world.robot import Pose
@@ -43,15 +43,15 @@ class Candidates:
         costmap: the navigator's costmap of ``grid``.
         reachable: the known free cells of ``grid`` the robot can reach.
         frontiers: the reachable frontiers that are not blacklisted.
-        tight: whether ``costmap`` is that of the narrow-passage recovery (the map with its walls a
-            cell thinner: :mod:`frontier_rl.core.navigation.thin_walls`).
+        recovery: the costmap they were found on: the normal one, or the narrow-passage recovery's
+            at one of its levels (:mod:`frontier_rl.core.navigation.thin_walls`).
     """
 
     grid: OccupancyGrid
     costmap: Costmap
     reachable: NDArray[np.bool_]
     frontiers: Frontiers
-    tight: bool = False
+    recovery: Recovery = Recovery.NONE
 
 
 def reachable_frontiers(
@@ -60,7 +60,8 @@ def reachable_frontiers(
     config: SimConfig,
     min_cells: int | None = None,
     scratch: SearchScratch | None = None,
-    thin_except: NDArray[np.bool_] | None = None,
+    recovery: Recovery = Recovery.NONE,
+    felt: NDArray[np.bool_] | None = None,
     memory: InflationMemory | None = None,
     avoid: Discs | None = None,
 ) -> tuple[Costmap, NDArray[np.bool_], Frontiers]:
@@ -68,18 +69,20 @@ def reachable_frontiers(
     ``memory``'s when there is one: not on the narrow-passage recovery's), the known free cells
     the robot at ``pose`` can reach, and the frontier clusters larger than ``min_cells`` (default
     ``config.min_frontier_cells``; cells of 0.05 m on coarser maps, :func:`drop_cells_at`) that
-    touch them: what a decision chooses from, before any blacklist. With ``thin_except`` (a mask
-    of ``grid``'s shape), the costmap is that of the narrow-passage recovery: the map's walls
-    thinned by a cell except at those cells (:func:`~frontier_rl.core.navigation.thin_walls.thin_walls`).
+    touch them: what a decision chooses from, before any blacklist. With a ``recovery`` level, the
+    costmap is that of the narrow-passage recovery: the map's walls thinned by a cell except at
+    ``felt`` (the walls the robot touched, a mask of ``grid``'s shape; none by default), for a
+    slimmer robot (:func:`~frontier_rl.core.navigation.thin_walls.recovery_costmap`).
     With ``avoid``, the teammates the robot gives way to are walls (:func:`with_robots_as_walls`;
     ``memory`` is then left as it was)."""
     if avoid is not None and len(avoid[0]):
         grid, memory = with_robots_as_walls(grid, avoid), None
-    if thin_except is None:
+    if recovery is Recovery.NONE:
         costmap = Costmap.build(grid, config.robot, config.navigation, scratch, memory)
         reachable = costmap.reachable_known(grid.world_to_cell(pose.x, pose.y))
     else:
-        costmap = recovery_costmap(grid, thin_except, config.robot, config.navigation, scratch)
+        touched = np.zeros(grid.shape, np.bool_) if felt is None else felt
+        costmap = recovery_costmap(grid, touched, config.robot, config.navigation, recovery, scratch)
         reachable = costmap.reachable_known(grid.world_to_cell(pose.x, pose.y)) & (grid.data == CellState.FREE)
     cells = drop_cells_at(config.min_frontier_cells if min_cells is None else min_cells, grid.resolution)
     # a goal farther from its frontier than the map update reaches would map none of it
@@ -95,13 +98,14 @@ def find_candidates(
     blacklist: Blacklist,
     map_state: NDArray[np.int8],
     scratch: SearchScratch | None = None,
+    recovery: Recovery = Recovery.NONE,
     felt: NDArray[np.bool_] | None = None,
     memory: InflationMemory | None = None,
     avoid: Discs | None = None,
 ) -> Candidates:
-    """The candidates on ``grid`` for a robot at ``pose``: on the normal costmap, or with ``felt``
-    (the walls the robot touched, in ``grid``'s frame) on the narrow-passage recovery's, which
-    thins every other wall. Goals the ``blacklist`` blocks are left out (refreshed against the
+    """The candidates on ``grid`` for a robot at ``pose``: on the normal costmap, or on the
+    narrow-passage recovery's at level ``recovery``, which thins every wall but those ``felt`` (the
+    walls the robot touched, in ``grid``'s frame). Goals the ``blacklist`` blocks are left out (refreshed against the
     robot's whole map ``map_state`` first); when that would leave none, the goals that may be
     retried are lifted once, so that the episode never ends with a frontier it gave up on after a
     single failure, and then those still within the audit's budget
@@ -109,7 +113,7 @@ def find_candidates(
     the robot's, kept from map to map; ``avoid``, the teammates it gives way to
     (:func:`reachable_frontiers`)."""
     costmap, reachable, frontiers = reachable_frontiers(
-        grid, pose, config, scratch=scratch, thin_except=felt, memory=memory, avoid=avoid
+        grid, pose, config, scratch=scratch, recovery=recovery, felt=felt, memory=memory, avoid=avoid
     )
     if blacklist.entries and len(frontiers):
         blacklist.refresh(map_state)
@@ -122,4 +126,4 @@ def find_candidates(
             blacklist.retry(AUDIT_BUDGET * blacklist.max_failures)
             kept = frontiers.subset(~blacklist.blocked(goals))
         frontiers = kept
-    return Candidates(grid, costmap, reachable, frontiers, felt is not None)
+    return Candidates(grid, costmap, reachable, frontiers, recovery)

@@ -14,6 +14,7 @@ from scipy import ndimage
 from frontier_rl.core.frontiers.blacklist import Blacklist
 from frontier_rl.core.frontiers.detection import Frontiers, detect_frontiers
 from frontier_rl.core.frontiers.fringe import NEIGHBOURS_8, unknown_beside
+from frontier_rl.core.navigation.thin_walls import Recovery
 from frontier_rl.core.sim.candidates import Candidates, reachable_frontiers
 from frontier_rl.core.sim.config import UNSEEN_ROOM_M2, SimConfig
 from frontier_rl.core.sim.metrics import FrontierLeft
@@ -100,12 +101,12 @@ def frontiers_left(
 def with_a_path(grid: OccupancyGrid, pose: Pose, config: SimConfig, felt: NDArray[np.bool_]) -> NDArray[np.bool_]:
     """The audit before an episode gives up: the cells (flat, of ``grid``) of every frontier the
     robot at ``pose`` could drive to on its map ``grid`` as it is now, planned afresh (a new
-    costmap, no blacklist), on the normal costmap or the narrow-passage recovery's (``felt``: the
-    walls it touched, ``grid``'s shape). A frontier left with such a cell was given up on after
+    costmap, no blacklist), on the normal costmap or at a level of the narrow-passage recovery's
+    (``felt``: the walls it touched, ``grid``'s shape). A frontier left with such a cell was given up on after
     its failed attempts, not for want of a way."""
     found = np.zeros(grid.height * grid.width, np.bool_)
-    for thin_except in (None, felt):
-        _, _, frontiers = reachable_frontiers(grid, pose, config, thin_except=thin_except)
+    for level in Recovery:
+        _, _, frontiers = reachable_frontiers(grid, pose, config, recovery=level, felt=felt)
         for start, end in frontiers.spans:
             found[frontiers.flat_cells[start:end]] = True
     return found

@@ -19,6 +19,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from frontier_rl.core.navigation.follower import FollowStatus, follow_path
+from frontier_rl.core.navigation.thin_walls import Recovery
 from frontier_rl.core.sim.config import SimConfig
 from frontier_rl.core.sim.teammates import Teammates
 from frontier_rl.core.world.robot import Pose
@@ -77,7 +78,7 @@ class LegNavigation(Protocol):
     """What a leg needs of the robot's navigation (:class:`~frontier_rl.core.sim.navigator.Navigator`)."""
 
     def replan(
-        self, goal: tuple[float, float], tight: bool, pose: Pose, round_teammates: bool = False
+        self, goal: tuple[float, float], recovery: Recovery, pose: Pose, round_teammates: bool = False
     ) -> NDArray[np.float64] | None:
         """A new path (n, 2) (m) from ``pose`` to ``goal`` on the current map (one that keeps out of
         the teammates in contact, with ``round_teammates``), or None."""
@@ -85,7 +86,7 @@ class LegNavigation(Protocol):
     def give_way(self, goal: tuple[float, float]) -> None:
         """End the leg to ``goal`` for the teammates in contact: the next decision sees them as walls."""
 
-    def path_blocked(self, path_cells: NDArray[np.int64], first: int, tight: bool) -> bool:
+    def path_blocked(self, path_cells: NDArray[np.int64], first: int, recovery: Recovery) -> bool:
         """Whether the map puts a wall on the path (world cells) from index ``first`` on."""
 
     def frontier_alive(self, cells: NDArray[np.int64]) -> bool:
@@ -164,8 +165,8 @@ class Leg:
         path: the planned path, its last point the goal.
         goal: the goal (m).
         frontier_cells: the world cells of the goal's frontier, None for a point goal.
-        tight: the path was planned on the narrow-passage recovery's costmap, and replanning keeps
-            to it.
+        recovery: the costmap the path was planned on (the normal one, or a level of the
+            narrow-passage recovery's), which replanning keeps to.
     """
 
     def __init__(
@@ -174,12 +175,12 @@ class Leg:
         path: NDArray[np.float64],
         goal: tuple[float, float],
         frontier_cells: NDArray[np.int64] | None,
-        tight: bool,
+        recovery: Recovery,
     ) -> None:
         self._port = port
         self.goal = goal
         self._frontier_cells = frontier_cells
-        self._tight = tight
+        self._recovery = recovery
         self._params = port.follow_params
         self._closing_in = False
         self._blocked_by_robot_since: float | None = None
@@ -238,7 +239,7 @@ class Leg:
                 port.bump()
             # only a map update can put a new obstacle on the path
             if status == FollowStatus.BLOCKED or (
-                seen is not None and port.navigator.path_blocked(self._path_cells, self._index, self._tight)
+                seen is not None and port.navigator.path_blocked(self._path_cells, self._index, self._recovery)
             ):
                 path = yield from self._replan_or_recover()
                 if path is None:
@@ -330,7 +331,7 @@ class Leg:
         near = mates.collision_gap + port.config.navigation.goal_tolerance
         if any(math.dist(xy, self.goal) <= near for xy in (here, *mates.in_contact(here))):
             return LegOutcome.REACHED
-        path = port.navigator.replan(self.goal, self._tight, port.pose, round_teammates=True)
+        path = port.navigator.replan(self.goal, self._recovery, port.pose, round_teammates=True)
         if path is None:
             port.navigator.give_way(self.goal)
             return LegOutcome.GAVE_WAY
@@ -341,11 +342,11 @@ class Leg:
         """A new path to the goal; while there is none, up to ``max_recoveries`` recovery
         rotations, each followed by another try."""
         port = self._port
-        path = port.navigator.replan(self.goal, self._tight, port.pose)
+        path = port.navigator.replan(self.goal, self._recovery, port.pose)
         while path is None and self._recoveries < port.config.navigation.max_recoveries and not port.truncated:
             self._recoveries += 1
             self._count((yield from port.rotate_steps()))
-            path = port.navigator.replan(self.goal, self._tight, port.pose)
+            path = port.navigator.replan(self.goal, self._recovery, port.pose)
         return path
 
     def _settle(self, outcome: LegOutcome) -> Generator[None, None, None]:

@@ -13,7 +13,7 @@ from frontier_rl.core.mapping.mapper import LogOddsMapper
 from frontier_rl.core.navigation.astar import SearchScratch
 from frontier_rl.core.navigation.follower import footprint_offsets
 from frontier_rl.core.navigation.inflation import InflationMemory
-from frontier_rl.core.navigation.thin_walls import recovery_robot
+from frontier_rl.core.navigation.thin_walls import Recovery, recovery_robot
 from frontier_rl.core.sim.candidates import Candidates, find_candidates
 from frontier_rl.core.sim.config import SimConfig
 from frontier_rl.core.sim.paths import map_blocks_path, replan_path
@@ -48,8 +48,8 @@ class Navigator:
         self.blacklist = blacklist
         self._scratch, self._inflation = scratch, inflation
         res = world.grid.resolution
-        self._footprint = footprint_offsets(config.robot.radius, res)
-        self._recovery_footprint = footprint_offsets(recovery_robot(config.robot, res).radius, res)
+        self._footprints = {level: footprint_offsets(recovery_robot(config.robot, res, level).radius, res)
+                            for level in Recovery}  # fmt: skip
         self._cached: Candidates | None = None
         self._gave_way_on: tuple[float, float] | None = None  # the goal of a leg that gave way, see give_way
 
@@ -60,20 +60,23 @@ class Navigator:
     def candidates(self, pose: Pose) -> Candidates:
         """The current map, its costmap and the reachable, non-blacklisted frontiers for a robot at
         ``pose`` (cached until :meth:`forget`; see :func:`~frontier_rl.core.sim.candidates.find_candidates`).
-        When the normal costmap leaves none, those of the narrow-passage recovery (``tight``: the
-        map with its walls a cell thinner, as range noise made them a cell thicker, for a robot half a
-        cell slimmer) are the candidates if there are any."""
+        When the normal costmap leaves none, those of the narrow-passage recovery's levels in turn
+        (the map with its walls a cell thinner, as range noise made them a cell thicker, for a robot
+        half a cell and then a cell slimmer: :class:`~frontier_rl.core.navigation.thin_walls.Recovery`)
+        are the candidates, the first level that has any."""
         if self._cached is None:
             grid = self._mapper.occupancy_grid(margin=2)
-            cand = self.candidates_on(grid, False, pose)
+            cand = self.candidates_on(grid, Recovery.NONE, pose)
             if len(cand.frontiers) == 0 and self._gave_way_on is not None:  # their way again, as a failure
                 self.blacklist.fail(*self._gave_way_on, self._mapper.state)
                 self._gave_way_on = None
-                cand = self.candidates_on(grid, False, pose)
-            if len(cand.frontiers) == 0:
-                tight = self.candidates_on(grid, True, pose)
-                if len(tight.frontiers):
-                    cand = tight
+                cand = self.candidates_on(grid, Recovery.NONE, pose)
+            for level in (Recovery.HALF_CELL, Recovery.WHOLE_CELL):
+                if len(cand.frontiers):
+                    break
+                recovered = self.candidates_on(grid, level, pose)
+                if len(recovered.frontiers):
+                    cand = recovered
             self._cached = cand
         return self._cached
 
@@ -84,27 +87,26 @@ class Navigator:
             self._gave_way_on = self._cached = None
         return cand
 
-    def candidates_on(self, grid: OccupancyGrid, tight: bool, pose: Pose) -> Candidates:
-        """The candidates on ``grid`` (a crop of the robot's map) with the normal or the tight costmap."""
-        felt = None
-        if tight:
-            top, left = self._world.grid.world_to_cell(*grid.cell_to_world(0, 0))
-            felt = self._mapper.felt[top : top + grid.height, left : left + grid.width]
+    def candidates_on(self, grid: OccupancyGrid, recovery: Recovery, pose: Pose) -> Candidates:
+        """The candidates on ``grid`` (a crop of the robot's map) with the normal costmap or a
+        narrow-passage ``recovery``'s."""
+        top, left = self._world.grid.world_to_cell(*grid.cell_to_world(0, 0))
+        felt = self._mapper.felt[top : top + grid.height, left : left + grid.width]
         mates = self._robots
         walls = None if self._gave_way_on is None else (mates.in_contact((pose.x, pose.y)), mates.radius)
-        return find_candidates(grid, pose, self._config, self.blacklist, self._mapper.state, self._scratch, felt,
-                               self._inflation, walls)  # fmt: skip
+        return find_candidates(grid, pose, self._config, self.blacklist, self._mapper.state, self._scratch, recovery,
+                               felt, self._inflation, walls)  # fmt: skip
 
     def replan(
-        self, goal: tuple[float, float], tight: bool, pose: Pose, round_teammates: bool = False
+        self, goal: tuple[float, float], recovery: Recovery, pose: Pose, round_teammates: bool = False
     ) -> NDArray[np.float64] | None:
         """A new path from ``pose`` to ``goal`` (m) on the current map, on the costmap the leg was
-        planned on: a leg through a passage opened by the narrow-passage recovery keeps to it (on
-        the normal costmap the robot inside the passage could not move). With ``round_teammates``,
-        only a path that keeps out of the teammates in contact with the robot."""
+        planned on (``recovery``): a leg through a passage opened by the narrow-passage recovery
+        keeps to it (on the normal costmap the robot inside the passage could not move). With
+        ``round_teammates``, only a path that keeps out of the teammates in contact with the robot."""
         cand = self.candidates(pose)
-        if tight and not cand.tight:
-            cand = self.candidates_on(cand.grid, True, pose)
+        if recovery is not Recovery.NONE and cand.recovery is not recovery:
+            cand = self.candidates_on(cand.grid, recovery, pose)
         return replan_path(cand, pose, goal, self._robots, self._config, round_teammates)
 
     def give_way(self, goal: tuple[float, float]) -> None:
@@ -112,14 +114,14 @@ class Navigator:
         self._gave_way_on = goal
         self._cached = None
 
-    def path_blocked(self, path_cells: NDArray[np.int64], first: int, tight: bool) -> bool:
+    def path_blocked(self, path_cells: NDArray[np.int64], first: int, recovery: Recovery) -> bool:
         """Whether the robot's map puts a wall on the path (world cells) from index ``first`` on;
-        for a leg of the narrow-passage recovery, the map with its walls thinned around the path
+        for a leg of the narrow-passage ``recovery``, the map with its walls thinned around the path
         and the slimmer robot, as it was planned on."""
         state = self._mapper.state
-        if tight:
-            return map_blocks_path(state, path_cells[first:], self._recovery_footprint, self._mapper.felt)
-        return map_blocks_path(state, path_cells[first:], self._footprint)
+        if recovery is Recovery.NONE:
+            return map_blocks_path(state, path_cells[first:], self._footprints[recovery])
+        return map_blocks_path(state, path_cells[first:], self._footprints[recovery], self._mapper.felt)
 
     def frontier_alive(self, cells: NDArray[np.int64]) -> bool:
         """Whether more than the drop size of a frontier's cells (world cells) are still fringe cells."""

@@ -252,7 +252,7 @@ class ExplorationSimulator:
                 self.log.abort(AbortCause.NOT_PLANNED)
                 continue
             frontier_cells = self.world.grid.world_to_cells(cand.grid.cells_to_world(cand.frontiers.cells_of(index)))
-            return (yield from self._drive(Leg(self, path, goal, frontier_cells, cand.tight), index, weight))
+            return (yield from self._drive(Leg(self, path, goal, frontier_cells, cand.recovery), index, weight))
         self.navigator.forget()  # the blacklist changed
         result = self._leg_result(LegOutcome.NONE, -1, (math.nan, math.nan), self.sim_time, 0, 0)
         self.log.decision(result, weight)  # a decision that drove nowhere
@@ -278,7 +278,7 @@ class ExplorationSimulator:
         if math.hypot(goal[0] - self.pose.x, goal[1] - self.pose.y) <= self.config.navigation.goal_tolerance:
             # already there: the robot looks around once, so that no decision is free of time
             return (yield from self._turn_on_the_spot(LegOutcome.REACHED, goal, weight))
-        return (yield from self._drive(Leg(self, path, goal, None, cand.tight), -1, weight))
+        return (yield from self._drive(Leg(self, path, goal, None, cand.recovery), -1, weight))
 
     def _drive(self, leg: Leg, index: int, weight: float | None) -> Generator[None, None, LegResult]:
         """Run ``leg`` (to frontier ``index``, -1 for a point) and log the decision."""

@@ -9,13 +9,16 @@ import numpy as np
 import pytest
 from numpy.typing import NDArray
 
+from frontier_rl.core.frontiers.blacklist import Blacklist
 from frontier_rl.core.navigation.config import NavigationConfig
 from frontier_rl.core.navigation.costmap import Costmap
 from frontier_rl.core.navigation.follower import _nearest_waypoint, follow_path
-from frontier_rl.core.navigation.thin_walls import recovery_costmap, recovery_robot
+from frontier_rl.core.navigation.thin_walls import Recovery, recovery_costmap, recovery_robot
+from frontier_rl.core.sim.candidates import find_candidates
+from frontier_rl.core.sim.config import SimConfig
 from frontier_rl.core.sim.teammates import obstacle_distance
 from frontier_rl.core.world.grid import CellState, OccupancyGrid
-from frontier_rl.core.world.robot import RobotConfig
+from frontier_rl.core.world.robot import Pose, RobotConfig
 
 FREE, OCC = CellState.FREE, CellState.OCCUPIED
 ROBOT, NAV = RobotConfig(), NavigationConfig()
@@ -93,11 +96,15 @@ def test_a_careful_robot_blocked_on_its_waypoint_reports_blocked() -> None:
     assert status == 2  # blocked: the bumper may feel the wall, and the leg replans
 
 
-@pytest.mark.parametrize(("res", "radius"), [(0.05, 0.08), (0.1, 0.055), (0.3, 0.075)])
-def test_the_recovery_plans_for_a_robot_half_a_cell_slimmer_never_thinner_than_a_quarter_cell(
-    res: float, radius: float
+@pytest.mark.parametrize(
+    ("res", "level", "radius"),
+    [(0.05, Recovery.NONE, 0.105), (0.05, Recovery.HALF_CELL, 0.08), (0.1, Recovery.HALF_CELL, 0.055),
+     (0.05, Recovery.WHOLE_CELL, 0.055), (0.1, Recovery.WHOLE_CELL, 0.025), (0.3, Recovery.HALF_CELL, 0.075)],
+)  # fmt: skip
+def test_each_recovery_level_plans_for_a_robot_half_a_cell_slimmer_never_thinner_than_a_quarter_cell(
+    res: float, level: Recovery, radius: float
 ) -> None:
-    assert recovery_robot(ROBOT, res).radius == pytest.approx(radius)
+    assert recovery_robot(ROBOT, res, level).radius == pytest.approx(radius)
 
 
 def _gap_map(width: int) -> OccupancyGrid:
@@ -113,8 +120,26 @@ def test_a_gap_the_map_closed_opens_on_the_recovery_costmap_and_closes_again_whe
     start, goal = (3, 15), (17, 15)
     assert len(Costmap.build(grid, ROBOT, NAV).plan(start, goal)) == 0
     felt = np.zeros(grid.shape, np.bool_)
-    assert len(recovery_costmap(grid, felt, ROBOT, NAV).plan(start, goal)) > 0
+    assert len(recovery_costmap(grid, felt, ROBOT, NAV, Recovery.HALF_CELL).plan(start, goal)) > 0
     felt[10:13, 13] = felt[10:13, 16] = True  # the robot touched both sides: the gap really is that narrow
-    assert len(recovery_costmap(grid, felt, ROBOT, NAV).plan(start, goal)) == 0
-    blocked = ~recovery_costmap(grid, felt, ROBOT, NAV).traversable
+    assert len(recovery_costmap(grid, felt, ROBOT, NAV, Recovery.HALF_CELL).plan(start, goal)) == 0
+    blocked = ~recovery_costmap(grid, felt, ROBOT, NAV, Recovery.HALF_CELL).traversable
     assert blocked[9, 13] and blocked[9, 16] and blocked[10, 14]  # within the radius of a felt cell
+
+
+def test_a_row_of_posts_a_whole_cell_slimmer_robot_fits_between_is_a_candidate_at_the_last_level_only() -> None:
+    # single-cell posts 0.2 m apart (the peel never takes a wall's last cell) with the frontier
+    # beyond: between two posts the clearance is 2 cells, below the
+    # normal (2.6) and the half-cell level's (2.1) margins, above the whole-cell level's (1.6)
+    res = 0.05
+    data = np.full((110, 61), CellState.UNKNOWN, np.int8)  # a post at either edge
+    data[:100, :] = FREE
+    data[28, ::4] = OCC  # the frontier 3.6 m beyond them: no goal on this side sees it
+    grid = OccupancyGrid(data, res)
+    pose = Pose(1.5, 0.5, 0.0)
+    config = SimConfig()
+    found = {}
+    for level in Recovery:
+        blacklist = Blacklist(0.25, 2, res, (0.0, 0.0))
+        found[level] = len(find_candidates(grid, pose, config, blacklist, data, recovery=level).frontiers)
+    assert found[Recovery.NONE] == found[Recovery.HALF_CELL] == 0 < found[Recovery.WHOLE_CELL]

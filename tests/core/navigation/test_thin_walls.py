@@ -6,7 +6,7 @@ import numpy as np
 import pytest
 
 from frontier_rl.core.navigation import thin_walls as thin_walls_module
-from frontier_rl.core.navigation.thin_walls import thin_walls
+from frontier_rl.core.navigation.thin_walls import Recovery, thin_walls
 from frontier_rl.core.sim.simulator import ExplorationSimulator
 from frontier_rl.core.world.catalog import generate_world
 from frontier_rl.core.world.grid import CellState
@@ -77,8 +77,8 @@ def test_the_simulator_keeps_the_walls_the_robot_touched_on_its_cropped_map(monk
 
     monkeypatch.setattr(thin_walls_module, "thin_walls", spy)
     grid = sim.mapper.occupancy_grid(margin=2)
-    cand = sim.navigator.candidates_on(grid, True, sim.pose)
-    assert cand.tight and len(seen) == 1
+    cand = sim.navigator.candidates_on(grid, Recovery.HALF_CELL, sim.pose)
+    assert cand.recovery is Recovery.HALF_CELL and len(seen) == 1
     top, left = world.grid.world_to_cell(*grid.cell_to_world(0, 0))
     assert np.argwhere(seen[0]).tolist() == [[row - top, col - left]]
     assert grid.data[row - top, col - left] == OCC  # the touched cell, where the crop has it

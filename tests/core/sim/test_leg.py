@@ -11,6 +11,7 @@ import pytest
 from numpy.typing import NDArray
 
 from frontier_rl.core.navigation.config import NavigationConfig
+from frontier_rl.core.navigation.thin_walls import Recovery
 from frontier_rl.core.sensing.lidar import Lidar
 from frontier_rl.core.sim.config import SimConfig
 from frontier_rl.core.sim.leg import AbortCause, Leg, LegOutcome, run_leg
@@ -88,14 +89,14 @@ class ScriptedPort:
         return self
 
     def replan(
-        self, goal: tuple[float, float], tight: bool, pose: Pose, round_teammates: bool = False
+        self, goal: tuple[float, float], recovery: Recovery, pose: Pose, round_teammates: bool = False
     ) -> NDArray[np.float64] | None:
         self.calls.append("replan")
         if self.replans is FROM_HERE:
             return _straight(goal[0], self.pose.x)
         return self.replans.pop(0) if self.replans else None
 
-    def path_blocked(self, path_cells: NDArray[np.int64], first: int, tight: bool) -> bool:
+    def path_blocked(self, path_cells: NDArray[np.int64], first: int, recovery: Recovery) -> bool:
         return self.blocked_after is not None and self.sim_time >= self.blocked_after
 
     def frontier_alive(self, cells: NDArray[np.int64]) -> bool:
@@ -117,7 +118,7 @@ def test_a_leg_without_progress_for_30_s_is_aborted_and_its_goal_blacklisted() -
     world = _hall(wall_at_col=40)  # a wall 2 m ahead, across the hall
     path = _straight(9.0)
     port = ScriptedPort(world, replans=FROM_HERE)  # replanning finds a path, through the wall again
-    leg = Leg(port, path, (9.0, 1.0), FRONTIER, tight=False)
+    leg = Leg(port, path, (9.0, 1.0), FRONTIER, recovery=Recovery.NONE)
     outcome = run_leg(leg.run())
     assert outcome is LegOutcome.ABORTED and leg.abort_cause is AbortCause.NO_PROGRESS
     timeout = port.config.navigation.progress_timeout
@@ -128,7 +129,7 @@ def test_a_leg_without_progress_for_30_s_is_aborted_and_its_goal_blacklisted() -
 
 def test_a_frontier_seen_before_the_robot_gets_there_ends_the_leg_as_explored() -> None:
     port = ScriptedPort(_hall(), alive=lambda t: t < 3.0)
-    outcome = run_leg(Leg(port, _straight(9.0), (9.0, 1.0), FRONTIER, tight=False).run())
+    outcome = run_leg(Leg(port, _straight(9.0), (9.0, 1.0), FRONTIER, recovery=Recovery.NONE).run())
     assert outcome is LegOutcome.EXPLORED
     period = port.config.navigation.frontier_check_period
     assert 3.0 <= port.sim_time <= 3.0 + period + SCAN_PERIOD_S  # at the first check after it was seen
@@ -151,7 +152,7 @@ def test_the_bumper_marks_the_wall_the_robot_runs_into() -> None:
 def test_a_newly_seen_obstacle_replans_then_rotates_to_recover_before_giving_up(recoveries: int) -> None:
     port = ScriptedPort(_hall(), blocked_after=1.0)  # replanning never finds a path
     port.config = SimConfig(navigation=NavigationConfig(max_recoveries=recoveries))
-    leg = Leg(port, _straight(9.0), (9.0, 1.0), FRONTIER, tight=False)
+    leg = Leg(port, _straight(9.0), (9.0, 1.0), FRONTIER, recovery=Recovery.NONE)
     outcome = run_leg(leg.run())
     assert outcome is LegOutcome.ABORTED and leg.abort_cause is AbortCause.NO_PATH
     assert port.calls.count("rotate") == recoveries
@@ -162,7 +163,7 @@ def test_a_newly_seen_obstacle_replans_then_rotates_to_recover_before_giving_up(
 def test_a_newly_seen_obstacle_with_a_way_round_drives_the_new_path() -> None:
     detour = _straight(5.0)
     port = ScriptedPort(_hall(), blocked_after=1.0, replans=[detour])
-    leg = Leg(port, _straight(9.0), (5.0, 1.0), None, tight=False)
+    leg = Leg(port, _straight(9.0), (5.0, 1.0), None, recovery=Recovery.NONE)
     steps = leg.run()
     outcome = None
     while outcome is None:
@@ -192,7 +193,7 @@ class WanderingPort(ScriptedPort):
         return super().advance(pose, driven, duration)
 
     def replan(
-        self, goal: tuple[float, float], tight: bool, pose: Pose, round_teammates: bool = False
+        self, goal: tuple[float, float], recovery: Recovery, pose: Pose, round_teammates: bool = False
     ) -> NDArray[np.float64] | None:
         self.calls.append("replan")
         self.east = self.pose.x < 8.5 if self.east else self.pose.x < 1.5
@@ -205,7 +206,7 @@ def test_a_leg_that_drives_far_beyond_its_plan_is_aborted(detour_factor: float) 
     port = WanderingPort(_hall())
     port.config = SimConfig(navigation=NavigationConfig(detour_factor=detour_factor))
     first = _straight(2.5)  # 2 m to the goal, as planned
-    leg = Leg(port, first, (2.5, 1.0), FRONTIER, tight=False)
+    leg = Leg(port, first, (2.5, 1.0), FRONTIER, recovery=Recovery.NONE)
     outcome = run_leg(leg.run())
     if detour_factor == 1000.0:  # no limit to speak of: the robot wanders until the episode's time cap
         assert outcome is LegOutcome.TIMEOUT and port.driven > 200.0 and leg.abort_cause is None
