@@ -1,9 +1,10 @@
-"""Speed benchmarks of the simulator against the speed budget of DESIGN.md.
+"""Speed benchmarks of the simulator against its speed budget (the target beside each benchmark).
 
 Run as ``python benchmarks/run.py [--quick] [--json PATH]`` (``make bench``). Everything runs in one
 process pinned to one core, with numba/OpenMP/BLAS limited to one thread. Each benchmark is warmed up
-first, so numba compilation is never timed, and reports the median over repeats. The Markdown table
-it prints is the one kept in the README; missed targets are marked but do not change the exit code.
+first, so numba compilation is never timed, and reports the median over repeats. The JSON report is
+what the documentation's Speed page is generated from (``experiments/studies.py run speed``); missed
+targets are marked but do not change the exit code.
 """
 
 from __future__ import annotations

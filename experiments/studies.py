@@ -134,6 +134,11 @@ STUDIES: tuple[Study, ...] = (
         ),
         keep=("*.json", "*/summary.json", "*/episodes.csv"),
     ),
+    Study(
+        "harder_buildings",
+        (f"{PYTHON} experiments/harder_survey.py --out {{out}}",),
+        keep=("survey.json", "*/summary.json", "*/episodes.csv"),
+    ),
     Study("speed", (f"{PYTHON} benchmarks/run.py --json {{out}}/speed.json",), keep=("speed.json",)),
 )
 

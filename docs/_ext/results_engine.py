@@ -84,6 +84,43 @@ true map ([concepts](../../concepts.md)).
 {reproduce_section(study)}"""
 
 
+HARDER_HEADER = ("map", *COMPLETION_HEADER[1:6], "≥ 99 %", "coverage mean / min", "mean time (s)", "time / fastest")
+
+
+def harder_buildings_page(study: Study, images: Path) -> str:
+    """Per SLAM map of the harder survey and per method: how the episodes ended, how many reached
+    99 % of the explorable space, and the time against the map's fastest method."""
+    rows, runs = [], [study.experiment(part) for part in study.parts()]
+    for run in runs:
+        methods = list(run.summary.methods)
+        fastest = min(mean(e.sim_time_s for e in run.of(m)) for m in methods)
+        for method in methods:
+            episodes = run.of(method)
+            row = _completion_row(Path(episodes[0].world).stem.split("#")[0], method, episodes)
+            time_s = mean(e.sim_time_s for e in episodes)
+            at_99 = sum(e.coverage >= 0.99 for e in episodes)
+            rows.append([*row[:6], str(at_99), row[6], row[8], f"{time_s / fastest:.2f}"])
+    every = [e for run in runs for e in run.episodes]
+    capped = sum(e.end_reason == "time_cap" for e in every)
+    at_99 = sum(e.coverage >= 0.99 for e in every)
+    return f"""# Harder buildings
+
+Real SLAM maps with what such maps have: radial streaks where the laser saw through glass, clutter,
+doorways the map narrowed, floors of 50 to 100 m. Each map of the survey
+(`experiments/harder_survey.py`) is explored from several random starts by `nearest`, `fixed:0.75`,
+`tour` and model 7. The end reasons are those of [Real buildings](real-buildings.md); the goal is
+every episode at 99 % or more of the explorable space, and none at the time cap (25 s per m² of
+explorable space: about three times what the fastest method takes).
+
+Of the {len(every)} episodes, {at_99} reached 99 % of the explorable space and {capped} met the time
+cap; mean coverage {100 * mean(e.coverage for e in every):.2f} %.
+
+{markdown_table(HARDER_HEADER, rows)}
+`time / fastest`: the method's mean time over the fastest method's on the same map.
+
+{reproduce_section(study)}"""
+
+
 def _value(row: dict[str, object]) -> str:
     value, unit = float(row["value"]), str(row["unit"])  # type: ignore[arg-type]
     text = f"{value:,.0f}" if abs(value) >= 100 else f"{value:.3g}" if abs(value) >= 1 else f"{value:.3f}"

@@ -11,7 +11,7 @@ from collections.abc import Callable
 from pathlib import Path
 
 from results_data import Study, load_study
-from results_engine import real_buildings_page, speed_page
+from results_engine import harder_buildings_page, real_buildings_page, speed_page
 from results_studies import families_page, office_page, office_readme_table, thesis_models_page
 from results_teams import teams_page
 from results_thesis import thesis_page
@@ -22,6 +22,7 @@ PAGES: tuple[tuple[str, Callable[[Study, Path], str]], ...] = (
     ("families", families_page),
     ("thesis_models", thesis_models_page),
     ("real_buildings", real_buildings_page),
+    ("harder_buildings", harder_buildings_page),
     ("teams", teams_page),
     ("speed", speed_page),
 )
