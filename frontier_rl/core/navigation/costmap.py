@@ -137,8 +137,9 @@ class Costmap:
         clear_p = self.clearance_padded.copy()
         open_p[1:-1, 1:-1] &= ~blocked
         clear_p[1:-1, 1:-1][blocked] = 0.0  # so the start's escape zone stays shut
-        return Costmap(self.grid, open_p, clear_p, self.inflation_table, self.inflation_radius, self.unknown_cost,
-                       self.scratch)  # fmt: skip
+        return Costmap(
+            self.grid, open_p, clear_p, self.inflation_table, self.inflation_radius, self.unknown_cost, self.scratch
+        )
 
     def reachable_known(self, start: tuple[int, int], escape_radius: float = ESCAPE_RADIUS_M) -> NDArray[np.bool_]:
         """Known-free cells the robot at ``start`` (row, col) can drive to: traversable cells

@@ -48,8 +48,9 @@ class Navigator:
         self.blacklist = blacklist
         self._scratch, self._inflation = scratch, inflation
         res = world.grid.resolution
-        self._footprints = {level: footprint_offsets(recovery_robot(config.robot, res, level).radius, res)
-                            for level in Recovery}  # fmt: skip
+        self._footprints = {
+            level: footprint_offsets(recovery_robot(config.robot, res, level).radius, res) for level in Recovery
+        }
         self._cached: Candidates | None = None
         self._gave_way_on: tuple[float, float] | None = None  # the goal of a leg that gave way, see give_way
 
@@ -94,8 +95,10 @@ class Navigator:
         felt = self._mapper.felt[top : top + grid.height, left : left + grid.width]
         mates = self._robots
         walls = None if self._gave_way_on is None else (mates.in_contact((pose.x, pose.y)), mates.radius)
-        return find_candidates(grid, pose, self._config, self.blacklist, self._mapper.state, self._scratch, recovery,
-                               felt, self._inflation, walls)  # fmt: skip
+        state = self._mapper.state
+        return find_candidates(
+            grid, pose, self._config, self.blacklist, state, self._scratch, recovery, felt, self._inflation, walls
+        )
 
     def replan(
         self, goal: tuple[float, float], recovery: Recovery, pose: Pose, round_teammates: bool = False
