@@ -12,8 +12,10 @@ from frontier_rl.evaluation.experiment import ORACLE
 from frontier_rl.evaluation.tables import SIGNIFICANCE, number, p_value
 
 _REASONS = {
-    "unreachable": "unreachable: frontiers were left, none of them reachable for a robot of this size",
-    "time_cap": "time cap: cut at the sim-time cap, with the cap as its time",
+    "unreachable": "unreachable: frontiers were left, none of them reachable for a robot of this size or "
+    "each given up after its tries",
+    "time_cap": "time cap: cut at the sim-time cap, with the cap as its time (the default cap is about three "
+    "times what the fastest method takes on large floors: a policy that meets it wanders)",
 }
 """What each end reason other than "explored" means, said once when it occurs."""
 

@@ -142,9 +142,10 @@ def completion_table(entries: dict[str, dict[str, Any]], labels: dict[str, str] 
          "free coverage", "unknown left (m²)"),
         title="Completion",
         note="explored: no frontier left that the robot could see from where it can go; unreachable: frontiers "
-        "left with free space unseen beside or behind them, none of them reachable; time cap: cut at the "
-        "sim-time cap. coverage: share of the explorable space mapped; free coverage: share of all free cells "
-        "mapped; unknown left: the unknown area beside the frontiers left (mean over episodes).",
+        "left with free space unseen beside or behind them, none of them reachable or each given up after its "
+        "tries; time cap: cut at the sim-time cap. coverage: share of the explorable space mapped; free "
+        "coverage: share of all free cells mapped; unknown left: the unknown area beside the frontiers left (mean "
+        "over episodes).",
     )  # fmt: skip
     for method, e in entries.items():
         table.rows.append([
