@@ -9,7 +9,7 @@ import numpy as np
 import pytest
 
 from frontier_rl.core.frontiers.blacklist import AUDIT_BUDGET
-from frontier_rl.core.navigation.follower import FollowStatus, follow_path
+from frontier_rl.core.navigation.follower import FollowerParams, FollowStatus, follow_path
 from frontier_rl.core.sim.candidates import reachable_frontiers
 from frontier_rl.core.sim.config import SimConfig
 from frontier_rl.core.sim.leg import LegOutcome
@@ -117,7 +117,7 @@ def test_a_teammate_standing_for_good_in_a_corridor_ends_the_episode() -> None:
 def _follow_straight(x0: float, to_x: float) -> tuple[float, int]:
     """Follow a straight path from (x0, 0) to (to_x, 0) (m) for 1 s with a teammate at the origin,
     in open space: where the robot ends (x, m) and the follower's status."""
-    params = np.array([0.22, 2.84, 0.7, 2.0, 0.3, 0.02, 0.1, RADIUS])
+    params = FollowerParams(0.22, 2.84, 0.7, 2.0, 0.3, 0.02, 0.1, RADIUS)
     path = np.array([[x0, 0.0], [to_x, 0.0]])
     heading = 0.0 if to_x > x0 else math.pi
     gate = np.array([1e9, 0.0, 0.0, 0.0, np.inf, np.inf])

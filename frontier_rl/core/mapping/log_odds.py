@@ -11,12 +11,13 @@ traversal per beam: it casts on the ground truth and marks the map as it goes.
 from __future__ import annotations
 
 import math
+from typing import NamedTuple
 
 import numba as nb
 import numpy as np
 from numpy.typing import NDArray
 
-from frontier_rl.core.sensing.lidar import noisy_range
+from frontier_rl.core.sensing.lidar import RangeNoise, noisy_range
 from frontier_rl.core.world.grid import CellState
 from frontier_rl.core.world.raycast import FASTMATH, ray_start
 
@@ -28,6 +29,18 @@ _OCCUPIED = np.int8(CellState.OCCUPIED)
 MAX_LOOKS = np.uint16(np.iinfo(np.uint16).max)
 """The most looks a cell counts (and the count of a wall the robot touched, which no teammate's
 scans outweigh in a merge)."""
+
+
+class LogOddsRule(NamedTuple):
+    """The update's constants as :func:`apply_pending` takes them (a tuple numba reads by field
+    name): see :class:`~frontier_rl.core.mapping.mapper.MapperConfig`."""
+
+    clamp_min: float
+    clamp_max: float
+    free_below: float
+    occupied_above: float
+    hit: float
+    miss: float
 
 
 @nb.njit(cache=True, fastmath=FASTMATH, inline="always")
@@ -107,7 +120,7 @@ def apply_pending(
     observed: NDArray[np.bool_],
     looks: NDArray[np.uint16],
     explorable: NDArray[np.bool_],
-    params: NDArray[np.float64],
+    rule: LogOddsRule,
     bbox: NDArray[np.int64],
     changed: NDArray[np.int64],
     counters: NDArray[np.int64],
@@ -116,15 +129,13 @@ def apply_pending(
     set it in ``observed`` (the cells this map's own sensor has reached) and count the look in
     ``looks`` (up to :data:`MAX_LOOKS`).
 
-    ``params`` = (clamp_min, clamp_max, free_below, occupied_above, hit, miss). A cell's class
-    follows its log-odds past the thresholds; in between, a classified cell keeps its class (a
-    seen cell never turns unknown again). ``counters`` += cells first classified free, occupied,
-    and explorable; ``bbox`` grows to hold every classified cell, ``changed`` (row_min, row_max,
-    col_min, col_max) every updated one.
+    ``rule``: the update's constants. A cell's class follows its log-odds past the thresholds; in
+    between, a classified cell keeps its class (a seen cell never turns unknown again).
+    ``counters`` += cells first classified free, occupied, and explorable; ``bbox`` grows to hold
+    every classified cell, ``changed`` (row_min, row_max, col_min, col_max) every updated one.
     """
-    low, high, free_below, occupied_above, hit, miss = (
-        params[0], params[1], params[2], params[3], params[4], params[5],
-    )  # fmt: skip
+    low, high, free_below, occupied_above = rule.clamp_min, rule.clamp_max, rule.free_below, rule.occupied_above
+    hit, miss = rule.hit, rule.miss
     r0, r1, c0, c1 = window
     for row in range(max(r0, 0), min(r1, pending.shape[0])):
         for col in range(max(c0, 0), min(c1, pending.shape[1])):
@@ -170,15 +181,15 @@ def cast_and_mark(
     cos_offsets: NDArray[np.float64],
     sin_offsets: NDArray[np.float64],
     normals: NDArray[np.float64],
-    noise: NDArray[np.float64],
+    noise: RangeNoise,
     usable: float,
     ranges: NDArray[np.float64],
     extent: NDArray[np.int64],
 ) -> None:
     """A noisy scan cast on the ground truth and marked: the same ranges and marks, bit for bit, as
     :class:`~frontier_rl.core.sensing.lidar.Lidar`'s ``scan`` then :func:`mark_beams`, in one traversal per
-    beam. Lengths in cells; ``noise`` = (resolution, min_range, max_range, sigma_abs, sigma_rel,
-    rel_from) in m, ``usable`` the range where beams are cropped. Writes the ranges (cells; ``inf``
+    beam. Lengths in cells; ``noise`` the range model (lengths in m), ``usable`` the range where
+    beams are cropped. Writes the ranges (cells; ``inf``
     = no return, ``nan`` = invalid) into ``ranges``, and into ``extent`` (row0, row1, col0, col1;
     exclusive ends) a window that holds every cell it marked, for :func:`apply_pending`.
 
@@ -187,7 +198,7 @@ def cast_and_mark(
     a small ring, or found again by a second traversal when it falls far short), and one that
     overshoots goes on through the wall.
     """
-    res, max_r = noise[0], noise[2]
+    res, max_r = noise.resolution, noise.max_range
     max_cells = max_r / res
     rows, cols = pending.shape
     pcols = cols + 2

@@ -18,6 +18,7 @@ from numpy.typing import NDArray
 from frontier_rl.core.mapping.log_odds import (
     HIT,
     MAX_LOOKS,
+    LogOddsRule,
     apply_pending,
     cast_and_mark,
     drop_marks,
@@ -147,9 +148,7 @@ class LogOddsMapper:
         self._ranges = np.empty(0)  # scratch: the simulated scan's ranges (cells)
         self._extent = np.zeros(4, np.int64)  # scratch: the window the simulated scan marked
         c = self.config
-        self._params = np.array(
-            [c.clamp_min, c.clamp_max, c.free_below, c.occupied_above, c.hit, c.miss], dtype=np.float64
-        )
+        self._rule = LogOddsRule(c.clamp_min, c.clamp_max, c.free_below, c.occupied_above, c.hit, c.miss)
         self.explored_cells = 0
         self._last_update: tuple[Pose, float] | None = None
 
@@ -219,7 +218,7 @@ class LogOddsMapper:
         cx, cy = (pose.x - self.origin[0]) / res, (pose.y - self.origin[1]) / res
         cast_and_mark(
             lidar.blocked_padded, self._pending, cx, cy, math.cos(pose.theta), math.sin(pose.theta),
-            lidar.cos_offsets, lidar.sin_offsets, lidar.normals(rng), lidar.noise_params,
+            lidar.cos_offsets, lidar.sin_offsets, lidar.normals(rng), lidar.range_noise,
             min(lidar.config.max_range, self.config.usable_range) / res, self._ranges, self._extent,
         )  # fmt: skip
         if filtered is not None and len(filtered[0]):
@@ -234,12 +233,11 @@ class LogOddsMapper:
             return
         self.felt[rows, cols] = True
         self._pending[rows, cols] |= HIT
-        params = self._params.copy()
-        params[4] = self.config.clamp_max  # a hit that saturates
+        saturating = self._rule._replace(hit=self.config.clamp_max)  # a hit that saturates
         self._counters[:] = 0
         window = (int(np.min(rows)), int(np.max(rows)) + 1, int(np.min(cols)), int(np.max(cols)) + 1)
         apply_pending(self._pending, window, self.logodds, self.state, self.seen, self.observed, self.looks,
-                      self.explorable, params, self._bbox, self._changed, self._counters)  # fmt: skip
+                      self.explorable, saturating, self._bbox, self._changed, self._counters)  # fmt: skip
         self.looks[rows, cols] = MAX_LOOKS
         self.explored_cells += int(self._counters[2])
 
@@ -255,7 +253,7 @@ class LogOddsMapper:
         self._counters[:] = 0
         apply_pending(
             self._pending, window, self.logodds, self.state, self.seen, self.observed, self.looks, self.explorable,
-            self._params, self._bbox, self._changed, self._counters,
+            self._rule, self._bbox, self._changed, self._counters,
         )  # fmt: skip
         self._last_update = (pose, time_s)
         update = ScanUpdate(int(self._counters[0]), int(self._counters[1]), int(self._counters[2]))

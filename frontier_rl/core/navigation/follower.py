@@ -9,15 +9,47 @@ from __future__ import annotations
 
 import math
 from enum import IntEnum
+from typing import NamedTuple
 
 import numba as nb
 import numpy as np
 from numpy.typing import NDArray
 
+from frontier_rl.core.navigation.config import NavigationConfig
 from frontier_rl.core.world.grid import CellState
 from frontier_rl.core.world.raycast import FASTMATH
+from frontier_rl.core.world.robot import RobotConfig
 
 _OCCUPIED = np.int8(CellState.OCCUPIED)
+
+
+class FollowerParams(NamedTuple):
+    """The path follower's settings, as the compiled follower takes them (a tuple numba reads by
+    field name)."""
+
+    max_linear_speed: float
+    """m/s."""
+    max_angular_speed: float
+    """rad/s."""
+    turn_in_place_angle: float
+    """Heading errors above this (rad) are turned on the spot."""
+    heading_gain: float
+    """Angular speed per radian of heading error (1/s)."""
+    lookahead: float
+    """Distance (m) of the point on the path the robot steers at."""
+    goal_tolerance: float
+    """The goal is reached within this distance (m)."""
+    control_dt: float
+    """The control step (s)."""
+    radius: float
+    """The robot's radius (m): a move closer than this to a wall's cell centre is refused."""
+
+    @classmethod
+    def of(cls, robot: RobotConfig, navigation: NavigationConfig) -> FollowerParams:
+        """The settings of ``robot`` under ``navigation``."""
+        return cls(robot.max_linear_speed, robot.max_angular_speed, robot.turn_in_place_angle,
+                   navigation.heading_gain, navigation.lookahead, navigation.goal_tolerance, navigation.control_dt,
+                   robot.radius)  # fmt: skip
 
 
 class FollowStatus(IntEnum):
@@ -195,7 +227,7 @@ def follow_path(
     y: float,
     theta: float,
     duration: float,
-    params: NDArray[np.float64],
+    params: FollowerParams,
     clearance: NDArray[np.float64],
     mates: NDArray[np.float64],
     mate_gap: float,
@@ -207,8 +239,7 @@ def follow_path(
 ) -> tuple[float, float, float, int, float, float, int]:
     """Drive along the path for up to ``duration`` (s), in LiDAR ticks.
 
-    ``params`` = (v_max, omega_max, turn_in_place_angle, heading_gain, lookahead, goal_tolerance,
-    control_dt, robot_radius). ``clearance`` is the true distance (m) from each cell to the nearest
+    ``params``: the follower's settings. ``clearance`` is the true distance (m) from each cell to the nearest
     wall: a move that would put the robot centre closer than its radius is refused (collision),
     and so is one that takes it deeper within ``mate_gap`` (m) of one of ``mates`` ((k, 2) centres
     of other robots, m; (0, 2) alone).
@@ -223,9 +254,9 @@ def follow_path(
     Returns (x, y, theta, index, distance driven (m), time used (s), status), the status a
     :class:`FollowStatus`.
     """
-    v_max, w_max, turn_angle, k_w, lookahead, tol, h, radius = (
-        params[0], params[1], params[2], params[3], params[4], params[5], params[6], params[7],
-    )  # fmt: skip
+    v_max, w_max, turn_angle = params.max_linear_speed, params.max_angular_speed, params.turn_in_place_angle
+    k_w, lookahead, tol = params.heading_gain, params.lookahead, params.goal_tolerance
+    h, radius = params.control_dt, params.radius
     tick, gate_x, gate_y, gate_theta, linear, angular = gate[0], gate[1], gate[2], gate[3], gate[4], gate[5]
     n = path_x.shape[0]
     elapsed = 0.0

@@ -93,29 +93,43 @@ class Scan(NamedTuple):
     dir_y: NDArray[np.float64]
 
 
-@nb.njit(cache=True, inline="always")
-def noisy_range(cells: float, normal: float, params: NDArray[np.float64]) -> float:
-    """The reading (m) of a beam whose true range is ``cells`` (cells, ``inf`` for no return),
-    given one standard-normal draw: Gaussian noise, ``inf`` beyond max range, ``nan`` under min range.
+class RangeNoise(NamedTuple):
+    """The range model as the compiled kernels take it (a tuple numba reads by field name)."""
 
-    ``params`` = (resolution, min_range, max_range, sigma_abs, sigma_rel, rel_from), lengths in m.
-    """
-    r: float = cells * params[0]
+    resolution: float
+    """The grid's cell size (m): ranges are cast in cells."""
+    min_range: float
+    """m: a reading below it is invalid."""
+    max_range: float
+    """m: a reading beyond it is no return."""
+    sigma_abs: float
+    """The noise's standard deviation (m) below ``rel_from``."""
+    sigma_rel: float
+    """... and its share of the range from there on."""
+    rel_from: float
+    """The range (m) where the relative noise takes over."""
+
+
+@nb.njit(cache=True, inline="always")
+def noisy_range(cells: float, normal: float, noise: RangeNoise) -> float:
+    """The reading (m) of a beam whose true range is ``cells`` (cells, ``inf`` for no return),
+    given one standard-normal draw: Gaussian noise, ``inf`` beyond max range, ``nan`` under min range."""
+    r: float = cells * noise.resolution
     if not math.isfinite(r):
         return r
-    r += float(normal * (params[3] if r < params[5] else params[4] * r))
-    if r > params[2]:
+    r += float(normal * (noise.sigma_abs if r < noise.rel_from else noise.sigma_rel * r))
+    if r > noise.max_range:
         return np.inf
-    if r < params[1]:
+    if r < noise.min_range:
         return np.nan
     return r
 
 
 @nb.njit(cache=True)
-def add_range_noise(ranges: NDArray[np.float64], normals: NDArray[np.float64], params: NDArray[np.float64]) -> None:
+def add_range_noise(ranges: NDArray[np.float64], normals: NDArray[np.float64], noise: RangeNoise) -> None:
     """Turn cell ranges into noisy readings in metres, in place (see :func:`noisy_range`)."""
     for i in range(ranges.shape[0]):
-        ranges[i] = noisy_range(ranges[i], normals[i], params)
+        ranges[i] = noisy_range(ranges[i], normals[i], noise)
 
 
 class Lidar:
@@ -135,15 +149,9 @@ class Lidar:
         self.cos_offsets = np.cos(offsets)
         self.sin_offsets = np.sin(offsets)
         self._zeros = np.zeros(c.num_beams)
-        self.noise_params = np.array(
-            [
-                world.resolution,
-                c.min_range,
-                c.max_range,
-                0.5 * c.noise_abs,
-                0.5 * c.noise_rel,
-                c.noise_rel_from,
-            ]
+        # the accuracies are two sigma
+        self.range_noise = RangeNoise(
+            world.resolution, c.min_range, c.max_range, 0.5 * c.noise_abs, 0.5 * c.noise_rel, c.noise_rel_from
         )
 
     def normals(self, rng: np.random.Generator | None) -> NDArray[np.float64]:
@@ -171,5 +179,5 @@ class Lidar:
             dir_x,
             dir_y,
         )
-        add_range_noise(ranges, self.normals(rng), self.noise_params)
+        add_range_noise(ranges, self.normals(rng), self.range_noise)
         return Scan(pose, ranges, dir_x, dir_y)

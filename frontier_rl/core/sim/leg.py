@@ -18,7 +18,7 @@ from typing import Protocol, TypeVar
 import numpy as np
 from numpy.typing import NDArray
 
-from frontier_rl.core.navigation.follower import FollowStatus, follow_path
+from frontier_rl.core.navigation.follower import FollowerParams, FollowStatus, follow_path
 from frontier_rl.core.navigation.thin_walls import Recovery
 from frontier_rl.core.sim.config import SimConfig
 from frontier_rl.core.sim.teammates import Teammates
@@ -112,7 +112,7 @@ class LegPort(Protocol):
     @property
     def nearby_robots(self) -> Teammates: ...
     @property
-    def follow_params(self) -> NDArray[np.float64]: ...
+    def follow_params(self) -> FollowerParams: ...
     @property
     def navigator(self) -> LegNavigation: ...
 
@@ -295,8 +295,7 @@ class Leg:
     def _close_in(self) -> None:
         """Within the goal tolerance and the frontier is still there: close in on the goal cell
         itself (a frontier seen through a gap needs the exact viewpoint)."""
-        self._params = self._params.copy()
-        self._params[5] = self._port.world.grid.resolution  # the goal tolerance
+        self._params = self._params._replace(goal_tolerance=self._port.world.grid.resolution)
         self._closing_in = True
 
     def _frontier_explored(self) -> bool:

@@ -19,6 +19,7 @@ from frontier_rl.core.frontiers.blacklist import Blacklist
 from frontier_rl.core.frontiers.detection import Frontiers
 from frontier_rl.core.mapping.mapper import LogOddsMapper
 from frontier_rl.core.navigation.astar import SearchScratch
+from frontier_rl.core.navigation.follower import FollowerParams
 from frontier_rl.core.navigation.inflation import InflationMemory
 from frontier_rl.core.sensing.lidar import Lidar
 from frontier_rl.core.sim.body import touched_walls, until_next_scan
@@ -68,11 +69,7 @@ class ExplorationSimulator:
         # the planner's, reused by every costmap of the episode: they are crops of the world, padded
         self._scratch = SearchScratch((grid.height + 2) * (grid.width + 2))
         self._inflation = InflationMemory()  # the last costmap's, inflated again where the map changed
-        r, n = self.config.robot, self.config.navigation
-        self.follow_params = np.array(
-            [r.max_linear_speed, r.max_angular_speed, r.turn_in_place_angle, n.heading_gain, n.lookahead,
-             n.goal_tolerance, n.control_dt, r.radius], dtype=np.float64,
-        )  # fmt: skip
+        self.follow_params = FollowerParams.of(self.config.robot, self.config.navigation)
         self.reset(teammates)
 
     def reset(self, teammates: NDArray[np.float64] | None = None) -> None:

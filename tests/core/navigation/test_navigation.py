@@ -18,7 +18,7 @@ from frontier_rl.core.navigation import astar as astar_module
 from frontier_rl.core.navigation.astar import SearchScratch, astar, astar_padded
 from frontier_rl.core.navigation.config import NavigationConfig
 from frontier_rl.core.navigation.costmap import Costmap, nearest_cell
-from frontier_rl.core.navigation.follower import follow_path, footprint_offsets
+from frontier_rl.core.navigation.follower import FollowerParams, follow_path, footprint_offsets
 from frontier_rl.core.navigation.path_costs import cost_to_go_padded
 from frontier_rl.core.sim.teammates import obstacle_distance
 from frontier_rl.core.world.catalog import generate_world
@@ -423,12 +423,8 @@ NAV = NavigationConfig()
 
 
 def params(turn_angle: float = ROBOT.turn_in_place_angle, tol: float = NAV.goal_tolerance,
-           radius: float = ROBOT.radius) -> NDArray[np.float64]:  # fmt: skip
-    return np.array(
-        [ROBOT.max_linear_speed, ROBOT.max_angular_speed, turn_angle, NAV.heading_gain, NAV.lookahead, tol,
-         NAV.control_dt, radius],
-        dtype=np.float64,
-    )  # fmt: skip
+           radius: float = ROBOT.radius) -> FollowerParams:  # fmt: skip
+    return FollowerParams.of(ROBOT, NAV)._replace(turn_in_place_angle=turn_angle, goal_tolerance=tol, radius=radius)
 
 
 OPEN = np.full((100, 200), 10.0)  # clearance (m) everywhere: no walls
@@ -440,7 +436,7 @@ NO_MATES = np.zeros((0, 2))
 
 
 def drive(path_xy: NDArray[np.float64], x: float, y: float, theta: float, duration: float,
-          p: NDArray[np.float64], clearance: NDArray[np.float64] = OPEN,
+          p: FollowerParams, clearance: NDArray[np.float64] = OPEN,
           origin: tuple[float, float] = OPEN_ORIGIN, res: float = 0.05,
           gate: NDArray[np.float64] = NO_GATE) -> tuple[float, ...]:  # fmt: skip
     return tuple(

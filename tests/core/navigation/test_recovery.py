@@ -12,7 +12,7 @@ from numpy.typing import NDArray
 from frontier_rl.core.frontiers.blacklist import Blacklist
 from frontier_rl.core.navigation.config import NavigationConfig
 from frontier_rl.core.navigation.costmap import Costmap
-from frontier_rl.core.navigation.follower import _nearest_waypoint, follow_path
+from frontier_rl.core.navigation.follower import FollowerParams, _nearest_waypoint, follow_path
 from frontier_rl.core.navigation.thin_walls import Recovery, recovery_costmap, recovery_robot
 from frontier_rl.core.sim.candidates import find_candidates
 from frontier_rl.core.sim.config import SimConfig
@@ -27,9 +27,8 @@ NO_MATES = np.zeros((0, 2))
 NO_GATE = np.array([1e9, 0.0, 0.0, 0.0, np.inf, np.inf])
 
 
-def _params() -> NDArray[np.float64]:
-    return np.array([ROBOT.max_linear_speed, ROBOT.max_angular_speed, ROBOT.turn_in_place_angle, NAV.heading_gain,
-                     NAV.lookahead, NAV.goal_tolerance, NAV.control_dt, ROBOT.radius])  # fmt: skip
+def _params() -> FollowerParams:
+    return FollowerParams.of(ROBOT, NAV)
 
 
 def _centres(cells: list[tuple[int, int]]) -> NDArray[np.float64]:
