@@ -141,6 +141,15 @@ class Costmap:
             self.grid, open_p, clear_p, self.inflation_table, self.inflation_radius, self.unknown_cost, self.scratch
         )
 
+    def with_cells_opened(self, opened: NDArray[np.bool_]) -> Costmap:
+        """A copy in which the cells set in ``opened`` (the map's shape) are traversable."""
+        open_p = self.open_padded.copy()
+        open_p[1:-1, 1:-1] |= opened
+        return Costmap(
+            self.grid, open_p, self.clearance_padded, self.inflation_table, self.inflation_radius, self.unknown_cost,
+            self.scratch,
+        )  # fmt: skip
+
     def reachable_known(self, start: tuple[int, int], escape_radius: float = ESCAPE_RADIUS_M) -> NDArray[np.bool_]:
         """Known-free cells the robot at ``start`` (row, col) can drive to: traversable cells
         connected (8-way) to it, through the cells within ``escape_radius`` (m) it may cross to

@@ -203,6 +203,31 @@ def _same_cell(x0: float, y0: float, x1: float, y1: float, origin_x: float, orig
 
 
 @nb.njit(cache=True, inline="always")
+def _cuts_a_corner(
+    x: float,
+    y: float,
+    nx: float,
+    ny: float,
+    clearance: NDArray[np.float64],
+    origin_x: float,
+    origin_y: float,
+    resolution: float,
+    radius: float,
+) -> bool:
+    """Whether a step from (x, y) to (nx, ny) (m) crosses into the diagonal cell past a corner
+    whose two cells beside both are closer than ``radius`` to a wall: the robot would pass through
+    one of them, as the planner, which never cuts a corner, knows."""
+    col, row = math.floor((x - origin_x) / resolution), math.floor((y - origin_y) / resolution)
+    ncol, nrow = math.floor((nx - origin_x) / resolution), math.floor((ny - origin_y) / resolution)
+    if col == ncol or row == nrow:
+        return False
+    rows, cols = clearance.shape
+    beside_a = 0 <= row < rows and 0 <= ncol < cols and clearance[int(row), int(ncol)] >= radius
+    beside_b = 0 <= nrow < rows and 0 <= col < cols and clearance[int(nrow), int(col)] >= radius
+    return not (beside_a or beside_b)
+
+
+@nb.njit(cache=True, inline="always")
 def _deeper_into_a_mate(x: float, y: float, nx: float, ny: float, mates: NDArray[np.float64], gap: float) -> bool:
     """Whether moving from (x, y) to (nx, ny) (m) puts the robot centre closer than ``gap`` (m) to
     one of ``mates`` ((k, 2) centres, m), and closer to it than before: robots are discs that
@@ -284,7 +309,9 @@ def follow_path(
             elapsed += used
             continue
         nx, ny, new_theta = _drive_step(x, y, theta, err, step, to_goal, v_max, w_max, k_w)
-        wall = not _clear(nx, ny, clearance, origin_x, origin_y, resolution, radius)
+        wall = not _clear(nx, ny, clearance, origin_x, origin_y, resolution, radius) or _cuts_a_corner(
+            x, y, nx, ny, clearance, origin_x, origin_y, resolution, radius
+        )
         if wall or _deeper_into_a_mate(x, y, nx, ny, mates, mate_gap):
             if careful[0]:
                 if abs(err) > _ALIGNED:

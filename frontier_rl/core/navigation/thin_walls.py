@@ -76,13 +76,18 @@ def recovery_costmap(
     navigation: NavigationConfig,
     level: Recovery,
     scratch: SearchScratch | None = None,
+    trail: NDArray[np.bool_] | None = None,
 ) -> Costmap:
     """The narrow-passage recovery's costmap of the robot's map ``grid`` at ``level``: its walls
     thinned (:func:`thin_walls`) for a robot half a cell or a cell slimmer (:func:`recovery_robot`),
-    except round the walls the robot touched (``felt``, ``grid``'s shape), whose every cell closer
-    than the robot's radius stays blocked, as the collision check on the true map found them."""
+    open along the robot's ``trail`` (the cells its centre crossed, 4-connected, ``grid``'s shape:
+    the way it came is a way back, however its map has grown since), except round the walls the
+    robot touched (``felt``, ``grid``'s shape), whose every cell closer than the robot's radius stays
+    blocked, as the collision check on the true map found them."""
     thinned = OccupancyGrid(thin_walls(grid.data, felt), grid.resolution, grid.origin)
     costmap = Costmap.build(thinned, recovery_robot(robot, grid.resolution, level), navigation, scratch)
+    if trail is not None and trail.any():
+        costmap = costmap.with_cells_opened(trail & (grid.data == _FREE))
     if not felt.any():
         return costmap
     reach = robot.radius / grid.resolution

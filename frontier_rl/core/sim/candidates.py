@@ -64,6 +64,7 @@ def reachable_frontiers(
     felt: NDArray[np.bool_] | None = None,
     memory: InflationMemory | None = None,
     avoid: Discs | None = None,
+    trail: NDArray[np.bool_] | None = None,
 ) -> tuple[Costmap, NDArray[np.bool_], Frontiers]:
     """The navigator's costmap of ``grid`` (its searches using ``scratch``, its inflation updating
     ``memory``'s when there is one: not on the narrow-passage recovery's), the known free cells
@@ -72,7 +73,7 @@ def reachable_frontiers(
     touch them: what a decision chooses from, before any blacklist. With a ``recovery`` level, the
     costmap is that of the narrow-passage recovery: the map's walls thinned by a cell except at
     ``felt`` (the walls the robot touched, a mask of ``grid``'s shape; none by default), for a
-    slimmer robot (:func:`~frontier_rl.core.navigation.thin_walls.recovery_costmap`).
+    slimmer robot, open along its ``trail`` (:func:`~frontier_rl.core.navigation.thin_walls.recovery_costmap`).
     With ``avoid``, the teammates the robot gives way to are walls (:func:`with_robots_as_walls`;
     ``memory`` is then left as it was)."""
     if avoid is not None and len(avoid[0]):
@@ -82,7 +83,7 @@ def reachable_frontiers(
         reachable = costmap.reachable_known(grid.world_to_cell(pose.x, pose.y))
     else:
         touched = np.zeros(grid.shape, np.bool_) if felt is None else felt
-        costmap = recovery_costmap(grid, touched, config.robot, config.navigation, recovery, scratch)
+        costmap = recovery_costmap(grid, touched, config.robot, config.navigation, recovery, scratch, trail)
         reachable = costmap.reachable_known(grid.world_to_cell(pose.x, pose.y)) & (grid.data == CellState.FREE)
     cells = drop_cells_at(config.min_frontier_cells if min_cells is None else min_cells, grid.resolution)
     # a goal farther from its frontier than the map update reaches would map none of it
@@ -102,6 +103,7 @@ def find_candidates(
     felt: NDArray[np.bool_] | None = None,
     memory: InflationMemory | None = None,
     avoid: Discs | None = None,
+    trail: NDArray[np.bool_] | None = None,
 ) -> Candidates:
     """The candidates on ``grid`` for a robot at ``pose``: on the normal costmap, or on the
     narrow-passage recovery's at level ``recovery``, which thins every wall but those ``felt`` (the
@@ -113,7 +115,7 @@ def find_candidates(
     the robot's, kept from map to map; ``avoid``, the teammates it gives way to
     (:func:`reachable_frontiers`)."""
     costmap, reachable, frontiers = reachable_frontiers(
-        grid, pose, config, scratch=scratch, recovery=recovery, felt=felt, memory=memory, avoid=avoid
+        grid, pose, config, scratch=scratch, recovery=recovery, felt=felt, memory=memory, avoid=avoid, trail=trail
     )
     if blacklist.entries and len(frontiers):
         blacklist.refresh(map_state)

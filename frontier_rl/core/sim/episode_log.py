@@ -81,6 +81,15 @@ class EpisodeLog:
                            leg.outcome.value)
         )  # fmt: skip
 
+    def poses_since(self, first: int) -> NDArray[np.float64]:
+        """(n, 3) the poses from the ``first``-th logged one on (x, y, theta; m, rad)."""
+        return np.asarray(self._poses[first:], dtype=np.float64).reshape(-1, 3)
+
+    @property
+    def pose_count(self) -> int:
+        """How many poses are logged."""
+        return len(self._poses)
+
     def trajectory(self) -> NDArray[np.float64]:
         """(n, 3) robot poses (x, y, theta) so far."""
         return np.asarray(self._poses, dtype=np.float64).reshape(-1, 3)

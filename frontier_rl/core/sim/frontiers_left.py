@@ -58,18 +58,20 @@ def frontiers_left(
     blacklist: Blacklist,
     map_state: NDArray[np.int8],
     felt: NDArray[np.bool_],
+    trail: NDArray[np.bool_] | None = None,
 ) -> tuple[FrontierLeft, ...]:
     """The frontiers of ``cand``'s map that are not candidates (blacklisted after failed attempts,
     with no reachable cell that sees them, or no larger than the drop size), with the unseen
     space beside and behind each (free cells read from ``truth_grid``, the world; ``map_state`` is
-    the robot's whole map and ``felt`` the walls it touched, the world's shape), and the audit:
+    the robot's whole map, ``felt`` the walls it touched and ``trail`` the cells it crossed, the
+    world's shape), and the audit:
     whether the map has a path to each (:func:`with_a_path`). A cluster of at most
     ``config.speck_cells`` cells is a speck and left out, unless more than :data:`UNSEEN_ROOM_M2`
     of unseen free space lies behind it: a room seen only through a slot is not a speck."""
     res = cand.grid.resolution
     top, left_col = truth_grid.world_to_cell(*cand.grid.cell_to_world(0, 0))
-    felt_crop = felt[top : top + cand.grid.height, left_col : left_col + cand.grid.width]
-    audited = with_a_path(cand.grid, pose, config, felt_crop)
+    crop = (slice(top, top + cand.grid.height), slice(left_col, left_col + cand.grid.width))
+    audited = with_a_path(cand.grid, pose, config, felt[crop], None if trail is None else trail[crop])
     truth = truth_grid.data[top : top + cand.grid.height, left_col : left_col + cand.grid.width]
     regions = UnseenRegions.of(map_state, truth_grid.data)
     state = map_state[top : top + cand.grid.height, left_col : left_col + cand.grid.width]
@@ -98,15 +100,21 @@ def frontiers_left(
     return tuple(left)
 
 
-def with_a_path(grid: OccupancyGrid, pose: Pose, config: SimConfig, felt: NDArray[np.bool_]) -> NDArray[np.bool_]:
+def with_a_path(
+    grid: OccupancyGrid,
+    pose: Pose,
+    config: SimConfig,
+    felt: NDArray[np.bool_],
+    trail: NDArray[np.bool_] | None = None,
+) -> NDArray[np.bool_]:
     """The audit before an episode gives up: the cells (flat, of ``grid``) of every frontier the
     robot at ``pose`` could drive to on its map ``grid`` as it is now, planned afresh (a new
     costmap, no blacklist), on the normal costmap or at a level of the narrow-passage recovery's
-    (``felt``: the walls it touched, ``grid``'s shape). A frontier left with such a cell was given up on after
-    its failed attempts, not for want of a way."""
+    (``felt``: the walls it touched; ``trail``: the cells it crossed; ``grid``'s shape). A frontier
+    left with such a cell was given up on after its failed attempts, not for want of a way."""
     found = np.zeros(grid.height * grid.width, np.bool_)
     for level in Recovery:
-        _, _, frontiers = reachable_frontiers(grid, pose, config, recovery=level, felt=felt)
+        _, _, frontiers = reachable_frontiers(grid, pose, config, recovery=level, felt=felt, trail=trail)
         for start, end in frontiers.spans:
             found[frontiers.flat_cells[start:end]] = True
     return found

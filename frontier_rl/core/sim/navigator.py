@@ -16,8 +16,10 @@ from frontier_rl.core.navigation.inflation import InflationMemory
 from frontier_rl.core.navigation.thin_walls import Recovery, recovery_robot
 from frontier_rl.core.sim.candidates import Candidates, find_candidates
 from frontier_rl.core.sim.config import SimConfig
+from frontier_rl.core.sim.episode_log import EpisodeLog
 from frontier_rl.core.sim.paths import map_blocks_path, replan_path
 from frontier_rl.core.sim.teammates import Teammates
+from frontier_rl.core.sim.trail import mark_path
 from frontier_rl.core.world.grid import OccupancyGrid
 from frontier_rl.core.world.robot import Pose
 from frontier_rl.core.world.worlds import World
@@ -32,6 +34,7 @@ class Navigator:
         mapper: the robot's map; blacklist: its failed goals; robots: the other robots, as obstacles.
         scratch, inflation: the planner's scratch and the last costmap's inflation, kept from map
             to map (and from episode to episode: they belong to the simulator).
+        log: the episode's record, whose poses make the robot's trail (:meth:`trail`).
     """
 
     def __init__(
@@ -43,8 +46,12 @@ class Navigator:
         robots: Teammates,
         scratch: SearchScratch,
         inflation: InflationMemory,
+        log: EpisodeLog,
     ) -> None:
         self._world, self._config, self._mapper, self._robots = world, config, mapper, robots
+        self._log = log
+        self._trail = np.zeros(world.grid.shape, np.bool_)
+        self._trail_from = 0  # the first logged pose the trail has not taken in
         self.blacklist = blacklist
         self._scratch, self._inflation = scratch, inflation
         res = world.grid.resolution
@@ -53,6 +60,15 @@ class Navigator:
         }
         self._cached: Candidates | None = None
         self._gave_way_on: tuple[float, float] | None = None  # the goal of a leg that gave way, see give_way
+
+    def trail(self) -> NDArray[np.bool_]:
+        """The cells the robot's centre has crossed (the world's shape; :mod:`~frontier_rl.core.sim.trail`),
+        brought up to date from the poses logged since the last call: only the recovery needs it."""
+        count = self._log.pose_count
+        if count > self._trail_from:
+            mark_path(self._trail, self._world.grid, self._log.poses_since(max(self._trail_from - 1, 0))[:, :2])
+            self._trail_from = count
+        return self._trail
 
     def forget(self) -> None:
         """The map or the blacklist changed: find the candidates afresh."""
@@ -92,13 +108,16 @@ class Navigator:
         """The candidates on ``grid`` (a crop of the robot's map) with the normal costmap or a
         narrow-passage ``recovery``'s."""
         top, left = self._world.grid.world_to_cell(*grid.cell_to_world(0, 0))
-        felt = self._mapper.felt[top : top + grid.height, left : left + grid.width]
+        crop = (slice(top, top + grid.height), slice(left, left + grid.width))
+        felt = self._mapper.felt[crop]
+        trail = None if recovery is Recovery.NONE else self.trail()[crop]
         mates = self._robots
         walls = None if self._gave_way_on is None else (mates.in_contact((pose.x, pose.y)), mates.radius)
         state = self._mapper.state
         return find_candidates(
-            grid, pose, self._config, self.blacklist, state, self._scratch, recovery, felt, self._inflation, walls
-        )
+            grid, pose, self._config, self.blacklist, state, self._scratch, recovery, felt, self._inflation, walls,
+            trail,
+        )  # fmt: skip
 
     def replan(
         self, goal: tuple[float, float], recovery: Recovery, pose: Pose, round_teammates: bool = False

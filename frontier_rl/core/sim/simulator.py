@@ -83,8 +83,9 @@ class ExplorationSimulator:
         self.blacklist = Blacklist(nav.blacklist_radius, nav.max_goal_failures, grid.resolution, grid.origin)
         self.log = EpisodeLog(self.world.explorable_count)
         self.navigator = Navigator(
-            self.world, self.config, self.mapper, self.blacklist, self.nearby_robots, self._scratch, self._inflation
-        )
+            self.world, self.config, self.mapper, self.blacklist, self.nearby_robots, self._scratch, self._inflation,
+            self.log,
+        )  # fmt: skip
         self.target: tuple[float, float] | None = None  # the frontier centre or point of the leg under way
         self.set_teammates(np.zeros((0, 2)) if teammates is None else teammates)
         self._scan()
@@ -131,8 +132,9 @@ class ExplorationSimulator:
         """The frontiers not candidates, with the unseen space beside and behind each (``known``: what a team saw)."""
         state = self.mapper.state if known is None else np.where(known, CellState.FREE, self.mapper.state)
         return frontiers_left(
-            self.candidates(), self.world.grid, self.pose, self.config, self.blacklist, state, self.mapper.felt
-        )
+            self.candidates(), self.world.grid, self.pose, self.config, self.blacklist, state, self.mapper.felt,
+            self.navigator.trail(),
+        )  # fmt: skip
 
     def trajectory(self) -> NDArray[np.float64]:
         """(n, 3) robot poses (x, y, theta) so far: after every drive step, at least at every map update."""

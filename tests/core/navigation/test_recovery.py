@@ -17,6 +17,7 @@ from frontier_rl.core.navigation.thin_walls import Recovery, recovery_costmap, r
 from frontier_rl.core.sim.candidates import find_candidates
 from frontier_rl.core.sim.config import SimConfig
 from frontier_rl.core.sim.teammates import obstacle_distance
+from frontier_rl.core.sim.trail import mark_path
 from frontier_rl.core.world.grid import CellState, OccupancyGrid
 from frontier_rl.core.world.robot import Pose, RobotConfig
 
@@ -142,3 +143,44 @@ def test_a_row_of_posts_a_whole_cell_slimmer_robot_fits_between_is_a_candidate_a
         blacklist = Blacklist(0.25, 2, res, (0.0, 0.0))
         found[level] = len(find_candidates(grid, pose, config, blacklist, data, recovery=level).frontiers)
     assert found[Recovery.NONE] == found[Recovery.HALF_CELL] == 0 < found[Recovery.WHOLE_CELL]
+
+
+def test_a_step_across_a_corner_whose_two_side_cells_are_too_close_to_a_wall_is_refused() -> None:
+    # cells (4, 5) and (5, 4) beside a wall, (4, 4) and (5, 5) clear: the robot in (5, 5) may not
+    # slip into (4, 4) across the corner it shares with them
+    data = np.full((10, 10), FREE, np.int8)
+    data[3, 6] = data[6, 3] = OCC
+    clearance = obstacle_distance(data == OCC, RES)
+    clearance[4, 5] = clearance[5, 4] = 0.0  # as if walls stood right beside them
+    assert clearance[4, 4] >= ROBOT.radius and clearance[5, 5] >= ROBOT.radius
+    path = _centres([(5, 5), (4, 4), (3, 3)])
+    start_x, start_y = 5 * RES + 0.002, 5 * RES + 0.002  # at the corner
+    careful = np.array([True, False])
+    *_, status = follow_path(path[:, 0], path[:, 1], 0, start_x, start_y, math.atan2(-1.0, -1.0), 2.0, _params(),
+                             clearance, NO_MATES, 0.0, 0.0, 0.0, RES, NO_GATE, careful)  # fmt: skip
+    assert status == 2  # blocked: through a corner the planner never cuts, the robot does not slip either
+
+
+def test_the_way_the_robot_came_stays_open_on_the_recovery_costmap_but_not_beside_a_felt_wall() -> None:
+    data = np.full((20, 20), FREE, np.int8)
+    data[10, 10] = data[10, 14] = OCC  # single posts: the peel never takes them
+    grid = OccupancyGrid(data, RES)
+    felt = np.zeros(grid.shape, np.bool_)
+    trail = np.zeros(grid.shape, np.bool_)
+    trail[11, 8:16] = True  # the robot drove along row 11, a cell from both posts
+    plain = recovery_costmap(grid, felt, ROBOT, NAV, Recovery.HALF_CELL).traversable
+    assert not plain[11, 10] and not plain[11, 14]  # within the half-cell level's margin of a post
+    opened = recovery_costmap(grid, felt, ROBOT, NAV, Recovery.HALF_CELL, trail=trail).traversable
+    assert opened[11, 10] and opened[11, 14]
+    felt[10, 14] = True  # the robot touched that post: the cell beside it is too close after all
+    touched = recovery_costmap(grid, felt, ROBOT, NAV, Recovery.HALF_CELL, trail=trail).traversable
+    assert touched[11, 10] and not touched[11, 14]
+
+
+def test_a_diagonal_trail_is_four_connected_with_both_corner_cells() -> None:
+    grid = OccupancyGrid(np.full((10, 10), FREE, np.int8), RES)
+    trail = np.zeros(grid.shape, np.bool_)
+    mark_path(trail, grid, np.array([[0.25, 0.25], [0.45, 0.45]]))  # cell (2, 2) to cell (4, 4), diagonally
+    assert trail[2, 2] and trail[3, 3] and trail[4, 4]
+    assert trail[2, 3] and trail[3, 2] and trail[3, 4] and trail[4, 3]
+    assert trail.sum() == 7

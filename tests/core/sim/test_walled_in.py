@@ -24,3 +24,10 @@ def test_a_robot_its_own_map_walls_in_finds_its_way_out() -> None:
         load_world("willow_2010", 2), "learned:models/model7.zip", seed=2, config=SimConfig(max_sim_time=800.0)
     )
     assert result.end_reason == "time_cap" and result.coverage > 0.25
+
+
+def test_a_robot_that_slipped_across_a_corner_into_a_pocket_gets_out_along_its_trail() -> None:
+    # gdc_3ne, 0.05 m cells. Before: walled in on its map, every way out closed, ended `unreachable`
+    # at 23 % after 1,616 s.
+    result = explore(load_world("gdc_3ne", 3), "fixed:0.75", seed=3, config=SimConfig(max_sim_time=2000.0))
+    assert result.end_reason == "time_cap"
