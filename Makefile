@@ -10,16 +10,46 @@ ROS_CHECK := command -v roscore >/dev/null && /usr/bin/python3 -c "import rospy,
 # Chromium from Debian, for the test that renders the HTML report as a reader's browser does
 BROWSER_APT := chromium chromium-driver
 BROWSER_CHECK := command -v chromium >/dev/null && command -v chromedriver >/dev/null
+# ROS 2 (Kilted) from PyPI's wheels: what tools/build_ros2_interfaces.py needs to generate the vendored nav2_msgs
+# (frontier_rl/ros2/interfaces) with cmake and a C/C++ compiler; rclpy and the message wheels come with the ros2 extra
+ROS2_WHEELS := ros-kilted-ament-cmake ros-kilted-ament-cmake-core ros-kilted-ament-cmake-export-definitions \
+               ros-kilted-ament-cmake-export-dependencies ros-kilted-ament-cmake-export-include-directories \
+               ros-kilted-ament-cmake-export-interfaces ros-kilted-ament-cmake-export-libraries \
+               ros-kilted-ament-cmake-export-link-flags ros-kilted-ament-cmake-export-targets \
+               ros-kilted-ament-cmake-gen-version-h ros-kilted-ament-cmake-include-directories \
+               ros-kilted-ament-cmake-libraries ros-kilted-ament-cmake-python ros-kilted-ament-cmake-ros-core \
+               ros-kilted-ament-cmake-target-dependencies ros-kilted-ament-cmake-test ros-kilted-ament-cmake-version \
+               ros-kilted-ament-package ros-kilted-rosidl-adapter ros-kilted-rosidl-cli ros-kilted-rosidl-cmake \
+               ros-kilted-rosidl-core-generators ros-kilted-rosidl-core-runtime ros-kilted-rosidl-default-generators \
+               ros-kilted-rosidl-default-runtime ros-kilted-rosidl-dynamic-typesupport \
+               ros-kilted-rosidl-dynamic-typesupport-fastrtps ros-kilted-rosidl-generator-c \
+               ros-kilted-rosidl-generator-cpp ros-kilted-rosidl-generator-py \
+               ros-kilted-rosidl-generator-type-description ros-kilted-rosidl-parser ros-kilted-rosidl-pycommon \
+               ros-kilted-rosidl-runtime-c ros-kilted-rosidl-runtime-cpp ros-kilted-rosidl-typesupport-c \
+               ros-kilted-rosidl-typesupport-cpp ros-kilted-rosidl-typesupport-fastrtps-c \
+               ros-kilted-rosidl-typesupport-fastrtps-cpp ros-kilted-rosidl-typesupport-interface \
+               ros-kilted-rosidl-typesupport-introspection-c ros-kilted-rosidl-typesupport-introspection-cpp \
+               ros-kilted-action-msgs ros-kilted-builtin-interfaces ros-kilted-std-msgs ros-kilted-geometry-msgs \
+               catkin_pkg numpy
+ROS2_INTERFACES := $(VENV)/.ros2-interfaces
+ROS2_SOURCES := tools/build_ros2_interfaces.py \
+                $(shell find frontier_rl/ros2/interfaces -type f -not -path '*/__pycache__/*' 2>/dev/null)
 
 .PHONY: setup ros-deps browser-deps demo test test-fast lint typecheck docs pytest bench clean
 
 $(STAMP): pyproject.toml
 	$(PYTHON) -m venv $(VENV)
 	$(BIN)/python -m pip install --quiet --upgrade pip
-	$(BIN)/python -m pip install --quiet -e ".[rl,ray,dev,docs]"
+	$(BIN)/python -m pip install --quiet -e ".[rl,ray,dev,docs,ros2]"
 	touch $(STAMP)
 
-setup: $(STAMP)
+# NavigateToPose (nav2_msgs has no wheel) generated from its vendored .action file and built into the venv
+$(ROS2_INTERFACES): $(STAMP) $(ROS2_SOURCES)
+	$(BIN)/python -m pip install --quiet $(ROS2_WHEELS)
+	$(BIN)/python tools/build_ros2_interfaces.py
+	touch $(ROS2_INTERFACES)
+
+setup: $(STAMP) $(ROS2_INTERFACES)
 
 # $(call apt_deps,CHECK,PACKAGES,WHAT,WHICH TEST): install Debian packages unless CHECK passes, where apt-get runs as root
 define apt_deps
@@ -40,20 +70,20 @@ demo: $(STAMP)
 	$(BIN)/frontier-rl demo --out demo_output
 
 lint: $(STAMP)
-	$(BIN)/ruff check frontier_rl tests benchmarks experiments examples docs/_ext
-	$(BIN)/ruff format --check frontier_rl tests benchmarks experiments examples docs/_ext
+	$(BIN)/ruff check frontier_rl tests benchmarks experiments examples docs/_ext tools
+	$(BIN)/ruff format --check frontier_rl tests benchmarks experiments examples docs/_ext tools
 	$(BIN)/lint-imports --no-cache
 
-typecheck: $(STAMP)
+typecheck: $(STAMP) $(ROS2_INTERFACES)
 	$(BIN)/mypy
 
 # the tests one per core at a time (pytest-xdist), then those timed against the wall clock alone
-pytest: $(STAMP) ros-deps browser-deps
+pytest: $(STAMP) $(ROS2_INTERFACES) ros-deps browser-deps
 	$(BIN)/pytest -q -n auto --dist loadfile -m "not serial"
 	$(BIN)/pytest -q -m serial
 
 # the documentation site, offline, into docs/_build/html: warnings are errors, references are checked (-n)
-docs: $(STAMP)
+docs: $(STAMP) $(ROS2_INTERFACES)
 	$(BIN)/sphinx-build -b html -W --keep-going -n -q docs docs/_build/html
 
 test: lint typecheck docs pytest

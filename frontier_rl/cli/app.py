@@ -9,6 +9,7 @@ from frontier_rl.cli.explore import explore
 from frontier_rl.cli.maps import maps_command
 from frontier_rl.cli.output import OneLineGroup
 from frontier_rl.cli.protocols import benchmark_app
+from frontier_rl.cli.ros2 import ros2_app
 from frontier_rl.cli.train import train
 
 app = typer.Typer(
@@ -20,3 +21,4 @@ app.command()(evaluate)
 app.command()(train)
 app.add_typer(benchmark_app, name="benchmark")
 app.command("maps")(maps_command)
+app.add_typer(ros2_app, name="ros2")

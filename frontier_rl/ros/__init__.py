@@ -1,2 +1,2 @@
 """ROS 1 interface: the frontier node (``frontier_rl.ros.node``, needs rospy) and the ROS-free
-ranking it serves (``frontier_rl.policies.frontier_request``)."""
+ranking it serves (:mod:`frontier_rl.robot`)."""

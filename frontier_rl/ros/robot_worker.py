@@ -26,7 +26,8 @@ from frontier_rl.core.world.grid import OccupancyGrid
 from frontier_rl.core.world.robot import Pose
 from frontier_rl.errors import FrontierRLError
 from frontier_rl.policies import make_policy
-from frontier_rl.policies.frontier_request import grid_from_message, rank_frontiers
+from frontier_rl.robot.map_message import grid_from_message
+from frontier_rl.robot.ranking import rank_frontiers
 from frontier_rl.ros.answers import MapInfo
 from frontier_rl.worker_signals import ignore_interrupts, spawning_workers
 

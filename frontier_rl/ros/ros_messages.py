@@ -13,7 +13,7 @@ import numpy as np
 
 from frontier_rl.errors import FrontierRLError, MapError
 from frontier_rl.io.loaded_map import MAX_COORDINATE_M
-from frontier_rl.policies.frontier_request import check_map_message
+from frontier_rl.robot.map_message import check_map_message
 from frontier_rl.ros.answers import MapFrame, MapInfo
 from frontier_rl.ros.robot_worker import MapCells
 

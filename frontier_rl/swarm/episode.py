@@ -13,7 +13,7 @@ from frontier_rl.core.sim.episode import EpisodeAwarePolicy, ExplorationPolicy, 
 from frontier_rl.core.world.worlds import World
 from frontier_rl.errors import ConfigError
 from frontier_rl.policies.baselines import FixedWeight
-from frontier_rl.policies.frontier_request import RankedFrontier
+from frontier_rl.robot.ranking import RankedFrontier
 from frontier_rl.swarm.config import TeamConfig
 from frontier_rl.swarm.result import TeamResult
 from frontier_rl.swarm.team import TeamSimulator

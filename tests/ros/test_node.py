@@ -29,7 +29,7 @@ from frontier_rl.core.world.grid import CellState, OccupancyGrid
 from frontier_rl.core.world.robot import Pose
 from frontier_rl.errors import FrontierRLError, MapError
 from frontier_rl.io import load_map
-from frontier_rl.policies.frontier_request import grid_from_message
+from frontier_rl.robot.map_message import grid_from_message
 
 pytestmark = pytest.mark.slow  # the ROS node against a real roscore
 
@@ -184,7 +184,7 @@ def test_learned_models_rank_a_map_message(model: str, real_maps: Path, tmp_path
     if not Path(model).exists():
         pytest.skip("shipped model missing")
     from frontier_rl.policies import make_policy
-    from frontier_rl.policies.frontier_request import rank_frontiers
+    from frontier_rl.robot.ranking import rank_frontiers
 
     _, arrays = _scene(real_maps, tmp_path)
     grid = grid_from_message(int(arrays["width"]), int(arrays["height"]), float(arrays["resolution"]), arrays["data"])

@@ -198,7 +198,8 @@ def test_the_node_ranks_with_the_policy_it_is_given(
     policy: str, ros_master: tuple[dict[str, str], int], real_maps: Path, tmp_path: Path
 ) -> None:
     from frontier_rl.policies import make_policy
-    from frontier_rl.policies.frontier_request import grid_from_message, rank_frontiers
+    from frontier_rl.robot.map_message import grid_from_message
+    from frontier_rl.robot.ranking import rank_frontiers
 
     env, port = ros_master
     scene, arrays = _scene(real_maps, tmp_path)

@@ -18,7 +18,8 @@ import pytest
 
 from frontier_rl.core.world.robot import Pose
 from frontier_rl.policies import make_policy
-from frontier_rl.policies.frontier_request import grid_from_message, rank_frontiers
+from frontier_rl.robot.map_message import grid_from_message
+from frontier_rl.robot.ranking import rank_frontiers
 from frontier_rl.ros.answers import MapFrame, MapInfo
 from frontier_rl.ros.robot_worker import MapCells, RankJob, RankResult, RobotWorker, _HeldMap, _rank
 

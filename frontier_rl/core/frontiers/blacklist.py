@@ -78,6 +78,11 @@ class Blacklist:
         self._change_cells = change_cells
         self.entries: list[BlacklistEntry] = []
 
+    def reframe(self, resolution: float, origin: tuple[float, float]) -> None:
+        """The map was re-laid (a SLAM map grows, its origin moves): read it with these cell size
+        and origin (m) from now on; the goals stay where they are."""
+        self._resolution, self._origin = resolution, origin
+
     def __len__(self) -> int:
         return sum(entry.active for entry in self.entries)
 

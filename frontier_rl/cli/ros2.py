@@ -1,0 +1,112 @@
+"""``frontier-rl ros2``: the explorer that drives a robot through Nav2, and the simulator as a
+ROS 2 robot to try it on (the ``ros2`` extra; rclpy loads only here)."""
+
+from __future__ import annotations
+
+import math
+from typing import Annotated
+
+import typer
+
+from frontier_rl.cli.options import MAX_SEED, WORLD_HELP, fail
+from frontier_rl.cli.output import OneLineGroup, friendly_errors, stdout_console
+from frontier_rl.seeds import checked_seed
+
+ros2_app = typer.Typer(
+    no_args_is_help=True, cls=OneLineGroup,
+    help="ROS 2: explore with Nav2 (explore), or run a world as a ROS 2 robot (sim).",
+)  # fmt: skip
+
+_NO_ROS2 = (
+    "ROS 2 is not installed in this environment: `make setup` (or pip install -e '.[ros2]' and "
+    "python tools/build_ros2_interfaces.py) installs rclpy and builds nav2_msgs"
+)
+
+
+def _need_ros2() -> None:
+    """A one-line error when rclpy or nav2_msgs cannot be imported."""
+    try:
+        import nav2_msgs.action  # noqa: F401
+        import rclpy  # noqa: F401
+    except ImportError as error:
+        fail(f"{_NO_ROS2} ({error})")
+
+
+def _checked_rate(rate: float) -> float | None:
+    if not (math.isfinite(rate) and rate >= 0):
+        fail(f"--rate must be a number >= 0 (0: as fast as it can), got {rate!r}")
+    return None if rate == 0 else rate
+
+
+@ros2_app.command()
+@friendly_errors
+def sim(
+    world: Annotated[str, typer.Option(help=WORLD_HELP)] = "office",
+    seed: Annotated[int, typer.Option(help=f"Seeds the world, the start and the sensor noise (0 to {MAX_SEED}).")] = 0,
+    rate: Annotated[float, typer.Option(help="Simulated seconds per wall second (0: as fast as it can).")] = 1.0,
+    namespace: Annotated[str, typer.Option(help="The robot's namespace (its topics and action).")] = "",
+) -> None:
+    """Run a world as a ROS 2 robot: map, pose, odom, scan, /clock, and Nav2's navigate_to_pose."""
+    checked_seed(seed)
+    paced = _checked_rate(rate)
+    _need_ros2()
+    from frontier_rl import api
+    from frontier_rl.ros2.run import run_sim
+
+    the_world = api.load_world(world, seed)
+    stdout_console().print(f"simulating {the_world.name} as a ROS 2 robot; Ctrl-C ends it")
+    stdout_console().print(run_sim(the_world, seed, paced, namespace))
+
+
+@ros2_app.command()
+@friendly_errors
+def explore(
+    policy: Annotated[
+        str, typer.Option(help="Any policy spec: nearest, fixed:0.75, tour, learned:PATH, ...")
+    ] = "nearest",
+    planner_frequency: Annotated[float, typer.Option(help="Planner ticks per second (Hz).")] = 1.0,
+    progress_timeout: Annotated[
+        float, typer.Option(help="A goal with no progress for this long is given up (s).")
+    ] = 30.0,
+    min_frontier_size: Annotated[float, typer.Option(help="Frontiers this long or shorter are no goals (m).")] = 0.2,
+    return_to_init: Annotated[bool, typer.Option(help="Drive back to the start once explored.")] = False,
+    visualize: Annotated[bool, typer.Option(help="Publish RViz markers on explore/frontiers.")] = True,
+    time_cap: Annotated[float, typer.Option(help="Stop exploring after this long (s; 0: never).")] = 0.0,
+    namespace: Annotated[str, typer.Option(help="The robot's namespace.")] = "",
+    pose_topic: Annotated[str, typer.Option(help="Where the robot's pose is published.")] = "pose",
+    pose_type: Annotated[str, typer.Option(help="pose (PoseWithCovarianceStamped) or odom (Odometry).")] = "pose",
+    use_sim_time: Annotated[bool, typer.Option(help="Time from /clock (a simulator's).")] = False,
+    seed: Annotated[int, typer.Option(help=f"Seeds the policy's randomness (0 to {MAX_SEED}).")] = 0,
+    json_out: Annotated[bool, typer.Option("--json", help="Print the final status as JSON, not a sentence.")] = False,
+) -> None:
+    """Explore with Nav2: rank the map's frontiers with a policy and send the best as goals."""
+    checked_seed(seed)
+    from frontier_rl.robot.explorer import ExplorerParams
+
+    try:
+        params = ExplorerParams(
+            planner_frequency=planner_frequency, progress_timeout=progress_timeout,
+            min_frontier_size=min_frontier_size, return_to_init=return_to_init,
+            time_cap=math.inf if time_cap == 0 else time_cap,
+        )  # fmt: skip
+    except ValueError as error:
+        fail(str(error))
+    if pose_type not in ("pose", "odom"):
+        fail(f"--pose-type must be pose or odom, got {pose_type!r}")
+    _need_ros2()
+    from frontier_rl.policies.registry import make_policy
+    from frontier_rl.robot.explorer import check_robot_policy
+    from frontier_rl.ros2.run import run_explorer
+
+    the_policy = make_policy(policy)
+    check_robot_policy(the_policy, policy)
+    status, summary = run_explorer(
+        the_policy, params, namespace=namespace, pose_topic=pose_topic, pose_type=pose_type,
+        visualize=visualize, use_sim_time=use_sim_time, seed=seed,
+    )  # fmt: skip
+    if json_out:
+        print(status.to_json())
+    else:
+        stdout_console().print(summary)
+    if status.state != "finished":
+        raise typer.Exit(130)

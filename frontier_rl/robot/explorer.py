@@ -1,0 +1,285 @@
+"""The explorer's decisions on a real robot's map, without ROS: which frontier to send the
+navigation stack to next, when to give a goal up, and when the building is done.
+
+What explore_lite's users report (exploration that stops with unknown space left, goals that
+oscillate or never progress, a blacklist that leaves parts unexplored) is answered by the engine's
+own pieces: the candidates of :func:`~frontier_rl.core.sim.candidates.find_candidates` (a blacklist
+that forgets, retries and the audit before giving up, goals on cells that see their frontier),
+the narrow-passage recovery's levels when the normal costmap leaves none, any policy's ranking, and
+an end reason that says what was left. The robot's navigation stack plans and drives; the node that
+owns a :class:`FrontierExplorer` tells it what happened to each goal.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, replace
+
+import numpy as np
+from numpy.typing import NDArray
+
+from frontier_rl.core.frontiers.blacklist import Blacklist
+from frontier_rl.core.frontiers.fringe import count_fringe
+from frontier_rl.core.navigation.inflation import InflationMemory
+from frontier_rl.core.navigation.thin_walls import Recovery
+from frontier_rl.core.sim.candidates import Candidates, find_candidates
+from frontier_rl.core.sim.config import DROP_CELL_M, SimConfig
+from frontier_rl.core.sim.episode import DecisionContext, EpisodeAwarePolicy, ExplorationPolicy, checked_ranking
+from frontier_rl.core.sim.episode_log import EndReason, completion_reason
+from frontier_rl.core.sim.frontiers_left import frontiers_left
+from frontier_rl.core.sim.metrics import FrontierLeft
+from frontier_rl.core.world.grid import CellState, OccupancyGrid
+from frontier_rl.core.world.robot import Pose
+from frontier_rl.errors import ConfigError, short_repr
+
+
+def check_robot_policy(policy: ExplorationPolicy, spec: str) -> None:
+    """Raise :class:`ConfigError` if ``policy`` (made from ``spec``) plans on the true world (an
+    :class:`~frontier_rl.core.sim.episode.EpisodeAwarePolicy`, the oracle), which a robot does not have."""
+    if isinstance(policy, EpisodeAwarePolicy):
+        raise ConfigError(f"policy {short_repr(spec)} plans on the true map, which a robot does not have")
+
+
+@dataclass(frozen=True)
+class ExplorerParams:
+    """The explorer's settings, with explore_lite's names where they mean the same.
+
+    Attributes:
+        planner_frequency: how often the frontiers are found and ranked again (Hz).
+        progress_timeout: a goal the robot gets no nearer to (by ``progress_distance``) for this
+            long is given up and blacklisted (s).
+        min_frontier_size: frontier clusters this long or shorter are no goals (m).
+        return_to_init: drive back to the start once the map is explored.
+        time_cap: stop exploring after this long (s); infinite by default.
+        progress_distance: the distance (m) to the goal that counts as progress.
+    """
+
+    planner_frequency: float = 1.0
+    progress_timeout: float = 30.0
+    min_frontier_size: float = SimConfig().min_frontier_cells * DROP_CELL_M
+    return_to_init: bool = False
+    time_cap: float = math.inf
+    progress_distance: float = 0.1
+
+    def __post_init__(self) -> None:
+        for name in ("planner_frequency", "progress_timeout", "time_cap", "progress_distance"):
+            value = getattr(self, name)
+            if not (isinstance(value, int | float) and value > 0 and not math.isnan(value)):
+                raise ValueError(f"{name} must be a positive number, got {value!r}")
+        if not (math.isfinite(self.min_frontier_size) and self.min_frontier_size >= 0):
+            raise ValueError(f"min_frontier_size must be a number of metres >= 0, got {self.min_frontier_size!r}")
+
+    def sim_config(self, base: SimConfig) -> SimConfig:
+        """``base`` with its frontier drop size set from :attr:`min_frontier_size`."""
+        return replace(base, min_frontier_cells=int(round(self.min_frontier_size / DROP_CELL_M)))
+
+
+@dataclass(frozen=True)
+class Goal:
+    """A goal for the navigation stack.
+
+    Attributes:
+        x, y: where to drive (m, map frame).
+        frontier: the cells (m, map frame, (k, 2)) of the frontier it is for; empty for a point
+            goal (a point policy's, or the way back to the start).
+        weight: the ranking weight the policy used, if any.
+        recovery: the costmap it was found on (the narrow-passage recovery's, where the normal one had none).
+    """
+
+    x: float
+    y: float
+    frontier: NDArray[np.float64]
+    weight: float | None = None
+    recovery: Recovery = Recovery.NONE
+
+
+@dataclass(frozen=True)
+class Finished:
+    """Exploration is over.
+
+    Attributes:
+        reason: ``explored``, ``unreachable`` (frontiers left, larger than a speck, with unknown
+            space beside or behind them) or ``time_cap``.
+        left: those frontiers, judged on the map alone: every unknown cell could be free
+            (``unseen_free_cells`` counts the unknown cells beside one, ``unseen_behind_m2`` the
+            unknown region it opens onto, within the map's bounds; ``has_path``, the audit).
+        specks: frontiers left no larger than a speck (scan artefacts, gaps in walls).
+    """
+
+    reason: EndReason
+    left: tuple[FrontierLeft, ...]
+    specks: int
+
+    @property
+    def unknown_beside_m2(self) -> float:
+        """The unknown area (m²) beside the frontiers left."""
+        return float(sum(f.unknown_m2 for f in self.left))
+
+    @property
+    def with_a_path(self) -> int:
+        """How many frontiers left the map still has a path to (the audit)."""
+        return sum(f.has_path for f in self.left)
+
+
+class FrontierExplorer:
+    """One robot's exploration, decided on the maps it is given.
+
+    Args:
+        policy: ranks the frontiers (any :class:`~frontier_rl.core.sim.episode.ExplorationPolicy`
+            that needs no true map); a point policy's goal is sent as it is.
+        params: the explorer's settings.
+        config: the robot, sensor and navigation settings the frontiers are found with.
+        rng: the policy's randomness.
+    """
+
+    def __init__(
+        self,
+        policy: ExplorationPolicy,
+        params: ExplorerParams | None = None,
+        config: SimConfig | None = None,
+        rng: np.random.Generator | None = None,
+    ) -> None:
+        self.params = params or ExplorerParams()
+        self.config = self.params.sim_config(config or SimConfig())
+        self.policy = policy
+        self._rng = rng if rng is not None else np.random.default_rng(0)
+        self._memory = InflationMemory()
+        self._blacklist: Blacklist | None = None
+        self.goal: Goal | None = None
+        self._arrived = False  # the navigation stack reached the goal under way
+        self.finished: Finished | None = None
+        self.start: tuple[float, float] | None = None
+        self.decisions = 0
+        self.goals_given_up = 0
+        self._best_distance = math.inf
+        self._progress_at = 0.0
+
+    # ------------------------------------------------------------ what the node asks
+    def tick(self, grid: OccupancyGrid, pose: Pose, now: float) -> Goal | Finished | None:
+        """A planner tick at time ``now`` (s) with the robot's map and pose (map frame): a new goal
+        to send (cancelling the one under way), the end of exploration, or None to carry on. The
+        goal under way is kept while its frontier is not yet seen and the robot gets nearer to it
+        within ``progress_timeout``; otherwise it is dropped (seen) or given up (blacklisted)."""
+        if self.start is None:
+            self.start = (pose.x, pose.y)
+        if self.finished is not None:
+            return None
+        if now >= self.params.time_cap:
+            return self.time_up(grid, pose)
+        if self.goal is not None:
+            if not self._frontier_open(grid):
+                self.goal = None  # seen: the next one
+            elif self._arrived:
+                self.goal_failed(grid)  # there, and still not seen: it cannot be seen from there
+            elif self._stalled(pose, now):
+                self.goal_failed(grid)
+            else:
+                return None
+        return self._decide(grid, pose, now)
+
+    def time_up(self, grid: OccupancyGrid, pose: Pose) -> Finished:
+        """End exploration at the time cap, with what is left of ``grid``."""
+        cand = self._candidates(grid, pose)
+        none = replace(cand, frontiers=cand.frontiers.subset(np.zeros(0, np.int64)))  # every frontier is left
+        return self._finish(EndReason.TIME_CAP, grid, pose, none)
+
+    def goal_failed(self, grid: OccupancyGrid) -> None:
+        """The navigation stack rejected or aborted the goal under way (or it made no progress):
+        its frontier is blacklisted, to be tried again once the map around it changes."""
+        if self.goal is not None and len(self.goal.frontier):
+            self._blacklist_for(grid).fail(self.goal.x, self.goal.y, grid.data)
+            self.goals_given_up += 1
+        self.goal = None
+        self._arrived = False
+
+    def goal_reached(self) -> None:
+        """The navigation stack reached the goal under way: the next tick decides again, and
+        blacklists the goal if its frontier is still not seen on that tick's map (seen edge-on, or
+        through a slit: otherwise it would be chosen again and again)."""
+        self._arrived = True
+
+    # ------------------------------------------------------------------- inside
+    def _decide(self, grid: OccupancyGrid, pose: Pose, now: float) -> Goal | Finished:
+        cand = self._candidates(grid, pose)
+        if len(cand.frontiers) == 0:
+            return self._finish(EndReason.EXPLORED, grid, pose, cand)
+        context = DecisionContext(
+            grid,
+            cand.frontiers,
+            pose,
+            now,
+            self.config.lidar.max_range,
+            cand.costmap,
+            robot_radius=self.config.robot.radius,
+        )
+        ranking = checked_ranking(self.policy.rank(context, self._rng), len(cand.frontiers), self.policy)
+        if ranking.goal is not None:
+            goal = Goal(float(ranking.goal[0]), float(ranking.goal[1]), np.zeros((0, 2)), ranking.weight, cand.recovery)
+        else:
+            index = int(ranking.order[0])
+            row, col = (int(v) for v in cand.frontiers.goal_cells[index])
+            x, y = grid.cell_to_world(row, col)
+            cells = grid.cells_to_world(cand.frontiers.cells_of(index))
+            goal = Goal(x, y, cells, ranking.weight, cand.recovery)
+        self.goal, self._arrived = goal, False
+        self.decisions += 1
+        self._best_distance, self._progress_at = math.hypot(goal.x - pose.x, goal.y - pose.y), now
+        return goal
+
+    def _candidates(self, grid: OccupancyGrid, pose: Pose) -> Candidates:
+        """The frontiers to choose from: on the normal costmap, else on the narrow-passage
+        recovery's levels in turn (as the simulated robot's navigator does)."""
+        blacklist = self._blacklist_for(grid)
+        cand = find_candidates(grid, pose, self.config, blacklist, grid.data, memory=self._memory)
+        for level in (Recovery.HALF_CELL, Recovery.WHOLE_CELL):
+            if len(cand.frontiers):
+                break
+            cand = find_candidates(grid, pose, self.config, blacklist, grid.data, recovery=level)
+        return cand
+
+    def _blacklist_for(self, grid: OccupancyGrid) -> Blacklist:
+        """The blacklist, in ``grid``'s frame: a SLAM map grows, and its origin moves with it."""
+        nav = self.config.navigation
+        if self._blacklist is None:
+            self._blacklist = Blacklist(nav.blacklist_radius, nav.max_goal_failures, grid.resolution, grid.origin)
+        self._blacklist.reframe(grid.resolution, grid.origin)
+        return self._blacklist
+
+    def _frontier_open(self, grid: OccupancyGrid) -> bool:
+        """Whether more than the drop size of the goal's frontier cells are still frontier on ``grid``."""
+        assert self.goal is not None
+        if len(self.goal.frontier) == 0:
+            return True  # a point goal lasts until the navigation stack ends it
+        cells = grid.world_to_cells(self.goal.frontier)
+        inside = (cells[:, 0] >= 0) & (cells[:, 0] < grid.height) & (cells[:, 1] >= 0) & (cells[:, 1] < grid.width)
+        cells = cells[inside]
+        return count_fringe(grid.data, cells[:, 0], cells[:, 1]) > self.config.drop_cells(grid.resolution)
+
+    def _stalled(self, pose: Pose, now: float) -> bool:
+        """Whether the robot has got no nearer to the goal for ``progress_timeout``."""
+        assert self.goal is not None
+        distance = math.hypot(self.goal.x - pose.x, self.goal.y - pose.y)
+        if distance <= self._best_distance - self.params.progress_distance:
+            self._best_distance, self._progress_at = distance, now
+        return now - self._progress_at > self.params.progress_timeout
+
+    def _finish(self, reason: EndReason, grid: OccupancyGrid, pose: Pose, cand: Candidates) -> Finished:
+        """The end: what is left of ``grid`` beside ``cand``'s frontiers, every unknown cell taken
+        as possibly free (a robot has no true map to ask)."""
+        maybe_free = OccupancyGrid(np.where(grid.data == CellState.UNKNOWN, np.int8(CellState.FREE), grid.data),
+                                   grid.resolution, grid.origin)  # fmt: skip
+        felt = np.zeros(grid.shape, np.bool_)
+        left = frontiers_left(cand, maybe_free, pose, self.config, self._blacklist_for(grid), grid.data, felt)
+        speck = self.config.speck_cells(grid.resolution)
+        real = tuple(f for f in left if f.cells > speck)  # a speck is a speck, whatever unknown lies behind it
+        if reason is EndReason.EXPLORED:
+            reason = completion_reason(real, speck)
+        self.goal = None
+        self.finished = Finished(reason, real, len(left) - len(real))
+        return self.finished
+
+    def home(self) -> Goal | None:
+        """The way back to where the robot started (``return_to_init``), once exploration is over."""
+        if self.start is None:
+            return None
+        return Goal(*self.start, np.zeros((0, 2)))

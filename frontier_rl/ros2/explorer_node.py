@@ -1,0 +1,251 @@
+"""``frontier-rl ros2 explore``: an explorer that drives the robot through Nav2.
+
+It reads the map (``map``, transient local, as slam_toolbox and map_server publish it) and the
+robot's pose (``pose``: a ``PoseWithCovarianceStamped`` as slam_toolbox's; or an ``Odometry`` in
+the map frame), decides with a :class:`~frontier_rl.robot.explorer.FrontierExplorer` and sends the
+goal to Nav2's ``navigate_to_pose`` action, as explore_lite does. A goal Nav2 rejects or aborts, or
+that brings the robot no nearer within ``progress_timeout``, is blacklisted; a goal whose frontier
+the map has since seen is replaced. It stops when the map is explored, with its end reason on
+``explore/status`` and in the log, and optionally drives back to the start.
+"""
+
+from __future__ import annotations
+
+import json
+import math
+from dataclasses import asdict, dataclass
+from typing import Any
+
+from action_msgs.msg import GoalStatus as ActionStatus
+from geometry_msgs.msg import PoseWithCovarianceStamped
+from nav2_msgs.action import NavigateToPose
+from nav_msgs.msg import OccupancyGrid as GridMessage
+from nav_msgs.msg import Odometry
+from rclpy.action.client import ActionClient, ClientGoalHandle
+from rclpy.clock import Clock
+from rclpy.clock_type import ClockType
+from rclpy.node import Node
+from rclpy.task import Future
+from std_msgs.msg import Float32, String
+from visualization_msgs.msg import MarkerArray
+
+from frontier_rl.core.world.grid import OccupancyGrid
+from frontier_rl.core.world.robot import Pose
+from frontier_rl.errors import MapError
+from frontier_rl.robot.explorer import Finished, FrontierExplorer, Goal
+from frontier_rl.ros2.messages import frontier_markers, grid_of, pose_stamped, robot_pose
+from frontier_rl.ros2.sim_node import MAP_QOS
+
+_POLL_PERIOD_S = 0.02
+"""How often (wall s) the node looks whether a planner tick is due."""
+
+
+@dataclass(frozen=True)
+class ExplorerStatus:
+    """The explorer's state, published as JSON on ``explore/status`` after every change.
+
+    Attributes:
+        state: ``waiting`` (for a map, a pose or Nav2), ``exploring``, ``returning`` or ``finished``.
+        reason: the end reason once finished (``explored``, ``unreachable``, ``time_cap``), else "".
+        time_s: time since the first tick (s, on the node's clock: simulated with ``use_sim_time``).
+        goals: goals sent; given_up: of them blacklisted (rejected, aborted, no progress, or
+            reached without seeing their frontier).
+        frontiers_left: frontiers larger than a speck left at the end; unknown_m2: the unknown
+            area beside them (m²); with_a_path: of them, those the map still has a path to.
+        coverage: the simulator's share of the explorable space mapped, when a simulator
+            publishes it (``coverage``); -1 otherwise.
+        detail: a sentence on what happened last.
+    """
+
+    state: str
+    reason: str
+    time_s: float
+    goals: int
+    given_up: int
+    frontiers_left: int
+    unknown_m2: float
+    with_a_path: int
+    coverage: float
+    detail: str
+
+    def to_json(self) -> str:
+        """The status as one line of JSON."""
+        return json.dumps(asdict(self))
+
+
+class ExplorerNode(Node):
+    """The explorer as a ROS 2 node.
+
+    Args:
+        explorer: the decisions (its policy and settings).
+        pose_type: ``pose`` (``PoseWithCovarianceStamped``) or ``odom`` (``Odometry``) on ``pose_topic``.
+        visualize: publish the frontiers and the goal as RViz markers on ``explore/frontiers``.
+        namespace: the robot's namespace.
+    """
+
+    def __init__(
+        self,
+        explorer: FrontierExplorer,
+        pose_topic: str = "pose",
+        pose_type: str = "pose",
+        visualize: bool = True,
+        namespace: str = "",
+    ) -> None:
+        super().__init__("frontier_rl_explorer", namespace=namespace)
+        if pose_type not in ("pose", "odom"):
+            raise ValueError(f"pose_type must be 'pose' or 'odom', got {pose_type!r}")
+        self.explorer = explorer
+        self.visualize = visualize
+        self._grid: OccupancyGrid | None = None
+        self._pose: Pose | None = None
+        self._coverage = -1.0
+        self.create_subscription(GridMessage, "map", self._on_map, MAP_QOS)
+        kind = PoseWithCovarianceStamped if pose_type == "pose" else Odometry
+        self.create_subscription(kind, pose_topic, self._on_pose, 10)
+        self.create_subscription(Float32, "coverage", self._on_coverage, MAP_QOS)
+        self._status_pub = self.create_publisher(String, "explore/status", MAP_QOS)
+        self._marker_pub = self.create_publisher(MarkerArray, "explore/frontiers", 10)
+        self._nav: ActionClient[Any, Any, Any] = ActionClient(self, NavigateToPose, "navigate_to_pose")
+        self._sent = 0  # goals sent; a result or response of an older one is ignored
+        self._handle: ClientGoalHandle[Any, Any, Any] | None = None
+        self._started_s: float | None = None
+        self._last_tick_s = -math.inf
+        self.finished: Finished | None = None
+        self.done: Future[Finished | None] = Future()  # set once exploration (and the way home) is over
+        self._returning = False
+        self._goal_ended = False  # Nav2 ended the goal under way: the next poll ticks at once
+        self._publish("waiting", "waiting for a map, a pose and Nav2's navigate_to_pose")
+        self._timer = self.create_timer(_POLL_PERIOD_S, self._poll, clock=Clock(clock_type=ClockType.STEADY_TIME))
+
+    # -------------------------------------------------------------- inputs
+    def _on_map(self, message: GridMessage) -> None:
+        try:
+            self._grid = grid_of(message)
+        except MapError as error:
+            self.get_logger().warn(f"map ignored: {error}", throttle_duration_sec=5.0)
+
+    def _on_pose(self, message: PoseWithCovarianceStamped | Odometry) -> None:
+        try:
+            self._pose = robot_pose(message.pose.pose)
+        except ValueError as error:
+            self.get_logger().warn(f"pose ignored: {error}", throttle_duration_sec=5.0)
+
+    def _on_coverage(self, message: Float32) -> None:
+        self._coverage = float(message.data)
+
+    def _now(self) -> float:
+        return self.get_clock().now().nanoseconds * 1e-9
+
+    # --------------------------------------------------------------- ticks
+    def _poll(self) -> None:
+        """A planner tick when one is due: every ``1 / planner_frequency`` s of the node's clock,
+        and at once when no goal is under way."""
+        if self.finished is not None or self._grid is None or self._pose is None:
+            return
+        if not self._nav.server_is_ready():
+            return
+        now = self._now()
+        if self._started_s is None:
+            self._started_s = now
+        period = 1.0 / self.explorer.params.planner_frequency
+        if self.explorer.goal is not None and now - self._last_tick_s < period and not self._goal_ended:
+            return
+        self._last_tick_s = now
+        self._goal_ended = False
+        decision = self.explorer.tick(self._grid, self._pose, now - self._started_s)
+        if isinstance(decision, Goal):
+            self._send(decision)
+        elif isinstance(decision, Finished):
+            self._finish(decision)
+
+    def _send(self, goal: Goal) -> None:
+        self._sent += 1
+        number = self._sent
+        request = NavigateToPose.Goal(pose=pose_stamped(Pose(goal.x, goal.y, 0.0), self.get_clock().now().to_msg()))
+        future = self._nav.send_goal_async(request)
+        future.add_done_callback(lambda f: self._on_response(number, f))
+        if self.visualize and self._grid is not None:
+            self._marker_pub.publish(frontier_markers([], (goal.x, goal.y), self.get_clock().now().to_msg()))
+        self._publish("returning" if self._returning else "exploring", f"goal {number} at ({goal.x:.2f}, {goal.y:.2f})")
+
+    def _on_response(self, number: int, future: Future[ClientGoalHandle[Any, Any, Any]]) -> None:
+        handle = future.result()
+        if number != self._sent or handle is None:
+            return
+        if not handle.accepted:
+            self._goal_end(failed=True, why=f"goal {number} rejected by Nav2")
+            return
+        self._handle = handle
+        handle.get_result_async().add_done_callback(lambda f: self._on_result(number, f))
+
+    def _on_result(self, number: int, future: Future[Any]) -> None:
+        result = future.result()
+        if number != self._sent or result is None:
+            return
+        status = result.status
+        self._handle = None
+        if status == ActionStatus.STATUS_SUCCEEDED:
+            self._goal_end(failed=False, why=f"goal {number} reached")
+        elif status != ActionStatus.STATUS_CANCELED:
+            self._goal_end(failed=True, why=f"goal {number} aborted by Nav2 (status {status})")
+
+    def _goal_end(self, failed: bool, why: str) -> None:
+        if self._returning:
+            self._returning = False
+            self._close(why)
+            return
+        if failed and self._grid is not None:
+            self.explorer.goal_failed(self._grid)
+        elif not failed:
+            self.explorer.goal_reached()
+        self._goal_ended = True
+        self._publish("exploring", why)
+
+    # ---------------------------------------------------------------- the end
+    def _finish(self, finished: Finished) -> None:
+        self.finished = finished
+        if self._handle is not None:
+            self._handle.cancel_goal_async()
+        home = self.explorer.home() if self.explorer.params.return_to_init else None
+        if home is not None:
+            self._returning = True
+            self._send(home)
+            return
+        self._close("exploration over")
+
+    def _close(self, why: str) -> None:
+        self._publish("finished", why)
+        self.get_logger().info(self.summary())
+        if not self.done.done():
+            self.done.set_result(self.finished)
+
+    def summary(self) -> str:
+        """One line: the end reason, the time, the goals and what was left."""
+        status = self.status("finished", "")
+        line = f"{status.reason} after {status.time_s:.1f} s, {status.goals} goals ({status.given_up} given up)"
+        if status.coverage >= 0:
+            line += f", {100 * status.coverage:.1f} % of the explorable space (the simulator's)"
+        if status.frontiers_left:
+            line += (f"; {status.frontiers_left} frontiers left with {status.unknown_m2:.2f} m² unknown beside them"
+                     f" ({status.with_a_path} with a path on the map)")  # fmt: skip
+        return line
+
+    def status(self, state: str, detail: str) -> ExplorerStatus:
+        """The explorer's state now."""
+        end = self.finished
+        elapsed = 0.0 if self._started_s is None else self._now() - self._started_s
+        return ExplorerStatus(
+            state=state,
+            reason="" if end is None else end.reason.value,
+            time_s=round(elapsed, 3),
+            goals=self.explorer.decisions,
+            given_up=self.explorer.goals_given_up,
+            frontiers_left=0 if end is None else len(end.left),
+            unknown_m2=0.0 if end is None else round(end.unknown_beside_m2, 3),
+            with_a_path=0 if end is None else end.with_a_path,
+            coverage=round(self._coverage, 5),
+            detail=detail,
+        )
+
+    def _publish(self, state: str, detail: str) -> None:
+        self._status_pub.publish(String(data=self.status(state, detail).to_json()))

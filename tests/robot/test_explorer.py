@@ -1,0 +1,159 @@
+"""The explorer's decisions (ROS-free): the same exploration as an in-process episode when it
+drives the simulated robot, and what it does with failed, stalled and reached goals."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+
+from frontier_rl import api
+from frontier_rl.core.sim.episode_log import EndReason
+from frontier_rl.core.world.grid import CellState, OccupancyGrid
+from frontier_rl.core.world.robot import Pose
+from frontier_rl.errors import ConfigError
+from frontier_rl.policies.registry import make_policy
+from frontier_rl.robot.explorer import ExplorerParams, Finished, FrontierExplorer, Goal, check_robot_policy
+from frontier_rl.robot.sim_robot import GoalStatus, SimulatedRobot, explore_in_process
+
+
+def _explore(world_name: str, seed: int, policy: str) -> tuple[Finished, SimulatedRobot, FrontierExplorer]:
+    world = api.load_world(world_name, seed)
+    robot = SimulatedRobot(world, seed=seed)
+    _, policy_rng = np.random.default_rng(seed).spawn(2)
+    explorer = FrontierExplorer(make_policy(policy), ExplorerParams(time_cap=robot.sim.max_sim_time), rng=policy_rng)
+    return explore_in_process(robot, explorer), robot, explorer
+
+
+@pytest.mark.parametrize(
+    ("world", "seed", "policy"),
+    [("office", 3, "nearest"), ("office", 0, "fixed:0.75"), ("rooms", 1, "nearest"), ("cluttered", 2, "nearest")],
+)
+def test_the_explorer_on_the_simulated_robot_explores_as_an_episode_does(world: str, seed: int, policy: str) -> None:
+    finished, robot, explorer = _explore(world, seed, policy)
+    episode = api.explore(world, policy, seed=seed)
+    assert finished.reason.value == episode.end_reason
+    assert robot.result().coverage == pytest.approx(episode.coverage, abs=0.01)
+    assert explorer.decisions > 10
+
+
+def test_an_unreachable_end_names_the_frontiers_left() -> None:
+    finished, _, explorer = _explore("cluttered", 2, "nearest")
+    assert finished.reason is EndReason.UNREACHABLE
+    assert finished.left and finished.unknown_beside_m2 > 0
+    assert explorer.goals_given_up > 0
+    assert explorer.tick(OccupancyGrid(np.zeros((5, 5), np.int8), 0.05, (0.0, 0.0)), Pose(0.1, 0.1, 0), 1.0) is None
+
+
+def _corridor() -> OccupancyGrid:
+    """A 4 m corridor, its east half unknown."""
+    data = np.full((20, 80), CellState.OCCUPIED, np.int8)
+    data[4:16, 1:40] = CellState.FREE
+    data[4:16, 40:79] = CellState.UNKNOWN
+    return OccupancyGrid(data, 0.05, (0.0, 0.0))
+
+
+def _first_goal(explorer: FrontierExplorer, grid: OccupancyGrid, now: float = 0.0) -> Goal:
+    decision = explorer.tick(grid, Pose(0.5, 0.5, 0.0), now)
+    assert isinstance(decision, Goal)
+    return decision
+
+
+def test_a_goal_with_no_progress_is_given_up_and_blacklisted() -> None:
+    explorer = FrontierExplorer(make_policy("nearest"), ExplorerParams(progress_timeout=5.0))
+    grid = _corridor()
+    goal = _first_goal(explorer, grid)
+    assert explorer.tick(grid, Pose(0.5, 0.5, 0.0), 4.0) is None  # still within the timeout
+    again = explorer.tick(grid, Pose(0.5, 0.5, 0.0), 6.0)
+    assert explorer.goals_given_up == 1
+    # the only frontier was blacklisted: retried at once, as the engine does before it would end
+    assert isinstance(again, Goal) and math.hypot(again.x - goal.x, again.y - goal.y) < 0.5
+
+
+def test_progress_resets_the_timeout() -> None:
+    explorer = FrontierExplorer(make_policy("nearest"), ExplorerParams(progress_timeout=5.0))
+    grid = _corridor()
+    _first_goal(explorer, grid)
+    for step in range(1, 8):
+        assert explorer.tick(grid, Pose(0.5 + 0.2 * step, 0.5, 0.0), 4.0 * step) is None
+    assert explorer.goals_given_up == 0
+
+
+def test_a_goal_whose_frontier_is_seen_is_replaced() -> None:
+    explorer = FrontierExplorer(make_policy("nearest"))
+    grid = _corridor()
+    _first_goal(explorer, grid)
+    seen = grid.data.copy()
+    seen[4:16, 40:60] = CellState.FREE
+    decision = explorer.tick(OccupancyGrid(seen, 0.05, (0.0, 0.0)), Pose(1.5, 0.5, 0.0), 1.0)
+    assert isinstance(decision, Goal) and decision.x > 2.5
+    assert explorer.goals_given_up == 0
+
+
+def test_a_goal_reached_with_its_frontier_unseen_is_blacklisted() -> None:
+    explorer = FrontierExplorer(make_policy("nearest"))
+    grid = _corridor()
+    goal = _first_goal(explorer, grid)
+    explorer.goal_reached()
+    explorer.tick(grid, Pose(goal.x, goal.y, 0.0), 1.0)
+    assert explorer.goals_given_up == 1
+
+
+def test_a_map_that_grows_keeps_the_blacklist_in_place() -> None:
+    """A SLAM map grows, and its origin moves: the failed goal stays where it was in the world."""
+    explorer = FrontierExplorer(make_policy("nearest"))
+    grid = _corridor()
+    goal = _first_goal(explorer, grid)
+    explorer.goal_failed(grid)
+    grown = np.full((30, 90), CellState.UNKNOWN, np.int8)
+    grown[10:30, 10:90] = grid.data
+    moved = OccupancyGrid(grown, 0.05, (-0.5, -0.5))
+    assert explorer._blacklist is not None
+    explorer._blacklist_for(moved)
+    assert explorer._blacklist.blocked(np.array([[goal.x, goal.y]]))[0]
+
+
+def test_the_time_cap_ends_exploration() -> None:
+    explorer = FrontierExplorer(make_policy("nearest"), ExplorerParams(time_cap=10.0))
+    grid = _corridor()
+    _first_goal(explorer, grid)
+    end = explorer.tick(grid, Pose(0.5, 0.5, 0.0), 10.0)
+    assert isinstance(end, Finished) and end.reason is EndReason.TIME_CAP
+    assert len(end.left) == 1 and end.unknown_beside_m2 > 0
+
+
+def test_return_to_init_goes_back_to_the_first_pose() -> None:
+    explorer = FrontierExplorer(make_policy("nearest"), ExplorerParams(return_to_init=True))
+    _first_goal(explorer, _corridor())
+    home = explorer.home()
+    assert home is not None and (home.x, home.y) == (0.5, 0.5) and len(home.frontier) == 0
+
+
+def test_a_policy_that_plans_on_the_true_map_is_refused() -> None:
+    with pytest.raises(ConfigError, match="true map"):
+        check_robot_policy(make_policy("oracle"), "oracle")
+    check_robot_policy(make_policy("fixed:0.75"), "fixed:0.75")
+
+
+@pytest.mark.parametrize(
+    ("field", "value"),
+    [("planner_frequency", 0.0), ("progress_timeout", -1.0), ("time_cap", math.nan), ("min_frontier_size", -0.1)],
+)
+def test_bad_settings_name_the_setting(field: str, value: float) -> None:
+    with pytest.raises(ValueError, match=field):
+        ExplorerParams(**{field: value})
+
+
+def test_the_simulated_robot_aborts_a_goal_it_cannot_reach_and_cancels_on_request() -> None:
+    robot = SimulatedRobot(api.load_world("office", 3), seed=3)
+    robot.send_goal(-50.0, -50.0)
+    ends = [robot.step() for _ in range(200)]
+    end = next(e for e in ends if e is not None)
+    assert end.status is GoalStatus.ABORTED and not robot.busy
+    robot.send_goal(robot.pose.x + 1.0, robot.pose.y)
+    robot.step()
+    robot.cancel()
+    assert not robot.busy and robot.step() is None
+    with pytest.raises(ValueError, match="not a point"):
+        robot.send_goal(math.nan, 0.0)

@@ -1,0 +1,65 @@
+"""Running ROS 2 processes in a network namespace of their own that has only loopback.
+
+Fast DDS discovers peers by multicast on every interface it finds: a test must never reach beyond
+the machine. Each call gets a fresh namespace (``unshare -n`` as root, ``unshare -rn`` otherwise)
+with ``lo`` up and multicast on (discovery needs it), ``ROS_AUTOMATIC_DISCOVERY_RANGE=LOCALHOST``
+and a domain id of its own, so that tests running side by side never see each other.
+"""
+
+from __future__ import annotations
+
+import itertools
+import os
+import shutil
+import subprocess
+import sys
+from pathlib import Path
+
+_SETUP = 'ip link set lo up && ip link set lo multicast on && exec "$@"'
+_DOMAINS = itertools.count(os.getpid() % 100 + 1)
+
+
+def unshare_command() -> list[str]:
+    """``unshare`` with a new network namespace: as root, or as a user mapped to root."""
+    return ["unshare", "-n"] if os.geteuid() == 0 else ["unshare", "-rn"]
+
+
+def loopback_problem() -> str | None:
+    """Why ROS 2 cannot be tested here (no rclpy, no nav2_msgs, no namespaces), or None."""
+    try:
+        import nav2_msgs.action  # noqa: F401
+        import rclpy  # noqa: F401
+    except ImportError as error:
+        return f"ROS 2 is not installed: {error}"
+    if shutil.which("unshare") is None or shutil.which("ip") is None:
+        return "unshare or ip is missing: no loopback-only network namespace"
+    probe = subprocess.run([*unshare_command(), "sh", "-c", _SETUP, "sh", "true"], capture_output=True, timeout=30)
+    if probe.returncode != 0:
+        return f"no loopback-only network namespace here: {probe.stderr.decode(errors='replace').strip()}"
+    return None
+
+
+def loopback_env(home: Path) -> dict[str, str]:
+    """The environment of a ROS 2 process: discovery on localhost, a fresh domain id, logs in ``home``."""
+    env = dict(os.environ)
+    env.update(
+        ROS_AUTOMATIC_DISCOVERY_RANGE="LOCALHOST",
+        ROS_DOMAIN_ID=str(next(_DOMAINS) % 101),
+        ROS_LOG_DIR=str(home / "ros_log"),
+        PYTHONUNBUFFERED="1",
+    )
+    return env
+
+
+def run_in_loopback(script: str, home: Path, timeout: float) -> subprocess.CompletedProcess[str]:
+    """Run the shell ``script`` in a fresh loopback-only namespace (in ``home``), its output captured."""
+    command = [*unshare_command(), "sh", "-c", _SETUP, "sh", "sh", "-c", script]
+    return subprocess.run(
+        command, cwd=home, env=loopback_env(home), capture_output=True, text=True, timeout=timeout,
+        stdin=subprocess.DEVNULL,
+    )  # fmt: skip
+
+
+def cli() -> str:
+    """The ``frontier-rl`` command of this interpreter."""
+    return str(Path(sys.executable).with_name("frontier-rl"))

@@ -1,0 +1,51 @@
+"""The explorer drives the simulated robot over ROS 2 (real rclpy and Fast DDS, each test in a
+loopback-only network namespace of its own) until the map is explored, and the result agrees
+with the same episode run in-process."""
+
+from __future__ import annotations
+
+import json
+import shlex
+from pathlib import Path
+
+import pytest
+
+from frontier_rl import api
+from tests.ros2.loopback import cli, loopback_problem, run_in_loopback
+
+pytestmark = pytest.mark.slow
+
+_PROBLEM = loopback_problem()
+if _PROBLEM is not None:
+    pytest.skip(_PROBLEM, allow_module_level=True)
+
+
+def _closed_loop(home: Path, sim_args: str, explore_args: str, timeout: float = 150.0) -> dict[str, object]:
+    """Run ``ros2 sim`` in the background and ``ros2 explore --json`` until it ends, in one namespace."""
+    frontier_rl = shlex.quote(cli())
+    script = (
+        f"{frontier_rl} ros2 sim {sim_args} > sim.log 2>&1 & sim=$!; "
+        f"timeout -s INT {int(timeout) - 20} {frontier_rl} ros2 explore --json {explore_args} "
+        "> explore.log 2> explore.err; "
+        "status=$?; kill -INT $sim; wait $sim; exit $status"
+    )
+    done = run_in_loopback(script, home, timeout)
+    logs = "\n".join((home / name).read_text() for name in ("sim.log", "explore.log", "explore.err"))
+    assert done.returncode == 0, f"exit {done.returncode}\n{done.stderr}\n{logs}"
+    status: dict[str, object] = json.loads((home / "explore.log").read_text().strip().splitlines()[-1])
+    assert "goals" in (home / "sim.log").read_text(), logs  # the simulator's own summary line
+    return status
+
+
+@pytest.mark.parametrize(("world", "seed", "policy"), [("office", 3, "nearest"), ("nav2_depot", 0, "fixed:0.75")])
+def test_the_explorer_explores_the_simulated_robot_over_ros2(
+    world: str, seed: int, policy: str, tmp_path: Path
+) -> None:
+    status = _closed_loop(
+        tmp_path, f"--world {world} --seed {seed} --rate 20", f"--policy {policy} --use-sim-time --seed {seed}"
+    )
+    episode = api.explore(world, policy, seed=seed)
+    assert status["state"] == "finished"
+    assert status["reason"] == episode.end_reason
+    assert status["coverage"] == pytest.approx(episode.coverage, abs=0.01)
+    assert isinstance(status["goals"], int) and status["goals"] > 5
