@@ -76,6 +76,9 @@ def explore(
     pose_topic: Annotated[str, typer.Option(help="Where the robot's pose is published.")] = "pose",
     pose_type: Annotated[str, typer.Option(help="pose (PoseWithCovarianceStamped) or odom (Odometry).")] = "pose",
     use_sim_time: Annotated[bool, typer.Option(help="Time from /clock (a simulator's).")] = False,
+    goal_silence_timeout: Annotated[
+        float, typer.Option(help="A goal Nav2 says nothing of for this long is dropped (wall s).")
+    ] = 10.0,
     seed: Annotated[int, typer.Option(help=f"Seeds the policy's randomness (0 to {MAX_SEED}).")] = 0,
     json_out: Annotated[bool, typer.Option("--json", help="Print the final status as JSON, not a sentence.")] = False,
 ) -> None:
@@ -91,6 +94,8 @@ def explore(
         )  # fmt: skip
     except ValueError as error:
         fail(str(error))
+    if not (math.isfinite(goal_silence_timeout) and goal_silence_timeout > 0):
+        fail(f"--goal-silence-timeout must be a positive number of seconds, got {goal_silence_timeout!r}")
     if pose_type not in ("pose", "odom"):
         fail(f"--pose-type must be pose or odom, got {pose_type!r}")
     _need_ros2()
@@ -102,7 +107,7 @@ def explore(
     check_robot_policy(the_policy, policy)
     status, summary = run_explorer(
         the_policy, params, namespace=namespace, pose_topic=pose_topic, pose_type=pose_type,
-        visualize=visualize, use_sim_time=use_sim_time, seed=seed,
+        visualize=visualize, use_sim_time=use_sim_time, seed=seed, goal_silence_timeout=goal_silence_timeout,
     )  # fmt: skip
     if json_out:
         print(status.to_json())

@@ -192,6 +192,12 @@ class FrontierExplorer:
         self.goal = None
         self._arrived = False
 
+    def goal_lost(self) -> None:
+        """The navigation stack went away with the goal under way (it restarted): the next tick
+        decides again, and the goal is not held against its frontier."""
+        self.goal = None
+        self._arrived = False
+
     def goal_reached(self) -> None:
         """The navigation stack reached the goal under way: the next tick decides again, and
         blacklists the goal if its frontier is still not seen on that tick's map (seen edge-on, or

@@ -13,6 +13,7 @@ from __future__ import annotations
 
 import json
 import math
+import time
 from dataclasses import asdict, dataclass
 from typing import Any
 
@@ -38,6 +39,8 @@ from frontier_rl.ros2.sim_node import MAP_QOS
 
 _POLL_PERIOD_S = 0.02
 """How often (wall s) the node looks whether a planner tick is due."""
+_WARN_PERIOD_S = 5.0
+"""Bad messages on one topic are logged at most this often (wall s)."""
 
 
 @dataclass(frozen=True)
@@ -81,6 +84,8 @@ class ExplorerNode(Node):
         pose_type: ``pose`` (``PoseWithCovarianceStamped``) or ``odom`` (``Odometry``) on ``pose_topic``.
         visualize: publish the frontiers and the goal as RViz markers on ``explore/frontiers``.
         namespace: the robot's namespace.
+        goal_silence_timeout: a goal that Nav2 says nothing of (no response, feedback or result) for
+            this long (wall s) is dropped, not blacklisted: its action server went away.
     """
 
     def __init__(
@@ -90,15 +95,18 @@ class ExplorerNode(Node):
         pose_type: str = "pose",
         visualize: bool = True,
         namespace: str = "",
+        goal_silence_timeout: float = 10.0,
     ) -> None:
         super().__init__("frontier_rl_explorer", namespace=namespace)
         if pose_type not in ("pose", "odom"):
             raise ValueError(f"pose_type must be 'pose' or 'odom', got {pose_type!r}")
         self.explorer = explorer
         self.visualize = visualize
+        self.goal_silence_timeout = goal_silence_timeout
         self._grid: OccupancyGrid | None = None
         self._pose: Pose | None = None
         self._coverage = -1.0
+        self._warned_at: dict[str, float] = {}  # when a bad message on a topic was last logged (wall s)
         self.create_subscription(GridMessage, "map", self._on_map, MAP_QOS)
         kind = PoseWithCovarianceStamped if pose_type == "pose" else Odometry
         self.create_subscription(kind, pose_topic, self._on_pose, 10)
@@ -108,11 +116,14 @@ class ExplorerNode(Node):
         self._nav: ActionClient[Any, Any, Any] = ActionClient(self, NavigateToPose, "navigate_to_pose")
         self._sent = 0  # goals sent; a result or response of an older one is ignored
         self._handle: ClientGoalHandle[Any, Any, Any] | None = None
-        self._started_s: float | None = None
+        self._clock_s: float | None = None  # the node's clock at the last poll (s)
+        self._elapsed_s = 0.0  # time explored (s): the node's clock, never running backwards
         self._last_tick_s = -math.inf
+        self._heard_at = math.inf  # when Nav2 last said something of the goal in flight (wall s)
         self.finished: Finished | None = None
         self.done: Future[Finished | None] = Future()  # set once exploration (and the way home) is over
         self._returning = False
+        self._finished_s: float | None = None  # the time explored when exploration ended (s)
         self._goal_ended = False  # Nav2 ended the goal under way: the next poll ticks at once
         self._publish("waiting", "waiting for a map, a pose and Nav2's navigate_to_pose")
         self._timer = self.create_timer(_POLL_PERIOD_S, self._poll, clock=Clock(clock_type=ClockType.STEADY_TIME))
@@ -122,37 +133,57 @@ class ExplorerNode(Node):
         try:
             self._grid = grid_of(message)
         except MapError as error:
-            self.get_logger().warn(f"map ignored: {error}", throttle_duration_sec=5.0)
+            self._warn("map", f"map ignored: {error}")
 
     def _on_pose(self, message: PoseWithCovarianceStamped | Odometry) -> None:
         try:
             self._pose = robot_pose(message.pose.pose)
         except ValueError as error:
-            self.get_logger().warn(f"pose ignored: {error}", throttle_duration_sec=5.0)
+            self._warn("pose", f"pose ignored: {error}")
+
+    def _warn(self, topic: str, message: str) -> None:
+        """Log ``message`` about ``topic`` at most every ``_WARN_PERIOD_S`` (rclpy's throttle
+        shares one budget between the warnings of a node)."""
+        now = time.monotonic()
+        if now - self._warned_at.get(topic, -math.inf) >= _WARN_PERIOD_S:
+            self._warned_at[topic] = now
+            self.get_logger().warn(message)
 
     def _on_coverage(self, message: Float32) -> None:
         self._coverage = float(message.data)
 
-    def _now(self) -> float:
-        return self.get_clock().now().nanoseconds * 1e-9
+    def _advance_clock(self) -> float:
+        """The time explored so far (s): the node's clock (simulated with ``use_sim_time``) as it
+        moves on, a jump back (a restarted simulator) counted as no time."""
+        now = self.get_clock().now().nanoseconds * 1e-9
+        if self._clock_s is not None and now > self._clock_s:
+            self._elapsed_s += now - self._clock_s
+        self._clock_s = now
+        return self._elapsed_s
+
+    def _heard(self) -> None:
+        self._heard_at = time.monotonic()
 
     # --------------------------------------------------------------- ticks
     def _poll(self) -> None:
         """A planner tick when one is due: every ``1 / planner_frequency`` s of the node's clock,
         and at once when no goal is under way."""
-        if self.finished is not None or self._grid is None or self._pose is None:
+        if (self.finished is not None and not self._returning) or self._grid is None or self._pose is None:
             return
         if not self._nav.server_is_ready():
             return
-        now = self._now()
-        if self._started_s is None:
-            self._started_s = now
+        now = self._advance_clock()
+        if time.monotonic() - self._heard_at > self.goal_silence_timeout:
+            self._lost()
+            return
+        if self.finished is not None:
+            return
         period = 1.0 / self.explorer.params.planner_frequency
         if self.explorer.goal is not None and now - self._last_tick_s < period and not self._goal_ended:
             return
         self._last_tick_s = now
         self._goal_ended = False
-        decision = self.explorer.tick(self._grid, self._pose, now - self._started_s)
+        decision = self.explorer.tick(self._grid, self._pose, now)
         if isinstance(decision, Goal):
             self._send(decision)
         elif isinstance(decision, Finished):
@@ -162,7 +193,8 @@ class ExplorerNode(Node):
         self._sent += 1
         number = self._sent
         request = NavigateToPose.Goal(pose=pose_stamped(Pose(goal.x, goal.y, 0.0), self.get_clock().now().to_msg()))
-        future = self._nav.send_goal_async(request)
+        self._heard()
+        future = self._nav.send_goal_async(request, feedback_callback=lambda _: self._feedback(number))
         future.add_done_callback(lambda f: self._on_response(number, f))
         if self.visualize and self._grid is not None:
             self._marker_pub.publish(frontier_markers([], (goal.x, goal.y), self.get_clock().now().to_msg()))
@@ -172,7 +204,9 @@ class ExplorerNode(Node):
         handle = future.result()
         if number != self._sent or handle is None:
             return
+        self._heard()
         if not handle.accepted:
+            self._heard_at = math.inf
             self._goal_end(failed=True, why=f"goal {number} rejected by Nav2")
             return
         self._handle = handle
@@ -183,11 +217,30 @@ class ExplorerNode(Node):
         if number != self._sent or result is None:
             return
         status = result.status
-        self._handle = None
+        self._handle, self._heard_at = None, math.inf
         if status == ActionStatus.STATUS_SUCCEEDED:
             self._goal_end(failed=False, why=f"goal {number} reached")
         elif status != ActionStatus.STATUS_CANCELED:
             self._goal_end(failed=True, why=f"goal {number} aborted by Nav2 (status {status})")
+
+    def _feedback(self, number: int) -> None:
+        if number == self._sent:
+            self._heard()
+
+    def _lost(self) -> None:
+        """Nav2 fell silent on the goal in flight: drop it (its server went away) and decide again
+        once the server is back."""
+        why = f"no word from navigate_to_pose on goal {self._sent} for {self.goal_silence_timeout:g} s: dropped"
+        self.get_logger().warn(why)
+        self._sent += 1  # whatever the old server says later is ignored
+        self._handle, self._heard_at = None, math.inf
+        if self._returning:
+            self._returning = False
+            self._close(why)
+            return
+        self.explorer.goal_lost()
+        self._goal_ended = True
+        self._publish("exploring", why)
 
     def _goal_end(self, failed: bool, why: str) -> None:
         if self._returning:
@@ -203,7 +256,7 @@ class ExplorerNode(Node):
 
     # ---------------------------------------------------------------- the end
     def _finish(self, finished: Finished) -> None:
-        self.finished = finished
+        self.finished, self._finished_s = finished, self._elapsed_s
         if self._handle is not None:
             self._handle.cancel_goal_async()
         home = self.explorer.home() if self.explorer.params.return_to_init else None
@@ -233,11 +286,10 @@ class ExplorerNode(Node):
     def status(self, state: str, detail: str) -> ExplorerStatus:
         """The explorer's state now."""
         end = self.finished
-        elapsed = 0.0 if self._started_s is None else self._now() - self._started_s
         return ExplorerStatus(
             state=state,
             reason="" if end is None else end.reason.value,
-            time_s=round(elapsed, 3),
+            time_s=round(self._elapsed_s if self._finished_s is None else self._finished_s, 3),
             goals=self.explorer.decisions,
             given_up=self.explorer.goals_given_up,
             frontiers_left=0 if end is None else len(end.left),

@@ -48,6 +48,7 @@ def run_explorer(
     visualize: bool = True,
     use_sim_time: bool = False,
     seed: int = 0,
+    goal_silence_timeout: float = 10.0,
 ) -> tuple[ExplorerStatus, str]:
     """Explore with ``policy`` through Nav2 (:class:`ExplorerNode`) until the map is explored (or
     Ctrl-C, SIGTERM): the explorer's last status (``state`` is ``finished`` unless it was
@@ -56,7 +57,7 @@ def run_explorer(
     rclpy.init()
     _, policy_rng = np.random.default_rng(seed).spawn(2)
     explorer = FrontierExplorer(policy, params, rng=policy_rng)
-    node = ExplorerNode(explorer, pose_topic, pose_type, visualize, namespace)
+    node = ExplorerNode(explorer, pose_topic, pose_type, visualize, namespace, goal_silence_timeout)
     node.set_parameters([Parameter("use_sim_time", Parameter.Type.BOOL, use_sim_time)])
     executor = SingleThreadedExecutor()
     executor.add_node(node)

@@ -49,3 +49,21 @@ def test_the_explorer_explores_the_simulated_robot_over_ros2(
     assert status["reason"] == episode.end_reason
     assert status["coverage"] == pytest.approx(episode.coverage, abs=0.01)
     assert isinstance(status["goals"], int) and status["goals"] > 5
+
+
+def test_a_simulator_killed_and_restarted_is_explored_to_the_end(tmp_path: Path) -> None:
+    """The robot's stack crashes with a goal under way and comes back with an empty map (and its
+    clock back at 0): the explorer drops the lost goal and explores the new map to the end."""
+    sim = f"{shlex.quote(cli())} ros2 sim --world office --seed 3 --rate 20"
+    script = (
+        f"setsid sh -c {shlex.quote(f'{sim} & s=$!; sleep 4; kill -9 $s; sleep 1; exec {sim}')} > sim.log 2>&1 & "
+        f"group=$!; timeout --preserve-status -s INT 120 {shlex.quote(cli())} ros2 explore --json --use-sim-time "
+        "--goal-silence-timeout 2 > explore.log 2> explore.err; status=$?; kill -9 -$group; wait; exit $status"
+    )
+    done = run_in_loopback(script, tmp_path, 150)
+    log = (tmp_path / "explore.err").read_text() + (tmp_path / "sim.log").read_text()
+    assert done.returncode == 0, log
+    status = json.loads((tmp_path / "explore.log").read_text().strip().splitlines()[-1])
+    assert status["state"] == "finished" and status["reason"] == "explored", log
+    assert status["coverage"] > 0.99
+    assert "no word from navigate_to_pose" in log

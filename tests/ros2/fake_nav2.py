@@ -1,0 +1,113 @@
+"""A stand-in for slam_toolbox and Nav2 that misbehaves on purpose, for the explorer's fault tests.
+
+It publishes a fixed map (a corridor whose east half is unknown: frontiers that no goal will ever
+resolve, since nothing moves) and a pose, and serves ``navigate_to_pose`` in one ``--mode``:
+``reject`` every goal, ``abort`` it, ``stall`` (accept, send feedback, never move), or ``succeed``
+at once. ``--bad-inputs`` first sends a malformed map and a NaN pose; ``--die-after N`` ends the
+process without a word once it has accepted N goals (a Nav2 that crashed).
+"""
+
+from __future__ import annotations
+
+import argparse
+import array
+import contextlib
+import os
+import threading
+import time
+
+import numpy as np
+import rclpy
+from geometry_msgs.msg import PoseWithCovarianceStamped
+from nav2_msgs.action import NavigateToPose
+from nav_msgs.msg import OccupancyGrid
+from rclpy.action.server import ActionServer, GoalResponse, ServerGoalHandle
+from rclpy.executors import MultiThreadedExecutor
+from rclpy.node import Node
+
+from frontier_rl.ros2.sim_node import MAP_QOS
+
+
+def _map(bad: bool) -> OccupancyGrid:
+    data = np.full((20, 80), 100, np.int8)
+    data[4:16, 1:40] = 0
+    data[4:16, 40:79] = -1
+    message = OccupancyGrid()
+    message.header.frame_id = "map"
+    message.info.resolution, message.info.width, message.info.height = 0.05, 80, 20
+    message.info.origin.orientation.w = 1.0
+    message.data = array.array("b", data.tobytes()[: 100 if bad else None])
+    return message
+
+
+def _pose(x: float) -> PoseWithCovarianceStamped:
+    message = PoseWithCovarianceStamped()
+    message.header.frame_id = "map"
+    message.pose.pose.position.x, message.pose.pose.position.y = x, 0.5
+    message.pose.pose.orientation.w = 1.0
+    return message
+
+
+class FakeNav2(Node):
+    def __init__(self, mode: str, die_after: int) -> None:
+        super().__init__("fake_nav2")
+        self.mode, self.die_after, self.accepted = mode, die_after, 0
+        self.map_pub = self.create_publisher(OccupancyGrid, "map", MAP_QOS)
+        self.pose_pub = self.create_publisher(PoseWithCovarianceStamped, "pose", 10)
+        self.pose_x = 0.5
+        ActionServer(self, NavigateToPose, "navigate_to_pose", self._execute, goal_callback=self._goal)
+
+    def _goal(self, _: object) -> GoalResponse:
+        if self.mode == "reject":
+            return GoalResponse.REJECT
+        self.accepted += 1
+        if self.die_after and self.accepted >= self.die_after:
+            threading.Timer(0.2, os._exit, (1,)).start()  # a crash: no result, no goodbye
+        return GoalResponse.ACCEPT
+
+    def _execute(self, handle: ServerGoalHandle) -> NavigateToPose.Result:
+        if self.mode == "stall":
+            while rclpy.ok() and not handle.is_cancel_requested and handle.is_active:
+                handle.publish_feedback(NavigateToPose.Feedback(distance_remaining=1.0))
+                time.sleep(0.1)
+            if handle.is_cancel_requested:
+                handle.canceled()
+            return NavigateToPose.Result()
+        if self.mode == "succeed":
+            handle.succeed()
+        else:
+            handle.abort()
+        return NavigateToPose.Result()
+
+
+def main() -> None:
+    parser = argparse.ArgumentParser()
+    parser.add_argument("--mode", choices=("reject", "abort", "stall", "succeed"), required=True)
+    parser.add_argument("--bad-inputs", action="store_true")
+    parser.add_argument("--die-after", type=int, default=0)
+    args = parser.parse_args()
+    rclpy.init()
+    node = FakeNav2(args.mode, args.die_after)
+    bad_until = time.monotonic() + (4.0 if args.bad_inputs else 0.0)
+    node.map_pub.publish(_map(bad=args.bad_inputs))
+    published_good_map = not args.bad_inputs
+
+    def tick() -> None:
+        nonlocal published_good_map
+        bad = time.monotonic() < bad_until
+        node.pose_pub.publish(_pose(float("nan") if bad else node.pose_x))
+        if bad:
+            node.map_pub.publish(_map(bad=True))
+        elif not published_good_map:
+            node.map_pub.publish(_map(bad=False))
+            published_good_map = True
+
+    node.create_timer(0.1, tick)
+    executor = MultiThreadedExecutor(num_threads=4)
+    executor.add_node(node)
+    with contextlib.suppress(KeyboardInterrupt):
+        executor.spin()
+
+
+if __name__ == "__main__":
+    main()

@@ -1,0 +1,71 @@
+"""The explorer against a Nav2 that misbehaves (``fake_nav2.py``), over real rclpy and Fast DDS in a
+loopback-only network namespace: it gives up what it must, says why, never hangs, and resumes."""
+
+from __future__ import annotations
+
+import json
+import shlex
+import sys
+from pathlib import Path
+
+import pytest
+
+from tests.ros2.loopback import cli, loopback_problem, run_in_loopback
+
+pytestmark = pytest.mark.slow
+
+_PROBLEM = loopback_problem()
+if _PROBLEM is not None:
+    pytest.skip(_PROBLEM, allow_module_level=True)
+
+_FAKE = f"{shlex.quote(sys.executable)} {shlex.quote(str(Path(__file__).with_name('fake_nav2.py')))}"
+_EXPLORE = f"{shlex.quote(cli())} ros2 explore --json --goal-silence-timeout 2"
+
+
+def _run(
+    home: Path, nav2: str, explore_for: int = 60, progress_timeout: float = 1.0
+) -> tuple[int, dict[str, object] | None, str]:
+    """The explorer (for at most ``explore_for`` s, then Ctrl-C) beside the shell command ``nav2``
+    (in a process group of its own, ended after): its exit status, last JSON status and its log."""
+    script = (
+        f"setsid sh -c {shlex.quote(nav2)} > nav2.log 2>&1 & nav2=$!; "
+        f"timeout --preserve-status -s INT {explore_for} {_EXPLORE} --progress-timeout {progress_timeout} "
+        "> explore.log 2> explore.err; status=$?; "
+        "kill -9 -$nav2 2>/dev/null; wait; exit $status"
+    )
+    done = run_in_loopback(script, home, explore_for + 30)
+    out = (home / "explore.log").read_text()
+    log = out + (home / "explore.err").read_text() + (home / "nav2.log").read_text() + done.stderr
+    lines = [line for line in out.splitlines() if line.startswith("{")]
+    return done.returncode, (json.loads(lines[-1]) if lines else None), log
+
+
+@pytest.mark.parametrize("mode", ["reject", "abort", "stall", "succeed"])
+def test_goals_nav2_will_not_reach_are_given_up_and_exploration_ends(mode: str, tmp_path: Path) -> None:
+    code, status, log = _run(tmp_path, f"{_FAKE} --mode {mode}")
+    assert code == 0 and status is not None, log
+    assert status["state"] == "finished" and status["reason"] == "unreachable", log
+    assert isinstance(status["given_up"], int) and status["given_up"] >= 1
+    assert isinstance(status["frontiers_left"], int) and status["frontiers_left"] >= 1
+
+
+def test_a_malformed_map_and_a_nan_pose_are_ignored_with_a_warning(tmp_path: Path) -> None:
+    code, status, log = _run(tmp_path, f"{_FAKE} --mode abort --bad-inputs")
+    assert code == 0 and status is not None and status["state"] == "finished", log
+    assert "map ignored: map data has 100 values" in log
+    assert "pose ignored" in log and "not finite" in log
+
+
+def test_a_nav2_that_dies_with_a_goal_is_waited_for_and_the_explorer_resumes(tmp_path: Path) -> None:
+    nav2 = f"{_FAKE} --mode stall --die-after 1; sleep 1; {_FAKE} --mode abort"
+    code, status, log = _run(tmp_path, nav2, progress_timeout=30.0)
+    assert code == 0 and status is not None and status["state"] == "finished", log
+    assert "no word from navigate_to_pose on goal 1 for 2 s: dropped" in log
+    assert isinstance(status["goals"], int) and status["goals"] >= 2
+
+
+def test_without_nav2_the_explorer_waits_and_ctrl_c_ends_it_with_one_line(tmp_path: Path) -> None:
+    code, status, log = _run(tmp_path, "sleep 30", explore_for=4)
+    assert code == 130, log
+    assert status is not None and status["state"] == "interrupted" and status["goals"] == 0
+    assert "Traceback" not in log
