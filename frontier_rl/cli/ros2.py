@@ -12,6 +12,9 @@ from frontier_rl.cli.options import MAX_SEED, WORLD_HELP, fail
 from frontier_rl.cli.output import OneLineGroup, friendly_errors, stdout_console
 from frontier_rl.seeds import checked_seed
 
+MAX_ROBOTS = 8
+"""The most robots ``ros2 sim`` runs in one world (as a team of ``frontier-rl explore``)."""
+
 ros2_app = typer.Typer(
     no_args_is_help=True, cls=OneLineGroup,
     help="ROS 2: explore with Nav2 (explore), or run a world as a ROS 2 robot (sim).",
@@ -45,17 +48,25 @@ def sim(
     seed: Annotated[int, typer.Option(help=f"Seeds the world, the start and the sensor noise (0 to {MAX_SEED}).")] = 0,
     rate: Annotated[float, typer.Option(help="Simulated seconds per wall second (0: as fast as it can).")] = 1.0,
     namespace: Annotated[str, typer.Option(help="The robot's namespace (its topics and action).")] = "",
+    robots: Annotated[int, typer.Option(help="Robots in the world (2 or more: namespaces tb3_0, tb3_1, ...).")] = 1,
 ) -> None:
     """Run a world as a ROS 2 robot: map, pose, odom, scan, /clock, and Nav2's navigate_to_pose."""
     checked_seed(seed)
     paced = _checked_rate(rate)
+    if not 1 <= robots <= MAX_ROBOTS:
+        fail(f"--robots must be 1 to {MAX_ROBOTS}, got {robots!r}")
+    if robots > 1 and namespace:
+        fail("give --namespace for one robot, or --robots for a team (namespaces tb3_0, tb3_1, ...), not both")
     _need_ros2()
     from frontier_rl import api
-    from frontier_rl.ros2.run import run_sim
+    from frontier_rl.ros2.run import run_sim, simulated_team
 
     the_world = api.load_world(world, seed)
-    stdout_console().print(f"simulating {the_world.name} as a ROS 2 robot; Ctrl-C ends it")
-    stdout_console().print(run_sim(the_world, seed, paced, namespace))
+    namespaces = [namespace] if robots == 1 else [f"tb3_{i}" for i in range(robots)]
+    team = simulated_team(the_world, namespaces, seed)
+    stdout_console().print(f"simulating {the_world.name} with {robots} ROS 2 robot(s); Ctrl-C ends it")
+    for line in run_sim(team, paced):
+        stdout_console().print(line)
 
 
 @ros2_app.command()

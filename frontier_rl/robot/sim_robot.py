@@ -115,6 +115,18 @@ class SimulatedRobot:
             return GoalEnd(GoalStatus.SUCCEEDED if reached else GoalStatus.ABORTED, leg)
         return None
 
+    def stand(self, until: float) -> None:
+        """Stand still, scanning, for one LiDAR period or until ``until`` (simulated s), whichever
+        is sooner: a robot without a goal keeps time with a teammate that drives."""
+        duration = min(self.sim.config.lidar.period, until - self.sim_time)
+        if duration > 0 and not self.sim.truncated:
+            self.sim.advance(self.pose, 0.0, duration)
+
+    def see_teammates(self, others: list[SimulatedRobot]) -> None:
+        """The other robots of the world, where they stand now: obstacles to plan around, walls
+        to the LiDAR, left off the map (:meth:`ExplorationSimulator.set_teammates`)."""
+        self.sim.set_teammates(np.array([(o.pose.x, o.pose.y) for o in others], np.float64).reshape(-1, 2))
+
     def result(self) -> EpisodeResult:
         """The episode's metrics so far (coverage of the explorable space, time, distance)."""
         return self.sim.result(0.0)

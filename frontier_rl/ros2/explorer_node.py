@@ -34,8 +34,7 @@ from frontier_rl.core.world.grid import OccupancyGrid
 from frontier_rl.core.world.robot import Pose
 from frontier_rl.errors import MapError
 from frontier_rl.robot.explorer import Finished, FrontierExplorer, Goal
-from frontier_rl.ros2.messages import frontier_markers, grid_of, pose_stamped, robot_pose
-from frontier_rl.ros2.sim_node import MAP_QOS
+from frontier_rl.ros2.messages import MAP_QOS, frontier_markers, grid_of, pose_stamped, robot_pose
 
 _POLL_PERIOD_S = 0.02
 """How often (wall s) the node looks whether a planner tick is due."""

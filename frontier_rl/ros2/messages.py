@@ -15,6 +15,7 @@ from builtin_interfaces.msg import Time
 from geometry_msgs.msg import Point, Pose, PoseStamped, PoseWithCovarianceStamped, Quaternion
 from nav_msgs.msg import OccupancyGrid as GridMessage
 from nav_msgs.msg import Odometry
+from rclpy.qos import DurabilityPolicy, QoSProfile, ReliabilityPolicy
 from sensor_msgs.msg import LaserScan
 from std_msgs.msg import ColorRGBA
 from visualization_msgs.msg import Marker, MarkerArray
@@ -26,6 +27,8 @@ from frontier_rl.errors import MapError
 from frontier_rl.robot.map_message import grid_from_message
 
 MAP_FRAME = "map"
+MAP_QOS = QoSProfile(depth=1, durability=DurabilityPolicy.TRANSIENT_LOCAL, reliability=ReliabilityPolicy.RELIABLE)
+"""The map's QoS, as map_server and slam_toolbox publish it: a late subscriber gets the last map."""
 
 
 def quaternion_of(yaw: float) -> Quaternion:

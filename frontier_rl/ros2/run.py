@@ -3,6 +3,9 @@ SIGTERM ending it with a summary, not a traceback."""
 
 from __future__ import annotations
 
+from collections.abc import Sequence
+from dataclasses import replace
+
 import numpy as np
 import rclpy
 from rclpy.executors import ExternalShutdownException, SingleThreadedExecutor
@@ -15,27 +18,45 @@ from frontier_rl.robot.explorer import ExplorerParams, FrontierExplorer
 from frontier_rl.robot.sim_robot import SimulatedRobot
 from frontier_rl.ros2.explorer_node import ExplorerNode, ExplorerStatus
 from frontier_rl.ros2.sim_node import SimNode
+from frontier_rl.swarm.config import TeamConfig
+from frontier_rl.swarm.starts import team_starts
 
 
-def run_sim(
-    world: World, seed: int = 0, rate: float | None = 1.0, namespace: str = "", config: SimConfig | None = None
-) -> str:
-    """Serve ``world`` as a ROS 2 robot (:class:`SimNode`) until Ctrl-C or SIGTERM; one line on
-    what the robot did."""
+def simulated_team(
+    world: World, namespaces: Sequence[str], seed: int = 0, config: SimConfig | None = None
+) -> list[tuple[str, SimulatedRobot]]:
+    """A robot per namespace in ``world``: the first on its start, the others beside it (as a
+    team is set down, :func:`~frontier_rl.swarm.starts.team_starts`); each seeded from ``seed``
+    (the first as an in-process episode of that seed)."""
+    config = config or SimConfig()
+    starts = team_starts(world, len(namespaces), config.robot.radius, TeamConfig().spacing_for(config.robot.radius))
+    seeds = [seed, *(int(s.generate_state(1)[0]) for s in np.random.SeedSequence(seed).spawn(len(namespaces) - 1))]
+    return [
+        (namespace, SimulatedRobot(replace(world, start=start), config, robot_seed))
+        for namespace, start, robot_seed in zip(namespaces, starts, seeds, strict=True)
+    ]
+
+
+def run_sim(robots: Sequence[tuple[str, SimulatedRobot]], rate: float | None = 1.0) -> list[str]:
+    """Serve the robots as ROS 2 robots (:class:`SimNode`) until Ctrl-C or SIGTERM; a line per
+    robot on what it did."""
     rclpy.init()
-    node = SimNode(SimulatedRobot(world, config, seed), rate, namespace)
+    node = SimNode(robots, rate)
     try:
         rclpy.spin(node)
     except (KeyboardInterrupt, ExternalShutdownException):
         pass
     finally:
-        result = node.robot.result()
         node.destroy_node()
         rclpy.try_shutdown()
-    return (
-        f"{node.goals} goals, {100 * result.coverage:.1f} % of the explorable space mapped in "
-        f"{result.sim_time_s:.1f} s of simulated time, {result.path_length_m:.1f} m driven"
-    )
+    lines = []
+    for port in node.ports:
+        result = port.robot.result()
+        lines.append(
+            f"{port.namespace or 'robot'}: {port.goals} goals, {100 * result.coverage:.1f} % of the explorable space "
+            f"mapped in {result.sim_time_s:.1f} s of simulated time, {result.path_length_m:.1f} m driven"
+        )
+    return lines
 
 
 def run_explorer(

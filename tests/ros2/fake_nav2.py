@@ -25,7 +25,7 @@ from rclpy.action.server import ActionServer, GoalResponse, ServerGoalHandle
 from rclpy.executors import MultiThreadedExecutor
 from rclpy.node import Node
 
-from frontier_rl.ros2.sim_node import MAP_QOS
+from frontier_rl.ros2.messages import MAP_QOS
 
 
 def _map(bad: bool) -> OccupancyGrid:

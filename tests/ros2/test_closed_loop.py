@@ -67,3 +67,24 @@ def test_a_simulator_killed_and_restarted_is_explored_to_the_end(tmp_path: Path)
     assert status["state"] == "finished" and status["reason"] == "explored", log
     assert status["coverage"] > 0.99
     assert "no word from navigate_to_pose" in log
+
+
+def test_a_team_of_two_robots_in_namespaces_each_explores_the_world(tmp_path: Path) -> None:
+    """``ros2 sim --robots 2``: two robots in one world (each in its namespace, each the other's
+    obstacle, each with its own map), an explorer per namespace; both end ``explored``."""
+    frontier_rl = shlex.quote(cli())
+    explore = f"timeout --preserve-status -s INT 120 {frontier_rl} ros2 explore --json --use-sim-time"
+    script = (
+        f"{frontier_rl} ros2 sim --world office --seed 3 --rate 20 --robots 2 > sim.log 2>&1 & sim=$!; "
+        f"{explore} --namespace tb3_1 --seed 1 > explore1.log 2> explore1.err & other=$!; "
+        f"{explore} --namespace tb3_0 --seed 3 > explore0.log 2> explore0.err; status=$?; "
+        "wait $other; status1=$?; kill -INT $sim; wait $sim; exit $((status + status1))"
+    )
+    done = run_in_loopback(script, tmp_path, 150)
+    logs = "\n".join(p.read_text() for p in sorted(tmp_path.glob("*.log")) + sorted(tmp_path.glob("*.err")))
+    assert done.returncode == 0, logs
+    for robot in (0, 1):
+        status = json.loads((tmp_path / f"explore{robot}.log").read_text().strip().splitlines()[-1])
+        assert status["state"] == "finished" and status["reason"] == "explored", logs
+        assert status["coverage"] > 0.99, logs
+    assert "tb3_0:" in logs and "tb3_1:" in logs  # the simulator's line per robot

@@ -1,0 +1,153 @@
+"""One simulated robot's side of ROS 2: its topics and its ``navigate_to_pose`` action server."""
+
+from __future__ import annotations
+
+import math
+import time
+from dataclasses import dataclass
+from typing import Any
+
+from builtin_interfaces.msg import Duration, Time
+from geometry_msgs.msg import PoseWithCovarianceStamped
+from nav2_msgs.action import NavigateToPose
+from nav_msgs.msg import OccupancyGrid as GridMessage
+from nav_msgs.msg import Odometry
+from rclpy.action.server import ActionServer, CancelResponse, GoalResponse, ServerGoalHandle
+from rclpy.node import Node
+from rclpy.task import Future
+from sensor_msgs.msg import LaserScan
+from std_msgs.msg import Float32
+
+from frontier_rl.robot.sim_robot import GoalStatus, SimulatedRobot
+from frontier_rl.ros2.messages import (
+    MAP_QOS,
+    grid_message,
+    laser_scan,
+    odometry,
+    pose_stamped,
+    pose_with_covariance,
+    robot_pose,
+)
+
+_MAP_PERIOD_S = 0.1
+"""A robot's map is published at most this often (wall s) while it drives, and when a goal ends."""
+_CANCELED = "canceled"
+
+
+def stamp_of(seconds: float) -> Time:
+    """A ``builtin_interfaces/Time`` of ``seconds`` (s)."""
+    whole = math.floor(seconds)
+    return Time(sec=int(whole), nanosec=int((seconds - whole) * 1e9))
+
+
+def duration_of(seconds: float) -> Duration:
+    """A ``builtin_interfaces/Duration`` of ``seconds`` (s)."""
+    whole = math.floor(seconds)
+    return Duration(sec=int(whole), nanosec=int((seconds - whole) * 1e9))
+
+
+@dataclass
+class _ActiveGoal:
+    """The goal under way: its handle, the future its end is set on, and when it began (sim s)."""
+
+    handle: ServerGoalHandle[Any, Any, Any]
+    done: Future[GoalStatus | str]
+    started_s: float
+
+
+class RobotPort:
+    """A simulated robot's publishers and action server, in ``namespace`` ("" for none), on ``node``."""
+
+    def __init__(self, node: Node, namespace: str, robot: SimulatedRobot) -> None:
+        self.robot = robot
+        self.namespace = namespace.strip("/")
+        prefix = f"{self.namespace}/" if self.namespace else ""
+        self._node = node
+        self._map_pub = node.create_publisher(GridMessage, f"{prefix}map", MAP_QOS)
+        self._pose_pub = node.create_publisher(PoseWithCovarianceStamped, f"{prefix}pose", 10)
+        self._odom_pub = node.create_publisher(Odometry, f"{prefix}odom", 10)
+        self._scan_pub = node.create_publisher(LaserScan, f"{prefix}scan", 10)
+        self._coverage_pub = node.create_publisher(Float32, f"{prefix}coverage", MAP_QOS)
+        self._server = ActionServer(
+            node, NavigateToPose, f"{prefix}navigate_to_pose", execute_callback=self._execute,
+            goal_callback=self._check_goal, cancel_callback=lambda _: CancelResponse.ACCEPT,
+        )  # fmt: skip
+        self._active: _ActiveGoal | None = None
+        self._map_sent_at = -math.inf
+        self.goals = 0
+
+    @property
+    def busy(self) -> bool:
+        """Whether a goal is under way."""
+        return self._active is not None
+
+    # --------------------------------------------------------------- the action
+    def _check_goal(self, request: Any) -> GoalResponse:
+        try:
+            robot_pose(request.pose.pose)
+        except ValueError as error:
+            self._node.get_logger().warn(f"{self.namespace or 'robot'}: goal rejected: {error}")
+            return GoalResponse.REJECT
+        return GoalResponse.ACCEPT
+
+    async def _execute(self, handle: ServerGoalHandle[Any, Any, Any]) -> Any:
+        """Drive to the goal until it ends (the node's timer steps it); a newer goal preempts it."""
+        goal = robot_pose(handle.request.pose.pose)
+        self._end(GoalStatus.ABORTED)  # preempted
+        done: Future[GoalStatus | str] = Future()
+        self.robot.send_goal(goal.x, goal.y)
+        self._active = _ActiveGoal(handle, done, self.robot.sim_time)
+        self.goals += 1
+        status = await done
+        if status == _CANCELED:
+            handle.canceled()
+        elif status is GoalStatus.SUCCEEDED:
+            handle.succeed()
+        else:
+            handle.abort()
+        return NavigateToPose.Result()
+
+    def _end(self, status: GoalStatus | str) -> None:
+        if self._active is not None:
+            self.robot.cancel()
+            self._active.done.set_result(status)
+            self._active = None
+            self._map_sent_at = -math.inf  # the map as the goal ended, before its result
+
+    def check_cancel(self) -> None:
+        """End the goal under way if its client asked to cancel it."""
+        if self._active is not None and self._active.handle.is_cancel_requested:
+            self._end(_CANCELED)
+
+    # ----------------------------------------------------------------- driving
+    def step(self, until: float) -> None:
+        """Drive the goal under way on by one map update; without one, stand still until ``until`` (sim s)."""
+        active = self._active
+        if active is None:
+            self.robot.stand(until)
+            return
+        end = self.robot.step()
+        if end is not None:
+            self._end(end.status)
+            return
+        feedback = NavigateToPose.Feedback()
+        pose, goal = self.robot.pose, self.robot.goal
+        feedback.current_pose = pose_stamped(pose, stamp_of(self.robot.sim_time))
+        feedback.navigation_time = duration_of(self.robot.sim_time - active.started_s)
+        if goal is not None:
+            feedback.distance_remaining = math.hypot(goal[0] - pose.x, goal[1] - pose.y)
+        active.handle.publish_feedback(feedback)
+
+    def publish_state(self, with_map: bool) -> None:
+        """The pose, a scan, and the map (at most every ``_MAP_PERIOD_S``, or now)."""
+        stamp = stamp_of(self.robot.sim_time)
+        pose = self.robot.pose
+        self._pose_pub.publish(pose_with_covariance(pose, stamp))
+        self._odom_pub.publish(odometry(pose, stamp))
+        lidar = self.robot.sim.config.lidar
+        self._scan_pub.publish(laser_scan(self.robot.scan(), lidar.min_range, lidar.max_range, stamp))
+        now = time.monotonic()
+        if with_map or now - self._map_sent_at >= _MAP_PERIOD_S:
+            self._map_pub.publish(grid_message(self.robot.map(), stamp))
+            self._coverage_pub.publish(Float32(data=float(self.robot.sim.coverage)))
+            self._map_sent_at = now
