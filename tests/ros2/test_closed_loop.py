@@ -11,7 +11,7 @@ from pathlib import Path
 import pytest
 
 from frontier_rl import api
-from tests.ros2.loopback import cli, loopback_problem, run_in_loopback
+from frontier_rl.ros2.loopback import cli, loopback_problem, run_in_loopback
 
 pytestmark = pytest.mark.slow
 

@@ -10,7 +10,7 @@ from pathlib import Path
 
 import pytest
 
-from tests.ros2.loopback import cli, loopback_problem, run_in_loopback
+from frontier_rl.ros2.loopback import cli, loopback_problem, run_in_loopback
 
 pytestmark = pytest.mark.slow
 

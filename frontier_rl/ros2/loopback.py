@@ -1,14 +1,14 @@
-"""Running ROS 2 processes in a network namespace of their own that has only loopback.
+"""Running ROS 2 processes in a network namespace of their own that has only loopback, as the
+tests and benchmarks do.
 
 Fast DDS discovers peers by multicast on every interface it finds: a test must never reach beyond
 the machine. Each call gets a fresh namespace (``unshare -n`` as root, ``unshare -rn`` otherwise)
-with ``lo`` up and multicast on (discovery needs it), ``ROS_AUTOMATIC_DISCOVERY_RANGE=LOCALHOST``
-and a domain id of its own, so that tests running side by side never see each other.
+with ``lo`` up and multicast on (discovery needs it) and ``ROS_AUTOMATIC_DISCOVERY_RANGE=LOCALHOST``:
+processes in two namespaces never see each other, so tests run side by side.
 """
 
 from __future__ import annotations
 
-import itertools
 import os
 import shutil
 import subprocess
@@ -16,7 +16,6 @@ import sys
 from pathlib import Path
 
 _SETUP = 'ip link set lo up && ip link set lo multicast on && exec "$@"'
-_DOMAINS = itertools.count(os.getpid() % 100 + 1)
 
 
 def unshare_command() -> list[str]:
@@ -40,11 +39,10 @@ def loopback_problem() -> str | None:
 
 
 def loopback_env(home: Path) -> dict[str, str]:
-    """The environment of a ROS 2 process: discovery on localhost, a fresh domain id, logs in ``home``."""
+    """The environment of a ROS 2 process: discovery on localhost, logs in ``home``."""
     env = dict(os.environ)
     env.update(
         ROS_AUTOMATIC_DISCOVERY_RANGE="LOCALHOST",
-        ROS_DOMAIN_ID=str(next(_DOMAINS) % 101),
         ROS_LOG_DIR=str(home / "ros_log"),
         PYTHONUNBUFFERED="1",
     )
@@ -61,5 +59,5 @@ def run_in_loopback(script: str, home: Path, timeout: float) -> subprocess.Compl
 
 
 def cli() -> str:
-    """The ``frontier-rl`` command of this interpreter."""
+    """The ``frontier-rl`` command of this interpreter's environment."""
     return str(Path(sys.executable).with_name("frontier-rl"))

@@ -1,0 +1,128 @@
+"""Speed of the ROS 2 explorer: how long a decision takes, and how fast a team runs over DDS.
+
+1. Decisions (no ROS): the explorer's planner ticks that choose a goal, timed while it explores the
+   simulated robot in-process (:func:`~frontier_rl.robot.sim_robot.explore_in_process`), on office
+   worlds and on ``nav2_warehouse``, per policy: median and 99th percentile (ms), decisions per second.
+2. A team over ROS 2 (real rclpy and Fast DDS, in a loopback-only network namespace):
+   ``ros2 sim --robots N --rate R`` and an explorer per robot, until every explorer ends; the wall
+   time, the simulated time, the speed-up reached (simulated s per wall s, against ``--rate``),
+   decisions per robot, and the end reasons.
+
+    .venv/bin/python benchmarks/ros2_explorer.py [--seeds 3] [--robots 4] [--rate 10] [--json PATH]
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import shlex
+import statistics
+import sys
+import time
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+sys.path.insert(0, str(Path(__file__).resolve().parents[1]))  # bench this checkout, not an install
+
+from frontier_rl import api
+from frontier_rl.core.sim.episode import warm_up
+from frontier_rl.policies.registry import make_policy
+from frontier_rl.robot.explorer import ExplorerParams, FrontierExplorer, Goal
+from frontier_rl.robot.sim_robot import SimulatedRobot, explore_in_process
+from frontier_rl.ros2.loopback import cli, loopback_problem, run_in_loopback
+
+POLICIES = ("nearest", "fixed:0.75", "learned:models/model7.zip")
+
+
+class _TimedExplorer(FrontierExplorer):
+    """An explorer that times its ticks that chose a goal (s)."""
+
+    decision_times: list[float]
+
+    def tick(self, *args: Any, **kwargs: Any) -> Any:
+        started = time.perf_counter()
+        decision = super().tick(*args, **kwargs)
+        if isinstance(decision, Goal):
+            self.decision_times.append(time.perf_counter() - started)
+        return decision
+
+
+def decision_speed(world_name: str, seeds: int, policy: str) -> dict[str, Any]:
+    """The explorer's decision times over ``seeds`` episodes of ``world_name`` with ``policy``."""
+    times: list[float] = []
+    for seed in range(seeds):
+        world = api.load_world(world_name, seed)
+        robot = SimulatedRobot(world, seed=seed)
+        explorer = _TimedExplorer(make_policy(policy), ExplorerParams(time_cap=robot.sim.max_sim_time))
+        explorer.decision_times = []
+        explore_in_process(robot, explorer)
+        times += explorer.decision_times
+    ms = np.array(times) * 1e3
+    median = float(np.median(ms))
+    return {"world": world_name, "policy": policy, "decisions": len(times), "median_ms": round(median, 2),
+            "p99_ms": round(float(np.percentile(ms, 99)), 2), "decisions_per_s": round(1e3 / median, 1)}  # fmt: skip
+
+
+def team_over_ros2(world: str, seed: int, robots: int, rate: float, home: Path) -> dict[str, Any]:
+    """A team of ``robots`` on ``world`` at ``rate`` over ROS 2, an explorer per robot, until all end."""
+    frontier_rl = shlex.quote(cli())
+    explorers = " ".join(
+        f"timeout --preserve-status -s INT 1200 {frontier_rl} ros2 explore --json --use-sim-time "
+        f"--namespace tb3_{i} --seed {seed + i} > explore{i}.log 2> explore{i}.err & e{i}=$!;"
+        for i in range(robots)
+    )
+    waits = " ".join(f"wait $e{i};" for i in range(robots))
+    script = (
+        f"{frontier_rl} ros2 sim --world {world} --seed {seed} --rate {rate:g} --robots {robots} > sim.log 2>&1 & "
+        f"sim=$!; {explorers} {waits} kill -INT $sim; wait $sim"
+    )
+    started = time.perf_counter()
+    done = run_in_loopback(script, home, 1300)
+    wall = time.perf_counter() - started
+    statuses = []
+    for i in range(robots):
+        lines = (home / f"explore{i}.log").read_text().strip().splitlines()
+        statuses.append(json.loads(lines[-1]) if lines else {"state": "no status", "time_s": 0.0, "goals": 0})
+    sim_time = max(float(s["time_s"]) for s in statuses)
+    return {"world": world, "robots": robots, "rate": rate, "exit": done.returncode, "wall_s": round(wall, 1),
+            "sim_s": round(sim_time, 1), "speed_up": round(sim_time / wall, 2),
+            "decisions_per_robot": [s["goals"] for s in statuses],
+            "reasons": [s.get("reason") or s["state"] for s in statuses]}  # fmt: skip
+
+
+def main() -> None:
+    parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    parser.add_argument("--seeds", type=int, default=3, help="episodes per world and policy")
+    parser.add_argument("--robots", type=int, default=4, help="robots of the team over ROS 2 (0: none)")
+    parser.add_argument("--rate", type=float, default=10.0, help="the team's simulated s per wall s")
+    parser.add_argument("--json", type=Path, help="write the rows here too")
+    args = parser.parse_args()
+    warm_up(make_policy("nearest"))
+    rows: list[dict[str, Any]] = []
+    print("| world | policy | decisions | median (ms) | p99 (ms) | decisions/s |\n|---|---|---:|---:|---:|---:|")
+    for world in ("office", "nav2_warehouse"):
+        for policy in POLICIES:
+            row = decision_speed(world, args.seeds if world == "office" else 1, policy)
+            rows.append(row)
+            print(f"| {world} | {policy} | {row['decisions']} | {row['median_ms']} | {row['p99_ms']} | "
+                  f"{row['decisions_per_s']} |", flush=True)  # fmt: skip
+    if args.robots:
+        problem = loopback_problem()
+        if problem is not None:
+            print(f"team over ROS 2 not run: {problem}")
+        else:
+            import tempfile
+
+            with tempfile.TemporaryDirectory() as home:
+                team = team_over_ros2("office", 3, args.robots, args.rate, Path(home))
+            rows.append(team)
+            print(json.dumps(team))
+    if args.json is not None:
+        args.json.write_text(json.dumps(rows, indent=1) + "\n")
+    print(f"median of medians: {statistics.median(r['median_ms'] for r in rows if 'median_ms' in r)} ms")
+
+
+if __name__ == "__main__":
+    main()
