@@ -23,7 +23,10 @@ def interrupts_held() -> Iterator[None]:
     spawned, or half ended, would print a traceback or be left behind. Processes started inside
     inherit SIGINT blocked. In another thread, or where the handler was not set from Python, only
     those processes are kept from it (a Ctrl-C goes to the main thread meanwhile)."""
-    holding = threading.current_thread() is threading.main_thread() and signal.getsignal(signal.SIGINT) is not None
+    handler = signal.getsignal(signal.SIGINT)
+    # an ignored Ctrl-C (a background job's) has nothing to hold: its handler, which may be one set
+    # outside Python (rclpy's), is left alone
+    holding = threading.current_thread() is threading.main_thread() and handler not in (None, signal.SIG_IGN)
     held: list[int] = []
     previous = signal.signal(signal.SIGINT, lambda signum, frame: held.append(signum)) if holding else None
     mask = signal.pthread_sigmask(signal.SIG_BLOCK, {signal.SIGINT})  # inherited by the processes started here

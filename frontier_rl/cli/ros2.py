@@ -71,6 +71,49 @@ def sim(
 
 @ros2_app.command()
 @friendly_errors
+def rank(
+    robots: Annotated[str, typer.Option(help="The robots' namespaces, comma-separated (none: one robot).")] = "",
+    policy: Annotated[str, typer.Option(help="Any policy spec but the oracle and the point models.")] = "fixed:0.75",
+    top_k: Annotated[int, typer.Option(help="Frontiers per answer.")] = 10,
+    min_cluster_size: Annotated[
+        int, typer.Option(help="Frontier clusters this many cells or smaller are left out.")
+    ] = 4,
+    max_map_age: Annotated[float, typer.Option(help="A map older than this is stale (s; 0: any age).")] = 30.0,
+    stale_map: Annotated[
+        str, typer.Option(help="A stale map is ranked and said so (stale) or answered empty.")
+    ] = "stale",
+    keep_last_map: Annotated[bool, typer.Option(help="Keep the last good map when a malformed one arrives.")] = True,
+    max_pending: Annotated[int, typer.Option(help="Requests queued per robot; more are answered empty.")] = 8,
+    pose_topic: Annotated[str, typer.Option(help="Each robot's pose topic, in its namespace.")] = "pose",
+    pose_type: Annotated[str, typer.Option(help="pose (PoseWithCovarianceStamped) or odom (Odometry).")] = "pose",
+    use_sim_time: Annotated[bool, typer.Option(help="Time from /clock (a simulator's).")] = False,
+) -> None:
+    """The thesis's ranking service: /frontier_request answered on /frontier_list, for one or more robots."""
+    from frontier_rl.core.sim.config import MAX_FRONTIER_DROP_CELLS
+    from frontier_rl.robot.answers import StaleMapAnswer, count_parameter, robot_namespaces, seconds_parameter
+    from frontier_rl.robot.ranking_service import ServiceSettings
+
+    if pose_type not in ("pose", "odom"):
+        fail(f"--pose-type must be pose or odom, got {pose_type!r}")
+    try:
+        stale = StaleMapAnswer(stale_map)
+    except ValueError:
+        fail(f"--stale-map must be stale or empty, got {stale_map!r}")
+    settings = ServiceSettings(
+        tuple(robot_namespaces(robots or [""])), policy.strip(), count_parameter("top_k", top_k, 1),
+        count_parameter("min_cluster_size", min_cluster_size, 0, MAX_FRONTIER_DROP_CELLS),
+        seconds_parameter("max_map_age", max_map_age, zero=True), stale, keep_last_map,
+        count_parameter("max_pending", max_pending, 1),
+    )  # fmt: skip
+    _need_ros2()
+    from frontier_rl.ros2.run import run_ranking
+
+    answered = run_ranking(settings, pose_topic, pose_type, use_sim_time)
+    stdout_console().print(f"{answered} requests answered")
+
+
+@ros2_app.command()
+@friendly_errors
 def explore(
     policy: Annotated[
         str, typer.Option(help="Any policy spec: nearest, fixed:0.75, tour, learned:PATH, ...")

@@ -9,13 +9,9 @@ import sys
 from pathlib import Path
 from typing import Any
 
-import numpy as np
-
-from frontier_rl.errors import FrontierRLError, MapError
-from frontier_rl.io.loaded_map import MAX_COORDINATE_M
-from frontier_rl.robot.map_message import check_map_message
-from frontier_rl.ros.answers import MapFrame, MapInfo
-from frontier_rl.ros.robot_worker import MapCells
+from frontier_rl.errors import FrontierRLError
+from frontier_rl.robot.answers import MapCells
+from frontier_rl.robot.answers import map_cells as accepted_map
 
 _SYSTEM_PACKAGES = Path("/usr/lib/python3/dist-packages")
 
@@ -43,23 +39,11 @@ def yaw(q: Any) -> float:
 
 
 def map_cells(msg: Any, sequence: int, now_s: float) -> MapCells:
-    """A ``nav_msgs/OccupancyGrid`` (its data a NumPy array with ``numpy_msg``, or a sequence) as the
-    robot's ``sequence``-th good map, stamped with its header's stamp or, when that is zero, with
-    ``now_s`` (s). A map of zero size, a resolution that is not a positive number, data that is not
-    width × height long or an origin that is not finite or lies beyond :data:`MAX_COORDINATE_M` is a
-    :class:`MapError`."""
-    info = msg.info
-    width, height, resolution = int(info.width), int(info.height), float(info.resolution)
-    data = np.asarray(msg.data, dtype=np.int8).reshape(-1)
-    check_map_message(width, height, resolution, data.size)
-    origin = info.origin.position
-    frame = MapFrame(str(msg.header.frame_id), float(origin.x), float(origin.y), yaw(info.origin.orientation))
-    if not all(math.isfinite(v) for v in (frame.x, frame.y, frame.yaw)):
-        raise MapError(f"map origin must be finite, got x {frame.x!r}, y {frame.y!r}, yaw {frame.yaw!r}")
-    if max(abs(frame.x), abs(frame.y)) > MAX_COORDINATE_M:
-        raise MapError(f"map origin must lie within +-{MAX_COORDINATE_M:g} m, got x {frame.x!r}, y {frame.y!r}")
+    """A ROS 1 ``nav_msgs/OccupancyGrid`` (its data a NumPy array with ``numpy_msg``, or a sequence)
+    as the robot's ``sequence``-th good map (:func:`frontier_rl.robot.answers.map_cells`), stamped
+    with its header's stamp or, when that is zero, with ``now_s`` (s)."""
     stamp_ns = int(msg.header.stamp.to_nsec()) or round(now_s * 1e9)
-    return MapCells(MapInfo(frame, width, height, resolution, stamp_ns, sequence), data)
+    return accepted_map(msg.info, str(msg.header.frame_id), msg.data, stamp_ns, sequence)
 
 
 def answer_markers(answer: Any) -> Any:

@@ -11,6 +11,7 @@ from __future__ import annotations
 
 import os
 import shutil
+import signal
 import subprocess
 import sys
 from pathlib import Path
@@ -50,12 +51,20 @@ def loopback_env(home: Path) -> dict[str, str]:
 
 
 def run_in_loopback(script: str, home: Path, timeout: float) -> subprocess.CompletedProcess[str]:
-    """Run the shell ``script`` in a fresh loopback-only namespace (in ``home``), its output captured."""
+    """Run the shell ``script`` in a fresh loopback-only namespace (in ``home``), its output
+    captured; past ``timeout`` (s) every process it started is killed and TimeoutExpired raised."""
     command = [*unshare_command(), "sh", "-c", _SETUP, "sh", "sh", "-c", script]
-    return subprocess.run(
-        command, cwd=home, env=loopback_env(home), capture_output=True, text=True, timeout=timeout,
-        stdin=subprocess.DEVNULL,
-    )  # fmt: skip
+    with subprocess.Popen(
+        command, cwd=home, env=loopback_env(home), stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True,
+        stdin=subprocess.DEVNULL, start_new_session=True,
+    ) as process:  # fmt: skip
+        try:
+            out, err = process.communicate(timeout=timeout)
+        except subprocess.TimeoutExpired:
+            os.killpg(process.pid, signal.SIGKILL)  # the whole session: nothing is left running
+            process.communicate()
+            raise
+    return subprocess.CompletedProcess(command, process.returncode, out, err)
 
 
 def cli() -> str:

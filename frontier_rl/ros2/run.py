@@ -3,7 +3,7 @@ SIGTERM ending it with a summary, not a traceback."""
 
 from __future__ import annotations
 
-from collections.abc import Sequence
+from collections.abc import Callable, Sequence
 from dataclasses import replace
 
 import numpy as np
@@ -15,11 +15,25 @@ from frontier_rl.core.sim.config import SimConfig
 from frontier_rl.core.sim.episode import ExplorationPolicy
 from frontier_rl.core.world.worlds import World
 from frontier_rl.robot.explorer import ExplorerParams, FrontierExplorer
+from frontier_rl.robot.ranking_service import RankingService, ServiceSettings
 from frontier_rl.robot.sim_robot import SimulatedRobot
 from frontier_rl.ros2.explorer_node import ExplorerNode, ExplorerStatus
+from frontier_rl.ros2.ranking_node import RankingNode
 from frontier_rl.ros2.sim_node import SimNode
 from frontier_rl.swarm.config import TeamConfig
 from frontier_rl.swarm.starts import team_starts
+
+
+def _spin(spin: Callable[[], None]) -> None:
+    """Run ``spin`` until it ends or Ctrl-C, SIGTERM shut rclpy down; an error of the executor
+    racing that shutdown (its wait set made on a context just shut down) is the same end."""
+    try:
+        spin()
+    except (KeyboardInterrupt, ExternalShutdownException):
+        pass
+    except Exception:
+        if rclpy.ok():
+            raise
 
 
 def simulated_team(
@@ -43,9 +57,7 @@ def run_sim(robots: Sequence[tuple[str, SimulatedRobot]], rate: float | None = 1
     rclpy.init()
     node = SimNode(robots, rate)
     try:
-        rclpy.spin(node)
-    except (KeyboardInterrupt, ExternalShutdownException):
-        pass
+        _spin(lambda: rclpy.spin(node))
     finally:
         node.destroy_node()
         rclpy.try_shutdown()
@@ -57,6 +69,30 @@ def run_sim(robots: Sequence[tuple[str, SimulatedRobot]], rate: float | None = 1
             f"mapped in {result.sim_time_s:.1f} s of simulated time, {result.path_length_m:.1f} m driven"
         )
     return lines
+
+
+def run_ranking(
+    settings: ServiceSettings, pose_topic: str = "pose", pose_type: str = "pose", use_sim_time: bool = False
+) -> int:
+    """Serve the ranking service (:class:`RankingNode`) until Ctrl-C or SIGTERM; the requests
+    answered. Its workers start before rclpy: starting them holds Ctrl-C with Python's own
+    handlers, which would replace rclpy's."""
+    service = RankingService(settings)
+    try:
+        if not service.start(lambda: False):  # a Ctrl-C meanwhile is a KeyboardInterrupt
+            return 0
+        rclpy.init()
+        node = RankingNode(service, pose_topic, pose_type)
+        node.set_parameters([Parameter("use_sim_time", Parameter.Type.BOOL, use_sim_time)])
+        node.get_logger().info(f"ranking for robots {list(settings.robots)} with {service.policy_name}")
+        _spin(lambda: rclpy.spin(node))
+        node.destroy_node()
+    except KeyboardInterrupt:  # while the workers start
+        pass
+    finally:
+        service.close()
+        rclpy.try_shutdown()
+    return service.answered
 
 
 def run_explorer(
@@ -83,9 +119,7 @@ def run_explorer(
     executor = SingleThreadedExecutor()
     executor.add_node(node)
     try:
-        executor.spin_until_future_complete(node.done)
-    except (KeyboardInterrupt, ExternalShutdownException):
-        pass
+        _spin(lambda: executor.spin_until_future_complete(node.done))
     finally:
         ended = node.finished is not None
         status = node.status("finished" if ended else "interrupted", "")

@@ -196,7 +196,7 @@ def test_learned_models_rank_a_map_message(model: str, real_maps: Path, tmp_path
 
 
 def test_map_frames_with_a_rotated_origin_round_trip() -> None:
-    from frontier_rl.ros.answers import MapFrame
+    from frontier_rl.robot.answers import MapFrame
 
     frame = MapFrame("map", 2.0, -1.0, 0.7)
     gx, gy = frame.to_grid(3.5, 4.25)

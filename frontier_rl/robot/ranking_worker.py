@@ -19,26 +19,16 @@ from multiprocessing.connection import Connection
 from typing import Any
 
 import numpy as np
-from numpy.typing import NDArray
 
 from frontier_rl.core.navigation.inflation import InflationMemory
 from frontier_rl.core.world.grid import OccupancyGrid
 from frontier_rl.core.world.robot import Pose
 from frontier_rl.errors import FrontierRLError
 from frontier_rl.policies import make_policy
+from frontier_rl.robot.answers import MapCells, MapInfo
 from frontier_rl.robot.map_message import grid_from_message
 from frontier_rl.robot.ranking import rank_frontiers
-from frontier_rl.ros.answers import MapInfo
 from frontier_rl.worker_signals import ignore_interrupts, spawning_workers
-
-
-@dataclass(frozen=True)
-class MapCells:
-    """A map as the node accepted it: where it lies and when it was made, and its cells as the
-    message carried them (row-major, -1 unknown, 0-100 occupancy)."""
-
-    info: MapInfo
-    data: NDArray[np.int8]
 
 
 @dataclass(frozen=True)

@@ -18,10 +18,10 @@ import pytest
 
 from frontier_rl.core.world.robot import Pose
 from frontier_rl.policies import make_policy
+from frontier_rl.robot.answers import MapCells, MapFrame, MapInfo
 from frontier_rl.robot.map_message import grid_from_message
 from frontier_rl.robot.ranking import rank_frontiers
-from frontier_rl.ros.answers import MapFrame, MapInfo
-from frontier_rl.ros.robot_worker import MapCells, RankJob, RankResult, RobotWorker, _HeldMap, _rank
+from frontier_rl.robot.ranking_worker import RankJob, RankResult, RobotWorker, _HeldMap, _rank
 
 AT_ORIGIN = MapFrame("map", 0.0, 0.0, 0.0)
 

@@ -3,10 +3,8 @@ line, request ids, throttled warnings and the master watch."""
 
 from __future__ import annotations
 
-import http.client
 import json
 import math
-import xml.parsers.expat
 from collections.abc import Callable
 from types import SimpleNamespace
 
@@ -15,7 +13,7 @@ import pytest
 from frontier_rl.core.sim.config import MAX_FRONTIER_DROP_CELLS
 from frontier_rl.errors import ConfigError
 from frontier_rl.policies import make_policy
-from frontier_rl.ros.answers import (
+from frontier_rl.robot.answers import (
     MAX_CHECK_PERIOD_S,
     MapFrame,
     MapInfo,
@@ -31,7 +29,6 @@ from frontier_rl.ros.answers import (
     robot_namespaces,
     seconds_parameter,
 )
-from frontier_rl.ros.master_watch import MasterWatch
 
 INFO = MapInfo(MapFrame("map", -2.0, -1.0, 0.0), width=100, height=50, resolution=0.05, stamp_ns=100 * 10**9)
 ROBOTS = ["tb3_0", "tb3_1"]
@@ -85,39 +82,6 @@ def test_warnings_are_throttled_per_robot_and_kind() -> None:
     assert log.due("tb3_0", "pose", 0.0) and not log.due("tb3_0", "pose", 9.9)
     assert log.due("tb3_1", "pose", 1.0) and log.due("tb3_0", "map", 1.0)
     assert log.due("tb3_0", "pose", 10.0)
-
-
-def _watch(replies: list[object]) -> tuple[list[str], list[str]]:
-    """Run a master watch on ``replies`` ((pid, knows the node) or an exception, one per poll)
-    until it reports a restart; the restarts and losses it reported."""
-    answers = iter(replies)
-    restarts: list[str] = []
-    lost: list[str] = []
-
-    def identity(uri: str, caller: str) -> tuple[int, bool]:
-        value = next(answers)
-        if isinstance(value, Exception):
-            raise value
-        assert isinstance(value, tuple)
-        return value
-
-    MasterWatch("http://localhost:1", "/node", 0.0, restarts.append, lost.append, identity=identity).run()
-    return restarts, lost
-
-
-def test_the_master_watch_reports_a_new_master_once_and_not_a_lost_one() -> None:
-    restarts, lost = _watch([(100, True), (100, True), OSError("refused"), (100, True), (200, False), (300, False)])
-    assert lost == ["refused"]
-    assert restarts == ["the ROS master at http://localhost:1 was restarted (pid 100, now 200)"]
-
-
-def test_the_master_watch_knows_a_new_master_with_the_same_pid_and_survives_garbage() -> None:
-    """A fresh container's master may get its predecessor's process id: it no longer knows the
-    node. Not knowing it before it registered is no restart; an HTTP or XML error is a loss."""
-    garbage = xml.parsers.expat.ExpatError("not well-formed")
-    restarts, lost = _watch([(7, False), (7, True), http.client.BadStatusLine("x"), garbage, (7, True), (7, False)])
-    assert restarts == ["the ROS master at http://localhost:1 no longer knows /node: restarted"]
-    assert len(lost) == 2 and "not well-formed" in lost[1]
 
 
 @pytest.mark.parametrize(

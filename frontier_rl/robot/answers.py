@@ -10,10 +10,16 @@ import math
 from collections import Counter
 from dataclasses import asdict, dataclass, field
 from enum import StrEnum
+from typing import Any
+
+import numpy as np
+from numpy.typing import NDArray
 
 from frontier_rl.config import coerce
 from frontier_rl.core.sim.episode import EpisodeAwarePolicy
-from frontier_rl.errors import ConfigError, short_repr
+from frontier_rl.errors import ConfigError, MapError, short_repr
+from frontier_rl.io.loaded_map import MAX_COORDINATE_M
+from frontier_rl.robot.map_message import check_map_message
 
 
 class StaleMapAnswer(StrEnum):
@@ -262,3 +268,30 @@ class ThrottledLog:
             return False
         self._last[(robot, kind)] = now_s
         return True
+
+
+@dataclass(frozen=True)
+class MapCells:
+    """A map as the node accepted it: where it lies and when it was made, and its cells as the
+    message carried them (row-major, -1 unknown, 0-100 occupancy)."""
+
+    info: MapInfo
+    data: NDArray[np.int8]
+
+
+def map_cells(info: Any, frame_id: str, data: NDArray[np.int8], stamp_ns: int, sequence: int) -> MapCells:
+    """A map message (ROS 1's or ROS 2's ``nav_msgs/OccupancyGrid``: its ``info``, header frame and
+    data as int8 values) as the robot's ``sequence``-th good map, stamped ``stamp_ns`` (ns). A map of
+    zero size, a resolution that is not a positive number, data that is not width × height long or
+    an origin that is not finite or lies beyond :data:`MAX_COORDINATE_M` is a :class:`MapError`."""
+    width, height, resolution = int(info.width), int(info.height), float(info.resolution)
+    data = np.asarray(data, dtype=np.int8).reshape(-1)
+    check_map_message(width, height, resolution, data.size)
+    origin, q = info.origin.position, info.origin.orientation
+    yaw = math.atan2(2.0 * (q.w * q.z + q.x * q.y), 1.0 - 2.0 * (q.y * q.y + q.z * q.z))
+    frame = MapFrame(frame_id, float(origin.x), float(origin.y), yaw)
+    if not all(math.isfinite(v) for v in (frame.x, frame.y, frame.yaw)):
+        raise MapError(f"map origin must be finite, got x {frame.x!r}, y {frame.y!r}, yaw {frame.yaw!r}")
+    if max(abs(frame.x), abs(frame.y)) > MAX_COORDINATE_M:
+        raise MapError(f"map origin must lie within +-{MAX_COORDINATE_M:g} m, got x {frame.x!r}, y {frame.y!r}")
+    return MapCells(MapInfo(frame, width, height, resolution, stamp_ns, sequence), data)

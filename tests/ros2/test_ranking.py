@@ -1,0 +1,42 @@
+"""The thesis's ranking service on ROS 2 (``frontier-rl ros2 rank``) over real rclpy and Fast DDS,
+in a loopback-only network namespace: a team of two simulated robots, and every request answered."""
+
+from __future__ import annotations
+
+import json
+import shlex
+import sys
+from pathlib import Path
+
+import pytest
+
+from frontier_rl.ros2.loopback import cli, loopback_problem, run_in_loopback
+
+pytestmark = pytest.mark.slow
+
+_PROBLEM = loopback_problem()
+if _PROBLEM is not None:
+    pytest.skip(_PROBLEM, allow_module_level=True)
+
+
+def test_every_request_is_answered_for_a_team_and_an_unknown_robot_with_a_reason(tmp_path: Path) -> None:
+    frontier_rl = shlex.quote(cli())
+    client = f"{shlex.quote(sys.executable)} {shlex.quote(str(Path(__file__).with_name('ranking_client.py')))}"
+    script = (
+        f"{frontier_rl} ros2 sim --world office --seed 3 --robots 2 > sim.log 2>&1 & sim=$!; "
+        f"{frontier_rl} ros2 rank --robots tb3_0,tb3_1 --policy fixed:0.75 > rank.log 2>&1 & rank=$!; "
+        f"{client} tb3_0,tb3_1,ghost 10 > client.log 2> client.err; status=$?; "
+        "kill -INT $rank $sim; wait $rank; wait $sim; exit $status"
+    )
+    done = run_in_loopback(script, tmp_path, 150)
+    logs = "\n".join(p.read_text() for p in sorted(tmp_path.glob("*.log")) + sorted(tmp_path.glob("*.err")))
+    assert done.returncode == 0, logs
+    report = json.loads((tmp_path / "client.log").read_text())
+    statuses = {(s["robot"], s["request"]): s for s in report["statuses"]}
+    assert len(statuses) == 30, logs  # every request, once
+    for robot in ("tb3_0", "tb3_1"):
+        answers = [statuses[(robot, f"{robot}-{i}")] for i in range(10)]
+        assert all(a["frontiers"] > 0 and a["policy"] == "fixed:0.75" for a in answers), answers
+    ghosts = [statuses[("ghost", f"ghost-{i}")] for i in range(10)]
+    assert all(g["frontiers"] == 0 and "ghost" in g["reason"] for g in ghosts), ghosts
+    assert "30 requests answered" in (tmp_path / "rank.log").read_text()
