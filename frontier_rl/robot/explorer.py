@@ -146,6 +146,7 @@ class FrontierExplorer:
         self._memory = InflationMemory()
         self._blacklist: Blacklist | None = None
         self.goal: Goal | None = None
+        self.candidate_goals: NDArray[np.float64] = np.zeros((0, 2))  # of the last decision (m, map frame)
         self._arrived = False  # the navigation stack reached the goal under way
         self.finished: Finished | None = None
         self.start: tuple[float, float] | None = None
@@ -219,6 +220,7 @@ class FrontierExplorer:
             robot_radius=self.config.robot.radius,
         )
         ranking = checked_ranking(self.policy.rank(context, self._rng), len(cand.frontiers), self.policy)
+        self.candidate_goals = cand.frontiers.goals
         if ranking.goal is not None:
             goal = Goal(float(ranking.goal[0]), float(ranking.goal[1]), np.zeros((0, 2)), ranking.weight, cand.recovery)
         else:

@@ -196,7 +196,8 @@ class ExplorerNode(Node):
         future = self._nav.send_goal_async(request, feedback_callback=lambda _: self._feedback(number))
         future.add_done_callback(lambda f: self._on_response(number, f))
         if self.visualize and self._grid is not None:
-            self._marker_pub.publish(frontier_markers([], (goal.x, goal.y), self.get_clock().now().to_msg()))
+            candidates = [(float(x), float(y)) for x, y in self.explorer.candidate_goals]
+            self._marker_pub.publish(frontier_markers(candidates, (goal.x, goal.y), self.get_clock().now().to_msg()))
         self._publish("returning" if self._returning else "exploring", f"goal {number} at ({goal.x:.2f}, {goal.y:.2f})")
 
     def _on_response(self, number: int, future: Future[ClientGoalHandle[Any, Any, Any]]) -> None:

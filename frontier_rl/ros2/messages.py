@@ -140,7 +140,7 @@ def frontier_markers(
         goal.scale.x = goal.scale.y = goal.scale.z = 0.3
         goal.color = ColorRGBA(r=0.1, g=0.9, b=0.2, a=0.9)
         markers.append(goal)
+    points.pose.orientation.w = 1.0
     for marker in markers[1:]:
         marker.header.stamp, marker.header.frame_id = stamp, frame
-        marker.pose.orientation.w = 1.0 if marker.type == Marker.SPHERE_LIST else marker.pose.orientation.w
     return MarkerArray(markers=markers)
