@@ -42,7 +42,7 @@ def test_the_explorer_explores_the_simulated_robot_over_ros2(
     world: str, seed: int, policy: str, tmp_path: Path
 ) -> None:
     status = _closed_loop(
-        tmp_path, f"--world {world} --seed {seed} --rate 20", f"--policy {policy} --use-sim-time --seed {seed}"
+        tmp_path, f"--world {world} --seed {seed} --rate 40", f"--policy {policy} --use-sim-time --seed {seed}"
     )
     episode = api.explore(world, policy, seed=seed)
     assert status["state"] == "finished"
@@ -54,7 +54,7 @@ def test_the_explorer_explores_the_simulated_robot_over_ros2(
 def test_a_simulator_killed_and_restarted_is_explored_to_the_end(tmp_path: Path) -> None:
     """The robot's stack crashes with a goal under way and comes back with an empty map (and its
     clock back at 0): the explorer drops the lost goal and explores the new map to the end."""
-    sim = f"{shlex.quote(cli())} ros2 sim --world office --seed 3 --rate 20"
+    sim = f"{shlex.quote(cli())} ros2 sim --world office --seed 3 --rate 40"
     script = (
         f"setsid sh -c {shlex.quote(f'{sim} & s=$!; sleep 4; kill -9 $s; sleep 1; exec {sim}')} > sim.log 2>&1 & "
         f"group=$!; timeout --preserve-status -s INT 120 {shlex.quote(cli())} ros2 explore --json --use-sim-time "
@@ -75,7 +75,7 @@ def test_a_team_of_two_robots_in_namespaces_each_explores_the_world(tmp_path: Pa
     frontier_rl = shlex.quote(cli())
     explore = f"timeout --preserve-status -s INT 120 {frontier_rl} ros2 explore --json --use-sim-time"
     script = (
-        f"{frontier_rl} ros2 sim --world office --seed 3 --rate 20 --robots 2 > sim.log 2>&1 & sim=$!; "
+        f"{frontier_rl} ros2 sim --world office --seed 3 --rate 40 --robots 2 > sim.log 2>&1 & sim=$!; "
         f"{explore} --namespace tb3_1 --seed 1 > explore1.log 2> explore1.err & other=$!; "
         f"{explore} --namespace tb3_0 --seed 3 > explore0.log 2> explore0.err; status=$?; "
         "wait $other; status1=$?; kill -INT $sim; wait $sim; exit $((status + status1))"

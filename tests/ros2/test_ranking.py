@@ -21,11 +21,12 @@ if _PROBLEM is not None:
 
 def test_every_request_is_answered_for_a_team_and_an_unknown_robot_with_a_reason(tmp_path: Path) -> None:
     frontier_rl = shlex.quote(cli())
-    client = f"{shlex.quote(sys.executable)} {shlex.quote(str(Path(__file__).with_name('ranking_client.py')))}"
+    script_path = Path(__file__).resolve().parents[2] / "benchmarks" / "ranking_client.py"
+    client = f"{shlex.quote(sys.executable)} {shlex.quote(str(script_path))}"
     script = (
         f"{frontier_rl} ros2 sim --world office --seed 3 --robots 2 > sim.log 2>&1 & sim=$!; "
         f"{frontier_rl} ros2 rank --robots tb3_0,tb3_1 --policy fixed:0.75 > rank.log 2>&1 & rank=$!; "
-        f"{client} tb3_0,tb3_1,ghost 10 > client.log 2> client.err; status=$?; "
+        f"{client} tb3_0,tb3_1,ghost --count 10 > client.log 2> client.err; status=$?; "
         "kill -INT $rank $sim; wait $rank; wait $sim; exit $status"
     )
     done = run_in_loopback(script, tmp_path, 150)
