@@ -89,8 +89,16 @@ def main() -> None:
     deadline = time.monotonic() + _WAIT_S
     while time.monotonic() < deadline and len(client.statuses) < len(client.sent):
         client.spin_for(0.1)
-    print(json.dumps({"sent": len(client.sent), "statuses": client.statuses, "lists": client.lists,
-                      "round_trips_s": client.round_trips}))  # fmt: skip
+    print(
+        json.dumps(
+            {
+                "sent": len(client.sent),
+                "statuses": client.statuses,
+                "lists": client.lists,
+                "round_trips_s": client.round_trips,
+            }
+        )
+    )
 
 
 if __name__ == "__main__":

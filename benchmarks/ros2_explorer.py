@@ -32,7 +32,8 @@ sys.path.insert(0, str(Path(__file__).resolve().parents[1]))  # bench this check
 from frontier_rl import api
 from frontier_rl.core.sim.episode import warm_up
 from frontier_rl.policies.registry import make_policy
-from frontier_rl.robot.explorer import ExplorerParams, FrontierExplorer, Goal
+from frontier_rl.robot.explorer import FrontierExplorer, Goal
+from frontier_rl.robot.explorer_params import ExplorerParams
 from frontier_rl.robot.sim_robot import SimulatedRobot, explore_in_process
 from frontier_rl.ros2.loopback import cli, loopback_problem, run_in_loopback
 
@@ -64,8 +65,14 @@ def decision_speed(world_name: str, seeds: int, policy: str) -> dict[str, Any]:
         times += explorer.decision_times
     ms = np.array(times) * 1e3
     median = float(np.median(ms))
-    return {"world": world_name, "policy": policy, "decisions": len(times), "median_ms": round(median, 2),
-            "p99_ms": round(float(np.percentile(ms, 99)), 2), "decisions_per_s": round(1e3 / median, 1)}  # fmt: skip
+    return {
+        "world": world_name,
+        "policy": policy,
+        "decisions": len(times),
+        "median_ms": round(median, 2),
+        "p99_ms": round(float(np.percentile(ms, 99)), 2),
+        "decisions_per_s": round(1e3 / median, 1),
+    }
 
 
 def team_over_ros2(world: str, seed: int, robots: int, rate: float, requests: float, home: Path) -> dict[str, Any]:
@@ -97,14 +104,23 @@ def team_over_ros2(world: str, seed: int, robots: int, rate: float, requests: fl
     load = json.loads((home / "client.log").read_text() or "{}")
     trips = np.array(load.get("round_trips_s") or [math.nan]) * 1e3
     answered = load.get("statuses", [])
-    return {"world": world, "robots": robots, "rate": rate, "exit": done.returncode, "wall_s": round(wall, 1),
-            "sim_s": round(sim_time, 1), "speed_up": round(sim_time / wall, 2),
-            "decisions_per_robot": [s["goals"] for s in statuses],
-            "reasons": [s.get("reason") or s["state"] for s in statuses],
-            "requests_per_robot_s": requests, "requests_sent": load.get("sent", 0), "answered": len(answered),
-            "answered_with_frontiers": sum(1 for a in answered if a["frontiers"]),
-            "round_trip_median_ms": round(float(np.median(trips)), 2),
-            "round_trip_p99_ms": round(float(np.percentile(trips, 99)), 2)}  # fmt: skip
+    return {
+        "world": world,
+        "robots": robots,
+        "rate": rate,
+        "exit": done.returncode,
+        "wall_s": round(wall, 1),
+        "sim_s": round(sim_time, 1),
+        "speed_up": round(sim_time / wall, 2),
+        "decisions_per_robot": [s["goals"] for s in statuses],
+        "reasons": [s.get("reason") or s["state"] for s in statuses],
+        "requests_per_robot_s": requests,
+        "requests_sent": load.get("sent", 0),
+        "answered": len(answered),
+        "answered_with_frontiers": sum(1 for a in answered if a["frontiers"]),
+        "round_trip_median_ms": round(float(np.median(trips)), 2),
+        "round_trip_p99_ms": round(float(np.percentile(trips, 99)), 2),
+    }
 
 
 def main() -> None:
@@ -122,8 +138,11 @@ def main() -> None:
         for policy in POLICIES:
             row = decision_speed(world, args.seeds if world == "office" else 1, policy)
             rows.append(row)
-            print(f"| {world} | {policy} | {row['decisions']} | {row['median_ms']} | {row['p99_ms']} | "
-                  f"{row['decisions_per_s']} |", flush=True)  # fmt: skip
+            print(
+                f"| {world} | {policy} | {row['decisions']} | {row['median_ms']} | {row['p99_ms']} | "
+                f"{row['decisions_per_s']} |",
+                flush=True,
+            )
     if args.robots:
         problem = loopback_problem()
         if problem is not None:

@@ -7,12 +7,12 @@ a float); values quoted in errors are cut to a bounded length.
 from __future__ import annotations
 
 import dataclasses
-import math
 import typing
 from pathlib import Path
 from typing import Any, TypeVar
 
 from frontier_rl.atomic_write import write_text_atomic
+from frontier_rl.checked_values import coerce
 from frontier_rl.core.sim.config import SimConfig
 from frontier_rl.errors import ConfigError, FrontierRLError, short_repr
 from frontier_rl.safe_yaml import dump_yaml, load_yaml_file
@@ -51,33 +51,6 @@ def from_dict(cls: type[T], data: Any, where: str = "") -> T:
         else:
             kwargs[key] = coerce(hint, value, name)
     return cls(**kwargs)
-
-
-def coerce(hint: Any, value: Any, where: str) -> Any:
-    """``value`` checked against type ``hint`` (bool, int, float, float | None, str); others pass as they are.
-
-    Raises:
-        ConfigError: naming ``where`` and quoting ``value`` (cut to a bounded length).
-    """
-    if hint is bool:
-        if not isinstance(value, bool):
-            raise ConfigError(f"{where} must be true or false, got {short_repr(value)}")
-        return value
-    if hint is int:
-        if isinstance(value, bool) or not isinstance(value, int):
-            raise ConfigError(f"{where} must be an integer, got {short_repr(value)}")
-        return value
-    if hint == float | None:
-        return None if value is None else coerce(float, value, where)
-    if hint is float:
-        if isinstance(value, bool) or not isinstance(value, int | float) or math.isnan(value):
-            raise ConfigError(f"{where} must be a number, got {short_repr(value)}")
-        return float(value)
-    if hint is str:
-        if not isinstance(value, str):
-            raise ConfigError(f"{where} must be a string, got {short_repr(value)}")
-        return value
-    return value
 
 
 def to_dict(config: Any) -> dict[str, Any]:

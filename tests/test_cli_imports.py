@@ -41,6 +41,14 @@ def _run(*args: str) -> dict[str, object]:
         (["explore", "--policy", "nearest:3"], 2),
         (["evaluate", "--methods", "nearest", "--out", "x", "--seed", "-1"], 2),
         (["train", "--out", "x", "--seed", "-1"], 2),
+        (["ros2", "explore", "--help"], 0),
+        (["ros2", "explore", "--planner-frequency", "0"], 2),
+        (["ros2", "explore", "--pose-type", "tf"], 2),
+        (["ros2", "explore", "--goal-silence-timeout", "nan"], 2),
+        (["ros2", "sim", "--rate", "-1"], 2),
+        (["ros2", "sim", "--robots", "9"], 2),
+        (["ros2", "rank", "--stale-map", "maybe"], 2),
+        (["ros2", "rank", "--robots", "a,,b"], 2),
     ],
 )
 def test_help_and_argument_errors_load_none_of_the_engine(args: list[str], code: int) -> None:

@@ -4,7 +4,7 @@ ROS 2 robot to try it on (the ``ros2`` extra; rclpy loads only here)."""
 from __future__ import annotations
 
 import math
-from typing import Annotated
+from typing import TYPE_CHECKING, Annotated
 
 import typer
 
@@ -12,13 +12,17 @@ from frontier_rl.cli.options import MAX_SEED, WORLD_HELP, fail
 from frontier_rl.cli.output import OneLineGroup, friendly_errors, stdout_console
 from frontier_rl.seeds import checked_seed
 
+if TYPE_CHECKING:
+    from frontier_rl.robot.explorer_params import ExplorerParams
+
 MAX_ROBOTS = 8
 """The most robots ``ros2 sim`` runs in one world (as a team of ``frontier-rl explore``)."""
 
 ros2_app = typer.Typer(
-    no_args_is_help=True, cls=OneLineGroup,
+    no_args_is_help=True,
+    cls=OneLineGroup,
     help="ROS 2: explore with Nav2 (explore), or run a world as a ROS 2 robot (sim).",
-)  # fmt: skip
+)
 
 _NO_ROS2 = (
     "ROS 2 is not installed in this environment: `make setup` (or pip install -e '.[ros2]' and "
@@ -33,6 +37,31 @@ def _need_ros2() -> None:
         import rclpy  # noqa: F401
     except ImportError as error:
         fail(f"{_NO_ROS2} ({error})")
+
+
+def _check_pose_type(pose_type: str) -> None:
+    if pose_type not in ("pose", "odom"):
+        fail(f"--pose-type must be pose or odom, got {pose_type!r}")
+
+
+def _explorer_params(
+    planner_frequency: float, progress_timeout: float, min_frontier_size: float, return_to_init: bool, time_cap: float
+) -> ExplorerParams:
+    """The explorer's settings from its options (a time cap of 0: none); a one-line error naming
+    the option that is out of range."""
+    from frontier_rl.robot.explorer_params import ExplorerParams
+
+    try:
+        return ExplorerParams(
+            planner_frequency=planner_frequency,
+            progress_timeout=progress_timeout,
+            min_frontier_size=min_frontier_size,
+            return_to_init=return_to_init,
+            time_cap=math.inf if time_cap == 0 else time_cap,
+        )
+    except ValueError as error:
+        field = str(error).split()[0]
+        fail(str(error).replace(field, "--" + field.replace("_", "-"), 1))
 
 
 def _checked_rate(rate: float) -> float | None:
@@ -89,25 +118,26 @@ def rank(
     use_sim_time: Annotated[bool, typer.Option(help="Time from /clock (a simulator's).")] = False,
 ) -> None:
     """The thesis's ranking service: /frontier_request answered on /frontier_list, for one or more robots."""
-    from frontier_rl.core.sim.config import MAX_FRONTIER_DROP_CELLS
     from frontier_rl.robot.answers import StaleMapAnswer, count_parameter, robot_namespaces, seconds_parameter
-    from frontier_rl.robot.ranking_service import ServiceSettings
 
-    if pose_type not in ("pose", "odom"):
-        fail(f"--pose-type must be pose or odom, got {pose_type!r}")
+    _check_pose_type(pose_type)
     try:
         stale = StaleMapAnswer(stale_map)
     except ValueError:
         fail(f"--stale-map must be stale or empty, got {stale_map!r}")
-    settings = ServiceSettings(
-        tuple(robot_namespaces(robots or [""])), policy.strip(), count_parameter("top_k", top_k, 1),
-        count_parameter("min_cluster_size", min_cluster_size, 0, MAX_FRONTIER_DROP_CELLS),
-        seconds_parameter("max_map_age", max_map_age, zero=True), stale, keep_last_map,
+    names = tuple(robot_namespaces(robots or [""]))
+    limits = (count_parameter("top_k", top_k, 1), count_parameter("min_cluster_size", min_cluster_size, 0))
+    age, pending = (
+        seconds_parameter("max_map_age", max_map_age, zero=True),
         count_parameter("max_pending", max_pending, 1),
-    )  # fmt: skip
+    )
     _need_ros2()
+    from frontier_rl.core.sim.config import MAX_FRONTIER_DROP_CELLS  # the engine, once the arguments are checked
+    from frontier_rl.robot.ranking_service import ServiceSettings
     from frontier_rl.ros2.run import run_ranking
 
+    count_parameter("min_cluster_size", min_cluster_size, 0, MAX_FRONTIER_DROP_CELLS)
+    settings = ServiceSettings(names, policy.strip(), *limits, age, stale, keep_last_map, pending)
     answered = run_ranking(settings, pose_topic, pose_type, use_sim_time)
     stdout_console().print(f"{answered} requests answered")
 
@@ -138,20 +168,10 @@ def explore(
 ) -> None:
     """Explore with Nav2: rank the map's frontiers with a policy and send the best as goals."""
     checked_seed(seed)
-    from frontier_rl.robot.explorer import ExplorerParams
-
-    try:
-        params = ExplorerParams(
-            planner_frequency=planner_frequency, progress_timeout=progress_timeout,
-            min_frontier_size=min_frontier_size, return_to_init=return_to_init,
-            time_cap=math.inf if time_cap == 0 else time_cap,
-        )  # fmt: skip
-    except ValueError as error:
-        fail(str(error))
+    params = _explorer_params(planner_frequency, progress_timeout, min_frontier_size, return_to_init, time_cap)
     if not (math.isfinite(goal_silence_timeout) and goal_silence_timeout > 0):
         fail(f"--goal-silence-timeout must be a positive number of seconds, got {goal_silence_timeout!r}")
-    if pose_type not in ("pose", "odom"):
-        fail(f"--pose-type must be pose or odom, got {pose_type!r}")
+    _check_pose_type(pose_type)
     _need_ros2()
     from frontier_rl.policies.registry import make_policy
     from frontier_rl.robot.explorer import check_robot_policy
@@ -160,9 +180,16 @@ def explore(
     the_policy = make_policy(policy)
     check_robot_policy(the_policy, policy)
     status, summary = run_explorer(
-        the_policy, params, namespace=namespace, pose_topic=pose_topic, pose_type=pose_type,
-        visualize=visualize, use_sim_time=use_sim_time, seed=seed, goal_silence_timeout=goal_silence_timeout,
-    )  # fmt: skip
+        the_policy,
+        params,
+        namespace=namespace,
+        pose_topic=pose_topic,
+        pose_type=pose_type,
+        visualize=visualize,
+        use_sim_time=use_sim_time,
+        seed=seed,
+        goal_silence_timeout=goal_silence_timeout,
+    )
     if json_out:
         print(status.to_json())
     else:

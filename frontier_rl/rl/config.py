@@ -7,7 +7,8 @@ from dataclasses import dataclass, field, fields
 from pathlib import Path
 from typing import Any
 
-from frontier_rl.config import coerce, dump_config, from_dict, load_config, to_dict
+from frontier_rl.checked_values import coerce
+from frontier_rl.config import dump_config, from_dict, load_config, to_dict
 from frontier_rl.core.sim.config import SimConfig
 from frontier_rl.core.world.scale import checked_resolution
 from frontier_rl.envs.rewards import REWARD_PRESETS, reward_preset

@@ -15,8 +15,7 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
-from frontier_rl.config import coerce
-from frontier_rl.core.sim.episode import EpisodeAwarePolicy
+from frontier_rl.checked_values import coerce
 from frontier_rl.errors import ConfigError, MapError, short_repr
 from frontier_rl.io.loaded_map import MAX_COORDINATE_M
 from frontier_rl.robot.map_message import check_map_message
@@ -106,6 +105,8 @@ def check_node_policy(policy: object, spec: str) -> None:
     :class:`~frontier_rl.core.sim.episode.EpisodeAwarePolicy`, the oracle), which a node does not
     have, or chooses a goal cell instead of ranking frontiers (the point models 1 and 2), which
     would leave every answer empty."""
+    from frontier_rl.core.sim.episode import EpisodeAwarePolicy  # the engine, once a policy is made
+
     if isinstance(policy, EpisodeAwarePolicy):
         raise ConfigError(f"~policy {short_repr(spec)} plans on the true map, which the node does not have")
     if getattr(policy, "kind", None) == "point":

@@ -31,6 +31,7 @@ from frontier_rl.core.sim.metrics import FrontierLeft
 from frontier_rl.core.world.grid import CellState, OccupancyGrid
 from frontier_rl.core.world.robot import Pose
 from frontier_rl.errors import ConfigError, short_repr
+from frontier_rl.robot.explorer_params import ExplorerParams
 
 
 def check_robot_policy(policy: ExplorationPolicy, spec: str) -> None:
@@ -38,40 +39,6 @@ def check_robot_policy(policy: ExplorationPolicy, spec: str) -> None:
     :class:`~frontier_rl.core.sim.episode.EpisodeAwarePolicy`, the oracle), which a robot does not have."""
     if isinstance(policy, EpisodeAwarePolicy):
         raise ConfigError(f"policy {short_repr(spec)} plans on the true map, which a robot does not have")
-
-
-@dataclass(frozen=True)
-class ExplorerParams:
-    """The explorer's settings, with explore_lite's names where they mean the same.
-
-    Attributes:
-        planner_frequency: how often the frontiers are found and ranked again (Hz).
-        progress_timeout: a goal the robot gets no nearer to (by ``progress_distance``) for this
-            long is given up and blacklisted (s).
-        min_frontier_size: frontier clusters this long or shorter are no goals (m).
-        return_to_init: drive back to the start once the map is explored.
-        time_cap: stop exploring after this long (s); infinite by default.
-        progress_distance: the distance (m) to the goal that counts as progress.
-    """
-
-    planner_frequency: float = 1.0
-    progress_timeout: float = 30.0
-    min_frontier_size: float = SimConfig().min_frontier_cells * DROP_CELL_M
-    return_to_init: bool = False
-    time_cap: float = math.inf
-    progress_distance: float = 0.1
-
-    def __post_init__(self) -> None:
-        for name in ("planner_frequency", "progress_timeout", "time_cap", "progress_distance"):
-            value = getattr(self, name)
-            if not (isinstance(value, int | float) and value > 0 and not math.isnan(value)):
-                raise ValueError(f"{name} must be a positive number, got {value!r}")
-        if not (math.isfinite(self.min_frontier_size) and self.min_frontier_size >= 0):
-            raise ValueError(f"min_frontier_size must be a number of metres >= 0, got {self.min_frontier_size!r}")
-
-    def sim_config(self, base: SimConfig) -> SimConfig:
-        """``base`` with its frontier drop size set from :attr:`min_frontier_size`."""
-        return replace(base, min_frontier_cells=int(round(self.min_frontier_size / DROP_CELL_M)))
 
 
 @dataclass(frozen=True)
@@ -140,7 +107,8 @@ class FrontierExplorer:
         rng: np.random.Generator | None = None,
     ) -> None:
         self.params = params or ExplorerParams()
-        self.config = self.params.sim_config(config or SimConfig())
+        base = config or SimConfig()
+        self.config = replace(base, min_frontier_cells=int(round(self.params.min_frontier_size / DROP_CELL_M)))
         self.policy = policy
         self._rng = rng if rng is not None else np.random.default_rng(0)
         self._memory = InflationMemory()
@@ -274,8 +242,9 @@ class FrontierExplorer:
     def _finish(self, reason: EndReason, grid: OccupancyGrid, pose: Pose, cand: Candidates) -> Finished:
         """The end: what is left of ``grid`` beside ``cand``'s frontiers, every unknown cell taken
         as possibly free (a robot has no true map to ask)."""
-        maybe_free = OccupancyGrid(np.where(grid.data == CellState.UNKNOWN, np.int8(CellState.FREE), grid.data),
-                                   grid.resolution, grid.origin)  # fmt: skip
+        maybe_free = OccupancyGrid(
+            np.where(grid.data == CellState.UNKNOWN, np.int8(CellState.FREE), grid.data), grid.resolution, grid.origin
+        )
         felt = np.zeros(grid.shape, np.bool_)
         left = frontiers_left(cand, maybe_free, pose, self.config, self._blacklist_for(grid), grid.data, felt)
         speck = self.config.speck_cells(grid.resolution)

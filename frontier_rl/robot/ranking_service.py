@@ -218,18 +218,31 @@ class RankingService:
         self._answer(job.robot, job.request, info, result.centres, result.weight, notes, job.arrived)
 
     def _answer(
-        self, ns: str, request: str, info: MapInfo | None, centres: tuple[tuple[float, float], ...],
-        weight: float | None, reason: str, arrived: float,
-    ) -> None:  # fmt: skip
+        self,
+        ns: str,
+        request: str,
+        info: MapInfo | None,
+        centres: tuple[tuple[float, float], ...],
+        weight: float | None,
+        reason: str,
+        arrived: float,
+    ) -> None:
         if reason and not centres:
             self.warn(ns, reason.split(":")[0][:40], f"request {request} of {ns!r} answered empty: {reason}")
         elif reason:
             self.warn(ns, reason.split(":")[0][:40], f"request {request} of {ns!r}: {reason}")
         used = weight if weight is not None else (self.fixed_weight if centres else None)
-        status = Status(ns, request, len(centres), reason, self.policy_name, used,
-                        None if info is None else info.stamp_s,
-                        None if info is None else info.age_s(self._clock()),
-                        time.monotonic() - arrived)  # fmt: skip
+        status = Status(
+            ns,
+            request,
+            len(centres),
+            reason,
+            self.policy_name,
+            used,
+            None if info is None else info.stamp_s,
+            None if info is None else info.age_s(self._clock()),
+            time.monotonic() - arrived,
+        )
         with self._lock:
             self.answered += 1
             self._publish(Answer(ns, request, info, centres, used, status))

@@ -36,7 +36,7 @@ import math
 import os
 from typing import Any
 
-from frontier_rl.config import coerce
+from frontier_rl.checked_values import coerce
 from frontier_rl.core.frontiers.thesis import THESIS_WEIGHT
 from frontier_rl.core.sim.config import MAX_FRONTIER_DROP_CELLS
 from frontier_rl.errors import FrontierRLError

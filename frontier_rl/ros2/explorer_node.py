@@ -279,8 +279,10 @@ class ExplorerNode(Node):
         if status.coverage >= 0:
             line += f", {100 * status.coverage:.1f} % of the explorable space (the simulator's)"
         if status.frontiers_left:
-            line += (f"; {status.frontiers_left} frontiers left with {status.unknown_m2:.2f} m² unknown beside them"
-                     f" ({status.with_a_path} with a path on the map)")  # fmt: skip
+            line += (
+                f"; {status.frontiers_left} frontiers left with {status.unknown_m2:.2f} m² unknown beside them"
+                f" ({status.with_a_path} with a path on the map)"
+            )
         return line
 
     def status(self, state: str, detail: str) -> ExplorerStatus:

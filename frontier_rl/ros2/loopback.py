@@ -55,9 +55,15 @@ def run_in_loopback(script: str, home: Path, timeout: float) -> subprocess.Compl
     captured; past ``timeout`` (s) every process it started is killed and TimeoutExpired raised."""
     command = [*unshare_command(), "sh", "-c", _SETUP, "sh", "sh", "-c", script]
     with subprocess.Popen(
-        command, cwd=home, env=loopback_env(home), stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True,
-        stdin=subprocess.DEVNULL, start_new_session=True,
-    ) as process:  # fmt: skip
+        command,
+        cwd=home,
+        env=loopback_env(home),
+        stdout=subprocess.PIPE,
+        stderr=subprocess.PIPE,
+        text=True,
+        stdin=subprocess.DEVNULL,
+        start_new_session=True,
+    ) as process:
         try:
             out, err = process.communicate(timeout=timeout)
         except subprocess.TimeoutExpired:

@@ -67,8 +67,9 @@ class RankingNode(Node):
     def _on_map(self, ns: str, message: GridMessage) -> None:
         stamp_ns = message.header.stamp.sec * 10**9 + message.header.stamp.nanosec or round(self._now() * 1e9)
         data = np.frombuffer(memoryview(message.data), np.int8) if len(message.data) else np.zeros(0, np.int8)
-        self.service.on_map(ns, lambda sequence: map_cells(message.info, message.header.frame_id, data, stamp_ns,
-                                                           sequence))  # fmt: skip
+        self.service.on_map(
+            ns, lambda sequence: map_cells(message.info, message.header.frame_id, data, stamp_ns, sequence)
+        )
 
     def _on_pose(self, ns: str, message: PoseWithCovarianceStamped | Odometry) -> None:
         p = message.pose.pose

@@ -14,7 +14,8 @@ from rclpy.parameter import Parameter
 from frontier_rl.core.sim.config import SimConfig
 from frontier_rl.core.sim.episode import ExplorationPolicy
 from frontier_rl.core.world.worlds import World
-from frontier_rl.robot.explorer import ExplorerParams, FrontierExplorer
+from frontier_rl.robot.explorer import FrontierExplorer
+from frontier_rl.robot.explorer_params import ExplorerParams
 from frontier_rl.robot.ranking_service import RankingService, ServiceSettings
 from frontier_rl.robot.sim_robot import SimulatedRobot
 from frontier_rl.ros2.explorer_node import ExplorerNode, ExplorerStatus

@@ -86,9 +86,10 @@ class SimNode(Node):
             return None
         driving = min(self.ports[i].robot.sim_time for i in busy)
         behind = [
-            i for i, port in enumerate(self.ports)
+            i
+            for i, port in enumerate(self.ports)
             if not port.busy and port.robot.sim_time < driving and not port.robot.sim.truncated
-        ]  # fmt: skip
+        ]
         return min(behind or busy, key=lambda i: self.ports[i].robot.sim_time)
 
     def _publish(self, with_map: bool) -> None:

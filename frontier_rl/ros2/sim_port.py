@@ -69,9 +69,13 @@ class RobotPort:
         self._scan_pub = node.create_publisher(LaserScan, f"{prefix}scan", 10)
         self._coverage_pub = node.create_publisher(Float32, f"{prefix}coverage", MAP_QOS)
         self._server = ActionServer(
-            node, NavigateToPose, f"{prefix}navigate_to_pose", execute_callback=self._execute,
-            goal_callback=self._check_goal, cancel_callback=lambda _: CancelResponse.ACCEPT,
-        )  # fmt: skip
+            node,
+            NavigateToPose,
+            f"{prefix}navigate_to_pose",
+            execute_callback=self._execute,
+            goal_callback=self._check_goal,
+            cancel_callback=lambda _: CancelResponse.ACCEPT,
+        )
         self._active: _ActiveGoal | None = None
         self._map_sent_at = -math.inf
         self.goals = 0

@@ -14,7 +14,8 @@ from frontier_rl.core.world.grid import CellState, OccupancyGrid
 from frontier_rl.core.world.robot import Pose
 from frontier_rl.errors import ConfigError
 from frontier_rl.policies.registry import make_policy
-from frontier_rl.robot.explorer import ExplorerParams, Finished, FrontierExplorer, Goal, check_robot_policy
+from frontier_rl.robot.explorer import Finished, FrontierExplorer, Goal, check_robot_policy
+from frontier_rl.robot.explorer_params import DEFAULT_MIN_FRONTIER_SIZE_M, ExplorerParams
 from frontier_rl.robot.sim_robot import GoalStatus, SimulatedRobot, explore_in_process
 
 
@@ -157,3 +158,10 @@ def test_the_simulated_robot_aborts_a_goal_it_cannot_reach_and_cancels_on_reques
     assert not robot.busy and robot.step() is None
     with pytest.raises(ValueError, match="not a point"):
         robot.send_goal(math.nan, 0.0)
+
+
+def test_the_default_frontier_size_is_the_engines_drop_size() -> None:
+    from frontier_rl.core.sim.config import DROP_CELL_M, SimConfig
+
+    assert pytest.approx(SimConfig().min_frontier_cells * DROP_CELL_M) == DEFAULT_MIN_FRONTIER_SIZE_M
+    assert FrontierExplorer(make_policy("nearest")).config.min_frontier_cells == SimConfig().min_frontier_cells

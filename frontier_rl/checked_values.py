@@ -1,0 +1,36 @@
+"""Values from untrusted places (YAML files, ROS parameters, the command line) checked against the
+type they must have, with a one-line error that names where they came from."""
+
+from __future__ import annotations
+
+import math
+from typing import Any
+
+from frontier_rl.errors import ConfigError, short_repr
+
+
+def coerce(hint: Any, value: Any, where: str) -> Any:
+    """``value`` checked against type ``hint`` (bool, int, float, float | None, str); others pass as they are.
+
+    Raises:
+        ConfigError: naming ``where`` and quoting ``value`` (cut to a bounded length).
+    """
+    if hint is bool:
+        if not isinstance(value, bool):
+            raise ConfigError(f"{where} must be true or false, got {short_repr(value)}")
+        return value
+    if hint is int:
+        if isinstance(value, bool) or not isinstance(value, int):
+            raise ConfigError(f"{where} must be an integer, got {short_repr(value)}")
+        return value
+    if hint == float | None:
+        return None if value is None else coerce(float, value, where)
+    if hint is float:
+        if isinstance(value, bool) or not isinstance(value, int | float) or math.isnan(value):
+            raise ConfigError(f"{where} must be a number, got {short_repr(value)}")
+        return float(value)
+    if hint is str:
+        if not isinstance(value, str):
+            raise ConfigError(f"{where} must be a string, got {short_repr(value)}")
+        return value
+    return value
