@@ -49,6 +49,7 @@ def _run(*args: str) -> dict[str, object]:
         (["ros2", "sim", "--robots", "9"], 2),
         (["ros2", "rank", "--stale-map", "maybe"], 2),
         (["ros2", "rank", "--robots", "a,,b"], 2),
+        (["ros2", "explore", "--params-file", "no-such-explore.yaml"], 2),
     ],
 )
 def test_help_and_argument_errors_load_none_of_the_engine(args: list[str], code: int) -> None:

@@ -1,15 +1,17 @@
-"""``frontier-rl ros2``: the explorer that drives a robot through Nav2, and the simulator as a
-ROS 2 robot to try it on (the ``ros2`` extra; rclpy loads only here)."""
+"""``frontier-rl ros2``: the explorer that drives a robot through Nav2 (``explore``), the thesis's
+ranking service (``rank``), and the simulator as ROS 2 robots to try them on (``sim``). The ``ros2``
+extra; rclpy loads only here, once the arguments are checked."""
 
 from __future__ import annotations
 
 import math
-from typing import TYPE_CHECKING, Annotated
+from pathlib import Path
+from typing import TYPE_CHECKING, Annotated, Any
 
 import typer
 
 from frontier_rl.cli.options import MAX_SEED, WORLD_HELP, fail
-from frontier_rl.cli.output import OneLineGroup, friendly_errors, stdout_console
+from frontier_rl.cli.output import OneLineGroup, err_console, friendly_errors, stdout_console
 from frontier_rl.seeds import checked_seed
 
 if TYPE_CHECKING:
@@ -62,6 +64,23 @@ def _explorer_params(
     except ValueError as error:
         field = str(error).split()[0]
         fail(str(error).replace(field, "--" + field.replace("_", "-"), 1))
+
+
+def _with_parameter_file(ctx: typer.Context, path: Path | None, options: dict[str, Any]) -> dict[str, Any]:
+    """``options`` with the values of explore_lite's parameter file ``path`` for those not given on
+    the command line; the file's parameters that mean nothing here are named on standard error."""
+    if path is None:
+        return options
+    from frontier_rl.robot.explorer_params import explore_lite_parameters
+
+    known, ignored = explore_lite_parameters(path)
+    for name, value in known.items():
+        source = ctx.get_parameter_source(name)
+        if source is None or source.name in ("DEFAULT", "DEFAULT_MAP"):
+            options[name] = value
+    if ignored:
+        err_console.print(f"{path}: not used here: {', '.join(ignored)}")
+    return options
 
 
 def _checked_rate(rate: float) -> float | None:
@@ -145,6 +164,7 @@ def rank(
 @ros2_app.command()
 @friendly_errors
 def explore(
+    ctx: typer.Context,
     policy: Annotated[
         str, typer.Option(help="Any policy spec: nearest, fixed:0.75, tour, learned:PATH, ...")
     ] = "nearest",
@@ -165,23 +185,33 @@ def explore(
     ] = 10.0,
     seed: Annotated[int, typer.Option(help=f"Seeds the policy's randomness (0 to {MAX_SEED}).")] = 0,
     json_out: Annotated[bool, typer.Option("--json", help="Print the final status as JSON, not a sentence.")] = False,
+    params_file: Annotated[
+        Path | None, typer.Option(help="explore_lite's parameter file (explore.yaml), for the options not given here.")
+    ] = None,
 ) -> None:
     """Explore with Nav2: rank the map's frontiers with a policy and send the best as goals."""
     checked_seed(seed)
-    params = _explorer_params(planner_frequency, progress_timeout, min_frontier_size, return_to_init, time_cap)
+    options = _with_parameter_file(
+        ctx,
+        params_file,
+        dict(
+            planner_frequency=planner_frequency,
+            progress_timeout=progress_timeout,
+            min_frontier_size=min_frontier_size,
+            return_to_init=return_to_init,
+            visualize=visualize,
+        ),
+    )
+    visualize = bool(options.pop("visualize"))
+    params = _explorer_params(**options, time_cap=time_cap)
     if not (math.isfinite(goal_silence_timeout) and goal_silence_timeout > 0):
         fail(f"--goal-silence-timeout must be a positive number of seconds, got {goal_silence_timeout!r}")
     _check_pose_type(pose_type)
     _need_ros2()
-    from frontier_rl.policies.registry import make_policy
-    from frontier_rl.robot.explorer import check_robot_policy
-    from frontier_rl.ros2.run import run_explorer
-
-    the_policy = make_policy(policy)
-    check_robot_policy(the_policy, policy)
-    status, summary = run_explorer(
-        the_policy,
+    _explore_with(
+        policy,
         params,
+        json_out,
         namespace=namespace,
         pose_topic=pose_topic,
         pose_type=pose_type,
@@ -190,6 +220,18 @@ def explore(
         seed=seed,
         goal_silence_timeout=goal_silence_timeout,
     )
+
+
+def _explore_with(policy: str, params: ExplorerParams, json_out: bool, **node: Any) -> None:
+    """Run the explorer with ``policy`` and the ``node``'s options; print how it ended (exit
+    status 130 if it was interrupted)."""
+    from frontier_rl.policies.registry import make_policy
+    from frontier_rl.robot.explorer import check_robot_policy
+    from frontier_rl.ros2.run import run_explorer
+
+    the_policy = make_policy(policy)
+    check_robot_policy(the_policy, policy)
+    status, summary = run_explorer(the_policy, params, **node)
     if json_out:
         print(status.to_json())
     else:

@@ -1,0 +1,72 @@
+"""explore_lite's parameter file read into the explorer's settings."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import pytest
+
+from frontier_rl.errors import ConfigError
+from frontier_rl.robot.explorer_params import ExplorerParams, explore_lite_parameters
+
+M_EXPLORE_ROS2 = """\
+explore_node:
+  ros__parameters:
+    robot_base_frame: base_link
+    return_to_init: true
+    costmap_topic: map
+    costmap_updates_topic: map_updates
+    visualize: true
+    planner_frequency: 0.15
+    progress_timeout: 30.0
+    potential_scale: 3.0
+    orientation_scale: 0.0
+    gain_scale: 1.0
+    transform_tolerance: 0.3
+    min_frontier_size: 0.75
+"""
+
+
+def test_m_explore_ros2s_own_file_gives_the_parameters_that_mean_the_same(tmp_path: Path) -> None:
+    path = tmp_path / "explore.yaml"
+    path.write_text(M_EXPLORE_ROS2)
+    known, ignored = explore_lite_parameters(path)
+    assert known == {
+        "return_to_init": True,
+        "visualize": True,
+        "planner_frequency": 0.15,
+        "progress_timeout": 30.0,
+        "min_frontier_size": 0.75,
+    }
+    assert ignored == [
+        "costmap_topic",
+        "costmap_updates_topic",
+        "gain_scale",
+        "orientation_scale",
+        "potential_scale",
+        "robot_base_frame",
+        "transform_tolerance",
+    ]
+    visualize = known.pop("visualize")
+    assert visualize is True and ExplorerParams(**known).planner_frequency == 0.15
+
+
+def test_a_plain_mapping_is_read_too_and_integers_are_numbers(tmp_path: Path) -> None:
+    path = tmp_path / "plain.yaml"
+    path.write_text("planner_frequency: 2\nprogress_timeout: 10\n")
+    assert explore_lite_parameters(path) == ({"planner_frequency": 2.0, "progress_timeout": 10.0}, [])
+
+
+@pytest.mark.parametrize(
+    ("text", "needle"),
+    [
+        ("return_to_init: yes please\n", "return_to_init must be true or false"),
+        ("- planner_frequency\n", "must map parameter names to values"),
+        ("progress_timeout: .nan\n", "progress_timeout must be a number"),
+    ],
+)
+def test_a_bad_file_is_one_error_naming_the_value(text: str, needle: str, tmp_path: Path) -> None:
+    path = tmp_path / "bad.yaml"
+    path.write_text(text)
+    with pytest.raises(ConfigError, match=needle):
+        explore_lite_parameters(path)
