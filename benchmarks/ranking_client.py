@@ -31,6 +31,7 @@ class _Client:
         self.statuses: list[dict[str, object]] = []
         self.round_trips: list[float] = []
         self.lists = 0
+        self.probes = 0  # requests sent before counting (wait_for_maps)
         node.create_subscription(String, "/frontier_status", self._on_status, 1000)
         node.create_subscription(PoseArray, "/frontier_list", self._on_list, 1000)
         self.requests = node.create_publisher(String, "/frontier_request", 1000)
@@ -57,6 +58,19 @@ class _Client:
             rclpy.spin_once(self.node, timeout_sec=0.1)
         time.sleep(1.0)  # the maps and poses reach the service
 
+    def wait_for_maps(self, robots: list[str]) -> None:
+        """Ask for ``robots`` until each is answered with frontiers (their maps and poses reached
+        the service); these answers are not reported."""
+        ready: set[str] = set()
+        deadline = time.monotonic() + _WAIT_S
+        while time.monotonic() < deadline and len(ready) < len(robots):
+            for robot in robots:
+                self.requests.publish(String(data=f"{robot} probe"))
+                self.probes += 1
+            self.spin_for(0.2)
+            ready |= {str(s["robot"]) for s in self.statuses if s["request"] == "probe" and s["frontiers"]}
+        self.statuses = [s for s in self.statuses if s["request"] != "probe"]
+
     def spin_for(self, seconds: float) -> None:
         end = time.monotonic() + seconds
         while time.monotonic() < end:
@@ -69,11 +83,14 @@ def main() -> None:
     parser.add_argument("--count", type=int, default=0, help="requests per robot, sent at once")
     parser.add_argument("--rate", type=float, default=0.0, help="requests per robot per second")
     parser.add_argument("--until-file", type=Path, help="with --rate: send until this file exists")
+    parser.add_argument("--ready", default="", help="robots whose answers must have frontiers before counting")
     args = parser.parse_args()
     robots = args.robots.split(",")
     rclpy.init()
     client = _Client(rclpy.create_node("ranking_client"))
     client.wait_for_service()
+    if args.ready:
+        client.wait_for_maps(args.ready.split(","))
     if args.count:
         for i in range(args.count):
             for robot in robots:
@@ -93,6 +110,7 @@ def main() -> None:
         json.dumps(
             {
                 "sent": len(client.sent),
+                "probes": client.probes,
                 "statuses": client.statuses,
                 "lists": client.lists,
                 "round_trips_s": client.round_trips,

@@ -18,7 +18,7 @@ from numpy.typing import NDArray
 from frontier_rl.checked_values import coerce
 from frontier_rl.errors import ConfigError, MapError, short_repr
 from frontier_rl.io.loaded_map import MAX_COORDINATE_M
-from frontier_rl.robot.map_message import check_map_message
+from frontier_rl.robot.map_message import check_map_message, yaw_of
 
 
 class StaleMapAnswer(StrEnum):
@@ -289,8 +289,7 @@ def map_cells(info: Any, frame_id: str, data: NDArray[np.int8], stamp_ns: int, s
     data = np.asarray(data, dtype=np.int8).reshape(-1)
     check_map_message(width, height, resolution, data.size)
     origin, q = info.origin.position, info.origin.orientation
-    yaw = math.atan2(2.0 * (q.w * q.z + q.x * q.y), 1.0 - 2.0 * (q.y * q.y + q.z * q.z))
-    frame = MapFrame(frame_id, float(origin.x), float(origin.y), yaw)
+    frame = MapFrame(frame_id, float(origin.x), float(origin.y), yaw_of(q))
     if not all(math.isfinite(v) for v in (frame.x, frame.y, frame.yaw)):
         raise MapError(f"map origin must be finite, got x {frame.x!r}, y {frame.y!r}, yaw {frame.yaw!r}")
     if max(abs(frame.x), abs(frame.y)) > MAX_COORDINATE_M:

@@ -63,6 +63,12 @@ def grid_from_message(
     return OccupancyGrid(cells, as_written(resolution), origin)
 
 
+def yaw_of(q: Any) -> float:
+    """The rotation about z (rad) of a ``geometry_msgs/Quaternion`` (ROS 1's or ROS 2's; its roll
+    and pitch are ignored)."""
+    return math.atan2(2.0 * (q.w * q.z + q.x * q.y), 1.0 - 2.0 * (q.y * q.y + q.z * q.z))
+
+
 def as_written(resolution: float) -> float:
     """A float32 ``resolution`` (m) as the decimal it was written as: 0.05 for 0.0500000007. A value
     a float32 cannot hold (a float64 from elsewhere) is kept as it is."""

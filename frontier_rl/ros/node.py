@@ -50,9 +50,10 @@ from frontier_rl.robot.answers import (
     robot_namespaces,
     seconds_parameter,
 )
+from frontier_rl.robot.map_message import yaw_of
 from frontier_rl.robot.ranking_service import Answer, RankingService, RobotPose, ServiceSettings
 from frontier_rl.ros.master_watch import EXIT_MASTER_RESTARTED, MasterWatch
-from frontier_rl.ros.ros_messages import answer_markers, import_rospy, map_cells, yaw
+from frontier_rl.ros.ros_messages import answer_markers, import_rospy, map_cells
 
 
 class FrontierNode:
@@ -79,8 +80,9 @@ class FrontierNode:
                                                      most=MAX_CHECK_PERIOD_S)  # fmt: skip
         spec = node_policy_spec(str(rospy.get_param("~policy", "") or ""), str(rospy.get_param("~model", "") or ""),
                                 coerce(float, rospy.get_param("~weight", THESIS_WEIGHT), "~weight"))  # fmt: skip
-        settings = ServiceSettings(tuple(robots), spec, top_k, min_cells, max_map_age, stale, keep_last_map,
-                                   max_pending)  # fmt: skip
+        settings = ServiceSettings(
+            tuple(robots), spec, top_k, min_cells, max_map_age, stale, keep_last_map, max_pending
+        )
         self.service = RankingService(settings, self._publish, self._warn, rospy.get_time)
         self.robots = robots
         self.tf_buffer: Any = None
@@ -139,7 +141,7 @@ class FrontierNode:
 
     def _on_pose(self, msg: Any, ns: str) -> None:
         p = msg.pose
-        self.service.on_pose(ns, (p.position.x, p.position.y, yaw(p.orientation)))
+        self.service.on_pose(ns, (p.position.x, p.position.y, yaw_of(p.orientation)))
 
     def _pose_from_tf(self, ns: str, info: MapInfo | None) -> RobotPose | None:
         if info is None or self.tf_buffer is None:
@@ -149,7 +151,7 @@ class FrontierNode:
             t = self.tf_buffer.lookup_transform(info.frame.frame_id, base, self.rospy.Time(0)).transform
         except Exception:  # tf2's lookup errors share no base class worth naming here; no pose is the answer
             return None
-        return t.translation.x, t.translation.y, yaw(t.rotation)
+        return t.translation.x, t.translation.y, yaw_of(t.rotation)
 
     def _on_request(self, msg: Any) -> None:
         self.service.on_request(str(msg.data), self._pose_from_tf)

@@ -4,7 +4,6 @@ python3-rospy and friends) when the environment has none of its own."""
 
 from __future__ import annotations
 
-import math
 import sys
 from pathlib import Path
 from typing import Any
@@ -31,11 +30,6 @@ def import_rospy() -> Any:
                 "python3-geometry-msgs python3-visualization-msgs python3-std-msgs)"
             ) from None
     return rospy
-
-
-def yaw(q: Any) -> float:
-    """The yaw (rad) of a ``geometry_msgs/Quaternion``."""
-    return math.atan2(2.0 * (q.w * q.z + q.x * q.y), 1.0 - 2.0 * (q.y * q.y + q.z * q.z))
 
 
 def map_cells(msg: Any, sequence: int, now_s: float) -> MapCells:

@@ -33,6 +33,7 @@ from visualization_msgs.msg import MarkerArray
 from frontier_rl.core.world.grid import OccupancyGrid
 from frontier_rl.core.world.robot import Pose
 from frontier_rl.errors import MapError
+from frontier_rl.robot.answers import ThrottledLog
 from frontier_rl.robot.explorer import Finished, FrontierExplorer, Goal
 from frontier_rl.ros2.messages import MAP_QOS, frontier_markers, grid_of, pose_stamped, robot_pose
 
@@ -105,7 +106,7 @@ class ExplorerNode(Node):
         self._grid: OccupancyGrid | None = None
         self._pose: Pose | None = None
         self._coverage = -1.0
-        self._warned_at: dict[str, float] = {}  # when a bad message on a topic was last logged (wall s)
+        self._warnings = ThrottledLog(_WARN_PERIOD_S)  # bad messages, per topic
         self.create_subscription(GridMessage, "map", self._on_map, MAP_QOS)
         kind = PoseWithCovarianceStamped if pose_type == "pose" else Odometry
         self.create_subscription(kind, pose_topic, self._on_pose, 10)
@@ -143,9 +144,7 @@ class ExplorerNode(Node):
     def _warn(self, topic: str, message: str) -> None:
         """Log ``message`` about ``topic`` at most every ``_WARN_PERIOD_S`` (rclpy's throttle
         shares one budget between the warnings of a node)."""
-        now = time.monotonic()
-        if now - self._warned_at.get(topic, -math.inf) >= _WARN_PERIOD_S:
-            self._warned_at[topic] = now
+        if self._warnings.due("", topic, time.monotonic()):
             self.get_logger().warn(message)
 
     def _on_coverage(self, message: Float32) -> None:

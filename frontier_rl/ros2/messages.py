@@ -24,7 +24,7 @@ from frontier_rl.core.sensing.lidar import Scan
 from frontier_rl.core.world.grid import OccupancyGrid
 from frontier_rl.core.world.robot import Pose as RobotPose
 from frontier_rl.errors import MapError
-from frontier_rl.robot.map_message import grid_from_message
+from frontier_rl.robot.map_message import grid_from_message, yaw_of
 
 MAP_FRAME = "map"
 MAP_QOS = QoSProfile(depth=1, durability=DurabilityPolicy.TRANSIENT_LOCAL, reliability=ReliabilityPolicy.RELIABLE)
@@ -34,11 +34,6 @@ MAP_QOS = QoSProfile(depth=1, durability=DurabilityPolicy.TRANSIENT_LOCAL, relia
 def quaternion_of(yaw: float) -> Quaternion:
     """A rotation of ``yaw`` (rad) about z."""
     return Quaternion(x=0.0, y=0.0, z=math.sin(yaw / 2.0), w=math.cos(yaw / 2.0))
-
-
-def yaw_of(q: Quaternion) -> float:
-    """The rotation about z (rad) of a quaternion (its roll and pitch are ignored)."""
-    return math.atan2(2.0 * (q.w * q.z + q.x * q.y), 1.0 - 2.0 * (q.y * q.y + q.z * q.z))
 
 
 def pose_message(pose: RobotPose) -> Pose:

@@ -24,8 +24,9 @@ from std_msgs.msg import Float32, String
 from visualization_msgs.msg import Marker, MarkerArray
 
 from frontier_rl.robot.answers import map_cells
+from frontier_rl.robot.map_message import yaw_of
 from frontier_rl.robot.ranking_service import Answer, RankingService
-from frontier_rl.ros2.messages import MAP_QOS, yaw_of
+from frontier_rl.ros2.messages import MAP_QOS
 
 _QUEUE = 100
 """Depth of the request and answer topics: a burst of requests is queued, not dropped."""

@@ -16,6 +16,7 @@ from frontier_rl.core.sensing.lidar import Lidar
 from frontier_rl.core.world.grid import CellState, OccupancyGrid
 from frontier_rl.core.world.robot import Pose as RobotPose
 from frontier_rl.errors import MapError
+from frontier_rl.robot.map_message import yaw_of
 from frontier_rl.ros2.messages import (
     grid_message,
     grid_of,
@@ -23,7 +24,6 @@ from frontier_rl.ros2.messages import (
     pose_message,
     quaternion_of,
     robot_pose,
-    yaw_of,
 )
 
 

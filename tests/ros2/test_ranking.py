@@ -26,7 +26,7 @@ def test_every_request_is_answered_for_a_team_and_an_unknown_robot_with_a_reason
     script = (
         f"{frontier_rl} ros2 sim --world office --seed 3 --robots 2 > sim.log 2>&1 & sim=$!; "
         f"{frontier_rl} ros2 rank --robots tb3_0,tb3_1 --policy fixed:0.75 > rank.log 2>&1 & rank=$!; "
-        f"{client} tb3_0,tb3_1,ghost --count 10 > client.log 2> client.err; status=$?; "
+        f"{client} tb3_0,tb3_1,ghost --count 10 --ready tb3_0,tb3_1 > client.log 2> client.err; status=$?; "
         "kill -INT $rank $sim; wait $rank; wait $sim; exit $status"
     )
     done = run_in_loopback(script, tmp_path, 150)
@@ -40,4 +40,4 @@ def test_every_request_is_answered_for_a_team_and_an_unknown_robot_with_a_reason
         assert all(a["frontiers"] > 0 and a["policy"] == "fixed:0.75" for a in answers), answers
     ghosts = [statuses[("ghost", f"ghost-{i}")] for i in range(10)]
     assert all(g["frontiers"] == 0 and "ghost" in g["reason"] for g in ghosts), ghosts
-    assert "30 requests answered" in (tmp_path / "rank.log").read_text()
+    assert f"{30 + report['probes']} requests answered" in (tmp_path / "rank.log").read_text()
