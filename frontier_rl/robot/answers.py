@@ -271,6 +271,12 @@ class ThrottledLog:
         return True
 
 
+def marker_style(rank: int, count: int) -> tuple[float, float, float]:
+    """How an answer's ``rank``-th of ``count`` frontiers is drawn in RViz: sphere size (m), green
+    and red (the best large and green, the worst red)."""
+    return 0.25 if rank == 0 else 0.15, 1.0 - rank / max(count, 1), rank / max(count, 1)
+
+
 @dataclass(frozen=True)
 class MapCells:
     """A map as the node accepted it: where it lies and when it was made, and its cells as the

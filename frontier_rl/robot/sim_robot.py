@@ -75,7 +75,7 @@ class SimulatedRobot:
         return self._leg is not None
 
     def map(self) -> OccupancyGrid:
-        """The map the robot has built, over the whole world (the map frame)."""
+        """The map the robot has built, grown to the seen area (the map frame)."""
         return self.sim.map()
 
     def scan(self) -> Scan:

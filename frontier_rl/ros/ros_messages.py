@@ -9,7 +9,7 @@ from pathlib import Path
 from typing import Any
 
 from frontier_rl.errors import FrontierRLError
-from frontier_rl.robot.answers import MapCells
+from frontier_rl.robot.answers import MapCells, marker_style
 from frontier_rl.robot.answers import map_cells as accepted_map
 
 _SYSTEM_PACKAGES = Path("/usr/lib/python3/dist-packages")
@@ -54,7 +54,8 @@ def answer_markers(answer: Any) -> Any:
         m.header = answer.header
         m.ns, m.id, m.type, m.action = "frontiers", i, Marker.SPHERE, Marker.ADD
         m.pose = pose
-        m.scale.x = m.scale.y = m.scale.z = 0.25 if i == 0 else 0.15
-        m.color.a, m.color.g, m.color.r = 0.9, 1.0 - i / max(n, 1), i / max(n, 1)  # best green, worst red
+        size, m.color.g, m.color.r = marker_style(i, n)
+        m.scale.x = m.scale.y = m.scale.z = size
+        m.color.a = 0.9
         markers.markers.append(m)
     return markers

@@ -23,7 +23,7 @@ from rclpy.node import Node
 from std_msgs.msg import Float32, String
 from visualization_msgs.msg import Marker, MarkerArray
 
-from frontier_rl.robot.answers import map_cells
+from frontier_rl.robot.answers import map_cells, marker_style
 from frontier_rl.robot.map_message import yaw_of
 from frontier_rl.robot.ranking_service import Answer, RankingService
 from frontier_rl.ros2.messages import MAP_QOS
@@ -103,7 +103,8 @@ def _markers(answer: PoseArray) -> MarkerArray:
     n = len(answer.poses)
     for i, pose in enumerate(answer.poses):
         marker = Marker(header=answer.header, ns="frontiers", id=i, type=Marker.SPHERE, action=Marker.ADD, pose=pose)
-        marker.scale.x = marker.scale.y = marker.scale.z = 0.25 if i == 0 else 0.15
-        marker.color.a, marker.color.g, marker.color.r = 0.9, 1.0 - i / max(n, 1), i / max(n, 1)
+        size, marker.color.g, marker.color.r = marker_style(i, n)
+        marker.scale.x = marker.scale.y = marker.scale.z = size
+        marker.color.a = 0.9
         markers.append(marker)
     return MarkerArray(markers=markers)

@@ -78,6 +78,7 @@ class RobotPort:
         )
         self._active: _ActiveGoal | None = None
         self._map_sent_at = -math.inf
+        self._scan_at = (-math.inf, -math.inf)  # simulated and wall time of the last scan published (s)
         self.goals = 0
 
     @property
@@ -143,14 +144,19 @@ class RobotPort:
         active.handle.publish_feedback(feedback)
 
     def publish_state(self, with_map: bool) -> None:
-        """The pose, a scan, and the map (at most every ``_MAP_PERIOD_S``, or now)."""
+        """The pose, a scan (at the LiDAR's rate, when subscribed), and the map (at most every
+        ``_MAP_PERIOD_S``, or now)."""
         stamp = stamp_of(self.robot.sim_time)
         pose = self.robot.pose
         self._pose_pub.publish(pose_with_covariance(pose, stamp))
         self._odom_pub.publish(odometry(pose, stamp))
         lidar = self.robot.sim.config.lidar
-        self._scan_pub.publish(laser_scan(self.robot.scan(), lidar.min_range, lidar.max_range, stamp))
         now = time.monotonic()
+        sim_s, wall_s = self._scan_at
+        due = abs(self.robot.sim_time - sim_s) >= lidar.period or now - wall_s >= lidar.period
+        if due and self._scan_pub.get_subscription_count():  # at the LiDAR's rate (simulated or wall), for someone
+            self._scan_pub.publish(laser_scan(self.robot.scan(), lidar.min_range, lidar.max_range, stamp))
+            self._scan_at = (self.robot.sim_time, now)
         if with_map or now - self._map_sent_at >= _MAP_PERIOD_S:
             self._map_pub.publish(grid_message(self.robot.map(), stamp))
             self._coverage_pub.publish(Float32(data=float(self.robot.sim.coverage)))

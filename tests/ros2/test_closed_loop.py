@@ -71,7 +71,10 @@ def test_a_simulator_killed_and_restarted_is_explored_to_the_end(tmp_path: Path)
 
 def test_a_team_of_two_robots_in_namespaces_each_explores_the_world(tmp_path: Path) -> None:
     """``ros2 sim --robots 2``: two robots in one world (each in its namespace, each the other's
-    obstacle, each with its own map), an explorer per namespace; both end ``explored``."""
+    obstacle, each with its own map), an explorer per namespace; both map the world. A robot that
+    finished first stands where it ended and may block its teammate's last small frontier (with
+    the scheduling of a loaded machine, about one run in four): that one then ends ``unreachable``
+    with less than 0.5 m² unknown beside it, and says so."""
     frontier_rl = shlex.quote(cli())
     explore = f"timeout --preserve-status -s INT 120 {frontier_rl} ros2 explore --json --use-sim-time"
     script = (
@@ -85,6 +88,8 @@ def test_a_team_of_two_robots_in_namespaces_each_explores_the_world(tmp_path: Pa
     assert done.returncode == 0, logs
     for robot in (0, 1):
         status = json.loads((tmp_path / f"explore{robot}.log").read_text().strip().splitlines()[-1])
-        assert status["state"] == "finished" and status["reason"] == "explored", logs
-        assert status["coverage"] > 0.99, logs
+        assert status["state"] == "finished" and status["coverage"] > 0.99, logs
+        assert status["reason"] == "explored" or (status["reason"] == "unreachable" and status["unknown_m2"] < 0.5), (
+            logs
+        )
     assert "tb3_0:" in logs and "tb3_1:" in logs  # the simulator's line per robot
