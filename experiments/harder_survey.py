@@ -58,6 +58,7 @@ class Episode:
     explorable_left_m2: float
     aborts: Counter[str]
     with_path_left: int
+    unrevealable_left: int
 
 
 def run_map(frontier_rl: Path, world: str, methods: str, episodes: int, out: Path, workers: int | None) -> None:
@@ -105,6 +106,7 @@ def read_episodes(folder: Path) -> list[Episode]:
                     float(trace.get("explorable_left_m2", "nan")),
                     Counter(trace.get("aborts_by_cause", {})),
                     int(trace.get("frontiers_with_path_left", 0)),
+                    int(trace.get("frontiers_unrevealable_left", 0)),
                 )
             )
     return found
@@ -128,6 +130,7 @@ def table(episodes: list[Episode]) -> tuple[str, list[dict[str, object]]]:
                 **{r: reasons[r] for r in ("explored", "unreachable", "time_cap")},
                 "at_99": sum(e.coverage >= 0.99 for e in group),
                 "unreachable_with_a_path": sum(e.end_reason == "unreachable" and e.with_path_left > 0 for e in group),
+                "unrevealable_left": sum(e.unrevealable_left for e in group),
                 "aborts": aborts,
                 "explorable_left_m2": round(mean(e.explorable_left_m2 for e in group), 2),
                 "min_coverage": round(min(e.coverage for e in group), 4),
@@ -136,14 +139,16 @@ def table(episodes: list[Episode]) -> tuple[str, list[dict[str, object]]]:
         )
     lines = [
         "| map | method | episodes | explored | unreachable | time cap | >= 99 % | unreachable, a path left "
-        "| aborts by cause | explorable left (m², mean) | coverage min | time / fastest |",
-        "|---|---|---:|---:|---:|---:|---:|---:|---|---:|---:|---:|",
+        "| unrevealable frontiers left | aborts by cause | explorable left (m², mean) | coverage min "
+        "| time / fastest |",
+        "|---|---|---:|---:|---:|---:|---:|---:|---:|---|---:|---:|---:|",
     ]
     for row in rows:
         causes = ", ".join(f"{k} {v}" for k, v in sorted(row["aborts"].items()) if v) or "none"  # type: ignore[attr-defined]
         lines.append(
             f"| {row['map']} | {row['method']} | {row['episodes']} | {row['explored']} | {row['unreachable']} "
-            f"| {row['time_cap']} | {row['at_99']} | {row['unreachable_with_a_path']} | {causes} "
+            f"| {row['time_cap']} | {row['at_99']} | {row['unreachable_with_a_path']} | {row['unrevealable_left']} "
+            f"| {causes} "
             f"| {row['explorable_left_m2']} | {row['min_coverage']:.2%} | {row['time_over_fastest']} |"
         )
     n = len(episodes)

@@ -300,6 +300,7 @@ def run_job(job: EpisodeJob, settings: EpisodeSettings) -> dict[str, Any]:
         "aborts_by_cause": summary["aborts_by_cause"],
         "explorable_left_m2": summary["explorable_left_m2"],
         "frontiers_with_path_left": summary["frontiers_with_path_left"],
+        "frontiers_unrevealable_left": summary["frontiers_unrevealable_left"],
     }
     if isinstance(result, TeamResult):
         trace |= {k: summary[k] for k in ("robot_path_lengths_m", "robot_coverage", "failed_at_s")}

@@ -139,7 +139,7 @@ class FrontierExplorer:
             if not self._frontier_open(grid):
                 self.goal = None  # seen: the next one
             elif self._arrived:
-                self.goal_failed(grid)  # there, and still not seen: it cannot be seen from there
+                self.goal_failed(grid, reached=True)  # there, and still not seen: it cannot be seen from there
             elif self._stalled(pose, now):
                 self.goal_failed(grid)
             else:
@@ -152,11 +152,13 @@ class FrontierExplorer:
         none = replace(cand, frontiers=cand.frontiers.subset(np.zeros(0, np.int64)))  # every frontier is left
         return self._finish(EndReason.TIME_CAP, grid, pose, none)
 
-    def goal_failed(self, grid: OccupancyGrid) -> None:
-        """The navigation stack rejected or aborted the goal under way (or it made no progress):
-        its frontier is blacklisted, to be tried again once the map around it changes."""
+    def goal_failed(self, grid: OccupancyGrid, *, reached: bool = False) -> None:
+        """The navigation stack rejected or aborted the goal under way (or it made no progress; or,
+        ``reached``, got there and its frontier is still not seen): its frontier is blacklisted, to
+        be tried again once the map around it changes (a goal reached twice in vain: never)."""
         if self.goal is not None and len(self.goal.frontier):
-            self._blacklist_for(grid).fail(self.goal.x, self.goal.y, grid.data)
+            blacklist = self._blacklist_for(grid)
+            blacklist.fail(self.goal.x, self.goal.y, grid.data, reached=reached, frontier=self.goal.frontier)
             self.goals_given_up += 1
         self.goal = None
         self._arrived = False

@@ -15,12 +15,25 @@ lies within ``radius`` of it), and the entry is lifted
 
 A goal that has used up that budget stays blacklisted: the episode can then end, and names it
 among the frontiers it could not explore.
+
+A goal the robot *reached* whose frontier stayed (it stood at the viewpoint chosen to see it, closed
+in on the goal cell, waited for a map update, and nothing was revealed: a streak of free cells
+drawn by rays through glass, a slot narrower than a beam's spacing) is a visit, not a failure to get
+there. A goal visited ``max_failures`` times without its frontier going away is *unrevealable*: the
+view it was chosen for has been had, twice, and revealed nothing. The audit does not lift it, so
+such frontiers are not chased again and again (the harder survey's SLAM maps had 86-146 such legs
+an episode); the episode names them apart from the frontiers it gave up on with a path left.
+
+A frontier keeps its history where it reappears: on a SLAM map a streak's frontier comes back a cell
+further on, or split, its goal elsewhere. A failure whose frontier touches (within a cell and a half)
+the cells of an entry's failed frontiers counts towards that entry, and the entry blocks its new goal
+too, so that the frontier's failures add up however its goal moves.
 """
 
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 
 import numpy as np
 from numpy.typing import NDArray
@@ -34,13 +47,17 @@ AUDIT_BUDGET = 2
 
 @dataclass
 class BlacklistEntry:
-    """A goal that failed.
+    """A place whose goals failed.
 
     Attributes:
-        x, y: the goal (m), in the map's frame.
-        failures: how often a leg to it failed.
-        known: known cells in the window around it when it last failed (the map's state there).
+        x, y: the first goal that failed there (m), in the map's frame; the window of ``known``.
+        failures: how often a leg to one of its goals failed, visits included.
+        known: known cells in the window around (x, y) when a goal last failed (the map's state there).
         active: whether it blocks frontiers now.
+        visits: of ``failures``, the legs that reached their goal and left its frontier unresolved.
+        goals: every goal that failed there ((k, 2), m): frontiers whose goal lies within the
+            blacklist's radius of one are blocked.
+        frontier: the cells of the frontiers those goals were for ((n, 2), m; empty when unknown).
     """
 
     x: float
@@ -48,6 +65,25 @@ class BlacklistEntry:
     failures: int
     known: int
     active: bool = True
+    visits: int = 0
+    goals: NDArray[np.float64] = field(default_factory=lambda: np.zeros((0, 2)))
+    frontier: NDArray[np.float64] = field(default_factory=lambda: np.zeros((0, 2)))
+
+    def __post_init__(self) -> None:
+        if len(self.goals) == 0:
+            self.goals = np.array([[self.x, self.y]], np.float64)
+
+    def near_goals(self, points: NDArray[np.float64], radius: float) -> NDArray[np.bool_]:
+        """Which of ``points`` ((n, 2), m) lie within ``radius`` (m) of one of its goals."""
+        gaps = np.hypot(points[:, None, 0] - self.goals[None, :, 0], points[:, None, 1] - self.goals[None, :, 1])
+        return np.asarray(gaps.min(axis=1) <= radius)
+
+    def touches(self, cells: NDArray[np.float64], reach: float) -> bool:
+        """Whether a frontier's ``cells`` ((n, 2), m) lie within ``reach`` (m) of its frontiers' cells."""
+        if len(cells) == 0 or len(self.frontier) == 0:
+            return False
+        gaps = np.hypot(cells[:, None, 0] - self.frontier[None, :, 0], cells[:, None, 1] - self.frontier[None, :, 1])
+        return bool(gaps.min() <= reach)
 
 
 class Blacklist:
@@ -94,16 +130,50 @@ class Blacklist:
         window = state[max(row - h, 0) : row + h + 1, max(col - h, 0) : col + h + 1]
         return int(window.size - np.count_nonzero(window == _UNKNOWN))
 
-    def fail(self, x: float, y: float, state: NDArray[np.int8]) -> None:
-        """Record that the goal (x, y) (m) failed, with the map ``state`` as it is now."""
-        known = self._known(state, x, y)
+    def _touch_reach(self) -> float:
+        """How near (m) a frontier's cell must lie to an entry's to be the same frontier: a cell and a half."""
+        return 1.5 * self._resolution
+
+    def _entry_of(self, x: float, y: float, frontier: NDArray[np.float64]) -> BlacklistEntry | None:
+        """The entry a failure at goal (x, y) (m) of a frontier with cells ``frontier`` belongs to."""
+        goal = np.array([[x, y]])
         for entry in self.entries:
             if math.hypot(entry.x - x, entry.y - y) <= self.radius:
-                entry.failures += 1
-                entry.known = known
-                entry.active = True
-                return
-        self.entries.append(BlacklistEntry(x, y, 1, known))
+                return entry
+        for entry in self.entries:
+            if entry.near_goals(goal, self.radius)[0] or entry.touches(frontier, self._touch_reach()):
+                return entry
+        return None
+
+    def fail(
+        self,
+        x: float,
+        y: float,
+        state: NDArray[np.int8],
+        *,
+        reached: bool = False,
+        frontier: NDArray[np.float64] | None = None,
+    ) -> None:
+        """Record that the goal (x, y) (m) failed, with the map ``state`` as it is now; ``reached``:
+        the robot got there and the frontier stayed (a visit); ``frontier``: the cells of the
+        frontier it was for ((n, 2), m), whose history it joins where it touches an entry's."""
+        cells = np.zeros((0, 2)) if frontier is None else np.asarray(frontier, np.float64).reshape(-1, 2)
+        entry = self._entry_of(x, y, cells)
+        if entry is None:
+            self.entries.append(BlacklistEntry(x, y, 1, self._known(state, x, y), visits=int(reached), frontier=cells))
+            return
+        entry.failures += 1
+        entry.visits += reached
+        entry.known = self._known(state, entry.x, entry.y)  # the window refresh watches
+        entry.active = True
+        if not entry.near_goals(np.array([[x, y]]), self.radius)[0]:
+            entry.goals = np.vstack((entry.goals, [[x, y]]))
+        if len(cells):
+            entry.frontier = np.unique(np.vstack((entry.frontier, cells)), axis=0)
+
+    def unrevealable(self, entry: BlacklistEntry) -> bool:
+        """Whether ``entry`` was visited ``max_failures`` times and its frontier stayed."""
+        return entry.visits >= self.max_failures
 
     def refresh(self, state: NDArray[np.int8]) -> None:
         """Lift the entries that may still be retried around which the map ``state`` has changed
@@ -120,18 +190,29 @@ class Blacklist:
         blocked = np.zeros(len(goals), np.bool_)
         for entry in self.entries:
             if entry.active and (not retrying or entry.failures >= self.max_failures):
-                blocked |= np.hypot(goals[:, 0] - entry.x, goals[:, 1] - entry.y) <= self.radius
+                blocked |= entry.near_goals(goals, self.radius)
         return blocked
 
     def retry(self, budget: int | None = None) -> None:
         """Lift every entry that may still be retried: failed fewer than ``budget`` times
-        (``max_failures`` by default; the audit's is ``AUDIT_BUDGET * max_failures``)."""
+        (``max_failures`` by default; the audit's is ``AUDIT_BUDGET * max_failures``) and not
+        :meth:`unrevealable`."""
         limit = self.max_failures if budget is None else budget
         for entry in self.entries:
-            if entry.failures < limit:
+            if entry.failures < limit and not self.unrevealable(entry):
                 entry.active = False
 
     def failures_near(self, x: float, y: float) -> int:
         """How often a goal within ``radius`` of (x, y) (m) failed."""
-        near = [e.failures for e in self.entries if math.hypot(e.x - x, e.y - y) <= self.radius]
-        return max(near, default=0)
+        return self.history_of(np.array([[x, y]]))[0]
+
+    def history_of(self, cells: NDArray[np.float64]) -> tuple[int, bool]:
+        """A frontier's history, from the entries with a goal within ``radius`` of one of its
+        ``cells`` ((n, 2), m) or whose frontiers touch them: the most failures of one, and whether
+        one is unrevealable."""
+        failures, unrevealable = 0, False
+        for entry in self.entries:
+            if len(cells) and (entry.near_goals(cells, self.radius).any() or entry.touches(cells, self._touch_reach())):
+                failures = max(failures, entry.failures)
+                unrevealable |= self.unrevealable(entry)
+        return failures, unrevealable

@@ -90,13 +90,13 @@ def frontiers_left(
             if specks and behind_m2 <= UNSEEN_ROOM_M2:
                 continue
             x, y = (float(v) for v in frontiers.centers[i])
-            failures = max((blacklist.failures_near(*g) for g in cand.grid.cells_to_world(cells)), default=0)
+            failures, unrevealable = blacklist.history_of(cand.grid.cells_to_world(cells))
             unknown, unseen = unknown_beside(beside, cells[:, 0], cells[:, 1], truth)
             rows, cols = np.divmod(unseen, cand.grid.width)
             in_world = (rows + top) * truth_grid.width + cols + left_col
             has_path = bool(audited[cells[:, 0] * cand.grid.width + cells[:, 1]].any())
             left.append(FrontierLeft(x, y, int(frontiers.sizes[i]), unknown, unseen.size, unseen.size * res * res,
-                                     failures, behind_m2, in_world, has_path))  # fmt: skip
+                                     failures, behind_m2, in_world, has_path, unrevealable))  # fmt: skip
     return tuple(left)
 
 

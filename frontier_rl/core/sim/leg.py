@@ -92,8 +92,11 @@ class LegNavigation(Protocol):
     def frontier_alive(self, cells: NDArray[np.int64]) -> bool:
         """Whether a frontier's cells (world cells) are still a frontier."""
 
-    def blacklist_goal(self, goal: tuple[float, float]) -> None:
-        """Record a failed attempt at ``goal`` (m)."""
+    def blacklist_goal(
+        self, goal: tuple[float, float], frontier_cells: NDArray[np.int64] | None, *, reached: bool = False
+    ) -> None:
+        """Record a failed attempt at ``goal`` (m) for the frontier of ``frontier_cells`` (world
+        cells, None for a point goal); ``reached``: the robot got there and its frontier stayed."""
 
 
 class LegPort(Protocol):
@@ -356,9 +359,9 @@ class Leg:
         if outcome is LegOutcome.REACHED and self._frontier_alive():
             yield from self._port.wait_steps()
             if self._frontier_alive():
-                self._port.navigator.blacklist_goal(self.goal)
+                self._port.navigator.blacklist_goal(self.goal, self._frontier_cells, reached=True)
         if outcome is LegOutcome.ABORTED:
-            self._port.navigator.blacklist_goal(self.goal)
+            self._port.navigator.blacklist_goal(self.goal, self._frontier_cells)
 
 
 def tail_lengths(path: NDArray[np.float64]) -> NDArray[np.float64]:

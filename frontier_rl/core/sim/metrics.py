@@ -54,7 +54,9 @@ class FrontierLeft:
             a cell beside two frontiers is counted once in an episode's ``unknown_left_m2``.
         has_path: the audit: the robot's final map, planned afresh from where it stands (a new
             costmap, no blacklist, normal or narrow-passage recovery), has a path to it: it was
-            given up on after its failed attempts, not for want of a way.
+            given up on after its failed attempts, not for want of a way (unless ``unrevealable``).
+        unrevealable: the robot reached a goal of it as often as a goal may fail, and it stayed: the
+            view it was chosen for revealed nothing (:mod:`~frontier_rl.core.frontiers.blacklist`).
     """
 
     x: float
@@ -67,6 +69,7 @@ class FrontierLeft:
     unseen_behind_m2: float
     unseen_cells: NDArray[np.int64] = field(repr=False, compare=False, default_factory=lambda: np.zeros(0, np.int64))
     has_path: bool = False
+    unrevealable: bool = False
 
     def summary(self) -> dict[str, Any]:
         """A JSON-ready dict."""
@@ -80,6 +83,7 @@ class FrontierLeft:
             "failures": self.failures,
             "unseen_behind_m2": round(self.unseen_behind_m2, 4),
             "has_path": self.has_path,
+            "unrevealable": self.unrevealable,
         }
 
 
@@ -162,8 +166,15 @@ class EpisodeResult:
     @property
     def frontiers_with_path_left(self) -> int:
         """The audit's count: frontiers left to which the robot's final map has a path
-        (:attr:`FrontierLeft.has_path`), given up on after their failed attempts."""
-        return sum(f.has_path for f in self.frontiers_left)
+        (:attr:`FrontierLeft.has_path`), given up on after their failed attempts; not those the
+        robot reached in vain (:attr:`frontiers_unrevealable_left`)."""
+        return sum(f.has_path and not f.unrevealable for f in self.frontiers_left)
+
+    @property
+    def frontiers_unrevealable_left(self) -> int:
+        """Frontiers left that the robot reached as often as a goal may fail and that stayed
+        (:attr:`FrontierLeft.unrevealable`)."""
+        return sum(f.unrevealable for f in self.frontiers_left)
 
     @property
     def real_time_factor(self) -> float:
@@ -188,6 +199,7 @@ class EpisodeResult:
             "unknown_left_m2": round(self.unknown_left_m2, 4),
             "explorable_left_m2": round(self.explorable_left_m2, 4),
             "frontiers_with_path_left": self.frontiers_with_path_left,
+            "frontiers_unrevealable_left": self.frontiers_unrevealable_left,
             "wall_time_s": round(self.wall_time_s, 4),
             "real_time_factor": round(self.real_time_factor, 1),
         }

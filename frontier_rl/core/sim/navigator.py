@@ -150,7 +150,12 @@ class Navigator:
         drop = self._config.drop_cells(self._world.grid.resolution)
         return count_fringe(self._mapper.state, cells[:, 0], cells[:, 1]) > drop
 
-    def blacklist_goal(self, goal: tuple[float, float]) -> None:
-        """A leg to ``goal`` (m) failed: blacklist it, and find the candidates afresh."""
-        self.blacklist.fail(*goal, self._mapper.state)
+    def blacklist_goal(
+        self, goal: tuple[float, float], frontier_cells: NDArray[np.int64] | None, *, reached: bool = False
+    ) -> None:
+        """A leg to ``goal`` (m) for the frontier of ``frontier_cells`` (world cells; None for a
+        point goal) failed (``reached``: got there, and its frontier stayed): blacklist it, and find
+        the candidates afresh."""
+        cells = None if frontier_cells is None else self._world.grid.cells_to_world(frontier_cells)
+        self.blacklist.fail(*goal, self._mapper.state, reached=reached, frontier=cells)
         self._cached = None

@@ -248,11 +248,12 @@ class ExplorationSimulator:
             row, col = (int(v) for v in cand.frontiers.goal_cells[index])
             goal = cand.grid.cell_to_world(row, col)
             path = plan_path(cand, self.pose, (row, col), self.nearby_robots, self.config)
+            frontier = cand.grid.cells_to_world(cand.frontiers.cells_of(index))
             if path is None:
-                self.blacklist.fail(*goal, self.mapper.state)
+                self.blacklist.fail(*goal, self.mapper.state, frontier=frontier)
                 self.log.abort(AbortCause.NOT_PLANNED)
                 continue
-            frontier_cells = self.world.grid.world_to_cells(cand.grid.cells_to_world(cand.frontiers.cells_of(index)))
+            frontier_cells = self.world.grid.world_to_cells(frontier)
             return (yield from self._drive(Leg(self, path, goal, frontier_cells, cand.recovery), index, weight))
         self.navigator.forget()  # the blacklist changed
         result = self._leg_result(LegOutcome.NONE, -1, (math.nan, math.nan), self.sim_time, 0, 0)

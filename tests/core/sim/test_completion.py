@@ -113,7 +113,8 @@ def test_a_room_behind_a_door_narrower_than_the_robot_ends_unreachable_and_is_no
     assert result.unknown_left_m2 > 0
     beyond = [f for f in result.frontiers_left if f.unseen_free_cells > 4]
     assert beyond and all(f.x > 2.9 for f in beyond)  # at or behind the door
-    assert all(f.failures in (0, SimConfig().navigation.max_goal_failures) for f in beyond)
+    # no way to them: the robot saw the door once (a failure of the frontier's history), and gave up for want of a path
+    assert all(f.failures <= SimConfig().navigation.max_goal_failures and not f.has_path for f in beyond)
 
 
 def test_the_same_door_wide_enough_is_explored() -> None:

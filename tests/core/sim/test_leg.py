@@ -102,8 +102,10 @@ class ScriptedPort:
     def frontier_alive(self, cells: NDArray[np.int64]) -> bool:
         return self.alive(self.sim_time)
 
-    def blacklist_goal(self, goal: tuple[float, float]) -> None:
-        self.calls.append("blacklist")
+    def blacklist_goal(
+        self, goal: tuple[float, float], frontier_cells: NDArray[np.int64] | None, *, reached: bool = False
+    ) -> None:
+        self.calls.append("visited" if reached else "blacklist")
 
 
 def _straight(x1: float, x0: float = 0.5) -> NDArray[np.float64]:
