@@ -8,7 +8,8 @@ cell that the outline crosses marked occupied, so every wall stays at least one 
 
 Files are untrusted input: a file over :data:`MAX_FILE_BYTES`, a polygon of more than
 :data:`MAX_VERTICES` vertices or with a coordinate beyond +-:data:`MAX_COORDINATE_M`, a polygon
-whose outline crosses itself (a bow tie: inside and outside are then undefined), one of zero area,
+whose outline crosses itself (a bow tie, or a figure of eight through one vertex: inside and
+outside are then undefined), one of zero area,
 or a grid of more than :data:`MAX_CELLS` cells is refused with a :class:`MapError` naming the
 file. Repeated consecutive vertices are dropped (they add no edge); edges that only touch (a slit
 of zero width) are kept.
@@ -161,11 +162,54 @@ def _crossings(verts: NDArray[np.float64]) -> tuple[NDArray[np.int64], NDArray[n
     return pairs[:, 0], pairs[:, 1]
 
 
+def _vertex_crossings(verts: NDArray[np.float64]) -> list[tuple[int, int]]:
+    """The pairs (i, j), i < j, of vertices of the closed polygon ``verts`` at the same point
+    (within :data:`CROSSING_TOLERANCE_M`) where the outline's second pass crosses its first: its
+    edges in and out of the point lie on either side of the first pass's two edges (a figure of
+    eight through one vertex). Passes that only touch (two rooms meeting at a corner) or run along
+    each other do not count. :func:`_crossings` leaves shared vertices out."""
+    n = len(verts)
+    keys = np.round(verts / CROSSING_TOLERANCE_M).astype(np.int64)
+    _, group, counts = np.unique(keys, axis=0, return_inverse=True, return_counts=True)
+    found = []
+    for label in np.flatnonzero(counts > 1):
+        at = np.flatnonzero(group.ravel() == label)
+        for a, i in enumerate(at):
+            for j in at[a + 1 :]:
+                if _passes_cross(verts, int(i), int(j), n):
+                    found.append((int(i), int(j)))
+    return found
+
+
+def _passes_cross(verts: NDArray[np.float64], i: int, j: int, n: int) -> bool:
+    """Whether the outline's passes through vertices ``i`` and ``j`` (the same point) cross."""
+    point = verts[i]
+
+    def angle(k: int) -> float:
+        dx, dy = verts[k % n] - point
+        return math.atan2(float(dy), float(dx))
+
+    start = angle(i - 1)
+    turn = [(angle(k) - start) % (2 * math.pi) for k in (i + 1, j - 1, j + 1)]
+    tol = 1e-9
+    if any(t < tol or t > 2 * math.pi - tol for t in turn) or any(abs(t - turn[0]) < tol for t in turn[1:]):
+        return False  # a ray along the first pass: the outlines overlap there, they do not cross
+    return (turn[1] < turn[0]) != (turn[2] < turn[0])
+
+
 def _check_simple(path: Path, verts: NDArray[np.float64], index: NDArray[np.int64]) -> None:
     """MapError naming the first crossing edges (by the file's vertex numbers) if the outline
-    ``verts`` crosses itself; ``index`` holds each vertex's number in the file."""
+    ``verts`` crosses itself, or the vertex it crosses itself at; ``index`` holds each vertex's
+    number in the file."""
     cross_i, cross_j = _crossings(verts)
     if cross_i.size == 0:
+        at_vertex = _vertex_crossings(verts)
+        if at_vertex:
+            (i, j), (x, y) = at_vertex[0], verts[at_vertex[0][0]]
+            raise MapError(
+                f"{path}: the polygon crosses itself (inside and outside are undefined): it passes through "
+                f"({x:g}, {y:g}) as vertex {index[i]} and again as vertex {index[j]}, crossing its first pass"
+            )
         return
     n = len(verts)
 

@@ -64,6 +64,19 @@ def test_the_message_names_the_crossing_edges_by_the_files_vertex_numbers(tmp_pa
 @pytest.mark.parametrize(
     "verts",
     [
+        [[0, 0], [5, 5], [10, 10], [10, 0], [5, 5], [0, 8]],  # two lobes of 25 and 20 m² (was: the second lost)
+        [[0, 0], [5, 5], [10, 10], [10, 0], [5, 5], [0, 10]],  # two of 25 m² (was: "area 0 m^2")
+        [[5, 5], [10, 10], [10, 0], [5, 5], [0, 10], [0, 0]],  # the same, starting at the shared point
+    ],
+)
+def test_an_outline_crossing_itself_at_a_shared_vertex_is_refused(tmp_path: Path, verts: list[list[float]]) -> None:
+    message = refused(write(tmp_path / "eight.json", verts), r"crosses itself")
+    assert "passes through (5, 5) as vertex" in message and "crossing its first pass" in message
+
+
+@pytest.mark.parametrize(
+    "verts",
+    [
         [[0, 0], [2, 0], [2, 1], [1, 1], [1, 0], [1, 1], [0, 1]],  # a slit of zero width: edges overlap
         [[0, 0], [1, 0], [1, 1], [2, 1], [2, 2], [1, 2], [1, 1], [0, 1]],  # two rooms touching at a corner
         [[0, 0], [4, 0], [4, 2], [2, 2], [2, 0], [2, 2], [0, 2]],  # a wall of zero width, touching the floor

@@ -37,7 +37,6 @@ def test_the_audit_budget_lifts_goals_that_used_their_tries_once_more_and_then_n
     assert bl.blocked(goal).all()  # the budget is spent: given up for good
 
 
-
 def test_a_goal_reached_twice_in_vain_is_unrevealable_and_the_audit_leaves_it() -> None:
     state = np.full((40, 40), FREE, np.int8)
     bl = Blacklist(radius=0.25, max_failures=MAX_FAILURES, resolution=RES, origin=(0.0, 0.0))
@@ -60,12 +59,12 @@ def test_a_frontier_that_reappears_elsewhere_keeps_its_history() -> None:
     bl = Blacklist(radius=0.25, max_failures=MAX_FAILURES, resolution=RES, origin=(0.0, 0.0))
     streak = np.column_stack((np.full(5, 1.025), 0.525 + RES * np.arange(5)))  # a frontier along x = 1 m
     bl.fail(0.6, 0.6, state, reached=True, frontier=streak)
-    moved = streak + (RES, 2 * RES)  # a cell to the side and two on: the same frontier, its goal 0.5 m away
+    moved = streak + np.array([RES, 2 * RES])  # a cell to the side and two on: the same frontier, its goal 0.5 m away
     bl.fail(1.1, 0.6, state, reached=True, frontier=moved)
     assert len(bl.entries) == 1 and bl.entries[0].visits == 2
     assert bl.blocked(np.array([[0.6, 0.6], [1.1, 0.6], [1.6, 0.6]])).tolist() == [True, True, False]
-    assert bl.history_of(moved + (0.0, RES)) == (2, True)
-    far = streak + (0.5, 0.0)  # ten cells away: another frontier
+    assert bl.history_of(moved + np.array([0.0, RES])) == (2, True)
+    far = streak + np.array([0.5, 0.0])  # ten cells away: another frontier
     bl.fail(1.6, 0.6, state, frontier=far)
     assert len(bl.entries) == 2 and bl.history_of(far) == (1, False)
 
