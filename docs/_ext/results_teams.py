@@ -54,12 +54,12 @@ def _policies_table(study: Study) -> str:
     run = study.experiment("policies")
     methods = list(run.summary.methods)
     parsed = {m: TeamMethod.parse(m) for m in methods}
-    policies = list(dict.fromkeys(t.policy for t in parsed.values()))
+    policies = list(dict.fromkeys(str(t.policy) for t in parsed.values()))
     sizes = sorted({t.robots or 1 for t in parsed.values()})
     base_policy = policies[0]
     rows = []
     for n in sizes:
-        at_size = {t.policy: m for m, t in parsed.items() if (t.robots or 1) == n}
+        at_size = {str(t.policy): m for m, t in parsed.items() if (t.robots or 1) == n}
         base = run.times(at_size[base_policy])
         cells = [str(n), seconds(sum(base) / len(base))]
         for policy in policies[1:]:

@@ -77,10 +77,11 @@ def team_scaling(times: dict[str, list[float]], methods: tuple[str, ...]) -> dic
     for method, team in parsed.items():
         if team.robots is None:
             continue
-        line = scaling.setdefault(team.policy, {}).setdefault(team.strategy.value, {})
+        alone = str(team.policy)
+        line = scaling.setdefault(alone, {}).setdefault(team.strategy.value, {})
         line[str(team.robots)] = _time_entry(method, times[method])
-        if team.policy in parsed and "1" not in line:
-            line["1"] = _time_entry(team.policy, times[team.policy])
+        if alone in parsed and "1" not in line:
+            line["1"] = _time_entry(alone, times[alone])
     for lines in scaling.values():
         for strategy, line in lines.items():
             lines[strategy] = dict(sorted(line.items(), key=lambda kv: int(kv[0])))

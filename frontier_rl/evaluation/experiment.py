@@ -84,7 +84,7 @@ class ExperimentConfig:
         teams = [self.team_for(m) for m in self.methods]  # a bad team size, strategy or failure fails here
         if (self.comm_range is not None or self.failures) and not any(teams):
             raise ConfigError("a communication range or failures need team methods (POLICY@N[:STRATEGY])")
-        team_policies = {TeamMethod.parse(m).policy for m, t in zip(self.methods, teams, strict=True) if t}
+        team_policies = {str(TeamMethod.parse(m).policy) for m, t in zip(self.methods, teams, strict=True) if t}
         if ORACLE in team_policies:
             raise ConfigError(f"the {ORACLE} plans one robot's tour of the true map; it cannot run in a team")
         if self.baseline not in self.methods:
@@ -169,7 +169,7 @@ def expand_worlds(text: str) -> tuple[str, ...]:
 def method_fingerprint(method: str) -> str:
     """What a method's results depend on besides its name: a model file's or a policy file's content
     hash, a policy module's source hash, an installed policy's package and version."""
-    spec = TeamMethod.parse(method).policy_spec
+    spec = TeamMethod.parse(method).policy
     if spec.is_user_code:
         extra = user_policy_fingerprint(spec)
         return f"{method}#{extra}" if extra else method
@@ -255,7 +255,7 @@ def job_parts(job: EpisodeJob, settings: EpisodeSettings) -> tuple[World, Explor
     ``settings.base_dir``."""
     base = Path(settings.base_dir)
     method = TeamMethod.parse(job.method)
-    spec = method.policy_spec.against(base)  # a relative model or policy file, against the experiment's folder
+    spec = method.policy.against(base)  # a relative model or policy file, against the experiment's folder
     world = resolve_world(job.world, job.seed, resolution=settings.resolution, base_dir=base)
     return (
         world,
@@ -346,14 +346,15 @@ def team_methods(methods: list[str], robots: list[int], strategies: list[Strateg
         raise ConfigError("--strategy names no strategy for the teams of --robots")
     out: list[str] = []
     for method in methods:
-        if TeamMethod.parse(method).robots is not None:
+        parsed = TeamMethod.parse(method)
+        if parsed.robots is not None:
             out.append(method)
             continue
         for n in robots:
             if n == 1:
                 out.append(method)
             else:
-                out += [str(TeamMethod(method, n, s)) for s in strategies]
+                out += [str(TeamMethod(parsed.policy, n, s)) for s in strategies]
     for n in robots:
         TeamConfig(robots=n)  # a size out of range fails here, named
     return list(dict.fromkeys(out))

@@ -59,8 +59,7 @@ def describe_method(method: str, base_dir: Path | None = None) -> MethodNote:
     return MethodNote(method, description, parameters)
 
 
-def _policy(policy: str, base_dir: Path) -> tuple[str, str]:
-    spec = PolicySpec.parse(policy)
+def _policy(spec: PolicySpec, base_dir: Path) -> tuple[str, str]:
     if spec.is_user_code:
         return _user(spec.against(base_dir))
     if spec.name == "fixed":
@@ -74,7 +73,7 @@ def _policy(policy: str, base_dir: Path) -> tuple[str, str]:
         return ("Drives to the first stop of the shortest open tour (Held-Karp, on planner path costs) through the "
                 "frontiers cheapest to reach, as FUEL (Zhou et al. 2021) and TARE (Cao et al. 2021) order theirs.",
                 f"{spec.argument or TOUR_STOPS} stops")  # fmt: skip
-    return _POLICIES.get(policy, "A policy of this project."), ""
+    return _POLICIES.get(str(spec), "A policy of this project."), ""
 
 
 def _user(spec: PolicySpec) -> tuple[str, str]:

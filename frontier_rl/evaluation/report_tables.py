@@ -142,7 +142,7 @@ def _team_table(summary: dict[str, Any], labels: dict[str, str], traces: dict[st
         team = TeamMethod.parse(method)
         if team.robots is None:
             continue
-        alone = methods.get(team.policy)
+        alone = methods.get(str(team.policy))
         speedup = alone["mean_time_s"] / entry["mean_time_s"] if alone and entry["mean_time_s"] > 0 else None
         own = traces.get(method, [])
         per_robot = [t["robot_coverage"] for t in own if t.get("robot_coverage")]

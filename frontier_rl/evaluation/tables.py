@@ -10,7 +10,7 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
-from frontier_rl.errors import ConfigError
+from frontier_rl.errors import ConfigError, UnknownNameError
 from frontier_rl.evaluation.statistics import PairedStats
 from frontier_rl.swarm.config import TeamMethod
 
@@ -67,14 +67,17 @@ def short_labels(names: Iterable[str]) -> dict[str, str]:
 def _short(name: str) -> str:
     try:
         method = TeamMethod.parse(name)
-    except ConfigError:  # not a method (a world's file name)
-        method = TeamMethod(name)
-    if method.robots is not None:
-        return method.label(_short(method.policy))
-    kind, sep, arg = name.partition(":")
-    if kind == "learned" and sep:
-        return f"learned:{Path(arg).stem}"
-    return Path(name).stem if not sep and ("/" in name or "." in name) else name
+    except (ConfigError, UnknownNameError):  # not a method (a world's file name)
+        return _short_text(name)
+    policy = method.policy
+    learned = policy.name == "learned" and policy.argument
+    short = f"learned:{Path(policy.argument).stem}" if learned else _short_text(str(policy))
+    return short if method.robots is None else method.label(short)
+
+
+def _short_text(name: str) -> str:
+    """A file's stem for a name that is a path (a map file), else the name."""
+    return Path(name).stem if ":" not in name and ("/" in name or "." in name) else name
 
 
 def number(value: float | None, digits: int = 1, unit: str = "") -> str:

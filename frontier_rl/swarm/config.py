@@ -155,35 +155,32 @@ class TeamMethod:
     """A method of an experiment: a policy, and the team that runs it (None: one robot alone).
 
     Written ``POLICY`` for one robot, ``POLICY@N`` for an uncoordinated team of N and
-    ``POLICY@N:STRATEGY`` otherwise, e.g. ``fixed:0.75@4:coordinated``.
+    ``POLICY@N:STRATEGY`` otherwise, e.g. ``fixed:0.75@4:coordinated``; parsed once
+    (:meth:`parse`), and printed back as the same text (``str``).
     """
 
-    policy: str
+    policy: PolicySpec
     robots: int | None = None
     strategy: Strategy = Strategy.UNCOORDINATED
 
     @classmethod
     def parse(cls, method: str) -> TeamMethod:
-        """The policy and team of ``method``; a bad team size or strategy is a ConfigError."""
+        """The policy and team of ``method``; a bad policy, team size or strategy is a ConfigError
+        (an unknown policy name an UnknownNameError)."""
         match = _TEAM_SUFFIX.match(method.strip())
         if match is None:
-            return cls(method.strip())
+            return cls(PolicySpec.parse(method))
         robots = int(match["robots"])
         if _TEAM_SUFFIX.match(match["policy"]):  # else "unknown policy 'nearest@2'" for nearest@2@3
             raise ConfigError(f"method {method!r} names two team sizes; write POLICY@N[:STRATEGY]")
         if not 1 <= robots <= MAX_ROBOTS:
             raise ConfigError(f"method {method!r}: a team has 1 to {MAX_ROBOTS} robots, got {robots}")
         strategy = parse_strategy(match["strategy"]) if match["strategy"] else Strategy.UNCOORDINATED
-        return cls(match["policy"], robots, strategy)
-
-    @property
-    def policy_spec(self) -> PolicySpec:
-        """The policy, parsed (:class:`~frontier_rl.policies.spec.PolicySpec`)."""
-        return PolicySpec.parse(self.policy)
+        return cls(PolicySpec.parse(match["policy"]), robots, strategy)
 
     def __str__(self) -> str:
         if self.robots is None:
-            return self.policy
+            return str(self.policy)
         suffix = "" if self.strategy is Strategy.UNCOORDINATED else f":{self.strategy.value}"
         return f"{self.policy}@{self.robots}{suffix}"
 

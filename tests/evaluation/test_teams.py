@@ -41,7 +41,7 @@ def test_team_methods_expand_every_size_and_strategy() -> None:
     assert str(TeamMethod.parse("nearest@2:Rendezvous")) == "nearest@2:rendezvous"  # as --strategy takes it
     with pytest.raises(ConfigError, match="'nearest@2@3' names two team sizes"):  # not "unknown policy 'nearest@2'"
         TeamMethod.parse("nearest@2@3")
-    assert TeamMethod.parse("learned:runs/a@2.zip@3").policy == "learned:runs/a@2.zip"  # an @ in a path
+    assert str(TeamMethod.parse("learned:runs/a@2.zip@3").policy) == "learned:runs/a@2.zip"  # an @ in a path
 
 
 @pytest.mark.parametrize(

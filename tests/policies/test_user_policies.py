@@ -61,8 +61,19 @@ def test_relative_files_resolve_against_a_base_folder(tmp_path: Path) -> None:
 
 def test_a_team_method_of_a_file_policy_keeps_the_spec() -> None:
     method = TeamMethod.parse("my.py:Greedy@2:coordinated")
-    assert (method.policy, method.robots, method.strategy.value) == ("my.py:Greedy", 2, "coordinated")
-    assert method.policy_spec == PolicySpec(PolicyKind.FILE, "my.py", "Greedy")
+    assert (method.policy, method.robots, method.strategy.value) == (
+        PolicySpec(PolicyKind.FILE, "my.py", "Greedy"),
+        2,
+        "coordinated",
+    )
+    assert str(method) == "my.py:Greedy@2:coordinated"  # printed back as it was written
+
+
+@pytest.mark.parametrize(
+    "text", ["nearest", "fixed:0.75", "learned:models/model7.zip@3", "tour:4@2:rendezvous", "pkg.mod:Cls@8:coordinated"]
+)
+def test_a_method_prints_back_as_written(text: str) -> None:
+    assert str(TeamMethod.parse(text)) == text
 
 
 def test_a_policy_file_outside_the_repository_runs_an_episode(policy_dir: Path) -> None:
