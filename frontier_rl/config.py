@@ -41,8 +41,9 @@ def from_dict(cls: type[T], data: Any, where: str = "") -> T:
     fields = {f.name: f for f in dataclasses.fields(cls)}
     unknown = sorted((key for key in data if key not in fields), key=str)
     if unknown:
-        raise ConfigError(f"unknown key {short_repr(unknown[0])} in {where or cls.__name__}; "
-                          f"valid keys: {', '.join(fields)}")  # fmt: skip
+        raise ConfigError(
+            f"unknown key {short_repr(unknown[0])} in {where or cls.__name__}; valid keys: {', '.join(fields)}"
+        )
     kwargs: dict[str, Any] = {}
     for key, value in data.items():
         hint, name = hints[key], f"{where}.{key}" if where else key

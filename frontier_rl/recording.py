@@ -90,8 +90,16 @@ class EpisodeRecorder:
 
 
 #: One colour per robot of a team (matplotlib's tab10).
-TEAM_COLOURS = ((31, 119, 180), (255, 127, 14), (44, 160, 44), (214, 39, 40), (148, 103, 189), (140, 86, 75),
-                (227, 119, 194), (127, 127, 127))  # fmt: skip
+TEAM_COLOURS = (
+    (31, 119, 180),
+    (255, 127, 14),
+    (44, 160, 44),
+    (214, 39, 40),
+    (148, 103, 189),
+    (140, 86, 75),
+    (227, 119, 194),
+    (127, 127, 127),
+)
 
 
 def save_team_png(path: str | Path, world: World, result: TeamResult, title: str, scale: int = 2) -> Path:

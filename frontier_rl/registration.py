@@ -24,21 +24,56 @@ class ModelSpec:
 
 
 MODELS: dict[int, ModelSpec] = {
-    1: ModelSpec(1, "PointMapFrontiersPose", "frontier_rl.envs.point_env:PointEnv",
-                 {"with_frontiers_and_pose": True}, "map + frontiers + pose in, a map cell out"),
-    2: ModelSpec(2, "PointMap", "frontier_rl.envs.point_env:PointEnv",
-                 {"with_frontiers_and_pose": False}, "map in, a map cell out"),
-    3: ModelSpec(3, "WeightMapFrontiersPose", "frontier_rl.envs.weight_env:WeightEnv",
-                 {"with_frontiers_and_pose": True}, "map + frontiers + pose in, ranking weight out"),
-    4: ModelSpec(4, "WeightMap", "frontier_rl.envs.weight_env:WeightEnv",
-                 {"with_frontiers_and_pose": False}, "map in, ranking weight out"),
-    5: ModelSpec(5, "FrontierChoice", "frontier_rl.envs.frontier_env:FrontierChoiceEnv",
-                 {}, "map + per-frontier features in, one of the top-K frontiers out"),
-    6: ModelSpec(6, "WeightFrontierTable", "frontier_rl.envs.weight_env:WeightTableEnv",
-                 {}, "map + per-frontier features in, ranking weight out"),
-    7: ModelSpec(7, "FrontierChoiceTour", "frontier_rl.envs.frontier_env:FrontierChoiceEnv",
-                 {"tour": True}, "map + per-frontier features and tour costs in, one of the top-K frontiers out"),
-}  # fmt: skip
+    1: ModelSpec(
+        1,
+        "PointMapFrontiersPose",
+        "frontier_rl.envs.point_env:PointEnv",
+        {"with_frontiers_and_pose": True},
+        "map + frontiers + pose in, a map cell out",
+    ),
+    2: ModelSpec(
+        2,
+        "PointMap",
+        "frontier_rl.envs.point_env:PointEnv",
+        {"with_frontiers_and_pose": False},
+        "map in, a map cell out",
+    ),
+    3: ModelSpec(
+        3,
+        "WeightMapFrontiersPose",
+        "frontier_rl.envs.weight_env:WeightEnv",
+        {"with_frontiers_and_pose": True},
+        "map + frontiers + pose in, ranking weight out",
+    ),
+    4: ModelSpec(
+        4,
+        "WeightMap",
+        "frontier_rl.envs.weight_env:WeightEnv",
+        {"with_frontiers_and_pose": False},
+        "map in, ranking weight out",
+    ),
+    5: ModelSpec(
+        5,
+        "FrontierChoice",
+        "frontier_rl.envs.frontier_env:FrontierChoiceEnv",
+        {},
+        "map + per-frontier features in, one of the top-K frontiers out",
+    ),
+    6: ModelSpec(
+        6,
+        "WeightFrontierTable",
+        "frontier_rl.envs.weight_env:WeightTableEnv",
+        {},
+        "map + per-frontier features in, ranking weight out",
+    ),
+    7: ModelSpec(
+        7,
+        "FrontierChoiceTour",
+        "frontier_rl.envs.frontier_env:FrontierChoiceEnv",
+        {"tour": True},
+        "map + per-frontier features and tour costs in, one of the top-K frontiers out",
+    ),
+}
 """Models 1-4 are the thesis's, 5 its future work (a frontier chosen directly), 6 model 3 with
 model 5's frontier table beside the image (a per-decision weight needs what the ranking trades off),
 7 model 5 with a column that says how much a tour over the nearest frontiers loses by going to each

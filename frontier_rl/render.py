@@ -63,8 +63,9 @@ class FrameCanvas:
         """The world's extent with ``grid`` pasted where it lies (all unknown if None)."""
         canvas = np.full((*self.world.shape, 3), _COLOURS[CellState.UNKNOWN], np.uint8)
         if grid is not None:
-            r0, c0 = self.world.world_to_cell(grid.origin[0] + 0.5 * grid.resolution,
-                                              grid.origin[1] + 0.5 * grid.resolution)  # fmt: skip
+            r0, c0 = self.world.world_to_cell(
+                grid.origin[0] + 0.5 * grid.resolution, grid.origin[1] + 0.5 * grid.resolution
+            )
             rows = slice(max(r0, 0), min(r0 + grid.height, self.world.height))
             cols = slice(max(c0, 0), min(c0 + grid.width, self.world.width))
             sub = grid.data[rows.start - r0 : rows.stop - r0, cols.start - c0 : cols.stop - c0]

@@ -236,8 +236,9 @@ def _weighted(item: str) -> tuple[str, float | None]:
     except ValueError:
         weight = math.nan
     if not (math.isfinite(weight) and 0 < weight <= MAX_WEIGHT):
-        raise ConfigError(f"world weight must be a number in (0, {MAX_WEIGHT:g}], got {short_repr(text)} in "
-                          f"{short_repr(item)}")  # fmt: skip
+        raise ConfigError(
+            f"world weight must be a number in (0, {MAX_WEIGHT:g}], got {short_repr(text)} in {short_repr(item)}"
+        )
     return spec.strip(), weight
 
 
@@ -313,6 +314,8 @@ def parse_world_list(text: str) -> tuple[str, ...]:
     families = parse_world_mix(text)
     weighted = [item for family, item in zip(families, world_entries(text), strict=True) if item != family.spec]
     if weighted:
-        raise ConfigError(f"world {short_repr(weighted[0])} has a weight: weights (NAME=W) set how often training "
-                          "draws a world; here every world runs the same number of episodes")  # fmt: skip
+        raise ConfigError(
+            f"world {short_repr(weighted[0])} has a weight: weights (NAME=W) set how often training "
+            "draws a world; here every world runs the same number of episodes"
+        )
     return tuple(m for f in families for m in f.members)

@@ -84,25 +84,47 @@ true map ([concepts](../../concepts.md)).
 {reproduce_section(study)}"""
 
 
-HARDER_HEADER = ("map", *COMPLETION_HEADER[1:6], "≥ 99 %", "coverage mean / min", "mean time (s)", "time / fastest")
+HARDER_HEADER = (
+    "map",
+    "method",
+    "episodes",
+    "explored",
+    "unreachable",
+    "time cap",
+    "≥ 99 %",
+    "coverage mean / min",
+    "explorable left (m², mean)",
+    "unreachable, a path left",
+    "legs given up: no path / no progress / detour / not planned",
+    "time / fastest",
+)
+_CAUSES = ("no_path", "no_progress", "detour", "not_planned")
 
 
 def harder_buildings_page(study: Study, images: Path) -> str:
     """Per SLAM map of the harder survey and per method: how the episodes ended, how many reached
-    99 % of the explorable space, and the time against the map's fastest method."""
+    99 % of the explorable space, the audit's count, the legs given up by cause and the time against
+    the map's fastest method (the survey's own table, ``survey.json``); then the five worst episodes."""
+    survey = study.json("survey.json")
+    assert isinstance(survey, dict)
+    audit = {(str(r["map"]), str(r["method"])): r for r in survey["rows"]}
     rows, runs = [], [study.experiment(part) for part in study.parts()]
     for run in runs:
-        methods = list(run.summary.methods)
-        fastest = min(mean(e.sim_time_s for e in run.of(m)) for m in methods)
-        for method in methods:
+        for method in run.summary.methods:
             episodes = run.of(method)
-            row = _completion_row(Path(episodes[0].world).stem.split("#")[0], method, episodes)
-            time_s = mean(e.sim_time_s for e in episodes)
+            world = Path(episodes[0].world).stem.split("#")[0]
+            row = _completion_row(world, method, episodes)
+            found = audit[(world, method)]
+            given_up = " / ".join(str(found["aborts"][cause]) for cause in _CAUSES)
             at_99 = sum(e.coverage >= 0.99 for e in episodes)
-            rows.append([*row[:6], str(at_99), row[6], row[8], f"{time_s / fastest:.2f}"])
+            audited = [f"{found['explorable_left_m2']:.2f}", str(found["unreachable_with_a_path"]), given_up]
+            rows.append([*row[:6], str(at_99), row[6], *audited, f"{found['time_over_fastest']:.2f}"])
     every = [e for run in runs for e in run.episodes]
     capped = sum(e.end_reason == "time_cap" for e in every)
     at_99 = sum(e.coverage >= 0.99 for e in every)
+    with_path = sum(int(r["unreachable_with_a_path"]) for r in survey["rows"])
+    unrevealable = sum(int(r.get("unrevealable_left", 0)) for r in survey["rows"])
+    worst = "\n".join(line.rsplit(" (", 1)[0] for line in survey["worst"])
     return f"""# Harder buildings
 
 Real SLAM maps with what such maps have: radial streaks where the laser saw through glass, clutter,
@@ -113,10 +135,23 @@ every episode at 99 % or more of the explorable space, and none at the time cap 
 explorable space: about three times what the fastest method takes).
 
 Of the {len(every)} episodes, {at_99} reached 99 % of the explorable space and {capped} met the time
-cap; mean coverage {100 * mean(e.coverage for e in every):.2f} %.
+cap; mean coverage {100 * mean(e.coverage for e in every):.2f} %. {with_path} ended `unreachable`
+while the audit found a frontier their final map still had a path to, its tries spent (on the
+normal costmap or the narrow-passage recovery's); {unrevealable} frontiers were left as
+unrevealable (reached twice, and nothing seen: [concepts](../../concepts.md)).
 
 {markdown_table(HARDER_HEADER, rows)}
-`time / fastest`: the method's mean time over the fastest method's on the same map.
+`explorable left`: what the robot could have seen on the true map and did not. `unreachable, a
+path left`: episodes that ended `unreachable` with such a frontier. `legs given up`: by why the
+goal was given up, summed over the episodes. `time / fastest`: the method's mean time over the
+fastest method's on the same map.
+
+## The five worst episodes
+
+The lowest coverage, a time cap first (`frontier-rl explore --world MAP --policy METHOD --seed N
+--png FILE` draws each again):
+
+{worst}
 
 {reproduce_section(study)}"""
 

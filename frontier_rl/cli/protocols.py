@@ -49,21 +49,37 @@ def ariadne(
     _some_finished(runs, failures)
     rows = summary_rows(runs, names)
     table = Table(title=f"ARiADNE protocol on {maps} ({len(files)} maps)")
-    for column in ("method", "tests", "average length (px)", "length std (px)", "rule met", "ours: time (s)",
-                   "ours: path (m)", "ours: explored"):  # fmt: skip
+    for column in (
+        "method",
+        "tests",
+        "average length (px)",
+        "length std (px)",
+        "rule met",
+        "ours: time (s)",
+        "ours: path (m)",
+        "ours: explored",
+    ):
         table.add_column(column, justify="left" if column == "method" else "right")
     for row in rows:
         n = row["tests"]
-        table.add_row(str(row["method"]), str(n), f"{row['average_length_px']:.1f}", f"{row['length_std_px']:.1f}",
-                      f"{row['rule_met']}/{n}", f"{row['mean_time_s']:.1f}", f"{row['mean_path_m']:.1f}",
-                      f"{row['explored']}/{n}")  # fmt: skip
+        table.add_row(
+            str(row["method"]),
+            str(n),
+            f"{row['average_length_px']:.1f}",
+            f"{row['length_std_px']:.1f}",
+            f"{row['rule_met']}/{n}",
+            f"{row['mean_time_s']:.1f}",
+            f"{row['mean_path_m']:.1f}",
+            f"{row['explored']}/{n}",
+        )
     console = stdout_console()
     console.print(table)
     for row in rows:  # as ARiADNE's test driver prints them
-        console.print(f"{row['method']}: |#Total test: {row['tests']} |#Average length: {row['average_length_px']:.2f} "
-                      f"|#Length std: {row['length_std_px']:.2f}")  # fmt: skip
-    _finish(json_out, {"protocol": "ariadne", "maps": maps, "summary": rows, "runs": [vars(r) for r in runs]},
-            failures)  # fmt: skip
+        console.print(
+            f"{row['method']}: |#Total test: {row['tests']} |#Average length: {row['average_length_px']:.2f} "
+            f"|#Length std: {row['length_std_px']:.2f}"
+        )
+    _finish(json_out, {"protocol": "ariadne", "maps": maps, "summary": rows, "runs": [vars(r) for r in runs]}, failures)
 
 
 DEFAULT_BLUEPRINTS = "turtlebot3_world,aws_small_house,nav2_depot"
@@ -100,16 +116,37 @@ def explore_bench(
     _some_finished(runs, failures)
     rows = explore_bench_rows(runs)
     table = Table(title=f"Explore-Bench metrics, {seeds} start(s) per map and team size")
-    for column in ("method", "robots", "map", "ended / runs", "T_90 (s)", "T_total (s)", "path (m)", "coverage std",
-                   "overlap rate", "final rate", "ours: time (s)"):  # fmt: skip
+    for column in (
+        "method",
+        "robots",
+        "map",
+        "ended / runs",
+        "T_90 (s)",
+        "T_total (s)",
+        "path (m)",
+        "coverage std",
+        "overlap rate",
+        "final rate",
+        "ours: time (s)",
+    ):
         table.add_column(column, justify="left" if column in ("method", "map") else "right")
     for row in rows:
-        table.add_row(str(row["method"]), str(row["robots"]), str(row["map"]), f"{row['ended']} / {row['runs']}",
-                      *(_shown(row[k]) for k in ("t90_s", "t_total_s", "path_m", "coverage_std", "overlap_rate",
-                                                 "final_rate", "ours_time_s")))  # fmt: skip
+        table.add_row(
+            str(row["method"]),
+            str(row["robots"]),
+            str(row["map"]),
+            f"{row['ended']} / {row['runs']}",
+            *(
+                _shown(row[k])
+                for k in ("t90_s", "t_total_s", "path_m", "coverage_std", "overlap_rate", "final_rate", "ours_time_s")
+            ),
+        )
     stdout_console().print(table)
-    _finish(json_out, {"protocol": "explore-bench", "maps": maps, "summary": rows, "runs": [vars(r) for r in runs]},
-            failures)  # fmt: skip
+    _finish(
+        json_out,
+        {"protocol": "explore-bench", "maps": maps, "summary": rows, "runs": [vars(r) for r in runs]},
+        failures,
+    )
 
 
 def _located(entry: str) -> str:

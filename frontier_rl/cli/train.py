@@ -11,6 +11,13 @@ from rich.text import Text
 from frontier_rl.cli.options import ResolutionOption, SimConfigOption, checked_run_arguments, sim_config
 from frontier_rl.cli.output import err_console, friendly_errors, one_line, stdout_console
 
+PrivilegedCriticOption = Annotated[
+    bool, typer.Option(help="Models 5 and 7: the critic also reads the true map's unseen share (training only).")
+]
+PrivilegedMapOption = Annotated[
+    bool, typer.Option(help="With --privileged-critic: it also sees the true map's unseen space as an image.")
+]
+
 
 @friendly_errors
 def train(
@@ -30,12 +37,8 @@ def train(
     eval_every: Annotated[int, typer.Option(help="Decisions between validations (0: none).")] = 10_000,
     checkpoint_every: Annotated[int, typer.Option(help="Decisions between checkpoints (0: none).")] = 10_000,
     init: Annotated[str, typer.Option(help="Model file whose weights start the run (same model).")] = "",
-    privileged_critic: Annotated[
-        bool, typer.Option(help="Models 5 and 7: the critic also reads the true map's unseen share (training only).")
-    ] = False,
-    privileged_map: Annotated[
-        bool, typer.Option(help="With --privileged-critic: it also sees the true map's unseen space as an image.")
-    ] = False,
+    privileged_critic: PrivilegedCriticOption = False,
+    privileged_map: PrivilegedMapOption = False,
     config: SimConfigOption = None,
     resolution: ResolutionOption = None,
     resume: Annotated[bool, typer.Option(help="Continue the run in --out from its last checkpoint.")] = False,
@@ -48,12 +51,26 @@ def train(
     from frontier_rl.rl.train import interruption_note
 
     settings = TrainConfig(
-        model=model, worlds=worlds, timesteps=timesteps, n_envs=n_envs, algo=algo,
-        observation_size=observation_size, reward=reward, learning_rate=learning_rate, n_steps=n_steps,
-        gamma=gamma, ent_coef=ent_coef, seed=seed, eval_every=eval_every, checkpoint_every=checkpoint_every, init=init,
-        privileged_critic=privileged_critic, privileged_map=privileged_map, sim=sim_config(config, None),
+        model=model,
+        worlds=worlds,
+        timesteps=timesteps,
+        n_envs=n_envs,
+        algo=algo,
+        observation_size=observation_size,
+        reward=reward,
+        learning_rate=learning_rate,
+        n_steps=n_steps,
+        gamma=gamma,
+        ent_coef=ent_coef,
+        seed=seed,
+        eval_every=eval_every,
+        checkpoint_every=checkpoint_every,
+        init=init,
+        privileged_critic=privileged_critic,
+        privileged_map=privileged_map,
+        sim=sim_config(config, None),
         resolution=resolution,
-    )  # fmt: skip
+    )
     try:
         final = run_training(settings, out, resume=resume, progress=progress)
     except KeyboardInterrupt:

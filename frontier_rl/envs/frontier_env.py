@@ -89,9 +89,15 @@ class FrontierTableEnv(ExplorationEnv[dict[str, NDArray[Any]]]):
         sim = self.sim
         cand = sim.candidates()
         obs, self._slots = frontier_observation(
-            self.encoder, self.top_k, cand.costmap, sim.pose, cand.frontiers, sim.config.robot.radius,
-            sim.config.lidar.max_range, self.tour,
-        )  # fmt: skip
+            self.encoder,
+            self.top_k,
+            cand.costmap,
+            sim.pose,
+            cand.frontiers,
+            sim.config.robot.radius,
+            sim.config.lidar.max_range,
+            self.tour,
+        )
         if self.privileged:
             obs["privileged"] = self._privileged_features()
         if self.privileged_map:

@@ -93,8 +93,9 @@ class TeamExplorationEnv(ParallelEnv):  # type: ignore[misc]  # pettingzoo ships
         if self.action_kind == "weight":
             return image
         table = gym.spaces.Box(-FEATURE_BOUND, FEATURE_BOUND, (self.top_k * len(FRONTIER_FEATURES),), np.float32)
-        return gym.spaces.Dict({"map": image, "frontiers": table, "mask": gym.spaces.Box(0.0, 1.0, (self.top_k,),
-                                                                                          np.float32)})  # fmt: skip
+        return gym.spaces.Dict(
+            {"map": image, "frontiers": table, "mask": gym.spaces.Box(0.0, 1.0, (self.top_k,), np.float32)}
+        )
 
     @functools.cache  # noqa: B019
     def action_space(self, agent: str) -> gym.spaces.Space[Any]:
@@ -127,9 +128,9 @@ class TeamExplorationEnv(ParallelEnv):  # type: ignore[misc]  # pettingzoo ships
         self._acting = self._team.next_decision()
         return self._observations(), self._infos()
 
-    def step(self, actions: dict[str, Any]) -> tuple[
-        dict[str, Observation], dict[str, float], dict[str, bool], dict[str, bool], dict[str, dict[str, Any]]
-    ]:  # fmt: skip
+    def step(
+        self, actions: dict[str, Any]
+    ) -> tuple[dict[str, Observation], dict[str, float], dict[str, bool], dict[str, bool], dict[str, dict[str, Any]]]:
         """The acting robot carries out its action; the team then runs to the next decision."""
         team = self.team
         if not self.agents:
@@ -139,8 +140,9 @@ class TeamExplorationEnv(ParallelEnv):  # type: ignore[misc]  # pettingzoo ships
         if self._acting is not None:
             agent = f"robot_{self._acting}"
             if agent not in actions:
-                raise ValueError(f"{agent} must act this step (infos[{agent!r}]['acting']), got actions for "
-                                 f"{sorted(actions)}")  # fmt: skip
+                raise ValueError(
+                    f"{agent} must act this step (infos[{agent!r}]['acting']), got actions for {sorted(actions)}"
+                )
             team.assign(self._acting, self._ranking(self._acting, actions[agent]))
             self._decisions += 1
         self._acting = team.next_decision()
@@ -202,9 +204,14 @@ class TeamExplorationEnv(ParallelEnv):  # type: ignore[misc]  # pettingzoo ships
                 out[agent] = self.encoder.encode(cand.grid, sim.pose, cand.frontiers)
             else:
                 out[agent], self._slots[index] = frontier_observation(
-                    self.encoder, self.top_k, cand.costmap, sim.pose, cand.frontiers, sim.config.robot.radius,
+                    self.encoder,
+                    self.top_k,
+                    cand.costmap,
+                    sim.pose,
+                    cand.frontiers,
+                    sim.config.robot.radius,
                     sim.config.lidar.max_range,
-                )  # fmt: skip
+                )
         return out
 
     def _infos(self, agents: list[str] | None = None) -> dict[str, dict[str, Any]]:

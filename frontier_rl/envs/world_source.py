@@ -25,8 +25,16 @@ from frontier_rl.world_spec import (
     world_family,
 )
 
-__all__ = ["EAGER_LOAD_LIMIT", "RESET_OPTIONS", "TRAIN_SEED_LOW", "VALIDATION_SEED_LOW", "WorldSource",
-           "check_world_files", "parse_world_list", "reset_world_seed"]  # fmt: skip
+__all__ = [
+    "EAGER_LOAD_LIMIT",
+    "RESET_OPTIONS",
+    "TRAIN_SEED_LOW",
+    "VALIDATION_SEED_LOW",
+    "WorldSource",
+    "check_world_files",
+    "parse_world_list",
+    "reset_world_seed",
+]
 
 TRAIN_SEED_LOW = 1_000_000
 """Generator seeds drawn for training lie in [TRAIN_SEED_LOW, 2³¹); seeds below it (``explore

@@ -76,8 +76,10 @@ def _headline(
     if best is None:
         if oracle is None:
             return f"Only the baseline {labels[baseline]} ran: {number(base['mean_time_s'])} s on average."
-        return (f"The baseline {labels[baseline]} took {number(base['mean_time_s'])} s on average, "
-                f"{number(base['oracle_ratio'], 2)} × the oracle's {number(oracle['mean_time_s'])} s.")  # fmt: skip
+        return (
+            f"The baseline {labels[baseline]} took {number(base['mean_time_s'])} s on average, "
+            f"{number(base['oracle_ratio'], 2)} × the oracle's {number(oracle['mean_time_s'])} s."
+        )
     entry = methods[best]
     name = labels[best]
     ratio = f", {number(entry['oracle_ratio'], 2)} × the time of the oracle that knows the map" if oracle else ""

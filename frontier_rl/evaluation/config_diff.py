@@ -37,8 +37,11 @@ def differences_between(there: Any, now: Any, path: str) -> list[tuple[str, Any,
         keys = [*there, *(k for k in now if k not in there)]
         return [d for k in keys for d in differences_between(there.get(k, ABSENT), now.get(k, ABSENT), f"{path}.{k}")]
     if isinstance(there, list) and isinstance(now, list) and len(there) == len(now):
-        return [d for i, (a, b) in enumerate(zip(there, now, strict=True)) for d in
-                differences_between(a, b, f"{path}[{i}]")]  # fmt: skip
+        return [
+            d
+            for i, (a, b) in enumerate(zip(there, now, strict=True))
+            for d in differences_between(a, b, f"{path}[{i}]")
+        ]
     if there == now or _show(there) == _show(now):
         return []
     return [(path, there, now)]

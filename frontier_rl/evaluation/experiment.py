@@ -119,8 +119,9 @@ class ExperimentConfig:
     def settings(self) -> EpisodeSettings:
         """What every episode of this experiment shares; relative paths resolve against the
         current directory, wherever a worker runs."""
-        return EpisodeSettings(self.sim, self.resolution, self.trust_model, str(Path.cwd()), self.comm_range,
-                               self.failures)  # fmt: skip
+        return EpisodeSettings(
+            self.sim, self.resolution, self.trust_model, str(Path.cwd()), self.comm_range, self.failures
+        )
 
     def team_for(self, method: str) -> TeamConfig | None:
         """The team that runs ``method``; None for a single robot."""
@@ -308,15 +309,35 @@ def run_job(job: EpisodeJob, settings: EpisodeSettings) -> dict[str, Any]:
 
 
 ROW_METRICS = (
-    "sim_time_s", "path_length_m", "coverage", "t90_s", "t99_s", "decisions", "aborts", "done", "truncated",
-    "end_reason", "free_coverage", "unknown_left_m2",
-)  # fmt: skip
+    "sim_time_s",
+    "path_length_m",
+    "coverage",
+    "t90_s",
+    "t99_s",
+    "decisions",
+    "aborts",
+    "done",
+    "truncated",
+    "end_reason",
+    "free_coverage",
+    "unknown_left_m2",
+)
 """The episode metrics a row carries (see :class:`frontier_rl.core.sim.metrics.EpisodeResult`)."""
 
 ROW_COLUMNS = (
-    "method", "world", "episode", "seed", "start_x_m", "start_y_m", "start_theta_rad", *ROW_METRICS,
-    "mean_weight", "robots", "overlap", "wall_time_s",
-)  # fmt: skip
+    "method",
+    "world",
+    "episode",
+    "seed",
+    "start_x_m",
+    "start_y_m",
+    "start_theta_rad",
+    *ROW_METRICS,
+    "mean_weight",
+    "robots",
+    "overlap",
+    "wall_time_s",
+)
 """The columns of ``episodes.csv``, in order."""
 
 

@@ -107,10 +107,9 @@ class _RateRecorder(TeamSimulator):
 
     def rate(self) -> float:
         """The exploration rate of what the surviving robots know."""
-        return int(np.count_nonzero(self._known)) / self.blueprint_cells
+        return int(np.count_nonzero(self.known)) / self.blueprint_cells
 
-    def _record(self, time_s: float) -> None:
-        super()._record(time_s)
+    def _knowledge_updated(self, time_s: float) -> None:
         if self.t_total_s is not None:
             return
         rate = self.rate()
@@ -193,18 +192,20 @@ def explore_bench_rows(runs: Sequence[ExploreBenchRun]) -> list[dict[str, float 
     for method, robots, map_name in dict.fromkeys((r.method, r.robots, r.map_name) for r in runs):
         mine = [r for r in runs if (r.method, r.robots, r.map_name) == (method, robots, map_name)]
         ended = [r for r in mine if r.t_total_s is not None]
-        rows.append({
-            "method": method,
-            "robots": robots,
-            "map": map_name,
-            "runs": len(mine),
-            "ended": len(ended),
-            "t90_s": mean([r.t90_s for r in mine]),
-            "t_total_s": mean([r.t_total_s for r in ended]),
-            "path_m": mean([r.path_m for r in ended]),
-            "coverage_std": mean([r.coverage_std for r in ended]),
-            "overlap_rate": mean([r.overlap_rate for r in ended]),
-            "final_rate": mean([r.final_rate for r in mine]),
-            "ours_time_s": mean([r.sim_time_s for r in mine]),
-        })  # fmt: skip
+        rows.append(
+            {
+                "method": method,
+                "robots": robots,
+                "map": map_name,
+                "runs": len(mine),
+                "ended": len(ended),
+                "t90_s": mean([r.t90_s for r in mine]),
+                "t_total_s": mean([r.t_total_s for r in ended]),
+                "path_m": mean([r.path_m for r in ended]),
+                "coverage_std": mean([r.coverage_std for r in ended]),
+                "overlap_rate": mean([r.overlap_rate for r in ended]),
+                "final_rate": mean([r.final_rate for r in mine]),
+                "ours_time_s": mean([r.sim_time_s for r in mine]),
+            }
+        )
     return rows

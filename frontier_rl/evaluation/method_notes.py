@@ -65,14 +65,18 @@ def _policy(spec: PolicySpec, base_dir: Path) -> tuple[str, str]:
     if spec.name == "fixed":
         weight = float(spec.argument)
         baseline = " (the thesis's baseline)" if weight == THESIS_WEIGHT else ""
-        return ("Ranks frontiers by eq. 3.1, cost = w·d + (1−w)·(1−g), with a constant weight.",
-                f"w = {weight:g}{baseline}")  # fmt: skip
+        return (
+            "Ranks frontiers by eq. 3.1, cost = w·d + (1−w)·(1−g), with a constant weight.",
+            f"w = {weight:g}{baseline}",
+        )
     if spec.name == "learned":
         return _learned(base_dir / spec.argument)
     if spec.name == "tour":
-        return ("Drives to the first stop of the shortest open tour (Held-Karp, on planner path costs) through the "
-                "frontiers cheapest to reach, as FUEL (Zhou et al. 2021) and TARE (Cao et al. 2021) order theirs.",
-                f"{spec.argument or TOUR_STOPS} stops")  # fmt: skip
+        return (
+            "Drives to the first stop of the shortest open tour (Held-Karp, on planner path costs) through the "
+            "frontiers cheapest to reach, as FUEL (Zhou et al. 2021) and TARE (Cao et al. 2021) order theirs.",
+            f"{spec.argument or TOUR_STOPS} stops",
+        )
     return _POLICIES.get(str(spec), "A policy of this project."), ""
 
 

@@ -106,8 +106,9 @@ def run_ariadne(method: str, path: Path, resolution: float = DUNGEON_RESOLUTION)
     unseen = world.explorable_count - np.rint(np.asarray(result.coverage_curve) * world.explorable_count)
     met = np.flatnonzero(unseen <= ARIADNE_UNSEEN_PX)
     driven = float(result.coverage_path_m[met[0]]) if met.size else result.path_length_m
-    return ProtocolRun(method, path.name, driven / resolution, bool(met.size), result.sim_time_s,
-                       result.path_length_m, result.done)  # fmt: skip
+    return ProtocolRun(
+        method, path.name, driven / resolution, bool(met.size), result.sim_time_s, result.path_length_m, result.done
+    )
 
 
 @dataclass(frozen=True)
@@ -177,14 +178,16 @@ def summary_rows(runs: Sequence[ProtocolRun], methods: Sequence[str]) -> list[di
     for method in methods:
         mine = [r for r in runs if r.method == method]
         lengths = np.array([r.distance_px for r in mine])
-        rows.append({
-            "method": method,
-            "tests": len(mine),
-            "average_length_px": float(lengths.mean()) if mine else math.nan,
-            "length_std_px": float(lengths.std()) if mine else math.nan,
-            "rule_met": sum(r.rule_met for r in mine),
-            "mean_time_s": float(np.mean([r.sim_time_s for r in mine])) if mine else math.nan,
-            "mean_path_m": float(np.mean([r.path_length_m for r in mine])) if mine else math.nan,
-            "explored": sum(r.explored for r in mine),
-        })  # fmt: skip
+        rows.append(
+            {
+                "method": method,
+                "tests": len(mine),
+                "average_length_px": float(lengths.mean()) if mine else math.nan,
+                "length_std_px": float(lengths.std()) if mine else math.nan,
+                "rule_met": sum(r.rule_met for r in mine),
+                "mean_time_s": float(np.mean([r.sim_time_s for r in mine])) if mine else math.nan,
+                "mean_path_m": float(np.mean([r.path_length_m for r in mine])) if mine else math.nan,
+                "explored": sum(r.explored for r in mine),
+            }
+        )
     return rows

@@ -99,18 +99,27 @@ def _figures(store: ResultStore, config: ExperimentConfig, summary: dict[str, An
     traces = _run_traces(store, config)
     baseline = labels[config.baseline]
     figures = [
-        Figure(box_plot(times, out / "boxplot.png", "Exploration time per method"), "Exploration time per method",
-               "Exploration time of every episode, per method. The box spans the 25th to the 75th percentile, the "
-               "line in it is the median and the triangle the mean; the whiskers reach the farthest episodes "
-               "within 1.5 box lengths, circles are the episodes beyond."),
-        Figure(paired_scatter(times, baseline, out / "scatter.png"), "Paired episodes against the baseline",
-               f"Each point is one episode: its exploration time with the baseline {baseline} (x) and with the "
-               "method (y). Points below the dashed diagonal are episodes the method explored faster than the "
-               "baseline, points above it slower; the axes span the times measured."),
-        Figure(coverage_plot({labels[m]: t for m, t in traces.items()}, out / "coverage.png"), "Coverage over time",
-               "Share of the explorable space mapped over sim time: the line is the mean over episodes, the band "
-               "spans the 25th to the 75th percentile; an episode that has ended keeps its final coverage."),
-    ]  # fmt: skip
+        Figure(
+            box_plot(times, out / "boxplot.png", "Exploration time per method"),
+            "Exploration time per method",
+            "Exploration time of every episode, per method. The box spans the 25th to the 75th percentile, the "
+            "line in it is the median and the triangle the mean; the whiskers reach the farthest episodes "
+            "within 1.5 box lengths, circles are the episodes beyond.",
+        ),
+        Figure(
+            paired_scatter(times, baseline, out / "scatter.png"),
+            "Paired episodes against the baseline",
+            f"Each point is one episode: its exploration time with the baseline {baseline} (x) and with the "
+            "method (y). Points below the dashed diagonal are episodes the method explored faster than the "
+            "baseline, points above it slower; the axes span the times measured.",
+        ),
+        Figure(
+            coverage_plot({labels[m]: t for m, t in traces.items()}, out / "coverage.png"),
+            "Coverage over time",
+            "Share of the explorable space mapped over sim time: the line is the mean over episodes, the band "
+            "spans the 25th to the 75th percentile; an episode that has ended keeps its final coverage.",
+        ),
+    ]
     learned = {labels[m]: t for m, t in traces.items() if m.startswith("learned:") and any(tr["weight"] for tr in t)}
     if learned:
         caption = (
@@ -119,10 +128,14 @@ def _figures(store: ResultStore, config: ExperimentConfig, summary: dict[str, An
         )
         figures.append(Figure(weight_plot(learned, out / "weights.png"), "Weight chosen over time", caption))
     if "teams" in summary:
-        figures.append(Figure(team_size_plot(summary["teams"], out / "teams.png"),
-                              "Exploration time against team size",
-                              "Mean exploration time against team size, per policy and strategy; the bars are 95 % "
-                              "confidence intervals of the mean."))  # fmt: skip
+        figures.append(
+            Figure(
+                team_size_plot(summary["teams"], out / "teams.png"),
+                "Exploration time against team size",
+                "Mean exploration time against team size, per policy and strategy; the bars are 95 % "
+                "confidence intervals of the mean.",
+            )
+        )
     return figures
 
 

@@ -125,5 +125,7 @@ def _html_block(block: Block) -> str:
     mime = _MIME.get(block.path.suffix.lower(), "application/octet-stream")
     kind = ' class="chart"' if block.chart else ""
     title, caption = html.escape(block.title), html.escape(block.caption)
-    return (f'<figure><div class="frame"><img{kind} alt="{title}" src="data:{mime};base64,{data}"></div>'
-            f"<figcaption><b>{title}.</b> {caption}</figcaption></figure>")  # fmt: skip
+    return (
+        f'<figure><div class="frame"><img{kind} alt="{title}" src="data:{mime};base64,{data}"></div>'
+        f"<figcaption><b>{title}.</b> {caption}</figcaption></figure>"
+    )

@@ -50,9 +50,12 @@ def time_tables(summary: dict[str, Any], config: ExperimentConfig) -> list[Table
     for world, part in list(per_world.items())[:_MAX_WORLD_TABLES]:
         tables.append(_table_4_1(part["methods"], config, labels, f"World {world_labels[world]}", oracle=True))
     if len(per_world) > _MAX_WORLD_TABLES:
-        tables[-1] = Table(tables[-1].header, tables[-1].rows, tables[-1].title,
-                           f"Tables of the other {len(per_world) - _MAX_WORLD_TABLES} worlds: per_world in "
-                           "summary.json.")  # fmt: skip
+        tables[-1] = Table(
+            tables[-1].header,
+            tables[-1].rows,
+            tables[-1].title,
+            f"Tables of the other {len(per_world) - _MAX_WORLD_TABLES} worlds: per_world in summary.json.",
+        )
     return tables
 
 
@@ -63,16 +66,33 @@ def outcome_tables(
     traces, for the per-robot coverage)."""
     labels = short_labels(config.methods)
     metrics = Table(
-        ("method", "episodes done", "coverage", "path (m)", "t90 (s)", "t99 (s)", "aborts", "mean weight",
-         "wall per episode (s)"),
+        (
+            "method",
+            "episodes done",
+            "coverage",
+            "path (m)",
+            "t90 (s)",
+            "t99 (s)",
+            "aborts",
+            "mean weight",
+            "wall per episode (s)",
+        ),
         title="Other metrics (means over episodes; t90 and t99 over the episodes that reached them)",
-    )  # fmt: skip
+    )
     for method, e in summary["methods"].items():
-        metrics.rows.append([
-            labels[method], f"{e['episodes_done']} / {e['n']}", number(100 * e["mean_coverage"], 2, " %"),
-            number(e["mean_path_length_m"]), number(e["mean_t90_s"]), number(e["mean_t99_s"]),
-            number(e["mean_aborts"], 2), number(e["mean_weight"], 3), number(e["mean_wall_time_s"], 2),
-        ])  # fmt: skip
+        metrics.rows.append(
+            [
+                labels[method],
+                f"{e['episodes_done']} / {e['n']}",
+                number(100 * e["mean_coverage"], 2, " %"),
+                number(e["mean_path_length_m"]),
+                number(e["mean_t90_s"]),
+                number(e["mean_t99_s"]),
+                number(e["mean_aborts"], 2),
+                number(e["mean_weight"], 3),
+                number(e["mean_wall_time_s"], 2),
+            ]
+        )
     tables = [completion_table(summary["methods"], labels), metrics]
     if "teams" in summary:
         tables.append(_team_table(summary, labels, teams_traces or {}))
@@ -91,13 +111,15 @@ def outlier_tables(summary: dict[str, Any], config: ExperimentConfig, labels: di
             ["" if m == config.baseline else number(e["baseline_mean_time_s"]), str(e["excluded"])]
             for m, e in cut["methods"].items()
         ]
-        tables.append(Table(
-            (*table.header, "paired baseline mean (s)", "excluded"),
-            [[*row, *more] for row, more in zip(table.rows, extra, strict=True)],
-            table.title,
-            "Each method against the baseline on the episodes where neither took longer than the threshold; the "
-            "baseline's own row drops only its own long episodes.",
-        ))  # fmt: skip
+        tables.append(
+            Table(
+                (*table.header, "paired baseline mean (s)", "excluded"),
+                [[*row, *more] for row, more in zip(table.rows, extra, strict=True)],
+                table.title,
+                "Each method against the baseline on the episodes where neither took longer than the threshold; the "
+                "baseline's own row drops only its own long episodes.",
+            )
+        )
     return tables
 
 
@@ -108,8 +130,10 @@ def outlier_note(summary: dict[str, Any]) -> str:
         return ""
     thesis = {float(t) for t in summary["outliers"]} == set(THESIS_OUTLIERS_S)
     whose = " (the thesis's outlier thresholds)" if thesis else ""
-    return (f"No episode took longer than {' or '.join(f'{t} s' for t in clean)}{whose}, so the tables "
-            "without outliers would repeat the one above and are left out.")  # fmt: skip
+    return (
+        f"No episode took longer than {' or '.join(f'{t} s' for t in clean)}{whose}, so the tables "
+        "without outliers would repeat the one above and are left out."
+    )
 
 
 def _left_out(cut: dict[str, Any]) -> bool:
@@ -130,13 +154,20 @@ def methods_table(methods: tuple[str, ...]) -> Table:
 def _team_table(summary: dict[str, Any], labels: dict[str, str], traces: dict[str, list[dict[str, Any]]]) -> Table:
     """Team methods: size, speed-up over the same policy alone, overlap, per-robot coverage, failures."""
     table = Table(
-        ("method", "robots", "mean time (s)", "speed-up over 1 robot", "overlap", "coverage per robot",
-         "robots failed"),
+        (
+            "method",
+            "robots",
+            "mean time (s)",
+            "speed-up over 1 robot",
+            "overlap",
+            "coverage per robot",
+            "robots failed",
+        ),
         title="Teams (speed-up: the policy's one-robot mean time over the team's)",
         note="overlap: share of the cells the robots' own sensors reached that more than one robot's did; "
         "coverage per robot: the share of the explorable space each robot's own sensor reached (mean, min - max "
         "over robots, averaged over episodes).",
-    )  # fmt: skip
+    )
     methods = summary["methods"]
     for method, entry in methods.items():
         team = TeamMethod.parse(method)
@@ -151,16 +182,27 @@ def _team_table(summary: dict[str, Any], labels: dict[str, str], traces: dict[st
             mean, low, high = (float(np.mean([f(c) for c in per_robot])) for f in (np.mean, np.min, np.max))
             coverage = f"{100 * mean:.0f} % ({100 * low:.0f} - {100 * high:.0f} %)"
         failed = sum(sum(f is not None for f in t.get("failed_at_s", [])) for t in own)
-        table.rows.append([labels[method], str(team.robots), number(entry["mean_time_s"]),
-                           number(speedup, 2, " ×"), number(100 * entry["mean_overlap"], 0, " %"), coverage,
-                           f"{failed} in {len(own)} episodes"])  # fmt: skip
+        table.rows.append(
+            [
+                labels[method],
+                str(team.robots),
+                number(entry["mean_time_s"]),
+                number(speedup, 2, " ×"),
+                number(100 * entry["mean_overlap"], 0, " %"),
+                coverage,
+                f"{failed} in {len(own)} episodes",
+            ]
+        )
     return table
 
 
 def _table_4_1(
-    entries: dict[str, dict[str, Any]], config: ExperimentConfig, labels: dict[str, str], title: str,
+    entries: dict[str, dict[str, Any]],
+    config: ExperimentConfig,
+    labels: dict[str, str],
+    title: str,
     oracle: bool = False,
-) -> Table:  # fmt: skip
+) -> Table:
     rows = [table_4_1_row(labels[m], stats_from_dict(e), m == config.baseline) for m, e in entries.items()]
     header: tuple[str, ...] = TABLE_4_1_HEADER
     notes = []
@@ -170,11 +212,15 @@ def _table_4_1(
         header = (*header[:at], "p Holm", *header[at:])
         holm = ["" if m not in tested else p_value(e["p_holm"]) for m, e in entries.items()]
         rows = [[*row[:at], cell, *row[at:]] for row, cell in zip(rows, holm, strict=True)]
-        notes.append(f"p Holm: the one-tailed p adjusted by Holm's method over the {len(tested)} methods tested "
-                     "(the oracle is a reference, not tested).")  # fmt: skip
+        notes.append(
+            f"p Holm: the one-tailed p adjusted by Holm's method over the {len(tested)} methods tested "
+            "(the oracle is a reference, not tested)."
+        )
     if oracle and ORACLE in entries:
         header = (*header, "time / oracle")
         rows = [[*row, number(e["oracle_ratio"], 2, " ×")] for row, e in zip(rows, entries.values(), strict=True)]
-        notes.append("time / oracle: mean exploration time over the full-knowledge coverage tour's (1.00 × would be "
-                     "as fast as a robot that knows the map).")  # fmt: skip
+        notes.append(
+            "time / oracle: mean exploration time over the full-knowledge coverage tour's (1.00 × would be "
+            "as fast as a robot that knows the map)."
+        )
     return Table(header, rows, title, " ".join(notes))

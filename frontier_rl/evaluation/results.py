@@ -160,9 +160,11 @@ class ResultStore:
         if stored is not None:
             parts = [*identity, *(part for part in stored if part not in identity)]
             differences = [
-                d for part in parts if part != "methods" for d in differences_between(stored.get(part, ABSENT),
-                                                                                      identity.get(part, ABSENT), part)
-            ]  # fmt: skip
+                d
+                for part in parts
+                if part != "methods"
+                for d in differences_between(stored.get(part, ABSENT), identity.get(part, ABSENT), part)
+            ]
             if differences:
                 raise ConfigError(
                     f"--out {str(self.out)!r} holds results of a different configuration "
@@ -245,7 +247,7 @@ class ResultStore:
                 "trace_sha256": trace_sha256,
                 "row_sha256": row_checksum(self.experiment_id, fingerprint, self._row_lines[key], trace_sha256),
             }
-            entries[key] = (number, json.dumps(entry, separators=(",", ":")), entry)  # fmt: skip
+            entries[key] = (number, json.dumps(entry, separators=(",", ":")), entry)
         write_text_atomic(self.checksum_path, "".join(line + "\n" for _, line, _ in entries.values()))
         return entries
 
@@ -305,8 +307,13 @@ class ResultStore:
         trace_line = json.dumps(trace, separators=(",", ":"))
         row_line = format_row(row)
         trace_sha256 = sha256_hex(trace_line)
-        entry = {"method": key[0], "world": key[1], "episode": key[2], "trace_sha256": trace_sha256,
-                 "row_sha256": row_checksum(self.experiment_id, fingerprint, row_line, trace_sha256)}  # fmt: skip
+        entry = {
+            "method": key[0],
+            "world": key[1],
+            "episode": key[2],
+            "trace_sha256": trace_sha256,
+            "row_sha256": row_checksum(self.experiment_id, fingerprint, row_line, trace_sha256),
+        }
         checksum_line = json.dumps(entry, separators=(",", ":"))
         append_synced(self.trace_path, trace_line + "\n")
         append_synced(self.checksum_path, checksum_line + "\n")

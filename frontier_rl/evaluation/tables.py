@@ -105,9 +105,18 @@ def p_value(value: float | None) -> str:
 
 
 TABLE_4_1_HEADER = (
-    "method", "n", "mean time (s)", "variance (s²)", "sd (s)", "mean saving (s)", "95 % CI (s)", "p one-tailed",
-    "p two-tailed", "p Wilcoxon", "reduction",
-)  # fmt: skip
+    "method",
+    "n",
+    "mean time (s)",
+    "variance (s²)",
+    "sd (s)",
+    "mean saving (s)",
+    "95 % CI (s)",
+    "p one-tailed",
+    "p two-tailed",
+    "p Wilcoxon",
+    "reduction",
+)
 
 
 def table_4_1_row(name: str, s: PairedStats, is_baseline: bool) -> list[str]:
@@ -116,9 +125,18 @@ def table_4_1_row(name: str, s: PairedStats, is_baseline: bool) -> list[str]:
         return [f"{name} (baseline)", str(s.n), number(s.mean_time_s), number(s.var_time_s), _sd(s), *[""] * 6]
     ci = f"{number(s.ci95_s[0])} … {number(s.ci95_s[1])}"
     return [
-        name, str(s.n), number(s.mean_time_s), number(s.var_time_s), _sd(s), number(s.mean_diff_s), ci,
-        p_value(s.p_one_tailed), p_value(s.p_two_tailed), p_value(s.p_wilcoxon), number(s.reduction_pct, unit=" %"),
-    ]  # fmt: skip
+        name,
+        str(s.n),
+        number(s.mean_time_s),
+        number(s.var_time_s),
+        _sd(s),
+        number(s.mean_diff_s),
+        ci,
+        p_value(s.p_one_tailed),
+        p_value(s.p_two_tailed),
+        p_value(s.p_wilcoxon),
+        number(s.reduction_pct, unit=" %"),
+    ]
 
 
 def _sd(s: PairedStats) -> str:
@@ -141,19 +159,32 @@ def completion_table(entries: dict[str, dict[str, Any]], labels: dict[str, str] 
     labels = labels or {}
     reasons = list(dict.fromkeys(reason for e in entries.values() for reason in e["end_reasons"]))
     table = Table(
-        ("method", "episodes", *(reason.replace("_", " ") for reason in reasons), "mean coverage", "min coverage",
-         "free coverage", "unknown left (m²)"),
+        (
+            "method",
+            "episodes",
+            *(reason.replace("_", " ") for reason in reasons),
+            "mean coverage",
+            "min coverage",
+            "free coverage",
+            "unknown left (m²)",
+        ),
         title="Completion",
         note="explored: no frontier left that the robot could see from where it can go; unreachable: frontiers "
         "left with free space unseen beside or behind them, none of them reachable or each given up after its "
         "tries; time cap: cut at the sim-time cap. coverage: share of the explorable space mapped; free "
         "coverage: share of all free cells mapped; unknown left: the unknown area beside the frontiers left (mean "
         "over episodes).",
-    )  # fmt: skip
+    )
     for method, e in entries.items():
-        table.rows.append([
-            labels.get(method, method), str(e["n"]), *(str(e["end_reasons"].get(r, 0)) for r in reasons),
-            number(100 * e["mean_coverage"], 2, " %"), number(100 * e["min_coverage"], 2, " %"),
-            number(100 * e["mean_free_coverage"], 2, " %"), number(e["mean_unknown_left_m2"], 2),
-        ])  # fmt: skip
+        table.rows.append(
+            [
+                labels.get(method, method),
+                str(e["n"]),
+                *(str(e["end_reasons"].get(r, 0)) for r in reasons),
+                number(100 * e["mean_coverage"], 2, " %"),
+                number(100 * e["min_coverage"], 2, " %"),
+                number(100 * e["mean_free_coverage"], 2, " %"),
+                number(e["mean_unknown_left_m2"], 2),
+            ]
+        )
     return table

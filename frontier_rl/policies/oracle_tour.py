@@ -199,10 +199,16 @@ def visibility(
     usable = min(lidar.max_range, config.mapper.usable_range) / res
     target = coverage_targets(world) if target is None else target
     return _scan_cells(
-        pad_blocked(occupied), pad_blocked(near), np.ascontiguousarray(target, np.bool_),
-        np.ascontiguousarray(cells, np.int64), np.cos(offsets), np.sin(offsets), lidar.min_range / res, usable,
+        pad_blocked(occupied),
+        pad_blocked(near),
+        np.ascontiguousarray(target, np.bool_),
+        np.ascontiguousarray(cells, np.int64),
+        np.cos(offsets),
+        np.sin(offsets),
+        lidar.min_range / res,
+        usable,
         int(graze_cells),
-    )  # fmt: skip
+    )
 
 
 def _open_tour_length(order: NDArray[np.int64], dist: NDArray[np.float64]) -> float:

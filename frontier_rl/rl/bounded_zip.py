@@ -89,14 +89,18 @@ def check_members(archive: zipfile.ZipFile, where: str, max_members: int) -> Non
             raise ConfigError(f"{where} holds member {name} twice")
         names.add(member.filename)
         if member.compress_type not in _STORED_OR_DEFLATED:
-            raise ConfigError(f"{where}: member {name} uses compression method {member.compress_type}, "
-                              "not stored or deflated")  # fmt: skip
+            raise ConfigError(
+                f"{where}: member {name} uses compression method {member.compress_type}, not stored or deflated"
+            )
         if member.file_size > MAX_MEMBER_BYTES:
-            raise ConfigError(f"{where}: member {name} unpacks to {member.file_size} bytes, "
-                              f"more than the {MAX_MEMBER_BYTES} allowed")  # fmt: skip
+            raise ConfigError(
+                f"{where}: member {name} unpacks to {member.file_size} bytes, more than the {MAX_MEMBER_BYTES} allowed"
+            )
         if member.file_size > RATIO_FLOOR_BYTES and member.file_size > MAX_COMPRESSION_RATIO * member.compress_size:
-            raise ConfigError(f"{where}: member {name} unpacks {member.compress_size} bytes to {member.file_size}, "
-                              f"more than {MAX_COMPRESSION_RATIO} times (a zip bomb?)")  # fmt: skip
+            raise ConfigError(
+                f"{where}: member {name} unpacks {member.compress_size} bytes to {member.file_size}, "
+                f"more than {MAX_COMPRESSION_RATIO} times (a zip bomb?)"
+            )
         total += member.file_size
     if total > MAX_ARCHIVE_BYTES:
         raise ConfigError(f"{where} unpacks to {total} bytes, more than the {MAX_ARCHIVE_BYTES} allowed")
@@ -109,8 +113,10 @@ def open_checked_zip(file: IO[bytes], where: str, max_members: int, kind: str) -
     if directory is not None:
         entries, directory_bytes = directory
         if entries > max_members or directory_bytes > 1024 * max_members:
-            raise ConfigError(f"{where} declares {entries} members in {directory_bytes} bytes of directory, "
-                              f"more than the {max_members} allowed")  # fmt: skip
+            raise ConfigError(
+                f"{where} declares {entries} members in {directory_bytes} bytes of directory, "
+                f"more than the {max_members} allowed"
+            )
     file.seek(0)
     try:
         archive = zipfile.ZipFile(file)

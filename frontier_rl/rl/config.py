@@ -41,10 +41,25 @@ _MESSAGE_LIMIT = 300
 
 
 _CLI_OPTIONS = (
-    "model", "worlds", "timesteps", "n_envs", "algo", "observation_size", "reward", "learning_rate", "n_steps",
-    "gamma", "ent_coef", "seed", "eval_every", "checkpoint_every", "init", "privileged_critic",
-    "privileged_map", "resolution",
-)  # fmt: skip
+    "model",
+    "worlds",
+    "timesteps",
+    "n_envs",
+    "algo",
+    "observation_size",
+    "reward",
+    "learning_rate",
+    "n_steps",
+    "gamma",
+    "ent_coef",
+    "seed",
+    "eval_every",
+    "checkpoint_every",
+    "init",
+    "privileged_critic",
+    "privileged_map",
+    "resolution",
+)
 """The fields ``frontier-rl train`` sets by an option of the same name."""
 
 
@@ -226,9 +241,11 @@ class TrainConfig:
             if name in ("model", "worlds", "timesteps") or value != getattr(default, name):
                 option = f"--{name.replace('_', '-')}"
                 parts.append(option if value is True else f"{option} {shlex.quote(str(value))}")
-        other = [f"{f.name}={getattr(self, f.name)}" for f in fields(self)
-                 if f.name not in _CLI_OPTIONS and f.name != "sim"
-                 and getattr(self, f.name) != getattr(default, f.name)]  # fmt: skip
+        other = [
+            f"{f.name}={getattr(self, f.name)}"
+            for f in fields(self)
+            if f.name not in _CLI_OPTIONS and f.name != "sim" and getattr(self, f.name) != getattr(default, f.name)
+        ]
         other += _differences("sim", to_dict(self.sim), to_dict(default.sim))  # set by --config, a file
         return " ".join(parts) + (f" (also {', '.join(other)})" if other else "")
 

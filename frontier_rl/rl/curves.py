@@ -56,8 +56,13 @@ def plot_learning_curve(run: Path, title: str = "") -> Path:
         with validation.open() as source:
             rows = list(csv.DictReader(source))
         if rows:
-            ax.plot([int(r["timesteps"]) for r in rows], [float(r["mean_time_s"]) for r in rows], "o-",
-                    color="tab:red", label="validation worlds (deterministic)")  # fmt: skip
+            ax.plot(
+                [int(r["timesteps"]) for r in rows],
+                [float(r["mean_time_s"]) for r in rows],
+                "o-",
+                color="tab:red",
+                label="validation worlds (deterministic)",
+            )
     ax.set_xlabel("training decisions (env steps)")
     ax.set_ylabel("exploration time (s, simulated)")
     ax.set_title(title)

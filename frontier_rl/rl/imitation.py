@@ -111,8 +111,9 @@ def fit(
     return loss_sum / max(count, 1)
 
 
-def _fit_round(model: BaseAlgorithm, data: LabelledDecisions, rng: np.random.Generator,
-               optimizer: torch.optim.Optimizer) -> float:  # fmt: skip
+def _fit_round(
+    model: BaseAlgorithm, data: LabelledDecisions, rng: np.random.Generator, optimizer: torch.optim.Optimizer
+) -> float:
     """Fit the policy to every label so far (:func:`fit`) and record the round for the logger."""
     loss = fit(model, data, rng, optimizer)
     model.logger.record("dagger/loss", loss)

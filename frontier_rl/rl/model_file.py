@@ -198,8 +198,9 @@ def _whole(values: dict[str, Any], name: str, low: int, high: int, where: str) -
     """Field ``name`` as an int in [low, high] (a bool, float or string is refused)."""
     value = values[name]
     if type(value) is not int:
-        raise ConfigError(f"{where}: metadata field {name!r} must be a whole number, "
-                          f"got {short_repr(value)} ({type(value).__name__})")  # fmt: skip
+        raise ConfigError(
+            f"{where}: metadata field {name!r} must be a whole number, got {short_repr(value)} ({type(value).__name__})"
+        )
     if not low <= value <= high:
         raise ConfigError(f"{where}: metadata field {name!r} must be in {low}..{high}, got {short_repr(value)}")
     return value
@@ -242,11 +243,13 @@ def parse_metadata(raw: bytes, where: str) -> ModelInfo:
     name = values["env_id"]
     expected = env_id(model, size)
     if not isinstance(name, str) or name not in ENV_IDS:
-        raise ConfigError(f"{where}: metadata field 'env_id' must be a frontier_rl id such as {expected!r}, "
-                          f"got {short_repr(name)}")  # fmt: skip
+        raise ConfigError(
+            f"{where}: metadata field 'env_id' must be a frontier_rl id such as {expected!r}, got {short_repr(name)}"
+        )
     if name != expected:
-        raise ConfigError(f"{where}: metadata field 'env_id' is {name!r}, but model {model} at {size} px "
-                          f"runs in {expected!r}")  # fmt: skip
+        raise ConfigError(
+            f"{where}: metadata field 'env_id' is {name!r}, but model {model} at {size} px runs in {expected!r}"
+        )
     algo = _choice(values, "algo", tuple(ALGORITHMS), where)
     features_dim = _whole(values, "features_dim", 1, MAX_FEATURES_DIM, where)
     timesteps = _whole(values, "timesteps", 0, MAX_TIMESTEPS, where)

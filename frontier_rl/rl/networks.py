@@ -114,8 +114,9 @@ class FrontierPooling(_FrontierTableExtractor):
     def __init__(self, observation_space: gym.spaces.Dict, context_dim: int = 128) -> None:
         super().__init__(observation_space, context_dim, context_dim + 2 * FRONTIER_EMBEDDING)
         n_in = self.columns + context_dim
-        self.embed = nn.Sequential(nn.Linear(n_in, FRONTIER_EMBEDDING), nn.ReLU(),
-                                   nn.Linear(FRONTIER_EMBEDDING, FRONTIER_EMBEDDING), nn.ReLU())  # fmt: skip
+        self.embed = nn.Sequential(
+            nn.Linear(n_in, FRONTIER_EMBEDDING), nn.ReLU(), nn.Linear(FRONTIER_EMBEDDING, FRONTIER_EMBEDDING), nn.ReLU()
+        )
 
     def forward(self, observations: dict[str, torch.Tensor]) -> torch.Tensor:
         """The map context, then the max and the mean of the kept rows' embeddings."""

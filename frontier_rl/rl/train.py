@@ -163,8 +163,15 @@ def _start(config: TrainConfig, out: Path, resume: bool) -> tuple[int, ActorCrit
     return start, initial
 
 
-def _learn(model: BaseAlgorithm, venv: VecEnv, config: TrainConfig, out: Path, start: int,
-           callbacks: list[BaseCallback], progress: bool) -> None:  # fmt: skip
+def _learn(
+    model: BaseAlgorithm,
+    venv: VecEnv,
+    config: TrainConfig,
+    out: Path,
+    start: int,
+    callbacks: list[BaseCallback],
+    progress: bool,
+) -> None:
     """Run the configured algorithm from step ``start`` to ``config.timesteps``; a run whose
     weights stop being finite ends with :class:`~frontier_rl.errors.TrainingDivergedError` (the
     distribution of its next decision refuses their NaN logits with a ValueError)."""
@@ -175,8 +182,15 @@ def _learn(model: BaseAlgorithm, venv: VecEnv, config: TrainConfig, out: Path, s
         raise
 
 
-def _run_algorithm(model: BaseAlgorithm, venv: VecEnv, config: TrainConfig, out: Path, start: int,
-                   callbacks: list[BaseCallback], progress: bool) -> None:  # fmt: skip
+def _run_algorithm(
+    model: BaseAlgorithm,
+    venv: VecEnv,
+    config: TrainConfig,
+    out: Path,
+    start: int,
+    callbacks: list[BaseCallback],
+    progress: bool,
+) -> None:
     """Run the configured algorithm from step ``start`` to ``config.timesteps``."""
     if config.algo == "dagger":
         model.set_logger(configure_logger(str(out / "tb" / "dagger"), ["tensorboard"]))
@@ -249,8 +263,11 @@ def train(
     info = ModelInfo(config.model, config.env_id, config.observation_size, config.algo, config.features_dim, 0)
     if config.eval_every:
         eval_env = gym.make(config.env_id, **env_kwargs, world_split="validation")
-        callbacks.append(ValidationCallback(eval_env, config.eval_every, config.eval_episodes,
-                                            out / "validation.csv", out / "best_model.zip", info))  # fmt: skip
+        callbacks.append(
+            ValidationCallback(
+                eval_env, config.eval_every, config.eval_episodes, out / "validation.csv", out / "best_model.zip", info
+            )
+        )
     callbacks.extend(extra_callbacks)
     torch.set_num_threads(1 if config.n_envs > 1 else torch.get_num_threads())
     started = time.perf_counter()

@@ -84,8 +84,14 @@ class Finished:
 
     @property
     def with_a_path(self) -> int:
-        """How many frontiers left the map still has a path to (the audit)."""
-        return sum(f.has_path for f in self.left)
+        """How many frontiers left the map still has a path to (the audit), not counting those
+        reached twice in vain (:attr:`unrevealable`)."""
+        return sum(f.has_path and not f.unrevealable for f in self.left)
+
+    @property
+    def unrevealable(self) -> int:
+        """How many frontiers left the robot reached twice without their frontier going away."""
+        return sum(f.unrevealable for f in self.left)
 
 
 class FrontierExplorer:

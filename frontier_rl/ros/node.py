@@ -65,8 +65,9 @@ class FrontierNode:
         self.rospy = rospy = import_rospy()
         robots = robot_namespaces(rospy.get_param("~robots", [""]))
         top_k = count_parameter("top_k", rospy.get_param("~top_k", 10), 1)
-        min_cells = count_parameter("min_cluster_size", rospy.get_param("~min_cluster_size", 4), 0,
-                                    MAX_FRONTIER_DROP_CELLS)  # fmt: skip
+        min_cells = count_parameter(
+            "min_cluster_size", rospy.get_param("~min_cluster_size", 4), 0, MAX_FRONTIER_DROP_CELLS
+        )
         self.base_frame = str(rospy.get_param("~base_frame", "base_footprint"))
         max_map_age = seconds_parameter("max_map_age", rospy.get_param("~max_map_age", 30.0), zero=True)
         try:
@@ -76,10 +77,12 @@ class FrontierNode:
         keep_last_map = flag_parameter("keep_last_map", rospy.get_param("~keep_last_map", True))
         max_pending = count_parameter("max_pending", rospy.get_param("~max_pending", 8), 1)
         period = rospy.get_param("~master_check_period", 1.0)
-        self.master_check_period = seconds_parameter("master_check_period", period, zero=False,
-                                                     most=MAX_CHECK_PERIOD_S)  # fmt: skip
-        spec = node_policy_spec(str(rospy.get_param("~policy", "") or ""), str(rospy.get_param("~model", "") or ""),
-                                coerce(float, rospy.get_param("~weight", THESIS_WEIGHT), "~weight"))  # fmt: skip
+        self.master_check_period = seconds_parameter("master_check_period", period, zero=False, most=MAX_CHECK_PERIOD_S)
+        spec = node_policy_spec(
+            str(rospy.get_param("~policy", "") or ""),
+            str(rospy.get_param("~model", "") or ""),
+            coerce(float, rospy.get_param("~weight", THESIS_WEIGHT), "~weight"),
+        )
         settings = ServiceSettings(
             tuple(robots), spec, top_k, min_cells, max_map_age, stale, keep_last_map, max_pending
         )
@@ -111,8 +114,14 @@ class FrontierNode:
         self.tf_buffer = self._tf_buffer()
         pose_topic = str(rospy.get_param("~pose_topic", "robot_pose"))
         for ns in self.robots:
-            rospy.Subscriber(_topic(ns, "map"), numpy_msg(OccupancyGrid), self._on_map, callback_args=ns,
-                             queue_size=1, buff_size=2**26)  # fmt: skip
+            rospy.Subscriber(
+                _topic(ns, "map"),
+                numpy_msg(OccupancyGrid),
+                self._on_map,
+                callback_args=ns,
+                queue_size=1,
+                buff_size=2**26,
+            )
             rospy.Subscriber(_topic(ns, pose_topic), PoseStamped, self._on_pose, callback_args=ns, queue_size=1)
         rospy.Subscriber("/frontier_request", String, self._on_request, queue_size=100)
         top_k = self.service.settings.top_k
@@ -201,8 +210,9 @@ def main() -> None:
 
     try:
         if node.start():
-            watch = MasterWatch(rosgraph.get_master_uri(), rospy.get_name(), node.master_check_period,
-                                node.on_master_restart)  # fmt: skip
+            watch = MasterWatch(
+                rosgraph.get_master_uri(), rospy.get_name(), node.master_check_period, node.on_master_restart
+            )
             watch.start()
             rospy.spin()
     except FrontierRLError as exc:  # a worker that did not start

@@ -54,7 +54,8 @@ class ExplorerStatus:
         goals: goals sent; given_up: of them blacklisted (rejected, aborted, no progress, or
             reached without seeing their frontier).
         frontiers_left: frontiers larger than a speck left at the end; unknown_m2: the unknown
-            area beside them (m²); with_a_path: of them, those the map still has a path to.
+            area beside them (m²); with_a_path: of them, those the map still has a path to;
+            unrevealable: those reached twice without their frontier going away.
         coverage: the simulator's share of the explorable space mapped, when a simulator
             publishes it (``coverage``); -1 otherwise.
         detail: a sentence on what happened last.
@@ -68,6 +69,7 @@ class ExplorerStatus:
     frontiers_left: int
     unknown_m2: float
     with_a_path: int
+    unrevealable: int
     coverage: float
     detail: str
 
@@ -280,7 +282,7 @@ class ExplorerNode(Node):
         if status.frontiers_left:
             line += (
                 f"; {status.frontiers_left} frontiers left with {status.unknown_m2:.2f} m² unknown beside them"
-                f" ({status.with_a_path} with a path on the map)"
+                f" ({status.with_a_path} with a path on the map, {status.unrevealable} reached twice in vain)"
             )
         return line
 
@@ -296,6 +298,7 @@ class ExplorerNode(Node):
             frontiers_left=0 if end is None else len(end.left),
             unknown_m2=0.0 if end is None else round(end.unknown_beside_m2, 3),
             with_a_path=0 if end is None else end.with_a_path,
+            unrevealable=0 if end is None else end.unrevealable,
             coverage=round(self._coverage, 5),
             detail=detail,
         )

@@ -108,8 +108,15 @@ class TeamConfig:
             object.__setattr__(self, "strategy", parse_strategy(str(self.strategy)))
         if self.comm_range is not None and not self.comm_range >= 0:
             raise ConfigError(f"comm_range must be >= 0 m, got {self.comm_range!r}")
-        for name in ("explore_period", "meeting_radius", "meeting_timeout", "claim_radius", "coordination_range",
-                     "start_spacing", "random_failure_horizon"):  # fmt: skip
+        for name in (
+            "explore_period",
+            "meeting_radius",
+            "meeting_timeout",
+            "claim_radius",
+            "coordination_range",
+            "start_spacing",
+            "random_failure_horizon",
+        ):
             value = getattr(self, name)
             if value is not None and not (math.isfinite(value) and value > 0):
                 raise ConfigError(f"TeamConfig.{name} must be a positive number, got {value!r}")

@@ -97,6 +97,7 @@ def frontier_request(
     for index in ranking.order[:top_k]:
         x, y = context.frontiers.centers[int(index)]
         dx, dy = x - start.x, y - start.y
-        answer.append(RankedFrontier(cos_t * dx + sin_t * dy, -sin_t * dx + cos_t * dy,
-                                     int(context.frontiers.sizes[int(index)])))  # fmt: skip
+        answer.append(
+            RankedFrontier(cos_t * dx + sin_t * dy, -sin_t * dx + cos_t * dy, int(context.frontiers.sizes[int(index)]))
+        )
     return FrontierList(robot, frame, tuple(answer), ranking.weight)

@@ -23,16 +23,16 @@ from numpy.typing import NDArray
 from frontier_rl.core.mapping.mapper import LogOddsMapper
 from frontier_rl.core.sim.config import SimConfig
 from frontier_rl.core.sim.episode import DecisionContext, Ranking, decision_context
-from frontier_rl.core.sim.episode_log import EndReason, aborts_by_cause, completion_reason
-from frontier_rl.core.sim.metrics import FrontierLeft, time_to_coverage, unseen_area_m2
 from frontier_rl.core.sim.simulator import ExplorationSimulator
-from frontier_rl.core.world.grid import CellState, OccupancyGrid
+from frontier_rl.core.world.grid import OccupancyGrid
 from frontier_rl.core.world.worlds import World
 from frontier_rl.swarm.config import Strategy, TeamConfig
 from frontier_rl.swarm.coordination import coordinated_order
+from frontier_rl.swarm.knowledge import TeamKnowledge
 from frontier_rl.swarm.rendezvous import Phase, RendezvousCycle
-from frontier_rl.swarm.result import TeamResult, overlap_share
+from frontier_rl.swarm.result import TeamResult
 from frontier_rl.swarm.starts import team_starts
+from frontier_rl.swarm.team_result import team_result
 
 _MAX_STALLED_DECISIONS = 1000
 
@@ -112,10 +112,7 @@ class TeamSimulator:
         self._contact = np.zeros((n, n), np.bool_)
         mapper_cfg = self.config.mapper
         self._reach = int(math.ceil(mapper_cfg.usable_range / world.grid.resolution)) + 2
-        self._known = np.zeros(world.grid.shape, np.bool_)  # cells a surviving robot knows
-        self._known_count = 0  # ... of them explorable
-        self._times: list[float] = []
-        self._curve: list[int] = []
+        self._knowledge = TeamKnowledge(world.explorable)
         self._over = False
         self._done = False
         self._started = time.perf_counter()
@@ -153,7 +150,12 @@ class TeamSimulator:
     @property
     def known_cells(self) -> int:
         """Explorable cells the surviving robots know."""
-        return self._known_count
+        return self._knowledge.count
+
+    @property
+    def known(self) -> NDArray[np.bool_]:
+        """The cells a surviving robot knows (the world's shape; read only)."""
+        return self._knowledge.known
 
     @property
     def coverage(self) -> float:
@@ -217,8 +219,13 @@ class TeamSimulator:
         else:
             order = ranking.order
             if self.team.strategy is not Strategy.UNCOORDINATED:
-                order = coordinated_order(sim.frontiers().goals, order, self.claims(index), self.team.claim_radius,
-                                          self.team.coordination_range)  # fmt: skip
+                order = coordinated_order(
+                    sim.frontiers().goals,
+                    order,
+                    self.claims(index),
+                    self.team.claim_radius,
+                    self.team.coordination_range,
+                )
             robot.leg = sim.execute_steps(order, ranking.weight)
         self._step(robot)
         if self.rendezvous is not None:
@@ -277,26 +284,16 @@ class TeamSimulator:
         if full:  # whole maps were merged
             window = (0, mapper.state.shape[0], 0, mapper.state.shape[1])
         r0, c0 = max(window[0], 0), max(window[2], 0)
-        rows, cols = slice(r0, window[1]), slice(c0, window[3])
-        newly = mapper.seen[rows, cols] & ~self._known[rows, cols]
-        self._known[rows, cols] |= newly
-        self._known_count += int(np.count_nonzero(newly & self.world.explorable[rows, cols]))
-        self._record(robot.sim.sim_time)
+        self._knowledge.add(mapper.seen, slice(r0, window[1]), slice(c0, window[3]), robot.sim.sim_time)
+        self._knowledge_updated(robot.sim.sim_time)
 
     def _recount(self) -> None:
         """Rebuild what the team knows from the surviving robots' maps."""
-        self._known[:] = False
-        for robot in self.alive:
-            self._known |= robot.sim.mapper.seen
-        self._known_count = int(np.count_nonzero(self._known & self.world.explorable))
-        self._record(self.sim_time)
+        self._knowledge.rebuild([robot.sim.mapper.seen for robot in self.alive], self.sim_time)
+        self._knowledge_updated(self.sim_time)
 
-    def _record(self, time_s: float) -> None:
-        count = self.known_cells
-        if self._curve and count == self._curve[-1]:
-            return
-        self._times.append(max(time_s, self._times[-1]) if self._times else time_s)
-        self._curve.append(count)
+    def _knowledge_updated(self, time_s: float) -> None:
+        """What the team knows was updated at ``time_s`` (s): a hook for recorders of other figures."""
 
     # -------------------------------------------------------------- failures
     def _draw_failures(self, rng: np.random.Generator) -> None:
@@ -318,6 +315,10 @@ class TeamSimulator:
         self._recount()
 
     # ---------------------------------------------------------------- results
+    def coverage_curve(self) -> tuple[list[float], list[int]]:
+        """When (s) the count of explorable cells the team knows changed, and the count then."""
+        return self._knowledge.times, self._knowledge.curve
+
     def team_map(self) -> OccupancyGrid:
         """The surviving robots' maps merged (robot 0's if none survived)."""
         alive = self.alive or self.robots[:1]
@@ -327,73 +328,6 @@ class TeamSimulator:
         return merged.occupancy_grid()
 
     def result(self, wall_time_s: float | None = None) -> TeamResult:
-        """The team's metrics so far; ``wall_time_s`` defaults to the time since construction."""
-        wall = time.perf_counter() - self._started if wall_time_s is None else wall_time_s
-        total = max(self.world.explorable_count, 1)
-        times = np.asarray(self._times, dtype=np.float64)
-        curve = np.asarray(self._curve, dtype=np.float64) / total
-        sims = [r.sim for r in self.robots]
-        explorable = self.world.explorable
-        first = sims[0].result(wall)
-        left = self._frontiers_left()
-        reason = self._end_reason(left)
-        return TeamResult(
-            sim_time_s=self.sim_time,
-            path_length_m=sum(s.path_length for s in sims),
-            coverage=self.coverage,
-            t90_s=time_to_coverage(times, curve, 0.90),
-            t99_s=time_to_coverage(times, curve, 0.99),
-            decisions=sum(len(s.log.decisions) for s in sims),
-            aborts=sum(s.log.aborts for s in sims),
-            aborts_by_cause=aborts_by_cause([s.log.aborts_by_cause for s in sims]),
-            done=self._done and reason == EndReason.EXPLORED.value,
-            truncated=self.truncated,
-            wall_time_s=wall,
-            end_reason=reason,
-            free_coverage=self._free_coverage(),
-            unknown_left_m2=unseen_area_m2(left, self.world.grid.resolution),
-            explorable_m2=self.world.explorable_count * self.world.grid.resolution**2,
-            coverage_times_s=times,
-            coverage_curve=curve,
-            trajectory=first.trajectory,
-            decision_log=first.decision_log,
-            final_map=first.final_map,
-            robots=len(self.robots),
-            strategy=self.team.strategy.value,
-            overlap=overlap_share([s.mapper.observed for s in sims], explorable),
-            robot_path_lengths_m=tuple(s.path_length for s in sims),
-            robot_coverage=tuple(int(np.count_nonzero(s.mapper.observed & explorable)) / total for s in sims),
-            failed_at_s=tuple(r.failed_at for r in self.robots),
-            trajectories=tuple(s.trajectory() for s in sims),
-            team_map=self.team_map(),
-            frontiers_left=left,
-        )
-
-    def _frontiers_left(self) -> tuple[FrontierLeft, ...]:
-        """The frontiers the surviving robots left at the end or the time cap (none before), each
-        once (robots that shared their maps see the same frontier), with the space unseen by the
-        whole team beside and behind it: a robot's frontier whose cells a teammate mapped after their
-        last share is no space left."""
-        if not (self._done or self.truncated):
-            return ()
-        left: dict[tuple[float, float, int], FrontierLeft] = {}
-        for robot in self.alive:
-            for frontier in robot.sim.frontiers_left(self._known):
-                if frontier.unknown_cells:  # else a teammate saw all round it
-                    left.setdefault((frontier.x, frontier.y, frontier.cells), frontier)
-        return tuple(left.values())
-
-    def _end_reason(self, left: tuple[FrontierLeft, ...]) -> str | None:
-        """Why the team's episode ended (None while it goes on): "failed" when no robot is left."""
-        if self.truncated:
-            return EndReason.TIME_CAP.value
-        if not self._over:
-            return None
-        if not self.alive:
-            return "failed"
-        return str(completion_reason(left, self.config.speck_cells(self.world.grid.resolution)).value)
-
-    def _free_coverage(self) -> float:
-        """Share of the world's free cells the surviving robots know."""
-        free = self.world.grid.data == CellState.FREE
-        return int(np.count_nonzero(self._known & free)) / max(int(np.count_nonzero(free)), 1)
+        """The team's metrics so far (:func:`~frontier_rl.swarm.team_result.team_result`);
+        ``wall_time_s`` defaults to the time since construction."""
+        return team_result(self, time.perf_counter() - self._started if wall_time_s is None else wall_time_s)

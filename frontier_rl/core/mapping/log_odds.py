@@ -45,9 +45,19 @@ class LogOddsRule(NamedTuple):
 
 @nb.njit(cache=True, fastmath=FASTMATH, inline="always")
 def _mark_crossed(
-    flat: NDArray[np.int16], rows: int, cols: int, row: int, col: int, s_r: int, s_c: int, tm_r: float,
-    tm_c: float, td_r: float, td_c: float, limit: float,
-) -> None:  # fmt: skip
+    flat: NDArray[np.int16],
+    rows: int,
+    cols: int,
+    row: int,
+    col: int,
+    s_r: int,
+    s_c: int,
+    tm_r: float,
+    tm_c: float,
+    td_r: float,
+    td_c: float,
+    limit: float,
+) -> None:
     """Count a pass in every cell the DDA state leaves before ``limit`` (cells), inside the grid."""
     cell = row * cols + col
     row_step = s_r * cols
@@ -65,9 +75,14 @@ def _mark_crossed(
 
 @nb.njit(cache=True)
 def _mark_hits(
-    pending: NDArray[np.int16], cx: float, cy: float, dir_x: NDArray[np.float64], dir_y: NDArray[np.float64],
-    ranges: NDArray[np.float64], usable: float,
-) -> None:  # fmt: skip
+    pending: NDArray[np.int16],
+    cx: float,
+    cy: float,
+    dir_x: NDArray[np.float64],
+    dir_y: NDArray[np.float64],
+    ranges: NDArray[np.float64],
+    usable: float,
+) -> None:
     """Set the HIT bit of the cell each beam ends in (beams with a return within ``usable``)."""
     rows, cols = pending.shape
     for i in range(ranges.shape[0]):
@@ -263,9 +278,16 @@ def cast_and_mark(
 
 @nb.njit(cache=True)
 def _unmark_beyond(
-    flat: NDArray[np.int16], cols: int, cx: float, cy: float, dx: float, dy: float, limit: float, usable: float,
+    flat: NDArray[np.int16],
+    cols: int,
+    cx: float,
+    cy: float,
+    dx: float,
+    dy: float,
+    limit: float,
+    usable: float,
     n_marked: int,
-) -> None:  # fmt: skip
+) -> None:
     """Take back the marks of the first ``n_marked`` cells of a beam that lie beyond ``limit``."""
     row, col, s_r, s_c, tm_r, tm_c, td_r, td_c = ray_start(cx, cy, dx, dy)
     seen = 0

@@ -217,10 +217,20 @@ class LogOddsMapper:
             self._ranges = np.empty(n)
         cx, cy = (pose.x - self.origin[0]) / res, (pose.y - self.origin[1]) / res
         cast_and_mark(
-            lidar.blocked_padded, self._pending, cx, cy, math.cos(pose.theta), math.sin(pose.theta),
-            lidar.cos_offsets, lidar.sin_offsets, lidar.normals(rng), lidar.range_noise,
-            min(lidar.config.max_range, self.config.usable_range) / res, self._ranges, self._extent,
-        )  # fmt: skip
+            lidar.blocked_padded,
+            self._pending,
+            cx,
+            cy,
+            math.cos(pose.theta),
+            math.sin(pose.theta),
+            lidar.cos_offsets,
+            lidar.sin_offsets,
+            lidar.normals(rng),
+            lidar.range_noise,
+            min(lidar.config.max_range, self.config.usable_range) / res,
+            self._ranges,
+            self._extent,
+        )
         if filtered is not None and len(filtered[0]):
             centres, radius = filtered
             drop_marks(self._pending, centres[:, 0], centres[:, 1], radius, self.origin[0], self.origin[1], res)
@@ -236,8 +246,20 @@ class LogOddsMapper:
         saturating = self._rule._replace(hit=self.config.clamp_max)  # a hit that saturates
         self._counters[:] = 0
         window = (int(np.min(rows)), int(np.max(rows)) + 1, int(np.min(cols)), int(np.max(cols)) + 1)
-        apply_pending(self._pending, window, self.logodds, self.state, self.seen, self.observed, self.looks,
-                      self.explorable, saturating, self._bbox, self._changed, self._counters)  # fmt: skip
+        apply_pending(
+            self._pending,
+            window,
+            self.logodds,
+            self.state,
+            self.seen,
+            self.observed,
+            self.looks,
+            self.explorable,
+            saturating,
+            self._bbox,
+            self._changed,
+            self._counters,
+        )
         self.looks[rows, cols] = MAX_LOOKS
         self.explored_cells += int(self._counters[2])
 
@@ -252,9 +274,19 @@ class LogOddsMapper:
             window = (row - reach, row + reach + 1, col - reach, col + reach + 1)
         self._counters[:] = 0
         apply_pending(
-            self._pending, window, self.logodds, self.state, self.seen, self.observed, self.looks, self.explorable,
-            self._rule, self._bbox, self._changed, self._counters,
-        )  # fmt: skip
+            self._pending,
+            window,
+            self.logodds,
+            self.state,
+            self.seen,
+            self.observed,
+            self.looks,
+            self.explorable,
+            self._rule,
+            self._bbox,
+            self._changed,
+            self._counters,
+        )
         self._last_update = (pose, time_s)
         update = ScanUpdate(int(self._counters[0]), int(self._counters[1]), int(self._counters[2]))
         self.explored_cells += update.new_explorable
@@ -273,8 +305,20 @@ class LogOddsMapper:
         rows, cols = self.state.shape
         r0, r1, c0, c1 = window if window is not None else (0, rows, 0, cols)
         # the walls the other robot touched come with their cells (walls never thinned: core/navigation/thin_walls.py)
-        gained = merge_window(self.state, self.logodds, self.looks, self.felt, self.seen, self.explorable, other.state,
-                              other.logodds, other.looks, other.felt, (r0, r1, c0, c1), self._bbox)  # fmt: skip
+        gained = merge_window(
+            self.state,
+            self.logodds,
+            self.looks,
+            self.felt,
+            self.seen,
+            self.explorable,
+            other.state,
+            other.logodds,
+            other.looks,
+            other.felt,
+            (r0, r1, c0, c1),
+            self._bbox,
+        )
         self.explored_cells += gained
         return int(gained)
 

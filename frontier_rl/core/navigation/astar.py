@@ -39,8 +39,13 @@ class SearchScratch:
     @staticmethod
     def _allocate(cells: int) -> SearchArrays:
         heap = 8 * cells + 8  # a push per improvement: at most 8 per expanded cell, and the start
-        return (np.empty(cells), np.empty(cells, np.int32), np.zeros(cells, np.int32), np.empty(heap),
-                np.empty(heap, np.int32))  # fmt: skip
+        return (
+            np.empty(cells),
+            np.empty(cells, np.int32),
+            np.zeros(cells, np.int32),
+            np.empty(heap),
+            np.empty(heap, np.int32),
+        )
 
     def next_search(self, cells: int) -> tuple[SearchArrays, int]:
         """The arrays for a search over ``cells`` cells (grown if needed) and its stamp."""
@@ -67,8 +72,9 @@ def astar(
     no_escape = np.zeros(open_padded.shape)
     scratch, stamp = SearchScratch().next_search(open_padded.size)
     no_inflation = (np.zeros((0, 0), np.int8), np.zeros(1), 0.0, 0.0)  # unused: the costs are given
-    return astar_padded(open_padded, no_escape, no_inflation, cost_padded, start_r, start_c, goal_r, goal_c, 0.0,
-                        scratch, stamp)  # fmt: skip
+    return astar_padded(
+        open_padded, no_escape, no_inflation, cost_padded, start_r, start_c, goal_r, goal_c, 0.0, scratch, stamp
+    )
 
 
 @nb.njit(inline="always")

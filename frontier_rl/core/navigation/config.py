@@ -84,13 +84,28 @@ class NavigationConfig:
     teammate_patience: float = 5.0
 
     def __post_init__(self) -> None:
-        for name in ("inflation_radius", "goal_tolerance", "lookahead", "heading_gain", "control_dt",
-                     "progress_timeout", "frontier_check_period", "teammate_patience", "teammate_range"):  # fmt: skip
+        for name in (
+            "inflation_radius",
+            "goal_tolerance",
+            "lookahead",
+            "heading_gain",
+            "control_dt",
+            "progress_timeout",
+            "frontier_check_period",
+            "teammate_patience",
+            "teammate_range",
+        ):
             value = getattr(self, name)
             if not (math.isfinite(value) and value > 0):
                 raise ConfigError(f"NavigationConfig.{name} must be positive, got {value!r}")
-        for name in ("cost_scaling", "progress_distance", "oscillation_distance", "blacklist_radius",
-                     "teammate_margin", "detour_slack"):  # fmt: skip
+        for name in (
+            "cost_scaling",
+            "progress_distance",
+            "oscillation_distance",
+            "blacklist_radius",
+            "teammate_margin",
+            "detour_slack",
+        ):
             value = getattr(self, name)
             if not (math.isfinite(value) and value >= 0):
                 raise ConfigError(f"NavigationConfig.{name} must be >= 0, got {value!r}")

@@ -88,8 +88,9 @@ class Costmap:
     @cached_property
     def cost_padded(self) -> NDArray[np.float64]:
         """Step cost factor per cell, 1 + inflation and unknown penalties, padded (made on first use)."""
-        return step_costs(self.grid.data, self.clearance_padded, self.inflation_table, self.inflation_radius,
-                           self.unknown_cost)  # fmt: skip
+        return step_costs(
+            self.grid.data, self.clearance_padded, self.inflation_table, self.inflation_radius, self.unknown_cost
+        )
 
     @property
     def traversable(self) -> NDArray[np.bool_]:
@@ -146,9 +147,14 @@ class Costmap:
         open_p = self.open_padded.copy()
         open_p[1:-1, 1:-1] |= opened
         return Costmap(
-            self.grid, open_p, self.clearance_padded, self.inflation_table, self.inflation_radius, self.unknown_cost,
+            self.grid,
+            open_p,
+            self.clearance_padded,
+            self.inflation_table,
+            self.inflation_radius,
+            self.unknown_cost,
             self.scratch,
-        )  # fmt: skip
+        )
 
     def reachable_known(self, start: tuple[int, int], escape_radius: float = ESCAPE_RADIUS_M) -> NDArray[np.bool_]:
         """Known-free cells the robot at ``start`` (row, col) can drive to: traversable cells
@@ -187,8 +193,19 @@ class Costmap:
         escape = escape_radius / self.grid.resolution
         scratch, stamp = self.scratch.next_search(self.open_padded.size)
         costs = (self.grid.data, self.inflation_table, self.inflation_radius, self.unknown_cost)
-        return astar_padded(self.open_padded, self.clearance_padded, costs, _NO_COSTS, start[0], start[1], goal[0],
-                            goal[1], escape, scratch, stamp)  # fmt: skip
+        return astar_padded(
+            self.open_padded,
+            self.clearance_padded,
+            costs,
+            _NO_COSTS,
+            start[0],
+            start[1],
+            goal[0],
+            goal[1],
+            escape,
+            scratch,
+            stamp,
+        )
 
 
 def nearest_cell(mask: NDArray[np.bool_], target: tuple[int, int], max_radius: int) -> tuple[int, int] | None:

@@ -47,9 +47,16 @@ class FollowerParams(NamedTuple):
     @classmethod
     def of(cls, robot: RobotConfig, navigation: NavigationConfig) -> FollowerParams:
         """The settings of ``robot`` under ``navigation``."""
-        return cls(robot.max_linear_speed, robot.max_angular_speed, robot.turn_in_place_angle,
-                   navigation.heading_gain, navigation.lookahead, navigation.goal_tolerance, navigation.control_dt,
-                   robot.radius)  # fmt: skip
+        return cls(
+            robot.max_linear_speed,
+            robot.max_angular_speed,
+            robot.turn_in_place_angle,
+            navigation.heading_gain,
+            navigation.lookahead,
+            navigation.goal_tolerance,
+            navigation.control_dt,
+            robot.radius,
+        )
 
 
 class FollowStatus(IntEnum):

@@ -254,8 +254,15 @@ def group_path_costs(
     cells = np.ascontiguousarray(member_cells, np.int64).reshape(-1)
     groups = np.ascontiguousarray(member_groups, np.int64).reshape(-1)
     f = block_factor(grid.shape, grid.resolution, robot_radius)
-    src: BlockSource = (costmap.open_padded, costmap.clearance_padded, grid.data, costmap.inflation_table,
-                        costmap.inflation_radius, costmap.unknown_cost, f)  # fmt: skip
+    src: BlockSource = (
+        costmap.open_padded,
+        costmap.clearance_padded,
+        grid.data,
+        costmap.inflation_table,
+        costmap.inflation_radius,
+        costmap.unknown_cost,
+        f,
+    )
     if f == 1:
         open_p, cost_p, pending = costmap.open_padded, costmap.cost_padded, np.zeros((0, 0), np.bool_)
         source, max_cost = start[0] * grid.width + start[1], float(cost_p.max())
@@ -271,6 +278,7 @@ def group_path_costs(
         reach = math.ceil(reach / f)
         max_cost = 1.0 + float(costmap.inflation_table.max()) + costmap.unknown_cost  # bounds every block's factor
     wanted = n_groups if want is None else min(int(want), n_groups)  # more than there are: all of them
-    best, exhausted = _group_costs(open_p, cost_p, pending, src, int(source), (cells, groups), int(reach),
-                                   int(n_groups), wanted, max_cost)  # fmt: skip
+    best, exhausted = _group_costs(
+        open_p, cost_p, pending, src, int(source), (cells, groups), int(reach), int(n_groups), wanted, max_cost
+    )
     return best * (f * grid.resolution), bool(exhausted)

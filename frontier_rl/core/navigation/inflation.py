@@ -153,8 +153,13 @@ class InflationMemory:
         on a window around it; the whole map at once when the windows would cover as many cells."""
         assert self._clearance is not None and self._traversable is not None
         (dr, dc), (rows, cols), (height, width) = offset, self._clearance[1:-1, 1:-1].shape, state.shape
-        boxes = [(0, dr, 0, width), (dr + rows, height, 0, width), (dr, dr + rows, 0, dc),
-                 (dr, dr + rows, dc + cols, width), changes]  # fmt: skip
+        boxes = [
+            (0, dr, 0, width),
+            (dr + rows, height, 0, width),
+            (dr, dr + rows, 0, dc),
+            (dr, dr + rows, dc + cols, width),
+            changes,
+        ]
         # A wall counts for clearances below the cap, along chamfer paths shorter than it, so a
         # cell more than the cap (and two cells) from every change keeps its value; the window a
         # region is worked out on holds every wall within that reach of it.
@@ -170,11 +175,14 @@ class InflationMemory:
         clearance[dr + 1 : dr + rows + 1, dc + 1 : dc + cols + 1] = self._clearance[1:-1, 1:-1]
         traversable[dr + 1 : dr + rows + 1, dc + 1 : dc + cols + 1] = self._traversable[1:-1, 1:-1]
         for region, window in zip(regions, windows, strict=True):
-            part_clearance, part_traversable = inflate(state[window[0] : window[1], window[2] : window[3]],
-                                                       lethal_below, inflation_radius)  # fmt: skip
+            part_clearance, part_traversable = inflate(
+                state[window[0] : window[1], window[2] : window[3]], lethal_below, inflation_radius
+            )
             into = (slice(region[0] + 1, region[1] + 1), slice(region[2] + 1, region[3] + 1))
-            local = (slice(region[0] - window[0] + 1, region[1] - window[0] + 1),
-                     slice(region[2] - window[2] + 1, region[3] - window[2] + 1))  # fmt: skip
+            local = (
+                slice(region[0] - window[0] + 1, region[1] - window[0] + 1),
+                slice(region[2] - window[2] + 1, region[3] - window[2] + 1),
+            )
             clearance[into], traversable[into] = part_clearance[local], part_traversable[local]
         return clearance, traversable
 

@@ -93,9 +93,14 @@ def decision_context(sim: ExplorationSimulator) -> DecisionContext:
     cand = sim.candidates()
     config = sim.config
     return DecisionContext(
-        cand.grid, cand.frontiers, sim.pose, sim.sim_time, config.lidar.max_range, cand.costmap,
+        cand.grid,
+        cand.frontiers,
+        sim.pose,
+        sim.sim_time,
+        config.lidar.max_range,
+        cand.costmap,
         robot_radius=config.robot.radius,
-    )  # fmt: skip
+    )
 
 
 class DecisionLoop(Protocol):

@@ -77,9 +77,10 @@ class EpisodeLog:
         """A decision, taken with ranking weight ``weight`` (None for a policy without one), drove ``leg``."""
         (x, y), goal = leg.start_xy, leg.goal
         self.decisions.append(
-            DecisionRecord(float(leg.start_s), float(x), float(y), float(goal[0]), float(goal[1]), weight,
-                           leg.outcome.value)
-        )  # fmt: skip
+            DecisionRecord(
+                float(leg.start_s), float(x), float(y), float(goal[0]), float(goal[1]), weight, leg.outcome.value
+            )
+        )
 
     def poses_since(self, first: int) -> NDArray[np.float64]:
         """(n, 3) the poses from the ``first``-th logged one on (x, y, theta; m, rad)."""

@@ -50,6 +50,58 @@ class UnseenRegions:
         return int(self.sizes[found[found > 0]].sum())
 
 
+@dataclass(frozen=True)
+class _MapAgainstTruth:
+    """A crop of the robot's map beside the same cells of the true world: what a frontier left
+    leaves unseen, and whether the audit found a path to it.
+
+    Attributes:
+        grid: the robot's map (a crop; ``top``, ``left`` its first cell in the world's grid).
+        world_width: the world grid's width (cells).
+        truth: the true world's cells under ``grid``.
+        beside: ``grid``'s cells, free where the robot's whole map knows them (unseen in both).
+        regions: the unseen free regions of the world.
+        audited: the flat cells of ``grid`` on a frontier the audit found a path to (:func:`with_a_path`).
+    """
+
+    grid: OccupancyGrid
+    top: int
+    left: int
+    world_width: int
+    truth: NDArray[np.int8]
+    beside: NDArray[np.int8]
+    regions: UnseenRegions
+    audited: NDArray[np.bool_]
+
+    def behind_m2(self, cells: NDArray[np.int64]) -> float:
+        """The unseen free area (m²) behind a frontier of ``cells`` (rows, cols of ``grid``)."""
+        res = self.grid.resolution
+        return self.regions.cells_behind(cells[:, 0] + self.top, cells[:, 1] + self.left) * res * res
+
+    def frontier_left(self, frontiers: Frontiers, i: int, behind_m2: float, blacklist: Blacklist) -> FrontierLeft:
+        """Frontier ``i`` of ``frontiers`` as left by the episode, with its history in ``blacklist``."""
+        cells, res, width = frontiers.cells_of(i), self.grid.resolution, self.grid.width
+        failures, unrevealable = blacklist.history_of(self.grid.cells_to_world(cells))
+        unknown, unseen = unknown_beside(self.beside, cells[:, 0], cells[:, 1], self.truth)
+        rows, cols = np.divmod(unseen, width)
+        in_world = (rows + self.top) * self.world_width + cols + self.left
+        has_path = bool(self.audited[cells[:, 0] * width + cells[:, 1]].any())
+        x, y = (float(v) for v in frontiers.centers[i])
+        return FrontierLeft(
+            x=x,
+            y=y,
+            cells=int(frontiers.sizes[i]),
+            unknown_cells=unknown,
+            unseen_free_cells=unseen.size,
+            unknown_m2=unseen.size * res * res,
+            failures=failures,
+            unseen_behind_m2=behind_m2,
+            unseen_cells=in_world,
+            has_path=has_path,
+            unrevealable=unrevealable,
+        )
+
+
 def frontiers_left(
     cand: Candidates,
     truth_grid: OccupancyGrid,
@@ -68,35 +120,34 @@ def frontiers_left(
     whether the map has a path to each (:func:`with_a_path`). A cluster of at most
     ``config.speck_cells`` cells is a speck and left out, unless more than :data:`UNSEEN_ROOM_M2`
     of unseen free space lies behind it: a room seen only through a slot is not a speck."""
-    res = cand.grid.resolution
-    top, left_col = truth_grid.world_to_cell(*cand.grid.cell_to_world(0, 0))
-    crop = (slice(top, top + cand.grid.height), slice(left_col, left_col + cand.grid.width))
-    audited = with_a_path(cand.grid, pose, config, felt[crop], None if trail is None else trail[crop])
-    truth = truth_grid.data[top : top + cand.grid.height, left_col : left_col + cand.grid.width]
-    regions = UnseenRegions.of(map_state, truth_grid.data)
-    state = map_state[top : top + cand.grid.height, left_col : left_col + cand.grid.width]
-    beside = np.where(state == CellState.UNKNOWN, cand.grid.data, np.int8(CellState.FREE))  # unseen in both
-    candidate_cells = np.zeros(cand.grid.shape[0] * cand.grid.shape[1], np.bool_)
+    grid = cand.grid
+    top, left_col = truth_grid.world_to_cell(*grid.cell_to_world(0, 0))
+    crop = (slice(top, top + grid.height), slice(left_col, left_col + grid.width))
+    state = map_state[crop]
+    against = _MapAgainstTruth(
+        grid=grid,
+        top=top,
+        left=left_col,
+        world_width=truth_grid.width,
+        truth=truth_grid.data[crop],
+        beside=np.where(state == CellState.UNKNOWN, grid.data, np.int8(CellState.FREE)),  # unseen in both
+        regions=UnseenRegions.of(map_state, truth_grid.data),
+        audited=with_a_path(grid, pose, config, felt[crop], None if trail is None else trail[crop]),
+    )
+    candidate_cells = np.zeros(grid.shape[0] * grid.shape[1], np.bool_)
     for start, end in cand.frontiers.spans:
         candidate_cells[cand.frontiers.flat_cells[start:end]] = True
     left = []
-    for frontiers, specks in ((_frontiers(cand.grid, pose, config, specks=False), False),
-                              (_frontiers(cand.grid, pose, config, specks=True), True)):  # fmt: skip
+    for specks in (False, True):
+        frontiers = _frontiers(grid, pose, config, specks)
         for i in range(len(frontiers)):
             cells = frontiers.cells_of(i)
-            if candidate_cells[cells[:, 0] * cand.grid.width + cells[:, 1]].any():
+            if candidate_cells[cells[:, 0] * grid.width + cells[:, 1]].any():
                 continue
-            behind_m2 = regions.cells_behind(cells[:, 0] + top, cells[:, 1] + left_col) * res * res
+            behind_m2 = against.behind_m2(cells)
             if specks and behind_m2 <= UNSEEN_ROOM_M2:
                 continue
-            x, y = (float(v) for v in frontiers.centers[i])
-            failures, unrevealable = blacklist.history_of(cand.grid.cells_to_world(cells))
-            unknown, unseen = unknown_beside(beside, cells[:, 0], cells[:, 1], truth)
-            rows, cols = np.divmod(unseen, cand.grid.width)
-            in_world = (rows + top) * truth_grid.width + cols + left_col
-            has_path = bool(audited[cells[:, 0] * cand.grid.width + cells[:, 1]].any())
-            left.append(FrontierLeft(x, y, int(frontiers.sizes[i]), unknown, unseen.size, unseen.size * res * res,
-                                     failures, behind_m2, in_world, has_path, unrevealable))  # fmt: skip
+            left.append(against.frontier_left(frontiers, i, behind_m2, blacklist))
     return tuple(left)
 
 

@@ -278,10 +278,23 @@ class Leg:
         pose = port.pose
         duration, gate = port.until_next_scan()
         x, y, theta, self._index, driven, used, status = follow_path(
-            self._path[:, 0], self._path[:, 1], self._index, pose.x, pose.y, pose.theta, duration, self._params,
-            mates.wall_clearance, mates.positions, mates.collision_gap, truth.origin[0], truth.origin[1],
-            truth.resolution, gate, self._careful,
-        )  # fmt: skip
+            self._path[:, 0],
+            self._path[:, 1],
+            self._index,
+            pose.x,
+            pose.y,
+            pose.theta,
+            duration,
+            self._params,
+            mates.wall_clearance,
+            mates.positions,
+            mates.collision_gap,
+            truth.origin[0],
+            truth.origin[1],
+            truth.resolution,
+            gate,
+            self._careful,
+        )
         self._driven += driven
         if status in _BLOCKED and self._closing_in:
             status = FollowStatus.REACHED  # closing in and a wall or robot is in the way: as close as it gets

@@ -115,9 +115,18 @@ class Navigator:
         walls = None if self._gave_way_on is None else (mates.in_contact((pose.x, pose.y)), mates.radius)
         state = self._mapper.state
         return find_candidates(
-            grid, pose, self._config, self.blacklist, state, self._scratch, recovery, felt, self._inflation, walls,
+            grid,
+            pose,
+            self._config,
+            self.blacklist,
+            state,
+            self._scratch,
+            recovery,
+            felt,
+            self._inflation,
+            walls,
             trail,
-        )  # fmt: skip
+        )
 
     def replan(
         self, goal: tuple[float, float], recovery: Recovery, pose: Pose, round_teammates: bool = False

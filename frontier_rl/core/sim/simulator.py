@@ -83,9 +83,15 @@ class ExplorationSimulator:
         self.blacklist = Blacklist(nav.blacklist_radius, nav.max_goal_failures, grid.resolution, grid.origin)
         self.log = EpisodeLog(self.world.explorable_count)
         self.navigator = Navigator(
-            self.world, self.config, self.mapper, self.blacklist, self.nearby_robots, self._scratch, self._inflation,
+            self.world,
+            self.config,
+            self.mapper,
+            self.blacklist,
+            self.nearby_robots,
+            self._scratch,
+            self._inflation,
             self.log,
-        )  # fmt: skip
+        )
         self.target: tuple[float, float] | None = None  # the frontier centre or point of the leg under way
         self.set_teammates(np.zeros((0, 2)) if teammates is None else teammates)
         self._scan()
@@ -132,9 +138,15 @@ class ExplorationSimulator:
         """The frontiers not candidates, with the unseen space beside and behind each (``known``: what a team saw)."""
         state = self.mapper.state if known is None else np.where(known, CellState.FREE, self.mapper.state)
         return frontiers_left(
-            self.candidates(), self.world.grid, self.pose, self.config, self.blacklist, state, self.mapper.felt,
+            self.candidates(),
+            self.world.grid,
+            self.pose,
+            self.config,
+            self.blacklist,
+            state,
+            self.mapper.felt,
             self.navigator.trail(),
-        )  # fmt: skip
+        )
 
     def trajectory(self) -> NDArray[np.float64]:
         """(n, 3) robot poses (x, y, theta) so far: after every drive step, at least at every map update."""
@@ -204,8 +216,9 @@ class ExplorationSimulator:
             if self.truncated:
                 break
             step = min(period, self.max_sim_time - self.sim_time)
-            seen = self.advance(Pose(self.pose.x, self.pose.y, (self.pose.theta + omega * step) % (2 * math.pi)), 0.0,
-                                step)  # fmt: skip
+            seen = self.advance(
+                Pose(self.pose.x, self.pose.y, (self.pose.theta + omega * step) % (2 * math.pi)), 0.0, step
+            )
             yield
             if seen is not None:
                 new_free += seen[0]
@@ -292,8 +305,17 @@ class ExplorationSimulator:
             self.target = None
         if outcome is LegOutcome.ABORTED and leg.abort_cause is not None:
             self.log.abort(leg.abort_cause)
-        result = LegResult(outcome, index, leg.goal, self.sim_time - start_time, self.path_length - start_len,
-                           leg.new_free, leg.new_occupied, start_time, start_xy)  # fmt: skip
+        result = LegResult(
+            outcome,
+            index,
+            leg.goal,
+            self.sim_time - start_time,
+            self.path_length - start_len,
+            leg.new_free,
+            leg.new_occupied,
+            start_time,
+            start_xy,
+        )
         self.log.decision(result, weight)
         return result
 

@@ -73,9 +73,19 @@ class Teammates:
         # A teammate overlapping this robot (placed on it) does not hide the world from it.
         apart = self.distances(at) > radius + g.resolution
         self._stamped = stamp_discs(
-            self._lidar.blocked_padded, self._true_blocked, self._boxes, self._stamped, self.positions[:, 0],
-            self.positions[:, 1], apart, radius, reach, g.origin[0], g.origin[1], g.resolution,
-        )  # fmt: skip
+            self._lidar.blocked_padded,
+            self._true_blocked,
+            self._boxes,
+            self._stamped,
+            self.positions[:, 0],
+            self.positions[:, 1],
+            apart,
+            radius,
+            reach,
+            g.origin[0],
+            g.origin[1],
+            g.resolution,
+        )
 
     @property
     def collision_gap(self) -> float:

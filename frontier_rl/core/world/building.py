@@ -173,8 +173,10 @@ def building_layout(rng: np.random.Generator, n_rows: int, n_cols: int, resoluti
         elif k:
             occ[t : n_rows - t, edges[k] : edges[k] + t] = True
             occ[c_r0 : c_r0 + cw, edges[k] : edges[k] + t] = False  # the main corridor runs through
-        for zone, front in ((Rect(t, below.r0, start, edges[k + 1]), below),
-                            (Rect(above.r1, n_rows - t, start, edges[k + 1]), above)):  # fmt: skip
+        for zone, front in (
+            (Rect(t, below.r0, start, edges[k + 1]), below),
+            (Rect(above.r1, n_rows - t, start, edges[k + 1]), above),
+        ):
             if zone.r1 - zone.r0 < cells(2.0, res) or zone.c1 - zone.c0 < cells(3.0, res):
                 continue
             _zone(rng, occ, zone, Rect(front.r0, front.r1, zone.c0, zone.c1), t, res)

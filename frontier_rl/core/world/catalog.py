@@ -95,8 +95,10 @@ def building_world(
     _check_size("building height", size_m[1])
     _check_size("building resolution", resolution)
     if min(size_m) < BUILDING_MIN_M:
-        raise ConfigError(f"a building needs both sides of at least {BUILDING_MIN_M:g} m (a corridor with a zone of "
-                          f"4 m on each side), got {size_m[0]!r} x {size_m[1]!r}")  # fmt: skip
+        raise ConfigError(
+            f"a building needs both sides of at least {BUILDING_MIN_M:g} m (a corridor with a zone of "
+            f"4 m on each side), got {size_m[0]!r} x {size_m[1]!r}"
+        )
     rows, cols = gen.cells(size_m[1], resolution), gen.cells(size_m[0], resolution)
     layout = building_layout(rng, rows, cols, resolution)
     return make_world(_layout_grid(layout, resolution), "building", rng=rng)
