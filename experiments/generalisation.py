@@ -23,7 +23,7 @@ from pathlib import Path
 from typing import Any
 
 from frontier_rl.atomic_write import write_text_atomic
-from frontier_rl.config import load_sim_config
+from frontier_rl.config_files import load_sim_config
 from frontier_rl.core.sim.config import SimConfig
 from frontier_rl.evaluation.evaluate import evaluate
 from frontier_rl.evaluation.experiment import ORACLE, ExperimentConfig, expand_worlds

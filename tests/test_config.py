@@ -6,7 +6,7 @@ from pathlib import Path
 
 import pytest
 
-from frontier_rl.config import dump_config, from_dict, load_sim_config
+from frontier_rl.config_files import dump_config, from_dict, load_sim_config
 from frontier_rl.core.sim.config import SimConfig
 from frontier_rl.errors import ConfigError
 

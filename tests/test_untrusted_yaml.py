@@ -19,7 +19,7 @@ import pytest
 from typer.testing import CliRunner
 
 from frontier_rl.cli import app
-from frontier_rl.config import load_sim_config
+from frontier_rl.config_files import load_sim_config
 from frontier_rl.core.sim.config import SimConfig
 from frontier_rl.core.world.grid import OccupancyGrid
 from frontier_rl.errors import ConfigError, FrontierRLError, MapError, short_path, short_repr, short_text
@@ -108,7 +108,7 @@ import json, resource, sys, time
 from pathlib import Path
 from typer.testing import CliRunner
 from frontier_rl.cli import app
-from frontier_rl.config import load_sim_config
+from frontier_rl.config_files import load_sim_config
 from frontier_rl.io import load_map
 from frontier_rl.rl.config import TrainConfig
 

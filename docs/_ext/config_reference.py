@@ -18,7 +18,7 @@ from typing import Any
 
 from docstrings import DocstringError, attributes_section, to_myst
 
-from frontier_rl.config import load_sim_config, to_dict
+from frontier_rl.config_files import load_sim_config, to_dict
 from frontier_rl.core.sim.config import SimConfig
 from frontier_rl.envs.base import EnvConfig
 from frontier_rl.evaluation.experiment import ExperimentConfig

@@ -73,7 +73,7 @@ def demo(
     import shutil
 
     checked_run_arguments(seed, out)
-    from frontier_rl.config import dump_config
+    from frontier_rl.config_files import dump_config
     from frontier_rl.evaluation.evaluate import DEFAULT_OUTLIERS_S
     from frontier_rl.evaluation.evaluate import evaluate as run_evaluation
     from frontier_rl.evaluation.experiment import ORACLE, ExperimentConfig

@@ -88,7 +88,7 @@ def checked_comm_range(value: float | None) -> float | None:
 
 def sim_config(config: Path | None, max_time: float | None) -> SimConfig:
     """The settings of ``--config`` (a SimConfig YAML; the defaults without one) with ``--max-time`` (s) applied."""
-    from frontier_rl.config import load_sim_config
+    from frontier_rl.config_files import load_sim_config
     from frontier_rl.core.sim.config import SimConfig
 
     cfg = load_sim_config(config) if config is not None else SimConfig()

@@ -17,7 +17,7 @@ from typing import Any
 
 import numpy as np
 
-from frontier_rl.config import to_dict
+from frontier_rl.config_files import to_dict
 from frontier_rl.core.frontiers.thesis import THESIS_BASELINE
 from frontier_rl.core.sim.config import SimConfig
 from frontier_rl.core.sim.episode import ExplorationPolicy, run_episode, warm_up

@@ -8,7 +8,7 @@ from pathlib import Path
 from typing import Any
 
 from frontier_rl.checked_values import coerce
-from frontier_rl.config import dump_config, from_dict, load_config, to_dict
+from frontier_rl.config_files import dump_config, from_dict, load_config, to_dict
 from frontier_rl.core.sim.config import SimConfig
 from frontier_rl.core.world.scale import checked_resolution
 from frontier_rl.envs.rewards import REWARD_PRESETS, reward_preset
@@ -255,7 +255,7 @@ class TrainConfig:
 
     @classmethod
     def load(cls, path: Path) -> TrainConfig:
-        """Read a config written by :meth:`dump` (:func:`~frontier_rl.config.load_config`); an
+        """Read a config written by :meth:`dump` (:func:`~frontier_rl.config_files.load_config`); an
         empty file is an error, not the defaults: it would claim a training run never made."""
         return load_config(cls, path, "training config", allow_empty=False)
 

@@ -12,7 +12,7 @@ from config_reference import CONFIGS, field_docs, generate, render_config
 from docstrings import DocstringError, attributes_section, to_myst
 from generated_pages import sync_folder
 
-from frontier_rl.config import load_sim_config
+from frontier_rl.config_files import load_sim_config
 from frontier_rl.core.sim.config import SimConfig
 
 
@@ -89,10 +89,10 @@ def test_a_description_of_a_field_that_does_not_exist_fails_naming_it() -> None:
 
 
 def test_roles_become_myst_roles_with_absolute_targets() -> None:
-    text = to_myst("see :meth:`drop_cells` and :func:`~frontier_rl.config.load_config`, ``literal``", SimConfig)
+    text = to_myst("see :meth:`drop_cells` and :func:`~frontier_rl.config_files.load_config`, ``literal``", SimConfig)
     assert text == (
         "see {meth}`~frontier_rl.core.sim.config.SimConfig.drop_cells` and "
-        "{func}`~frontier_rl.config.load_config`, `literal`"
+        "{func}`~frontier_rl.config_files.load_config`, `literal`"
     )
 
 

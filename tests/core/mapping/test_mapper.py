@@ -13,7 +13,7 @@ import numpy as np
 import pytest
 from numpy.typing import NDArray
 
-from frontier_rl.config import load_sim_config
+from frontier_rl.config_files import load_sim_config
 from frontier_rl.core.mapping.log_odds import HIT
 from frontier_rl.core.mapping.mapper import LogOddsMapper, MapperConfig, downsample
 from frontier_rl.core.sensing.lidar import MAX_BEAMS, Lidar, LidarConfig, Scan
