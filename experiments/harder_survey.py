@@ -39,8 +39,11 @@ MAPS = (
     "brsu_c069",
     "nav2_depot",
     "aws_small_house",
+    "slam_building",
 )
-"""Catalogue maps with what real SLAM maps have (the last two from the first survey, for reference)."""
+"""Catalogue maps with what real SLAM maps have (``nav2_depot`` and ``aws_small_house`` from the first
+survey, for reference), and the ``slam_building`` generator: a building floor with a SLAM map's
+streaks, specks and rough walls, a new one for every start."""
 METHODS = "nearest,fixed:0.75,tour,learned:models/model7.zip"
 WORST = 5
 

@@ -1,5 +1,5 @@
-"""The named procedural worlds (``office``, ``rooms``, ``cluttered``, ``building``, ``cave``) and
-the registry that draws one from a seed."""
+"""The named procedural worlds (``office``, ``rooms``, ``cluttered``, ``building``, ``cave``,
+``slam_building``) and the registry that draws one from a seed."""
 
 from __future__ import annotations
 
@@ -16,6 +16,7 @@ from frontier_rl.core.world.cave import CAVE_BLOCK_M, cave_layout
 from frontier_rl.core.world.grid import CellState, OccupancyGrid
 from frontier_rl.core.world.names import GENERATOR_NAMES
 from frontier_rl.core.world.rubble import RUBBLE_GAP_M, close_diagonal_contacts, rubble_layout, upsample
+from frontier_rl.core.world.slam_artefacts import SlamArtefacts, with_slam_artefacts
 from frontier_rl.core.world.worlds import World, dilate, make_world
 from frontier_rl.errors import ConfigError, MapError, UnknownNameError
 
@@ -87,6 +88,27 @@ def building_world(
     """A large building (:mod:`frontier_rl.core.world.building`) of ``size_m`` = (width x, height
     y) (m); by default the longer side is drawn from 30-60 m and the shorter from 20-35 m (never
     longer than the other), in either orientation."""
+    layout = _building_layout(rng, size_m, resolution)
+    return make_world(_layout_grid(layout, resolution), "building", rng=rng)
+
+
+def slam_building_world(
+    rng: np.random.Generator,
+    size_m: tuple[float, float] | None = None,
+    resolution: float = 0.05,
+    artefacts: SlamArtefacts | None = None,
+) -> World:
+    """A :func:`building_world` layout as a SLAM map would draw it: with radial streaks through
+    walls, clutter specks and rough walls (:mod:`frontier_rl.core.world.slam_artefacts`), drawn
+    with the same ``rng`` after the layout."""
+    layout = with_slam_artefacts(_building_layout(rng, size_m, resolution), rng, resolution, artefacts)
+    return make_world(_layout_grid(layout, resolution), "slam_building", rng=rng)
+
+
+def _building_layout(
+    rng: np.random.Generator, size_m: tuple[float, float] | None, resolution: float
+) -> NDArray[np.bool_]:
+    """The occupancy of a building of ``size_m`` (drawn with ``rng`` when None; see :func:`building_world`)."""
     if size_m is None:
         long_m = float(rng.uniform(30.0, 60.0))
         short_m = min(float(rng.uniform(20.0, 35.0)), long_m)
@@ -100,8 +122,7 @@ def building_world(
             f"4 m on each side), got {size_m[0]!r} x {size_m[1]!r}"
         )
     rows, cols = gen.cells(size_m[1], resolution), gen.cells(size_m[0], resolution)
-    layout = building_layout(rng, rows, cols, resolution)
-    return make_world(_layout_grid(layout, resolution), "building", rng=rng)
+    return building_layout(rng, rows, cols, resolution)
 
 
 CAVE_MIN_M = 4.0
@@ -123,7 +144,13 @@ def cave_world(rng: np.random.Generator, size_m: tuple[float, float] = (26.0, 20
 
 
 WORLD_GENERATORS: Mapping[str, Callable[[np.random.Generator], World]] = MappingProxyType(
-    dict(zip(GENERATOR_NAMES, (office_world, rooms_world, cluttered_world, building_world, cave_world), strict=True))
+    dict(
+        zip(
+            GENERATOR_NAMES,
+            (office_world, rooms_world, cluttered_world, building_world, cave_world, slam_building_world),
+            strict=True,
+        )
+    )
 )
 """Procedural worlds by name; each takes a ``numpy.random.Generator`` and uses default sizes."""
 

@@ -2,6 +2,7 @@
 command line's help lists them without loading the generators (:mod:`frontier_rl.core.world.catalog`
 maps each to its generator)."""
 
-GENERATOR_NAMES: tuple[str, ...] = ("office", "rooms", "cluttered", "building", "cave")
+GENERATOR_NAMES: tuple[str, ...] = ("office", "rooms", "cluttered", "building", "cave", "slam_building")
 """The generators' names: ``office`` (the thesis's mazes), ``rooms``, ``cluttered`` (rubble), ``building``
-(30-60 m floors) and ``cave``."""
+(30-60 m floors), ``cave`` and ``slam_building`` (a building with a SLAM map's streaks, specks and
+rough walls)."""

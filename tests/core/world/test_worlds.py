@@ -95,8 +95,9 @@ def test_border_is_a_wall_at_least_two_cells_thick(name: str, seed: int) -> None
     assert occ[:2, :].all() and occ[-2:, :].all() and occ[:, :2].all() and occ[:, -2:].all()
 
 
-@pytest.mark.parametrize(("name", "seed"), CASES)
+@pytest.mark.parametrize(("name", "seed"), [case for case in CASES if case[0] != "slam_building"])
 def test_walls_are_never_one_cell_thin(name: str, seed: int) -> None:
+    # slam_building is left out by design: a SLAM map's specks, slits and streaks are one cell wide
     occ = world(name, seed).grid.data == OCC
     # every occupied cell lies in a fully occupied 2x2 block ...
     block = occ[:-1, :-1] & occ[1:, :-1] & occ[:-1, 1:] & occ[1:, 1:]
@@ -202,7 +203,7 @@ def test_unknown_world_name() -> None:
 
 
 def test_registry_is_read_only() -> None:
-    assert set(WORLD_GENERATORS) == {"office", "rooms", "cluttered", "building", "cave"}
+    assert set(WORLD_GENERATORS) == {"office", "rooms", "cluttered", "building", "cave", "slam_building"}
     with pytest.raises(TypeError):
         WORLD_GENERATORS["forest"] = office_world  # type: ignore[index]
 
