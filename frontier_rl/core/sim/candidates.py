@@ -111,7 +111,8 @@ def find_candidates(
     robot's whole map ``map_state`` first); when that would leave none, the goals that may be
     retried are lifted once, so that the episode never ends with a frontier it gave up on after a
     single failure, and then those still within the audit's budget
-    (:data:`~frontier_rl.core.frontiers.blacklist.AUDIT_BUDGET`). ``scratch`` and ``memory`` are
+    (:data:`~frontier_rl.core.frontiers.blacklist.AUDIT_BUDGET`); last, a frontier blocked only
+    because its goal lies near a neighbour's failed one gets a try of its own. ``scratch`` and ``memory`` are
     the robot's, kept from map to map; ``avoid``, the teammates it gives way to
     (:func:`reachable_frontiers`)."""
     costmap, reachable, frontiers = reachable_frontiers(
@@ -127,5 +128,17 @@ def find_candidates(
         if len(kept) == 0:  # the audit: goals the map has a way to get as many tries again
             blacklist.retry(AUDIT_BUDGET * blacklist.max_failures)
             kept = frontiers.subset(~blacklist.blocked(goals))
+        if len(kept) == 0:  # blocked only for a neighbour's failures: a frontier's own first try
+            kept = frontiers.subset(_without_history(frontiers, grid, blacklist))
         frontiers = kept
     return Candidates(grid, costmap, reachable, frontiers, recovery)
+
+
+def _without_history(frontiers: Frontiers, grid: OccupancyGrid, blacklist: Blacklist) -> NDArray[np.int64]:
+    """The frontiers no failed goal lies near and no failed frontier touches
+    (:meth:`~frontier_rl.core.frontiers.blacklist.Blacklist.history_of`): blocked only because their
+    goal lies near a neighbour's failed one. Once tried, a failure of one joins that neighbour's
+    history, so each gets one try."""
+    failures = [blacklist.history_of(grid.cells_to_world(frontiers.cells_of(i)))[0] for i in range(len(frontiers))]
+    clean = [i for i, count in enumerate(failures) if count == 0]
+    return np.asarray(clean, np.int64)

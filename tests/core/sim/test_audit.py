@@ -121,3 +121,28 @@ def test_find_candidates_retries_within_the_audit_budget_only_when_nothing_else_
         for _ in range(AUDIT_BUDGET * MAX_FAILURES):
             bl.fail(x, y, data)
     assert len(find_candidates(grid, pose, config, bl, data).frontiers) == 0
+
+
+def test_a_frontier_blocked_only_by_a_neighbours_failures_gets_its_own_try() -> None:
+    # a room, and a slot narrower than the robot from it into unknown space: the slot's end is a
+    # frontier seen down the slot from a goal in the room, half a metre from it
+    data = np.full((60, 80), CellState.OCCUPIED, np.int8)
+    data[2:58, 2:30] = FREE
+    data[20:40, 35:78] = CellState.UNKNOWN
+    data[28:31, 30:38] = FREE  # its last cells open onto the unknown on three sides: a frontier of 7 cells
+    grid = OccupancyGrid(data, RES)
+    pose, config = Pose(0.5, 1.5, 0.0), SimConfig()
+    bl = Blacklist(0.25, MAX_FAILURES, RES, (0.0, 0.0))
+    first = find_candidates(grid, pose, config, bl, data)
+    assert len(first.frontiers) == 1
+    goal = np.asarray(grid.cell_to_world(*first.frontiers.goal_cells[0]))
+    cells = grid.cells_to_world(first.frontiers.cells_of(0))
+    beside = goal + np.array([0.0, 0.2])  # a neighbour's failed goal, beside this one
+    assert np.hypot(*(beside - goal)) <= bl.radius < np.hypot(*(cells - beside).T).min()
+    for _ in range(AUDIT_BUDGET * MAX_FAILURES):
+        bl.fail(*beside, data, frontier=np.array([[0.2, 2.8]]))  # its tries spent, its frontier elsewhere
+    assert bl.history_of(cells) == (0, False) and bl.blocked(goal[None, :]).all()
+    again = find_candidates(grid, pose, config, bl, data).frontiers
+    assert len(again) == 1 and np.allclose(again.goals[0], goal)  # not given up: its own first try
+    bl.fail(*goal, data, frontier=cells)  # that try fails too: it joins the neighbour's history
+    assert bl.history_of(cells)[0] > 0 and len(find_candidates(grid, pose, config, bl, data).frontiers) == 0
