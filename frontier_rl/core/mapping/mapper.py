@@ -244,8 +244,15 @@ class LogOddsMapper:
         self.felt[rows, cols] = True
         self._pending[rows, cols] |= HIT
         saturating = self._rule._replace(hit=self.config.clamp_max)  # a hit that saturates
-        self._counters[:] = 0
         window = (int(np.min(rows)), int(np.max(rows)) + 1, int(np.min(cols)), int(np.max(cols)) + 1)
+        self._apply_window(window, saturating)
+        self.looks[rows, cols] = MAX_LOOKS
+        self.explored_cells += int(self._counters[2])
+
+    def _apply_window(self, window: tuple[int, int, int, int], rule: LogOddsRule) -> None:
+        """Apply the pending marks within ``window`` (row0, row1, col0, col1, exclusive ends) by
+        ``rule``, counting into ``_counters`` from zero (:func:`~frontier_rl.core.mapping.log_odds.apply_pending`)."""
+        self._counters[:] = 0
         apply_pending(
             self._pending,
             window,
@@ -255,13 +262,11 @@ class LogOddsMapper:
             self.observed,
             self.looks,
             self.explorable,
-            saturating,
+            rule,
             self._bbox,
             self._changed,
             self._counters,
         )
-        self.looks[rows, cols] = MAX_LOOKS
-        self.explored_cells += int(self._counters[2])
 
     def _apply(self, pose: Pose, time_s: float, window: tuple[int, int, int, int] | None = None) -> ScanUpdate:
         """Apply the marks of the scan taken at ``pose`` (all within ``window``, row0, row1, col0,
@@ -272,21 +277,7 @@ class LogOddsMapper:
             row = int(math.floor((pose.y - self.origin[1]) / self.resolution))
             col = int(math.floor((pose.x - self.origin[0]) / self.resolution))
             window = (row - reach, row + reach + 1, col - reach, col + reach + 1)
-        self._counters[:] = 0
-        apply_pending(
-            self._pending,
-            window,
-            self.logodds,
-            self.state,
-            self.seen,
-            self.observed,
-            self.looks,
-            self.explorable,
-            self._rule,
-            self._bbox,
-            self._changed,
-            self._counters,
-        )
+        self._apply_window(window, self._rule)
         self._last_update = (pose, time_s)
         update = ScanUpdate(int(self._counters[0]), int(self._counters[1]), int(self._counters[2]))
         self.explored_cells += update.new_explorable
