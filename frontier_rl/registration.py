@@ -85,6 +85,17 @@ FRONTIER_CHOICE_MODELS: tuple[int, ...] = tuple(
 """The models whose action is one of the candidate frontiers (5 and 7): the pointer policy's, and
 the ones a lookahead teacher can label (``--algo dagger``)."""
 
+TABLE_MODELS: tuple[int, ...] = tuple(
+    m for m, spec in MODELS.items() if spec.entry_point.endswith((":FrontierChoiceEnv", ":WeightTableEnv"))
+)
+"""The models that read a table of the cheapest frontiers beside the map image (5, 6 and 7)."""
+
+POINT_MODELS: tuple[int, ...] = tuple(m for m, spec in MODELS.items() if spec.entry_point.endswith(":PointEnv"))
+"""The models whose action is a pixel of the map image (1 and 2)."""
+
+TOP_K = 16
+"""The frontier table's rows (candidate slots) in the registered envs of :data:`TABLE_MODELS`."""
+
 OBSERVATION_SIZES = (250, 64)
 """The map image sizes with a registered id: the thesis's 250 × 250 and Niroui et al.'s 64 × 64."""
 

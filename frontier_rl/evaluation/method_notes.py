@@ -96,8 +96,8 @@ def _user(spec: PolicySpec) -> tuple[str, str]:
 
 def _learned(path: Path) -> tuple[str, str]:
     """A model file's description from its checked metadata, and its hash and training command."""
+    from frontier_rl.inference.model_file import read_metadata
     from frontier_rl.rl.config import TrainConfig  # torch only when a learned method is reported
-    from frontier_rl.rl.model_file import read_metadata
 
     try:
         digest = file_sha256(path)

@@ -12,7 +12,7 @@ from __future__ import annotations
 
 from dataclasses import dataclass, field, replace
 from pathlib import Path
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
@@ -24,6 +24,9 @@ from frontier_rl.errors import ConfigError, model_file_label, short_repr
 from frontier_rl.observation.frontier_table import frontier_observation, slot_order
 from frontier_rl.observation.map_image import FRONTIER_FEATURES, MapEncoder
 from frontier_rl.observation.weight_bins import WEIGHT_BINS, bin_to_weight
+
+if TYPE_CHECKING:
+    from frontier_rl.inference.actor import Actor
 
 
 @dataclass
@@ -44,44 +47,37 @@ class LearnedPolicy:
 
     def __post_init__(self) -> None:
         # torch is imported only for learned policies
-        from frontier_rl.rl.model_file import load_policy
+        from frontier_rl.inference.actor import load_actor
 
         self.path = Path(self.path)
-        self._policy, info = load_policy(self.path, self.trust)
+        self._actor: Actor
+        self._actor, info = load_actor(self.path, self.trust)
         where = model_file_label(self.path)
-        obs_space = self._policy.observation_space
-        n_actions = getattr(self._policy.action_space, "n", 0)
-        if not isinstance(n_actions, int | np.integer) or n_actions < 1:
-            raise ConfigError(f"{where} does not have a discrete action space")
-        n_actions = int(n_actions)
-        spaces = getattr(obs_space, "spaces", None)  # a dict observation: the frontier table's models
+        shape = self._actor.shape
+        n_actions, rows = shape.actions, shape.table_rows
         self._tour = False
-        if spaces is None:
+        if rows == 0:
             self.kind = "weight" if n_actions == WEIGHT_BINS else "point"
         else:
-            rows = getattr(spaces.get("mask"), "shape", None) if isinstance(spaces, dict) else None
-            if rows is None or len(rows) != 1 or rows[0] < 1 or n_actions not in (rows[0], WEIGHT_BINS):
-                raise ConfigError(f"{where} has {n_actions} actions for a frontier table of {short_repr(rows)} rows")
+            if n_actions not in (rows, WEIGHT_BINS):
+                raise ConfigError(f"{where} has {n_actions} actions for a frontier table of {rows} rows")
             table_weight = n_actions == WEIGHT_BINS if info is None else info.model == 6  # 100 rows: ask the file
             self.kind = "weight table" if table_weight else "frontier"
-            n_actions = int(rows[0])
-            table = getattr(spaces.get("frontiers"), "shape", None)
+            n_actions = rows
             columns = (len(FRONTIER_FEATURES), len(FRONTIER_FEATURES) + 1)  # model 7's table: the tour column
-            if table is None or len(table) != 1 or table[0] not in tuple(n_actions * c for c in columns):
-                raise ConfigError(f"{where} has a frontier table of {short_repr(table)} values for {n_actions} rows")
-            self._tour = bool(table[0] == n_actions * columns[1])
-        image_space = obs_space if spaces is None else spaces.get("map") if isinstance(spaces, dict) else None
-        image_shape = getattr(image_space, "shape", None)
-        if image_shape is None or len(image_shape) != 3 or image_shape[1] != image_shape[2]:
-            raise ConfigError(f"{where} expects observations of shape {short_repr(image_shape)}, not a map")
-        channels, size = int(image_shape[0]), int(image_shape[1])
+            if shape.table_length not in tuple(rows * c for c in columns):
+                raise ConfigError(f"{where} has a frontier table of {shape.table_length} values for {rows} rows")
+            self._tour = shape.table_length == rows * columns[1]
+        channels, size, width = shape.image
+        if size != width:
+            raise ConfigError(f"{where} expects observations of shape {short_repr(shape.image)}, not a square map")
         extra = channels == 3
         try:
             self._encoder = MapEncoder(size, frontier_channel=extra, pose_channel=extra)
         except (ValueError, TypeError):
-            raise ConfigError(f"{where} expects map images of shape {short_repr(tuple(image_shape))}") from None
-        if self._encoder.shape != tuple(image_shape):
-            raise ConfigError(f"{where} expects map images of shape {short_repr(tuple(image_shape))}")
+            raise ConfigError(f"{where} expects map images of shape {short_repr(shape.image)}") from None
+        if self._encoder.shape != shape.image:
+            raise ConfigError(f"{where} expects map images of shape {short_repr(shape.image)}")
         if self.kind == "point" and n_actions != size * size:
             raise ConfigError(f"{where} has {n_actions} actions, expected {WEIGHT_BINS} or {size}²")
         self._top_k = n_actions
@@ -92,9 +88,7 @@ class LearnedPolicy:
         return f"learned:{self.path}"
 
     def _act(self, observation: Any) -> int:
-        from frontier_rl.rl.inference import predict_action
-
-        return predict_action(self._policy, observation)
+        return self._actor.act(observation)
 
     def rank(self, context: DecisionContext, rng: np.random.Generator) -> Ranking:
         """The model's choice for this decision."""

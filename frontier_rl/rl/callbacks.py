@@ -12,7 +12,8 @@ import numpy as np
 from stable_baselines3.common.callbacks import BaseCallback
 
 from frontier_rl.envs.world_source import VALIDATION_SEED_LOW
-from frontier_rl.rl.model_file import ModelInfo, save_model
+from frontier_rl.inference.model_file import ModelInfo
+from frontier_rl.rl.model_file import save_model
 
 
 def run_validation(env: gym.Env[Any, Any], predict: Any, episodes: int) -> list[float]:

@@ -13,14 +13,9 @@ from frontier_rl.core.sim.config import SimConfig
 from frontier_rl.core.world.scale import checked_resolution
 from frontier_rl.envs.rewards import REWARD_PRESETS, reward_preset
 from frontier_rl.errors import ConfigError, FrontierRLError, short_repr, short_text
+from frontier_rl.inference.model_file import ALGORITHMS, MAX_FEATURES_DIM, MAX_TIMESTEPS
 from frontier_rl.registration import FRONTIER_CHOICE_MODELS, MODELS, env_id
 from frontier_rl.world_spec import parse_world_mix
-
-MAX_FEATURES_DIM = 8192
-"""Largest ``features_dim`` a run may use and a model file may hold (the shipped models use 128)."""
-
-MAX_TIMESTEPS = 10**12
-"""Largest ``timesteps`` a run may use and a model file may hold (decisions; 10¹² is ~30 years at 1000 per second)."""
 
 MAX_ENVS = 64
 """Most parallel environments: each is a process of about 400 MB with a map and a model."""
@@ -35,7 +30,6 @@ MAX_ROLLOUT_PIXELS = 2**28
 """Most map pixels one rollout may hold (``n_steps`` × ``n_envs`` observations of
 ``observation_size`` × ``observation_size`` pixels, float32: 1 GiB); 65,536 decisions at 64², 4,294 at 250²."""
 
-ALGOS = ("a2c", "ppo", "dagger")
 #: Longest error message passed on from a check of ``worlds`` (characters).
 _MESSAGE_LIMIT = 300
 
@@ -135,8 +129,8 @@ class TrainConfig:
     def __post_init__(self) -> None:  # noqa: C901 (a validator: one check per field)
         if self.model not in MODELS:
             raise ConfigError(f"unknown model {short_repr(self.model)}; choose one of {', '.join(map(str, MODELS))}")
-        if self.algo not in ALGOS:
-            raise ConfigError(f"unknown algorithm {short_repr(self.algo)}; choose one of {', '.join(ALGOS)}")
+        if self.algo not in ALGORITHMS:
+            raise ConfigError(f"unknown algorithm {short_repr(self.algo)}; choose one of {', '.join(ALGORITHMS)}")
         if self.algo == "dagger" and self.model not in FRONTIER_CHOICE_MODELS:
             raise ConfigError(
                 f"algorithm 'dagger' trains models 5 and 7 (frontier choice) only, got model {self.model!r}"
@@ -171,7 +165,7 @@ class TrainConfig:
             value = coerce(int, getattr(self, name), name)
             if value < 0:
                 raise ConfigError(f"{name} must be >= 0, got {value!r}")
-        # what a model file may hold (rl/model_file.py refuses more), and NumPy's legacy seeding
+        # what a model file may hold (inference/model_file.py refuses more), and NumPy's legacy seeding
         for name, high in (("features_dim", MAX_FEATURES_DIM), ("timesteps", MAX_TIMESTEPS), ("seed", 2**32 - 1)):
             if getattr(self, name) > high:
                 raise ConfigError(f"{name} must be <= {high}, got {short_repr(getattr(self, name))}")

@@ -26,18 +26,17 @@ from stable_baselines3.common.vec_env import DummyVecEnv, SubprocVecEnv, VecEnv,
 import frontier_rl.envs
 from frontier_rl.envs.world_source import check_world_files
 from frontier_rl.errors import ConfigError, short_path
+from frontier_rl.inference.model_file import ModelInfo, read_metadata
 from frontier_rl.rl.callbacks import AtomicCheckpoint, ValidationCallback
 from frontier_rl.rl.config import TrainConfig
 from frontier_rl.rl.curves import plot_learning_curve
 from frontier_rl.rl.imitation import dagger
 from frontier_rl.rl.model_file import (
-    ALGORITHMS,
-    ModelInfo,
+    SB3_ALGORITHMS,
     check_finite_weights,
     check_model_zip,
     load_policy,
     policy_setup,
-    read_metadata,
     save_model,
 )
 from frontier_rl.rl.networks import PRIVILEGED_HEAD
@@ -102,7 +101,7 @@ def build_model(config: TrainConfig, env: object, out: Path) -> BaseAlgorithm:
     }
     if config.algo == "ppo":
         common["batch_size"] = min(64, config.n_steps * config.n_envs)
-    return ALGORITHMS[config.algo](policy_cls, env, **common)  # type: ignore[arg-type]
+    return SB3_ALGORITHMS[config.algo](policy_cls, env, **common)  # type: ignore[arg-type]
 
 
 def _training_envs(config: TrainConfig, out: Path, start: int, env_kwargs: dict[str, Any]) -> VecMonitor:

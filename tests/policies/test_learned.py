@@ -16,7 +16,6 @@ from frontier_rl.core.sim.config import SimConfig
 from frontier_rl.core.sim.episode import decision_context
 from frontier_rl.core.world.robot import RobotConfig
 from frontier_rl.policies.learned import LearnedPolicy
-from frontier_rl.rl.inference import predict_action
 
 REPO = Path(__file__).resolve().parents[2]
 
@@ -33,12 +32,12 @@ def test_the_policy_sees_what_its_environment_shows(model: str, radius: float) -
     env = gym.make(env_id, worlds="office", sim=SimConfig(robot=RobotConfig(radius=radius)))
     observation, _ = env.reset(seed=5)
     seen: list[dict[str, np.ndarray]] = []
-    policy._act = lambda obs: (seen.append(obs), predict_action(policy._policy, obs))[1]  # type: ignore[method-assign]
+    policy._act = lambda obs: (seen.append(obs), policy._actor.act(obs))[1]  # type: ignore[method-assign]
     for _ in range(6):
         policy.rank(decision_context(env.unwrapped.sim), np.random.default_rng(0))  # type: ignore[attr-defined]
         for key, value in observation.items():
             np.testing.assert_array_equal(seen[-1][key], value, err_msg=key)
-        observation, _, terminated, truncated, _ = env.step(predict_action(policy._policy, observation))
+        observation, _, terminated, truncated, _ = env.step(policy._actor.act(observation))
         if terminated or truncated:
             break
     env.close()

@@ -14,12 +14,12 @@ from stable_baselines3.common.vec_env.base_vec_env import VecEnvObs, VecEnvStepR
 
 from frontier_rl.envs.frontier_env import FrontierChoiceEnv
 from frontier_rl.errors import ConfigError
+from frontier_rl.inference.model_file import read_metadata
 from frontier_rl.io.ros_map import save_ros_map
 from frontier_rl.policies import make_policy
 from frontier_rl.rl import imitation
 from frontier_rl.rl.config import TrainConfig
 from frontier_rl.rl.imitation import LabelledDecisions, fit
-from frontier_rl.rl.model_file import read_metadata
 from frontier_rl.rl.train import build_model, train
 from tests.envs.test_lookahead import _rooms, _world
 

@@ -22,18 +22,11 @@ from typer.testing import CliRunner
 
 from frontier_rl.cli import app
 from frontier_rl.errors import ConfigError, FrontierRLError
+from frontier_rl.inference import bounded_zip
+from frontier_rl.inference.bounded_zip import MAX_ARCHIVE_BYTES, MAX_MEMBER_BYTES
+from frontier_rl.inference.model_file import MAX_METADATA_BYTES, METADATA_ENTRY, WEIGHTS_ENTRY, read_metadata
 from frontier_rl.policies import make_policy
-from frontier_rl.rl import bounded_zip
-from frontier_rl.rl.bounded_zip import MAX_ARCHIVE_BYTES, MAX_MEMBER_BYTES
-from frontier_rl.rl.model_file import (
-    MAX_METADATA_BYTES,
-    METADATA_ENTRY,
-    WEIGHTS_ENTRY,
-    check_model_zip,
-    env_spaces,
-    load_policy,
-    read_metadata,
-)
+from frontier_rl.rl.model_file import check_model_zip, env_spaces, load_policy
 
 REPO = Path(__file__).resolve().parents[2]
 MODEL4, MODEL5 = REPO / "models" / "model4.zip", REPO / "models" / "model5.zip"

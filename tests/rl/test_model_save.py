@@ -14,7 +14,8 @@ from stable_baselines3 import A2C
 
 from frontier_rl import atomic_write
 from frontier_rl.atomic_write import OutputWriteError
-from frontier_rl.rl.model_file import read_metadata, save_model, write_metadata
+from frontier_rl.inference.model_file import read_metadata
+from frontier_rl.rl.model_file import save_model, write_metadata
 
 MODEL4 = Path(__file__).resolve().parents[2] / "models" / "model4.zip"
 

@@ -6,8 +6,9 @@ import gymnasium as gym
 import pytest
 import torch
 
+from frontier_rl.inference.networks import FRONTIER_EMBEDDING, MASKED_LOGIT
 from frontier_rl.registration import env_id
-from frontier_rl.rl.networks import FRONTIER_EMBEDDING, MASKED_LOGIT, FrontierPooling, FrontierScorer
+from frontier_rl.rl.networks import FrontierPooling, FrontierScorer
 
 TOP_K = 16
 N_FEATURES = 6

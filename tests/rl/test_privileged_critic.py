@@ -17,10 +17,11 @@ from stable_baselines3.common.callbacks import BaseCallback
 
 import frontier_rl.envs
 from frontier_rl.errors import ConfigError
+from frontier_rl.inference.model_file import WEIGHTS_ENTRY
+from frontier_rl.inference.sb3_zip import predict_action
 from frontier_rl.registration import env_id
 from frontier_rl.rl.config import TrainConfig
-from frontier_rl.rl.inference import predict_action
-from frontier_rl.rl.model_file import WEIGHTS_ENTRY, load_policy, policy_setup
+from frontier_rl.rl.model_file import load_policy, policy_setup
 from frontier_rl.rl.networks import PRIVILEGED_HEAD
 from frontier_rl.rl.train import latest_checkpoint, train
 

@@ -16,9 +16,10 @@ from frontier_rl.core.sim.config import SimConfig
 from frontier_rl.core.sim.episode import run_episode
 from frontier_rl.core.world.catalog import generate_world
 from frontier_rl.errors import ConfigError, TrainingDivergedError
+from frontier_rl.inference.model_file import METADATA_ENTRY, read_metadata
 from frontier_rl.policies import make_policy
 from frontier_rl.rl.config import TrainConfig
-from frontier_rl.rl.model_file import METADATA_ENTRY, load_policy, read_metadata, save_model
+from frontier_rl.rl.model_file import load_policy, save_model
 from frontier_rl.rl.train import interruption_note, latest_checkpoint, train
 
 pytestmark = pytest.mark.slow  # training runs

@@ -1,5 +1,5 @@
-"""The action a loaded model chooses is SB3's own deterministic ``predict`` (which the decision path
-no longer calls, for its per-call overhead), for every shipped model."""
+"""A trusted SB3 policy's action is SB3's own deterministic ``predict`` (which the decision path does
+not call, for its per-call overhead), for every shipped model built as SB3 builds it."""
 
 from __future__ import annotations
 
@@ -10,7 +10,7 @@ import pytest
 import torch
 from stable_baselines3.common.preprocessing import preprocess_obs
 
-from frontier_rl.rl.inference import network_input, predict_action
+from frontier_rl.inference.sb3_zip import network_input, predict_action
 from frontier_rl.rl.model_file import load_policy
 
 MODELS = sorted(Path(__file__).resolve().parents[2].joinpath("models").glob("model*.zip"))

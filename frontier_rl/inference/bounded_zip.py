@@ -19,8 +19,8 @@ from frontier_rl.errors import ConfigError, short_repr, short_text
 
 MAX_MEMBER_BYTES = 256 * 1024**2
 """Largest zip member, uncompressed (bytes). The largest network the metadata admits
-(:data:`MAX_FEATURES_DIM` features) has ~40 MB of weights and an optimizer state of one to two times
-that; the shipped ``policy.pth`` files are ~0.75 MB."""
+(:data:`~frontier_rl.inference.model_file.MAX_FEATURES_DIM` features) has ~40 MB of weights and an
+optimizer state of one to two times that; the shipped ``policy.pth`` files are ~0.75 MB."""
 
 MAX_ARCHIVE_BYTES = 1024**3
 """Largest sum of a zip's members, uncompressed (bytes): the zip of a model file, or the torch
