@@ -1,4 +1,4 @@
-"""The report's first paragraph, generated from ``summary.json``: which method was fastest against
+"""The report's first paragraph, generated from the experiment's summary: which method was fastest against
 the baseline, by how much and how surely, how far from the oracle, and how the episodes ended."""
 
 from __future__ import annotations
@@ -6,9 +6,9 @@ from __future__ import annotations
 import math
 from collections.abc import Callable, Mapping
 from dataclasses import dataclass
-from typing import Any
 
 from frontier_rl.evaluation.experiment import ORACLE
+from frontier_rl.evaluation.summary import ExperimentSummary, MethodSummary
 from frontier_rl.evaluation.tables import SIGNIFICANCE, number, p_value
 
 _REASONS = {
@@ -38,13 +38,14 @@ class Conclusion:
     details: tuple[str, ...]
 
 
-def conclude(summary: dict[str, Any], labels: dict[str, str]) -> Conclusion:
-    """The conclusion of ``summary`` (see :mod:`frontier_rl.evaluation.analysis`), methods named by
-    ``labels``; every number is formatted as the report's tables format it."""
-    methods = summary["methods"]
-    baseline = summary["baseline"]
-    tested = [m for m in methods if m not in (baseline, ORACLE) and _finite(methods[m]["mean_time_s"])]
-    best = min(tested, key=lambda m: methods[m]["mean_time_s"]) if tested else None
+def conclude(summary: ExperimentSummary, labels: dict[str, str]) -> Conclusion:
+    """The conclusion of ``summary``, methods named by ``labels``; every number is formatted as the
+    report's tables format it."""
+    methods = summary.methods
+    baseline = summary.baseline
+    times = {m: e.mean_time_s for m, e in methods.items() if m not in (baseline, ORACLE) and _finite(e.mean_time_s)}
+    tested = list(times)
+    best = min(tested, key=lambda m: _or_inf(times[m])) if tested else None
     headline = _headline(methods, baseline, best, labels, len(tested))
     details = []
     if len(tested) > 1:
@@ -53,13 +54,12 @@ def conclude(summary: dict[str, Any], labels: dict[str, str]) -> Conclusion:
             f"Holm's method over all {len(tested)}, so that the chance of calling any of them faster by luck "
             f"stays at {100 * SIGNIFICANCE:.0f} % or less."
         )
-    per_world = summary.get("per_world", {})
+    per_world = summary.per_world
     if tested and 1 < len(per_world) <= _MAX_WORLDS_NAMED:
         parts = []
-        for world, part in per_world.items():
-            entries = part["methods"]
-            fastest = min(tested, key=lambda m: entries[m]["mean_time_s"])
-            if entries[fastest]["mean_diff_s"] > 0:
+        for world, entries in per_world.items():
+            fastest = min(tested, key=lambda m: _or_inf(entries[m].mean_time_s))
+            if _or_zero(entries[fastest].mean_diff_s) > 0:
                 parts.append(f"{labels.get(world, world)}: {labels[fastest]} ({_change(entries[fastest])})")
             else:
                 parts.append(f"{labels.get(world, world)}: none faster than the baseline")
@@ -69,42 +69,42 @@ def conclude(summary: dict[str, Any], labels: dict[str, str]) -> Conclusion:
 
 
 def _headline(
-    methods: dict[str, dict[str, Any]], baseline: str, best: str | None, labels: dict[str, str], family: int
+    methods: Mapping[str, MethodSummary], baseline: str, best: str | None, labels: dict[str, str], family: int
 ) -> str:
     base = methods[baseline]
     oracle = methods.get(ORACLE)
     if best is None:
         if oracle is None:
-            return f"Only the baseline {labels[baseline]} ran: {number(base['mean_time_s'])} s on average."
+            return f"Only the baseline {labels[baseline]} ran: {number(base.mean_time_s)} s on average."
         return (
-            f"The baseline {labels[baseline]} took {number(base['mean_time_s'])} s on average, "
-            f"{number(base['oracle_ratio'], 2)} × the oracle's {number(oracle['mean_time_s'])} s."
+            f"The baseline {labels[baseline]} took {number(base.mean_time_s)} s on average, "
+            f"{number(base.oracle_ratio, 2)} × the oracle's {number(oracle.mean_time_s)} s."
         )
     entry = methods[best]
     name = labels[best]
-    ratio = f", {number(entry['oracle_ratio'], 2)} × the time of the oracle that knows the map" if oracle else ""
-    if not entry["mean_diff_s"] > 0:
+    ratio = f", {number(entry.oracle_ratio, 2)} × the time of the oracle that knows the map" if oracle else ""
+    if not _or_zero(entry.mean_diff_s) > 0:
         return (
-            f"No method was faster than the baseline {labels[baseline]} ({number(base['mean_time_s'])} s on average): "
-            f"the fastest, {name}, took {number(entry['mean_time_s'])} s ({_change(entry)}){ratio}."
+            f"No method was faster than the baseline {labels[baseline]} ({number(base.mean_time_s)} s on average): "
+            f"the fastest, {name}, took {number(entry.mean_time_s)} s ({_change(entry)}){ratio}."
         )
-    low, high = entry["ci95_s"]
-    tests = f"one-tailed paired t-test p = {p_value(entry['p_one_tailed'])}"
-    decisive = entry["p_one_tailed"]
+    low, high = entry.ci95_s
+    tests = f"one-tailed paired t-test p = {p_value(entry.p_one_tailed)}"
+    decisive = entry.p_one_tailed
     if family > 1:
-        tests += f", p Holm = {p_value(entry['p_holm'])}"
-        decisive = entry["p_holm"]
+        tests += f", p Holm = {p_value(entry.p_holm)}"
+        decisive = entry.p_holm
     verdict = "significant" if decisive is not None and decisive < SIGNIFICANCE else "not significant"
     return (
-        f"{name} explored fastest: {number(entry['mean_time_s'])} s on average against "
-        f"{number(base['mean_time_s'])} s for the baseline {labels[baseline]}, "
-        f"{number(entry['reduction_pct'])} % less time (mean saving {number(entry['mean_diff_s'])} s, 95 % CI "
+        f"{name} explored fastest: {number(entry.mean_time_s)} s on average against "
+        f"{number(base.mean_time_s)} s for the baseline {labels[baseline]}, "
+        f"{number(entry.reduction_pct)} % less time (mean saving {number(entry.mean_diff_s)} s, 95 % CI "
         f"{number(low)} to {number(high)} s; {tests}; {verdict} at the {100 * SIGNIFICANCE:.0f} % level){ratio}."
     )
 
 
-def _change(entry: dict[str, Any]) -> str:
-    reduction = entry["reduction_pct"]
+def _change(entry: MethodSummary) -> str:
+    reduction = entry.reduction_pct
     if reduction is None or not math.isfinite(reduction):
         return "no paired comparison"
     return f"{number(reduction)} % less time" if reduction >= 0 else f"{number(-reduction)} % more time"
@@ -123,14 +123,14 @@ def unfinished(
     return parts
 
 
-def _completion(methods: dict[str, dict[str, Any]], labels: dict[str, str]) -> str:
-    total = sum(e["n"] for e in methods.values())
-    explored = sum(e["end_reasons"].get("explored", 0) for e in methods.values())
+def _completion(methods: Mapping[str, MethodSummary], labels: dict[str, str]) -> str:
+    by_method = {method: entry.end_reasons or {} for method, entry in methods.items()}
+    total = sum(e.n for e in methods.values())
+    explored = sum(reasons.get("explored", 0) for reasons in by_method.values())
     if explored == total:
         return f"All {total} episodes ended with the map explored."
-    by_method = {method: entry["end_reasons"] for method, entry in methods.items()}
     parts = unfinished(by_method, labels, lambda reason: reason.replace("_", " "))
-    reasons = {r for e in methods.values() for r, n in e["end_reasons"].items() if n and r != "explored"}
+    reasons = {r for counts in by_method.values() for r, n in counts.items() if n and r != "explored"}
     meaning = [_REASONS[r] for r in sorted(reasons) if r in _REASONS]
     return f"{explored} of {total} episodes ended with the map explored; the others: {'; '.join(parts)}" + (
         f" ({'; '.join(meaning)})." if meaning else "."
@@ -139,3 +139,11 @@ def _completion(methods: dict[str, dict[str, Any]], labels: dict[str, str]) -> s
 
 def _finite(value: float | None) -> bool:
     return value is not None and math.isfinite(value)
+
+
+def _or_inf(value: float | None) -> float:
+    return math.inf if value is None else value
+
+
+def _or_zero(value: float | None) -> float:
+    return 0.0 if value is None else value

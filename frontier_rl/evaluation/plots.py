@@ -18,6 +18,7 @@ from matplotlib.figure import Figure
 from frontier_rl.atomic_write import save_figure_atomic
 from frontier_rl.core.frontiers.thesis import THESIS_WEIGHT
 from frontier_rl.core.sim.metrics import sample_step
+from frontier_rl.evaluation.summary import TeamPoint
 
 _DPI = 110
 
@@ -120,19 +121,20 @@ def weight_plot(traces: dict[str, list[dict[str, Any]]], path: Path) -> Path:
     return save_figure_atomic(fig, path)
 
 
-def team_size_plot(scaling: Mapping[str, Mapping[str, Mapping[str, Mapping[str, Any]]]], path: Path) -> Path:
-    """Mean exploration time against team size, one line per policy and strategy, with 95 %
-    confidence intervals (``scaling`` as :func:`~frontier_rl.evaluation.analysis.team_scaling` gives it)."""
+def team_size_plot(points: Sequence[TeamPoint], path: Path) -> Path:
+    """Mean exploration time against team size, one line per policy and strategy (in the order of
+    ``points``), with 95 % confidence intervals."""
     fig = Figure(figsize=(6.4, 4.2), dpi=_DPI)
     ax = fig.subplots()
-    sizes: set[int] = set()
-    for policy, lines in scaling.items():
-        for strategy, line in lines.items():
-            robots = [int(n) for n in line]
-            sizes.update(robots)
-            means = [e["mean_time_s"] for e in line.values()]
-            errors = [e["ci95_half_s"] or 0.0 for e in line.values()]
-            ax.errorbar(robots, means, yerr=errors, marker="o", capsize=3, lw=1.6, label=f"{policy}, {strategy}")
+    lines: dict[tuple[str, str], list[TeamPoint]] = {}
+    for point in points:
+        lines.setdefault((point.policy, point.strategy), []).append(point)
+    for (policy, strategy), line in lines.items():
+        robots = [point.robots for point in line]
+        means = [point.mean_time_s for point in line]
+        errors = [point.ci95_half_s or 0.0 for point in line]
+        ax.errorbar(robots, means, yerr=errors, marker="o", capsize=3, lw=1.6, label=f"{policy}, {strategy}")
+    sizes = {point.robots for point in points}
     ax.set_xticks(sorted(sizes))
     ax.set_xlabel("robots")
     ax.set_ylabel("exploration time (s)")

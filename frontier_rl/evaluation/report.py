@@ -23,6 +23,7 @@ from frontier_rl.evaluation.report_page import Block, Figure, Heading, Paragraph
 from frontier_rl.evaluation.report_tables import methods_table, outcome_tables, outlier_note, time_tables
 from frontier_rl.evaluation.results import ResultStore
 from frontier_rl.evaluation.run_pictures import RunPicture
+from frontier_rl.evaluation.summary import SUMMARY_FILE, ExperimentSummary
 from frontier_rl.evaluation.tables import Table, short_labels
 
 _FILES_NOTE = (
@@ -45,7 +46,7 @@ def write_report(
     :class:`~frontier_rl.atomic_write.OutputWriteError`."""
     out = store.out
     summary = summarise(store.rows, config, outliers)
-    write_text_atomic(out / "summary.json", json.dumps(summary, indent=1) + "\n")
+    write_text_atomic(out / SUMMARY_FILE, json.dumps(summary.to_json(), indent=1) + "\n")
     traces = _run_traces(store, config)
     labels = short_labels(config.methods)
     worlds = list(short_labels(config.worlds).values())
@@ -92,7 +93,7 @@ def _run_traces(store: ResultStore, config: ExperimentConfig) -> dict[str, list[
     return {m: [store.traces[(m, w, e)] for w, e in keys if (m, w, e) in store.traces] for m in config.methods}
 
 
-def _figures(store: ResultStore, config: ExperimentConfig, summary: dict[str, Any]) -> list[Figure]:
+def _figures(store: ResultStore, config: ExperimentConfig, summary: ExperimentSummary) -> list[Figure]:
     out = store.out
     labels = short_labels(config.methods)
     times = {labels[m]: t for m, t in paired_times(store.rows, config.methods, config.worlds, config.episodes).items()}
@@ -127,10 +128,10 @@ def _figures(store: ResultStore, config: ExperimentConfig, summary: dict[str, An
             f"bin (line); the dashed line is the thesis's w = {THESIS_WEIGHT}."
         )
         figures.append(Figure(weight_plot(learned, out / "weights.png"), "Weight chosen over time", caption))
-    if "teams" in summary:
+    if summary.teams:
         figures.append(
             Figure(
-                team_size_plot(summary["teams"], out / "teams.png"),
+                team_size_plot(summary.teams, out / "teams.png"),
                 "Exploration time against team size",
                 "Mean exploration time against team size, per policy and strategy; the bars are 95 % "
                 "confidence intervals of the mean.",

@@ -1,23 +1,26 @@
-"""The report's tables, from ``summary.json``: Table 4.1 of all episodes (with the oracle ratio
+"""The report's tables, from an experiment's summary: Table 4.1 of all episodes (with the oracle ratio
 and, when several methods are tested, Holm's adjusted p), of the outlier cuts that excluded an
 episode, of each world; the other metrics, how episodes ended, the team methods and the methods
 themselves."""
 
 from __future__ import annotations
 
+from collections.abc import Mapping
 from typing import Any
 
 import numpy as np
 
 from frontier_rl.evaluation.experiment import ORACLE, ExperimentConfig
 from frontier_rl.evaluation.method_notes import describe_method
-from frontier_rl.evaluation.statistics import THESIS_OUTLIERS_S, stats_from_dict
+from frontier_rl.evaluation.statistics import THESIS_OUTLIERS_S
+from frontier_rl.evaluation.summary import ExperimentSummary, MethodSummary, OutlierCut, PairedSummary
 from frontier_rl.evaluation.tables import (
     TABLE_4_1_HEADER,
     Table,
     completion_table,
     number,
     p_value,
+    percent,
     short_labels,
     table_4_1_row,
 )
@@ -28,27 +31,27 @@ _MAX_WORLD_TABLES = 12
 
 
 def report_tables(
-    summary: dict[str, Any], config: ExperimentConfig, teams_traces: dict[str, list[dict[str, Any]]] | None = None
+    summary: ExperimentSummary, config: ExperimentConfig, teams_traces: dict[str, list[dict[str, Any]]] | None = None
 ) -> list[Table]:
     """:func:`time_tables` then :func:`outcome_tables`."""
     return [*time_tables(summary, config), *outcome_tables(summary, config, teams_traces)]
 
 
-def time_tables(summary: dict[str, Any], config: ExperimentConfig) -> list[Table]:
+def time_tables(summary: ExperimentSummary, config: ExperimentConfig) -> list[Table]:
     """Table 4.1 of all episodes (with the ratio to the oracle and Holm's p), of each outlier cut
     that left an episode out, and of each world."""
     labels = short_labels(config.methods)
     world_labels = short_labels(config.worlds)
-    main = _table_4_1(summary["methods"], config, labels, "Exploration time, all episodes", oracle=True)
-    capped = {m: e["end_reasons"]["time_cap"] for m, e in summary["methods"].items() if e["end_reasons"]["time_cap"]}
+    main = _table_4_1(summary.methods, config, labels, "Exploration time, all episodes", oracle=True)
+    capped = {m: _capped(e) for m, e in summary.methods.items() if _capped(e)}
     if capped:
         note = ", ".join(f"{labels[m]} {k}" for m, k in capped.items())
         note = f"{main.note} Episodes cut at the sim-time cap (their time counts as the cap): {note}.".strip()
         main = Table(main.header, main.rows, main.title, note)
     tables = [main, *outlier_tables(summary, config, labels)]
-    per_world = summary.get("per_world", {})
+    per_world = summary.per_world
     for world, part in list(per_world.items())[:_MAX_WORLD_TABLES]:
-        tables.append(_table_4_1(part["methods"], config, labels, f"World {world_labels[world]}", oracle=True))
+        tables.append(_table_4_1(part, config, labels, f"World {world_labels[world]}", oracle=True))
     if len(per_world) > _MAX_WORLD_TABLES:
         tables[-1] = Table(
             tables[-1].header,
@@ -60,7 +63,7 @@ def time_tables(summary: dict[str, Any], config: ExperimentConfig) -> list[Table
 
 
 def outcome_tables(
-    summary: dict[str, Any], config: ExperimentConfig, teams_traces: dict[str, list[dict[str, Any]]] | None = None
+    summary: ExperimentSummary, config: ExperimentConfig, teams_traces: dict[str, list[dict[str, Any]]] | None = None
 ) -> list[Table]:
     """How the episodes ended, the other metrics, and the team methods (``teams_traces``: their
     traces, for the per-robot coverage)."""
@@ -79,37 +82,37 @@ def outcome_tables(
         ),
         title="Other metrics (means over episodes; t90 and t99 over the episodes that reached them)",
     )
-    for method, e in summary["methods"].items():
+    for method, e in summary.methods.items():
         metrics.rows.append(
             [
                 labels[method],
-                f"{e['episodes_done']} / {e['n']}",
-                number(100 * e["mean_coverage"], 2, " %"),
-                number(e["mean_path_length_m"]),
-                number(e["mean_t90_s"]),
-                number(e["mean_t99_s"]),
-                number(e["mean_aborts"], 2),
-                number(e["mean_weight"], 3),
-                number(e["mean_wall_time_s"], 2),
+                f"{e.episodes_done} / {e.n}",
+                percent(e.mean_coverage),
+                number(e.mean_path_length_m),
+                number(e.mean_t90_s),
+                number(e.mean_t99_s),
+                number(e.mean_aborts, 2),
+                number(e.mean_weight, 3),
+                number(e.mean_wall_time_s, 2),
             ]
         )
-    tables = [completion_table(summary["methods"], labels), metrics]
-    if "teams" in summary:
+    tables = [completion_table(summary.methods, labels), metrics]
+    if summary.teams:
         tables.append(_team_table(summary, labels, teams_traces or {}))
     return tables
 
 
-def outlier_tables(summary: dict[str, Any], config: ExperimentConfig, labels: dict[str, str]) -> list[Table]:
+def outlier_tables(summary: ExperimentSummary, config: ExperimentConfig, labels: dict[str, str]) -> list[Table]:
     """Table 4.1 without the episodes above each outlier threshold, for the thresholds that left an
     episode out (the others would repeat the table of all episodes)."""
     tables = []
-    for threshold, cut in summary["outliers"].items():
+    for cut in summary.outliers:
         if not _left_out(cut):
             continue
-        table = _table_4_1(cut["methods"], config, labels, f"Without episodes above {threshold} s")
+        table = _table_4_1(cut.methods, config, labels, f"Without episodes above {cut.threshold_s:g} s")
         extra = [
-            ["" if m == config.baseline else number(e["baseline_mean_time_s"]), str(e["excluded"])]
-            for m, e in cut["methods"].items()
+            ["" if m == config.baseline else number(e.baseline_mean_time_s), str(e.excluded)]
+            for m, e in cut.methods.items()
         ]
         tables.append(
             Table(
@@ -123,12 +126,12 @@ def outlier_tables(summary: dict[str, Any], config: ExperimentConfig, labels: di
     return tables
 
 
-def outlier_note(summary: dict[str, Any]) -> str:
+def outlier_note(summary: ExperimentSummary) -> str:
     """One line naming the outlier thresholds that left no episode out ("" if there are none)."""
-    clean = [t for t, cut in summary["outliers"].items() if not _left_out(cut)]
+    clean = [f"{cut.threshold_s:g}" for cut in summary.outliers if not _left_out(cut)]
     if not clean:
         return ""
-    thesis = {float(t) for t in summary["outliers"]} == set(THESIS_OUTLIERS_S)
+    thesis = {cut.threshold_s for cut in summary.outliers} == set(THESIS_OUTLIERS_S)
     whose = " (the thesis's outlier thresholds)" if thesis else ""
     return (
         f"No episode took longer than {' or '.join(f'{t} s' for t in clean)}{whose}, so the tables "
@@ -136,9 +139,14 @@ def outlier_note(summary: dict[str, Any]) -> str:
     )
 
 
-def _left_out(cut: dict[str, Any]) -> bool:
-    """Whether an outlier cut of ``summary.json`` left any episode out."""
-    return any(e["excluded"] for e in cut["methods"].values())
+def _left_out(cut: OutlierCut) -> bool:
+    """Whether an outlier cut left any episode out."""
+    return any(e.excluded for e in cut.methods.values())
+
+
+def _capped(entry: MethodSummary) -> int:
+    """The episodes of ``entry`` cut at the time cap."""
+    return (entry.end_reasons or {}).get("time_cap", 0)
 
 
 def methods_table(methods: tuple[str, ...]) -> Table:
@@ -151,7 +159,7 @@ def methods_table(methods: tuple[str, ...]) -> Table:
     return table
 
 
-def _team_table(summary: dict[str, Any], labels: dict[str, str], traces: dict[str, list[dict[str, Any]]]) -> Table:
+def _team_table(summary: ExperimentSummary, labels: dict[str, str], traces: dict[str, list[dict[str, Any]]]) -> Table:
     """Team methods: size, speed-up over the same policy alone, overlap, per-robot coverage, failures."""
     table = Table(
         (
@@ -168,13 +176,15 @@ def _team_table(summary: dict[str, Any], labels: dict[str, str], traces: dict[st
         "coverage per robot: the share of the explorable space each robot's own sensor reached (mean, min - max "
         "over robots, averaged over episodes).",
     )
-    methods = summary["methods"]
+    methods = summary.methods
     for method, entry in methods.items():
         team = TeamMethod.parse(method)
         if team.robots is None:
             continue
         alone = methods.get(str(team.policy))
-        speedup = alone["mean_time_s"] / entry["mean_time_s"] if alone and entry["mean_time_s"] > 0 else None
+        speedup = None
+        if alone and alone.mean_time_s is not None and entry.mean_time_s:  # a time of 0 s: no speed-up
+            speedup = alone.mean_time_s / entry.mean_time_s
         own = traces.get(method, [])
         per_robot = [t["robot_coverage"] for t in own if t.get("robot_coverage")]
         coverage = "n/a"
@@ -186,9 +196,9 @@ def _team_table(summary: dict[str, Any], labels: dict[str, str], traces: dict[st
             [
                 labels[method],
                 str(team.robots),
-                number(entry["mean_time_s"]),
+                number(entry.mean_time_s),
                 number(speedup, 2, " ×"),
-                number(100 * entry["mean_overlap"], 0, " %"),
+                percent(entry.mean_overlap, 0),
                 coverage,
                 f"{failed} in {len(own)} episodes",
             ]
@@ -197,20 +207,21 @@ def _team_table(summary: dict[str, Any], labels: dict[str, str], traces: dict[st
 
 
 def _table_4_1(
-    entries: dict[str, dict[str, Any]],
+    entries: Mapping[str, PairedSummary],
     config: ExperimentConfig,
     labels: dict[str, str],
     title: str,
     oracle: bool = False,
 ) -> Table:
-    rows = [table_4_1_row(labels[m], stats_from_dict(e), m == config.baseline) for m, e in entries.items()]
+    rows = [table_4_1_row(labels[m], e, m == config.baseline) for m, e in entries.items()]
     header: tuple[str, ...] = TABLE_4_1_HEADER
     notes = []
     tested = [m for m in entries if m not in (config.baseline, ORACLE)]
-    if len(tested) > 1 and all("p_holm" in entries[m] for m in tested):
+    holm_of = {m: e.p_holm for m, e in entries.items() if isinstance(e, MethodSummary)}  # not an outlier cut's
+    if len(tested) > 1 and all(m in holm_of for m in tested):
         at = header.index("p one-tailed") + 1
         header = (*header[:at], "p Holm", *header[at:])
-        holm = ["" if m not in tested else p_value(e["p_holm"]) for m, e in entries.items()]
+        holm = ["" if m not in tested else p_value(holm_of[m]) for m in entries]
         rows = [[*row[:at], cell, *row[at:]] for row, cell in zip(rows, holm, strict=True)]
         notes.append(
             f"p Holm: the one-tailed p adjusted by Holm's method over the {len(tested)} methods tested "
@@ -218,7 +229,8 @@ def _table_4_1(
         )
     if oracle and ORACLE in entries:
         header = (*header, "time / oracle")
-        rows = [[*row, number(e["oracle_ratio"], 2, " ×")] for row, e in zip(rows, entries.values(), strict=True)]
+        ratios = [e.oracle_ratio if isinstance(e, MethodSummary) else None for e in entries.values()]
+        rows = [[*row, number(ratio, 2, " ×")] for row, ratio in zip(rows, ratios, strict=True)]
         notes.append(
             "time / oracle: mean exploration time over the full-knowledge coverage tour's (1.00 × would be "
             "as fast as a robot that knows the map)."

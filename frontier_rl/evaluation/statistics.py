@@ -11,8 +11,7 @@ from __future__ import annotations
 import math
 import warnings
 from collections.abc import Mapping
-from dataclasses import asdict, dataclass, fields
-from typing import Any
+from dataclasses import dataclass
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
@@ -48,18 +47,6 @@ class PairedStats:
     p_two_tailed: float
     p_wilcoxon: float
     reduction_pct: float
-
-    def to_dict(self) -> dict[str, Any]:
-        """JSON-ready values (NaN becomes None)."""
-        return {k: _json_number(v) for k, v in asdict(self).items()}
-
-
-def _json_number(value: Any) -> Any:
-    if isinstance(value, tuple | list):
-        return [_json_number(v) for v in value]
-    if isinstance(value, float) and not math.isfinite(value):
-        return None
-    return value
 
 
 def paired_stats(times: ArrayLike, baseline: ArrayLike) -> PairedStats:
@@ -124,17 +111,6 @@ def compare_methods(
             keep = (t <= outlier_above_s) & (base <= outlier_above_s)
         out[name] = paired_stats(t[keep], base[keep])
     return out
-
-
-def stats_from_dict(entry: dict[str, Any]) -> PairedStats:
-    """The :class:`PairedStats` of a :meth:`PairedStats.to_dict` mapping (None back to NaN)."""
-    values: dict[str, Any] = {f.name: entry[f.name] for f in fields(PairedStats)}
-    for name, value in values.items():
-        if name == "ci95_s":
-            values[name] = tuple(math.nan if v is None else float(v) for v in value)
-        elif value is None:
-            values[name] = math.nan
-    return PairedStats(**values)
 
 
 def holm_adjust(p_values: Mapping[str, float | None], family_size: int = 0) -> dict[str, float | None]:

@@ -16,6 +16,7 @@ from pathlib import Path
 from typing import Any, TypeVar
 
 from frontier_rl.errors import ConfigError, short_path, short_repr
+from frontier_rl.evaluation.statistics import PairedStats
 
 SUMMARY_FILE = "summary.json"
 """The summary's file name in a results folder."""
@@ -49,6 +50,27 @@ class PairedSummary:
     p_two_tailed: float | None = None
     p_wilcoxon: float | None = None
     reduction_pct: float | None = None
+
+    @staticmethod
+    def values_of(stats: PairedStats) -> dict[str, Any]:
+        """The fields of :class:`PairedSummary` from ``stats``, undefined values (NaN) as None: the
+        keyword arguments of a summary (of this class or a subclass) that starts from them."""
+        low, high = stats.ci95_s
+        return {
+            "n": stats.n,
+            "mean_time_s": _defined(stats.mean_time_s),
+            "var_time_s": _defined(stats.var_time_s),
+            "mean_diff_s": _defined(stats.mean_diff_s),
+            "ci95_s": (_defined(low), _defined(high)),
+            "p_one_tailed": _defined(stats.p_one_tailed),
+            "p_two_tailed": _defined(stats.p_two_tailed),
+            "p_wilcoxon": _defined(stats.p_wilcoxon),
+            "reduction_pct": _defined(stats.reduction_pct),
+        }
+
+    def to_json(self) -> dict[str, Any]:
+        """The entry ``summary.json`` holds: every field, in order (pairs as lists)."""
+        return {f.name: _json_value(getattr(self, f.name)) for f in fields(self)}
 
 
 @dataclass(frozen=True)
@@ -166,6 +188,33 @@ class ExperimentSummary:
     per_world: Mapping[str, Mapping[str, MethodSummary]] = field(default_factory=dict)
     teams: tuple[TeamPoint, ...] = ()
 
+    def to_json(self) -> dict[str, Any]:
+        """The ``summary.json`` object of this summary (:meth:`from_json` reads it back); ``per_world``
+        and ``teams`` only when they hold something, teams nested by policy, strategy and team size."""
+        data: dict[str, Any] = {
+            "baseline": self.baseline,
+            "reference": self.reference,
+            "worlds": list(self.worlds),
+            "episodes": self.episodes,
+            "seed": self.seed,
+            "methods": _methods_json(self.methods),
+            "outliers": {f"{cut.threshold_s:g}": {"methods": _methods_json(cut.methods)} for cut in self.outliers},
+        }
+        if self.per_world:
+            data["per_world"] = {world: {"methods": _methods_json(m)} for world, m in self.per_world.items()}
+        if self.teams:
+            teams: dict[str, dict[str, dict[str, Any]]] = {}
+            for point in self.teams:
+                line = teams.setdefault(point.policy, {}).setdefault(point.strategy, {})
+                line[str(point.robots)] = {
+                    "method": point.method,
+                    "n": point.n,
+                    "mean_time_s": point.mean_time_s,
+                    "ci95_half_s": point.ci95_half_s,
+                }
+            data["teams"] = teams
+        return data
+
     @property
     def tested(self) -> tuple[str, ...]:
         """The methods compared with the baseline: all but the baseline and the reference."""
@@ -219,6 +268,25 @@ class ExperimentSummary:
             },
             teams=_teams(_object(top.get("teams", {}), "teams")),
         )
+
+
+def _methods_json(methods: Mapping[str, PairedSummary]) -> dict[str, Any]:
+    return {name: summary.to_json() for name, summary in methods.items()}
+
+
+def _defined(value: float) -> float | None:
+    return value if math.isfinite(value) else None
+
+
+def _json_value(value: object) -> object:
+    """``value`` as JSON holds it: pairs as lists, mappings as objects, NaN and inf as null."""
+    if isinstance(value, tuple):
+        return [_json_value(v) for v in value]
+    if isinstance(value, Mapping):
+        return dict(value)
+    if isinstance(value, float) and not math.isfinite(value):
+        return None
+    return value
 
 
 def _cut(key: str, value: object) -> OutlierCut:

@@ -5,13 +5,13 @@ from __future__ import annotations
 import html
 import math
 from collections import Counter
-from collections.abc import Iterable
+from collections.abc import Iterable, Mapping
 from dataclasses import dataclass, field
 from pathlib import Path
-from typing import Any
 
 from frontier_rl.errors import ConfigError, UnknownNameError
 from frontier_rl.evaluation.statistics import PairedStats
+from frontier_rl.evaluation.summary import MethodSummary, PairedSummary
 from frontier_rl.swarm.config import TeamMethod
 
 
@@ -87,6 +87,11 @@ def number(value: float | None, digits: int = 1, unit: str = "") -> str:
     return f"{value:,.{digits}f}{unit}"
 
 
+def percent(share: float | None, digits: int = 2) -> str:
+    """A share (0-1) as a percentage with ``digits`` decimals, or "n/a"."""
+    return number(None if share is None else 100 * share, digits, " %")
+
+
 SIGNIFICANCE = 0.05
 """The level the reports call a result significant at (a p below it)."""
 
@@ -119,7 +124,7 @@ TABLE_4_1_HEADER = (
 )
 
 
-def table_4_1_row(name: str, s: PairedStats, is_baseline: bool) -> list[str]:
+def table_4_1_row(name: str, s: PairedSummary, is_baseline: bool) -> list[str]:
     """One row of :func:`table_4_1`; the baseline's has no comparison cells."""
     if is_baseline:
         return [f"{name} (baseline)", str(s.n), number(s.mean_time_s), number(s.var_time_s), _sd(s), *[""] * 6]
@@ -139,25 +144,29 @@ def table_4_1_row(name: str, s: PairedStats, is_baseline: bool) -> list[str]:
     ]
 
 
-def _sd(s: PairedStats) -> str:
-    return number(math.sqrt(s.var_time_s)) if math.isfinite(s.var_time_s) and s.var_time_s >= 0 else "n/a"
+def _sd(s: PairedSummary) -> str:
+    variance = s.var_time_s
+    return number(math.sqrt(variance)) if variance is not None and math.isfinite(variance) and variance >= 0 else "n/a"
 
 
 def table_4_1(results: dict[str, PairedStats], baseline: str, title: str = "") -> Table:
     """A table laid out like the thesis's Table 4.1: per method the mean and variance of the
     exploration time, the mean saving against the baseline with its 95 % CI, the p-values and
     the reduction of the mean time (``.markdown()`` and ``.html()`` render it)."""
-    rows = [table_4_1_row(name, s, name == baseline) for name, s in results.items()]
+    rows = [
+        table_4_1_row(name, PairedSummary(**PairedSummary.values_of(s)), name == baseline)
+        for name, s in results.items()
+    ]
     return Table(TABLE_4_1_HEADER, rows, title)
 
 
-def completion_table(entries: dict[str, dict[str, Any]], labels: dict[str, str] | None = None) -> Table:
-    """How the episodes of each method ended, from ``summary.json``'s method entries: how many were
+def completion_table(entries: Mapping[str, MethodSummary], labels: dict[str, str] | None = None) -> Table:
+    """How the episodes of each method ended, from the methods' summaries: how many were
     explored, ended with unreachable frontiers left or at the sim-time cap (and for any other reason
     a method gave, such as a team's "failed"), the mean and lowest coverage, the mean share of all
     free cells mapped and the mean unknown area left beside the frontiers left."""
     labels = labels or {}
-    reasons = list(dict.fromkeys(reason for e in entries.values() for reason in e["end_reasons"]))
+    reasons = list(dict.fromkeys(reason for e in entries.values() for reason in e.end_reasons or {}))
     table = Table(
         (
             "method",
@@ -179,12 +188,12 @@ def completion_table(entries: dict[str, dict[str, Any]], labels: dict[str, str] 
         table.rows.append(
             [
                 labels.get(method, method),
-                str(e["n"]),
-                *(str(e["end_reasons"].get(r, 0)) for r in reasons),
-                number(100 * e["mean_coverage"], 2, " %"),
-                number(100 * e["min_coverage"], 2, " %"),
-                number(100 * e["mean_free_coverage"], 2, " %"),
-                number(e["mean_unknown_left_m2"], 2),
+                str(e.n),
+                *(str((e.end_reasons or {}).get(r, 0)) for r in reasons),
+                percent(e.mean_coverage),
+                percent(e.min_coverage),
+                percent(e.mean_free_coverage),
+                number(e.mean_unknown_left_m2, 2),
             ]
         )
     return table

@@ -5,6 +5,7 @@ from __future__ import annotations
 
 import csv
 import json
+from dataclasses import replace
 from pathlib import Path
 from typing import Any
 
@@ -17,6 +18,7 @@ from frontier_rl.evaluation.evaluate import evaluate
 from frontier_rl.evaluation.experiment import ROW_COLUMNS, ExperimentConfig
 from frontier_rl.evaluation.report_tables import report_tables
 from frontier_rl.evaluation.result_rows import format_row, parse_row
+from frontier_rl.evaluation.summary import MethodSummary
 from frontier_rl.evaluation.tables import completion_table
 from tests.evaluation.maps import write_slit_map
 
@@ -64,16 +66,16 @@ def test_summary_counts_end_reasons_and_coverage_per_method() -> None:
             left = 0.0 if reason == "explored" else 2.0 + episode
             rows[(method, "office", episode)] = _row(method, episode, reason, coverage, unknown_left_m2=left)
     summary = summarise(rows, config)
-    methods = summary["methods"]
+    methods = summary.methods
     fixed, nearest = methods["fixed:0.75"], methods["nearest"]
-    assert fixed["end_reasons"] == {"explored": 1, "unreachable": 1, "time_cap": 1}
-    assert nearest["end_reasons"] == {"explored": 2, "unreachable": 1, "time_cap": 0}
-    assert fixed["episodes_done"] == 1 and nearest["episodes_done"] == 2
-    assert fixed["mean_coverage"] == pytest.approx((1.0 + 0.6 + 0.7) / 3)
-    assert fixed["min_coverage"] == pytest.approx(0.6) and nearest["min_coverage"] == pytest.approx(0.7)
-    assert fixed["mean_free_coverage"] == pytest.approx(0.9 * (1.0 + 0.6 + 0.7) / 3)
-    assert fixed["mean_unknown_left_m2"] == pytest.approx((3.0 + 4.0) / 3)
-    assert nearest["mean_unknown_left_m2"] == pytest.approx(4.0 / 3)
+    assert fixed.end_reasons == {"explored": 1, "unreachable": 1, "time_cap": 1}
+    assert nearest.end_reasons == {"explored": 2, "unreachable": 1, "time_cap": 0}
+    assert fixed.episodes_done == 1 and nearest.episodes_done == 2
+    assert fixed.mean_coverage == pytest.approx((1.0 + 0.6 + 0.7) / 3)
+    assert fixed.min_coverage == pytest.approx(0.6) and nearest.min_coverage == pytest.approx(0.7)
+    assert fixed.mean_free_coverage == pytest.approx(0.9 * (1.0 + 0.6 + 0.7) / 3)
+    assert fixed.mean_unknown_left_m2 == pytest.approx((3.0 + 4.0) / 3)
+    assert nearest.mean_unknown_left_m2 == pytest.approx(4.0 / 3)
     tables = {t.title: t for t in report_tables(summary, config)}
     assert tables["Completion"].rows[1][:5] == ["nearest", "3", "2", "1", "0"]
     # only the episode cut at the cap is named as such, not the unreachable one
@@ -81,11 +83,12 @@ def test_summary_counts_end_reasons_and_coverage_per_method() -> None:
 
 
 def test_the_completion_table_lays_out_the_counts() -> None:
-    entry = {"n": 4, "mean_coverage": 0.8125, "min_coverage": 0.5, "mean_free_coverage": 0.75,
-             "mean_unknown_left_m2": 1.5}  # fmt: skip
+    entry = MethodSummary(
+        4, 300.0, mean_coverage=0.8125, min_coverage=0.5, mean_free_coverage=0.75, mean_unknown_left_m2=1.5
+    )
     entries = {
-        "fixed:0.75@2": entry | {"end_reasons": {"explored": 1, "unreachable": 1, "time_cap": 1, "failed": 1}},
-        "nearest": entry | {"end_reasons": {"explored": 3, "unreachable": 0, "time_cap": 1}},
+        "fixed:0.75@2": replace(entry, end_reasons={"explored": 1, "unreachable": 1, "time_cap": 1, "failed": 1}),
+        "nearest": replace(entry, end_reasons={"explored": 3, "unreachable": 0, "time_cap": 1}),
     }
     table = completion_table(entries, {"fixed:0.75@2": "fixed:0.75 ×2", "nearest": "nearest"})
     assert table.title == "Completion"

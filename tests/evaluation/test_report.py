@@ -6,9 +6,9 @@ from __future__ import annotations
 
 import base64
 import io
+import json
 import re
 from pathlib import Path
-from typing import Any
 
 import pytest
 from PIL import Image
@@ -22,6 +22,7 @@ from frontier_rl.evaluation.experiment import ExperimentConfig
 from frontier_rl.evaluation.method_notes import describe_method
 from frontier_rl.evaluation.plots import coverage_plot
 from frontier_rl.evaluation.report_tables import outlier_note, outlier_tables, time_tables
+from frontier_rl.evaluation.summary import ExperimentSummary
 from frontier_rl.evaluation.tables import short_labels
 from frontier_rl.policies import POLICY_NAMES
 from frontier_rl.rl.config import TrainConfig
@@ -30,14 +31,20 @@ from tests.evaluation.test_completion import _row
 METHODS = ("fixed:0.75", "nearest", "largest", "oracle")
 
 
-def _summary(times: dict[str, list[float]], ends: dict[str, list[str]] | None = None,
-             outliers: tuple[float, ...] = (1000.0, 2000.0)) -> tuple[dict[str, Any], ExperimentConfig]:  # fmt: skip
-    config = ExperimentConfig(methods=tuple(times), worlds=("office",), episodes=len(times["fixed:0.75"]))
+def _summary(
+    times: dict[str, list[float]],
+    ends: dict[str, list[str]] | None = None,
+    outliers: tuple[float, ...] = (1000.0, 2000.0),
+    worlds: tuple[str, ...] = ("office",),
+) -> tuple[ExperimentSummary, ExperimentConfig]:
+    episodes = len(times["fixed:0.75"]) // len(worlds)
+    config = ExperimentConfig(methods=tuple(times), worlds=worlds, episodes=episodes)
     rows = {}
     for method, values in times.items():
-        for episode, value in enumerate(values):
-            reason = (ends or {}).get(method, ["explored"] * len(values))[episode]
-            rows[(method, "office", episode)] = _row(method, episode, reason, 1.0, sim_time_s=value)
+        for i, value in enumerate(values):  # in the order of paired_times: by episode, then world
+            reason = (ends or {}).get(method, ["explored"] * len(values))[i]
+            episode, world = divmod(i, len(worlds))
+            rows[(method, worlds[world], episode)] = _row(method, episode, reason, 1.0, sim_time_s=value)
     return summarise(rows, config, outliers), config
 
 
@@ -52,20 +59,20 @@ def test_the_conclusion_names_the_fastest_method_with_its_statistics() -> None:
         "oracle": [t - 80 for t in BASE],
     }
     summary, config = _summary(times)
-    best = summary["methods"]["nearest"]
+    best = summary.methods["nearest"]
     conclusion = conclude(summary, short_labels(config.methods))
     assert conclusion.best == "nearest"
-    low, high = best["ci95_s"]
+    low, high = best.ci95_s
     assert conclusion.headline == (
-        f"nearest explored fastest: {best['mean_time_s']:.1f} s on average against {sum(BASE) / 6:.1f} s for the "
-        f"baseline fixed:0.75, {best['reduction_pct']:.1f} % less time (mean saving {best['mean_diff_s']:.1f} s, "
-        f"95 % CI {low:.1f} to {high:.1f} s; one-tailed paired t-test p = {best['p_one_tailed']:.2g}, p Holm = "
-        f"{best['p_holm']:.2g}; significant at the 5 % level), {best['oracle_ratio']:.2f} × the time of the oracle "
+        f"nearest explored fastest: {best.mean_time_s:.1f} s on average against {sum(BASE) / 6:.1f} s for the "
+        f"baseline fixed:0.75, {best.reduction_pct:.1f} % less time (mean saving {best.mean_diff_s:.1f} s, "
+        f"95 % CI {low:.1f} to {high:.1f} s; one-tailed paired t-test p = {best.p_one_tailed:.2g}, p Holm = "
+        f"{best.p_holm:.2g}; significant at the 5 % level), {best.oracle_ratio:.2f} × the time of the oracle "
         "that knows the map."
     )
     # two methods tested (the oracle is a reference): Holm doubles the smaller p, keeps the larger
-    assert best["p_holm"] == pytest.approx(min(1.0, 2 * best["p_one_tailed"]))
-    assert summary["methods"]["oracle"]["p_holm"] is None and summary["methods"]["fixed:0.75"]["p_holm"] is None
+    assert best.p_holm == pytest.approx(min(1.0, 2 * best.p_one_tailed))
+    assert summary.methods["oracle"].p_holm is None and summary.methods["fixed:0.75"].p_holm is None
     assert any("2 methods were tested" in d for d in conclusion.details)
     assert conclusion.details[-1] == "All 24 episodes ended with the map explored."
 
@@ -74,10 +81,10 @@ def test_a_method_as_fast_as_the_baseline_in_every_episode_counts_in_holms_famil
     # "largest" has no defined p (no difference at all), but it was tested: Holm's m is 2
     times = {"fixed:0.75": BASE, "nearest": [t - 30 + 3 * i for i, t in enumerate(BASE)], "largest": BASE}
     summary, _ = _summary(times)
-    nearest, largest = summary["methods"]["nearest"], summary["methods"]["largest"]
-    assert largest["p_one_tailed"] is None and largest["p_holm"] is None
-    assert nearest["p_holm"] == pytest.approx(min(1.0, 2 * nearest["p_one_tailed"]))
-    assert summary["methods"]["largest"]["std_time_s"] == pytest.approx(summary["methods"]["fixed:0.75"]["std_time_s"])
+    nearest, largest = summary.methods["nearest"], summary.methods["largest"]
+    assert largest.p_one_tailed is None and largest.p_holm is None
+    assert nearest.p_holm == pytest.approx(min(1.0, 2 * nearest.p_one_tailed))
+    assert summary.methods["largest"].std_time_s == pytest.approx(summary.methods["fixed:0.75"].std_time_s)
 
 
 def test_the_conclusion_says_when_nothing_beat_the_baseline_and_names_unfinished_episodes() -> None:
@@ -94,6 +101,29 @@ def test_the_conclusion_says_when_nothing_beat_the_baseline_and_names_unfinished
         "takes on large floors: a policy that meets it wanders); unreachable: frontiers were left, none of them "
         "reachable for a robot of this size or each given up after its tries)."
     )
+
+
+def test_the_summary_file_reads_back_as_the_summary_it_was_written_from() -> None:
+    """``to_json`` and ``from_json`` are one codec: every field of every part survives, per world,
+    outlier cuts, team points and undefined values (the oracle's Holm p, a p of equal times)."""
+    times = {
+        "fixed:0.75": BASE,
+        "nearest": [t - 30 + 3 * i for i, t in enumerate(BASE)],
+        "largest": BASE,
+        "nearest@2": [t / 2 for t in BASE],
+        "nearest@3:coordinated": [t / 3 for t in BASE],
+        "oracle": [t - 80 for t in BASE],
+    }
+    summary, _ = _summary(times, outliers=(1000.0, 430.0), worlds=("office", "rooms"))
+    assert summary.per_world and summary.teams and len(summary.outliers) == 2
+    assert [(p.policy, p.strategy, p.robots) for p in summary.teams] == [
+        ("nearest", "uncoordinated", 1),
+        ("nearest", "uncoordinated", 2),
+        ("nearest", "coordinated", 1),
+        ("nearest", "coordinated", 3),
+    ]
+    text = json.dumps(summary.to_json(), indent=1)
+    assert ExperimentSummary.from_json(json.loads(text)) == summary
 
 
 def test_outlier_tables_only_when_an_episode_was_left_out() -> None:
@@ -118,7 +148,7 @@ def test_the_main_table_gives_sd_and_holm_beside_the_raw_values() -> None:
     assert header[header.index("variance (s²)") + 1] == "sd (s)"
     assert header[header.index("p one-tailed") + 1] == "p Holm"
     row = main.rows[2]  # largest
-    assert row[header.index("sd (s)")] == f"{summary['methods']['largest']['std_time_s']:.1f}"
+    assert row[header.index("sd (s)")] == f"{summary.methods['largest'].std_time_s:.1f}"
 
 
 @pytest.mark.parametrize(

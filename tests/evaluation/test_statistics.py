@@ -11,6 +11,7 @@ from scipy import stats
 from frontier_rl.errors import ConfigError
 from frontier_rl.evaluation import compare_methods, paired_stats, table_4_1
 from frontier_rl.evaluation.statistics import holm_adjust
+from frontier_rl.evaluation.summary import PairedSummary
 from frontier_rl.evaluation.tables import p_value
 
 BASE = [10.0, 12.0, 14.0, 16.0]
@@ -54,7 +55,7 @@ def test_degenerate_inputs_give_nan_not_errors() -> None:
     one = paired_stats([5.0], [6.0])
     assert one.n == 1 and math.isnan(one.ci95_s[0]) and math.isnan(one.var_time_s)
     assert paired_stats([], []).n == 0
-    assert one.to_dict()["ci95_s"] == [None, None]
+    assert PairedSummary.values_of(one)["ci95_s"] == (None, None)
     with pytest.raises(ConfigError, match="shapes"):
         paired_stats([1.0, 2.0], [1.0])
 
