@@ -11,57 +11,24 @@ Stable-Baselines3 when the caller trusts it (:mod:`frontier_rl.inference.sb3_zip
 
 from __future__ import annotations
 
-from dataclasses import dataclass
 from pathlib import Path
-from typing import Any, Protocol
+from typing import Any
 
 import numpy as np
 import torch
-from numpy.typing import NDArray
 from torch import nn
 
 from frontier_rl.errors import ConfigError, model_file_label
 from frontier_rl.inference.bounded_zip import first_line
+from frontier_rl.inference.interface import Actor, Observation, ObservationShape
 from frontier_rl.inference.model_file import ModelInfo, check_fit, read_model
 from frontier_rl.inference.networks import FirstColumns, FrontierPool, FrontierScores, GridFeatures
 from frontier_rl.observation.map_image import FRONTIER_FEATURES
 from frontier_rl.observation.weight_bins import WEIGHT_BINS
 from frontier_rl.registration import FRONTIER_CHOICE_MODELS, MODELS, POINT_MODELS, TABLE_MODELS, TOP_K
 
-Observation = NDArray[Any] | dict[str, NDArray[Any]]
-"""What a model reads: a map image, or (the frontier-table models) a dict of ``map``, ``frontiers``
-and ``mask`` arrays, as :mod:`frontier_rl.observation` encodes them."""
-
 HIDDEN = 64
 """Width of the actor's and the critic's hidden layer (SB3's ``net_arch``)."""
-
-
-@dataclass(frozen=True)
-class ObservationShape:
-    """What a model reads and how many actions it answers with.
-
-    Attributes:
-        image: the map image's (channels, height, width), uint8.
-        actions: the number of discrete actions.
-        table_rows: the frontier table's rows (K), 0 for a model without a table.
-        table_length: the flattened table's length (K × columns), 0 without a table.
-    """
-
-    image: tuple[int, int, int]
-    actions: int
-    table_rows: int = 0
-    table_length: int = 0
-
-
-class Actor(Protocol):
-    """A loaded model: what it reads, and its most likely action for an observation."""
-
-    @property
-    def shape(self) -> ObservationShape:
-        """What the model reads and answers."""
-
-    def act(self, observation: Observation) -> int:
-        """The model's most likely action for ``observation`` (deterministic)."""
 
 
 def model_shape(model: int, size: int) -> ObservationShape:

@@ -24,8 +24,8 @@ from stable_baselines3.common.policies import ActorCriticPolicy
 from stable_baselines3.common.preprocessing import is_image_space, preprocess_obs
 
 from frontier_rl.errors import ConfigError, model_file_label, short_repr
-from frontier_rl.inference.actor import Observation, ObservationShape
 from frontier_rl.inference.bounded_zip import first_line
+from frontier_rl.inference.interface import Observation, ObservationShape
 from frontier_rl.inference.model_file import open_model
 
 
@@ -110,7 +110,7 @@ def observation_shape(policy: ActorCriticPolicy, where: str) -> ObservationShape
 
 
 class SB3Actor:
-    """A trusted SB3 policy behind :class:`~frontier_rl.inference.actor.Actor`."""
+    """A trusted SB3 policy behind :class:`~frontier_rl.inference.interface.Actor`."""
 
     def __init__(self, policy: ActorCriticPolicy, where: str) -> None:
         self.policy = policy

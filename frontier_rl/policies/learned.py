@@ -26,7 +26,7 @@ from frontier_rl.observation.map_image import FRONTIER_FEATURES, MapEncoder
 from frontier_rl.observation.weight_bins import WEIGHT_BINS, bin_to_weight
 
 if TYPE_CHECKING:
-    from frontier_rl.inference.actor import Actor
+    from frontier_rl.inference.interface import Actor
 
 
 @dataclass
