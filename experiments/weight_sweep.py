@@ -13,6 +13,7 @@ from __future__ import annotations
 
 import argparse
 import json
+from collections.abc import Mapping
 from pathlib import Path
 from typing import Any
 
@@ -20,18 +21,18 @@ import numpy as np
 
 from frontier_rl.atomic_write import write_text_atomic
 from frontier_rl.core.sim.config import SimConfig
+from frontier_rl.evaluation.episode_record import EpisodeRow, Key
 from frontier_rl.evaluation.evaluate import evaluate
 from frontier_rl.evaluation.experiment import ORACLE, ExperimentConfig, expand_worlds, identity
-from frontier_rl.evaluation.result_rows import Key
 from frontier_rl.evaluation.results import ResultStore
 
 SWEEP = tuple(f"fixed:{0.05 * i:.2f}" for i in range(21))
 
 
-def sweep_analysis(rows: dict[Key, dict[str, Any]], worlds: tuple[str, ...], episodes: int) -> dict[str, Any]:
+def sweep_analysis(rows: Mapping[Key, EpisodeRow], worlds: tuple[str, ...], episodes: int) -> dict[str, Any]:
     """The best weight of the sweep on average, the per-world best weights and their mean time."""
     keys = [(w, e) for e in range(episodes) for w in worlds]
-    times = np.array([[float(rows[(m, w, e)]["sim_time_s"]) for m in SWEEP] for w, e in keys])
+    times = np.array([[rows[(m, w, e)].sim_time_s for m in SWEEP] for w, e in keys])
     weights = np.array([float(m.split(":")[1]) for m in SWEEP])
     best = int(times.mean(axis=0).argmin())
     per_world = weights[times.argmin(axis=1)]

@@ -6,25 +6,26 @@ from __future__ import annotations
 
 import math
 from collections import Counter
-from typing import Any
+from collections.abc import Iterable, Mapping, Sequence
 
 import numpy as np
 from scipy import stats as scipy_stats
 
 from frontier_rl.core.sim.episode_log import EndReason
+from frontier_rl.evaluation.episode_record import EpisodeRow, Key
 from frontier_rl.evaluation.experiment import ORACLE, ExperimentConfig
 from frontier_rl.evaluation.statistics import compare_methods, holm_adjust
 from frontier_rl.evaluation.summary import ExperimentSummary, MethodSummary, OutlierCut, OutlierSummary, TeamPoint
 from frontier_rl.swarm.config import TeamMethod
 
-Rows = dict[tuple[str, str, int], dict[str, Any]]
+Rows = Mapping[Key, EpisodeRow]
 
 
 def paired_times(
     rows: Rows, methods: tuple[str, ...], worlds: tuple[str, ...], episodes: int
 ) -> dict[str, list[float]]:
     """Each method's exploration times (s), aligned by (world, episode)."""
-    return {m: [float(rows[(m, w, e)]["sim_time_s"]) for e in range(episodes) for w in worlds] for m in methods}
+    return {m: [rows[(m, w, e)].sim_time_s for e in range(episodes) for w in worlds] for m in methods}
 
 
 def summarise(rows: Rows, config: ExperimentConfig, outlier_thresholds: tuple[float, ...] = ()) -> ExperimentSummary:
@@ -99,28 +100,28 @@ def _method_table(rows: Rows, config: ExperimentConfig, worlds: tuple[str, ...])
             p_holm=holm.get(method),
             median_time_s=float(np.median(times[method])),
             oracle_ratio=_ratio(float(np.mean(times[method])), oracle_mean),
-            episodes_done=sum(bool(r["done"]) for r in own),
+            episodes_done=sum(bool(r.done) for r in own),
             end_reasons=end_reasons(own),
-            mean_coverage=float(np.mean([r["coverage"] for r in own])),
-            min_coverage=float(np.min([r["coverage"] for r in own])),
-            mean_free_coverage=float(np.mean([r["free_coverage"] for r in own])),
-            mean_unknown_left_m2=float(np.mean([r["unknown_left_m2"] for r in own])),
-            mean_path_length_m=float(np.mean([r["path_length_m"] for r in own])),
-            mean_t90_s=_mean_of_present(r["t90_s"] for r in own),
-            mean_t99_s=_mean_of_present(r["t99_s"] for r in own),
-            mean_aborts=float(np.mean([r["aborts"] for r in own])),
-            mean_weight=_mean_of_present(r["mean_weight"] for r in own),
-            mean_wall_time_s=float(np.mean([r["wall_time_s"] for r in own])),
-            robots=int(own[0]["robots"]) if own else 1,
-            mean_overlap=float(np.mean([r["overlap"] for r in own])),
+            mean_coverage=float(np.mean([r.coverage for r in own])),
+            min_coverage=float(np.min([r.coverage for r in own])),
+            mean_free_coverage=float(np.mean([r.free_coverage for r in own])),
+            mean_unknown_left_m2=float(np.mean([r.unknown_left_m2 for r in own])),
+            mean_path_length_m=float(np.mean([r.path_length_m for r in own])),
+            mean_t90_s=_mean_of_present(r.t90_s for r in own),
+            mean_t99_s=_mean_of_present(r.t99_s for r in own),
+            mean_aborts=float(np.mean([r.aborts for r in own])),
+            mean_weight=_mean_of_present(r.mean_weight for r in own),
+            mean_wall_time_s=float(np.mean([r.wall_time_s for r in own])),
+            robots=own[0].robots if own else 1,
+            mean_overlap=float(np.mean([r.overlap for r in own])),
         )
     return table
 
 
-def end_reasons(rows: list[dict[str, Any]]) -> dict[str, int]:
+def end_reasons(rows: Sequence[EpisodeRow]) -> dict[str, int]:
     """How many of ``rows`` ended for each reason: "explored", "unreachable" and "time_cap" always
     (0 if none did), then any other reason a row gives (a team's "failed"), by name."""
-    counts = Counter(str(r["end_reason"]) for r in rows if r["end_reason"] is not None)
+    counts = Counter(str(r.end_reason) for r in rows if r.end_reason is not None)
     standard = {reason.value: counts.pop(reason.value, 0) for reason in EndReason}
     return standard | dict(sorted(counts.items()))
 
@@ -133,6 +134,6 @@ def _ratio(value: float, reference: float) -> float | None:
     return value / reference if math.isfinite(reference) and reference > 0 else None
 
 
-def _mean_of_present(values: Any) -> float | None:
+def _mean_of_present(values: Iterable[float | None]) -> float | None:
     present = [float(v) for v in values if v is not None]
     return float(np.mean(present)) if present else None

@@ -16,11 +16,12 @@ from collections.abc import Callable, Generator
 from typing import Any
 
 from frontier_rl.errors import ConfigError, FrontierRLError
+from frontier_rl.evaluation.episode_record import EpisodeOutcome
 from frontier_rl.evaluation.experiment import EpisodeJob, EpisodeSettings, run_job
 from frontier_rl.evaluation.worker_pool import WorkerPool
 
 BACKENDS = ("serial", "process", "ray")
-ResultHandler = Callable[[dict[str, Any]], None]
+ResultHandler = Callable[[EpisodeOutcome], None]
 Outcomes = Generator[tuple[EpisodeJob, Any], None, None]
 """Each episode with its row, or the exception it raised, as episodes finish."""
 Caught = list[tuple[str, str]]
@@ -127,26 +128,26 @@ def _serial(jobs: list[EpisodeJob], settings: EpisodeSettings) -> Outcomes:
             yield job, exc
 
 
-def run_job_catching_warnings(job: EpisodeJob, settings: EpisodeSettings) -> tuple[dict[str, Any], Caught]:
+def run_job_catching_warnings(job: EpisodeJob, settings: EpisodeSettings) -> tuple[EpisodeOutcome, Caught]:
     """:func:`run_job` in a worker, with the warnings it raised, to be raised again in the parent
     (:func:`_warn_again`): a worker's stderr is not the command's, so they would go past the
     command line's one-line warnings."""
     with warnings.catch_warnings(record=True) as caught:
         warnings.simplefilter("default")
-        row = run_job(job, settings)
-    return row, [(w.category.__name__, str(w.message)) for w in caught]
+        outcome = run_job(job, settings)
+    return outcome, [(w.category.__name__, str(w.message)) for w in caught]
 
 
-def _warn_again(outcome: tuple[dict[str, Any], Caught]) -> dict[str, Any]:
-    """The row of a worker's outcome, its warnings raised again here (as UserWarning when their
+def _warn_again(outcome: tuple[EpisodeOutcome, Caught]) -> EpisodeOutcome:
+    """The episode of a worker's outcome, its warnings raised again here (as UserWarning when their
     category is not a built-in one)."""
-    row, caught = outcome
+    episode, caught = outcome
     for name, message in caught:
         category = getattr(builtins, name, None)
         if not (isinstance(category, type) and issubclass(category, Warning)):
             category, message = UserWarning, f"{name}: {message}"
         warnings.warn(message, category, stacklevel=2)
-    return row
+    return episode
 
 
 def _process_pool(jobs: list[EpisodeJob], settings: EpisodeSettings, workers: int) -> Outcomes:

@@ -14,6 +14,7 @@ from rich.progress import BarColumn, MofNCompleteColumn, Progress, TextColumn, T
 from frontier_rl.atomic_write import OutputWriteError
 from frontier_rl.errors import ConfigError, short_repr
 from frontier_rl.evaluation.backends import EpisodeFailedError, check_backend, default_workers, run_jobs
+from frontier_rl.evaluation.episode_record import EpisodeOutcome
 from frontier_rl.evaluation.experiment import ExperimentConfig, check_methods, identity
 from frontier_rl.evaluation.report import write_report
 from frontier_rl.evaluation.results import ResultStore
@@ -107,8 +108,8 @@ def _run_missing(
     todo = [job for job in jobs if not store.done(job)]
     with _progress_bar(len(todo), len(jobs) - len(todo), progress) as advance:
 
-        def record(result: dict[str, Any]) -> None:
-            store.record(result)
+        def record(outcome: EpisodeOutcome) -> None:
+            store.record(outcome)
             advance()
 
         try:

@@ -25,6 +25,7 @@ from frontier_rl.core.sim.metrics import sample_step
 from frontier_rl.core.world.catalog import WORLD_GENERATORS
 from frontier_rl.core.world.worlds import World
 from frontier_rl.errors import ConfigError, model_file_label, short_repr
+from frontier_rl.evaluation.episode_record import EpisodeOutcome, EpisodeRow, EpisodeTrace
 from frontier_rl.policies import PolicySpec, make_policy
 from frontier_rl.policies.user_policies import user_policy_fingerprint
 from frontier_rl.swarm import Failure, Strategy, TeamConfig, TeamMethod, TeamResult, run_team_episode
@@ -265,8 +266,8 @@ def job_parts(job: EpisodeJob, settings: EpisodeSettings) -> tuple[World, Explor
     )
 
 
-def run_job(job: EpisodeJob, settings: EpisodeSettings) -> dict[str, Any]:
-    """Run one episode; its result row (scalars) and ``trace`` (coverage curve and weights)."""
+def run_job(job: EpisodeJob, settings: EpisodeSettings) -> EpisodeOutcome:
+    """Run one episode; its result row (scalars) and trace (coverage curve and weights)."""
     _warm()
     world, policy, team = job_parts(job, settings)
     if team is None:
@@ -276,36 +277,36 @@ def run_job(job: EpisodeJob, settings: EpisodeSettings) -> dict[str, Any]:
     summary = result.summary()
     weights = [(d.time_s, d.weight) for d in result.decision_log if d.weight is not None]
     times, curve = _thin_curve(result.coverage_times_s, result.coverage_curve, result.sim_time_s)
-    row = {
-        "method": job.method,
-        "world": job.world,
-        "episode": job.episode,
-        "seed": job.seed,
-        "start_x_m": round(world.start.x, 4),
-        "start_y_m": round(world.start.y, 4),
-        "start_theta_rad": round(world.start.theta, 4),
+    row = EpisodeRow(
+        method=job.method,
+        world=job.world,
+        episode=job.episode,
+        seed=job.seed,
+        start_x_m=round(world.start.x, 4),
+        start_y_m=round(world.start.y, 4),
+        start_theta_rad=round(world.start.theta, 4),
         **{k: summary[k] for k in ROW_METRICS},
-        "mean_weight": round(float(np.mean([w for _, w in weights])), 4) if weights else None,
-        "robots": summary.get("robots", 1),
-        "overlap": summary.get("overlap", 0.0),
-        "wall_time_s": summary["wall_time_s"],
-    }
-    trace = {
-        "method": job.method,
-        "world": job.world,
-        "episode": job.episode,
-        "coverage_t": times,
-        "coverage": curve,
-        "weight_t": [round(t, 2) for t, _ in weights],
-        "weight": [round(float(w), 4) for _, w in weights],
-        "aborts_by_cause": summary["aborts_by_cause"],
-        "explorable_left_m2": summary["explorable_left_m2"],
-        "frontiers_with_path_left": summary["frontiers_with_path_left"],
-        "frontiers_unrevealable_left": summary["frontiers_unrevealable_left"],
-    }
-    if isinstance(result, TeamResult):
-        trace |= {k: summary[k] for k in ("robot_path_lengths_m", "robot_coverage", "failed_at_s")}
-    return {"row": row, "trace": trace}
+        mean_weight=round(float(np.mean([w for _, w in weights])), 4) if weights else None,
+        robots=summary.get("robots", 1),
+        overlap=summary.get("overlap", 0.0),
+        wall_time_s=summary["wall_time_s"],
+    )
+    team_lists = ("robot_path_lengths_m", "robot_coverage", "failed_at_s") if isinstance(result, TeamResult) else ()
+    trace = EpisodeTrace(
+        method=job.method,
+        world=job.world,
+        episode=job.episode,
+        coverage_t=tuple(times),
+        coverage=tuple(curve),
+        weight_t=tuple(round(t, 2) for t, _ in weights),
+        weight=tuple(round(float(w), 4) for _, w in weights),
+        aborts_by_cause=summary["aborts_by_cause"],
+        explorable_left_m2=summary["explorable_left_m2"],
+        frontiers_with_path_left=summary["frontiers_with_path_left"],
+        frontiers_unrevealable_left=summary["frontiers_unrevealable_left"],
+        **{k: tuple(summary[k]) for k in team_lists},
+    )
+    return EpisodeOutcome(row, trace)
 
 
 ROW_METRICS = (
@@ -323,22 +324,6 @@ ROW_METRICS = (
     "unknown_left_m2",
 )
 """The episode metrics a row carries (see :class:`frontier_rl.core.sim.metrics.EpisodeResult`)."""
-
-ROW_COLUMNS = (
-    "method",
-    "world",
-    "episode",
-    "seed",
-    "start_x_m",
-    "start_y_m",
-    "start_theta_rad",
-    *ROW_METRICS,
-    "mean_weight",
-    "robots",
-    "overlap",
-    "wall_time_s",
-)
-"""The columns of ``episodes.csv``, in order."""
 
 
 def _thin_curve(times: np.ndarray, curve: np.ndarray, end: float) -> tuple[list[float], list[float]]:

@@ -10,7 +10,6 @@ from __future__ import annotations
 
 from collections.abc import Mapping, Sequence
 from pathlib import Path
-from typing import Any
 
 import numpy as np
 from matplotlib.figure import Figure
@@ -18,6 +17,7 @@ from matplotlib.figure import Figure
 from frontier_rl.atomic_write import save_figure_atomic
 from frontier_rl.core.frontiers.thesis import THESIS_WEIGHT
 from frontier_rl.core.sim.metrics import sample_step
+from frontier_rl.evaluation.episode_record import EpisodeTrace
 from frontier_rl.evaluation.summary import TeamPoint
 
 _DPI = 110
@@ -64,15 +64,15 @@ def paired_scatter(times: Mapping[str, Sequence[float]], baseline: str, path: Pa
     return save_figure_atomic(fig, path)
 
 
-def coverage_plot(traces: dict[str, list[dict[str, Any]]], path: Path) -> Path:
+def coverage_plot(traces: Mapping[str, Sequence[EpisodeTrace]], path: Path) -> Path:
     """Mean coverage over time per method with the band between the 25th and 75th percentiles;
     an episode that has ended keeps its final coverage."""
     fig = Figure(figsize=(6.4, 4.2), dpi=_DPI)
     ax = fig.subplots()
-    end = max((t["coverage_t"][-1] for ts in traces.values() for t in ts if t["coverage_t"]), default=1.0)
+    end = max((t.coverage_t[-1] for ts in traces.values() for t in ts if t.coverage_t), default=1.0)
     grid = np.linspace(0.0, end, 300)
     for method, method_traces in traces.items():
-        curves = np.array([sample_step(t["coverage_t"], t["coverage"], grid) for t in method_traces])
+        curves = np.array([sample_step(np.asarray(t.coverage_t), np.asarray(t.coverage), grid) for t in method_traces])
         if curves.size == 0:
             continue
         low, high = np.percentile(curves, [25, 75], axis=0)
@@ -89,14 +89,14 @@ def coverage_plot(traces: dict[str, list[dict[str, Any]]], path: Path) -> Path:
     return save_figure_atomic(fig, path)
 
 
-def weight_plot(traces: dict[str, list[dict[str, Any]]], path: Path) -> Path:
+def weight_plot(traces: Mapping[str, Sequence[EpisodeTrace]], path: Path) -> Path:
     """The weight each learned-weight method chose at each decision (dots) and its mean per time
     bin (line)."""
     fig = Figure(figsize=(6.4, 4.0), dpi=_DPI)
     ax = fig.subplots()
     for method, method_traces in traces.items():
-        t = np.concatenate([np.asarray(tr["weight_t"], float) for tr in method_traces])
-        w = np.concatenate([np.asarray(tr["weight"], float) for tr in method_traces])
+        t = np.concatenate([np.asarray(tr.weight_t, float) for tr in method_traces])
+        w = np.concatenate([np.asarray(tr.weight, float) for tr in method_traces])
         if t.size == 0:
             continue
         (line,) = ax.plot([], [])  # takes the next colour of the cycle for both

@@ -11,12 +11,12 @@ from __future__ import annotations
 import json
 from collections.abc import Sequence
 from pathlib import Path
-from typing import Any
 
 from frontier_rl.atomic_write import write_text_atomic
 from frontier_rl.core.frontiers.thesis import THESIS_WEIGHT
 from frontier_rl.evaluation.analysis import paired_times, summarise
 from frontier_rl.evaluation.conclusion import conclude
+from frontier_rl.evaluation.episode_record import EpisodeTrace
 from frontier_rl.evaluation.experiment import ExperimentConfig
 from frontier_rl.evaluation.plots import box_plot, coverage_plot, paired_scatter, team_size_plot, weight_plot
 from frontier_rl.evaluation.report_page import Block, Figure, Heading, Paragraph, render_html, render_markdown
@@ -86,7 +86,7 @@ def _with_note(tables: list[Table], note: str) -> list[Block]:
     return [tables[0], *([Paragraph(note)] if note else []), *tables[1:]]
 
 
-def _run_traces(store: ResultStore, config: ExperimentConfig) -> dict[str, list[dict[str, Any]]]:
+def _run_traces(store: ResultStore, config: ExperimentConfig) -> dict[str, list[EpisodeTrace]]:
     """Each method's traces of this run's episodes: a folder run before with more episodes or
     other worlds keeps theirs too, and they are not this run's."""
     keys = [(w, e) for e in range(config.episodes) for w in config.worlds]
@@ -121,7 +121,7 @@ def _figures(store: ResultStore, config: ExperimentConfig, summary: ExperimentSu
             "spans the 25th to the 75th percentile; an episode that has ended keeps its final coverage.",
         ),
     ]
-    learned = {labels[m]: t for m, t in traces.items() if m.startswith("learned:") and any(tr["weight"] for tr in t)}
+    learned = {labels[m]: t for m, t in traces.items() if m.startswith("learned:") and any(tr.weight for tr in t)}
     if learned:
         caption = (
             "The weight w of eq. 3.1 each learned-weight method chose at each decision (dots) and its mean per time "

@@ -5,11 +5,11 @@ themselves."""
 
 from __future__ import annotations
 
-from collections.abc import Mapping
-from typing import Any
+from collections.abc import Mapping, Sequence
 
 import numpy as np
 
+from frontier_rl.evaluation.episode_record import EpisodeTrace
 from frontier_rl.evaluation.experiment import ORACLE, ExperimentConfig
 from frontier_rl.evaluation.method_notes import describe_method
 from frontier_rl.evaluation.statistics import THESIS_OUTLIERS_S
@@ -26,12 +26,17 @@ from frontier_rl.evaluation.tables import (
 )
 from frontier_rl.swarm.config import TeamMethod
 
+TeamTraces = Mapping[str, Sequence[EpisodeTrace]]
+"""The traces of each team method's episodes (their per-robot coverage and failures)."""
+
 _MAX_WORLD_TABLES = 12
 """Per-world tables are written for at most this many worlds (a folder of maps can hold hundreds)."""
 
 
 def report_tables(
-    summary: ExperimentSummary, config: ExperimentConfig, teams_traces: dict[str, list[dict[str, Any]]] | None = None
+    summary: ExperimentSummary,
+    config: ExperimentConfig,
+    teams_traces: TeamTraces | None = None,
 ) -> list[Table]:
     """:func:`time_tables` then :func:`outcome_tables`."""
     return [*time_tables(summary, config), *outcome_tables(summary, config, teams_traces)]
@@ -63,7 +68,9 @@ def time_tables(summary: ExperimentSummary, config: ExperimentConfig) -> list[Ta
 
 
 def outcome_tables(
-    summary: ExperimentSummary, config: ExperimentConfig, teams_traces: dict[str, list[dict[str, Any]]] | None = None
+    summary: ExperimentSummary,
+    config: ExperimentConfig,
+    teams_traces: TeamTraces | None = None,
 ) -> list[Table]:
     """How the episodes ended, the other metrics, and the team methods (``teams_traces``: their
     traces, for the per-robot coverage)."""
@@ -159,7 +166,7 @@ def methods_table(methods: tuple[str, ...]) -> Table:
     return table
 
 
-def _team_table(summary: ExperimentSummary, labels: dict[str, str], traces: dict[str, list[dict[str, Any]]]) -> Table:
+def _team_table(summary: ExperimentSummary, labels: dict[str, str], traces: TeamTraces) -> Table:
     """Team methods: size, speed-up over the same policy alone, overlap, per-robot coverage, failures."""
     table = Table(
         (
@@ -186,12 +193,12 @@ def _team_table(summary: ExperimentSummary, labels: dict[str, str], traces: dict
         if alone and alone.mean_time_s is not None and entry.mean_time_s:  # a time of 0 s: no speed-up
             speedup = alone.mean_time_s / entry.mean_time_s
         own = traces.get(method, [])
-        per_robot = [t["robot_coverage"] for t in own if t.get("robot_coverage")]
+        per_robot = [t.robot_coverage for t in own if t.robot_coverage]
         coverage = "n/a"
         if per_robot:
             mean, low, high = (float(np.mean([f(c) for c in per_robot])) for f in (np.mean, np.min, np.max))
             coverage = f"{100 * mean:.0f} % ({100 * low:.0f} - {100 * high:.0f} %)"
-        failed = sum(sum(f is not None for f in t.get("failed_at_s", [])) for t in own)
+        failed = sum(sum(f is not None for f in t.failed_at_s or ()) for t in own)
         table.rows.append(
             [
                 labels[method],

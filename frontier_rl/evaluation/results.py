@@ -13,7 +13,7 @@ uninterrupted one (up to the wall times, and so the checksums).
 
 Row checksums: each line of ``checksums.jsonl`` holds a row's key (method, world, episode), the
 SHA-256 of its trace line in ``traces.jsonl`` and the SHA-256 of (the scheme's name
-:data:`~frontier_rl.evaluation.result_rows.CHECKSUM_SCHEME`, the experiment id, the method's
+:data:`~frontier_rl.evaluation.row_checksums.CHECKSUM_SCHEME`, the experiment id, the method's
 fingerprint, the row's CSV line as written, the trace's SHA-256). The experiment id is the SHA-256
 of ``experiment.json`` without its methods (seed, worlds with their map hashes, resolution,
 simulator and team settings), so a row binds to this experiment's
@@ -45,7 +45,8 @@ except ImportError:  # pragma: no cover - not POSIX
 from frontier_rl.atomic_write import write_text_atomic
 from frontier_rl.errors import ConfigError, short_repr, short_text
 from frontier_rl.evaluation.config_diff import ABSENT, contrast, describe_differences, differences_between
-from frontier_rl.evaluation.experiment import ROW_COLUMNS, EpisodeJob
+from frontier_rl.evaluation.episode_record import ROW_COLUMNS, EpisodeOutcome, EpisodeRow, EpisodeTrace, Key
+from frontier_rl.evaluation.experiment import EpisodeJob
 from frontier_rl.evaluation.result_files import (
     append_synced,
     complete_lines,
@@ -53,15 +54,7 @@ from frontier_rl.evaluation.result_files import (
     keyed_lines,
     read_result_file,
 )
-from frontier_rl.evaluation.result_rows import (
-    Key,
-    experiment_id,
-    format_row,
-    parse_row,
-    row_checksum,
-    sha256_hex,
-    trace_problem,
-)
+from frontier_rl.evaluation.row_checksums import experiment_id, row_checksum, sha256_hex
 
 _QUOTE_CHARS = 60
 """Values from files are quoted in messages up to this many characters."""
@@ -95,9 +88,9 @@ class ResultStore:
         self.checksum_path = self.out / "checksums.jsonl"
         self.identity_path = self.out / "experiment.json"
         self._lock = self._acquire_lock()
-        self.rows: dict[Key, dict[str, Any]] = {}
+        self.rows: dict[Key, EpisodeRow] = {}
         self._row_lines: dict[Key, str] = {}
-        self.traces: dict[Key, dict[str, Any]] = {}
+        self.traces: dict[Key, EpisodeTrace] = {}
         self._trace_lines: dict[Key, str] = {}
         self._checksum_lines: dict[Key, str] = {}
         self.identity: dict[str, Any] = {}
@@ -192,10 +185,10 @@ class ResultStore:
         row_numbers: dict[Key, int] = {}
         for number, line in lines[1:]:  # the first is the header
             try:
-                row = parse_row(line)
+                row = EpisodeRow.from_csv_line(line)
             except ConfigError as exc:
                 raise ConfigError(f"{self.csv_path} line {number}: {exc}; {_FIX_ROW}") from None
-            key = (row["method"], row["world"], row["episode"])
+            key = row.key
             if key in row_numbers:
                 raise ConfigError(
                     f"{self.csv_path} line {number} repeats the episode of line {row_numbers[key]} "
@@ -218,13 +211,13 @@ class ResultStore:
                 )
         for key in self.rows:
             self._verify(key, row_numbers[key], traces.get(key), checksums.get(key))
-            problem = trace_problem(traces[key][2])
-            if problem:  # signed, so written by a run or re-signed after an edit (anyone can)
+            try:
+                self.traces[key] = EpisodeTrace.from_json(traces[key][2])
+            except ConfigError as problem:  # signed, so written by a run or re-signed after an edit (anyone can)
                 raise ConfigError(
                     f"{self.trace_path} line {traces[key][0]} (the trace of {_describe(key)}): {problem}; delete "
                     f"the episode's line in {self.csv_path.name} to run it again, or choose another --out"
-                )
-            self.traces[key] = traces[key][2]
+                ) from None
             self._trace_lines[key] = traces[key][1]
             self._checksum_lines[key] = checksums[key][1]
 
@@ -292,20 +285,20 @@ class ResultStore:
         return job.key in self.rows
 
     # ------------------------------------------------------------------ writing
-    def record(self, result: dict[str, Any]) -> None:
-        """Append one finished episode (``run_job``'s result): the trace, the checksum, then the
+    def record(self, outcome: EpisodeOutcome) -> None:
+        """Append one finished episode (``run_job``'s outcome): the trace, the checksum, then the
         row, each synced; a kill between them leaves an episode that is simply run again.
 
         Raises:
             OutputWriteError: a file could not be appended to (cut back to its previous end).
         """
-        row, trace = result["row"], result["trace"]
-        key = (row["method"], row["world"], row["episode"])
-        fingerprint = self.identity.get("methods", {}).get(row["method"])
+        row, trace = outcome.row, outcome.trace
+        key = row.key
+        fingerprint = self.identity.get("methods", {}).get(row.method)
         if not isinstance(fingerprint, str):
-            raise ConfigError(f"method {short_repr(row['method'])} is not in {self.identity_path}")
-        trace_line = json.dumps(trace, separators=(",", ":"))
-        row_line = format_row(row)
+            raise ConfigError(f"method {short_repr(row.method)} is not in {self.identity_path}")
+        trace_line = json.dumps(trace.to_json(), separators=(",", ":"))
+        row_line = row.csv_line()
         trace_sha256 = sha256_hex(trace_line)
         entry = {
             "method": key[0],
@@ -320,7 +313,7 @@ class ResultStore:
         if not self.csv_path.exists() or self.csv_path.stat().st_size == 0:
             append_synced(self.csv_path, ",".join(ROW_COLUMNS) + "\n")
         append_synced(self.csv_path, row_line + "\n")
-        self.rows[key] = parse_row(row_line)
+        self.rows[key] = EpisodeRow.from_csv_line(row_line)  # as a resumed run reads it back
         self._row_lines[key] = row_line
         self.traces[key] = trace
         self._trace_lines[key] = trace_line

@@ -14,10 +14,10 @@ import pytest
 from frontier_rl.core.sim.config import SimConfig
 from frontier_rl.errors import ConfigError
 from frontier_rl.evaluation.analysis import end_reasons, summarise
+from frontier_rl.evaluation.episode_record import ROW_COLUMNS, EpisodeRow, EpisodeTrace
 from frontier_rl.evaluation.evaluate import evaluate
-from frontier_rl.evaluation.experiment import ROW_COLUMNS, ExperimentConfig
+from frontier_rl.evaluation.experiment import ExperimentConfig
 from frontier_rl.evaluation.report_tables import report_tables
-from frontier_rl.evaluation.result_rows import format_row, parse_row
 from frontier_rl.evaluation.summary import MethodSummary
 from frontier_rl.evaluation.tables import completion_table
 from tests.evaluation.maps import write_slit_map
@@ -26,28 +26,80 @@ SHORT = SimConfig(max_sim_time=80.0)
 METHODS = ("fixed:0.75", "nearest")
 
 
-def _row(method: str, episode: int, end_reason: str | None, coverage: float, **kw: Any) -> dict[str, Any]:
+def _row(method: str, episode: int, end_reason: str | None, coverage: float, **kw: Any) -> EpisodeRow:
     """A row as ``run_job`` writes it, typed as read back."""
-    row: dict[str, Any] = dict.fromkeys(ROW_COLUMNS, 0.0)
-    row |= {
-        "method": method, "world": "office", "episode": episode, "seed": episode, "decisions": 3, "aborts": 0,
-        "robots": 1, "sim_time_s": 100.0 + 10 * episode, "coverage": coverage, "t90_s": None, "t99_s": None,
-        "mean_weight": None, "done": end_reason == "explored", "truncated": end_reason == "time_cap",
-        "end_reason": end_reason, "free_coverage": 0.9 * coverage, "unknown_left_m2": 0.0,
-    }  # fmt: skip
-    return parse_row(format_row(row | kw))
+    row = EpisodeRow(
+        method=method,
+        world="office",
+        episode=episode,
+        seed=episode,
+        start_x_m=0.0,
+        start_y_m=0.0,
+        start_theta_rad=0.0,
+        sim_time_s=100.0 + 10 * episode,
+        path_length_m=0.0,
+        coverage=coverage,
+        t90_s=None,
+        t99_s=None,
+        decisions=3,
+        aborts=0,
+        done=end_reason == "explored",
+        truncated=end_reason == "time_cap",
+        end_reason=end_reason,
+        free_coverage=0.9 * coverage,
+        unknown_left_m2=0.0,
+        mean_weight=None,
+        robots=1,
+        overlap=0.0,
+        wall_time_s=0.0,
+    )
+    return EpisodeRow.from_csv_line(replace(row, **kw).csv_line())
 
 
 def test_rows_carry_the_end_reason_and_coverages_typed() -> None:
     row = _row("nearest", 0, "unreachable", 0.75, unknown_left_m2=1.25)
-    assert row["end_reason"] == "unreachable"
-    assert row["free_coverage"] == 0.675 and isinstance(row["free_coverage"], float)
-    assert row["unknown_left_m2"] == 1.25 and isinstance(row["unknown_left_m2"], float)
-    assert _row("nearest", 0, None, 0.5)["end_reason"] is None  # an empty field
-    line = format_row(_row("nearest", 0, "time_cap", 0.5))
+    assert row.end_reason == "unreachable"
+    assert row.free_coverage == 0.675 and isinstance(row.free_coverage, float)
+    assert row.unknown_left_m2 == 1.25 and isinstance(row.unknown_left_m2, float)
+    assert _row("nearest", 0, None, 0.5).end_reason is None  # an empty field
+    line = _row("nearest", 0, "time_cap", 0.5).csv_line()
     assert line.split(",")[ROW_COLUMNS.index("end_reason")] == "time_cap"
     with pytest.raises(ConfigError, match="free_coverage 'most' is not valid"):
-        parse_row(line.replace(",0.45,", ",most,", 1))
+        EpisodeRow.from_csv_line(line.replace(",0.45,", ",most,", 1))
+    # an empty field only where a column may be undefined
+    with pytest.raises(ConfigError, match="coverage '' is not valid"):
+        EpisodeRow.from_csv_line(line.replace(",0.5,", ",,", 1))
+    with pytest.raises(ConfigError, match=r"decisions '3\.5' is not valid \(expected an integer"):
+        EpisodeRow.from_csv_line(line.replace(",3,", ",3.5,", 1))
+
+
+def test_a_trace_reads_back_as_it_was_written_and_refuses_what_the_report_cannot_draw() -> None:
+    trace = EpisodeTrace(
+        "nearest@2",
+        "office",
+        1,
+        (0.0, 5.0),
+        (0.1, 0.9),
+        aborts_by_cause={"no_path": 2},
+        explorable_left_m2=0.5,
+        frontiers_with_path_left=0,
+        frontiers_unrevealable_left=1,
+        robot_path_lengths_m=(3.0, 4.0),
+        robot_coverage=(0.5, 0.6),
+        failed_at_s=(None, 4.5),
+    )
+    assert EpisodeTrace.from_json(json.loads(json.dumps(trace.to_json()))) == trace
+    assert "robot_coverage" not in EpisodeTrace("nearest", "office", 0, (0.0,), (1.0,)).to_json()
+    for change, needle in (
+        ({"coverage": []}, "must be lists of one length, not empty"),
+        ({"weight_t": [1.0]}, "weight_t and weight must be lists of one length"),
+        ({"coverage": [0.1, float("inf")]}, "must hold finite numbers"),
+        ({"episode": 1.0}, "episode must be a whole number"),
+        ({"robot_coverage": [0.5, None]}, "robot_coverage must be a list of finite numbers"),
+        ({"aborts_by_cause": {"no_path": "2"}}, "aborts_by_cause must map causes to whole numbers"),
+    ):
+        with pytest.raises(ConfigError, match=needle):
+            EpisodeTrace.from_json(trace.to_json() | change)
 
 
 def test_end_reasons_count_every_reason() -> None:

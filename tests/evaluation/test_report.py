@@ -17,6 +17,7 @@ from frontier_rl.core.mapping.mapper import MapperConfig
 from frontier_rl.core.sim.config import SimConfig
 from frontier_rl.evaluation.analysis import summarise
 from frontier_rl.evaluation.conclusion import conclude
+from frontier_rl.evaluation.episode_record import EpisodeTrace
 from frontier_rl.evaluation.evaluate import evaluate
 from frontier_rl.evaluation.experiment import ExperimentConfig
 from frontier_rl.evaluation.method_notes import describe_method
@@ -251,5 +252,5 @@ def test_the_runs_drawn_are_the_episodes_of_the_rows(small_report: Path) -> None
 
 def test_a_coverage_plot_of_episodes_that_ended_at_once_draws_without_a_warning(tmp_path: Path) -> None:
     """``--max-time 1e-9``: every trace ends at t = 0 (matplotlib warned of a singular x range)."""
-    traces = {"nearest": [{"coverage_t": [0.0], "coverage": [0.07]}]}
+    traces = {"nearest": [EpisodeTrace("nearest", "office", 0, coverage_t=(0.0,), coverage=(0.07,))]}
     assert coverage_plot(traces, tmp_path / "coverage.png").exists()  # warnings are errors here
