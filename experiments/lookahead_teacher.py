@@ -1,6 +1,6 @@
 """How good is the teacher that ``train --algo dagger`` imitates? Paired episodes per world of
 ``nearest``, the teacher's base policy (``greedy``, always the cheapest path, for model 5's teacher;
-``tour`` for model 7's), the lookahead teacher (:func:`~frontier_rl.envs.lookahead.teacher_slot`)
+``tour`` for model 7's), the lookahead teacher (:func:`~frontier_rl.rl.teacher.teacher_slot`)
 and the oracle.
 
 The teacher sees the simulator's future, so it is a reference like the oracle, never a method; a
@@ -29,9 +29,9 @@ from frontier_rl.atomic_write import write_text_atomic
 from frontier_rl.core.sim.episode import run_episode
 from frontier_rl.core.sim.simulator import ExplorationSimulator
 from frontier_rl.core.world.worlds import World
-from frontier_rl.envs.lookahead import GREEDY_TEACHER, TOUR_TEACHER, Teacher, take_slot, teacher_slot
 from frontier_rl.evaluation.experiment import expand_worlds
 from frontier_rl.policies import make_policy
+from frontier_rl.rl.teacher import GREEDY_TEACHER, TOUR_TEACHER, Teacher, take_slot, teacher_slot
 from frontier_rl.world_spec import resolve_world
 
 TOP_K = 16  # model 5's slots

@@ -12,7 +12,6 @@ from numpy.typing import NDArray
 from frontier_rl.core.sim.leg import LegResult
 from frontier_rl.core.world.grid import OccupancyGrid
 from frontier_rl.envs.base import EnvConfig, ExplorationEnv
-from frontier_rl.envs.lookahead import GREEDY_TEACHER, TOUR_TEACHER, Teacher, teacher_slot
 from frontier_rl.errors import ConfigError
 from frontier_rl.observation.frontier_table import FEATURE_BOUND, frontier_observation, slot_order
 from frontier_rl.observation.map_image import FRONTIER_FEATURES, MapEncoder
@@ -134,15 +133,6 @@ class FrontierChoiceEnv(FrontierTableEnv):
         mask = np.zeros(self.top_k, np.bool_)
         mask[: len(self._slots)] = True
         return mask
-
-    def expert_action(self, teacher: Teacher | None = None) -> int:
-        """The privileged teacher's action for the current decision (:func:`teacher_slot`: one
-        step of lookahead on copies of the simulator; it sees the true world), for imitation.
-        ``teacher`` defaults to the model's: :data:`TOUR_TEACHER` with the tour column (model 7),
-        else :data:`GREEDY_TEACHER`."""
-        if teacher is None:
-            teacher = TOUR_TEACHER if self.tour else GREEDY_TEACHER
-        return teacher_slot(self.sim, self.top_k, teacher)
 
     def _act(self, action: int) -> tuple[LegResult, float]:
         return self.sim.execute(slot_order(self._slots, action)), 0.0

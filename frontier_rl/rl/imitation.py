@@ -1,11 +1,12 @@
 """Imitation of a privileged lookahead teacher (DAgger) for models 5 and 7: ``train --algo dagger``.
 
 DAgger (Ross et al., AISTATS 2011) in rounds of :data:`ROUND_DECISIONS` decisions: the env's
-teacher (:meth:`~frontier_rl.envs.frontier_env.FrontierChoiceEnv.expert_action`, which tries
-frontiers on copies of the simulator: model 5's the cheapest ones, finished greedily; model 7's
-the stops of the ``tour`` policy, finished with it) labels every decision, naming another frontier
-than its base policy's only when that saves more than its margin; in round r the teacher's own choice is driven with
-probability ``0.5 ** r`` and the learner's otherwise, so later rounds label the states the learner
+teacher (:func:`~frontier_rl.rl.teacher.expert_action`, asked through
+:class:`~frontier_rl.rl.teacher.TeacherLabels`; it tries frontiers on copies of the simulator:
+model 5's the cheapest ones, finished greedily; model 7's the stops of the ``tour`` policy,
+finished with it) labels every decision, naming another frontier than its base policy's only when
+that saves more than its margin; in round r the teacher's own choice is driven with probability
+``0.5 ** r`` and the learner's otherwise, so later rounds label the states the learner
 reaches. After each round the policy's frontier scores are fitted to all labels so far by
 cross-entropy (:data:`EPOCHS` passes, minibatches of :data:`BATCH`, Adam at the run's learning rate).
 The data set lives in memory, so a DAgger run cannot be resumed from a checkpoint.
@@ -132,13 +133,14 @@ def dagger(
     progress: bool = True,
     labels_path: Path | None = None,
 ) -> list[float]:
-    """Train ``model``'s policy by DAgger on ``venv`` (FrontierChoice envs, whose
-    ``expert_action`` is the teacher) for ``timesteps`` labelled decisions, Adam at
-    ``learning_rate``; returns each round's loss. The ``callbacks`` (checkpoints, validation) get
-    SB3's training start, a step after every vectorised step (one that returns False stops the
-    run, as in ``learn``) and training end; ``model.num_timesteps`` counts the decisions labelled.
-    With ``labels_path``, every labelled decision is saved there after each round
-    (:meth:`LabelledDecisions.save`), to fit other students to offline."""
+    """Train ``model``'s policy by DAgger on ``venv`` (FrontierChoice envs in
+    :class:`~frontier_rl.rl.teacher.TeacherLabels`, whose ``expert_action`` is the teacher) for
+    ``timesteps`` labelled decisions, Adam at ``learning_rate``; returns each round's loss. The
+    ``callbacks`` (checkpoints, validation) get SB3's training start, a step after every vectorised
+    step (one that returns False stops the run, as in ``learn``) and training end;
+    ``model.num_timesteps`` counts the decisions labelled. With ``labels_path``, every labelled
+    decision is saved there after each round (:meth:`LabelledDecisions.save`), to fit other
+    students to offline."""
     rng = np.random.default_rng(seed)
     optimizer = torch.optim.Adam(model.policy.parameters(), lr=learning_rate)
     data = LabelledDecisions()

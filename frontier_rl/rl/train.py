@@ -40,6 +40,7 @@ from frontier_rl.rl.model_file import (
     save_model,
 )
 from frontier_rl.rl.networks import PRIVILEGED_HEAD
+from frontier_rl.rl.teacher import TeacherLabels
 from frontier_rl.world_spec import world_entries
 
 _CHECKPOINT = re.compile(r"model_(\d+)_steps\.zip$")
@@ -50,6 +51,11 @@ def make_env(env_id: str, **kwargs: Any) -> gym.Env[Any, Any]:
     subprocess environments can build it in a fresh interpreter."""
     frontier_rl.envs.register_envs()
     return gym.make(env_id, **kwargs)
+
+
+def make_labelled_env(env_id: str, **kwargs: Any) -> gym.Env[Any, Any]:
+    """:func:`make_env` with its teacher's labels (:class:`~frontier_rl.rl.teacher.TeacherLabels`), for DAgger."""
+    return TeacherLabels(make_env(env_id, **kwargs))
 
 
 def latest_checkpoint(run: Path) -> tuple[Path, int] | None:
@@ -107,7 +113,8 @@ def build_model(config: TrainConfig, env: object, out: Path) -> BaseAlgorithm:
 def _training_envs(config: TrainConfig, out: Path, start: int, env_kwargs: dict[str, Any]) -> VecMonitor:
     """``config.n_envs`` training envs (subprocesses when more than one), logged to ``out``."""
     vec_cls = SubprocVecEnv if config.n_envs > 1 else DummyVecEnv
-    envs = vec_cls([partial(make_env, config.env_id, **env_kwargs) for _ in range(config.n_envs)])
+    factory = make_labelled_env if config.algo == "dagger" else make_env
+    envs = vec_cls([partial(factory, config.env_id, **env_kwargs) for _ in range(config.n_envs)])
     # a resumed run must not replay the episodes it already saw: offset the env seeds by the start step
     envs.seed(config.seed + start)
     return VecMonitor(envs, str(out / f"monitor_{start}"), info_keywords=("sim_time_s", "coverage"))

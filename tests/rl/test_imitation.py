@@ -1,4 +1,4 @@
-"""DAgger for models 5 and 7 (``train --algo dagger``); the teachers are tested in tests/envs/test_lookahead.py."""
+"""DAgger for models 5 and 7 (``train --algo dagger``); the teachers are tested in tests/rl/test_teacher.py."""
 
 from __future__ import annotations
 
@@ -20,8 +20,9 @@ from frontier_rl.policies import make_policy
 from frontier_rl.rl import imitation
 from frontier_rl.rl.config import TrainConfig
 from frontier_rl.rl.imitation import LabelledDecisions, fit
+from frontier_rl.rl.teacher import TeacherLabels
 from frontier_rl.rl.train import build_model, train
-from tests.envs.test_lookahead import _rooms, _world
+from tests.rl.test_teacher import _rooms, _world
 
 pytestmark = pytest.mark.slow  # training runs with a lookahead teacher
 
@@ -115,7 +116,7 @@ def test_dagger_rounds_teacher_schedule_and_callbacks(
     monkeypatch.setattr(imitation, "TEACHER_DECAY", 0.0)  # the teacher drives round 0 only
     monkeypatch.setattr(imitation, "EPOCHS", 2)  # the rounds are tested here, not the fit (its own test)
     config = _config(map_file, n_envs=2)
-    venv = _Spy(DummyVecEnv([lambda: FrontierChoiceEnv(worlds=(str(map_file),), max_decisions=24)] * 2))
+    venv = _Spy(DummyVecEnv([lambda: TeacherLabels(FrontierChoiceEnv(worlds=(str(map_file),), max_decisions=24))] * 2))
     model = build_model(config, venv, tmp_path)
     model.set_logger(configure_logger(None, [""]))
     losses = imitation.dagger(model, venv, 32, 1e-3, progress=False)

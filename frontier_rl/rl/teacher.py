@@ -1,4 +1,5 @@
-"""Privileged teachers for frontier choice: one step of lookahead on copies of the simulator.
+"""Privileged teachers for frontier choice: one step of lookahead on copies of the simulator, and
+the labels they give a frontier-choice env for imitation (:func:`expert_action`, :class:`TeacherLabels`).
 
 At a decision a teacher tries ``width`` candidate frontiers, each on a copy of the whole simulator
 (true world, map, pose, clock), finishes each copy with a *base* policy, and names the candidate
@@ -26,13 +27,16 @@ import copy
 import math
 from collections.abc import Callable
 from dataclasses import dataclass
+from typing import Any
 
+import gymnasium as gym
 import numpy as np
 from numpy.typing import NDArray
 
 from frontier_rl.core.sim.episode import decision_context
 from frontier_rl.core.sim.episode_log import EndReason
 from frontier_rl.core.sim.simulator import ExplorationSimulator
+from frontier_rl.envs.frontier_env import FrontierChoiceEnv
 from frontier_rl.observation.frontier_table import frontier_path_costs, slot_order
 from frontier_rl.policies.tour import FrontierTour
 
@@ -164,3 +168,26 @@ def lookahead_slot(sim: ExplorationSimulator, top_k: int, width: int = LOOKAHEAD
     """Model 5's teacher (:func:`teacher_slot` with the greedy base on the episode's own noise):
     the slot among the ``width`` cheapest whose copy, finished greedily, explores the map first."""
     return teacher_slot(sim, top_k, Teacher(width=width, margin=margin))
+
+
+def expert_action(env: gym.Env[Any, Any], teacher: Teacher | None = None) -> int:
+    """The privileged teacher's action for the current decision of ``env`` (a frontier-choice env,
+    :class:`~frontier_rl.envs.frontier_env.FrontierChoiceEnv`, however wrapped): one step of
+    lookahead on copies of its simulator (:func:`teacher_slot`; it sees the true world).
+    ``teacher`` defaults to the model's: :data:`TOUR_TEACHER` with the tour column (model 7),
+    else :data:`GREEDY_TEACHER`."""
+    choice = env.unwrapped
+    if not isinstance(choice, FrontierChoiceEnv):
+        raise TypeError(f"a teacher labels frontier-choice decisions, not those of {type(choice).__name__}")
+    if teacher is None:
+        teacher = TOUR_TEACHER if choice.tour else GREEDY_TEACHER
+    return teacher_slot(choice.sim, choice.top_k, teacher)
+
+
+class TeacherLabels(gym.Wrapper[Any, Any, Any, Any]):
+    """A frontier-choice env whose ``expert_action()`` is its teacher's label (:func:`expert_action`):
+    what DAgger asks each env of a vectorised set for (``env_method("expert_action")``)."""
+
+    def expert_action(self) -> int:
+        """The teacher's action for the current decision."""
+        return expert_action(self.env)

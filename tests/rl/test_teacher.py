@@ -1,4 +1,4 @@
-"""The privileged lookahead teachers of models 5 and 7 (:mod:`frontier_rl.envs.lookahead`)."""
+"""The privileged lookahead teachers of models 5 and 7 (:mod:`frontier_rl.rl.teacher`)."""
 
 from __future__ import annotations
 
@@ -14,12 +14,15 @@ from frontier_rl.core.world.grid import CellState, OccupancyGrid
 from frontier_rl.core.world.robot import Pose
 from frontier_rl.core.world.worlds import World, make_world
 from frontier_rl.envs.frontier_env import FrontierChoiceEnv
-from frontier_rl.envs.lookahead import (
+from frontier_rl.io.ros_map import save_ros_map
+from frontier_rl.policies.tour import FrontierTour
+from frontier_rl.rl.teacher import (
     LOOKAHEAD_WIDTH,
     TOUR_TEACHER,
     Teacher,
     candidate_slots,
     cheapest_slots,
+    expert_action,
     finish,
     greedy_finish,
     lookahead_slot,
@@ -27,8 +30,6 @@ from frontier_rl.envs.lookahead import (
     take_tour_stop,
     teacher_slot,
 )
-from frontier_rl.io.ros_map import save_ros_map
-from frontier_rl.policies.tour import FrontierTour
 
 TOP_K = 16
 
@@ -145,7 +146,7 @@ def test_model_7s_env_asks_the_tour_teacher_and_model_5s_the_greedy_one(tmp_path
         env.step(0)
         probe = copy.deepcopy(env.sim)
         want = teacher_slot(probe, env.top_k, TOUR_TEACHER) if tour else lookahead_slot(probe, env.top_k, margin=0.02)
-        assert env.expert_action() == want
+        assert expert_action(env) == want
 
 
 @pytest.mark.parametrize(
