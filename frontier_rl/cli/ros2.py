@@ -161,7 +161,7 @@ def rank(
     stdout_console().print(f"{answered} requests answered")
 
 
-@ros2_app.command()
+@ros2_app.command(context_settings={"allow_extra_args": True, "ignore_unknown_options": True})
 @friendly_errors
 def explore(
     ctx: typer.Context,
@@ -189,7 +189,11 @@ def explore(
         Path | None, typer.Option(help="explore_lite's parameter file (explore.yaml), for the options not given here.")
     ] = None,
 ) -> None:
-    """Explore with Nav2: rank the map's frontiers with a policy and send the best as goals."""
+    """Explore with Nav2: rank the map's frontiers with a policy and send the best as goals.
+
+    The settings are also the node's ROS parameters: after --ros-args, -p NAME:=VALUE or
+    --params-file FILE override them, and ros2 param set changes them while it explores."""
+    ros_args = _ros_args(ctx.args)
     checked_seed(seed)
     options = _with_parameter_file(
         ctx,
@@ -219,7 +223,16 @@ def explore(
         use_sim_time=use_sim_time,
         seed=seed,
         goal_silence_timeout=goal_silence_timeout,
+        ros_args=ros_args,
     )
+
+
+def _ros_args(extra: list[str]) -> tuple[str, ...]:
+    """The arguments after the options: ROS's (``--ros-args ...``) or none; anything else is an
+    option this command does not know."""
+    if extra and extra[0] != "--ros-args":
+        fail(f"no such option or argument: {extra[0]!r} (ROS's arguments go after --ros-args)")
+    return tuple(extra)
 
 
 def _explore_with(policy: str, params: ExplorerParams, json_out: bool, **node: Any) -> None:
@@ -231,7 +244,7 @@ def _explore_with(policy: str, params: ExplorerParams, json_out: bool, **node: A
 
     the_policy = make_policy(policy)
     check_robot_policy(the_policy, policy)
-    status, summary = run_explorer(the_policy, params, **node)
+    status, summary = run_explorer(the_policy, params, policy_name=policy, **node)
     if json_out:
         print(status.to_json())
     else:

@@ -112,9 +112,8 @@ class FrontierExplorer:
         config: SimConfig | None = None,
         rng: np.random.Generator | None = None,
     ) -> None:
+        self.config = config or SimConfig()
         self.params = params or ExplorerParams()
-        base = config or SimConfig()
-        self.config = replace(base, min_frontier_cells=int(round(self.params.min_frontier_size / DROP_CELL_M)))
         self.policy = policy
         self._rng = rng if rng is not None else np.random.default_rng(0)
         self._memory = InflationMemory()
@@ -129,7 +128,19 @@ class FrontierExplorer:
         self._best_distance = math.inf
         self._progress_at = 0.0
 
+    @property
+    def params(self) -> ExplorerParams:
+        """The explorer's settings; set them between decisions to change how it goes on (a ROS
+        parameter set at run time): the frontiers then drop at the new ``min_frontier_size``."""
+        return self._params
+
+    @params.setter
+    def params(self, params: ExplorerParams) -> None:
+        self._params = params
+        self.config = replace(self.config, min_frontier_cells=int(round(params.min_frontier_size / DROP_CELL_M)))
+
     # ------------------------------------------------------------ what the node asks
+
     def tick(self, grid: OccupancyGrid, pose: Pose, now: float) -> Goal | Finished | None:
         """A planner tick at time ``now`` (s) with the robot's map and pose (map frame): a new goal
         to send (cancelling the one under way), the end of exploration, or None to carry on. The

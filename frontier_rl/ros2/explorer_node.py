@@ -22,19 +22,22 @@ from geometry_msgs.msg import PoseWithCovarianceStamped
 from nav2_msgs.action import NavigateToPose
 from nav_msgs.msg import OccupancyGrid as GridMessage
 from nav_msgs.msg import Odometry
+from rcl_interfaces.msg import SetParametersResult
 from rclpy.action.client import ActionClient, ClientGoalHandle
 from rclpy.clock import Clock
 from rclpy.clock_type import ClockType
 from rclpy.node import Node
+from rclpy.parameter import Parameter
 from rclpy.task import Future
 from std_msgs.msg import Float32, String
 from visualization_msgs.msg import MarkerArray
 
 from frontier_rl.core.world.grid import OccupancyGrid
 from frontier_rl.core.world.robot import Pose
-from frontier_rl.errors import MapError
+from frontier_rl.errors import ConfigError, MapError
 from frontier_rl.robot.answers import ThrottledLog
 from frontier_rl.robot.explorer import Finished, FrontierExplorer, Goal
+from frontier_rl.ros2.explorer_parameters import ExplorerSettings, declare_explorer_parameters
 from frontier_rl.ros2.messages import MAP_QOS, frontier_markers, grid_of, pose_stamped, robot_pose
 
 _POLL_PERIOD_S = 0.02
@@ -88,6 +91,14 @@ class ExplorerNode(Node):
         namespace: the robot's namespace.
         goal_silence_timeout: a goal that Nav2 says nothing of (no response, feedback or result) for
             this long (wall s) is dropped, not blacklisted: its action server went away.
+        policy_name: the policy as given, shown as the read-only parameter ``policy``.
+
+    The explorer's settings and ``visualize`` are the node's parameters
+    (:mod:`frontier_rl.ros2.explorer_parameters`): ``--ros-args`` overrides them, ``ros2 param set``
+    changes them while it explores.
+
+    Raises:
+        ConfigError: a parameter overridden with a bad value.
     """
 
     def __init__(
@@ -98,12 +109,16 @@ class ExplorerNode(Node):
         visualize: bool = True,
         namespace: str = "",
         goal_silence_timeout: float = 10.0,
+        policy_name: str = "",
     ) -> None:
         super().__init__("frontier_rl_explorer", namespace=namespace)
         if pose_type not in ("pose", "odom"):
             raise ValueError(f"pose_type must be 'pose' or 'odom', got {pose_type!r}")
         self.explorer = explorer
-        self.visualize = visualize
+        given = ExplorerSettings(explorer.params, visualize)
+        self._settings = declare_explorer_parameters(self, given, policy_name or explorer.policy.name)
+        explorer.params, self.visualize = self._settings.params, self._settings.visualize
+        self.add_on_set_parameters_callback(self._on_parameters)
         self.goal_silence_timeout = goal_silence_timeout
         self._grid: OccupancyGrid | None = None
         self._pose: Pose | None = None
@@ -131,6 +146,20 @@ class ExplorerNode(Node):
         self._timer = self.create_timer(_POLL_PERIOD_S, self._poll, clock=Clock(clock_type=ClockType.STEADY_TIME))
 
     # -------------------------------------------------------------- inputs
+
+    def _on_parameters(self, changes: list[Parameter[Any]]) -> SetParametersResult:
+        """Take the explorer's parameters set while it runs (``ros2 param set``), or refuse them
+        with the reason; other parameters (``use_sim_time``) are ROS's."""
+        try:
+            settings = self._settings.updated({change.name: change.value for change in changes})
+        except ConfigError as error:
+            return SetParametersResult(successful=False, reason=str(error))
+        if settings != self._settings:
+            self._settings = settings
+            self.explorer.params, self.visualize = settings.params, settings.visualize
+            self.get_logger().info(f"settings now {settings.values()}")
+        return SetParametersResult(successful=True)
+
     def _on_map(self, message: GridMessage) -> None:
         try:
             self._grid = grid_of(message)

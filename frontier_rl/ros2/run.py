@@ -107,15 +107,26 @@ def run_explorer(
     use_sim_time: bool = False,
     seed: int = 0,
     goal_silence_timeout: float = 10.0,
+    policy_name: str = "",
+    ros_args: Sequence[str] = (),
 ) -> tuple[ExplorerStatus, str]:
     """Explore with ``policy`` through Nav2 (:class:`ExplorerNode`) until the map is explored (or
     Ctrl-C, SIGTERM): the explorer's last status (``state`` is ``finished`` unless it was
     interrupted) and its summary line.
-    ``seed`` seeds the policy's randomness as an in-process episode of that seed does."""
-    rclpy.init()
+    ``seed`` seeds the policy's randomness as an in-process episode of that seed does;
+    ``ros_args`` (``--ros-args ...``) go to ROS: parameter overrides, remappings.
+
+    Raises:
+        ConfigError: ``ros_args`` override a parameter with a bad value.
+    """
+    rclpy.init(args=["frontier-rl", *ros_args])
     _, policy_rng = np.random.default_rng(seed).spawn(2)
     explorer = FrontierExplorer(policy, params, rng=policy_rng)
-    node = ExplorerNode(explorer, pose_topic, pose_type, visualize, namespace, goal_silence_timeout)
+    try:
+        node = ExplorerNode(explorer, pose_topic, pose_type, visualize, namespace, goal_silence_timeout, policy_name)
+    except BaseException:
+        rclpy.try_shutdown()
+        raise
     node.set_parameters([Parameter("use_sim_time", Parameter.Type.BOOL, use_sim_time)])
     executor = SingleThreadedExecutor()
     executor.add_node(node)

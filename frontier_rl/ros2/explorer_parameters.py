@@ -1,0 +1,111 @@
+"""The explorer's settings as ROS 2 parameters of its node, with explore_lite's names.
+
+The command line's options (or explore_lite's parameter file) give the parameters' values;
+``--ros-args -p NAME:=VALUE`` or ``--ros-args --params-file FILE`` override them as for any ROS 2
+node, and ``ros2 param set`` changes them while the robot explores. Every value is checked as the
+command line checks it (:class:`~frontier_rl.robot.explorer_params.ExplorerParams`): a bad one is
+refused with the reason, at start as a one-line error, at run time as the set's failure.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Mapping
+from dataclasses import dataclass
+from typing import Any
+
+from rcl_interfaces.msg import ParameterDescriptor
+from rclpy.exceptions import ParameterException
+from rclpy.node import Node
+
+from frontier_rl.errors import ConfigError, short_repr
+from frontier_rl.robot.explorer_params import ExplorerParams
+
+DESCRIPTIONS = {
+    "planner_frequency": "Planner ticks per second (Hz).",
+    "progress_timeout": "A goal the robot gets no nearer to for this long is given up (s).",
+    "min_frontier_size": "Frontiers this long or shorter are no goals (m).",
+    "return_to_init": "Drive back to the start once explored.",
+    "time_cap": "Stop exploring after this long (s; 0: never).",
+    "progress_distance": "The distance (m) nearer to the goal that counts as progress.",
+    "visualize": "Publish RViz markers on explore/frontiers.",
+}
+"""The explorer's parameters and what each means."""
+
+POLICY_PARAMETER = "policy"
+"""A read-only parameter: the policy the explorer ranks with, as given."""
+
+
+@dataclass(frozen=True)
+class ExplorerSettings:
+    """What the node's parameters set: the explorer's settings and whether it draws markers."""
+
+    params: ExplorerParams
+    visualize: bool
+
+    def values(self) -> dict[str, Any]:
+        """Each parameter's value (a time cap of 0: none)."""
+        values: dict[str, Any] = {name: getattr(self.params, name) for name in DESCRIPTIONS if name != "visualize"}
+        values["time_cap"] = 0.0 if math.isinf(self.params.time_cap) else float(self.params.time_cap)
+        return values | {"visualize": self.visualize}
+
+    def updated(self, changes: Mapping[str, Any]) -> ExplorerSettings:
+        """These settings with ``changes`` (parameter name -> value; others ignored), checked.
+
+        Raises:
+            ConfigError: a value of the wrong type or out of range, named.
+        """
+        known = {name: _typed(name, value) for name, value in changes.items() if name in DESCRIPTIONS}
+        visualize = bool(known.pop("visualize", self.visualize))
+        if known.get("time_cap") == 0.0:
+            known["time_cap"] = math.inf
+
+        def value(name: str) -> Any:
+            return known.get(name, getattr(self.params, name))
+
+        try:
+            params = ExplorerParams(
+                planner_frequency=float(value("planner_frequency")),
+                progress_timeout=float(value("progress_timeout")),
+                min_frontier_size=float(value("min_frontier_size")),
+                return_to_init=bool(value("return_to_init")),
+                time_cap=float(value("time_cap")),
+                progress_distance=float(value("progress_distance")),
+            )
+        except ValueError as error:
+            raise ConfigError(f"parameter {error}") from None
+        return ExplorerSettings(params, visualize)
+
+
+def _typed(name: str, value: object) -> bool | float:
+    """``value`` as parameter ``name`` holds it: True or False for a switch, a number (an integer
+    too: ``planner_frequency:=2``) as a float for the others."""
+    if name in ("return_to_init", "visualize"):
+        if isinstance(value, bool):
+            return value
+        raise ConfigError(f"parameter {name} must be true or false, got {short_repr(value)}")
+    if isinstance(value, int | float) and not isinstance(value, bool):
+        return float(value)
+    raise ConfigError(f"parameter {name} must be a number, got {short_repr(value)}")
+
+
+def declare_explorer_parameters(node: Node, settings: ExplorerSettings, policy: str) -> ExplorerSettings:
+    """Declare the explorer's parameters on ``node`` with ``settings``' values; the settings after
+    the overrides of the node's ``--ros-args``, checked.
+
+    Raises:
+        ConfigError: an override of the wrong type or out of range, named.
+    """
+    values = settings.values()
+    try:
+        for name, value in values.items():
+            # dynamic typing: an integer given for a number is taken, and a wrong type is named here
+            node.declare_parameter(
+                name, value, ParameterDescriptor(description=DESCRIPTIONS[name], dynamic_typing=True)
+            )
+    except ParameterException as error:
+        raise ConfigError(f"--ros-args: {error}") from None
+    node.declare_parameter(
+        POLICY_PARAMETER, policy, ParameterDescriptor(description="The policy ranking the frontiers.", read_only=True)
+    )
+    return settings.updated({name: node.get_parameter(name).value for name in values})

@@ -1,0 +1,66 @@
+"""The explorer's settings are its node's ROS 2 parameters, over real rclpy and Fast DDS in a
+loopback-only network namespace: ``--ros-args`` overrides them, ``ros2 param set`` changes them
+while it runs, and a bad value is refused with its reason."""
+
+from __future__ import annotations
+
+import json
+import shlex
+import sys
+from pathlib import Path
+
+import pytest
+
+from frontier_rl.ros2.loopback import cli, loopback_problem, run_in_loopback
+
+pytestmark = pytest.mark.slow
+
+_PROBLEM = loopback_problem()
+if _PROBLEM is not None:
+    pytest.skip(_PROBLEM, allow_module_level=True)
+
+_CLIENT = f"{shlex.quote(sys.executable)} {shlex.quote(str(Path(__file__).with_name('parameter_client.py')))}"
+_EXPLORE = f"{shlex.quote(cli())} ros2 explore --json --progress-timeout 30"
+
+
+def test_the_settings_are_parameters_overridden_by_ros_args_and_set_at_run_time(tmp_path: Path) -> None:
+    script = (
+        f"timeout --preserve-status -s INT 60 {_EXPLORE} --ros-args -p planner_frequency:=2 -p visualize:=false "
+        "> explore.log 2> explore.err & explore=$!; "
+        f"{_CLIENT} > client.log 2> client.err; kill -INT $explore; wait $explore"
+    )
+    done = run_in_loopback(script, tmp_path, 90)
+    log = "".join((tmp_path / name).read_text() for name in ("client.err", "explore.log", "explore.err"))
+    assert (tmp_path / "client.log").read_text(), log + done.stderr
+    report = json.loads((tmp_path / "client.log").read_text())
+    assert report["before"] == {
+        "planner_frequency": 2.0,  # an integer override taken as the number it is
+        "progress_timeout": 30.0,
+        "min_frontier_size": 0.2,
+        "time_cap": 0.0,
+        "visualize": False,
+        "policy": "nearest",
+    }
+    taken, negative, text, policy, cap = report["sets"]
+    assert taken["successful"] and cap["successful"]
+    assert not negative["successful"] and "planner_frequency must be a positive number" in negative["reason"]
+    assert not text["successful"] and "visualize must be true or false" in text["reason"]
+    assert not policy["successful"]  # read-only
+    assert report["after"] | {"progress_timeout": 5} == report["after"]
+    assert report["after"]["time_cap"] == 600.0 and report["after"]["planner_frequency"] == 2.0
+    assert "settings now" in log and "Traceback" not in log
+
+
+@pytest.mark.parametrize(
+    ("arguments", "needle"),
+    [
+        ("--ros-args -p planner_frequency:=-1", "parameter planner_frequency must be a positive number, got -1.0"),
+        ("--ros-args -p return_to_init:=3", "parameter return_to_init must be true or false, got 3"),
+        ("--planer-frequency 2", "no such option or argument: '--planer-frequency'"),
+    ],
+)
+def test_a_bad_override_is_one_line_naming_it(arguments: str, needle: str, tmp_path: Path) -> None:
+    done = run_in_loopback(f"{_EXPLORE} {arguments} > explore.log 2> explore.err", tmp_path, 60)
+    err = (tmp_path / "explore.err").read_text()
+    assert done.returncode not in (0, 130) and needle in err, err
+    assert "Traceback" not in err and len(err.strip().splitlines()) == 1, err
