@@ -195,19 +195,14 @@ def explore(
     --params-file FILE override them, and ros2 param set changes them while it explores."""
     ros_args = _ros_args(ctx.args)
     checked_seed(seed)
-    options = _with_parameter_file(
-        ctx,
-        params_file,
-        dict(
-            planner_frequency=planner_frequency,
-            progress_timeout=progress_timeout,
-            min_frontier_size=min_frontier_size,
-            return_to_init=return_to_init,
-            visualize=visualize,
-        ),
+    options = dict(
+        planner_frequency=planner_frequency,
+        progress_timeout=progress_timeout,
+        min_frontier_size=min_frontier_size,
+        return_to_init=return_to_init,
+        visualize=visualize,
     )
-    visualize = bool(options.pop("visualize"))
-    params = _explorer_params(**options, time_cap=time_cap)
+    params, visualize = _explorer_settings(ctx, params_file, options, time_cap)
     if not (math.isfinite(goal_silence_timeout) and goal_silence_timeout > 0):
         fail(f"--goal-silence-timeout must be a positive number of seconds, got {goal_silence_timeout!r}")
     _check_pose_type(pose_type)
@@ -225,6 +220,16 @@ def explore(
         goal_silence_timeout=goal_silence_timeout,
         ros_args=ros_args,
     )
+
+
+def _explorer_settings(
+    ctx: typer.Context, params_file: Path | None, options: dict[str, Any], time_cap: float
+) -> tuple[ExplorerParams, bool]:
+    """The explorer's settings and whether it draws markers, from its ``options`` and, for those
+    not given on the command line, explore_lite's parameter file; one line naming a bad one."""
+    options = _with_parameter_file(ctx, params_file, options)
+    visualize = bool(options.pop("visualize"))
+    return _explorer_params(**options, time_cap=time_cap), visualize
 
 
 def _ros_args(extra: list[str]) -> tuple[str, ...]:
