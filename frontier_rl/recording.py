@@ -7,14 +7,14 @@ from pathlib import Path
 
 import numpy as np
 from numpy.typing import NDArray
-from PIL import Image, ImageDraw
+from PIL import Image
 
 from frontier_rl.core.sim.episode import DecisionContext, Ranking
 from frontier_rl.core.sim.metrics import EpisodeResult
 from frontier_rl.core.sim.simulator import ExplorationSimulator
 from frontier_rl.core.world.grid import OccupancyGrid
 from frontier_rl.core.world.worlds import World
-from frontier_rl.render import FrameCanvas, save_gif, save_image, side_by_side
+from frontier_rl.render import FrameCanvas, captioned, save_gif, save_image
 from frontier_rl.swarm.result import TeamResult
 
 LEGEND = "square: start   disc: robot   dots: frontiers ranked, green best to orange worst"
@@ -40,7 +40,6 @@ class EpisodeRecorder:
 
     def __post_init__(self) -> None:
         self._canvas = FrameCanvas(self.world.grid, self.scale)
-        self._truth = self._canvas.truth()
 
     def __call__(self, sim: ExplorationSimulator, context: DecisionContext, ranking: Ranking) -> None:
         """Store the ranked frontiers (best first) and, if asked, a frame."""
@@ -54,16 +53,7 @@ class EpisodeRecorder:
     def _picture(
         self, grid: OccupancyGrid | None, trajectory: NDArray[np.float64], centers: NDArray[np.float64], caption: str
     ) -> Image.Image:
-        truth = self._truth.copy()
-        self._canvas.draw_path(truth, trajectory)
-        built = self._canvas.frame(grid, trajectory, centers)
-        image = side_by_side(truth, built)
-        banner = Image.new("RGB", (image.width, 32), (255, 255, 255))
-        ImageDraw.Draw(banner).multiline_text((4, 3), f"{caption}\n{LEGEND}", fill=(0, 0, 0), spacing=3)
-        out = Image.new("RGB", (image.width, image.height + banner.height), (255, 255, 255))
-        out.paste(banner, (0, 0))
-        out.paste(image, (0, banner.height))
-        return out
+        return captioned(self._canvas.episode(grid, trajectory, centers), f"{caption}\n{LEGEND}", 32)
 
     def final_picture(self, result: EpisodeResult, title: str) -> Image.Image:
         """The final picture: true map with the path | built map with the path and the last
@@ -89,35 +79,14 @@ class EpisodeRecorder:
         return save_gif(frames, path)
 
 
-#: One colour per robot of a team (matplotlib's tab10).
-TEAM_COLOURS = (
-    (31, 119, 180),
-    (255, 127, 14),
-    (44, 160, 44),
-    (214, 39, 40),
-    (148, 103, 189),
-    (140, 86, 75),
-    (227, 119, 194),
-    (127, 127, 127),
-)
-
-
 def save_team_png(path: str | Path, world: World, result: TeamResult, title: str, scale: int = 2) -> Path:
     """A team episode's picture: true map with every robot's path | the team's merged map with them
     (one colour per robot; a failed robot's path ends where it stopped)."""
-    canvas = FrameCanvas(world.grid, scale)
-    truth, built = canvas.truth(), canvas.base(result.team_map)
-    for index, trajectory in enumerate(result.trajectories):
-        for image in (truth, built):
-            canvas.draw_path(image, trajectory, TEAM_COLOURS[index % len(TEAM_COLOURS)])
+    picture = FrameCanvas(world.grid, scale).team(result.team_map, result.trajectories)
     failed = sum(t is not None for t in result.failed_at_s)
     caption = (
         f"{title}   {result.robots} robots, {result.strategy}   t = {result.sim_time_s:.1f} s   "
         f"coverage {100 * result.coverage:.1f} %   overlap {100 * result.overlap:.0f} %"
         + (f"   {failed} failed" if failed else "")
     )
-    image = side_by_side(truth, built)
-    out = Image.new("RGB", (image.width, image.height + 18), (255, 255, 255))
-    ImageDraw.Draw(out).text((4, 3), caption, fill=(0, 0, 0))
-    out.paste(image, (0, 18))
-    return save_image(out, path)
+    return save_image(captioned(picture, caption, 18), path)

@@ -52,6 +52,7 @@ class FrameCanvas:
     def __init__(self, world: OccupancyGrid, scale: int = 2) -> None:
         self.world = world
         self.scale = max(int(scale), 1)
+        self._truth: Image.Image | None = None  # drawn once: a recorder draws it at every frame
 
     def _to_px(self, xy: NDArray[np.float64]) -> NDArray[np.float64]:
         g = self.world
@@ -74,11 +75,14 @@ class FrameCanvas:
         return image.resize((image.width * self.scale, image.height * self.scale), Image.Resampling.NEAREST)
 
     def truth(self) -> Image.Image:
-        """The ground truth (free space tinted so it reads as 'the real building')."""
-        rgb = grid_to_rgb(self.world.data)
-        rgb[(self.world.data == CellState.FREE)[::-1]] = _TRUE_FREE
-        image = Image.fromarray(np.ascontiguousarray(rgb))
-        return image.resize((image.width * self.scale, image.height * self.scale), Image.Resampling.NEAREST)
+        """The ground truth (free space tinted so it reads as 'the real building'): a new image
+        to draw on."""
+        if self._truth is None:
+            rgb = grid_to_rgb(self.world.data)
+            rgb[(self.world.data == CellState.FREE)[::-1]] = _TRUE_FREE
+            image = Image.fromarray(np.ascontiguousarray(rgb))
+            self._truth = image.resize((image.width * self.scale, image.height * self.scale), Image.Resampling.NEAREST)
+        return self._truth.copy()
 
     def draw_path(
         self, image: Image.Image, trajectory: NDArray[np.float64], colour: tuple[int, int, int] | None = None
@@ -117,6 +121,53 @@ class FrameCanvas:
         if centers_ranked is not None and len(centers_ranked):
             self.draw_frontiers(image, centers_ranked)
         return image
+
+    def episode(
+        self,
+        grid: OccupancyGrid | None,
+        trajectory: NDArray[np.float64],
+        centers_ranked: NDArray[np.float64] | None = None,
+    ) -> Image.Image:
+        """One robot's picture: the true world with the path | the built map ``grid`` with the
+        path and the ranked frontiers (best first)."""
+        truth = self.truth()
+        self.draw_path(truth, trajectory)
+        return side_by_side(truth, self.frame(grid, trajectory, centers_ranked))
+
+    def team(self, grid: OccupancyGrid | None, trajectories: Sequence[NDArray[np.float64]]) -> Image.Image:
+        """A team's picture: the true world with every robot's path | the team's map ``grid`` with
+        them, one colour per robot (:data:`TEAM_COLOURS`)."""
+        truth, built = self.truth(), self.base(grid)
+        for index, trajectory in enumerate(trajectories):
+            for image in (truth, built):
+                self.draw_path(image, trajectory, TEAM_COLOURS[index % len(TEAM_COLOURS)])
+        return side_by_side(truth, built)
+
+
+#: One colour per robot of a team (matplotlib's tab10).
+TEAM_COLOURS = (
+    (31, 119, 180),
+    (255, 127, 14),
+    (44, 160, 44),
+    (214, 39, 40),
+    (148, 103, 189),
+    (140, 86, 75),
+    (227, 119, 194),
+    (127, 127, 127),
+)
+
+
+def captioned(image: Image.Image, text: str, height: int) -> Image.Image:
+    """``image`` under a white band ``height`` pixels high holding ``text`` (lines 3 pixels apart)."""
+    out = Image.new("RGB", (image.width, image.height + height), (255, 255, 255))
+    ImageDraw.Draw(out).multiline_text((4, 3), text, fill=(0, 0, 0), spacing=3)
+    out.paste(image, (0, height))
+    return out
+
+
+def rgb_array(image: Image.Image) -> NDArray[np.uint8]:
+    """``image`` as a Gymnasium ``rgb_array`` frame: (height, width, 3) uint8."""
+    return np.asarray(image.convert("RGB"), dtype=np.uint8)
 
 
 def side_by_side(left: Image.Image, right: Image.Image, gap: int = 8) -> Image.Image:

@@ -17,7 +17,7 @@ from frontier_rl.envs.rewards import RewardConfig, reward_preset
 from frontier_rl.envs.world_source import WorldSource, reset_world_seed
 from frontier_rl.errors import ConfigError
 from frontier_rl.observation.map_image import THESIS_INPUT_CELLS, MapEncoder
-from frontier_rl.render import FrameCanvas, side_by_side
+from frontier_rl.render import FrameCanvas, rgb_array
 from frontier_rl.world_spec import world_entries
 
 ObsT = TypeVar("ObsT")
@@ -130,11 +130,9 @@ class ExplorationEnv(gym.Env[ObsT, np.int64], Generic[ObsT]):
         if self.render_mode != "rgb_array":
             return None
         sim = self.sim
-        canvas = FrameCanvas(sim.world.grid, scale=2)
-        truth = canvas.truth()
-        canvas.draw_path(truth, sim.trajectory())
-        built = canvas.frame(sim.map(), sim.trajectory(), sim.frontiers().centers)
-        return np.asarray(side_by_side(truth, built).convert("RGB"), dtype=np.uint8)
+        return rgb_array(
+            FrameCanvas(sim.world.grid, scale=2).episode(sim.map(), sim.trajectory(), sim.frontiers().centers)
+        )
 
     # ------------------------------------------------------ subclass hooks
     def _observe(self) -> ObsT:

@@ -29,7 +29,7 @@ from frontier_rl.errors import ConfigError
 from frontier_rl.observation.frontier_table import FEATURE_BOUND, frontier_observation, slot_order
 from frontier_rl.observation.map_image import FRONTIER_FEATURES, MapEncoder
 from frontier_rl.observation.weight_bins import WEIGHT_BINS, bin_to_weight
-from frontier_rl.render import FrameCanvas, side_by_side
+from frontier_rl.render import FrameCanvas, rgb_array
 from frontier_rl.swarm import TeamConfig, TeamSimulator
 
 ACTIONS = ("weight", "frontier")
@@ -168,15 +168,9 @@ class TeamExplorationEnv(ParallelEnv):  # type: ignore[misc]  # pettingzoo ships
         """The true world with every robot's path | the surviving robots' merged map."""
         if self.render_mode != "rgb_array":
             return None
-        from frontier_rl.recording import TEAM_COLOURS
-
         team = self.team
-        canvas = FrameCanvas(team.world.grid, scale=2)
-        truth, built = canvas.truth(), canvas.base(team.team_map())
-        for robot in team.robots:
-            for image in (truth, built):
-                canvas.draw_path(image, robot.sim.trajectory(), TEAM_COLOURS[robot.index % len(TEAM_COLOURS)])
-        return np.asarray(side_by_side(truth, built).convert("RGB"), dtype=np.uint8)
+        trajectories = [robot.sim.trajectory() for robot in team.robots]
+        return rgb_array(FrameCanvas(team.world.grid, scale=2).team(team.team_map(), trajectories))
 
     def close(self) -> None:
         """Nothing to release."""
