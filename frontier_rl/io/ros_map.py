@@ -46,9 +46,12 @@ UNKNOWN_PIXEL = 205
 #: ``map_saver`` thresholds on cell values (occupancy %): <= 25 is saved free, >= 65 occupied.
 SAVE_FREE_MAX = 25
 SAVE_OCCUPIED_MIN = 65
-#: Thresholds written into every saved YAML (those of ``map_saver``).
-SAVE_OCCUPIED_THRESH = 0.65
-SAVE_FREE_THRESH = 0.196
+OCCUPIED_THRESH = 0.65
+"""map_server's default occupancy probability above which a cell is occupied (0..1): what a YAML
+without ``occupied_thresh`` means, what ``map_saver`` writes, and (as 65 %) how an
+``OccupancyGrid`` message's values are read (:class:`~frontier_rl.robot.map_message.MapThresholds`)."""
+FREE_THRESH = 0.196
+"""map_server's default occupancy probability below which a cell is free (0..1), likewise."""
 _IMAGE_FORMATS = {"pgm": "PPM", "png": "PNG"}
 _MAX_PIXEL = 255.0
 _SCALE_SPAN = 98  # scale mode maps the in-between ratio onto 1 .. 1 + 98
@@ -73,8 +76,8 @@ class MapImageParams:
         mode: trinary, scale or raw.
     """
 
-    occupied_thresh: float = 0.65
-    free_thresh: float = 0.196
+    occupied_thresh: float = OCCUPIED_THRESH
+    free_thresh: float = FREE_THRESH
     negate: bool = False
     mode: MapMode = MapMode.TRINARY
 
@@ -259,8 +262,8 @@ def save_ros_map(grid: OccupancyGrid, yaml_path: str | Path, image_format: str =
         f"resolution: {float(grid.resolution)!r}\n"
         f"origin: [{float(grid.origin[0])!r}, {float(grid.origin[1])!r}, 0.0]\n"
         f"negate: 0\n"
-        f"occupied_thresh: {SAVE_OCCUPIED_THRESH}\n"
-        f"free_thresh: {SAVE_FREE_THRESH}\n"
+        f"occupied_thresh: {OCCUPIED_THRESH}\n"
+        f"free_thresh: {FREE_THRESH}\n"
     )
     try:
         path.parent.mkdir(parents=True, exist_ok=True)

@@ -13,6 +13,7 @@ from numpy.typing import NDArray
 
 from frontier_rl.core.world.grid import CellState, OccupancyGrid
 from frontier_rl.errors import MapError
+from frontier_rl.io.ros_map import FREE_THRESH, OCCUPIED_THRESH
 
 
 @dataclass(frozen=True)
@@ -24,8 +25,8 @@ class MapThresholds:
         free_below: values below this are free (%); values in between are unknown.
     """
 
-    occupied_above: float = 65.0
-    free_below: float = 19.6
+    occupied_above: float = 100 * OCCUPIED_THRESH
+    free_below: float = 100 * FREE_THRESH
 
 
 def check_map_message(width: int, height: int, resolution: float, values: int) -> None:
