@@ -1,7 +1,7 @@
 """The full-knowledge ``oracle``: drives a coverage tour planned on the true map.
 
 A near-limit reference for exploration time, not an exploration method: it knows the map before it
-sees it. At the start of an episode it plans a :class:`~frontier_rl.policies.oracle_tour.CoverageTour`
+sees it. At the start of an episode it plans a :class:`~frontier_rl.core.navigation.coverage_tour.CoverageTour`
 and then drives it with the same navigator and sensor as every other method, passing over the
 viewpoints whose cells the robot's map already holds. The episode ends under the same rule as for
 everyone (no reachable frontier left): when the tour is done and frontiers remain, it takes the
@@ -18,13 +18,13 @@ from numpy.typing import NDArray
 
 from frontier_rl.core.frontiers.ranking import nearest_cost, rank
 from frontier_rl.core.navigation.costmap import Costmap, nearest_cell
+from frontier_rl.core.navigation.coverage_tour import CoverageTour, plan_coverage_tour
 from frontier_rl.core.navigation.path_costs import cost_field, descend
 from frontier_rl.core.sim.config import SimConfig
 from frontier_rl.core.sim.episode import DecisionContext, Ranking
 from frontier_rl.core.world.grid import CellState, OccupancyGrid
 from frontier_rl.core.world.worlds import World
 from frontier_rl.errors import ConfigError
-from frontier_rl.policies.oracle_tour import CoverageTour, plan_coverage_tour
 
 _MAX_LEGS = 200  # legs toward one viewpoint before it is given up: a guard, never reached in practice
 
@@ -42,7 +42,7 @@ class OracleTour:
 
     Args:
         spacing_m, min_gain_cells, detour_m, margin_cells, graze_cells: the tour's planning (see
-            :func:`~frontier_rl.policies.oracle_tour.plan_coverage_tour`).
+            :func:`~frontier_rl.core.navigation.coverage_tour.plan_coverage_tour`).
         leftover_cells: a viewpoint is passed once at most this many of its target cells are unmapped.
         reached_m: a viewpoint is passed once the robot is this close to it (m).
         leg_m: longest leg toward a viewpoint (m).
@@ -82,7 +82,16 @@ class OracleTour:
     def begin_episode(self, world: World, config: SimConfig) -> None:
         """Plan the coverage tour of ``world`` from its start."""
         self._tour = plan_coverage_tour(
-            world, config, self.spacing_m, self.min_gain_cells, self.detour_m, self.margin_cells, self.graze_cells
+            world,
+            config.robot,
+            config.navigation,
+            config.lidar,
+            config.mapper.usable_range,
+            self.spacing_m,
+            self.min_gain_cells,
+            self.detour_m,
+            self.margin_cells,
+            self.graze_cells,
         )
         self._costmap = Costmap.build(world.grid, config.robot, config.navigation)
         self._min_leg = config.navigation.goal_tolerance

@@ -1,4 +1,4 @@
-"""Tests of the full-knowledge ``oracle``: the coverage tour (frontier_rl.policies.oracle_tour) and the
+"""Tests of the full-knowledge ``oracle``: the coverage tour (frontier_rl.core.navigation.coverage_tour) and the
 policy that drives it (frontier_rl.policies.oracle)."""
 
 from __future__ import annotations
@@ -11,6 +11,14 @@ from numpy.typing import NDArray
 
 from frontier_rl.core.frontiers.detection import detect_frontiers
 from frontier_rl.core.navigation.costmap import Costmap
+from frontier_rl.core.navigation.coverage_tour import (
+    CoverageTour,
+    coverage_targets,
+    insertion_cover,
+    plan_coverage_tour,
+    two_opt,
+    visibility,
+)
 from frontier_rl.core.navigation.path_costs import cost_field, descend, path_costs
 from frontier_rl.core.sim.config import SimConfig
 from frontier_rl.core.sim.episode import DecisionContext, EpisodeAwarePolicy, run_episode
@@ -21,16 +29,11 @@ from frontier_rl.core.world.robot import Pose
 from frontier_rl.core.world.worlds import World, make_world
 from frontier_rl.errors import ConfigError
 from frontier_rl.policies import POLICY_NAMES, OracleTour, make_policy
-from frontier_rl.policies.oracle_tour import (
-    CoverageTour,
-    coverage_targets,
-    insertion_cover,
-    plan_coverage_tour,
-    two_opt,
-    visibility,
-)
 
 SEEDS = (0, 1, 2)  # office worlds raced against fixed:0.75
+
+LIDAR = SimConfig().lidar
+USABLE_RANGE_M = SimConfig().mapper.usable_range
 
 
 @pytest.fixture(scope="module")
@@ -40,7 +43,7 @@ def office() -> World:
 
 @pytest.fixture(scope="module")
 def tour(office: World) -> CoverageTour:
-    return plan_coverage_tour(office, SimConfig())
+    return plan_coverage_tour(office)
 
 
 @pytest.fixture(scope="module")
@@ -73,7 +76,9 @@ def test_tour_covers_nearly_all_of_the_office(office: World, tour: CoverageTour)
 
 
 def test_the_start_scan_is_part_of_the_cover(office: World, tour: CoverageTour) -> None:
-    indptr, indices = visibility(office, SimConfig(), np.array([_start_cell(office)]))
+    indptr, indices = visibility(
+        office, SimConfig().lidar, SimConfig().mapper.usable_range, np.array([_start_cell(office)])
+    )
     start_seen = indices[indptr[0] : indptr[1]]
     assert start_seen.size > 500
     assert tour.covered.reshape(-1)[start_seen].all()
@@ -142,7 +147,9 @@ def test_visibility_stops_at_walls_and_where_beams_graze_them() -> None:
     world = make_world(OccupancyGrid(data, 0.05), "wall", start=Pose(0.5, 0.5, 0.0))
 
     def seen_from(cell: tuple[int, int], margin_cells: float = 1.0) -> NDArray[np.bool_]:
-        indptr, indices = visibility(world, SimConfig(), np.array([cell]), margin_cells=margin_cells)
+        indptr, indices = visibility(
+            world, SimConfig().lidar, SimConfig().mapper.usable_range, np.array([cell]), margin_cells=margin_cells
+        )
         seen = np.zeros(data.size, np.bool_)
         seen[indices[indptr[0] : indptr[1]]] = True
         return seen.reshape(data.shape)
@@ -214,7 +221,7 @@ def test_viewpoints_beyond_the_search_reach_are_placed_by_gain_with_known_costs(
     config = SimConfig()
     costmap = Costmap.build(world.grid, config.robot, config.navigation)
     cand = np.array([[15, 10], [15, 400], [15, 500]], np.int64)
-    route, dist = insertion_cover(costmap, cand, visibility(world, config, cand), 10, 3.0, reach_m=15.0)
+    route, dist = insertion_cover(costmap, cand, visibility(world, LIDAR, USABLE_RANGE_M, cand), 10, 3.0, reach_m=15.0)
     assert sorted(route) == [0, 1, 2] and route[0] == 0
     assert np.all(dist < 1e6), "every edge of the route has a searched path cost"
     assert dist[route.index(0), route.index(1)] == pytest.approx(19.5, abs=0.5)  # 390 cells of 0.05 m

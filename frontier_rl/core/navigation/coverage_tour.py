@@ -1,6 +1,7 @@
 """A full-knowledge coverage tour: viewpoints whose scans cover the true map, in a short order.
 
-The engine of the ``oracle`` reference method. On the ground truth it
+The planner of the ``oracle`` reference method (:class:`~frontier_rl.policies.oracle.OracleTour`).
+On the ground truth it
 
 1. takes *candidate viewpoints*: cells the robot can stand on and reach from the start, one per
    ``spacing_m`` × ``spacing_m`` block of the grid (the reachable cell nearest the block centre);
@@ -30,11 +31,14 @@ import numba as nb
 import numpy as np
 from numpy.typing import NDArray
 
+from frontier_rl.core.mapping.mapper import MapperConfig
+from frontier_rl.core.navigation.config import NavigationConfig
 from frontier_rl.core.navigation.costmap import Costmap
 from frontier_rl.core.navigation.path_costs import cost_field, path_costs
-from frontier_rl.core.sim.config import SimConfig
+from frontier_rl.core.sensing.lidar import LidarConfig
 from frontier_rl.core.world.grid import CellState
 from frontier_rl.core.world.raycast import FASTMATH, pad_blocked, ray_start
+from frontier_rl.core.world.robot import RobotConfig
 from frontier_rl.core.world.worlds import World, dilate
 
 _SQRT2 = math.sqrt(2.0)
@@ -177,26 +181,26 @@ def coverage_targets(world: World) -> NDArray[np.bool_]:
 
 def visibility(
     world: World,
-    config: SimConfig,
+    lidar: LidarConfig,
+    usable_range_m: float,
     cells: NDArray[np.int64],
     target: NDArray[np.bool_] | None = None,
     margin_cells: float = 1.0,
     graze_cells: int = 3,
 ) -> tuple[NDArray[np.int64], NDArray[np.int32]]:
     """The ``target`` cells (default: :func:`coverage_targets`) each viewpoint of ``cells`` (row,
-    col) sees, in CSR form: viewpoint ``v`` sees the flat world cells
-    ``indices[indptr[v]:indptr[v + 1]]``.
+    col) sees with ``lidar``'s beams out to the mapper's ``usable_range_m`` (m), in CSR form:
+    viewpoint ``v`` sees the flat world cells ``indices[indptr[v]:indptr[v + 1]]``.
 
     A beam that runs more than ``graze_cells`` cells in a row within ``margin_cells`` of a wall
     without hitting it stops there: a cell seen only past a corner that a beam grazes is not
     counted, since a robot that stops a few centimetres off the viewpoint, or a noisy range,
     would miss it."""
     res = world.grid.resolution
-    lidar = config.lidar
     offsets = lidar.beam_offsets
     occupied = world.grid.data == CellState.OCCUPIED
     near = dilate(occupied, margin_cells) if margin_cells > 0 else occupied
-    usable = min(lidar.max_range, config.mapper.usable_range) / res
+    usable = min(lidar.max_range, usable_range_m) / res
     target = coverage_targets(world) if target is None else target
     return _scan_cells(
         pad_blocked(occupied),
@@ -342,7 +346,10 @@ def _drop_weak_viewpoints(
 
 def plan_coverage_tour(
     world: World,
-    config: SimConfig | None = None,
+    robot: RobotConfig | None = None,
+    navigation: NavigationConfig | None = None,
+    lidar: LidarConfig | None = None,
+    usable_range_m: float | None = None,
     spacing_m: float = 0.5,
     min_gain_cells: int = 10,
     detour_m: float = 3.0,
@@ -354,7 +361,8 @@ def plan_coverage_tour(
 
     Args:
         world: the ground truth.
-        config: the robot, LiDAR, mapper and navigation settings of the episode.
+        robot, navigation: the robot and the planner of the episode (their defaults if None).
+        lidar: its LiDAR; usable_range_m: the mapper's usable range (m; both the defaults if None).
         spacing_m: edge of the blocks that each give one candidate viewpoint (m).
         min_gain_cells: a viewpoint must add at least this many unseen target cells.
         detour_m: added to each insertion's cost in the cover (m), see :func:`insertion_cover`.
@@ -362,14 +370,15 @@ def plan_coverage_tour(
         reach_m: path costs are searched this far around each viewpoint (m), see
             :func:`insertion_cover`.
     """
-    config = config or SimConfig()
+    lidar = lidar or LidarConfig()
+    usable_range_m = MapperConfig().usable_range if usable_range_m is None else usable_range_m
     grid = world.grid
-    costmap = Costmap.build(grid, config.robot, config.navigation)
+    costmap = Costmap.build(grid, robot or RobotConfig(), navigation or NavigationConfig())
     start = grid.world_to_cell(world.start.x, world.start.y)
     reachable = np.isfinite(cost_field(costmap, start)) & costmap.traversable
     spacing = max(int(round(spacing_m / grid.resolution)), 1)
     cand = np.concatenate((np.array([start], np.int64), candidate_cells(reachable, spacing)))
-    indptr, indices = visibility(world, config, cand, None, margin_cells, graze_cells)
+    indptr, indices = visibility(world, lidar, usable_range_m, cand, None, margin_cells, graze_cells)
     min_gain = max(int(min_gain_cells), 1)
     route, dist = insertion_cover(costmap, cand, (indptr, indices), min_gain, detour_m, reach_m)
     order = two_opt(np.arange(len(route), dtype=np.int64), dist)
