@@ -228,7 +228,9 @@ class ExplorerNode(Node):
         if self.visualize and self._grid is not None:
             candidates = [(float(x), float(y)) for x, y in self.explorer.candidate_goals]
             self._marker_pub.publish(frontier_markers(candidates, (goal.x, goal.y), self.get_clock().now().to_msg()))
-        self._publish("returning" if self._returning else "exploring", f"goal {number} at ({goal.x:.2f}, {goal.y:.2f})")
+        detail = f"goal {number} at ({goal.x:.2f}, {goal.y:.2f})"
+        self.get_logger().debug(f"sent {detail}")  # --ros-args --log-level frontier_rl_explorer:=debug shows it
+        self._publish("returning" if self._returning else "exploring", detail)
 
     def _on_response(self, number: int, future: Future[ClientGoalHandle[Any, Any, Any]]) -> None:
         handle = future.result()

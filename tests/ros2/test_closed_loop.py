@@ -55,10 +55,14 @@ def test_a_simulator_killed_and_restarted_is_explored_to_the_end(tmp_path: Path)
     """The robot's stack crashes with a goal under way and comes back with an empty map (and its
     clock back at 0): the explorer drops the lost goal and explores the new map to the end."""
     sim = f"{shlex.quote(cli())} ros2 sim --world office --seed 3 --rate 40"
+    # killed once the explorer has sent its third goal (its debug log says so), not after a fixed
+    # time: on a loaded machine the explorer may not have sent any goal by then
+    sent = "i=0; until grep -q 'sent goal 3 ' explore.err 2>/dev/null || [ $i -ge 600 ]; do sleep 0.1; i=$((i+1)); done"
     script = (
-        f"setsid sh -c {shlex.quote(f'{sim} & s=$!; sleep 4; kill -9 $s; sleep 1; exec {sim}')} > sim.log 2>&1 & "
+        f"setsid sh -c {shlex.quote(f'{sim} & s=$!; {sent}; kill -9 $s; sleep 1; exec {sim}')} > sim.log 2>&1 & "
         f"group=$!; timeout --preserve-status -s INT 120 {shlex.quote(cli())} ros2 explore --json --use-sim-time "
-        "--goal-silence-timeout 2 > explore.log 2> explore.err; status=$?; kill -9 -$group; wait; exit $status"
+        "--goal-silence-timeout 2 --ros-args --log-level frontier_rl_explorer:=debug > explore.log 2> explore.err; "
+        "status=$?; kill -9 -$group; wait; exit $status"
     )
     done = run_in_loopback(script, tmp_path, 150)
     log = (tmp_path / "explore.err").read_text() + (tmp_path / "sim.log").read_text()
