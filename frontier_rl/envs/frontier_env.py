@@ -13,7 +13,7 @@ from frontier_rl.core.sim.leg import LegResult
 from frontier_rl.core.world.grid import OccupancyGrid
 from frontier_rl.envs.base import EnvConfig, ExplorationEnv
 from frontier_rl.errors import ConfigError
-from frontier_rl.observation.frontier_table import FEATURE_BOUND, frontier_observation, slot_order
+from frontier_rl.observation.frontier_table import FEATURE_BOUND, simulator_observation, slot_order
 from frontier_rl.observation.map_image import FRONTIER_FEATURES, MapEncoder
 
 PRIVILEGED_FEATURES = ("unseen_share", "unseen_area")
@@ -86,21 +86,11 @@ class FrontierTableEnv(ExplorationEnv[dict[str, NDArray[Any]]]):
 
     def _observe(self) -> dict[str, NDArray[Any]]:
         sim = self.sim
-        cand = sim.candidates()
-        obs, self._slots = frontier_observation(
-            self.encoder,
-            self.top_k,
-            cand.costmap,
-            sim.pose,
-            cand.frontiers,
-            sim.config.robot.radius,
-            sim.config.lidar.max_range,
-            self.tour,
-        )
+        obs, self._slots = simulator_observation(self.encoder, self.top_k, sim, self.tour)
         if self.privileged:
             obs["privileged"] = self._privileged_features()
         if self.privileged_map:
-            obs["privileged_map"] = self._unseen_image(cand.costmap.grid)
+            obs["privileged_map"] = self._unseen_image(sim.candidates().costmap.grid)
         return obs
 
     def _privileged_features(self) -> NDArray[np.float32]:

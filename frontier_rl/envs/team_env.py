@@ -26,7 +26,7 @@ from frontier_rl.envs.base import EnvConfig
 from frontier_rl.envs.rewards import RewardConfig, reward_preset
 from frontier_rl.envs.world_source import WorldSource, reset_world_seed
 from frontier_rl.errors import ConfigError
-from frontier_rl.observation.frontier_table import FEATURE_BOUND, frontier_observation, slot_order
+from frontier_rl.observation.frontier_table import FEATURE_BOUND, simulator_observation, slot_order
 from frontier_rl.observation.map_image import FRONTIER_FEATURES, MapEncoder
 from frontier_rl.observation.weight_bins import WEIGHT_BINS, bin_to_weight
 from frontier_rl.render import FrameCanvas, rgb_array
@@ -193,19 +193,11 @@ class TeamExplorationEnv(ParallelEnv):  # type: ignore[misc]  # pettingzoo ships
         for agent in agents if agents is not None else self.agents:
             index = int(agent.removeprefix("robot_"))
             sim = self.team.robots[index].sim
-            cand = sim.candidates()
             if self.action_kind == "weight":
+                cand = sim.candidates()
                 out[agent] = self.encoder.encode(cand.grid, sim.pose, cand.frontiers)
             else:
-                out[agent], self._slots[index] = frontier_observation(
-                    self.encoder,
-                    self.top_k,
-                    cand.costmap,
-                    sim.pose,
-                    cand.frontiers,
-                    sim.config.robot.radius,
-                    sim.config.lidar.max_range,
-                )
+                out[agent], self._slots[index] = simulator_observation(self.encoder, self.top_k, sim)
         return out
 
     def _infos(self, agents: list[str] | None = None) -> dict[str, dict[str, Any]]:

@@ -13,6 +13,7 @@ from frontier_rl.core.frontiers.detection import Frontiers
 from frontier_rl.core.navigation.costmap import Costmap
 from frontier_rl.core.navigation.group_costs import group_path_costs
 from frontier_rl.core.navigation.tours import first_stop_costs, stop_costs
+from frontier_rl.core.sim.simulator import ExplorationSimulator
 from frontier_rl.core.world.robot import Pose
 from frontier_rl.observation.map_image import FRONTIER_FEATURES, MapEncoder, frontier_cells, frontier_features
 
@@ -94,6 +95,16 @@ def frontier_observation(
         "mask": mask,
     }
     return obs, slots
+
+
+def simulator_observation(
+    encoder: MapEncoder, top_k: int, sim: ExplorationSimulator, tour: bool = False
+) -> tuple[dict[str, NDArray[Any]], NDArray[np.int64]]:
+    """:func:`frontier_observation` of a simulator's decision now: its candidates and costmap, its
+    pose, its robot's radius and its LiDAR's range (what a frontier-choice env shows its robot)."""
+    cand = sim.candidates()
+    radius, sensor_range = sim.config.robot.radius, sim.config.lidar.max_range
+    return frontier_observation(encoder, top_k, cand.costmap, sim.pose, cand.frontiers, radius, sensor_range, tour)
 
 
 def slot_order(slots: NDArray[np.int64], action: int) -> NDArray[np.int64]:
