@@ -137,7 +137,7 @@ def rank(
     use_sim_time: Annotated[bool, typer.Option(help="Time from /clock (a simulator's).")] = False,
 ) -> None:
     """The thesis's ranking service: /frontier_request answered on /frontier_list, for one or more robots."""
-    from frontier_rl.robot.answers import StaleMapAnswer, count_parameter, robot_namespaces, seconds_parameter
+    from frontier_rl.robot.node_settings import StaleMapAnswer, count_parameter, robot_namespaces, seconds_parameter
 
     _check_pose_type(pose_type)
     try:

@@ -19,18 +19,10 @@ from dataclasses import dataclass
 
 from frontier_rl.errors import FrontierRLError, MapError
 from frontier_rl.policies import make_policy
-from frontier_rl.robot.answers import (
-    MapCells,
-    MapInfo,
-    StaleMapAnswer,
-    Status,
-    ThrottledLog,
-    check_node_policy,
-    check_request,
-    parse_request,
-    stale_reason,
-)
+from frontier_rl.robot.answers import MapCells, MapInfo, Status, check_request, parse_request, stale_reason
+from frontier_rl.robot.node_settings import StaleMapAnswer, check_node_policy
 from frontier_rl.robot.ranking_worker import RankJob, RankResult, RobotWorker
+from frontier_rl.robot.throttled_log import ThrottledLog
 
 WORKER_START_S = 120.0
 """How long the service waits for its workers to load their policy and kernels (s)."""

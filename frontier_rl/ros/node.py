@@ -40,9 +40,10 @@ from frontier_rl.checked_values import coerce
 from frontier_rl.core.frontiers.thesis import THESIS_WEIGHT
 from frontier_rl.core.sim.config import MAX_FRONTIER_DROP_CELLS
 from frontier_rl.errors import FrontierRLError
-from frontier_rl.robot.answers import (
+from frontier_rl.robot.answers import MapInfo
+from frontier_rl.robot.map_message import yaw_of
+from frontier_rl.robot.node_settings import (
     MAX_CHECK_PERIOD_S,
-    MapInfo,
     StaleMapAnswer,
     count_parameter,
     flag_parameter,
@@ -50,7 +51,6 @@ from frontier_rl.robot.answers import (
     robot_namespaces,
     seconds_parameter,
 )
-from frontier_rl.robot.map_message import yaw_of
 from frontier_rl.robot.ranking_service import Answer, RankingService, RobotPose, ServiceSettings
 from frontier_rl.ros.master_watch import EXIT_MASTER_RESTARTED, MasterWatch
 from frontier_rl.ros.ros_messages import answer_markers, import_rospy, map_cells

@@ -35,8 +35,8 @@ from visualization_msgs.msg import MarkerArray
 from frontier_rl.core.world.grid import OccupancyGrid
 from frontier_rl.core.world.robot import Pose
 from frontier_rl.errors import ConfigError, MapError
-from frontier_rl.robot.answers import ThrottledLog
 from frontier_rl.robot.explorer import Finished, FrontierExplorer, Goal
+from frontier_rl.robot.throttled_log import ThrottledLog
 from frontier_rl.ros2.explorer_parameters import ExplorerSettings, declare_explorer_parameters
 from frontier_rl.ros2.messages import MAP_QOS, frontier_markers, grid_of, pose_stamped, robot_pose
 

@@ -13,22 +13,18 @@ import pytest
 from frontier_rl.core.sim.config import MAX_FRONTIER_DROP_CELLS
 from frontier_rl.errors import ConfigError
 from frontier_rl.policies import make_policy
-from frontier_rl.robot.answers import (
+from frontier_rl.robot.answers import MapFrame, MapInfo, Status, check_request, parse_request
+from frontier_rl.robot.node_settings import (
     MAX_CHECK_PERIOD_S,
-    MapFrame,
-    MapInfo,
     StaleMapAnswer,
-    Status,
-    ThrottledLog,
     check_node_policy,
-    check_request,
     count_parameter,
     flag_parameter,
     node_policy_spec,
-    parse_request,
     robot_namespaces,
     seconds_parameter,
 )
+from frontier_rl.robot.throttled_log import ThrottledLog
 
 INFO = MapInfo(MapFrame("map", -2.0, -1.0, 0.0), width=100, height=50, resolution=0.05, stamp_ns=100 * 10**9)
 ROBOTS = ["tb3_0", "tb3_1"]

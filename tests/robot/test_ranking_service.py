@@ -11,7 +11,8 @@ import numpy as np
 import pytest
 
 from frontier_rl.errors import MapError
-from frontier_rl.robot.answers import MapCells, MapFrame, MapInfo, StaleMapAnswer
+from frontier_rl.robot.answers import MapCells, MapFrame, MapInfo
+from frontier_rl.robot.node_settings import StaleMapAnswer
 from frontier_rl.robot.ranking_service import Answer, RankingService, ServiceSettings
 
 AT_ORIGIN = MapFrame("map", 0.0, 0.0, 0.0)
