@@ -25,8 +25,8 @@ from typing import Any
 from frontier_rl.atomic_write import write_text_atomic
 from frontier_rl.config_files import load_sim_config
 from frontier_rl.core.sim.config import SimConfig
-from frontier_rl.evaluation.evaluate import evaluate
-from frontier_rl.evaluation.experiment import ORACLE, ExperimentConfig, expand_worlds
+from frontier_rl.evaluation.running.evaluate import evaluate
+from frontier_rl.evaluation.running.experiment import ORACLE, ExperimentConfig, expand_worlds
 
 GENERATORS = ("office", "rooms", "cluttered", "building", "cave")
 DUNGEON_TESTS = ("easy", "medium", "complex")

@@ -29,7 +29,7 @@ from frontier_rl.atomic_write import write_text_atomic
 from frontier_rl.core.sim.episode import run_episode
 from frontier_rl.core.sim.simulator import ExplorationSimulator
 from frontier_rl.core.world.worlds import World
-from frontier_rl.evaluation.experiment import expand_worlds
+from frontier_rl.evaluation.running.experiment import expand_worlds
 from frontier_rl.policies import make_policy
 from frontier_rl.rl.teacher import GREEDY_TEACHER, TOUR_TEACHER, Teacher, take_slot, teacher_slot
 from frontier_rl.world_spec import resolve_world

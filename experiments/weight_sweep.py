@@ -21,10 +21,10 @@ import numpy as np
 
 from frontier_rl.atomic_write import write_text_atomic
 from frontier_rl.core.sim.config import SimConfig
-from frontier_rl.evaluation.episode_record import EpisodeRow, Key
-from frontier_rl.evaluation.evaluate import evaluate
-from frontier_rl.evaluation.experiment import ORACLE, ExperimentConfig, expand_worlds, identity
-from frontier_rl.evaluation.results import ResultStore
+from frontier_rl.evaluation.results.episode_record import EpisodeRow, Key
+from frontier_rl.evaluation.results.store import ResultStore
+from frontier_rl.evaluation.running.evaluate import evaluate
+from frontier_rl.evaluation.running.experiment import ORACLE, ExperimentConfig, expand_worlds, identity
 
 SWEEP = tuple(f"fixed:{0.05 * i:.2f}" for i in range(21))
 

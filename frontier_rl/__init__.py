@@ -86,8 +86,8 @@ _NAMES: dict[str, str] = {
     "explore": "frontier_rl.api",
     "load_world": "frontier_rl.api",
     "train": "frontier_rl.api",
-    "ExperimentSummary": "frontier_rl.evaluation.summary",
-    "MethodSummary": "frontier_rl.evaluation.summary",
+    "ExperimentSummary": "frontier_rl.evaluation.results.summary",
+    "MethodSummary": "frontier_rl.evaluation.results.summary",
     "TrainConfig": "frontier_rl.rl.config",
 }
 """Each name importable from the package, and the module that defines it (loaded on first use)."""
@@ -154,7 +154,7 @@ if TYPE_CHECKING:
     from frontier_rl.core.world.robot import Pose
     from frontier_rl.core.world.worlds import World
     from frontier_rl.errors import ConfigError, FrontierRLError, MapError, UnknownNameError
-    from frontier_rl.evaluation.summary import ExperimentSummary, MethodSummary
+    from frontier_rl.evaluation.results.summary import ExperimentSummary, MethodSummary
     from frontier_rl.policies import (
         POLICY_NAMES,
         ExploreLite,

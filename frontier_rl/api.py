@@ -38,7 +38,7 @@ from frontier_rl.swarm import Failure, TeamConfig, TeamResult, run_team_episode
 from frontier_rl.world_spec import resolve_world
 
 if TYPE_CHECKING:  # loaded by the functions that need them: the command line's help loads this module
-    from frontier_rl.evaluation.summary import ExperimentSummary
+    from frontier_rl.evaluation.results.summary import ExperimentSummary
     from frontier_rl.rl.config import TrainConfig
 
 DecisionHook = Callable[[ExplorationSimulator, DecisionContext, Ranking], None]
@@ -187,9 +187,9 @@ def evaluate(
     Raises:
         FrontierRLError: a bad method, world or setting, or ``out`` holding another experiment.
     """
-    from frontier_rl.evaluation.evaluate import evaluate as run_evaluation
-    from frontier_rl.evaluation.experiment import ExperimentConfig
-    from frontier_rl.evaluation.summary import ExperimentSummary
+    from frontier_rl.evaluation.results.summary import ExperimentSummary
+    from frontier_rl.evaluation.running.evaluate import evaluate as run_evaluation
+    from frontier_rl.evaluation.running.experiment import ExperimentConfig
 
     checked_seed(seed)
     names, places = _names(methods, worlds, baseline, oracle)
@@ -210,7 +210,7 @@ def _names(
     methods: Sequence[str], worlds: Sequence[str | Path], baseline: str, oracle: bool
 ) -> tuple[tuple[str, ...], tuple[str, ...]]:
     """The methods (the baseline first, the oracle last) and worlds (folders expanded) of :func:`evaluate`."""
-    from frontier_rl.evaluation.experiment import expand_worlds, method_list
+    from frontier_rl.evaluation.running.experiment import expand_worlds, method_list
 
     if not (_list_of(methods, str) and _list_of(worlds, str | Path)):
         raise ConfigError(f"methods and worlds must be lists of names, got {short_repr(methods)}, {short_repr(worlds)}")
@@ -224,7 +224,7 @@ def _list_of(value: object, kind: type | UnionType) -> bool:
 
 def _report_settings(outliers: Sequence[float] | None, pictures: int | None) -> tuple[tuple[float, ...], int]:
     """The outlier thresholds (s) and pictured worlds of :func:`evaluate`, checked; None: the command's defaults."""
-    from frontier_rl.evaluation.evaluate import DEFAULT_OUTLIERS_S, DEFAULT_PICTURE_WORLDS, checked_thresholds
+    from frontier_rl.evaluation.running.evaluate import DEFAULT_OUTLIERS_S, DEFAULT_PICTURE_WORLDS, checked_thresholds
 
     cuts = DEFAULT_OUTLIERS_S if outliers is None else checked_thresholds(outliers, "outliers")
     if pictures is not None and (isinstance(pictures, bool) or not isinstance(pictures, int) or pictures < 0):

@@ -18,7 +18,7 @@ import frontier_rl
 from frontier_rl.core.sim.config import SimConfig
 from frontier_rl.core.world.robot import Pose
 from frontier_rl.errors import ConfigError, PolicyError, UnknownNameError
-from frontier_rl.evaluation.summary import ExperimentSummary, MethodSummary
+from frontier_rl.evaluation.results.summary import ExperimentSummary, MethodSummary
 from frontier_rl.seeds import MAX_SEED
 from frontier_rl.swarm import TeamConfig, TeamResult
 

@@ -10,7 +10,7 @@ from typer.testing import CliRunner
 
 from frontier_rl.cli import app
 from frontier_rl.errors import ConfigError
-from frontier_rl.evaluation.experiment import ExperimentConfig
+from frontier_rl.evaluation.running.experiment import ExperimentConfig
 from tests.evaluation.maps import write_slit_map
 
 runner = CliRunner()
@@ -193,7 +193,7 @@ def test_demo_runs_the_compact_experiment_and_draws_every_method(tmp_path: Path)
 def test_demo_outside_the_checkout_says_which_models_it_leaves_out(
     tmp_path: Path, monkeypatch: pytest.MonkeyPatch
 ) -> None:
-    import frontier_rl.evaluation.evaluate as evaluation
+    import frontier_rl.evaluation.running.evaluate as evaluation
 
     ran: list[tuple[str, ...]] = []
 

@@ -21,7 +21,7 @@ from docstrings import DocstringError, attributes_section, to_myst
 from frontier_rl.config_files import load_sim_config, to_dict
 from frontier_rl.core.sim.config import SimConfig
 from frontier_rl.envs.base import EnvConfig
-from frontier_rl.evaluation.experiment import ExperimentConfig
+from frontier_rl.evaluation.running.experiment import ExperimentConfig
 from frontier_rl.rl.config import TrainConfig
 from frontier_rl.safe_yaml import dump_yaml
 from frontier_rl.swarm.config import TeamConfig

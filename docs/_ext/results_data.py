@@ -14,7 +14,7 @@ from collections.abc import Iterable, Sequence
 from dataclasses import dataclass
 from pathlib import Path
 
-from frontier_rl.evaluation.summary import ExperimentSummary
+from frontier_rl.evaluation.results.summary import ExperimentSummary
 
 DATA = Path(__file__).resolve().parents[1] / "results" / "data"
 

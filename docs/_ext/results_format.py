@@ -9,7 +9,7 @@ from pathlib import Path
 from matplotlib.figure import Figure
 from results_data import Study
 
-from frontier_rl.evaluation.tables import Table, number
+from frontier_rl.evaluation.report.table import Table, number
 
 _SUPERSCRIPT = str.maketrans("-0123456789", "⁻⁰¹²³⁴⁵⁶⁷⁸⁹")
 DPI = 100

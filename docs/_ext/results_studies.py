@@ -12,8 +12,8 @@ from results_data import Experiment, Study, label, labels
 from results_format import markdown_table, p_text, percent, ratio, relative, reproduce_section, save, seconds
 from results_thesis import COMPARISON_HEADER, comparison_rows, tested_p
 
-from frontier_rl.evaluation.plots import box_plot
-from frontier_rl.evaluation.statistics import paired_stats
+from frontier_rl.evaluation.report.plots import box_plot
+from frontier_rl.evaluation.statistics.paired import paired_stats
 
 SWEEP_PREFIX = "fixed:"
 

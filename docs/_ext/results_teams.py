@@ -8,8 +8,8 @@ from matplotlib.figure import Figure
 from results_data import Study, label
 from results_format import markdown_table, p_text, percent, reproduce_section, save, seconds
 
-from frontier_rl.evaluation.statistics import paired_stats
-from frontier_rl.evaluation.summary import ExperimentSummary, TeamPoint
+from frontier_rl.evaluation.results.summary import ExperimentSummary, TeamPoint
+from frontier_rl.evaluation.statistics.paired import paired_stats
 from frontier_rl.swarm.config import Strategy, TeamMethod
 
 

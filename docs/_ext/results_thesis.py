@@ -7,8 +7,8 @@ from pathlib import Path
 from results_data import Experiment, Study, label, labels
 from results_format import markdown_table, p_text, percent, ratio, relative, reproduce_section, seconds
 
-from frontier_rl.evaluation.plots import box_plot, paired_scatter
-from frontier_rl.evaluation.summary import MethodSummary, PairedSummary
+from frontier_rl.evaluation.report.plots import box_plot, paired_scatter
+from frontier_rl.evaluation.results.summary import MethodSummary, PairedSummary
 
 THESIS_REDUCTION_PCT = 8.4
 """What the thesis reported for its model 4 against w = 0.75 (%), quoted from it, not measured here."""

@@ -35,7 +35,7 @@ from frontier_rl.core.frontiers.thesis import THESIS_BASELINE
 from frontier_rl.swarm import Failure, parse_strategy
 
 if TYPE_CHECKING:
-    from frontier_rl.evaluation.summary import ExperimentSummary
+    from frontier_rl.evaluation.results.summary import ExperimentSummary
 
 _INTERRUPTED = "interrupted: finished episodes are saved in {out}/; rerun the same command to resume"
 WorkersOption = Annotated[int | None, typer.Option(help="Episodes run at once (default: every core).")]
@@ -74,10 +74,10 @@ def demo(
 
     checked_run_arguments(seed, out)
     from frontier_rl.config_files import dump_config
-    from frontier_rl.evaluation.evaluate import DEFAULT_OUTLIERS_S
-    from frontier_rl.evaluation.evaluate import evaluate as run_evaluation
-    from frontier_rl.evaluation.experiment import ORACLE, ExperimentConfig
-    from frontier_rl.evaluation.summary import ExperimentSummary
+    from frontier_rl.evaluation.results.summary import ExperimentSummary
+    from frontier_rl.evaluation.running.evaluate import DEFAULT_OUTLIERS_S
+    from frontier_rl.evaluation.running.evaluate import evaluate as run_evaluation
+    from frontier_rl.evaluation.running.experiment import ORACLE, ExperimentConfig
 
     learned = [f"learned:{path}" for path in SHIPPED_MODELS if path.is_file()]
     methods = (THESIS_BASELINE, "nearest", "tour", *learned, ORACLE)
@@ -121,8 +121,8 @@ def _note_missing_models() -> None:
 
 def _print_summary(summary: ExperimentSummary, title: str, baseline: str) -> None:
     """The main numbers of the experiment's summary as a table on the terminal."""
-    from frontier_rl.evaluation.conclusion import unfinished
-    from frontier_rl.evaluation.tables import short_labels
+    from frontier_rl.evaluation.report.conclusion import unfinished
+    from frontier_rl.evaluation.report.table import short_labels
 
     methods = summary.methods
     labels = short_labels(methods)
@@ -173,8 +173,8 @@ def evaluate(
     method, and the report adds exploration time against team size, overlap and per-robot coverage."""
     resolution = checked_run_arguments(seed, out, resolution)
     from frontier_rl import api
-    from frontier_rl.evaluation.evaluate import parse_thresholds
-    from frontier_rl.evaluation.experiment import team_methods
+    from frontier_rl.evaluation.running.evaluate import parse_thresholds
+    from frontier_rl.evaluation.running.experiment import team_methods
 
     strategies = [parse_strategy(s) for s in comma_list(strategy)]
     names = team_methods(policy_list(methods), int_list("--robots", robots), strategies)

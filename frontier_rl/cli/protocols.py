@@ -1,5 +1,5 @@
 """``frontier-rl benchmark PROTOCOL``: a published evaluation protocol, with its metric beside ours
-(:mod:`frontier_rl.evaluation.protocols`)."""
+(:mod:`frontier_rl.evaluation.protocols.published`)."""
 
 from __future__ import annotations
 
@@ -38,7 +38,7 @@ def ariadne(
     json_out: Annotated[Path | None, typer.Option("--json", help="Also write every run and the summary here.")] = None,
 ) -> None:
     """ARiADNE's test protocol (80 px sensor, a run ends at <= 250 unseen free px, distance in px)."""
-    from frontier_rl.evaluation.protocols import ariadne_maps, run_protocol, summary_rows
+    from frontier_rl.evaluation.protocols.published import ariadne_maps, run_protocol, summary_rows
 
     names = policy_list(methods)
     _check_json(json_out)
@@ -100,7 +100,7 @@ def explore_bench(
 ) -> None:
     """Explore-Bench's metrics (T_90, T_total at a 0.99 exploration rate, path; for teams the
     coverage std and the overlap rate) on ROS maps, beside our time to explore."""
-    from frontier_rl.evaluation.explore_bench import explore_bench_maps, explore_bench_rows, run_explore_bench_all
+    from frontier_rl.evaluation.protocols import explore_bench as bench
 
     names = policy_list(methods)
     _check_json(json_out)
@@ -111,10 +111,10 @@ def explore_bench(
         raise ConfigError(f"--seeds must be in 1..10000 and --workers >= 0, got {seeds} and {workers}")
     from frontier_rl.world_spec import world_entries
 
-    blueprints = [m for entry in world_entries(maps) for m in explore_bench_maps(_located(entry))]
-    runs, failures = run_explore_bench_all(names, blueprints, seeds, sizes, workers or None)
+    blueprints = [m for entry in world_entries(maps) for m in bench.explore_bench_maps(_located(entry))]
+    runs, failures = bench.run_explore_bench_all(names, blueprints, seeds, sizes, workers or None)
     _some_finished(runs, failures)
-    rows = explore_bench_rows(runs)
+    rows = bench.explore_bench_rows(runs)
     table = Table(title=f"Explore-Bench metrics, {seeds} start(s) per map and team size")
     for column in (
         "method",
@@ -192,7 +192,7 @@ def _shown(value: float | str | int) -> str:
 
 def _some_finished(runs: Sequence[object], failures: list[str]) -> None:
     """Stop with one line when every run failed, before an empty table (or one of NaN) is printed."""
-    from frontier_rl.evaluation.backends import EpisodeFailedError
+    from frontier_rl.evaluation.running.backends import EpisodeFailedError
 
     if failures and not runs:
         raise EpisodeFailedError(f"every one of the {len(failures)} run(s) failed: {'; '.join(failures[:3])}")
@@ -201,7 +201,7 @@ def _some_finished(runs: Sequence[object], failures: list[str]) -> None:
 def _finish(json_out: Path | None, payload: dict[str, Any], failures: list[str]) -> None:
     """Write the runs and the summary to ``json_out`` (if given), then fail if any run did: the
     table and the file keep the runs that finished."""
-    from frontier_rl.evaluation.backends import EpisodeFailedError
+    from frontier_rl.evaluation.running.backends import EpisodeFailedError
 
     if json_out is not None:
         text = json.dumps(_no_nan(payload | {"failures": failures}), indent=2, allow_nan=False)

@@ -13,8 +13,8 @@ from pathlib import Path
 import pytest
 
 from frontier_rl.core.sim.config import SimConfig
-from frontier_rl.evaluation.evaluate import evaluate
-from frontier_rl.evaluation.experiment import ExperimentConfig
+from frontier_rl.evaluation.running.evaluate import evaluate
+from frontier_rl.evaluation.running.experiment import ExperimentConfig
 from tests.docs.markdown_pages import DOCS, ROOT, tokens
 
 pytestmark = pytest.mark.slow

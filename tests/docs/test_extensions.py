@@ -47,7 +47,7 @@ def test_a_relative_reference_is_tried_in_the_class_and_module_that_define_it() 
 
 def test_only_code_that_exists_is_found() -> None:
     assert exists("frontier_rl.core.sim.config.SimConfig.max_sim_time")  # a field whose default is None
-    assert exists("frontier_rl.evaluation.experiment.ExperimentConfig.methods")  # a field without a default
+    assert exists("frontier_rl.evaluation.running.experiment.ExperimentConfig.methods")  # a field without a default
     assert not exists("frontier_rl.core.sim.config.SimConfig.no_such_field")
     assert not exists("numpy.ndarray")
     assert absolute_target("mapping_range", SimConfig) == "~frontier_rl.core.sim.config.SimConfig.mapping_range"

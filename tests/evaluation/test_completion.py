@@ -13,13 +13,13 @@ import pytest
 
 from frontier_rl.core.sim.config import SimConfig
 from frontier_rl.errors import ConfigError
-from frontier_rl.evaluation.analysis import end_reasons, summarise
-from frontier_rl.evaluation.episode_record import ROW_COLUMNS, EpisodeRow, EpisodeTrace
-from frontier_rl.evaluation.evaluate import evaluate
-from frontier_rl.evaluation.experiment import ExperimentConfig
-from frontier_rl.evaluation.report_tables import report_tables
-from frontier_rl.evaluation.summary import MethodSummary
-from frontier_rl.evaluation.tables import completion_table
+from frontier_rl.evaluation.report.table import completion_table
+from frontier_rl.evaluation.report.tables import report_tables
+from frontier_rl.evaluation.results.episode_record import ROW_COLUMNS, EpisodeRow, EpisodeTrace
+from frontier_rl.evaluation.results.summary import MethodSummary
+from frontier_rl.evaluation.running.evaluate import evaluate
+from frontier_rl.evaluation.running.experiment import ExperimentConfig
+from frontier_rl.evaluation.statistics.analysis import end_reasons, summarise
 from tests.evaluation.maps import write_slit_map
 
 SHORT = SimConfig(max_sim_time=80.0)

@@ -18,10 +18,12 @@ from typer.testing import CliRunner
 from frontier_rl.cli import app
 from frontier_rl.core.sim.config import SimConfig
 from frontier_rl.errors import ConfigError, UnknownNameError
-from frontier_rl.evaluation import backends
-from frontier_rl.evaluation.backends import EpisodeFailedError
-from frontier_rl.evaluation.evaluate import evaluate, parse_thresholds
-from frontier_rl.evaluation.experiment import (
+from frontier_rl.evaluation.report.table import short_labels
+from frontier_rl.evaluation.results.store import ResultStore
+from frontier_rl.evaluation.running import backends
+from frontier_rl.evaluation.running.backends import EpisodeFailedError
+from frontier_rl.evaluation.running.evaluate import evaluate, parse_thresholds
+from frontier_rl.evaluation.running.experiment import (
     MAX_JOBS,
     EpisodeJob,
     EpisodeSettings,
@@ -29,8 +31,6 @@ from frontier_rl.evaluation.experiment import (
     expand_worlds,
     identity,
 )
-from frontier_rl.evaluation.results import ResultStore
-from frontier_rl.evaluation.tables import short_labels
 from tests.processes import children, gone, left_in_group, loads_numpy, sigint_as_in_a_terminal, workers_started
 
 pytestmark = pytest.mark.slow  # whole experiments, in worker processes and as subprocesses

@@ -13,7 +13,7 @@ from typer.testing import CliRunner
 from frontier_rl.cli import app
 from frontier_rl.core.world.grid import CellState, OccupancyGrid
 from frontier_rl.errors import ConfigError
-from frontier_rl.evaluation.explore_bench import (
+from frontier_rl.evaluation.protocols.explore_bench import (
     blueprint_known_cells,
     explore_bench_maps,
     explore_bench_rows,

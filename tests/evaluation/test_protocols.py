@@ -12,7 +12,7 @@ from typer.testing import CliRunner
 
 from frontier_rl.cli import app
 from frontier_rl.errors import ConfigError
-from frontier_rl.evaluation.protocols import (
+from frontier_rl.evaluation.protocols.published import (
     ARIADNE_SENSOR_PX,
     ARIADNE_START_INDEX,
     ARIADNE_UNSEEN_PX,

@@ -15,16 +15,16 @@ from PIL import Image
 
 from frontier_rl.core.mapping.mapper import MapperConfig
 from frontier_rl.core.sim.config import SimConfig
-from frontier_rl.evaluation.analysis import summarise
-from frontier_rl.evaluation.conclusion import conclude
-from frontier_rl.evaluation.episode_record import EpisodeTrace
-from frontier_rl.evaluation.evaluate import evaluate
-from frontier_rl.evaluation.experiment import ExperimentConfig
-from frontier_rl.evaluation.method_notes import describe_method
-from frontier_rl.evaluation.plots import coverage_plot
-from frontier_rl.evaluation.report_tables import outlier_note, outlier_tables, time_tables
-from frontier_rl.evaluation.summary import ExperimentSummary
-from frontier_rl.evaluation.tables import short_labels
+from frontier_rl.evaluation.report.conclusion import conclude
+from frontier_rl.evaluation.report.method_notes import describe_method
+from frontier_rl.evaluation.report.plots import coverage_plot
+from frontier_rl.evaluation.report.table import short_labels
+from frontier_rl.evaluation.report.tables import outlier_note, outlier_tables, time_tables
+from frontier_rl.evaluation.results.episode_record import EpisodeTrace
+from frontier_rl.evaluation.results.summary import ExperimentSummary
+from frontier_rl.evaluation.running.evaluate import evaluate
+from frontier_rl.evaluation.running.experiment import ExperimentConfig
+from frontier_rl.evaluation.statistics.analysis import summarise
 from frontier_rl.policies import POLICY_NAMES
 from frontier_rl.rl.config import TrainConfig
 from tests.evaluation.test_completion import _row

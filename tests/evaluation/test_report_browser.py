@@ -14,8 +14,8 @@ from typing import Any
 import pytest
 
 from frontier_rl.core.sim.config import SimConfig
-from frontier_rl.evaluation.evaluate import evaluate
-from frontier_rl.evaluation.experiment import ExperimentConfig
+from frontier_rl.evaluation.running.evaluate import evaluate
+from frontier_rl.evaluation.running.experiment import ExperimentConfig
 
 pytestmark = pytest.mark.slow
 

@@ -25,11 +25,11 @@ from frontier_rl.atomic_write import OutputWriteError, write_text_atomic
 from frontier_rl.cli import app
 from frontier_rl.core.sim.config import SimConfig
 from frontier_rl.errors import ConfigError
-from frontier_rl.evaluation.config_diff import contrast, differences_between
-from frontier_rl.evaluation.episode_record import ROW_COLUMNS
-from frontier_rl.evaluation.evaluate import evaluate
-from frontier_rl.evaluation.experiment import ExperimentConfig, identity
-from frontier_rl.evaluation.results import ResultStore, adopt_rows
+from frontier_rl.evaluation.results.config_diff import contrast, differences_between
+from frontier_rl.evaluation.results.episode_record import ROW_COLUMNS
+from frontier_rl.evaluation.results.store import ResultStore, adopt_rows
+from frontier_rl.evaluation.running.evaluate import evaluate
+from frontier_rl.evaluation.running.experiment import ExperimentConfig, identity
 
 pytestmark = pytest.mark.slow  # experiments resumed from damaged results folders
 

@@ -10,9 +10,9 @@ from scipy import stats
 
 from frontier_rl.errors import ConfigError
 from frontier_rl.evaluation import compare_methods, paired_stats, table_4_1
-from frontier_rl.evaluation.statistics import holm_adjust
-from frontier_rl.evaluation.summary import PairedSummary
-from frontier_rl.evaluation.tables import p_value
+from frontier_rl.evaluation.report.table import p_value
+from frontier_rl.evaluation.results.summary import PairedSummary
+from frontier_rl.evaluation.statistics.paired import holm_adjust
 
 BASE = [10.0, 12.0, 14.0, 16.0]
 FAST = [9.0, 11.0, 12.0, 15.0]  # savings 1, 1, 2, 1

@@ -12,8 +12,8 @@ from typer.testing import CliRunner
 from frontier_rl.cli import app
 from frontier_rl.core.sim.config import SimConfig
 from frontier_rl.errors import ConfigError
-from frontier_rl.evaluation.evaluate import evaluate
-from frontier_rl.evaluation.experiment import ExperimentConfig, identity, team_methods
+from frontier_rl.evaluation.running.evaluate import evaluate
+from frontier_rl.evaluation.running.experiment import ExperimentConfig, identity, team_methods
 from frontier_rl.swarm import Failure, Strategy, TeamMethod
 
 pytestmark = pytest.mark.slow  # team experiments

@@ -16,7 +16,7 @@ from pathlib import Path
 
 import pytest
 
-from frontier_rl.evaluation.worker_pool import RemoteTracebackError, WorkerDiedError, WorkerPool
+from frontier_rl.evaluation.running.worker_pool import RemoteTracebackError, WorkerDiedError, WorkerPool
 from frontier_rl.worker_signals import interrupts_held
 
 #: Closing is timed (within 3 s) and Ctrl-C is sent to this process: ``make test`` runs these alone.

@@ -8,7 +8,7 @@ from typing import Any
 
 import pytest
 
-from frontier_rl.evaluation import backends
+from frontier_rl.evaluation.running import backends
 
 
 def test_a_workers_warnings_are_raised_again_in_the_parent() -> None:

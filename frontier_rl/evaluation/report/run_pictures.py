@@ -11,8 +11,8 @@ from pathlib import Path
 from PIL import Image
 
 from frontier_rl.core.sim.episode import run_episode, warm_up
-from frontier_rl.evaluation.experiment import EpisodeJob, ExperimentConfig, job_parts
-from frontier_rl.evaluation.tables import short_labels
+from frontier_rl.evaluation.report.table import short_labels
+from frontier_rl.evaluation.running.experiment import EpisodeJob, ExperimentConfig, job_parts
 from frontier_rl.recording import EpisodeRecorder, save_team_png
 from frontier_rl.render import save_image
 from frontier_rl.swarm import run_team_episode

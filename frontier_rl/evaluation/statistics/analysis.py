@@ -1,5 +1,5 @@
 """From an experiment's rows to its summary: paired statistics, outlier cuts, the oracle ratio,
-team scaling, as the typed values of :mod:`frontier_rl.evaluation.summary` (which writes them as
+team scaling, as the typed values of :mod:`frontier_rl.evaluation.results.summary` (which writes them as
 ``summary.json`` and reads them back)."""
 
 from __future__ import annotations
@@ -12,10 +12,16 @@ import numpy as np
 from scipy import stats as scipy_stats
 
 from frontier_rl.core.sim.episode_log import EndReason
-from frontier_rl.evaluation.episode_record import EpisodeRow, Key
-from frontier_rl.evaluation.experiment import ORACLE, ExperimentConfig
-from frontier_rl.evaluation.statistics import compare_methods, holm_adjust
-from frontier_rl.evaluation.summary import ExperimentSummary, MethodSummary, OutlierCut, OutlierSummary, TeamPoint
+from frontier_rl.evaluation.results.episode_record import EpisodeRow, Key
+from frontier_rl.evaluation.results.summary import (
+    ExperimentSummary,
+    MethodSummary,
+    OutlierCut,
+    OutlierSummary,
+    TeamPoint,
+)
+from frontier_rl.evaluation.running.experiment import ORACLE, ExperimentConfig
+from frontier_rl.evaluation.statistics.paired import compare_methods, holm_adjust
 from frontier_rl.swarm.config import TeamMethod
 
 Rows = Mapping[Key, EpisodeRow]

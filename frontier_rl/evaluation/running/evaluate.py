@@ -13,13 +13,13 @@ from rich.progress import BarColumn, MofNCompleteColumn, Progress, TextColumn, T
 
 from frontier_rl.atomic_write import OutputWriteError
 from frontier_rl.errors import ConfigError, short_repr
-from frontier_rl.evaluation.backends import EpisodeFailedError, check_backend, default_workers, run_jobs
-from frontier_rl.evaluation.episode_record import EpisodeOutcome
-from frontier_rl.evaluation.experiment import ExperimentConfig, check_methods, identity
-from frontier_rl.evaluation.report import write_report
-from frontier_rl.evaluation.results import ResultStore
-from frontier_rl.evaluation.run_pictures import draw_runs
-from frontier_rl.evaluation.statistics import THESIS_OUTLIERS_S
+from frontier_rl.evaluation.report.run_pictures import draw_runs
+from frontier_rl.evaluation.report.writer import write_report
+from frontier_rl.evaluation.results.episode_record import EpisodeOutcome
+from frontier_rl.evaluation.results.store import ResultStore
+from frontier_rl.evaluation.running.backends import EpisodeFailedError, check_backend, default_workers, run_jobs
+from frontier_rl.evaluation.running.experiment import ExperimentConfig, check_methods, identity
+from frontier_rl.evaluation.statistics.paired import THESIS_OUTLIERS_S
 
 DEFAULT_OUTLIERS_S = THESIS_OUTLIERS_S
 """The outlier thresholds (s) of an evaluation: the thesis's."""

@@ -10,7 +10,7 @@ import os
 from dataclasses import dataclass
 from pathlib import Path
 
-from frontier_rl.evaluation.tables import Table
+from frontier_rl.evaluation.report.table import Table
 
 
 @dataclass(frozen=True)

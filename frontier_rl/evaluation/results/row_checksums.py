@@ -1,5 +1,5 @@
 """The checksums that bind an episode's row (a line of ``episodes.csv``) to its experiment, its
-method and its trace (see :mod:`frontier_rl.evaluation.results` for how they are used)."""
+method and its trace (see :mod:`frontier_rl.evaluation.results.store` for how they are used)."""
 
 from __future__ import annotations
 

@@ -1,6 +1,6 @@
 """The experiment's report: ``summary.json``, the figures, ``report.md`` and a self-contained
 ``report.html``, all from the rows and traces of the results folder (and the runs drawn by
-:mod:`~frontier_rl.evaluation.run_pictures`).
+:mod:`~frontier_rl.evaluation.report.run_pictures`).
 
 The page reads like a results section: the conclusion first, then the methods, the exploration
 times with their statistics, the figures with how to read them, the runs, and the other metrics.
@@ -14,17 +14,17 @@ from pathlib import Path
 
 from frontier_rl.atomic_write import write_text_atomic
 from frontier_rl.core.frontiers.thesis import THESIS_WEIGHT
-from frontier_rl.evaluation.analysis import paired_times, summarise
-from frontier_rl.evaluation.conclusion import conclude
-from frontier_rl.evaluation.episode_record import EpisodeTrace
-from frontier_rl.evaluation.experiment import ExperimentConfig
-from frontier_rl.evaluation.plots import box_plot, coverage_plot, paired_scatter, team_size_plot, weight_plot
-from frontier_rl.evaluation.report_page import Block, Figure, Heading, Paragraph, render_html, render_markdown
-from frontier_rl.evaluation.report_tables import methods_table, outcome_tables, outlier_note, time_tables
-from frontier_rl.evaluation.results import ResultStore
-from frontier_rl.evaluation.run_pictures import RunPicture
-from frontier_rl.evaluation.summary import SUMMARY_FILE, ExperimentSummary
-from frontier_rl.evaluation.tables import Table, short_labels
+from frontier_rl.evaluation.report.conclusion import conclude
+from frontier_rl.evaluation.report.page import Block, Figure, Heading, Paragraph, render_html, render_markdown
+from frontier_rl.evaluation.report.plots import box_plot, coverage_plot, paired_scatter, team_size_plot, weight_plot
+from frontier_rl.evaluation.report.run_pictures import RunPicture
+from frontier_rl.evaluation.report.table import Table, short_labels
+from frontier_rl.evaluation.report.tables import methods_table, outcome_tables, outlier_note, time_tables
+from frontier_rl.evaluation.results.episode_record import EpisodeTrace
+from frontier_rl.evaluation.results.store import ResultStore
+from frontier_rl.evaluation.results.summary import SUMMARY_FILE, ExperimentSummary
+from frontier_rl.evaluation.running.experiment import ExperimentConfig
+from frontier_rl.evaluation.statistics.analysis import paired_times, summarise
 
 _FILES_NOTE = (
     "Files: episodes.csv (one row per episode), traces.jsonl (coverage curves, weights), checksums.jsonl (each "

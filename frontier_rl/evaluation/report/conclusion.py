@@ -7,9 +7,9 @@ import math
 from collections.abc import Callable, Mapping
 from dataclasses import dataclass
 
-from frontier_rl.evaluation.experiment import ORACLE
-from frontier_rl.evaluation.summary import ExperimentSummary, MethodSummary
-from frontier_rl.evaluation.tables import SIGNIFICANCE, number, p_value
+from frontier_rl.evaluation.report.table import SIGNIFICANCE, number, p_value
+from frontier_rl.evaluation.results.summary import ExperimentSummary, MethodSummary
+from frontier_rl.evaluation.running.experiment import ORACLE
 
 _REASONS = {
     "unreachable": "unreachable: frontiers were left, none of them reachable for a robot of this size or "

@@ -1,6 +1,6 @@
 """Where an experiment's episodes run: in this process, in a process pool, or as Ray tasks.
 
-Every backend calls :func:`~frontier_rl.evaluation.experiment.run_job` with the same arguments,
+Every backend calls :func:`~frontier_rl.evaluation.running.experiment.run_job` with the same arguments,
 so the rows are the same whichever ran them (only ``wall_time_s`` is a measurement of the machine).
 Results are handed to ``on_result`` as episodes finish, in completion order.
 """
@@ -16,9 +16,9 @@ from collections.abc import Callable, Generator
 from typing import Any
 
 from frontier_rl.errors import ConfigError, FrontierRLError
-from frontier_rl.evaluation.episode_record import EpisodeOutcome
-from frontier_rl.evaluation.experiment import EpisodeJob, EpisodeSettings, run_job
-from frontier_rl.evaluation.worker_pool import WorkerPool
+from frontier_rl.evaluation.results.episode_record import EpisodeOutcome
+from frontier_rl.evaluation.running.experiment import EpisodeJob, EpisodeSettings, run_job
+from frontier_rl.evaluation.running.worker_pool import WorkerPool
 
 BACKENDS = ("serial", "process", "ray")
 ResultHandler = Callable[[EpisodeOutcome], None]

@@ -1,6 +1,6 @@
 """An experiment's ``summary.json`` as typed values: :class:`ExperimentSummary` and the summaries in it.
 
-``frontier-rl evaluate`` writes the file (:mod:`frontier_rl.evaluation.analysis` lays it out);
+``frontier-rl evaluate`` writes the file (:mod:`frontier_rl.evaluation.statistics.analysis` lays it out);
 :meth:`ExperimentSummary.load` reads it back, checking every field it reads, so that a script never
 digs through nested dicts. Numbers the file leaves undefined (``null``: a p-value of two methods whose
 times never differ, a ratio without the oracle) are None here; fields an older file lacks are None too.
@@ -16,7 +16,7 @@ from pathlib import Path
 from typing import Any, TypeVar
 
 from frontier_rl.errors import ConfigError, short_path, short_repr
-from frontier_rl.evaluation.statistics import PairedStats
+from frontier_rl.evaluation.statistics.paired import PairedStats
 
 SUMMARY_FILE = "summary.json"
 """The summary's file name in a results folder."""

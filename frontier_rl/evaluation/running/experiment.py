@@ -25,7 +25,7 @@ from frontier_rl.core.sim.metrics import sample_step
 from frontier_rl.core.world.catalog import WORLD_GENERATORS
 from frontier_rl.core.world.worlds import World
 from frontier_rl.errors import ConfigError, model_file_label, short_repr
-from frontier_rl.evaluation.episode_record import EpisodeOutcome, EpisodeRow, EpisodeTrace
+from frontier_rl.evaluation.results.episode_record import EpisodeOutcome, EpisodeRow, EpisodeTrace
 from frontier_rl.policies import PolicySpec, make_policy
 from frontier_rl.policies.user_policies import user_policy_fingerprint
 from frontier_rl.swarm import Failure, Strategy, TeamConfig, TeamMethod, TeamResult, run_team_episode

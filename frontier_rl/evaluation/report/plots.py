@@ -17,8 +17,8 @@ from matplotlib.figure import Figure
 from frontier_rl.atomic_write import save_figure_atomic
 from frontier_rl.core.frontiers.thesis import THESIS_WEIGHT
 from frontier_rl.core.sim.metrics import sample_step
-from frontier_rl.evaluation.episode_record import EpisodeTrace
-from frontier_rl.evaluation.summary import TeamPoint
+from frontier_rl.evaluation.results.episode_record import EpisodeTrace
+from frontier_rl.evaluation.results.summary import TeamPoint
 
 _DPI = 110
 

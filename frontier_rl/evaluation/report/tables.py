@@ -9,12 +9,8 @@ from collections.abc import Mapping, Sequence
 
 import numpy as np
 
-from frontier_rl.evaluation.episode_record import EpisodeTrace
-from frontier_rl.evaluation.experiment import ORACLE, ExperimentConfig
-from frontier_rl.evaluation.method_notes import describe_method
-from frontier_rl.evaluation.statistics import THESIS_OUTLIERS_S
-from frontier_rl.evaluation.summary import ExperimentSummary, MethodSummary, OutlierCut, PairedSummary
-from frontier_rl.evaluation.tables import (
+from frontier_rl.evaluation.report.method_notes import describe_method
+from frontier_rl.evaluation.report.table import (
     TABLE_4_1_HEADER,
     Table,
     completion_table,
@@ -24,6 +20,10 @@ from frontier_rl.evaluation.tables import (
     short_labels,
     table_4_1_row,
 )
+from frontier_rl.evaluation.results.episode_record import EpisodeTrace
+from frontier_rl.evaluation.results.summary import ExperimentSummary, MethodSummary, OutlierCut, PairedSummary
+from frontier_rl.evaluation.running.experiment import ORACLE, ExperimentConfig
+from frontier_rl.evaluation.statistics.paired import THESIS_OUTLIERS_S
 from frontier_rl.swarm.config import TeamMethod
 
 TeamTraces = Mapping[str, Sequence[EpisodeTrace]]

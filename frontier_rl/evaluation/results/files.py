@@ -14,7 +14,7 @@ from frontier_rl import atomic_write
 from frontier_rl.atomic_write import OutputWriteError, describe_os_error
 from frontier_rl.bounded_read import UnreadableFileError, read_bounded
 from frontier_rl.errors import ConfigError, short_repr
-from frontier_rl.evaluation.episode_record import Key
+from frontier_rl.evaluation.results.episode_record import Key
 
 MAX_RESULT_FILE_BYTES = 1 << 30
 """Largest results file read (bytes): the traces of some 300,000 episodes (about 3 kB each). A

@@ -1,6 +1,6 @@
 """An experiment's folder: its identity, the rows and traces written as episodes finish, resume.
 
-``OUT/experiment.json`` records what the rows depend on (:func:`~frontier_rl.evaluation.experiment.identity`);
+``OUT/experiment.json`` records what the rows depend on (:func:`~frontier_rl.evaluation.running.experiment.identity`);
 a rerun with a different seed, worlds or settings, or a changed model file under the same method
 name, is refused rather than mixed, and the refusal lists each setting that differs with its
 value there and now. ``OUT/episodes.csv`` gets one row per finished episode,
@@ -13,7 +13,7 @@ uninterrupted one (up to the wall times, and so the checksums).
 
 Row checksums: each line of ``checksums.jsonl`` holds a row's key (method, world, episode), the
 SHA-256 of its trace line in ``traces.jsonl`` and the SHA-256 of (the scheme's name
-:data:`~frontier_rl.evaluation.row_checksums.CHECKSUM_SCHEME`, the experiment id, the method's
+:data:`~frontier_rl.evaluation.results.row_checksums.CHECKSUM_SCHEME`, the experiment id, the method's
 fingerprint, the row's CSV line as written, the trace's SHA-256). The experiment id is the SHA-256
 of ``experiment.json`` without its methods (seed, worlds with their map hashes, resolution,
 simulator and team settings), so a row binds to this experiment's
@@ -44,17 +44,17 @@ except ImportError:  # pragma: no cover - not POSIX
 
 from frontier_rl.atomic_write import write_text_atomic
 from frontier_rl.errors import ConfigError, short_repr, short_text
-from frontier_rl.evaluation.config_diff import ABSENT, contrast, describe_differences, differences_between
-from frontier_rl.evaluation.episode_record import ROW_COLUMNS, EpisodeOutcome, EpisodeRow, EpisodeTrace, Key
-from frontier_rl.evaluation.experiment import EpisodeJob
-from frontier_rl.evaluation.result_files import (
+from frontier_rl.evaluation.results.config_diff import ABSENT, contrast, describe_differences, differences_between
+from frontier_rl.evaluation.results.episode_record import ROW_COLUMNS, EpisodeOutcome, EpisodeRow, EpisodeTrace, Key
+from frontier_rl.evaluation.results.files import (
     append_synced,
     complete_lines,
     decode_utf8,
     keyed_lines,
     read_result_file,
 )
-from frontier_rl.evaluation.row_checksums import experiment_id, row_checksum, sha256_hex
+from frontier_rl.evaluation.results.row_checksums import experiment_id, row_checksum, sha256_hex
+from frontier_rl.evaluation.running.experiment import EpisodeJob
 
 _QUOTE_CHARS = 60
 """Values from files are quoted in messages up to this many characters."""
@@ -207,7 +207,7 @@ class ResultStore:
                     f"{self.csv_path} holds {len(self.rows)} episodes but {self.checksum_path.name} is missing: the "
                     "folder was written by a frontier_rl without row checksums (or the file was deleted), so its "
                     "rows cannot be checked; choose another --out and run the experiment again (or, if you trust "
-                    "these rows, adopt them once with frontier_rl.evaluation.results.adopt_rows)"
+                    "these rows, adopt them once with frontier_rl.evaluation.results.store.adopt_rows)"
                 )
         for key in self.rows:
             self._verify(key, row_numbers[key], traces.get(key), checksums.get(key))

@@ -10,8 +10,8 @@ from dataclasses import dataclass, field
 from pathlib import Path
 
 from frontier_rl.errors import ConfigError, UnknownNameError
-from frontier_rl.evaluation.statistics import PairedStats
-from frontier_rl.evaluation.summary import MethodSummary, PairedSummary
+from frontier_rl.evaluation.results.summary import MethodSummary, PairedSummary
+from frontier_rl.evaluation.statistics.paired import PairedStats
 from frontier_rl.swarm.config import TeamMethod
 
 
