@@ -14,8 +14,8 @@ into ``OUT/worst/``.
 from __future__ import annotations
 
 import argparse
-import csv
 import json
+import math
 import subprocess
 import sys
 from collections import Counter, defaultdict
@@ -25,6 +25,7 @@ from statistics import mean
 
 from frontier_rl.atomic_write import write_text_atomic
 from frontier_rl.core.sim.leg import AbortCause
+from frontier_rl.evaluation.results.episode_record import EpisodeRow, EpisodeTrace
 
 MAPS = (
     "aws_bookstore",
@@ -89,29 +90,29 @@ def run_map(frontier_rl: Path, world: str, methods: str, episodes: int, out: Pat
 
 
 def read_episodes(folder: Path) -> list[Episode]:
-    """The episodes of one map's results folder."""
+    """The episodes of one map's results folder (its rows and traces, read by their codecs)."""
     traces = {}
     for line in (folder / "traces.jsonl").read_text().splitlines():
-        trace = json.loads(line)
-        traces[(trace["method"], trace["episode"])] = trace
+        trace = EpisodeTrace.from_json(json.loads(line))
+        traces[(trace.method, trace.episode)] = trace
     found = []
-    with (folder / "episodes.csv").open(newline="") as handle:
-        for row in csv.DictReader(handle):
-            trace = traces[(row["method"], int(row["episode"]))]
-            found.append(
-                Episode(
-                    row["world"],
-                    row["method"],
-                    int(row["seed"]),
-                    row["end_reason"],
-                    float(row["coverage"]),
-                    float(row["sim_time_s"]),
-                    float(trace.get("explorable_left_m2", "nan")),
-                    Counter(trace.get("aborts_by_cause", {})),
-                    int(trace.get("frontiers_with_path_left", 0)),
-                    int(trace.get("frontiers_unrevealable_left", 0)),
-                )
+    for line in (folder / "episodes.csv").read_text().splitlines()[1:]:  # the first is the header
+        row = EpisodeRow.from_csv_line(line)
+        trace = traces[(row.method, row.episode)]
+        found.append(
+            Episode(
+                row.world,
+                row.method,
+                row.seed,
+                str(row.end_reason),
+                row.coverage,
+                row.sim_time_s,
+                math.nan if trace.explorable_left_m2 is None else trace.explorable_left_m2,
+                Counter(trace.aborts_by_cause),
+                trace.frontiers_with_path_left or 0,
+                trace.frontiers_unrevealable_left or 0,
             )
+        )
     return found
 
 
