@@ -191,8 +191,8 @@ def explore(
 ) -> None:
     """Explore with Nav2: rank the map's frontiers with a policy and send the best as goals.
 
-    The settings are also the node's ROS parameters: after --ros-args, -p NAME:=VALUE or
-    --params-file FILE override them, and ros2 param set changes them while it explores."""
+    The settings are also the node's ROS parameters: after --ros-args, -p NAME:=VALUE overrides
+    them, and ros2 param set changes them while it explores."""
     ros_args = _ros_args(ctx.args)
     checked_seed(seed)
     options = dict(
