@@ -46,8 +46,15 @@ class LearnedPolicy:
     sim: SimConfig = field(default_factory=SimConfig)
 
     def __post_init__(self) -> None:
-        # torch is imported only for learned policies
-        from frontier_rl.inference.actor import load_actor
+        try:  # torch is imported only for learned policies
+            from frontier_rl.inference.actor import load_actor
+        except ImportError as error:
+            if error.name != "torch":
+                raise
+            raise ConfigError(
+                f"{model_file_label(Path(self.path))} is a learned policy, which needs PyTorch: "
+                "pip install 'frontier_rl[models]' (or [rl], to train as well)"
+            ) from None
 
         self.path = Path(self.path)
         self._actor: Actor

@@ -111,6 +111,18 @@ def test_running_a_model_imports_neither_gymnasium_nor_sb3() -> None:
     assert done.stdout.strip() == "[]", done.stdout
 
 
+def test_without_pytorch_a_learned_policy_is_one_line_naming_the_extra() -> None:
+    script = (
+        "import sys\n"
+        "sys.modules['torch'] = None\n"  # as if PyTorch were not installed
+        "from frontier_rl.policies import make_policy\n"
+        f"make_policy('learned:{REPO / 'models' / 'model7.zip'}')\n"
+    )
+    done = subprocess.run([sys.executable, "-c", script], capture_output=True, text=True, timeout=120)
+    assert done.returncode != 0
+    assert "needs PyTorch: pip install 'frontier_rl[models]'" in done.stderr.strip().splitlines()[-1]
+
+
 def test_every_algorithm_a_file_may_name_has_an_sb3_class() -> None:
     assert tuple(SB3_ALGORITHMS) == ALGORITHMS
 
