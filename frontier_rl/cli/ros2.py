@@ -177,6 +177,9 @@ def explore(
     visualize: Annotated[bool, typer.Option(help="Publish RViz markers on explore/frontiers.")] = True,
     time_cap: Annotated[float, typer.Option(help="Stop exploring after this long (s; 0: never).")] = 0.0,
     namespace: Annotated[str, typer.Option(help="The robot's namespace.")] = "",
+    teammates: Annotated[
+        str, typer.Option(help="Teammates' namespaces (tb3_1,tb3_2): their maps are merged into this robot's.")
+    ] = "",
     pose_topic: Annotated[str, typer.Option(help="Where the robot's pose is published.")] = "pose",
     pose_type: Annotated[str, typer.Option(help="pose (PoseWithCovarianceStamped) or odom (Odometry).")] = "pose",
     use_sim_time: Annotated[bool, typer.Option(help="Time from /clock (a simulator's).")] = False,
@@ -203,23 +206,32 @@ def explore(
         visualize=visualize,
     )
     params, visualize = _explorer_settings(ctx, params_file, options, time_cap)
-    if not (math.isfinite(goal_silence_timeout) and goal_silence_timeout > 0):
-        fail(f"--goal-silence-timeout must be a positive number of seconds, got {goal_silence_timeout!r}")
-    _check_pose_type(pose_type)
+    node = _node_options(namespace, teammates, pose_type, goal_silence_timeout)
     _need_ros2()
     _explore_with(
         policy,
         params,
         json_out,
-        namespace=namespace,
+        **node,
         pose_topic=pose_topic,
-        pose_type=pose_type,
         visualize=visualize,
         use_sim_time=use_sim_time,
         seed=seed,
-        goal_silence_timeout=goal_silence_timeout,
         ros_args=ros_args,
     )
+
+
+def _node_options(namespace: str, teammates: str, pose_type: str, goal_silence_timeout: float) -> dict[str, Any]:
+    """The explorer node's options that need a check: one line naming a bad one."""
+    if not (math.isfinite(goal_silence_timeout) and goal_silence_timeout > 0):
+        fail(f"--goal-silence-timeout must be a positive number of seconds, got {goal_silence_timeout!r}")
+    _check_pose_type(pose_type)
+    return {
+        "namespace": namespace,
+        "teammates": _teammates(teammates, namespace),
+        "pose_type": pose_type,
+        "goal_silence_timeout": goal_silence_timeout,
+    }
 
 
 def _explorer_settings(
@@ -230,6 +242,16 @@ def _explorer_settings(
     options = _with_parameter_file(ctx, params_file, options)
     visualize = bool(options.pop("visualize"))
     return _explorer_params(**options, time_cap=time_cap), visualize
+
+
+def _teammates(value: str, namespace: str) -> tuple[str, ...]:
+    """``--teammates`` as namespaces (``tb3_1,tb3_2``): each once, none empty, not this robot's."""
+    if not value.strip():
+        return ()
+    names = [name.strip().strip("/") for name in value.split(",")]
+    if "" in names or namespace.strip("/") in names or len(set(names)) < len(names):
+        fail(f"--teammates must name other robots' namespaces, each once, got {value!r}")
+    return tuple(names)
 
 
 def _ros_args(extra: list[str]) -> tuple[str, ...]:

@@ -14,6 +14,7 @@ from __future__ import annotations
 import json
 import math
 import time
+from collections.abc import Sequence
 from dataclasses import asdict, dataclass
 from typing import Any
 
@@ -36,6 +37,7 @@ from frontier_rl.core.world.grid import OccupancyGrid
 from frontier_rl.core.world.robot import Pose
 from frontier_rl.errors import ConfigError, MapError
 from frontier_rl.robot.explorer import Finished, FrontierExplorer, Goal
+from frontier_rl.robot.map_merge import merged_map, misfit
 from frontier_rl.robot.throttled_log import ThrottledLog
 from frontier_rl.ros2.explorer_parameters import ExplorerSettings, declare_explorer_parameters
 from frontier_rl.ros2.messages import MAP_QOS, frontier_markers, grid_of, pose_stamped, robot_pose
@@ -92,6 +94,9 @@ class ExplorerNode(Node):
         goal_silence_timeout: a goal that Nav2 says nothing of (no response, feedback or result) for
             this long (wall s) is dropped, not blacklisted: its action server went away.
         policy_name: the policy as given, shown as the read-only parameter ``policy``.
+        teammates: the namespaces of robots whose maps (``/NAMESPACE/map``, in this robot's map
+            frame) are merged into this one's (:func:`~frontier_rl.robot.map_merge.merged_map`):
+            the explorer does not send the robot where a teammate has been.
 
     The explorer's settings and ``visualize`` are the node's parameters
     (:mod:`frontier_rl.ros2.explorer_parameters`): ``--ros-args`` overrides them, ``ros2 param set``
@@ -110,6 +115,7 @@ class ExplorerNode(Node):
         namespace: str = "",
         goal_silence_timeout: float = 10.0,
         policy_name: str = "",
+        teammates: Sequence[str] = (),
     ) -> None:
         super().__init__("frontier_rl_explorer", namespace=namespace)
         if pose_type not in ("pose", "odom"):
@@ -125,6 +131,14 @@ class ExplorerNode(Node):
         self._coverage = -1.0
         self._warnings = ThrottledLog(_WARN_PERIOD_S)  # bad messages, per topic
         self.create_subscription(GridMessage, "map", self._on_map, MAP_QOS)
+        self._teammate_grids: dict[str, OccupancyGrid] = {}
+        for teammate in teammates:
+            self.create_subscription(
+                GridMessage,
+                f"/{teammate}/map",
+                lambda message, name=teammate: self._on_teammate_map(name, message),
+                MAP_QOS,
+            )
         kind = PoseWithCovarianceStamped if pose_type == "pose" else Odometry
         self.create_subscription(kind, pose_topic, self._on_pose, 10)
         self.create_subscription(Float32, "coverage", self._on_coverage, MAP_QOS)
@@ -165,6 +179,27 @@ class ExplorerNode(Node):
             self._grid = grid_of(message)
         except MapError as error:
             self._warn("map", f"map ignored: {error}")
+
+    def _on_teammate_map(self, teammate: str, message: GridMessage) -> None:
+        try:
+            grid = grid_of(message)
+            if teammate not in self._teammate_grids:
+                self.get_logger().info(f"merging the map of {teammate}")
+            self._teammate_grids[teammate] = grid
+        except MapError as error:
+            self._warn(f"/{teammate}/map", f"map of {teammate} ignored: {error}")
+
+    def _map(self, own: OccupancyGrid) -> OccupancyGrid:
+        """The map to explore: this robot's, merged with its teammates' (a teammate's map that does
+        not fit is left out, with a warning)."""
+        fitting = []
+        for teammate, grid in self._teammate_grids.items():
+            problem = misfit(own, grid)
+            if problem:
+                self._warn(f"/{teammate}/map", f"map of {teammate} not merged: {problem}")
+            else:
+                fitting.append(grid)
+        return merged_map(own, fitting)
 
     def _on_pose(self, message: PoseWithCovarianceStamped | Odometry) -> None:
         try:
@@ -212,7 +247,7 @@ class ExplorerNode(Node):
             return
         self._last_tick_s = now
         self._goal_ended = False
-        decision = self.explorer.tick(self._grid, self._pose, now)
+        decision = self.explorer.tick(self._map(self._grid), self._pose, now)
         if isinstance(decision, Goal):
             self._send(decision)
         elif isinstance(decision, Finished):

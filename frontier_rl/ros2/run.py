@@ -109,12 +109,14 @@ def run_explorer(
     goal_silence_timeout: float = 10.0,
     policy_name: str = "",
     ros_args: Sequence[str] = (),
+    teammates: Sequence[str] = (),
 ) -> tuple[ExplorerStatus, str]:
     """Explore with ``policy`` through Nav2 (:class:`ExplorerNode`) until the map is explored (or
     Ctrl-C, SIGTERM): the explorer's last status (``state`` is ``finished`` unless it was
     interrupted) and its summary line.
     ``seed`` seeds the policy's randomness as an in-process episode of that seed does;
-    ``ros_args`` (``--ros-args ...``) go to ROS: parameter overrides, remappings.
+    ``ros_args`` (``--ros-args ...``) go to ROS: parameter overrides, remappings; the maps of
+    the robots in ``teammates`` (namespaces) are merged into this one's.
 
     Raises:
         ConfigError: ``ros_args`` override a parameter with a bad value.
@@ -123,7 +125,9 @@ def run_explorer(
     _, policy_rng = np.random.default_rng(seed).spawn(2)
     explorer = FrontierExplorer(policy, params, rng=policy_rng)
     try:
-        node = ExplorerNode(explorer, pose_topic, pose_type, visualize, namespace, goal_silence_timeout, policy_name)
+        node = ExplorerNode(
+            explorer, pose_topic, pose_type, visualize, namespace, goal_silence_timeout, policy_name, teammates
+        )
     except BaseException:
         rclpy.try_shutdown()
         raise

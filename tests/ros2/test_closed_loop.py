@@ -97,3 +97,31 @@ def test_a_team_of_two_robots_in_namespaces_each_explores_the_world(tmp_path: Pa
             logs
         )
     assert "tb3_0:" in logs and "tb3_1:" in logs  # the simulator's line per robot
+
+
+def test_a_team_that_merges_its_maps_ends_when_the_merged_map_is_explored(tmp_path: Path) -> None:
+    """Each explorer merges its teammate's map (``--teammates``) into its own: both end on the merged
+    map, before either has mapped the world by itself (run here: 362 s against 539 s for the same
+    team without merging, the robots' own maps at 81 % and 65 %). The simulated robot plans on its
+    own map, as Nav2 does on the robot's own SLAM map: a frontier that only the teammate's map leads
+    to can be out of its reach, and is given up (two runs in eight here ended ``unreachable`` with
+    about 0.3 m² unknown left beside such frontiers)."""
+    frontier_rl = shlex.quote(cli())
+    explore = f"timeout --preserve-status -s INT 120 {frontier_rl} ros2 explore --json --use-sim-time"
+    script = (
+        f"{frontier_rl} ros2 sim --world office --seed 3 --rate 40 --robots 2 > sim.log 2>&1 & sim=$!; "
+        f"{explore} --namespace tb3_1 --teammates tb3_0 --seed 1 > explore1.log 2> explore1.err & other=$!; "
+        f"{explore} --namespace tb3_0 --teammates tb3_1 --seed 3 > explore0.log 2> explore0.err; status=$?; "
+        "wait $other; status1=$?; kill -INT $sim; wait $sim; exit $((status + status1))"
+    )
+    done = run_in_loopback(script, tmp_path, 150)
+    logs = "\n".join(p.read_text() for p in sorted(tmp_path.glob("*.log")) + sorted(tmp_path.glob("*.err")))
+    assert done.returncode == 0, logs
+    statuses = [json.loads((tmp_path / f"explore{r}.log").read_text().strip().splitlines()[-1]) for r in (0, 1)]
+    for status in statuses:
+        assert status["state"] == "finished", logs
+        assert status["reason"] == "explored" or (status["reason"] == "unreachable" and status["unknown_m2"] < 0.5), (
+            logs
+        )
+    assert "merging the map of tb3_1" in logs and "merging the map of tb3_0" in logs
+    assert min(s["coverage"] for s in statuses) < 0.95, logs  # one stopped before mapping it all itself
