@@ -73,29 +73,38 @@ def test_a_simulator_killed_and_restarted_is_explored_to_the_end(tmp_path: Path)
     assert "no word from navigate_to_pose" in log
 
 
+def _run_team(home: Path, merge: bool) -> tuple[list[dict[str, object]], str]:
+    """``ros2 sim --robots 2`` on office and an explorer per namespace (each merging the other's map
+    with ``merge``): their last JSON statuses and every log; both must end, each either explored or
+    unreachable with less than 0.5 m² unknown beside its frontiers (see the tests)."""
+    frontier_rl = shlex.quote(cli())
+    explore = f"timeout --preserve-status -s INT 120 {frontier_rl} ros2 explore --json --use-sim-time"
+    mates = ("--teammates tb3_0", "--teammates tb3_1") if merge else ("", "")
+    script = (
+        f"{frontier_rl} ros2 sim --world office --seed 3 --rate 40 --robots 2 > sim.log 2>&1 & sim=$!; "
+        f"{explore} --namespace tb3_1 {mates[0]} --seed 1 > explore1.log 2> explore1.err & other=$!; "
+        f"{explore} --namespace tb3_0 {mates[1]} --seed 3 > explore0.log 2> explore0.err; status=$?; "
+        "wait $other; status1=$?; kill -INT $sim; wait $sim; exit $((status + status1))"
+    )
+    done = run_in_loopback(script, home, 150)
+    logs = "\n".join(p.read_text() for p in sorted(home.glob("*.log")) + sorted(home.glob("*.err")))
+    assert done.returncode == 0, logs
+    statuses = [json.loads((home / f"explore{r}.log").read_text().strip().splitlines()[-1]) for r in (0, 1)]
+    for status in statuses:
+        assert status["state"] == "finished", logs
+        unknown = status["unknown_m2"]
+        assert status["reason"] == "explored" or (status["reason"] == "unreachable" and unknown < 0.5), logs
+    return statuses, logs
+
+
 def test_a_team_of_two_robots_in_namespaces_each_explores_the_world(tmp_path: Path) -> None:
     """``ros2 sim --robots 2``: two robots in one world (each in its namespace, each the other's
     obstacle, each with its own map), an explorer per namespace; both map the world. A robot that
     finished first stands where it ended and may block its teammate's last small frontier (with
     the scheduling of a loaded machine, about one run in four): that one then ends ``unreachable``
     with less than 0.5 m² unknown beside it, and says so."""
-    frontier_rl = shlex.quote(cli())
-    explore = f"timeout --preserve-status -s INT 120 {frontier_rl} ros2 explore --json --use-sim-time"
-    script = (
-        f"{frontier_rl} ros2 sim --world office --seed 3 --rate 40 --robots 2 > sim.log 2>&1 & sim=$!; "
-        f"{explore} --namespace tb3_1 --seed 1 > explore1.log 2> explore1.err & other=$!; "
-        f"{explore} --namespace tb3_0 --seed 3 > explore0.log 2> explore0.err; status=$?; "
-        "wait $other; status1=$?; kill -INT $sim; wait $sim; exit $((status + status1))"
-    )
-    done = run_in_loopback(script, tmp_path, 150)
-    logs = "\n".join(p.read_text() for p in sorted(tmp_path.glob("*.log")) + sorted(tmp_path.glob("*.err")))
-    assert done.returncode == 0, logs
-    for robot in (0, 1):
-        status = json.loads((tmp_path / f"explore{robot}.log").read_text().strip().splitlines()[-1])
-        assert status["state"] == "finished" and status["coverage"] > 0.99, logs
-        assert status["reason"] == "explored" or (status["reason"] == "unreachable" and status["unknown_m2"] < 0.5), (
-            logs
-        )
+    statuses, logs = _run_team(tmp_path, merge=False)
+    assert all(s["coverage"] > 0.99 for s in statuses), logs
     assert "tb3_0:" in logs and "tb3_1:" in logs  # the simulator's line per robot
 
 
@@ -106,22 +115,6 @@ def test_a_team_that_merges_its_maps_ends_when_the_merged_map_is_explored(tmp_pa
     own map, as Nav2 does on the robot's own SLAM map: a frontier that only the teammate's map leads
     to can be out of its reach, and is given up (two runs in eight here ended ``unreachable`` with
     about 0.3 m² unknown left beside such frontiers)."""
-    frontier_rl = shlex.quote(cli())
-    explore = f"timeout --preserve-status -s INT 120 {frontier_rl} ros2 explore --json --use-sim-time"
-    script = (
-        f"{frontier_rl} ros2 sim --world office --seed 3 --rate 40 --robots 2 > sim.log 2>&1 & sim=$!; "
-        f"{explore} --namespace tb3_1 --teammates tb3_0 --seed 1 > explore1.log 2> explore1.err & other=$!; "
-        f"{explore} --namespace tb3_0 --teammates tb3_1 --seed 3 > explore0.log 2> explore0.err; status=$?; "
-        "wait $other; status1=$?; kill -INT $sim; wait $sim; exit $((status + status1))"
-    )
-    done = run_in_loopback(script, tmp_path, 150)
-    logs = "\n".join(p.read_text() for p in sorted(tmp_path.glob("*.log")) + sorted(tmp_path.glob("*.err")))
-    assert done.returncode == 0, logs
-    statuses = [json.loads((tmp_path / f"explore{r}.log").read_text().strip().splitlines()[-1]) for r in (0, 1)]
-    for status in statuses:
-        assert status["state"] == "finished", logs
-        assert status["reason"] == "explored" or (status["reason"] == "unreachable" and status["unknown_m2"] < 0.5), (
-            logs
-        )
+    statuses, logs = _run_team(tmp_path, merge=True)
     assert "merging the map of tb3_1" in logs and "merging the map of tb3_0" in logs
     assert min(s["coverage"] for s in statuses) < 0.95, logs  # one stopped before mapping it all itself
