@@ -12,9 +12,7 @@ Stable-Baselines3 when the caller trusts it (:mod:`frontier_rl.inference.sb3_zip
 from __future__ import annotations
 
 from pathlib import Path
-from typing import Any
 
-import numpy as np
 import torch
 from torch import nn
 
@@ -23,6 +21,7 @@ from frontier_rl.inference.bounded_zip import first_line
 from frontier_rl.inference.interface import Actor, Observation, ObservationShape
 from frontier_rl.inference.model_file import ModelInfo, check_fit, read_model
 from frontier_rl.inference.networks import FirstColumns, FrontierPool, FrontierScores, GridFeatures
+from frontier_rl.inference.tensors import observation_tensor
 from frontier_rl.observation.map_image import FRONTIER_FEATURES
 from frontier_rl.observation.weight_bins import WEIGHT_BINS
 from frontier_rl.registration import FRONTIER_CHOICE_MODELS, MODELS, POINT_MODELS, TABLE_MODELS, TOP_K
@@ -93,12 +92,12 @@ class ActorCritic(nn.Module):
         """``observation`` as a batch of one, as SB3 preprocesses it: the map image over 255, the
         rest as float32 (the same float32 division)."""
         if not isinstance(observation, dict):
-            return _tensor(observation, self._shape.image, image=True)
+            return observation_tensor(observation, self._shape.image, image=True)
         rows, length = self._shape.table_rows, self._shape.table_length
         return {
-            "map": _tensor(observation["map"], self._shape.image, image=True),
-            "frontiers": _tensor(observation["frontiers"], (length,), image=False),
-            "mask": _tensor(observation["mask"], (rows,), image=False),
+            "map": observation_tensor(observation["map"], self._shape.image, image=True),
+            "frontiers": observation_tensor(observation["frontiers"], (length,), image=False),
+            "mask": observation_tensor(observation["mask"], (rows,), image=False),
         }
 
     def act(self, observation: Observation) -> int:
@@ -109,16 +108,6 @@ class ActorCritic(nn.Module):
             logits = self.action_net(self.mlp_extractor.policy_net(features))
             normalized = logits - logits.logsumexp(dim=-1, keepdim=True)  # as torch's Categorical keeps them
             return int(torch.argmax(torch.softmax(normalized, dim=-1), dim=1).item())
-
-
-def _tensor(value: Any, shape: tuple[int, ...], image: bool) -> torch.Tensor:
-    array = np.asarray(value)
-    if image:
-        array = array.astype(np.float32) / np.float32(255.0)
-    array = np.ascontiguousarray(array, np.float32)
-    if not array.flags.writeable:  # torch shares the array's memory, and warns on a read-only one
-        array = array.copy()
-    return torch.from_numpy(array).reshape((-1, *shape))
 
 
 def load_actor(path: str | Path, trust: bool = False) -> tuple[Actor, ModelInfo | None]:

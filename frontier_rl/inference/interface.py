@@ -1,6 +1,7 @@
 """What a loaded model is to the code that runs it: the observation it reads, its shape and the
 :class:`Actor` protocol every loader's model follows (the plain-torch network of
-:mod:`frontier_rl.inference.actor`, a trusted SB3 policy of :mod:`frontier_rl.inference.sb3_zip`)."""
+:mod:`frontier_rl.inference.actor`, a trusted SB3 policy of :mod:`frontier_rl.inference.sb3_zip`).
+No torch here: the policies name these types without loading it."""
 
 from __future__ import annotations
 

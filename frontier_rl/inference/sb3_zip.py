@@ -27,6 +27,7 @@ from frontier_rl.errors import ConfigError, model_file_label, short_repr
 from frontier_rl.inference.bounded_zip import first_line
 from frontier_rl.inference.interface import Observation, ObservationShape
 from frontier_rl.inference.model_file import open_model
+from frontier_rl.inference.tensors import observation_tensor
 
 
 def network_input(policy: ActorCriticPolicy, observation: Any) -> torch.Tensor | dict[str, torch.Tensor]:
@@ -39,15 +40,12 @@ def network_input(policy: ActorCriticPolicy, observation: Any) -> torch.Tensor |
     if not all(isinstance(sub, gym.spaces.Box) for sub in spaces.values()):
         return preprocess_obs(policy.obs_to_tensor(observation)[0], space, normalize_images=policy.normalize_images)
     values = observation if isinstance(space, gym.spaces.Dict) else {"": observation}
-    tensors: dict[str, torch.Tensor] = {}
-    for key, sub in spaces.items():
-        value = np.asarray(values[key])
-        if policy.normalize_images and is_image_space(sub):
-            value = value.astype(np.float32) / np.float32(255.0)
-        value = np.ascontiguousarray(value, np.float32)
-        if not value.flags.writeable:  # torch shares the array's memory, and warns on a read-only one
-            value = value.copy()
-        tensors[key] = torch.from_numpy(value).reshape((-1, *(sub.shape or ()))).to(policy.device)
+    tensors = {
+        key: observation_tensor(values[key], sub.shape or (), policy.normalize_images and is_image_space(sub)).to(
+            policy.device
+        )
+        for key, sub in spaces.items()
+    }
     return tensors if isinstance(space, gym.spaces.Dict) else tensors[""]
 
 

@@ -18,7 +18,8 @@ from rcl_interfaces.msg import ParameterDescriptor
 from rclpy.exceptions import ParameterException
 from rclpy.node import Node
 
-from frontier_rl.errors import ConfigError, short_repr
+from frontier_rl.checked_values import coerce
+from frontier_rl.errors import ConfigError
 from frontier_rl.robot.explorer_params import ExplorerParams
 
 DESCRIPTIONS = {
@@ -55,7 +56,12 @@ class ExplorerSettings:
         Raises:
             ConfigError: a value of the wrong type or out of range, named.
         """
-        known = {name: _typed(name, value) for name, value in changes.items() if name in DESCRIPTIONS}
+        switches = {name for name, now in self.values().items() if isinstance(now, bool)}  # the others: numbers
+        known = {
+            name: coerce(bool if name in switches else float, value, f"parameter {name}")
+            for name, value in changes.items()
+            if name in DESCRIPTIONS
+        }
         visualize = bool(known.pop("visualize", self.visualize))
         if known.get("time_cap") == 0.0:
             known["time_cap"] = math.inf
@@ -75,18 +81,6 @@ class ExplorerSettings:
         except ValueError as error:
             raise ConfigError(f"parameter {error}") from None
         return ExplorerSettings(params, visualize)
-
-
-def _typed(name: str, value: object) -> bool | float:
-    """``value`` as parameter ``name`` holds it: True or False for a switch, a number (an integer
-    too: ``planner_frequency:=2``) as a float for the others."""
-    if name in ("return_to_init", "visualize"):
-        if isinstance(value, bool):
-            return value
-        raise ConfigError(f"parameter {name} must be true or false, got {short_repr(value)}")
-    if isinstance(value, int | float) and not isinstance(value, bool):
-        return float(value)
-    raise ConfigError(f"parameter {name} must be a number, got {short_repr(value)}")
 
 
 def declare_explorer_parameters(node: Node, settings: ExplorerSettings, policy: str) -> ExplorerSettings:
