@@ -58,14 +58,14 @@ class PairedSummary:
         low, high = stats.ci95_s
         return {
             "n": stats.n,
-            "mean_time_s": _defined(stats.mean_time_s),
-            "var_time_s": _defined(stats.var_time_s),
-            "mean_diff_s": _defined(stats.mean_diff_s),
-            "ci95_s": (_defined(low), _defined(high)),
-            "p_one_tailed": _defined(stats.p_one_tailed),
-            "p_two_tailed": _defined(stats.p_two_tailed),
-            "p_wilcoxon": _defined(stats.p_wilcoxon),
-            "reduction_pct": _defined(stats.reduction_pct),
+            "mean_time_s": defined(stats.mean_time_s),
+            "var_time_s": defined(stats.var_time_s),
+            "mean_diff_s": defined(stats.mean_diff_s),
+            "ci95_s": (defined(low), defined(high)),
+            "p_one_tailed": defined(stats.p_one_tailed),
+            "p_two_tailed": defined(stats.p_two_tailed),
+            "p_wilcoxon": defined(stats.p_wilcoxon),
+            "reduction_pct": defined(stats.reduction_pct),
         }
 
     def to_json(self) -> dict[str, Any]:
@@ -274,7 +274,8 @@ def _methods_json(methods: Mapping[str, PairedSummary]) -> dict[str, Any]:
     return {name: summary.to_json() for name, summary in methods.items()}
 
 
-def _defined(value: float) -> float | None:
+def defined(value: float) -> float | None:
+    """``value``, or None where it is undefined (NaN) or infinite: what a summary holds."""
     return value if math.isfinite(value) else None
 
 

@@ -19,6 +19,7 @@ from frontier_rl.evaluation.results.summary import (
     OutlierCut,
     OutlierSummary,
     TeamPoint,
+    defined,
 )
 from frontier_rl.evaluation.running.experiment import ORACLE, ExperimentConfig
 from frontier_rl.evaluation.statistics.paired import compare_methods, holm_adjust
@@ -61,7 +62,7 @@ def _outlier_cut(times: dict[str, list[float]], baseline: str, threshold: float)
         excluded = int(np.count_nonzero((t > threshold) | (base > threshold)))
         paired_base = stats.mean_time_s + stats.mean_diff_s  # the baseline's mean on the same episodes
         entries[method] = OutlierSummary(
-            **OutlierSummary.values_of(stats), excluded=excluded, baseline_mean_time_s=_finite(paired_base)
+            **OutlierSummary.values_of(stats), excluded=excluded, baseline_mean_time_s=defined(paired_base)
         )
     return OutlierCut(threshold, entries)
 
@@ -93,16 +94,16 @@ def _method_table(rows: Rows, config: ExperimentConfig, worlds: tuple[str, ...])
     times = paired_times(rows, config.methods, worlds, config.episodes)
     stats = compare_methods(times, config.baseline)
     oracle_mean = float(np.mean(times[ORACLE])) if ORACLE in times else math.nan
-    tested = {m: _finite(stats[m].p_one_tailed) for m in config.methods if m not in (config.baseline, ORACLE)}
+    tested = {m: defined(stats[m].p_one_tailed) for m in config.methods if m not in (config.baseline, ORACLE)}
     # a method tested on two or more pairs counts in the family even where its p is undefined
     holm = holm_adjust(tested, family_size=sum(stats[m].n >= 2 for m in tested))
     table: dict[str, MethodSummary] = {}
     for method in config.methods:
         own = [rows[(method, w, e)] for e in range(config.episodes) for w in worlds]
-        variance = _finite(stats[method].var_time_s)
+        variance = defined(stats[method].var_time_s)
         table[method] = MethodSummary(
             **MethodSummary.values_of(stats[method]),
-            std_time_s=_finite(math.sqrt(variance)) if variance is not None else None,
+            std_time_s=defined(math.sqrt(variance)) if variance is not None else None,
             p_holm=holm.get(method),
             median_time_s=float(np.median(times[method])),
             oracle_ratio=_ratio(float(np.mean(times[method])), oracle_mean),
@@ -130,10 +131,6 @@ def end_reasons(rows: Sequence[EpisodeRow]) -> dict[str, int]:
     counts = Counter(str(r.end_reason) for r in rows if r.end_reason is not None)
     standard = {reason.value: counts.pop(reason.value, 0) for reason in EndReason}
     return standard | dict(sorted(counts.items()))
-
-
-def _finite(value: float) -> float | None:
-    return value if math.isfinite(value) else None
 
 
 def _ratio(value: float, reference: float) -> float | None:
