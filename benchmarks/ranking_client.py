@@ -12,6 +12,7 @@ from __future__ import annotations
 
 import argparse
 import json
+import sys
 import time
 from pathlib import Path
 
@@ -56,6 +57,8 @@ class _Client:
             self.requests.get_subscription_count() == 0 or self.node.count_publishers("/frontier_status") == 0
         ):
             rclpy.spin_once(self.node, timeout_sec=0.1)
+        if self.requests.get_subscription_count() == 0 or self.node.count_publishers("/frontier_status") == 0:
+            sys.exit(f"ranking_client: no ranking service on /frontier_request within {_WAIT_S:g} s")
         time.sleep(1.0)  # the maps and poses reach the service
 
     def wait_for_maps(self, robots: list[str]) -> None:
@@ -69,6 +72,9 @@ class _Client:
                 self.probes += 1
             self.spin_for(0.2)
             ready |= {str(s["robot"]) for s in self.statuses if s["request"] == "probe" and s["frontiers"]}
+        if len(ready) < len(robots):
+            waiting = sorted(set(robots) - ready)
+            sys.exit(f"ranking_client: no answer with frontiers for {', '.join(waiting)} within {_WAIT_S:g} s")
         self.statuses = [s for s in self.statuses if s["request"] != "probe"]
 
     def spin_for(self, seconds: float) -> None:

@@ -91,7 +91,7 @@ def team_over_ros2(world: str, seed: int, robots: int, rate: float, requests: fl
         f"{frontier_rl} ros2 sim --world {world} --seed {seed} --rate {rate:g} --robots {robots} > sim.log 2>&1 & "
         f"sim=$!; {frontier_rl} ros2 rank --robots {names} > rank.log 2>&1 & rank=$!; "
         f"{client} {names} --rate {requests:g} --until-file done > client.log 2> client.err & client=$!; "
-        f"{explorers} {waits} touch done; wait $client; kill -INT $rank $sim; wait $rank; wait $sim"
+        f"{explorers} {waits} touch done; wait $client; stop $rank $sim"
     )
     started = time.perf_counter()
     done = run_in_loopback(script, home, 1300)

@@ -5,6 +5,10 @@ Fast DDS discovers peers by multicast on every interface it finds: a test must n
 the machine. Each call gets a fresh namespace (``unshare -n`` as root, ``unshare -rn`` otherwise)
 with ``lo`` up and multicast on (discovery needs it) and ``ROS_AUTOMATIC_DISCOVERY_RANGE=LOCALHOST``:
 processes in two namespaces never see each other, so tests run side by side.
+
+Every script may end the processes it started in the background with ``stop PID...``: Ctrl-C
+(SIGINT) to each, then its exit status; one still running 20 s later is killed, named on standard
+error, and ``stop`` fails, so a process that does not shut down is a clear failure, not a timeout.
 """
 
 from __future__ import annotations
@@ -17,6 +21,28 @@ import sys
 from pathlib import Path
 
 _SETUP = 'ip link set lo up && ip link set lo multicast on && exec "$@"'
+
+STOP_GRACE_S = 20.0
+"""How long ``stop`` waits for a process to end after its SIGINT before killing it (s)."""
+
+
+def _stop_function(grace_s: float) -> str:
+    """The shell function ``stop PID...`` defined before every script (see the module's docstring)."""
+    return (
+        'stop() { kill -INT "$@" 2>/dev/null; '
+        f'( sleep {grace_s:g}; kill -KILL "$@" ) >/dev/null 2>&1 & watchdog=$!; '
+        'failed=0; for p in "$@"; do wait "$p"; s=$?; '
+        f'if [ "$s" -eq 137 ]; then echo "process $p did not stop within {grace_s:g} s of SIGINT" >&2; failed=1; fi; '
+        'done; kill "$watchdog" 2>/dev/null; return $failed; }; '
+    )
+
+
+_LOG_TAIL_CHARS = 2000
+"""How much of each log a timeout's message quotes (its end)."""
+
+
+class LoopbackTimeoutError(RuntimeError):
+    """A script ran past its time; the message ends with the tail of each log in its folder."""
 
 
 def unshare_command() -> list[str]:
@@ -50,10 +76,14 @@ def loopback_env(home: Path) -> dict[str, str]:
     return env
 
 
-def run_in_loopback(script: str, home: Path, timeout: float) -> subprocess.CompletedProcess[str]:
+def run_in_loopback(
+    script: str, home: Path, timeout: float, stop_grace_s: float = STOP_GRACE_S
+) -> subprocess.CompletedProcess[str]:
     """Run the shell ``script`` in a fresh loopback-only namespace (in ``home``), its output
-    captured; past ``timeout`` (s) every process it started is killed and TimeoutExpired raised."""
-    command = [*unshare_command(), "sh", "-c", _SETUP, "sh", "sh", "-c", script]
+    captured; past ``timeout`` (s) every process it started is killed and :class:`LoopbackTimeoutError`
+    raised, quoting the logs (``*.log``, ``*.err``) it left in ``home``; ``stop_grace_s``: how long
+    the script's ``stop`` waits after SIGINT (s)."""
+    command = [*unshare_command(), "sh", "-c", _SETUP, "sh", "sh", "-c", _stop_function(stop_grace_s) + script]
     with subprocess.Popen(
         command,
         cwd=home,
@@ -68,9 +98,16 @@ def run_in_loopback(script: str, home: Path, timeout: float) -> subprocess.Compl
             out, err = process.communicate(timeout=timeout)
         except subprocess.TimeoutExpired:
             os.killpg(process.pid, signal.SIGKILL)  # the whole session: nothing is left running
-            process.communicate()
-            raise
+            out, err = process.communicate()
+            raise LoopbackTimeoutError(
+                f"timed out after {timeout:g} s\n{err[-_LOG_TAIL_CHARS:]}{_log_tails(home)}"
+            ) from None
     return subprocess.CompletedProcess(command, process.returncode, out, err)
+
+
+def _log_tails(home: Path) -> str:
+    logs = sorted(home.glob("*.log")) + sorted(home.glob("*.err"))
+    return "".join(f"\n--- {log.name} (end)\n{log.read_text(errors='replace')[-_LOG_TAIL_CHARS:]}" for log in logs)
 
 
 def cli() -> str:

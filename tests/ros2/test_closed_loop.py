@@ -27,7 +27,7 @@ def _closed_loop(home: Path, sim_args: str, explore_args: str, timeout: float = 
         f"{frontier_rl} ros2 sim {sim_args} > sim.log 2>&1 & sim=$!; "
         f"timeout -s INT {int(timeout) - 20} {frontier_rl} ros2 explore --json {explore_args} "
         "> explore.log 2> explore.err; "
-        "status=$?; kill -INT $sim; wait $sim; exit $status"
+        "status=$?; stop $sim || status=1; exit $status"
     )
     done = run_in_loopback(script, home, timeout)
     logs = "\n".join((home / name).read_text() for name in ("sim.log", "explore.log", "explore.err"))
@@ -84,11 +84,11 @@ def _run_team(home: Path, merge: bool) -> tuple[list[dict[str, object]], str]:
         f"{frontier_rl} ros2 sim --world office --seed 3 --rate 40 --robots 2 > sim.log 2>&1 & sim=$!; "
         f"{explore} --namespace tb3_1 {mates[0]} --seed 1 > explore1.log 2> explore1.err & other=$!; "
         f"{explore} --namespace tb3_0 {mates[1]} --seed 3 > explore0.log 2> explore0.err; status=$?; "
-        "wait $other; status1=$?; kill -INT $sim; wait $sim; exit $((status + status1))"
+        "wait $other; status1=$?; stop $sim || status=1; exit $((status + status1))"
     )
     done = run_in_loopback(script, home, 150)
     logs = "\n".join(p.read_text() for p in sorted(home.glob("*.log")) + sorted(home.glob("*.err")))
-    assert done.returncode == 0, logs
+    assert done.returncode == 0, f"{done.stderr}\n{logs}"
     statuses = [json.loads((home / f"explore{r}.log").read_text().strip().splitlines()[-1]) for r in (0, 1)]
     for status in statuses:
         assert status["state"] == "finished", logs

@@ -27,7 +27,7 @@ def test_the_settings_are_parameters_overridden_by_ros_args_and_set_at_run_time(
     script = (
         f"timeout --preserve-status -s INT 60 {_EXPLORE} --ros-args -p planner_frequency:=2 -p visualize:=false "
         "> explore.log 2> explore.err & explore=$!; "
-        f"{_CLIENT} > client.log 2> client.err; kill -INT $explore; wait $explore"
+        f"{_CLIENT} > client.log 2> client.err; stop $explore"
     )
     done = run_in_loopback(script, tmp_path, 90)
     log = "".join((tmp_path / name).read_text() for name in ("client.err", "explore.log", "explore.err"))
