@@ -27,6 +27,7 @@ from frontier_rl.core.sim.config import SimConfig
 from frontier_rl.errors import ConfigError
 from frontier_rl.evaluation.results.config_diff import contrast, differences_between
 from frontier_rl.evaluation.results.episode_record import ROW_COLUMNS
+from frontier_rl.evaluation.results.identity import ExperimentIdentity
 from frontier_rl.evaluation.results.store import ResultStore, adopt_rows
 from frontier_rl.evaluation.running.evaluate import evaluate
 from frontier_rl.evaluation.running.experiment import ExperimentConfig, identity
@@ -399,7 +400,7 @@ def test_write_text_atomic_replaces_or_keeps(tmp_path: Path, monkeypatch: pytest
 
 
 # ----------------------------------------------------------------------------- configuration differences
-def _identity(**changes: Any) -> dict[str, Any]:
+def _identity(**changes: Any) -> ExperimentIdentity:
     parts: dict[str, Any] = {
         "seed": 0,
         "worlds": ["office", "/data/maps/" + "very_long_folder_name/" * 4 + "map.yaml#sha256:0123456789abcdef"],
@@ -407,16 +408,16 @@ def _identity(**changes: Any) -> dict[str, Any]:
         "sim": {"max_sim_time": 600.0, "lidar": {"num_beams": 360, "noise": [0.01] * 20}, "name": "x" * 80},
         "methods": {"nearest": "nearest"},
     }
-    return parts | changes
+    return ExperimentIdentity.from_json(parts | changes)
 
 
-def _with_sim(**sim: Any) -> dict[str, Any]:
-    return _identity(sim={**_identity()["sim"], **sim})
+def _with_sim(**sim: Any) -> ExperimentIdentity:
+    return _identity(sim={**_identity().sim, **sim})
 
 
-DIFFS: dict[str, tuple[dict[str, Any], str]] = {
+DIFFS: dict[str, tuple[ExperimentIdentity, str]] = {
     "map hash at the end of a long path": (
-        _identity(worlds=["office", _identity()["worlds"][1][:-16] + "fedcba9876543210"]), "worlds[1]"),
+        _identity(worlds=["office", _identity().worlds[1][:-16] + "fedcba9876543210"]), "worlds[1]"),
     "a value deep in the sim settings": (_with_sim(lidar={"num_beams": 180, "noise": [0.01] * 20}),
                                          "sim.lidar.num_beams"),
     "the last item of a long list": (_with_sim(lidar={"num_beams": 360, "noise": [0.01] * 19 + [0.02]}),

@@ -62,9 +62,9 @@ def test_bad_team_experiments_are_refused(methods: tuple[str, ...], kw: dict[str
 
 def test_team_settings_are_part_of_the_identity() -> None:
     plain = identity(_config(("fixed:0.75", "nearest@2")))
-    assert "team" not in plain  # results folders of single robots keep matching
+    assert plain.team is None and "team" not in plain.to_json()  # results folders of single robots keep matching
     failing = identity(_config(("fixed:0.75", "nearest@2"), failures=(Failure(1, 30.0),), comm_range=3.0))
-    assert failing["team"] == {"comm_range": 3.0, "failures": ["1@30"]}
+    assert failing.to_json()["team"] == {"comm_range": 3.0, "failures": ["1@30"]}
 
 
 def test_a_team_experiment_reports_time_against_team_size(tmp_path: Path) -> None:

@@ -174,7 +174,7 @@ class EpisodeTrace:
     robot_coverage: tuple[float, ...] | None = None
     failed_at_s: tuple[float | None, ...] | None = None
 
-    def to_json(self) -> dict[str, Any]:
+    def to_json(self) -> dict[str, object]:
         """The trace's JSON object: every field in order, lists for the curves, without the
         fields that are None (a single robot's team lists, an older trace's diagnostics)."""
         values = ((f.name, getattr(self, f.name)) for f in fields(self))

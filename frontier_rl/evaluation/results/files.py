@@ -7,14 +7,17 @@ from __future__ import annotations
 import contextlib
 import json
 import os
+from collections.abc import Callable, Mapping
 from pathlib import Path
-from typing import Any
+from typing import Generic, NamedTuple, TypeVar
 
 from frontier_rl import atomic_write
 from frontier_rl.atomic_write import OutputWriteError, describe_os_error
 from frontier_rl.bounded_read import UnreadableFileError, read_bounded
 from frontier_rl.errors import ConfigError, short_repr
 from frontier_rl.evaluation.results.episode_record import Key
+
+_Entry = TypeVar("_Entry")
 
 MAX_RESULT_FILE_BYTES = 1 << 30
 """Largest results file read (bytes): the traces of some 300,000 episodes (about 3 kB each). A
@@ -49,24 +52,33 @@ def decode_utf8(path: Path, data: bytes, first_line: int = 1) -> str:
         ) from None
 
 
-def keyed_lines(path: Path, what: str, strings: tuple[str, ...] = ()) -> dict[Key, tuple[int, str, dict[str, Any]]]:
-    """The JSON lines of ``path`` by episode key: (line number, line, object); the fields named in
-    ``strings`` must be strings. A later line of the same episode (rerun after a kill) wins.
+class KeyedLine(NamedTuple, Generic[_Entry]):
+    """A line of a JSON-lines file of a results folder: its number (from 1), its text and what it holds."""
+
+    number: int
+    line: str
+    entry: _Entry
+
+
+def keyed_lines(
+    path: Path, what: str, parse: Callable[[Key, Mapping[str, object]], _Entry]
+) -> dict[Key, KeyedLine[_Entry]]:
+    """The JSON lines of ``path`` by episode key, each object read by ``parse`` (which raises
+    TypeError or ValueError for one it refuses). A later line of the same episode (rerun after a
+    kill) wins.
 
     Raises:
         ConfigError: a line that is not such an object, named by file and line.
     """
-    entries: dict[Key, tuple[int, str, dict[str, Any]]] = {}
+    entries: dict[Key, KeyedLine[_Entry]] = {}
     for number, line in complete_lines(path):
         try:
             entry = json.loads(line)
             key = (entry["method"], entry["world"], entry["episode"])
             hash(key)
-            if not all(isinstance(entry.get(f), str) for f in strings):
-                raise TypeError
+            entries[key] = KeyedLine(number, line, parse(key, entry))
         except (ValueError, TypeError, KeyError, AttributeError, RecursionError):
             raise ConfigError(f"{path} line {number} is not {what}: {short_repr(line)}") from None
-        entries[key] = (number, line, entry)
     return entries
 
 

@@ -34,8 +34,9 @@ previous end of the file, and rewrites go through a temporary file renamed into 
 from __future__ import annotations
 
 import json
+from collections.abc import Mapping
 from pathlib import Path
-from typing import IO, Any
+from typing import IO
 
 try:
     import fcntl
@@ -44,16 +45,17 @@ except ImportError:  # pragma: no cover - not POSIX
 
 from frontier_rl.atomic_write import write_text_atomic
 from frontier_rl.errors import ConfigError, short_repr, short_text
-from frontier_rl.evaluation.results.config_diff import ABSENT, contrast, describe_differences, differences_between
 from frontier_rl.evaluation.results.episode_record import ROW_COLUMNS, EpisodeOutcome, EpisodeRow, EpisodeTrace, Key
 from frontier_rl.evaluation.results.files import (
+    KeyedLine,
     append_synced,
     complete_lines,
     decode_utf8,
     keyed_lines,
     read_result_file,
 )
-from frontier_rl.evaluation.results.row_checksums import experiment_id, row_checksum, sha256_hex
+from frontier_rl.evaluation.results.identity import ExperimentIdentity, merged_identity
+from frontier_rl.evaluation.results.row_checksums import RowChecksum, row_checksum, sha256_hex
 from frontier_rl.evaluation.running.experiment import EpisodeJob
 
 _QUOTE_CHARS = 60
@@ -78,7 +80,7 @@ class ResultStore:
         OutputWriteError: ``experiment.json`` could not be written.
     """
 
-    def __init__(self, out: Path, identity: dict[str, Any], *, adopt_unchecked: bool = False) -> None:
+    def __init__(self, out: Path, identity: ExperimentIdentity, *, adopt_unchecked: bool = False) -> None:
         self.out = Path(out)
         if self.out.exists() and not self.out.is_dir():
             raise ConfigError(f"--out {str(self.out)!r} is a file, not a folder")
@@ -93,13 +95,13 @@ class ResultStore:
         self.traces: dict[Key, EpisodeTrace] = {}
         self._trace_lines: dict[Key, str] = {}
         self._checksum_lines: dict[Key, str] = {}
-        self.identity: dict[str, Any] = {}
-        self.experiment_id = ""
+        self.identity = identity
+        self.experiment_id = identity.experiment_id
         try:
             self._check_identity(identity)
             self._load(adopt_unchecked)
             # written once the rows are checked: a refused folder keeps its experiment.json as it was
-            write_text_atomic(self.identity_path, json.dumps(self.identity, indent=1) + "\n")
+            write_text_atomic(self.identity_path, json.dumps(self.identity.to_json(), indent=1) + "\n")
         except BaseException:
             self.close()
             raise
@@ -129,9 +131,7 @@ class ResultStore:
             self._lock = None
 
     # ------------------------------------------------------------------ identity
-    def _check_identity(self, identity: dict[str, Any]) -> None:
-        identity = json.loads(json.dumps(identity))  # tuples become lists, as in the stored file
-        stored: dict[str, Any] | None = None
+    def _check_identity(self, identity: ExperimentIdentity) -> None:
         if self.identity_path.exists():
             text = decode_utf8(self.identity_path, read_result_file(self.identity_path, _MAX_IDENTITY_BYTES))
             try:
@@ -142,38 +142,13 @@ class ResultStore:
                 ) from None
             except (RecursionError, ValueError):  # nested too deeply; an integer of more than 4300 digits
                 stored = None
-            if (
-                not isinstance(stored, dict)
-                or not isinstance(stored.get("methods", {}), dict)
-                or _depth(stored) > _MAX_DEPTH
-            ):
+            if _depth(stored) > _MAX_DEPTH or _identity_problem(stored) is not None:
                 raise ConfigError(f"{self.identity_path} is not an experiment description; choose another --out")
+            identity = merged_identity(self.out, stored, identity)
         elif any(not _ours(path.name) for path in self.out.iterdir()):
             raise ConfigError(f"--out {str(self.out)!r} holds other files and no experiment.json: choose another --out")
-        if stored is not None:
-            parts = [*identity, *(part for part in stored if part not in identity)]
-            differences = [
-                d
-                for part in parts
-                if part != "methods"
-                for d in differences_between(stored.get(part, ABSENT), identity.get(part, ABSENT), part)
-            ]
-            if differences:
-                raise ConfigError(
-                    f"--out {str(self.out)!r} holds results of a different configuration "
-                    f"({describe_differences(differences)}); choose another --out"
-                )
-            for method, fingerprint in identity["methods"].items():
-                old = stored.get("methods", {}).get(method)
-                if old is not None and old != fingerprint:
-                    there, now = contrast(old, fingerprint)
-                    raise ConfigError(
-                        f"--out {str(self.out)!r} holds results of {short_repr(method)} from a different model file "
-                        f"({there} there, {now} now); choose another --out or rename the model"
-                    )
-            identity = {**identity, "methods": {**stored.get("methods", {}), **identity["methods"]}}
         self.identity = identity
-        self.experiment_id = experiment_id(identity)
+        self.experiment_id = identity.experiment_id
 
     # ------------------------------------------------------------------ reading
     def _load(self, adopt_unchecked: bool = False) -> None:
@@ -197,8 +172,8 @@ class ResultStore:
             row_numbers[key] = number
             self.rows[key] = row
             self._row_lines[key] = line
-        traces = keyed_lines(self.trace_path, "a trace")
-        checksums = keyed_lines(self.checksum_path, "a row checksum", ("row_sha256", "trace_sha256"))
+        traces = keyed_lines(self.trace_path, "a trace", _as_read)
+        checksums = keyed_lines(self.checksum_path, "a row checksum", RowChecksum.from_json)
         if self.rows and not self.checksum_path.exists():
             if adopt_unchecked:
                 checksums = self._adopt(row_numbers, traces)
@@ -212,49 +187,42 @@ class ResultStore:
         for key in self.rows:
             self._verify(key, row_numbers[key], traces.get(key), checksums.get(key))
             try:
-                self.traces[key] = EpisodeTrace.from_json(traces[key][2])
+                self.traces[key] = EpisodeTrace.from_json(traces[key].entry)
             except ConfigError as problem:  # signed, so written by a run or re-signed after an edit (anyone can)
                 raise ConfigError(
-                    f"{self.trace_path} line {traces[key][0]} (the trace of {_describe(key)}): {problem}; delete "
+                    f"{self.trace_path} line {traces[key].number} (the trace of {_describe(key)}): {problem}; delete "
                     f"the episode's line in {self.csv_path.name} to run it again, or choose another --out"
                 ) from None
-            self._trace_lines[key] = traces[key][1]
-            self._checksum_lines[key] = checksums[key][1]
+            self._trace_lines[key] = traces[key].line
+            self._checksum_lines[key] = checksums[key].line
 
     def _adopt(
-        self, row_numbers: dict[Key, int], traces: dict[Key, tuple[int, str, dict[str, Any]]]
-    ) -> dict[Key, tuple[int, str, dict[str, Any]]]:
+        self, row_numbers: dict[Key, int], traces: dict[Key, KeyedLine[Mapping[str, object]]]
+    ) -> dict[Key, KeyedLine[RowChecksum]]:
         """Write ``checksums.jsonl`` for the rows as they are (each needs a method of this
         experiment and a trace); returns the entries as :meth:`_load` reads them."""
-        entries: dict[Key, tuple[int, str, dict[str, Any]]] = {}
+        entries: dict[Key, KeyedLine[RowChecksum]] = {}
         for number, key in enumerate(self.rows, start=1):
-            fingerprint = self.identity.get("methods", {}).get(key[0])
-            if not isinstance(fingerprint, str) or key not in traces:
-                what = "is not a method of this experiment" if not isinstance(fingerprint, str) else "has no trace"
+            fingerprint = self.identity.methods.get(key[0])
+            if fingerprint is None or key not in traces:
+                what = "is not a method of this experiment" if fingerprint is None else "has no trace"
                 raise ConfigError(f"{self.csv_path} line {row_numbers[key]} ({_describe(key)}) {what}; {_FIX_ROW}")
-            trace_sha256 = sha256_hex(traces[key][1])
-            entry = {
-                "method": key[0],
-                "world": key[1],
-                "episode": key[2],
-                "trace_sha256": trace_sha256,
-                "row_sha256": row_checksum(self.experiment_id, fingerprint, self._row_lines[key], trace_sha256),
-            }
-            entries[key] = (number, json.dumps(entry, separators=(",", ":")), entry)
-        write_text_atomic(self.checksum_path, "".join(line + "\n" for _, line, _ in entries.values()))
+            checksum = RowChecksum.of(self.experiment_id, fingerprint, key, self._row_lines[key], traces[key].line)
+            entries[key] = KeyedLine(number, checksum.line(), checksum)
+        write_text_atomic(self.checksum_path, "".join(entry.line + "\n" for entry in entries.values()))
         return entries
 
     def _verify(
         self,
         key: Key,
         number: int,
-        trace: tuple[int, str, dict[str, Any]] | None,
-        checksum: tuple[int, str, dict[str, Any]] | None,
+        trace: KeyedLine[Mapping[str, object]] | None,
+        checksum: KeyedLine[RowChecksum] | None,
     ) -> None:
         """Refuse the row at line ``number`` unless its checksum and its trace's match."""
         where = f"{self.csv_path} line {number} ({_describe(key)})"
-        fingerprint = self.identity.get("methods", {}).get(key[0])
-        if not isinstance(fingerprint, str):
+        fingerprint = self.identity.methods.get(key[0])
+        if fingerprint is None:
             raise ConfigError(
                 f"{where}: {short_repr(key[0])} is not a method of this experiment ({self.identity_path.name}); "
                 f"the row was edited or copied from another experiment; {_FIX_ROW}"
@@ -264,19 +232,19 @@ class ResultStore:
                 f"{where} has no checksum in {self.checksum_path.name}: the row was edited or copied from another "
                 f"experiment; {_FIX_ROW}"
             )
-        entry = checksum[2]
-        expected = row_checksum(self.experiment_id, fingerprint, self._row_lines[key], entry["trace_sha256"])
-        if entry["row_sha256"] != expected:
+        entry = checksum.entry
+        expected = row_checksum(self.experiment_id, fingerprint, self._row_lines[key], entry.trace_sha256)
+        if entry.row_sha256 != expected:
             raise ConfigError(
-                f"{where} does not match its checksum ({self.checksum_path.name} line {checksum[0]}): the row was "
+                f"{where} does not match its checksum ({self.checksum_path.name} line {checksum.number}): the row was "
                 f"edited or copied from another experiment; {_FIX_ROW}"
             )
         if trace is None:
             raise ConfigError(f"{where} has no trace in {self.trace_path.name}; {_FIX_ROW}")
-        if sha256_hex(trace[1]) != entry["trace_sha256"]:
+        if sha256_hex(trace.line) != entry.trace_sha256:
             raise ConfigError(
-                f"{self.trace_path} line {trace[0]} (the trace of {_describe(key)}) does not match its checksum: it "
-                f"was edited or copied from another experiment; delete it and line {number} of "
+                f"{self.trace_path} line {trace.number} (the trace of {_describe(key)}) does not match its checksum: "
+                f"it was edited or copied from another experiment; delete it and line {number} of "
                 f"{self.csv_path.name} to run that episode again, or choose another --out"
             )
 
@@ -294,20 +262,12 @@ class ResultStore:
         """
         row, trace = outcome.row, outcome.trace
         key = row.key
-        fingerprint = self.identity.get("methods", {}).get(row.method)
-        if not isinstance(fingerprint, str):
+        fingerprint = self.identity.methods.get(row.method)
+        if fingerprint is None:
             raise ConfigError(f"method {short_repr(row.method)} is not in {self.identity_path}")
         trace_line = json.dumps(trace.to_json(), separators=(",", ":"))
         row_line = row.csv_line()
-        trace_sha256 = sha256_hex(trace_line)
-        entry = {
-            "method": key[0],
-            "world": key[1],
-            "episode": key[2],
-            "trace_sha256": trace_sha256,
-            "row_sha256": row_checksum(self.experiment_id, fingerprint, row_line, trace_sha256),
-        }
-        checksum_line = json.dumps(entry, separators=(",", ":"))
+        checksum_line = RowChecksum.of(self.experiment_id, fingerprint, key, row_line, trace_line).line()
         append_synced(self.trace_path, trace_line + "\n")
         append_synced(self.checksum_path, checksum_line + "\n")
         if not self.csv_path.exists() or self.csv_path.stat().st_size == 0:
@@ -356,9 +316,10 @@ def adopt_rows(out: Path) -> int:
         stored = json.loads(text)
     except (ValueError, RecursionError):  # not JSON, an integer of more than 4300 digits, too deep
         stored = None
-    if not isinstance(stored, dict):
-        raise ConfigError(f"{path} is not an experiment description")
-    store = ResultStore(out, stored, adopt_unchecked=True)
+    problem = _identity_problem(stored)
+    if problem is not None:
+        raise ConfigError(f"{path} is not an experiment description ({problem})")
+    store = ResultStore(out, ExperimentIdentity.from_json(stored), adopt_unchecked=True)
     store.close()
     return len(store.rows)
 
@@ -376,7 +337,7 @@ def _clip(text: str) -> str:
     return short_text(text, _QUOTE_CHARS)
 
 
-def _depth(value: Any) -> int:
+def _depth(value: object) -> int:
     """How deeply lists and dicts nest in ``value`` (0 for a scalar), without recursion."""
     deepest, stack = 0, [(value, 0)]
     while stack:
@@ -385,6 +346,20 @@ def _depth(value: Any) -> int:
         if isinstance(item, dict | list) and level <= _MAX_DEPTH:
             stack.extend((child, level + 1) for child in (item.values() if isinstance(item, dict) else item))
     return deepest
+
+
+def _as_read(key: Key, entry: Mapping[str, object]) -> Mapping[str, object]:
+    """A trace's line as read (checked against its checksum before it is parsed)."""
+    return entry
+
+
+def _identity_problem(stored: object) -> str | None:
+    """What keeps ``stored`` from being an ``experiment.json`` object, or None."""
+    try:
+        ExperimentIdentity.from_json(stored)
+    except ValueError as problem:
+        return str(problem)
+    return None
 
 
 def _ours(name: str) -> bool:

@@ -68,7 +68,7 @@ class PairedSummary:
             "reduction_pct": defined(stats.reduction_pct),
         }
 
-    def to_json(self) -> dict[str, Any]:
+    def to_json(self) -> dict[str, object]:
         """The entry ``summary.json`` holds: every field, in order (pairs as lists)."""
         return {f.name: _json_value(getattr(self, f.name)) for f in fields(self)}
 
@@ -188,10 +188,10 @@ class ExperimentSummary:
     per_world: Mapping[str, Mapping[str, MethodSummary]] = field(default_factory=dict)
     teams: tuple[TeamPoint, ...] = ()
 
-    def to_json(self) -> dict[str, Any]:
+    def to_json(self) -> dict[str, object]:
         """The ``summary.json`` object of this summary (:meth:`from_json` reads it back); ``per_world``
         and ``teams`` only when they hold something, teams nested by policy, strategy and team size."""
-        data: dict[str, Any] = {
+        data: dict[str, object] = {
             "baseline": self.baseline,
             "reference": self.reference,
             "worlds": list(self.worlds),
@@ -203,7 +203,7 @@ class ExperimentSummary:
         if self.per_world:
             data["per_world"] = {world: {"methods": _methods_json(m)} for world, m in self.per_world.items()}
         if self.teams:
-            teams: dict[str, dict[str, dict[str, Any]]] = {}
+            teams: dict[str, dict[str, dict[str, object]]] = {}
             for point in self.teams:
                 line = teams.setdefault(point.policy, {}).setdefault(point.strategy, {})
                 line[str(point.robots)] = {
@@ -270,7 +270,7 @@ class ExperimentSummary:
         )
 
 
-def _methods_json(methods: Mapping[str, PairedSummary]) -> dict[str, Any]:
+def _methods_json(methods: Mapping[str, PairedSummary]) -> dict[str, object]:
     return {name: summary.to_json() for name, summary in methods.items()}
 
 

@@ -13,7 +13,6 @@ from collections.abc import Sequence
 from dataclasses import dataclass, field
 from functools import lru_cache
 from pathlib import Path
-from typing import Any
 
 import numpy as np
 
@@ -26,6 +25,7 @@ from frontier_rl.core.world.catalog import WORLD_GENERATORS
 from frontier_rl.core.world.worlds import World
 from frontier_rl.errors import ConfigError, model_file_label, short_repr
 from frontier_rl.evaluation.results.episode_record import EpisodeOutcome, EpisodeRow, EpisodeTrace
+from frontier_rl.evaluation.results.identity import ExperimentIdentity, TeamIdentity
 from frontier_rl.policies import PolicySpec, make_policy
 from frontier_rl.policies.user_policies import user_policy_fingerprint
 from frontier_rl.swarm import Failure, Strategy, TeamConfig, TeamMethod, TeamResult, run_team_episode
@@ -203,19 +203,20 @@ def world_fingerprint(world: str, resolution: float | None) -> str:
     return f"{world}#sha256:{digest.hexdigest()[:16]}"
 
 
-def identity(config: ExperimentConfig) -> dict[str, Any]:
-    """Everything a row's values depend on, per part: rows of two experiments may be mixed only
-    where these agree (methods may be added and episodes extended; worlds, seed and settings not)."""
-    parts: dict[str, Any] = {
-        "seed": config.seed,
-        "worlds": [world_fingerprint(w, config.resolution) for w in config.worlds],
-        "resolution": config.resolution,
-        "sim": to_dict(config.sim),
-        "methods": {m: method_fingerprint(m) for m in config.methods},
-    }
+def identity(config: ExperimentConfig) -> ExperimentIdentity:
+    """Everything a row's values depend on: rows of two experiments may be mixed only where these
+    agree (methods may be added and episodes extended; worlds, seed and settings not)."""
+    team = None
     if config.comm_range is not None or config.failures:  # only then, so older results folders still match
-        parts["team"] = {"comm_range": config.comm_range, "failures": [str(f) for f in config.failures]}
-    return parts
+        team = TeamIdentity(config.comm_range, tuple(str(f) for f in config.failures))
+    return ExperimentIdentity(
+        seed=config.seed,
+        worlds=tuple(world_fingerprint(w, config.resolution) for w in config.worlds),
+        resolution=config.resolution,
+        sim=to_dict(config.sim),
+        methods={m: method_fingerprint(m) for m in config.methods},
+        team=team,
+    )
 
 
 def check_methods(config: ExperimentConfig) -> None:
