@@ -40,7 +40,7 @@ from frontier_rl.robot.explorer import Finished, FrontierExplorer, Goal
 from frontier_rl.robot.map_merge import merged_map, misfit
 from frontier_rl.robot.throttled_log import ThrottledLog
 from frontier_rl.ros2.explorer_parameters import ExplorerSettings, declare_explorer_parameters
-from frontier_rl.ros2.messages import MAP_QOS, frontier_markers, grid_of, pose_stamped, robot_pose
+from frontier_rl.ros2.messages import MAP_QOS, frontier_markers, grid_message, grid_of, pose_stamped, robot_pose
 
 _POLL_PERIOD_S = 0.02
 """How often (wall s) the node looks whether a planner tick is due."""
@@ -96,7 +96,9 @@ class ExplorerNode(Node):
         policy_name: the policy as given, shown as the read-only parameter ``policy``.
         teammates: the namespaces of robots whose maps (``/NAMESPACE/map``, in this robot's map
             frame) are merged into this one's (:func:`~frontier_rl.robot.map_merge.merged_map`):
-            the explorer does not send the robot where a teammate has been.
+            the explorer does not send the robot where a teammate has been. The merged map is
+            published on ``explore/merged_map`` (latched, as map_server's) at each planner tick:
+            a robot's Nav2 plans on it with its global costmap's static layer reading that topic.
 
     The explorer's settings and ``visualize`` are the node's parameters
     (:mod:`frontier_rl.ros2.explorer_parameters`): ``--ros-args`` overrides them, ``ros2 param set``
@@ -132,6 +134,8 @@ class ExplorerNode(Node):
         self._warnings = ThrottledLog(_WARN_PERIOD_S)  # bad messages, per topic
         self.create_subscription(GridMessage, "map", self._on_map, MAP_QOS)
         self._teammate_grids: dict[str, OccupancyGrid] = {}
+        self._map_frame = "map"  # the robot's map's frame, which the merged map is published in
+        self._merged_pub = self.create_publisher(GridMessage, "explore/merged_map", MAP_QOS) if teammates else None
         for teammate in teammates:
             self.create_subscription(
                 GridMessage,
@@ -177,6 +181,7 @@ class ExplorerNode(Node):
     def _on_map(self, message: GridMessage) -> None:
         try:
             self._grid = grid_of(message)
+            self._map_frame = message.header.frame_id or self._map_frame
         except MapError as error:
             self._warn("map", f"map ignored: {error}")
 
@@ -247,7 +252,10 @@ class ExplorerNode(Node):
             return
         self._last_tick_s = now
         self._goal_ended = False
-        decision = self.explorer.tick(self._map(self._grid), self._pose, now)
+        explored = self._map(self._grid)
+        if self._merged_pub is not None:
+            self._merged_pub.publish(grid_message(explored, self.get_clock().now().to_msg(), self._map_frame))
+        decision = self.explorer.tick(explored, self._pose, now)
         if isinstance(decision, Goal):
             self._send(decision)
         elif isinstance(decision, Finished):

@@ -6,6 +6,7 @@ from __future__ import annotations
 
 import json
 import shlex
+import sys
 from pathlib import Path
 
 import pytest
@@ -73,18 +74,20 @@ def test_a_simulator_killed_and_restarted_is_explored_to_the_end(tmp_path: Path)
     assert "no word from navigate_to_pose" in log
 
 
-def _run_team(home: Path, merge: bool) -> tuple[list[dict[str, object]], str]:
+def _run_team(home: Path, merge: bool) -> tuple[list[dict[str, object]], str, dict[str, object]]:
     """``ros2 sim --robots 2`` on office and an explorer per namespace (each merging the other's map
     with ``merge``): their last JSON statuses and every log; both must end, each either explored or
     unreachable with less than 0.5 m² unknown beside its frontiers (see the tests)."""
     frontier_rl = shlex.quote(cli())
     explore = f"timeout --preserve-status -s INT 120 {frontier_rl} ros2 explore --json --use-sim-time"
     mates = ("--teammates tb3_0", "--teammates tb3_1") if merge else ("", "")
+    probe = f"{shlex.quote(sys.executable)} {shlex.quote(str(Path(__file__).with_name('merged_map_probe.py')))}"
     script = (
         f"{frontier_rl} ros2 sim --world office --seed 3 --rate 40 --robots 2 > sim.log 2>&1 & sim=$!; "
+        f"{probe} tb3_0 > probe.json 2> probe.err & probe=$!; "
         f"{explore} --namespace tb3_1 {mates[0]} --seed 1 > explore1.log 2> explore1.err & other=$!; "
         f"{explore} --namespace tb3_0 {mates[1]} --seed 3 > explore0.log 2> explore0.err; status=$?; "
-        "wait $other; status1=$?; stop $sim || status=1; exit $((status + status1))"
+        "wait $other; status1=$?; stop $probe $sim || status=1; exit $((status + status1))"
     )
     done = run_in_loopback(script, home, 150)
     logs = "\n".join(p.read_text() for p in sorted(home.glob("*.log")) + sorted(home.glob("*.err")))
@@ -94,7 +97,7 @@ def _run_team(home: Path, merge: bool) -> tuple[list[dict[str, object]], str]:
         assert status["state"] == "finished", logs
         unknown = status["unknown_m2"]
         assert status["reason"] == "explored" or (status["reason"] == "unreachable" and unknown < 0.5), logs
-    return statuses, logs
+    return statuses, logs, json.loads((home / "probe.json").read_text())
 
 
 def test_a_team_of_two_robots_in_namespaces_each_explores_the_world(tmp_path: Path) -> None:
@@ -103,8 +106,9 @@ def test_a_team_of_two_robots_in_namespaces_each_explores_the_world(tmp_path: Pa
     finished first stands where it ended and may block its teammate's last small frontier (with
     the scheduling of a loaded machine, about one run in four): that one then ends ``unreachable``
     with less than 0.5 m² unknown beside it, and says so."""
-    statuses, logs = _run_team(tmp_path, merge=False)
+    statuses, logs, probe = _run_team(tmp_path, merge=False)
     assert all(s["coverage"] > 0.99 for s in statuses), logs
+    assert probe["merged_maps"] == 0  # published only by an explorer that merges
     assert "tb3_0:" in logs and "tb3_1:" in logs  # the simulator's line per robot
 
 
@@ -115,6 +119,9 @@ def test_a_team_that_merges_its_maps_ends_when_the_merged_map_is_explored(tmp_pa
     own map, as Nav2 does on the robot's own SLAM map: a frontier that only the teammate's map leads
     to can be out of its reach, and is given up (two runs in eight here ended ``unreachable`` with
     about 0.3 m² unknown left beside such frontiers)."""
-    statuses, logs = _run_team(tmp_path, merge=True)
+    statuses, logs, probe = _run_team(tmp_path, merge=True)
     assert "merging the map of tb3_1" in logs and "merging the map of tb3_0" in logs
+    # the merged map is published for the robot's Nav2 (its global costmap's static layer)
+    assert probe["merged_maps"] > 0 and probe["frames"] == ["map"], probe
+    assert isinstance(probe["most_cells_beyond_own"], int) and probe["most_cells_beyond_own"] > 0, probe
     assert min(s["coverage"] for s in statuses) < 0.95, logs  # one stopped before mapping it all itself
