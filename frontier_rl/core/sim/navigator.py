@@ -24,6 +24,9 @@ from frontier_rl.core.world.grid import OccupancyGrid
 from frontier_rl.core.world.robot import Pose
 from frontier_rl.core.world.worlds import World
 
+CANDIDATE_MAP_MARGIN = 2
+"""Unknown cells (around the seen area) of the map the candidates are found on."""
+
 
 class Navigator:
     """The robot's map as its navigation sees it, for one episode.
@@ -82,7 +85,7 @@ class Navigator:
         half a cell and then a cell slimmer: :class:`~frontier_rl.core.navigation.thin_walls.Recovery`)
         are the candidates, the first level that has any."""
         if self._cached is None:
-            grid = self._mapper.occupancy_grid(margin=2)
+            grid = self._mapper.occupancy_grid(margin=CANDIDATE_MAP_MARGIN)
             cand = self.candidates_on(grid, Recovery.NONE, pose)
             if len(cand.frontiers) == 0 and self._gave_way_on is not None:  # their way again, as a failure
                 self.blacklist.fail(*self._gave_way_on, self._mapper.state)

@@ -29,7 +29,7 @@ from frontier_rl.core.sim.episode_log import EndReason, EpisodeLog, completion_r
 from frontier_rl.core.sim.frontiers_left import frontiers_left
 from frontier_rl.core.sim.leg import AbortCause, Leg, LegOutcome, LegResult, run_leg
 from frontier_rl.core.sim.metrics import EpisodeResult, FrontierLeft
-from frontier_rl.core.sim.navigator import Navigator
+from frontier_rl.core.sim.navigator import CANDIDATE_MAP_MARGIN, Navigator
 from frontier_rl.core.sim.paths import plan_path, point_goal_cell
 from frontier_rl.core.sim.teammates import Teammates
 from frontier_rl.core.world.grid import CellState, OccupancyGrid
@@ -153,8 +153,9 @@ class ExplorationSimulator:
         return self.log.trajectory()
 
     def map(self) -> OccupancyGrid:
-        """The robot's current map (grown to the seen area)."""
-        return self.candidates().grid
+        """The robot's current map, cropped to the seen area with a margin (the grid the candidates
+        are found on); finds no candidates, so it leaves the blacklist as it is."""
+        return self.mapper.occupancy_grid(margin=CANDIDATE_MAP_MARGIN)
 
     def set_teammates(self, positions: NDArray[np.float64], passing: NDArray[np.bool_] | None = None) -> None:
         """Other robots of this one's size at ``positions`` ((k, 2) world points, m), until the next

@@ -292,3 +292,15 @@ def test_a_leg_run_step_by_step_is_the_same_leg() -> None:
     assert len(clocks) > 1 and all(b > a for a, b in itertools.pairwise(clocks))  # the clock moves at every step
     # no step longer than the mapper's time trigger (0.5 s) in whole LiDAR periods (0.2 s)
     assert max(np.diff([0.0, *clocks])) <= 0.6 + 1e-9
+
+
+def test_the_map_is_the_candidates_grid_without_finding_candidates(monkeypatch: pytest.MonkeyPatch) -> None:
+    """The ROS 2 simulated robot publishes ``map()`` while Nav2-like goals drive it: reading the map
+    must not find candidates (a costmap and frontiers per message) nor touch the blacklist."""
+    sim = ExplorationSimulator(generated("office", 0), rng=np.random.default_rng(0))
+    sim.execute([0])
+    expected = sim.candidates().grid
+    sim.navigator.forget()
+    monkeypatch.setattr(sim.navigator, "candidates", lambda pose: pytest.fail("map() found candidates"))
+    grid = sim.map()
+    assert np.array_equal(grid.data, expected.data) and grid.origin == expected.origin
