@@ -1,8 +1,10 @@
-"""Build the vendored ROS 2 interface package ``nav2_msgs`` (NavigateToPose only) into this virtual environment.
+"""Build the vendored ROS 2 interface packages ``nav2_msgs`` (NavigateToPose only) and ``tf2_msgs`` (TFMessage
+only) into this virtual environment.
 
-Nav2's ``nav2_msgs`` has no wheel on PyPI, so its ``NavigateToPose`` action is generated here from the vendored
-``.action`` file (``frontier_rl/ros2/interfaces/nav2_msgs``, copied unchanged from navigation2 so that the DDS type
-hashes match a real Nav2) with the rosidl and ament_cmake wheels that ``make`` installs into the venv.
+Neither Nav2's ``nav2_msgs`` nor geometry2's ``tf2_msgs`` has a wheel on PyPI, so the ``NavigateToPose`` action and
+the ``TFMessage`` of ``/tf`` are generated here from their vendored interface files (``frontier_rl/ros2/interfaces``,
+copied unchanged from navigation2 and geometry2 so that the DDS type hashes match ROS 2's) with the rosidl and
+ament_cmake wheels that ``make`` installs into the venv.
 
 Run it with the venv's interpreter (the venv is ``sys.prefix``)::
 
@@ -12,8 +14,9 @@ It configures and builds in ``<venv>/ros2_build`` and installs into the venv's o
 their files too: the Python package lands in the venv's site-packages and the libraries in ``<venv>/lib`` (which
 the ``ros_wheels_bootstrapper`` that rclpy's wheels install puts on the library path of every venv interpreter), and
 the libraries also carry an RPATH to ``<venv>/lib``. So ``from nav2_msgs.action import NavigateToPose`` works in a
-fresh process without any environment variable. A second run with unchanged inputs is a no-op. Only the standard
-library is used. Success prints one line; a failure prints the tail of the build log and exits non-zero.
+fresh process without any environment variable. A second run with unchanged inputs is a no-op (per package). Only
+the standard library is used. Success prints a line per package; a failure prints the tail of the build log and exits
+non-zero.
 """
 
 from __future__ import annotations
@@ -30,19 +33,49 @@ import sys
 import sysconfig
 import time
 from collections.abc import Mapping, Sequence
+from dataclasses import dataclass
 from pathlib import Path
 
 REPO = Path(__file__).resolve().parent.parent
-SOURCE = REPO / "frontier_rl" / "ros2" / "interfaces" / "nav2_msgs"
-PACKAGE = "nav2_msgs"
+INTERFACES = REPO / "frontier_rl" / "ros2" / "interfaces"
 LOG_TAIL_LINES = 40
-# What the verification imports in a clean process: the action, its messages, and the C type support that rclpy's
-# ActionServer/ActionClient load (without starting rclpy, so no network is touched).
-VERIFY_CODE = (
-    "from nav2_msgs.action import NavigateToPose\n"
-    "NavigateToPose.Goal(); NavigateToPose.Result(); NavigateToPose.Feedback()\n"
-    "type(NavigateToPose).__import_type_support__()\n"
-    "assert NavigateToPose._TYPE_SUPPORT is not None\n"
+
+
+@dataclass(frozen=True)
+class InterfacePackage:
+    """A vendored interface package: its name, the interface it holds, the generated Python module that shows it is
+    installed (relative to the package in site-packages), and what the verification runs in a clean process: the
+    interface and the C type support that rclpy loads (without starting rclpy, so no network is touched)."""
+
+    name: str
+    interface: str
+    python_module: str
+    verify_code: str
+
+    @property
+    def source(self) -> Path:
+        return INTERFACES / self.name
+
+
+PACKAGES = (
+    InterfacePackage(
+        "nav2_msgs",
+        "NavigateToPose",
+        "action/_navigate_to_pose.py",
+        "from nav2_msgs.action import NavigateToPose\n"
+        "NavigateToPose.Goal(); NavigateToPose.Result(); NavigateToPose.Feedback()\n"
+        "type(NavigateToPose).__import_type_support__()\n"
+        "assert NavigateToPose._TYPE_SUPPORT is not None\n",
+    ),
+    InterfacePackage(
+        "tf2_msgs",
+        "TFMessage",
+        "msg/_tf_message.py",
+        "from tf2_msgs.msg import TFMessage\n"
+        "TFMessage()\n"
+        "type(TFMessage).__import_type_support__()\n"
+        "assert TFMessage._TYPE_SUPPORT is not None\n",
+    ),
 )
 # The build machine's paths that the message wheels' CMake exports name (the manylinux image's Python)
 BUILD_MACHINE_PYTHON_INCLUDE = re.compile(r"/opt/python/cp3\d+-cp3\d+/include/python3\.\d+")
@@ -100,13 +133,13 @@ def input_digest(source: Path, prefix: Path) -> str:
     return digest.hexdigest()
 
 
-def installed_files(prefix: Path) -> list[Path]:
-    """Return files whose presence shows the package is installed in ``prefix``."""
+def installed_files(package: InterfacePackage, prefix: Path) -> list[Path]:
+    """Return files whose presence shows ``package`` is installed in ``prefix``."""
     site = Path(sysconfig.get_path("purelib", vars={"base": str(prefix), "platbase": str(prefix)}))
     return [
-        site / PACKAGE / "action" / "_navigate_to_pose.py",
-        prefix / "lib" / f"lib{PACKAGE}__rosidl_typesupport_c.so",
-        prefix / "share" / PACKAGE / "package.xml",
+        site / package.name / package.python_module,
+        prefix / "lib" / f"lib{package.name}__rosidl_typesupport_c.so",
+        prefix / "share" / package.name / "package.xml",
     ]
 
 
@@ -154,12 +187,12 @@ def run_logged(command: Sequence[str], env: Mapping[str, str], log: Path, what: 
         raise BuildError(f"{what} failed (exit {result.returncode})", log)
 
 
-def build(prefix: Path, build_dir: Path, log: Path) -> None:
-    """Configure, build and install the vendored package into ``prefix`` with the venv's ament/rosidl wheels."""
+def build(package: InterfacePackage, prefix: Path, build_dir: Path, log: Path) -> None:
+    """Configure, build and install ``package`` into ``prefix`` with the venv's ament/rosidl wheels."""
     cmake, c_compiler, cxx_compiler = find_toolchain()
     fix_cmake_exports(prefix)
     build_dir.mkdir(parents=True, exist_ok=True)
-    log.write_text(f"building {SOURCE} into {prefix}\n", encoding="utf-8")
+    log.write_text(f"building {package.source} into {prefix}\n", encoding="utf-8")
     env = dict(os.environ)
     env.update(
         {
@@ -174,7 +207,7 @@ def build(prefix: Path, build_dir: Path, log: Path) -> None:
         [
             cmake,
             "-S",
-            str(SOURCE),
+            str(package.source),
             "-B",
             str(build_dir),
             f"-DCMAKE_INSTALL_PREFIX={prefix}",
@@ -198,10 +231,10 @@ def build(prefix: Path, build_dir: Path, log: Path) -> None:
     run_logged([cmake, "--build", str(build_dir), "--target", "install", "--parallel", jobs], env, log, "cmake build")
 
 
-def verify(prefix: Path) -> None:
-    """Import NavigateToPose and its C type support in a fresh interpreter with an empty environment."""
+def verify(package: InterfacePackage, prefix: Path) -> None:
+    """Import the package's interface and its C type support in a fresh interpreter with an empty environment."""
     result = subprocess.run(
-        [sys.executable, "-c", VERIFY_CODE],
+        [sys.executable, "-c", package.verify_code],
         capture_output=True,
         text=True,
         env={},
@@ -214,7 +247,7 @@ def verify(prefix: Path) -> None:
         if importlib.util.find_spec("ros_wheels_bootstrapper") is None:
             # it puts <venv>/lib on the library path of every venv interpreter; the message wheels rely on it
             hint = " (the ROS 2 runtime wheels are missing: install ros-kilted-rclpy and ros-kilted-rmw-fastrtps-cpp)"
-        raise BuildError(f"the built {PACKAGE} does not import in a clean environment{hint}:\n{tail}")
+        raise BuildError(f"the built {package.name} does not import in a clean environment{hint}:\n{tail}")
 
 
 def print_log_tail(log: Path) -> None:
@@ -234,36 +267,46 @@ def parse_args(argv: Sequence[str] | None) -> argparse.Namespace:
 
 
 def main(argv: Sequence[str] | None = None) -> int:
-    """Build, install and verify ``nav2_msgs`` unless it is up to date; return the exit status."""
+    """Build, install and verify each vendored package unless it is up to date; return the exit status."""
     args = parse_args(argv)
     prefix = Path(sys.prefix)
     if prefix == Path(sys.base_prefix):
         print(f"error: run this with a virtual environment's python, not {sys.executable}", file=sys.stderr)
         return 2
-    build_dir = prefix / "ros2_build"
-    stamp = build_dir / f"{PACKAGE}.stamp"
+    for package in PACKAGES:
+        status = build_package(package, prefix, args.force)
+        if status:
+            return status
+    return 0
+
+
+def build_package(package: InterfacePackage, prefix: Path, force: bool) -> int:
+    """Build, install and verify ``package`` unless it is up to date; return the exit status."""
+    build_dir = prefix / "ros2_build" / package.name
+    stamp = build_dir / f"{package.name}.stamp"
     log = build_dir / "build.log"
-    digest = input_digest(SOURCE, prefix)
+    digest = input_digest(package.source, prefix)
     up_to_date = (
         stamp.is_file()
         and stamp.read_text(encoding="utf-8").strip() == digest
-        and all(path.is_file() for path in installed_files(prefix))
+        and all(path.is_file() for path in installed_files(package, prefix))
     )
-    if up_to_date and not args.force:
-        print(f"{PACKAGE} (NavigateToPose) is up to date in {prefix}")
+    if up_to_date and not force:
+        print(f"{package.name} ({package.interface}) is up to date in {prefix}")
         return 0
     started = time.monotonic()
     try:
         stamp.unlink(missing_ok=True)
-        build(prefix, build_dir, log)
-        verify(prefix)
+        build(package, prefix, build_dir, log)
+        verify(package, prefix)
     except BuildError as error:
         print(f"error: {error}", file=sys.stderr)
         if error.log is not None:
             print_log_tail(error.log)
         return 1
     stamp.write_text(digest + "\n", encoding="utf-8")
-    print(f"{PACKAGE} (NavigateToPose) built and installed into {prefix} in {time.monotonic() - started:.1f} s")
+    took = time.monotonic() - started
+    print(f"{package.name} ({package.interface}) built and installed into {prefix} in {took:.1f} s")
     return 0
 
 

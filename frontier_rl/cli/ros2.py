@@ -16,6 +16,7 @@ from frontier_rl.seeds import checked_seed
 
 if TYPE_CHECKING:
     from frontier_rl.robot.explorer_params import ExplorerParams
+    from frontier_rl.robot.pose_source import PoseSource
 
 MAX_ROBOTS = 8
 """The most robots ``ros2 sim`` runs in one world (as a team of ``frontier-rl explore``)."""
@@ -180,8 +181,11 @@ def explore(
     teammates: Annotated[
         str, typer.Option(help="Teammates' namespaces (tb3_1,tb3_2): their maps are merged into this robot's.")
     ] = "",
-    pose_topic: Annotated[str, typer.Option(help="Where the robot's pose is published.")] = "pose",
-    pose_type: Annotated[str, typer.Option(help="pose (PoseWithCovarianceStamped) or odom (Odometry).")] = "pose",
+    pose_topic: Annotated[str, typer.Option(help="Where the robot's pose is published (pose and odom).")] = "pose",
+    pose_type: Annotated[
+        str, typer.Option(help="pose (PoseWithCovarianceStamped), odom (Odometry) or tf (the map to the robot's base).")
+    ] = "pose",
+    robot_base_frame: Annotated[str, typer.Option(help="The robot's base frame, with --pose-type tf.")] = "base_link",
     use_sim_time: Annotated[bool, typer.Option(help="Time from /clock (a simulator's).")] = False,
     goal_silence_timeout: Annotated[
         float, typer.Option(help="A goal Nav2 says nothing of for this long is dropped (wall s).")
@@ -198,22 +202,26 @@ def explore(
     them, and ros2 param set changes them while it explores."""
     ros_args = _ros_args(ctx.args)
     checked_seed(seed)
-    options = dict(
+    options: dict[str, Any] = dict(
         planner_frequency=planner_frequency,
         progress_timeout=progress_timeout,
         min_frontier_size=min_frontier_size,
         return_to_init=return_to_init,
         visualize=visualize,
+        robot_base_frame=robot_base_frame,
     )
-    params, visualize = _explorer_settings(ctx, params_file, options, time_cap)
-    node = _node_options(namespace, teammates, pose_type, goal_silence_timeout)
+    options = _with_parameter_file(ctx, params_file, options)
+    visualize, robot_base_frame = bool(options.pop("visualize")), str(options.pop("robot_base_frame"))
+    params = _explorer_params(**options, time_cap=time_cap)
+    node = _node_options(namespace, teammates, goal_silence_timeout)
+    pose_source = _pose_source(pose_type, pose_topic, robot_base_frame)
     _need_ros2()
     _explore_with(
         policy,
         params,
         json_out,
         **node,
-        pose_topic=pose_topic,
+        pose_source=pose_source,
         visualize=visualize,
         use_sim_time=use_sim_time,
         seed=seed,
@@ -221,27 +229,29 @@ def explore(
     )
 
 
-def _node_options(namespace: str, teammates: str, pose_type: str, goal_silence_timeout: float) -> dict[str, Any]:
+def _node_options(namespace: str, teammates: str, goal_silence_timeout: float) -> dict[str, Any]:
     """The explorer node's options that need a check: one line naming a bad one."""
     if not (math.isfinite(goal_silence_timeout) and goal_silence_timeout > 0):
         fail(f"--goal-silence-timeout must be a positive number of seconds, got {goal_silence_timeout!r}")
-    _check_pose_type(pose_type)
     return {
         "namespace": namespace,
         "teammates": _teammates(teammates, namespace),
-        "pose_type": pose_type,
         "goal_silence_timeout": goal_silence_timeout,
     }
 
 
-def _explorer_settings(
-    ctx: typer.Context, params_file: Path | None, options: dict[str, Any], time_cap: float
-) -> tuple[ExplorerParams, bool]:
-    """The explorer's settings and whether it draws markers, from its ``options`` and, for those
-    not given on the command line, explore_lite's parameter file; one line naming a bad one."""
-    options = _with_parameter_file(ctx, params_file, options)
-    visualize = bool(options.pop("visualize"))
-    return _explorer_params(**options, time_cap=time_cap), visualize
+def _pose_source(pose_type: str, pose_topic: str, robot_base_frame: str) -> PoseSource:
+    """Where the explorer reads the robot's pose; one line naming a bad option."""
+    from frontier_rl.robot.pose_source import PoseKind, PoseSource
+
+    try:
+        kind = PoseKind(pose_type)
+    except ValueError:
+        fail(f"--pose-type must be pose, odom or tf, got {pose_type!r}")
+    try:
+        return PoseSource(kind, pose_topic, robot_base_frame)
+    except ValueError as error:
+        fail("--" + str(error).replace("_", "-", 2))
 
 
 def _teammates(value: str, namespace: str) -> tuple[str, ...]:

@@ -53,14 +53,16 @@ EXPLORE_LITE_NAMES = {
     "min_frontier_size": float,
     "return_to_init": bool,
     "visualize": bool,
+    "robot_base_frame": str,
 }
-"""explore_lite's parameters that mean the same here, and their types."""
+"""explore_lite's parameters that mean the same here, and their types (``robot_base_frame``: with
+the pose from ``tf``)."""
 
 
 def explore_lite_parameters(path: str | Path) -> tuple[dict[str, Any], list[str]]:
     """The parameters of an explore_lite (m-explore-ros2) parameter file that mean the same here
     (:data:`EXPLORE_LITE_NAMES`), checked, and the names of those it sets that have no meaning
-    here (``potential_scale``, ``robot_base_frame``, ...). The file is ROS 2's
+    here (``potential_scale``, ``transform_tolerance``, ...). The file is ROS 2's
     (``NODE: {ros__parameters: {...}}``, the first node's) or a plain mapping of names to values.
 
     Raises:

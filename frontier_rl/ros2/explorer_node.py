@@ -1,11 +1,12 @@
 """``frontier-rl ros2 explore``: an explorer that drives the robot through Nav2.
 
 It reads the map (``map``, transient local, as slam_toolbox and map_server publish it) and the
-robot's pose (``pose``: a ``PoseWithCovarianceStamped`` as slam_toolbox's; or an ``Odometry`` in
-the map frame), decides with a :class:`~frontier_rl.robot.explorer.FrontierExplorer` and sends the
-goal to Nav2's ``navigate_to_pose`` action, as explore_lite does. A goal Nav2 rejects or aborts, or
-that brings the robot no nearer within ``progress_timeout``, is blacklisted; a goal whose frontier
-the map has since seen is replaced. It stops when the map is explored, with its end reason on
+robot's pose (``pose``: a ``PoseWithCovarianceStamped`` as slam_toolbox's; an ``Odometry`` in the
+map frame; or ``tf``: :mod:`frontier_rl.ros2.pose_listener`), decides with a
+:class:`~frontier_rl.robot.explorer.FrontierExplorer` and sends the goal to Nav2's
+``navigate_to_pose`` action, as explore_lite does. A goal Nav2 rejects or aborts, or that brings
+the robot no nearer within ``progress_timeout``, is blacklisted; a goal whose frontier the map has
+since seen is replaced. It stops when the map is explored, with its end reason on
 ``explore/status`` and in the log, and optionally drives back to the start.
 """
 
@@ -19,10 +20,8 @@ from dataclasses import asdict, dataclass
 from typing import Any
 
 from action_msgs.msg import GoalStatus as ActionStatus
-from geometry_msgs.msg import PoseWithCovarianceStamped
 from nav2_msgs.action import NavigateToPose
 from nav_msgs.msg import OccupancyGrid as GridMessage
-from nav_msgs.msg import Odometry
 from rcl_interfaces.msg import SetParametersResult
 from rclpy.action.client import ActionClient, ClientGoalHandle
 from rclpy.clock import Clock
@@ -38,9 +37,11 @@ from frontier_rl.core.world.robot import Pose
 from frontier_rl.errors import ConfigError, MapError
 from frontier_rl.robot.explorer import Finished, FrontierExplorer, Goal
 from frontier_rl.robot.map_merge import merged_map, misfit
+from frontier_rl.robot.pose_source import PoseSource
 from frontier_rl.robot.throttled_log import ThrottledLog
 from frontier_rl.ros2.explorer_parameters import ExplorerSettings, declare_explorer_parameters
-from frontier_rl.ros2.messages import MAP_QOS, frontier_markers, grid_message, grid_of, pose_stamped, robot_pose
+from frontier_rl.ros2.messages import MAP_QOS, frontier_markers, grid_message, grid_of, pose_stamped
+from frontier_rl.ros2.pose_listener import PoseListener
 
 _POLL_PERIOD_S = 0.02
 """How often (wall s) the node looks whether a planner tick is due."""
@@ -88,7 +89,8 @@ class ExplorerNode(Node):
 
     Args:
         explorer: the decisions (its policy and settings).
-        pose_type: ``pose`` (``PoseWithCovarianceStamped``) or ``odom`` (``Odometry``) on ``pose_topic``.
+        pose_source: where the robot's pose in the map comes from: a pose or odometry topic, or ``tf``
+            (:class:`~frontier_rl.robot.pose_source.PoseSource`).
         visualize: publish the frontiers and the goal as RViz markers on ``explore/frontiers``.
         namespace: the robot's namespace.
         goal_silence_timeout: a goal that Nav2 says nothing of (no response, feedback or result) for
@@ -111,8 +113,7 @@ class ExplorerNode(Node):
     def __init__(
         self,
         explorer: FrontierExplorer,
-        pose_topic: str = "pose",
-        pose_type: str = "pose",
+        pose_source: PoseSource | None = None,
         visualize: bool = True,
         namespace: str = "",
         goal_silence_timeout: float = 10.0,
@@ -120,8 +121,6 @@ class ExplorerNode(Node):
         teammates: Sequence[str] = (),
     ) -> None:
         super().__init__("frontier_rl_explorer", namespace=namespace)
-        if pose_type not in ("pose", "odom"):
-            raise ValueError(f"pose_type must be 'pose' or 'odom', got {pose_type!r}")
         self.explorer = explorer
         given = ExplorerSettings(explorer.params, visualize)
         self._settings = declare_explorer_parameters(self, given, policy_name or explorer.policy.name)
@@ -129,7 +128,6 @@ class ExplorerNode(Node):
         self.add_on_set_parameters_callback(self._on_parameters)
         self.goal_silence_timeout = goal_silence_timeout
         self._grid: OccupancyGrid | None = None
-        self._pose: Pose | None = None
         self._coverage = -1.0
         self._warnings = ThrottledLog(_WARN_PERIOD_S)  # bad messages, per topic
         self.create_subscription(GridMessage, "map", self._on_map, MAP_QOS)
@@ -143,8 +141,7 @@ class ExplorerNode(Node):
                 lambda message, name=teammate: self._on_teammate_map(name, message),
                 MAP_QOS,
             )
-        kind = PoseWithCovarianceStamped if pose_type == "pose" else Odometry
-        self.create_subscription(kind, pose_topic, self._on_pose, 10)
+        self._poses = PoseListener(self, pose_source or PoseSource(), self._warn)
         self.create_subscription(Float32, "coverage", self._on_coverage, MAP_QOS)
         self._status_pub = self.create_publisher(String, "explore/status", MAP_QOS)
         self._marker_pub = self.create_publisher(MarkerArray, "explore/frontiers", 10)
@@ -206,12 +203,6 @@ class ExplorerNode(Node):
                 fitting.append(grid)
         return merged_map(own, fitting)
 
-    def _on_pose(self, message: PoseWithCovarianceStamped | Odometry) -> None:
-        try:
-            self._pose = robot_pose(message.pose.pose)
-        except ValueError as error:
-            self._warn("pose", f"pose ignored: {error}")
-
     def _warn(self, topic: str, message: str) -> None:
         """Log ``message`` about ``topic`` at most every ``_WARN_PERIOD_S`` (rclpy's throttle
         shares one budget between the warnings of a node)."""
@@ -237,7 +228,8 @@ class ExplorerNode(Node):
     def _poll(self) -> None:
         """A planner tick when one is due: every ``1 / planner_frequency`` s of the node's clock,
         and at once when no goal is under way."""
-        if (self.finished is not None and not self._returning) or self._grid is None or self._pose is None:
+        pose = self._poses.pose(self._map_frame)
+        if (self.finished is not None and not self._returning) or self._grid is None or pose is None:
             return
         if not self._nav.server_is_ready():
             return
@@ -255,7 +247,7 @@ class ExplorerNode(Node):
         explored = self._map(self._grid)
         if self._merged_pub is not None:
             self._merged_pub.publish(grid_message(explored, self.get_clock().now().to_msg(), self._map_frame))
-        decision = self.explorer.tick(explored, self._pose, now)
+        decision = self.explorer.tick(explored, pose, now)
         if isinstance(decision, Goal):
             self._send(decision)
         elif isinstance(decision, Finished):

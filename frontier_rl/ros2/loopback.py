@@ -51,10 +51,11 @@ def unshare_command() -> list[str]:
 
 
 def loopback_problem() -> str | None:
-    """Why ROS 2 cannot be tested here (no rclpy, no nav2_msgs, no namespaces), or None."""
+    """Why ROS 2 cannot be tested here (no rclpy, no nav2_msgs or tf2_msgs, no namespaces), or None."""
     try:
         import nav2_msgs.action  # noqa: F401
         import rclpy  # noqa: F401
+        import tf2_msgs.msg  # noqa: F401
     except ImportError as error:
         return f"ROS 2 is not installed: {error}"
     if shutil.which("unshare") is None or shutil.which("ip") is None:

@@ -12,7 +12,7 @@ from collections.abc import Sequence
 
 import numpy as np
 from builtin_interfaces.msg import Time
-from geometry_msgs.msg import Point, Pose, PoseStamped, PoseWithCovarianceStamped, Quaternion
+from geometry_msgs.msg import Point, Pose, PoseStamped, PoseWithCovarianceStamped, Quaternion, TransformStamped
 from nav_msgs.msg import OccupancyGrid as GridMessage
 from nav_msgs.msg import Odometry
 from rclpy.qos import DurabilityPolicy, QoSProfile, ReliabilityPolicy
@@ -25,6 +25,7 @@ from frontier_rl.core.world.grid import OccupancyGrid
 from frontier_rl.core.world.robot import Pose as RobotPose
 from frontier_rl.errors import MapError
 from frontier_rl.robot.map_message import grid_from_message, yaw_of
+from frontier_rl.robot.transforms import PlanarTransform
 
 MAP_FRAME = "map"
 MAP_QOS = QoSProfile(depth=1, durability=DurabilityPolicy.TRANSIENT_LOCAL, reliability=ReliabilityPolicy.RELIABLE)
@@ -98,6 +99,15 @@ def odometry(pose: RobotPose, stamp: Time, frame: str = MAP_FRAME, child: str = 
     message = Odometry(child_frame_id=child)
     message.header.stamp, message.header.frame_id = stamp, frame
     message.pose.pose = pose_message(pose)
+    return message
+
+
+def transform_stamped(parent: str, child: str, transform: PlanarTransform, stamp: Time) -> TransformStamped:
+    """A ``geometry_msgs/TransformStamped``: ``child``'s pose in ``parent`` is ``transform`` (m, rad)."""
+    message = TransformStamped(child_frame_id=child)
+    message.header.stamp, message.header.frame_id = stamp, parent
+    message.transform.translation.x, message.transform.translation.y = transform.x, transform.y
+    message.transform.rotation = quaternion_of(transform.yaw)
     return message
 
 

@@ -16,6 +16,7 @@ from frontier_rl.core.sim.episode import ExplorationPolicy
 from frontier_rl.core.world.worlds import World
 from frontier_rl.robot.explorer import FrontierExplorer
 from frontier_rl.robot.explorer_params import ExplorerParams
+from frontier_rl.robot.pose_source import PoseSource
 from frontier_rl.robot.ranking_service import RankingService, ServiceSettings
 from frontier_rl.robot.sim_robot import SimulatedRobot
 from frontier_rl.ros2.explorer_node import ExplorerNode, ExplorerStatus
@@ -101,8 +102,7 @@ def run_explorer(
     params: ExplorerParams,
     *,
     namespace: str = "",
-    pose_topic: str = "pose",
-    pose_type: str = "pose",
+    pose_source: PoseSource | None = None,
     visualize: bool = True,
     use_sim_time: bool = False,
     seed: int = 0,
@@ -125,9 +125,7 @@ def run_explorer(
     _, policy_rng = np.random.default_rng(seed).spawn(2)
     explorer = FrontierExplorer(policy, params, rng=policy_rng)
     try:
-        node = ExplorerNode(
-            explorer, pose_topic, pose_type, visualize, namespace, goal_silence_timeout, policy_name, teammates
-        )
+        node = ExplorerNode(explorer, pose_source, visualize, namespace, goal_silence_timeout, policy_name, teammates)
     except BaseException:
         rclpy.try_shutdown()
         raise

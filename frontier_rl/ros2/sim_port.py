@@ -17,8 +17,10 @@ from rclpy.node import Node
 from rclpy.task import Future
 from sensor_msgs.msg import LaserScan
 from std_msgs.msg import Float32
+from tf2_msgs.msg import TFMessage
 
 from frontier_rl.robot.sim_robot import GoalStatus, SimulatedRobot
+from frontier_rl.robot.transforms import IDENTITY, PlanarTransform
 from frontier_rl.ros2.messages import (
     MAP_QOS,
     grid_message,
@@ -27,11 +29,16 @@ from frontier_rl.ros2.messages import (
     pose_stamped,
     pose_with_covariance,
     robot_pose,
+    transform_stamped,
 )
+from frontier_rl.ros2.pose_listener import TF_QOS, TF_STATIC_QOS
 
 _MAP_PERIOD_S = 0.1
 """A robot's map is published at most this often (wall s) while it drives, and when a goal ends."""
 _CANCELED = "canceled"
+_STATIC_FRAMES = (("base_footprint", "base_link"), ("base_link", "base_scan"))
+"""The robot's fixed frames on ``tf_static`` (parent, child), each where its parent is; ``tf`` has
+``map`` → ``odom`` (the start pose) → ``base_footprint`` (the robot's pose from its start)."""
 
 
 def stamp_of(seconds: float) -> Time:
@@ -68,6 +75,12 @@ class RobotPort:
         self._odom_pub = node.create_publisher(Odometry, f"{prefix}odom", 10)
         self._scan_pub = node.create_publisher(LaserScan, f"{prefix}scan", 10)
         self._coverage_pub = node.create_publisher(Float32, f"{prefix}coverage", MAP_QOS)
+        self._tf_pub = node.create_publisher(TFMessage, f"{prefix}tf", TF_QOS)
+        start = robot.sim.world.start
+        self._odom_origin = PlanarTransform(start.x, start.y, start.theta)  # odometry starts where the robot does
+        static = [transform_stamped(parent, child, IDENTITY, stamp_of(0.0)) for parent, child in _STATIC_FRAMES]
+        self._tf_static_pub = node.create_publisher(TFMessage, f"{prefix}tf_static", TF_STATIC_QOS)
+        self._tf_static_pub.publish(TFMessage(transforms=static))
         self._server = ActionServer(
             node,
             NavigateToPose,
@@ -150,6 +163,15 @@ class RobotPort:
         pose = self.robot.pose
         self._pose_pub.publish(pose_with_covariance(pose, stamp))
         self._odom_pub.publish(odometry(pose, stamp))
+        in_odom = self._odom_origin.inverse().then(PlanarTransform(pose.x, pose.y, pose.theta))
+        self._tf_pub.publish(
+            TFMessage(
+                transforms=[
+                    transform_stamped("map", "odom", self._odom_origin, stamp),
+                    transform_stamped("odom", "base_footprint", in_odom, stamp),
+                ]
+            )
+        )
         lidar = self.robot.sim.config.lidar
         now = time.monotonic()
         sim_s, wall_s = self._scan_at

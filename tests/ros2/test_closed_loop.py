@@ -38,12 +38,17 @@ def _closed_loop(home: Path, sim_args: str, explore_args: str, timeout: float = 
     return status
 
 
-@pytest.mark.parametrize(("world", "seed", "policy"), [("office", 3, "nearest"), ("nav2_depot", 0, "fixed:0.75")])
+@pytest.mark.parametrize(
+    ("world", "seed", "policy", "pose"),
+    [("office", 3, "nearest", "--pose-type tf"), ("nav2_depot", 0, "fixed:0.75", "--pose-type pose")],
+)
 def test_the_explorer_explores_the_simulated_robot_over_ros2(
-    world: str, seed: int, policy: str, tmp_path: Path
+    world: str, seed: int, policy: str, pose: str, tmp_path: Path
 ) -> None:
+    """The pose from slam_toolbox's ``pose`` topic, or from ``tf`` (map → odom → base_footprint →
+    base_link, the last on ``tf_static``) as explore_lite reads it."""
     status = _closed_loop(
-        tmp_path, f"--world {world} --seed {seed} --rate 40", f"--policy {policy} --use-sim-time --seed {seed}"
+        tmp_path, f"--world {world} --seed {seed} --rate 40", f"--policy {policy} --use-sim-time --seed {seed} {pose}"
     )
     episode = api.explore(world, policy, seed=seed)
     assert status["state"] == "finished"
@@ -125,3 +130,20 @@ def test_a_team_that_merges_its_maps_ends_when_the_merged_map_is_explored(tmp_pa
     assert probe["merged_maps"] > 0 and probe["frames"] == ["map"], probe
     assert isinstance(probe["most_cells_beyond_own"], int) and probe["most_cells_beyond_own"] > 0, probe
     assert min(s["coverage"] for s in statuses) < 0.95, logs  # one stopped before mapping it all itself
+
+
+def test_a_base_frame_tf_does_not_reach_is_named_while_the_explorer_waits(tmp_path: Path) -> None:
+    """``--pose-type tf`` with a base frame the robot's transforms do not have: no goal is sent, and
+    the warning says where the chain ends (at most every 5 s)."""
+    frontier_rl = shlex.quote(cli())
+    script = (
+        f"{frontier_rl} ros2 sim --world office --seed 3 > sim.log 2>&1 & sim=$!; "
+        f"timeout --preserve-status -s INT 12 {frontier_rl} ros2 explore --json --pose-type tf "
+        "--robot-base-frame base_laser > explore.log 2> explore.err; status=$?; stop $sim; exit $status"
+    )
+    done = run_in_loopback(script, tmp_path, 60)
+    log = (tmp_path / "explore.err").read_text() + (tmp_path / "explore.log").read_text()
+    assert done.returncode == 130, f"{done.stderr}\n{log}"  # interrupted: it never started exploring
+    assert "no pose from tf yet: no transform from 'map' to 'base_laser': no transform of 'base_laser' yet" in log
+    status = json.loads((tmp_path / "explore.log").read_text().strip().splitlines()[-1])
+    assert status["state"] == "interrupted" and status["goals"] == 0, log
