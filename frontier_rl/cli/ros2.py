@@ -210,11 +210,8 @@ def explore(
         visualize=visualize,
         robot_base_frame=robot_base_frame,
     )
-    options = _with_parameter_file(ctx, params_file, options)
-    visualize, robot_base_frame = bool(options.pop("visualize")), str(options.pop("robot_base_frame"))
-    params = _explorer_params(**options, time_cap=time_cap)
+    params, visualize, pose_source = _explorer_settings(ctx, params_file, options, time_cap, (pose_type, pose_topic))
     node = _node_options(namespace, teammates, goal_silence_timeout)
-    pose_source = _pose_source(pose_type, pose_topic, robot_base_frame)
     _need_ros2()
     _explore_with(
         policy,
@@ -238,6 +235,17 @@ def _node_options(namespace: str, teammates: str, goal_silence_timeout: float) -
         "teammates": _teammates(teammates, namespace),
         "goal_silence_timeout": goal_silence_timeout,
     }
+
+
+def _explorer_settings(
+    ctx: typer.Context, params_file: Path | None, options: dict[str, Any], time_cap: float, pose: tuple[str, str]
+) -> tuple[ExplorerParams, bool, PoseSource]:
+    """The explorer's settings, whether it draws markers and where its pose comes from (``pose``:
+    the pose type and topic; the base frame is among the ``options``), from its ``options`` and,
+    for those not given on the command line, explore_lite's parameter file; one line naming a bad one."""
+    options = _with_parameter_file(ctx, params_file, options)
+    visualize, robot_base_frame = bool(options.pop("visualize")), str(options.pop("robot_base_frame"))
+    return _explorer_params(**options, time_cap=time_cap), visualize, _pose_source(*pose, robot_base_frame)
 
 
 def _pose_source(pose_type: str, pose_topic: str, robot_base_frame: str) -> PoseSource:

@@ -228,8 +228,10 @@ class ExplorerNode(Node):
     def _poll(self) -> None:
         """A planner tick when one is due: every ``1 / planner_frequency`` s of the node's clock,
         and at once when no goal is under way."""
+        if (self.finished is not None and not self._returning) or self._grid is None:
+            return
         pose = self._poses.pose(self._map_frame)
-        if (self.finished is not None and not self._returning) or self._grid is None or pose is None:
+        if pose is None:
             return
         if not self._nav.server_is_ready():
             return
