@@ -46,13 +46,19 @@ def test_the_explorer_explores_the_simulated_robot_over_ros2(
     world: str, seed: int, policy: str, pose: str, tmp_path: Path
 ) -> None:
     """The pose from slam_toolbox's ``pose`` topic, or from ``tf`` (map → odom → base_footprint →
-    base_link, the last on ``tf_static``) as explore_lite reads it."""
+    base_link, the last on ``tf_static``) as explore_lite reads it. The loop over ROS 2 is not the
+    in-process episode step for step: maps, poses and goals cross processes as they come, so its
+    decisions differ (office: 70-85 goals in eight runs, with either pose, against 113 decisions
+    in-process). It ends as the episode does, or with a speck-sized frontier left where the episode
+    had none (one run in eight here: ``unreachable`` with 0.013 m² unknown beside it)."""
     status = _closed_loop(
         tmp_path, f"--world {world} --seed {seed} --rate 40", f"--policy {policy} --use-sim-time --seed {seed} {pose}"
     )
     episode = api.explore(world, policy, seed=seed)
     assert status["state"] == "finished"
-    assert status["reason"] == episode.end_reason
+    unknown = status["unknown_m2"]
+    speck_left = status["reason"] == "unreachable" and isinstance(unknown, int | float) and unknown < 0.05
+    assert status["reason"] == episode.end_reason or speck_left, status
     assert status["coverage"] == pytest.approx(episode.coverage, abs=0.01)
     assert isinstance(status["goals"], int) and status["goals"] > 5
 
