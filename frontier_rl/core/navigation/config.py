@@ -4,6 +4,7 @@ flavoured)."""
 from __future__ import annotations
 
 import math
+from collections.abc import Callable
 from dataclasses import dataclass
 
 from frontier_rl.errors import ConfigError
@@ -49,6 +50,11 @@ class NavigationConfig:
             a leg to a goal 2 m away (81 m in one such leg, on 0.1 m cells). The bound is loose on
             purpose, since a way around found on the road is exploration too: legs of 33-38 m
             whose first plan was 4-6 m, on building floors, ended with their frontier seen.
+        recovery_detour_factor: the detour limit's factor for a leg planned on the narrow-passage
+            recovery's costmap, whose walls are peeled: a gap it plans through may not be there,
+            and replanning from one peeled gap to the next toured SLAM maps' fans of rays for
+            100-540 s per leg (``yujin_rnd_hokuyo``) to the episode's time cap...
+        recovery_detour_slack: ... and its slack (m).
         blacklist_radius: frontiers whose goal lies this close (m) to a failed goal are skipped
             (until the map around it changes, or it is retried before the episode would end).
         max_goal_failures: a goal that failed this often is given up for good.
@@ -76,6 +82,8 @@ class NavigationConfig:
     max_recoveries: int = 2
     detour_factor: float = 10.0
     detour_slack: float = 30.0
+    recovery_detour_factor: float = 2.0
+    recovery_detour_slack: float = 5.0
     blacklist_radius: float = 0.25
     max_goal_failures: int = 2
     frontier_check_period: float = 1.0
@@ -84,7 +92,7 @@ class NavigationConfig:
     teammate_patience: float = 5.0
 
     def __post_init__(self) -> None:
-        for name in (
+        positive = (
             "inflation_radius",
             "goal_tolerance",
             "lookahead",
@@ -94,35 +102,40 @@ class NavigationConfig:
             "frontier_check_period",
             "teammate_patience",
             "teammate_range",
-        ):
-            value = getattr(self, name)
-            if not (math.isfinite(value) and value > 0):
-                raise ConfigError(f"NavigationConfig.{name} must be positive, got {value!r}")
-        for name in (
+        )
+        self._require(positive, lambda v: math.isfinite(v) and v > 0, "be positive")
+        non_negative = (
             "cost_scaling",
             "progress_distance",
             "oscillation_distance",
             "blacklist_radius",
             "teammate_margin",
             "detour_slack",
-        ):
+            "recovery_detour_slack",
+        )
+        self._require(non_negative, lambda v: math.isfinite(v) and v >= 0, "be >= 0")
+        self._require(
+            ("inflation_radius",), lambda v: v <= MAX_INFLATION_RADIUS_M, f"be at most {MAX_INFLATION_RADIUS_M:g} m"
+        )
+        extra = f"be within [0, {MAX_EXTRA_COST:g}]"
+        self._require(("inflation_cost", "unknown_cost"), lambda v: 0 <= v <= MAX_EXTRA_COST, extra)
+        self._require(("control_dt",), lambda v: v >= MIN_CONTROL_DT, f"be >= {MIN_CONTROL_DT:g} s")
+        self._require(("max_goal_failures",), lambda v: v >= 1, "be >= 1")
+        self._require(("detour_factor", "recovery_detour_factor"), lambda v: math.isfinite(v) and v >= 1, "be >= 1")
+        self._require(("max_recoveries",), lambda v: v >= 0, "be >= 0")
+
+    def _require(self, names: tuple[str, ...], holds: Callable[[float], bool], what: str) -> None:
+        """Raise :class:`ConfigError` naming the first of ``names`` whose value ``holds`` refuses:
+        it must ``what``."""
+        for name in names:
             value = getattr(self, name)
-            if not (math.isfinite(value) and value >= 0):
-                raise ConfigError(f"NavigationConfig.{name} must be >= 0, got {value!r}")
-        if self.inflation_radius > MAX_INFLATION_RADIUS_M:
-            raise ConfigError(
-                f"NavigationConfig.inflation_radius must be at most {MAX_INFLATION_RADIUS_M:g} m, "
-                f"got {self.inflation_radius!r}"
-            )
-        for name in ("inflation_cost", "unknown_cost"):
-            value = getattr(self, name)
-            if not (0 <= value <= MAX_EXTRA_COST):
-                raise ConfigError(f"NavigationConfig.{name} must be within [0, {MAX_EXTRA_COST:g}], got {value!r}")
-        if self.control_dt < MIN_CONTROL_DT:
-            raise ConfigError(f"NavigationConfig.control_dt must be >= {MIN_CONTROL_DT:g} s, got {self.control_dt!r}")
-        if self.max_goal_failures < 1:
-            raise ConfigError(f"NavigationConfig.max_goal_failures must be >= 1, got {self.max_goal_failures!r}")
-        if not (math.isfinite(self.detour_factor) and self.detour_factor >= 1):
-            raise ConfigError(f"NavigationConfig.detour_factor must be >= 1, got {self.detour_factor!r}")
-        if self.max_recoveries < 0:
-            raise ConfigError(f"NavigationConfig.max_recoveries must be >= 0, got {self.max_recoveries!r}")
+            if not holds(value):
+                raise ConfigError(f"NavigationConfig.{name} must {what}, got {value!r}")
+
+    def detour_limit(self, first_plan: float, on_recovery: bool) -> float:
+        """How far (m) a leg whose first plan was ``first_plan`` m long may drive before it is
+        aborted as a detour: ``recovery_detour_*`` on the narrow-passage recovery's costmap
+        (``on_recovery``), else ``detour_*``."""
+        if on_recovery:
+            return self.recovery_detour_factor * first_plan + self.recovery_detour_slack
+        return self.detour_factor * first_plan + self.detour_slack

@@ -199,7 +199,7 @@ class Leg:
         self.new_free = 0
         self.new_occupied = 0
         self._set_path(path)
-        self._detour_limit = nav.detour_factor * float(self._tail[0]) + nav.detour_slack  # m, from the first plan
+        self._detour_limit = nav.detour_limit(float(self._tail[0]), recovery is not Recovery.NONE)  # m
 
     def _set_path(self, path: NDArray[np.float64]) -> None:
         self._path = path
@@ -260,7 +260,8 @@ class Leg:
     def _giving_up(self) -> AbortCause | None:
         """Why the leg gives up now: it has gone ``progress_timeout`` without progress, or driven
         farther than its detour limit (``detour_factor`` times its first plan and ``detour_slack``
-        more); None while it goes on."""
+        more, or the recovery's tighter limit on a narrow-passage recovery's costmap); None while
+        it goes on."""
         port = self._port
         here = (port.pose.x, port.pose.y)
         stalled = self._watchdog.stalled_for(self._remaining(), here, port.sim_time)

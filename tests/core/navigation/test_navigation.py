@@ -585,6 +585,8 @@ def test_follow_path_blocked_mid_tick_waits_until_the_tick_ends() -> None:
         ({"detour_factor": math.inf}, "inf"),
         ({"detour_slack": -1.0}, "-1.0"),
         ({"detour_slack": math.nan}, "nan"),
+        ({"recovery_detour_factor": 0.9}, "0.9"),
+        ({"recovery_detour_slack": -0.5}, "-0.5"),
     ],
 )
 def test_bad_navigation_config_raises_config_error_naming_the_value(kwargs: dict[str, float], named: str) -> None:

@@ -217,3 +217,16 @@ def test_a_leg_that_drives_far_beyond_its_plan_is_aborted(detour_factor: float) 
     assert outcome is LegOutcome.ABORTED and limit < port.driven < limit + 0.5
     assert leg.abort_cause is AbortCause.DETOUR
     assert port.calls.count("blacklist") == 1 and port.calls.count("replan") > 30
+
+
+@pytest.mark.parametrize("recovery", [Recovery.NONE, Recovery.HALF_CELL])
+def test_a_leg_through_peeled_walls_gives_up_its_detour_sooner(recovery: Recovery) -> None:
+    """On the narrow-passage recovery's costmap a gap may not be there: such a leg may drive only
+    ``recovery_detour_factor`` times its first plan and ``recovery_detour_slack`` more."""
+    port = WanderingPort(_hall())
+    nav = NavigationConfig(recovery_detour_factor=3.0, recovery_detour_slack=4.0)
+    port.config = SimConfig(navigation=nav)
+    leg = Leg(port, _straight(2.5), (2.5, 1.0), FRONTIER, recovery=recovery)
+    assert run_leg(leg.run()) is LegOutcome.ABORTED and leg.abort_cause is AbortCause.DETOUR
+    limit = 3.0 * 2.0 + 4.0 if recovery is not Recovery.NONE else 10.0 * 2.0 + nav.detour_slack
+    assert limit < port.driven < limit + 0.5
