@@ -49,29 +49,31 @@ TEAMS = (
 
 def fingerprint(result: EpisodeResult, skip: frozenset[str] = frozenset()) -> str:
     """A SHA-256 of every field of ``result`` except its wall time and the fields in ``skip`` (a
-    field added since the baseline was taken)."""
+    field added since the baseline was taken), at any depth (``path_on_map`` of each frontier left)."""
     digest = hashlib.sha256()
     for f in fields(result):
         if f.name == "wall_time_s" or f.name in skip:
             continue
         digest.update(f.name.encode())
-        _feed(digest, getattr(result, f.name))
+        _feed(digest, getattr(result, f.name), skip)
     return digest.hexdigest()
 
 
-def _feed(digest: hashlib._Hash, value: object) -> None:
+def _feed(digest: hashlib._Hash, value: object, skip: frozenset[str]) -> None:
     if isinstance(value, np.ndarray):
         digest.update(str(value.dtype).encode() + str(value.shape).encode() + np.ascontiguousarray(value).tobytes())
     elif isinstance(value, list | tuple):
         digest.update(b"[%d" % len(value))
         for item in value:
-            _feed(digest, item)
+            _feed(digest, item, skip)
     elif hasattr(value, "__dataclass_fields__"):
         for f in fields(value):  # type: ignore[arg-type]
-            _feed(digest, getattr(value, f.name))
+            if f.name not in skip:
+                _feed(digest, getattr(value, f.name), skip)
     elif hasattr(value, "__dict__") and not isinstance(value, type):
         for key in sorted(vars(value)):
-            _feed(digest, vars(value)[key])
+            if key not in skip:
+                _feed(digest, vars(value)[key], skip)
     else:
         digest.update(repr(value).encode())
 
@@ -117,7 +119,7 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument("--out", type=Path, help="write the fingerprints here (JSON)")
     parser.add_argument("--check", type=Path, help="compare with fingerprints an earlier checkout wrote")
     parser.add_argument("--skip", action="append", default=[], metavar="FIELD",
-                        help="leave a result field out (one added since the baseline); repeatable")  # fmt: skip
+                        help="leave a field out, at any depth (one added since the baseline); repeatable")  # fmt: skip
     args = parser.parse_args(argv)
     hashes = {}
     for name, run in episodes():

@@ -111,10 +111,13 @@ def test_explore_lists_the_frontiers_left(tmp_path: Path) -> None:
     assert data["end_reason"] == "unreachable" and data["truncated"] is False and data["done"] is False
     left = data["frontiers_left"]
     keys = {"x", "y", "cells", "unknown_cells", "unseen_free_cells", "unknown_m2", "failures", "unseen_behind_m2",
-            "has_path", "unrevealable"}  # fmt: skip
+            "has_path", "path_on_map", "unrevealable"}  # fmt: skip
     assert left and all(set(f) == keys for f in left)
     assert data["frontiers_with_path_left"] == sum(f["has_path"] and not f["unrevealable"] for f in left)
     assert data["frontiers_unrevealable_left"] == sum(f["unrevealable"] for f in left)
+    on_map = sum(f["path_on_map"] and not f["unrevealable"] for f in left)
+    assert data["frontiers_with_path_on_map_left"] == on_map <= data["frontiers_with_path_left"]
+    assert all(f["has_path"] for f in left if f["path_on_map"])
     assert max(f["unseen_behind_m2"] for f in left) > 0.5  # what it could not see of the room behind the slit
     assert all(f["x"] > 2.0 and f["cells"] > 0 for f in left)  # beyond the wall at x = 2 m
     shares = [f["unknown_m2"] for f in left]  # segments beside the slit share unseen cells, counted once in the sum

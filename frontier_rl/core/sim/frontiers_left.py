@@ -61,7 +61,8 @@ class _MapAgainstTruth:
         truth: the true world's cells under ``grid``.
         beside: ``grid``'s cells, free where the robot's whole map knows them (unseen in both).
         regions: the unseen free regions of the world.
-        audited: the flat cells of ``grid`` on a frontier the audit found a path to (:func:`with_a_path`).
+        path_levels: per flat cell of ``grid``, the lowest costmap level on which the audit found a
+            path to a frontier through it, -1 for none (:func:`audit_levels`).
     """
 
     grid: OccupancyGrid
@@ -71,7 +72,7 @@ class _MapAgainstTruth:
     truth: NDArray[np.int8]
     beside: NDArray[np.int8]
     regions: UnseenRegions
-    audited: NDArray[np.bool_]
+    path_levels: NDArray[np.int8]
 
     def behind_m2(self, cells: NDArray[np.int64]) -> float:
         """The unseen free area (m²) behind a frontier of ``cells`` (rows, cols of ``grid``)."""
@@ -85,7 +86,8 @@ class _MapAgainstTruth:
         unknown, unseen = unknown_beside(self.beside, cells[:, 0], cells[:, 1], self.truth)
         rows, cols = np.divmod(unseen, width)
         in_world = (rows + self.top) * self.world_width + cols + self.left
-        has_path = bool(self.audited[cells[:, 0] * width + cells[:, 1]].any())
+        levels = self.path_levels[cells[:, 0] * width + cells[:, 1]]
+        has_path = bool((levels >= 0).any())
         x, y = (float(v) for v in frontiers.centers[i])
         return FrontierLeft(
             x=x,
@@ -98,6 +100,7 @@ class _MapAgainstTruth:
             unseen_behind_m2=behind_m2,
             unseen_cells=in_world,
             has_path=has_path,
+            path_on_map=bool((levels == Recovery.NONE).any()),
             unrevealable=unrevealable,
         )
 
@@ -117,7 +120,7 @@ def frontiers_left(
     space beside and behind each (free cells read from ``truth_grid``, the world; ``map_state`` is
     the robot's whole map, ``felt`` the walls it touched and ``trail`` the cells it crossed, the
     world's shape), and the audit:
-    whether the map has a path to each (:func:`with_a_path`). A cluster of at most
+    whether the map has a path to each, and on which costmap (:func:`audit_levels`). A cluster of at most
     ``config.speck_cells`` cells is a speck and left out, unless more than :data:`UNSEEN_ROOM_M2`
     of unseen free space lies behind it: a room seen only through a slot is not a speck."""
     grid = cand.grid
@@ -132,7 +135,7 @@ def frontiers_left(
         truth=truth_grid.data[crop],
         beside=np.where(state == CellState.UNKNOWN, grid.data, np.int8(CellState.FREE)),  # unseen in both
         regions=UnseenRegions.of(map_state, truth_grid.data),
-        audited=with_a_path(grid, pose, config, felt[crop], None if trail is None else trail[crop]),
+        path_levels=audit_levels(grid, pose, config, felt[crop], None if trail is None else trail[crop]),
     )
     candidate_cells = np.zeros(grid.shape[0] * grid.shape[1], np.bool_)
     for start, end in cand.frontiers.spans:
@@ -151,24 +154,26 @@ def frontiers_left(
     return tuple(left)
 
 
-def with_a_path(
+def audit_levels(
     grid: OccupancyGrid,
     pose: Pose,
     config: SimConfig,
     felt: NDArray[np.bool_],
     trail: NDArray[np.bool_] | None = None,
-) -> NDArray[np.bool_]:
-    """The audit before an episode gives up: the cells (flat, of ``grid``) of every frontier the
-    robot at ``pose`` could drive to on its map ``grid`` as it is now, planned afresh (a new
-    costmap, no blacklist), on the normal costmap or at a level of the narrow-passage recovery's
-    (``felt``: the walls it touched; ``trail``: the cells it crossed; ``grid``'s shape). A frontier
-    left with such a cell was given up on after its failed attempts, not for want of a way."""
-    found = np.zeros(grid.height * grid.width, np.bool_)
-    for level in Recovery:
+) -> NDArray[np.int8]:
+    """The audit before an episode gives up: per flat cell of ``grid``, the lowest costmap level
+    (a :class:`~frontier_rl.core.navigation.thin_walls.Recovery` value; -1: none) on which the
+    robot at ``pose`` could drive to a frontier through that cell on its map ``grid`` as it is now,
+    planned afresh (a new costmap, no blacklist): the normal costmap, or a level of the
+    narrow-passage recovery's, whose walls are thinned (``felt``: the walls it touched; ``trail``:
+    the cells it crossed; ``grid``'s shape). A frontier left with such a cell was given up on after
+    its failed attempts, not for want of a way; on the normal costmap, through walls as mapped."""
+    levels = np.full(grid.height * grid.width, -1, np.int8)
+    for level in reversed(Recovery):  # the lowest level last: it is the one kept
         _, _, frontiers = reachable_frontiers(grid, pose, config, recovery=level, felt=felt, trail=trail)
         for start, end in frontiers.spans:
-            found[frontiers.flat_cells[start:end]] = True
-    return found
+            levels[frontiers.flat_cells[start:end]] = level
+    return levels
 
 
 def _frontiers(grid: OccupancyGrid, pose: Pose, config: SimConfig, specks: bool) -> Frontiers:

@@ -55,6 +55,9 @@ class FrontierLeft:
         has_path: the audit: the robot's final map, planned afresh from where it stands (a new
             costmap, no blacklist, normal or narrow-passage recovery), has a path to it: it was
             given up on after its failed attempts, not for want of a way (unless ``unrevealable``).
+        path_on_map: the audit found that path on the normal costmap, through the walls as the robot
+            mapped them; with ``has_path`` but not this, only through walls the narrow-passage
+            recovery thinned, which may not be there (a streak in a wall's mass, a gap in clutter).
         unrevealable: the robot reached a goal of it as often as a goal may fail, and it stayed: the
             view it was chosen for revealed nothing (:mod:`~frontier_rl.core.frontiers.blacklist`).
     """
@@ -69,6 +72,7 @@ class FrontierLeft:
     unseen_behind_m2: float
     unseen_cells: NDArray[np.int64] = field(repr=False, compare=False, default_factory=lambda: np.zeros(0, np.int64))
     has_path: bool = False
+    path_on_map: bool = False
     unrevealable: bool = False
 
     def summary(self) -> dict[str, Any]:
@@ -83,6 +87,7 @@ class FrontierLeft:
             "failures": self.failures,
             "unseen_behind_m2": round(self.unseen_behind_m2, 4),
             "has_path": self.has_path,
+            "path_on_map": self.path_on_map,
             "unrevealable": self.unrevealable,
         }
 
@@ -171,6 +176,13 @@ class EpisodeResult:
         return sum(f.has_path and not f.unrevealable for f in self.frontiers_left)
 
     @property
+    def frontiers_with_path_on_map_left(self) -> int:
+        """Of :attr:`frontiers_with_path_left`, those with a path on the normal costmap, through the
+        walls as mapped (:attr:`FrontierLeft.path_on_map`); the others have one only through walls
+        the narrow-passage recovery thinned."""
+        return sum(f.path_on_map and not f.unrevealable for f in self.frontiers_left)
+
+    @property
     def frontiers_unrevealable_left(self) -> int:
         """Frontiers left that the robot reached as often as a goal may fail and that stayed
         (:attr:`FrontierLeft.unrevealable`)."""
@@ -199,6 +211,7 @@ class EpisodeResult:
             "unknown_left_m2": round(self.unknown_left_m2, 4),
             "explorable_left_m2": round(self.explorable_left_m2, 4),
             "frontiers_with_path_left": self.frontiers_with_path_left,
+            "frontiers_with_path_on_map_left": self.frontiers_with_path_on_map_left,
             "frontiers_unrevealable_left": self.frontiers_unrevealable_left,
             "wall_time_s": round(self.wall_time_s, 4),
             "real_time_factor": round(self.real_time_factor, 1),

@@ -153,7 +153,11 @@ class EpisodeTrace:
         weight_t, weight: the ranking weight of every decision and its time (s); empty without weights.
         aborts_by_cause: goals given up, per cause.
         explorable_left_m2: the unseen explorable area left (m²; None in older traces).
-        frontiers_with_path_left: frontiers left with a path on the true map (None in older traces).
+        frontiers_with_path_left: frontiers left, not reached in vain, that the robot's final map had
+            a path to, on the normal costmap or through walls the narrow-passage recovery thinned
+            (the audit; None in older traces).
+        frontiers_with_path_on_map_left: of them, those with a path on the normal costmap, through
+            the walls as mapped (None in older traces).
         frontiers_unrevealable_left: frontiers left whose goal was reached in vain (None in older traces).
         robot_path_lengths_m, robot_coverage, failed_at_s: a team's, per robot (None for one robot;
             a failure time is None for a robot that did not fail).
@@ -169,6 +173,7 @@ class EpisodeTrace:
     aborts_by_cause: Mapping[str, int] = field(default_factory=dict)
     explorable_left_m2: float | None = None
     frontiers_with_path_left: int | None = None
+    frontiers_with_path_on_map_left: int | None = None
     frontiers_unrevealable_left: int | None = None
     robot_path_lengths_m: tuple[float, ...] | None = None
     robot_coverage: tuple[float, ...] | None = None
@@ -217,6 +222,7 @@ class EpisodeTrace:
             aborts_by_cause={str(cause): n for cause, n in causes.items()},
             explorable_left_m2=_measure(data, "explorable_left_m2"),
             frontiers_with_path_left=_whole(data, "frontiers_with_path_left", optional=True),
+            frontiers_with_path_on_map_left=_whole(data, "frontiers_with_path_on_map_left", optional=True),
             frontiers_unrevealable_left=_whole(data, "frontiers_unrevealable_left", optional=True),
             **team,
         )

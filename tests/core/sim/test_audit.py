@@ -4,11 +4,14 @@ its tries again within a budget, and the frontiers left say whether the final ma
 from __future__ import annotations
 
 import numpy as np
+import pytest
 
 from frontier_rl.core.frontiers.blacklist import AUDIT_BUDGET, Blacklist
+from frontier_rl.core.navigation.thin_walls import Recovery
 from frontier_rl.core.sim.candidates import find_candidates
 from frontier_rl.core.sim.config import SimConfig
 from frontier_rl.core.sim.episode import run_episode
+from frontier_rl.core.sim.frontiers_left import audit_levels
 from frontier_rl.core.sim.simulator import ExplorationSimulator
 from frontier_rl.core.world.grid import CellState, OccupancyGrid
 from frontier_rl.core.world.robot import Pose
@@ -95,6 +98,21 @@ def test_a_frontier_the_map_has_a_way_to_is_retried_after_its_tries_within_the_b
     assert result.end_reason == "unreachable"
     assert result.frontiers_with_path_left == sum(f.has_path for f in left) > 0
     assert result.summary()["frontiers_with_path_left"] == result.frontiers_with_path_left
+    # a door of 0.8 m: the path runs through the walls as mapped, not only through thinned ones
+    assert result.frontiers_with_path_on_map_left == result.frontiers_with_path_left
+    assert result.summary()["frontiers_with_path_on_map_left"] == result.frontiers_with_path_on_map_left
+
+
+@pytest.mark.parametrize(("door_m", "level"), [(0.25, Recovery.HALF_CELL), (0.4, Recovery.NONE)])
+def test_the_audit_says_whether_a_path_runs_through_walls_as_mapped(door_m: float, level: Recovery) -> None:
+    """A door the robot's map narrowed below its width has a path only on the narrow-passage
+    recovery's costmap, whose walls are thinned; a wider one on the normal costmap."""
+    grid, start = door_world(door_m)
+    data = grid.data.copy()
+    data[:, 66:] = CellState.UNKNOWN  # the far room unseen: a frontier beyond the door
+    unseen = OccupancyGrid(data, grid.resolution)
+    levels = audit_levels(unseen, start, SimConfig(), np.zeros(unseen.shape, np.bool_)).reshape(unseen.shape)
+    assert set(levels[:, 64:].ravel().tolist()) == {-1, int(level)}
 
 
 def test_frontiers_behind_a_door_narrower_than_the_robot_have_no_path() -> None:
