@@ -42,11 +42,6 @@ def _need_ros2() -> None:
         fail(f"{_NO_ROS2} ({error})")
 
 
-def _check_pose_type(pose_type: str) -> None:
-    if pose_type not in ("pose", "odom"):
-        fail(f"--pose-type must be pose or odom, got {pose_type!r}")
-
-
 def _explorer_params(
     planner_frequency: float, progress_timeout: float, min_frontier_size: float, return_to_init: bool, time_cap: float
 ) -> ExplorerParams:
@@ -134,13 +129,16 @@ def rank(
     keep_last_map: Annotated[bool, typer.Option(help="Keep the last good map when a malformed one arrives.")] = True,
     max_pending: Annotated[int, typer.Option(help="Requests queued per robot; more are answered empty.")] = 8,
     pose_topic: Annotated[str, typer.Option(help="Each robot's pose topic, in its namespace.")] = "pose",
-    pose_type: Annotated[str, typer.Option(help="pose (PoseWithCovarianceStamped) or odom (Odometry).")] = "pose",
+    pose_type: Annotated[
+        str, typer.Option(help="pose (PoseWithCovarianceStamped), odom (Odometry) or tf (its namespace's tf).")
+    ] = "pose",
+    robot_base_frame: Annotated[str, typer.Option(help="Each robot's base frame, for --pose-type tf.")] = "base_link",
     use_sim_time: Annotated[bool, typer.Option(help="Time from /clock (a simulator's).")] = False,
 ) -> None:
     """The thesis's ranking service: /frontier_request answered on /frontier_list, for one or more robots."""
     from frontier_rl.robot.node_settings import StaleMapAnswer, count_parameter, robot_namespaces, seconds_parameter
 
-    _check_pose_type(pose_type)
+    pose_source = _pose_source(pose_type, pose_topic, robot_base_frame)
     try:
         stale = StaleMapAnswer(stale_map)
     except ValueError:
@@ -158,7 +156,7 @@ def rank(
 
     count_parameter("min_cluster_size", min_cluster_size, 0, MAX_FRONTIER_DROP_CELLS)
     settings = ServiceSettings(names, policy.strip(), *limits, age, stale, keep_last_map, pending)
-    answered = run_ranking(settings, pose_topic, pose_type, use_sim_time)
+    answered = run_ranking(settings, pose_source, use_sim_time)
     stdout_console().print(f"{answered} requests answered")
 
 

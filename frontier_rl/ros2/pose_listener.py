@@ -31,19 +31,25 @@ TF_STATIC_QOS = QoSProfile(
 
 class PoseListener:
     """The robot's latest pose in the map from ``source``, on ``node``; a message that cannot be
-    read is reported to ``problem`` (topic, text) and the last good pose kept."""
+    read is reported to ``problem`` (topic, text) and the last good pose kept. With a
+    ``namespace``, the robot's topics are in it (``/NS/tf``, ``/NS/pose``; a node serving several
+    robots, as Nav2's multi-robot launch names them), else in the node's."""
 
-    def __init__(self, node: Node, source: PoseSource, problem: Callable[[str, str], None]) -> None:
+    def __init__(
+        self, node: Node, source: PoseSource, problem: Callable[[str, str], None], namespace: str = ""
+    ) -> None:
         self.source = source
         self._problem = problem
         self._pose: Pose | None = None
         self._tree = TransformTree()
+        prefix = f"{namespace.strip('/')}/" if namespace.strip("/") else ""
         if source.kind is PoseKind.TF:
-            node.create_subscription(TFMessage, "tf", self._on_transforms, TF_QOS)
-            node.create_subscription(TFMessage, "tf_static", self._on_transforms, TF_STATIC_QOS)
+            node.create_subscription(TFMessage, f"{prefix}tf", self._on_transforms, TF_QOS)
+            node.create_subscription(TFMessage, f"{prefix}tf_static", self._on_transforms, TF_STATIC_QOS)
         else:
             kind = PoseWithCovarianceStamped if source.kind is PoseKind.POSE else Odometry
-            node.create_subscription(kind, source.topic, self._on_pose, 10)
+            topic = source.topic if source.topic.startswith("/") else prefix + source.topic
+            node.create_subscription(kind, topic, self._on_pose, 10)
 
     def pose(self, map_frame: str) -> Pose | None:
         """The robot's pose in ``map_frame`` (the map's frame, for ``tf``), or None before any."""

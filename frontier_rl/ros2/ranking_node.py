@@ -1,7 +1,8 @@
 """``frontier-rl ros2 rank``: the thesis's ranking service on ROS 2, as the ROS 1 node serves it.
 
-It subscribes to each robot's map (``/<ns>/map``, transient local) and pose (``/<ns>/pose``, a
-``PoseWithCovarianceStamped`` as slam_toolbox publishes it, or an ``Odometry``). A
+It subscribes to each robot's map (``/<ns>/map``, transient local) and pose: ``/<ns>/pose``, a
+``PoseWithCovarianceStamped`` as slam_toolbox publishes it, an ``Odometry``, or the transforms of
+``/<ns>/tf`` and ``/<ns>/tf_static`` (:class:`~frontier_rl.ros2.pose_listener.PoseListener`). A
 ``std_msgs/String`` on ``/frontier_request`` naming a namespace (optionally followed by a request
 id) is answered on ``/frontier_list`` with that robot's top frontier centres as a
 ``geometry_msgs/PoseArray`` in its map frame, stamped with the stamp of the map they were ranked
@@ -12,24 +13,29 @@ on; then a JSON line on ``/frontier_status``, the weight on ``/frontier_weight``
 
 from __future__ import annotations
 
+import functools
 import math
+import time
 
 import numpy as np
 from builtin_interfaces.msg import Time
-from geometry_msgs.msg import Pose, PoseArray, PoseWithCovarianceStamped
+from geometry_msgs.msg import Pose, PoseArray
 from nav_msgs.msg import OccupancyGrid as GridMessage
-from nav_msgs.msg import Odometry
 from rclpy.node import Node
 from std_msgs.msg import Float32, String
 from visualization_msgs.msg import Marker, MarkerArray
 
-from frontier_rl.robot.answers import map_cells, marker_style
-from frontier_rl.robot.map_message import yaw_of
-from frontier_rl.robot.ranking_service import Answer, RankingService
+from frontier_rl.robot.answers import MapInfo, map_cells, marker_style
+from frontier_rl.robot.pose_source import PoseSource
+from frontier_rl.robot.ranking_service import Answer, RankingService, RobotPose
+from frontier_rl.robot.throttled_log import ThrottledLog
 from frontier_rl.ros2.messages import MAP_QOS
+from frontier_rl.ros2.pose_listener import PoseListener
 
 _QUEUE = 100
 """Depth of the request and answer topics: a burst of requests is queued, not dropped."""
+_WARN_PERIOD_S = 5.0
+"""A robot's bad pose messages are logged at most this often."""
 
 
 class RankingNode(Node):
@@ -37,11 +43,11 @@ class RankingNode(Node):
 
     Args:
         service: the service, its workers started.
-        pose_topic, pose_type: where each robot's pose comes from (``/<ns>/<pose_topic>``), a
-            ``pose`` (``PoseWithCovarianceStamped``) or ``odom`` (``Odometry``).
+        pose_source: where each robot's pose comes from, in its namespace (a pose or odometry
+            topic, or ``tf`` to the robot's base frame); a pose topic by default.
     """
 
-    def __init__(self, service: RankingService, pose_topic: str = "pose", pose_type: str = "pose") -> None:
+    def __init__(self, service: RankingService, pose_source: PoseSource | None = None) -> None:
         super().__init__("frontier_rl_ranking")
         self.service = service
         settings = service.settings
@@ -49,11 +55,13 @@ class RankingNode(Node):
         self._status_pub = self.create_publisher(String, "/frontier_status", _QUEUE)
         self._weight_pub = self.create_publisher(Float32, "/frontier_weight", MAP_QOS)
         self._marker_pub = self.create_publisher(MarkerArray, "/frontier_markers", 10)
-        kind = PoseWithCovarianceStamped if pose_type == "pose" else Odometry
+        self._warnings = ThrottledLog(_WARN_PERIOD_S)
+        self._poses: dict[str, PoseListener] = {}
         for ns in settings.robots:
             prefix = f"/{ns}" if ns else ""
             self.create_subscription(GridMessage, f"{prefix}/map", lambda m, ns=ns: self._on_map(ns, m), MAP_QOS)
-            self.create_subscription(kind, f"{prefix}/{pose_topic}", lambda m, ns=ns: self._on_pose(ns, m), 10)
+            problem = functools.partial(self._pose_problem, ns)
+            self._poses[ns] = PoseListener(self, pose_source or PoseSource(), problem, ns)
         self.create_subscription(String, "/frontier_request", self._on_request, _QUEUE)
         service.connect(self._publish, self._warn, self._now)
         fixed = service.fixed_weight
@@ -72,12 +80,20 @@ class RankingNode(Node):
             ns, lambda sequence: map_cells(message.info, message.header.frame_id, data, stamp_ns, sequence)
         )
 
-    def _on_pose(self, ns: str, message: PoseWithCovarianceStamped | Odometry) -> None:
-        p = message.pose.pose
-        self.service.on_pose(ns, (p.position.x, p.position.y, yaw_of(p.orientation)))
+    def _pose_problem(self, ns: str, topic: str, text: str) -> None:
+        if self._warnings.due(ns, topic, time.monotonic()):
+            self.get_logger().warn(f"robot {ns!r}: {text}" if ns else text)
+
+    def _pose_of(self, ns: str, info: MapInfo | None) -> RobotPose | None:
+        """Robot ``ns``'s latest pose in its map's frame; None for an unknown robot, or before any."""
+        listener = self._poses.get(ns)
+        if listener is None or info is None:
+            return None
+        pose = listener.pose(info.frame.frame_id)
+        return None if pose is None else (pose.x, pose.y, pose.theta)
 
     def _on_request(self, message: String) -> None:
-        self.service.on_request(message.data)
+        self.service.on_request(message.data, self._pose_of)
 
     def _publish(self, answer: Answer) -> None:
         """The answer, its markers, the weight and the status line (in that order)."""

@@ -73,10 +73,9 @@ def run_sim(robots: Sequence[tuple[str, SimulatedRobot]], rate: float | None = 1
     return lines
 
 
-def run_ranking(
-    settings: ServiceSettings, pose_topic: str = "pose", pose_type: str = "pose", use_sim_time: bool = False
-) -> int:
-    """Serve the ranking service (:class:`RankingNode`) until Ctrl-C or SIGTERM; the requests
+def run_ranking(settings: ServiceSettings, pose_source: PoseSource | None = None, use_sim_time: bool = False) -> int:
+    """Serve the ranking service (:class:`RankingNode`), each robot's pose from ``pose_source`` (in
+    its namespace; a pose topic by default), until Ctrl-C or SIGTERM; the requests
     answered. Its workers start before rclpy: starting them holds Ctrl-C with Python's own
     handlers, which would replace rclpy's."""
     service = RankingService(settings)
@@ -84,7 +83,7 @@ def run_ranking(
         if not service.start(lambda: False):  # a Ctrl-C meanwhile is a KeyboardInterrupt
             return 0
         rclpy.init()
-        node = RankingNode(service, pose_topic, pose_type)
+        node = RankingNode(service, pose_source)
         node.set_parameters([Parameter("use_sim_time", Parameter.Type.BOOL, use_sim_time)])
         node.get_logger().info(f"ranking for robots {list(settings.robots)} with {service.policy_name}")
         _spin(lambda: rclpy.spin(node))

@@ -19,13 +19,18 @@ if _PROBLEM is not None:
     pytest.skip(_PROBLEM, allow_module_level=True)
 
 
-def test_every_request_is_answered_for_a_team_and_an_unknown_robot_with_a_reason(tmp_path: Path) -> None:
+@pytest.mark.parametrize("pose_type", ["pose", "tf"])
+def test_every_request_is_answered_for_a_team_and_an_unknown_robot_with_a_reason(
+    pose_type: str, tmp_path: Path
+) -> None:
+    """Each robot's pose from its pose topic, or from its namespace's ``tf`` and ``tf_static``."""
     frontier_rl = shlex.quote(cli())
     script_path = Path(__file__).resolve().parents[2] / "benchmarks" / "ranking_client.py"
     client = f"{shlex.quote(sys.executable)} {shlex.quote(str(script_path))}"
     script = (
         f"{frontier_rl} ros2 sim --world office --seed 3 --robots 2 > sim.log 2>&1 & sim=$!; "
-        f"{frontier_rl} ros2 rank --robots tb3_0,tb3_1 --policy fixed:0.75 > rank.log 2>&1 & rank=$!; "
+        f"{frontier_rl} ros2 rank --robots tb3_0,tb3_1 --policy fixed:0.75 --pose-type {pose_type} "
+        "> rank.log 2>&1 & rank=$!; "
         f"{client} tb3_0,tb3_1,ghost --count 10 --ready tb3_0,tb3_1 > client.log 2> client.err; status=$?; "
         "stop $rank $sim || status=1; exit $status"
     )
