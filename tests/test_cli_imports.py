@@ -50,6 +50,8 @@ def _run(*args: str) -> dict[str, object]:
         (["ros2", "sim", "--robots", "9"], 2),
         (["ros2", "rank", "--stale-map", "maybe"], 2),
         (["ros2", "rank", "--robots", "a,,b"], 2),
+        (["ros2", "rank", "--pose-type", "gps"], 2),
+        (["ros2", "rank", "--pose-type", "tf", "--robot-base-frame", " "], 2),
         (["ros2", "explore", "--params-file", "no-such-explore.yaml"], 2),
     ],
 )
