@@ -19,7 +19,7 @@ import numba as nb
 import numpy as np
 from numpy.typing import NDArray
 
-from frontier_rl.core.navigation.path_costs import bucket_ring_mask
+from frontier_rl.core.navigation.bucket_queue import bucket_ring_mask, neighbour_steps, relax_neighbours
 from frontier_rl.core.navigation.step_costs import step_cost
 from frontier_rl.core.world.grid import CellState
 
@@ -32,7 +32,6 @@ blocks of the smallest f × f cells that bring the search within it, but no larg
 closed band allows (:func:`max_block_factor`: 3 cells for the TurtleBot3 at 0.05 m, so a map of
 more than 810,000 cells is searched on more blocks than this)."""
 
-_SQRT2 = math.sqrt(2.0)
 _UNKNOWN = np.int8(CellState.UNKNOWN)
 
 
@@ -127,7 +126,7 @@ def _fill_tile(
 
 
 @nb.njit(cache=True)
-def _group_costs(  # noqa: C901 (numba kernel: Dijkstra with its neighbour steps written out)
+def _group_costs(  # noqa: C901 (numba kernel: a Dijkstra that fills blocks as it goes)
     open_padded: NDArray[np.bool_],
     cost_padded: NDArray[np.float64],
     pending: NDArray[np.bool_],
@@ -170,15 +169,16 @@ def _group_costs(  # noqa: C901 (numba kernel: Dijkstra with its neighbour steps
                 also[n], entry_group[n] = first[cell], member_groups[m]
                 first[cell] = n
                 n += 1
-    offsets = np.array([-pcols, pcols, -1, 1, -pcols - 1, -pcols + 1, pcols - 1, pcols + 1])
-    side_row = np.array([0, 0, 0, 0, -pcols, -pcols, pcols, pcols])
-    side_col = np.array([0, 0, 0, 0, -1, 1, -1, 1])
+    steps = neighbour_steps(pcols)
+    offsets = steps[0]
     mask = bucket_ring_mask(max_cost)
     head = np.full(mask + 1, -1, np.int64)
     node = np.empty(8 * open_ok.size + 1, np.int64)  # entry pool: one entry per improvement
     link = np.empty(8 * open_ok.size + 1, np.int64)
     g = np.full(open_ok.size, np.inf)
     closed = np.zeros(open_ok.size, np.bool_)
+    touched = np.empty(open_ok.size, np.int64)  # the queue's record of cells reached; not needed here
+    n_touched = 0
     best = np.full(n_groups, np.inf)
     start = (source // cols + 1) * pcols + source % cols + 1
     g[start] = 0.0
@@ -209,24 +209,10 @@ def _group_costs(  # noqa: C901 (numba kernel: Dijkstra with its neighbour steps
             for k in range(8):
                 if todo[cur + offsets[k]]:
                     _fill_tile(cur + offsets[k], open_padded, cost_padded, pending, src)
-        for k in range(8):
-            nxt = cur + offsets[k]
-            if closed[nxt] or not open_ok[nxt]:
-                continue
-            if k < 4:
-                step = 1.0
-            elif open_ok[cur + side_row[k]] and open_ok[cur + side_col[k]]:
-                step = _SQRT2
-            else:
-                continue  # a diagonal step may not cut a corner
-            new_g = g[cur] + step * cost[nxt]
-            if new_g < g[nxt]:
-                g[nxt] = new_g
-                into = int(new_g) & mask
-                node[used], link[used] = nxt, head[into]
-                head[into] = used
-                used += 1
-                live += 1
+        used, pushed, n_touched = relax_neighbours(
+            cur, g, closed, open_ok, cost, steps, (head, node, link), mask, used, touched, n_touched
+        )
+        live += pushed
     return best, live == 0
 
 

@@ -16,26 +16,14 @@ import numba as nb
 import numpy as np
 from numpy.typing import NDArray
 
+from frontier_rl.core.navigation.bucket_queue import bucket_ring_mask, neighbour_steps, relax_neighbours
+
 if TYPE_CHECKING:  # the planner's Costmap.cost_to_go runs on this module: no import cycle at run time
     from frontier_rl.core.navigation.costmap import Costmap
 
-_SQRT2 = math.sqrt(2.0)
-
 
 @nb.njit(cache=True)
-def bucket_ring_mask(max_factor: float) -> int:
-    """The mask that maps a bucket (an integer path cost, cells) to its slot in the ring of a
-    bucket queue whose steps cost at most √2 × ``max_factor``: the ring spans more buckets than a
-    step, and has a power-of-two size so that a slot is a mask, not a division (one per push)."""
-    span = int(math.ceil(_SQRT2 * max(max_factor, 1.0))) + 2
-    size = 1
-    while size < span:
-        size *= 2
-    return size - 1
-
-
-@nb.njit(cache=True)
-def _path_costs(  # noqa: C901 (numba kernel: Dijkstra with its neighbour steps written out)
+def _path_costs(
     open_padded: NDArray[np.bool_],
     cost_padded: NDArray[np.float64],
     sources: NDArray[np.int64],
@@ -59,9 +47,7 @@ def _path_costs(  # noqa: C901 (numba kernel: Dijkstra with its neighbour steps 
     size_all = open_padded.size
     open_ok = open_padded.reshape(-1)
     cost = cost_padded.reshape(-1)
-    offsets = np.array([-pcols, pcols, -1, 1, -pcols - 1, -pcols + 1, pcols - 1, pcols + 1])
-    side_row = np.array([0, 0, 0, 0, -pcols, -pcols, pcols, pcols])
-    side_col = np.array([0, 0, 0, 0, -1, 1, -1, 1])
+    steps = neighbour_steps(pcols)
     ns, nt = sources.shape[0], targets.shape[0]
     first = np.full(size_all, -1, np.int64)  # per cell, its first target; more in ``also``
     also = np.full(nt, -1, np.int64)
@@ -111,30 +97,10 @@ def _path_costs(  # noqa: C901 (numba kernel: Dijkstra with its neighbour steps 
                         dist[j, s] = g[cur]
                     left -= 1
                 j = also[j]
-            for k in range(8):
-                nxt = cur + offsets[k]
-                if closed[nxt]:
-                    continue
-                # the planner's step rule, written out: calling its helper here costs 4x the time
-                if not open_ok[nxt]:
-                    continue
-                if k < 4:
-                    step = 1.0
-                elif open_ok[cur + side_row[k]] and open_ok[cur + side_col[k]]:
-                    step = _SQRT2
-                else:
-                    continue  # a diagonal step may not cut a corner
-                new_g = g[cur] + step * cost[nxt]
-                if new_g < g[nxt]:
-                    if g[nxt] == np.inf:
-                        touched[n_touched] = nxt
-                        n_touched += 1
-                    g[nxt] = new_g
-                    into = int(new_g) & mask
-                    node[used], link[used] = nxt, head[into]
-                    head[into] = used
-                    used += 1
-                    live += 1
+            used, pushed, n_touched = relax_neighbours(
+                cur, g, closed, open_ok, cost, steps, (head, node, link), mask, used, touched, n_touched
+            )
+            live += pushed
         if keep and s == ns - 1:
             field = g.reshape(open_padded.shape)[1:-1, 1:-1].copy()
         for k in range(n_touched):
