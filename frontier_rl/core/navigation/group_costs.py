@@ -141,8 +141,8 @@ def _group_costs(  # noqa: C901 (numba kernel: a Dijkstra that fills blocks as i
     """Path cost (cells) from ``source`` (an unpadded flat index) to each group: the least cost of
     any cell within ``reach`` cells (a square) of one of its members (``members``: unpadded flat
     indices and their groups, a group's members one after another); inf for a group not reached.
-    Dial's bucket queue of width 1 as in :func:`~frontier_rl.core.navigation.path_costs.path_costs`
-    (every step costs at least 1 and at most ``max_cost``), which stops after the bucket in which
+    Dial's bucket queue of width 1 (:mod:`~frontier_rl.core.navigation.bucket_queue`; every step
+    costs at least 1 and at most ``max_cost``), which stops after the bucket in which
     ``want`` groups were reached: those, and any tied with them, are exact. On blocks, ``pending``
     marks the blocks not yet worked out from ``src``; a tile of them is worked out when the search
     first comes next to one (:func:`_fill_tile`), so its step-cost work grows with the area
