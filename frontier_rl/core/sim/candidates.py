@@ -107,14 +107,14 @@ def find_candidates(
 ) -> Candidates:
     """The candidates on ``grid`` for a robot at ``pose``: on the normal costmap, or on the
     narrow-passage recovery's at level ``recovery``, which thins every wall but those ``felt`` (the
-    walls the robot touched, in ``grid``'s frame). Goals the ``blacklist`` blocks are left out (refreshed against the
-    robot's whole map ``map_state`` first); when that would leave none, the goals that may be
-    retried are lifted once, so that the episode never ends with a frontier it gave up on after a
-    single failure, and then those still within the audit's budget
+    walls the robot touched, in ``grid``'s frame). Goals the ``blacklist`` blocks are left out
+    (refreshed against the robot's whole map ``map_state`` first); when that would leave none, the
+    goals that may be retried are lifted once, so that the episode never ends with a frontier it
+    gave up on after a single failure, and then those still within the audit's budget
     (:data:`~frontier_rl.core.frontiers.blacklist.AUDIT_BUDGET`); last, a frontier blocked only
-    because its goal lies near a neighbour's failed one gets a try of its own. ``scratch`` and ``memory`` are
-    the robot's, kept from map to map; ``avoid``, the teammates it gives way to
-    (:func:`reachable_frontiers`)."""
+    because its goal lies near a neighbour's failed one gets the tries its own history leaves it.
+    ``scratch`` and ``memory`` are the robot's, kept from map to map; ``avoid``, the teammates it
+    gives way to (:func:`reachable_frontiers`)."""
     costmap, reachable, frontiers = reachable_frontiers(
         grid, pose, config, scratch=scratch, recovery=recovery, felt=felt, memory=memory, avoid=avoid, trail=trail
     )
@@ -128,17 +128,20 @@ def find_candidates(
         if len(kept) == 0:  # the audit: goals the map has a way to get as many tries again
             blacklist.retry(AUDIT_BUDGET * blacklist.max_failures)
             kept = frontiers.subset(~blacklist.blocked(goals))
-        if len(kept) == 0:  # blocked only for a neighbour's failures: a frontier's own first try
-            kept = frontiers.subset(_without_history(frontiers, grid, blacklist))
+        if len(kept) == 0:  # blocked only by a neighbour's goal: the tries its own history leaves it
+            kept = frontiers.subset(_with_tries_left(frontiers, grid, blacklist))
         frontiers = kept
     return Candidates(grid, costmap, reachable, frontiers, recovery)
 
 
-def _without_history(frontiers: Frontiers, grid: OccupancyGrid, blacklist: Blacklist) -> NDArray[np.int64]:
-    """The frontiers no failed goal lies near and no failed frontier touches
-    (:meth:`~frontier_rl.core.frontiers.blacklist.Blacklist.history_of`): blocked only because their
-    goal lies near a neighbour's failed one. Once tried, a failure of one joins that neighbour's
-    history, so each gets one try."""
-    failures = [blacklist.history_of(grid.cells_to_world(frontiers.cells_of(i)))[0] for i in range(len(frontiers))]
-    clean = [i for i, count in enumerate(failures) if count == 0]
-    return np.asarray(clean, np.int64)
+def _with_tries_left(frontiers: Frontiers, grid: OccupancyGrid, blacklist: Blacklist) -> NDArray[np.int64]:
+    """The frontiers whose own history leaves them a try: no entry whose goal lies near their cells
+    or whose failed frontiers touch them (:meth:`~frontier_rl.core.frontiers.blacklist.Blacklist.history_of`)
+    is unrevealable or has used up the audit's budget. They are blocked only because their goal
+    lies near a neighbour's failed one (a viewpoint two frontiers share). A failure of one joins
+    that neighbour's history or its own, so each such frontier's tries stay within the budget."""
+    budget = AUDIT_BUDGET * blacklist.max_failures
+    histories = [blacklist.history_of(grid.cells_to_world(frontiers.cells_of(i))) for i in range(len(frontiers))]
+    return np.asarray(
+        [i for i, (count, unrevealable) in enumerate(histories) if count < budget and not unrevealable], np.int64
+    )

@@ -141,7 +141,8 @@ def test_find_candidates_retries_within_the_audit_budget_only_when_nothing_else_
     assert len(find_candidates(grid, pose, config, bl, data).frontiers) == 0
 
 
-def test_a_frontier_blocked_only_by_a_neighbours_failures_gets_its_own_try() -> None:
+@pytest.mark.parametrize("own_failures", [0, 1, AUDIT_BUDGET * MAX_FAILURES - 1])
+def test_a_frontier_blocked_only_by_a_neighbours_failures_gets_the_tries_its_history_leaves(own_failures: int) -> None:
     # a room, and a slot narrower than the robot from it into unknown space: the slot's end is a
     # frontier seen down the slot from a goal in the room, half a metre from it
     data = np.full((60, 80), CellState.OCCUPIED, np.int8)
@@ -155,12 +156,37 @@ def test_a_frontier_blocked_only_by_a_neighbours_failures_gets_its_own_try() -> 
     assert len(first.frontiers) == 1
     goal = np.asarray(grid.cell_to_world(*first.frontiers.goal_cells[0]))
     cells = grid.cells_to_world(first.frontiers.cells_of(0))
-    beside = goal + np.array([0.0, 0.2])  # a neighbour's failed goal, beside this one
-    assert np.hypot(*(beside - goal)) <= bl.radius < np.hypot(*(cells - beside).T).min()
+    own, beside = goal - np.array([0.0, 0.1]), goal + np.array([0.0, 0.2])  # its own failed goal; a neighbour's
+    assert np.hypot(*(beside - goal)) <= bl.radius < min(np.hypot(*(beside - own)), np.hypot(*(cells - beside).T).min())
+    for _ in range(own_failures):
+        bl.fail(*own, data, frontier=cells)
     for _ in range(AUDIT_BUDGET * MAX_FAILURES):
         bl.fail(*beside, data, frontier=np.array([[0.2, 2.8]]))  # its tries spent, its frontier elsewhere
-    assert bl.history_of(cells) == (0, False) and bl.blocked(goal[None, :]).all()
+    assert bl.history_of(cells) == (own_failures, False) and bl.blocked(goal[None, :]).all()
     again = find_candidates(grid, pose, config, bl, data).frontiers
-    assert len(again) == 1 and np.allclose(again.goals[0], goal)  # not given up: its own first try
-    bl.fail(*goal, data, frontier=cells)  # that try fails too: it joins the neighbour's history
-    assert bl.history_of(cells)[0] > 0 and len(find_candidates(grid, pose, config, bl, data).frontiers) == 0
+    assert len(again) == 1 and np.allclose(again.goals[0], goal)  # not given up: its own history leaves a try
+    tries = 0
+    while len(find_candidates(grid, pose, config, bl, data).frontiers):  # the tries fail too
+        bl.fail(*goal, data, frontier=cells)
+        tries += 1
+        assert tries <= AUDIT_BUDGET * MAX_FAILURES - own_failures  # within the budget its history left
+    assert tries >= 1 and bl.history_of(cells)[0] >= AUDIT_BUDGET * MAX_FAILURES
+
+
+def test_a_frontier_whose_own_history_is_spent_stays_given_up_beside_a_neighbours_goal() -> None:
+    data = np.full((60, 80), CellState.OCCUPIED, np.int8)
+    data[2:58, 2:30] = FREE
+    data[20:40, 35:78] = CellState.UNKNOWN
+    data[28:31, 30:38] = FREE
+    grid = OccupancyGrid(data, RES)
+    pose, config = Pose(0.5, 1.5, 0.0), SimConfig()
+    bl = Blacklist(0.25, MAX_FAILURES, RES, (0.0, 0.0))
+    first = find_candidates(grid, pose, config, bl, data)
+    goal = np.asarray(grid.cell_to_world(*first.frontiers.goal_cells[0]))
+    cells = grid.cells_to_world(first.frontiers.cells_of(0))
+    for _ in range(MAX_FAILURES):  # visited twice, nothing revealed: unrevealable
+        bl.fail(*(goal - np.array([0.0, 0.1])), data, reached=True, frontier=cells)
+    for _ in range(AUDIT_BUDGET * MAX_FAILURES):
+        bl.fail(*(goal + np.array([0.0, 0.2])), data, frontier=np.array([[0.2, 2.8]]))
+    assert bl.history_of(cells) == (MAX_FAILURES, True)
+    assert len(find_candidates(grid, pose, config, bl, data).frontiers) == 0
