@@ -24,7 +24,7 @@ from pathlib import Path
 from statistics import mean
 
 from frontier_rl.atomic_write import write_text_atomic
-from frontier_rl.core.sim.leg import AbortCause
+from frontier_rl.core.sim.leg_result import AbortCause
 from frontier_rl.evaluation.results.episode_record import EpisodeRow, EpisodeTrace
 
 MAPS = (

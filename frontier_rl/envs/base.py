@@ -11,7 +11,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from frontier_rl.core.sim.config import SimConfig
-from frontier_rl.core.sim.leg import LegResult
+from frontier_rl.core.sim.leg_result import LegResult
 from frontier_rl.core.sim.simulator import ExplorationSimulator
 from frontier_rl.envs.rewards import RewardConfig, reward_preset
 from frontier_rl.envs.world_source import WorldSource, reset_world_seed

@@ -9,7 +9,7 @@ import gymnasium as gym
 import numpy as np
 from numpy.typing import NDArray
 
-from frontier_rl.core.sim.leg import LegResult
+from frontier_rl.core.sim.leg_result import LegResult
 from frontier_rl.core.world.grid import OccupancyGrid
 from frontier_rl.envs.base import EnvConfig, ExplorationEnv
 from frontier_rl.errors import ConfigError

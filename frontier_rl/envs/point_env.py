@@ -6,7 +6,7 @@ import gymnasium as gym
 import numpy as np
 from numpy.typing import NDArray
 
-from frontier_rl.core.sim.leg import LegResult
+from frontier_rl.core.sim.leg_result import LegResult
 from frontier_rl.core.world.grid import CellState
 from frontier_rl.envs.base import MapImageEnv
 from frontier_rl.observation.map_image import MAP_FREE, MAP_OCCUPIED

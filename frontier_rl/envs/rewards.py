@@ -7,7 +7,7 @@ from dataclasses import dataclass
 import numpy as np
 from numpy.typing import NDArray
 
-from frontier_rl.core.sim.leg import LegResult
+from frontier_rl.core.sim.leg_result import LegResult
 from frontier_rl.core.world.grid import CellState
 from frontier_rl.errors import UnknownNameError, short_repr
 

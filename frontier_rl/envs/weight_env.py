@@ -8,7 +8,7 @@ from typing import Any
 import gymnasium as gym
 
 from frontier_rl.core.frontiers.ranking import rank, weighted_cost
-from frontier_rl.core.sim.leg import LegResult
+from frontier_rl.core.sim.leg_result import LegResult
 from frontier_rl.envs.base import ExplorationEnv, MapImageEnv
 from frontier_rl.envs.frontier_env import FrontierTableEnv
 from frontier_rl.observation.weight_bins import WEIGHT_BINS, bin_to_weight

@@ -18,7 +18,7 @@ import numpy as np
 
 from frontier_rl.core.sensing.lidar import Lidar, Scan
 from frontier_rl.core.sim.config import SimConfig
-from frontier_rl.core.sim.leg import LegOutcome, LegResult
+from frontier_rl.core.sim.leg_result import LegOutcome, LegResult
 from frontier_rl.core.sim.metrics import EpisodeResult
 from frontier_rl.core.sim.simulator import ExplorationSimulator
 from frontier_rl.core.world.grid import OccupancyGrid

@@ -7,7 +7,7 @@ from typing import Any
 import numpy as np
 import pytest
 
-from frontier_rl.core.sim.leg import LegResult
+from frontier_rl.core.sim.leg_result import LegResult
 from frontier_rl.core.world.grid import CellState
 from frontier_rl.envs import REWARD_PRESETS, PointEnv, WeightEnv, reward_preset
 from frontier_rl.envs.point_env import pixel_states

@@ -12,7 +12,7 @@ from frontier_rl.core.frontiers.blacklist import AUDIT_BUDGET
 from frontier_rl.core.navigation.follower import FollowerParams, FollowStatus, follow_path
 from frontier_rl.core.sim.candidates import reachable_frontiers
 from frontier_rl.core.sim.config import SimConfig
-from frontier_rl.core.sim.leg import LegOutcome
+from frontier_rl.core.sim.leg_result import LegOutcome
 from frontier_rl.core.sim.simulator import ExplorationSimulator
 from frontier_rl.core.world.catalog import generate_world
 from frontier_rl.core.world.grid import CellState, OccupancyGrid

@@ -11,7 +11,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from frontier_rl.core.sim.config import UNSEEN_ROOM_M2
-from frontier_rl.core.sim.leg import AbortCause, LegResult
+from frontier_rl.core.sim.leg_result import AbortCause, LegResult
 from frontier_rl.core.sim.metrics import DecisionRecord, EpisodeResult, FrontierLeft, time_to_coverage, unseen_area_m2
 from frontier_rl.core.world.grid import OccupancyGrid
 from frontier_rl.core.world.robot import Pose
@@ -139,6 +139,6 @@ class EpisodeLog:
 
 def aborts_by_cause(counts: Sequence[Counter[AbortCause]]) -> dict[str, int]:
     """The goals given up per cause, summed over ``counts`` (a robot's, or a team's robots'), every
-    cause named (0 where none), in :class:`~frontier_rl.core.sim.leg.AbortCause`'s order."""
+    cause named (0 where none), in :class:`~frontier_rl.core.sim.leg_result.AbortCause`'s order."""
     total: Counter[AbortCause] = sum(counts, Counter())
     return {cause.value: total[cause] for cause in AbortCause}

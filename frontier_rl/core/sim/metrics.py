@@ -116,7 +116,7 @@ class EpisodeResult:
         explorable_m2: the world's explorable area (m²): what a robot of this size can see from the
             poses it can reach on the true map, the denominator of ``coverage``.
         aborts_by_cause: ``aborts`` by why each goal was given up (the values of
-            :class:`~frontier_rl.core.sim.leg.AbortCause`: ``not_planned``, ``no_progress``,
+            :class:`~frontier_rl.core.sim.leg_result.AbortCause`: ``not_planned``, ``no_progress``,
             ``detour``, ``no_path``); a team's summed over its robots.
         done: the map is explored: no frontier is left that the robot could see from where it can go
             (``end_reason == "explored"``).

@@ -12,7 +12,7 @@ from frontier_rl.core.sim import simulator
 from frontier_rl.core.sim.config import SimConfig
 from frontier_rl.core.sim.episode import run_episode
 from frontier_rl.core.sim.episode_log import aborts_by_cause
-from frontier_rl.core.sim.leg import AbortCause
+from frontier_rl.core.sim.leg_result import AbortCause
 from frontier_rl.core.sim.simulator import ExplorationSimulator
 from frontier_rl.core.world.catalog import generate_world
 from frontier_rl.policies import make_policy

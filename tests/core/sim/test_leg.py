@@ -14,7 +14,8 @@ from frontier_rl.core.navigation.config import NavigationConfig
 from frontier_rl.core.navigation.thin_walls import Recovery
 from frontier_rl.core.sensing.lidar import Lidar
 from frontier_rl.core.sim.config import SimConfig
-from frontier_rl.core.sim.leg import AbortCause, Leg, LegOutcome, run_leg
+from frontier_rl.core.sim.leg import Leg, run_leg
+from frontier_rl.core.sim.leg_result import AbortCause, LegOutcome
 from frontier_rl.core.sim.simulator import ExplorationSimulator
 from frontier_rl.core.sim.teammates import Teammates
 from frontier_rl.core.world.grid import CellState, OccupancyGrid

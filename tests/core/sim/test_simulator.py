@@ -13,7 +13,8 @@ import pytest
 
 from frontier_rl.core.sim.config import SimConfig
 from frontier_rl.core.sim.episode import run_episode
-from frontier_rl.core.sim.leg import LegOutcome, run_leg
+from frontier_rl.core.sim.leg import run_leg
+from frontier_rl.core.sim.leg_result import LegOutcome
 from frontier_rl.core.sim.metrics import DecisionRecord, EpisodeResult
 from frontier_rl.core.sim.simulator import ExplorationSimulator
 from frontier_rl.core.world.catalog import generate_world
