@@ -11,15 +11,10 @@ from numpy.typing import NDArray
 
 from frontier_rl.core.frontiers.detection import detect_frontiers
 from frontier_rl.core.navigation.costmap import Costmap
-from frontier_rl.core.navigation.coverage_tour import (
-    CoverageTour,
-    coverage_targets,
-    insertion_cover,
-    plan_coverage_tour,
-    two_opt,
-    visibility,
-)
+from frontier_rl.core.navigation.coverage_tour import CoverageTour, insertion_cover, plan_coverage_tour
 from frontier_rl.core.navigation.path_costs import cost_field, descend, path_costs
+from frontier_rl.core.navigation.tours import two_opt
+from frontier_rl.core.navigation.viewpoints import coverage_targets, visibility
 from frontier_rl.core.sim.config import SimConfig
 from frontier_rl.core.sim.episode import DecisionContext, EpisodeAwarePolicy, run_episode
 from frontier_rl.core.sim.metrics import EpisodeResult

@@ -1,7 +1,9 @@
-"""Exact tours over a few stops on the planner's path costs: the shortest open path from the
-robot through every stop (Held-Karp), and for each stop the shortest such path that visits it
-first. What ``tour`` ranks frontiers by (:mod:`frontier_rl.policies.tour`) and model 7's table
-column (:mod:`frontier_rl.observation.frontier_table`) are built on these.
+"""Tours over stops on the planner's path costs. Exact over a few stops: the shortest open path
+from the robot through every stop (Held-Karp), and for each stop the shortest such path that visits
+it first; what ``tour`` ranks frontiers by (:mod:`frontier_rl.policies.tour`) and model 7's table
+column (:mod:`frontier_rl.observation.frontier_table`) are built on these. Heuristic over many:
+2-opt on an open path (:func:`two_opt`), which orders the coverage tour's viewpoints
+(:mod:`frontier_rl.core.navigation.coverage_tour`).
 """
 
 from __future__ import annotations
@@ -119,3 +121,32 @@ def stop_costs(
     dist[1:, 0] = dist[0, 1:]
     dist[~np.isfinite(dist)] = UNREACHABLE_M
     return dist
+
+
+def open_path_length(order: NDArray[np.int64], dist: NDArray[np.float64]) -> float:
+    """Length of the open path visiting ``order`` (node 0 first)."""
+    return float(dist[order[:-1], order[1:]].sum())
+
+
+@nb.njit(cache=True)
+def two_opt(order: NDArray[np.int64], dist: NDArray[np.float64]) -> NDArray[np.int64]:
+    """2-opt on an open path with fixed first node and free end (``dist`` symmetric): reverse
+    ``order[i:j + 1]`` while that shortens the path (first improvement, until none does)."""
+    tour = order.copy()
+    n = tour.shape[0]
+    improved = True
+    while improved:
+        improved = False
+        for i in range(1, n - 1):
+            for j in range(i + 1, n):
+                a, b, c = tour[i - 1], tour[i], tour[j]
+                old = dist[a, b]
+                new = dist[a, c]
+                if j + 1 < n:
+                    e = tour[j + 1]
+                    old += dist[c, e]
+                    new += dist[b, e]
+                if new < old - 1e-9:
+                    tour[i : j + 1] = tour[i : j + 1][::-1].copy()
+                    improved = True
+    return tour
