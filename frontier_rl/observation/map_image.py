@@ -12,11 +12,11 @@ import math
 from dataclasses import dataclass
 from typing import TypeVar
 
+import numba as nb
 import numpy as np
 from numpy.typing import NDArray
 
 from frontier_rl.core.frontiers.detection import Frontiers
-from frontier_rl.core.mapping.mapper import downsample
 from frontier_rl.core.world.grid import CellState, OccupancyGrid
 from frontier_rl.core.world.robot import Pose
 from frontier_rl.errors import ConfigError
@@ -34,6 +34,13 @@ MARK = 255
 
 POSE_RADIUS_M = 0.2
 """Radius (m) of the disc that marks the robot in the pose channel (visible after downsampling)."""
+
+_BLOCK_OCCUPIED, _BLOCK_FREE, _BLOCK_UNKNOWN = (
+    np.int8(CellState.OCCUPIED),
+    np.int8(CellState.FREE),
+    np.int8(CellState.UNKNOWN),
+)
+"""The cell states as :func:`downsample`'s kernel compares them."""
 
 FRONTIER_FEATURES = ("distance", "path_cost", "size", "information_gain", "dx", "dy")
 """Per-frontier features of the frontier-choice observation, in column order."""
@@ -198,3 +205,33 @@ def frontier_features(
         )
     )
     return feats.astype(np.float32).reshape(-1, len(FRONTIER_FEATURES))
+
+
+def downsample(data: NDArray[np.int8], factor: int) -> NDArray[np.int8]:
+    """Shrink a grid by an integer ``factor`` (the shape must divide).
+
+    A block is OCCUPIED if any of its cells is, else FREE if at least half its cells are known
+    free, else UNKNOWN: walls never vanish, and half-seen blocks stay unexplored.
+    """
+    rows, cols = data.shape
+    if factor < 1 or rows % factor or cols % factor:
+        raise ConfigError(f"downsample factor {factor!r} must be >= 1 and divide the shape {data.shape}")
+    return _downsample(np.ascontiguousarray(data, np.int8), factor)
+
+
+@nb.njit(cache=True)
+def _downsample(data: NDArray[np.int8], factor: int) -> NDArray[np.int8]:
+    """:func:`downsample` in one pass over the cells."""
+    rows, cols = data.shape[0] // factor, data.shape[1] // factor
+    out = np.empty((rows, cols), np.int8)
+    half = factor * factor
+    for br in range(rows):
+        for bc in range(cols):
+            occupied, free = False, 0
+            for r in range(br * factor, br * factor + factor):
+                for c in range(bc * factor, bc * factor + factor):
+                    value = data[r, c]
+                    occupied |= value == _BLOCK_OCCUPIED
+                    free += value == _BLOCK_FREE
+            out[br, bc] = _BLOCK_OCCUPIED if occupied else _BLOCK_FREE if 2 * free >= half else _BLOCK_UNKNOWN
+    return out

@@ -6,6 +6,7 @@ from collections.abc import Callable
 
 import numpy as np
 import pytest
+from numpy.typing import NDArray
 
 from frontier_rl.core.frontiers.detection import detect_frontiers
 from frontier_rl.core.world.grid import CellState, OccupancyGrid
@@ -18,6 +19,7 @@ from frontier_rl.observation.map_image import (
     MARK,
     POSE_RADIUS_M,
     MapEncoder,
+    downsample,
     frontier_features,
 )
 
@@ -148,3 +150,55 @@ def test_the_pose_channel_is_the_pooled_disc_around_the_robot(
     for x, y in poses:
         pose = Pose(grid.origin[0] + x, grid.origin[1] + y, 0.0)
         assert np.array_equal(enc.encode(grid, pose)[1], _pose_channel_by_definition(enc, grid, pose)), (x, y)
+
+
+FREE, OCC, UNKNOWN = CellState.FREE.value, CellState.OCCUPIED.value, CellState.UNKNOWN.value
+
+
+def _downsample_reference(data: NDArray[np.int8], f: int) -> NDArray[np.int8]:
+    rows, cols = data.shape
+    out = np.empty((rows // f, cols // f), np.int8)
+    for i in range(rows // f):
+        for j in range(cols // f):
+            block = data[i * f : (i + 1) * f, j * f : (j + 1) * f]
+            if (block == OCC).any():
+                out[i, j] = OCC
+            elif 2 * np.count_nonzero(block == FREE) >= f * f:
+                out[i, j] = FREE
+            else:
+                out[i, j] = UNKNOWN
+    return out
+
+
+@pytest.mark.parametrize(
+    ("block", "expected"),
+    [
+        ([[FREE, FREE], [UNKNOWN, UNKNOWN]], FREE),  # half known free: free
+        ([[FREE, UNKNOWN], [UNKNOWN, UNKNOWN]], UNKNOWN),  # under half: unknown
+        ([[FREE, FREE], [FREE, OCC]], OCC),  # one wall cell: the block is a wall
+        ([[UNKNOWN, UNKNOWN], [UNKNOWN, OCC]], OCC),
+        ([[FREE, FREE], [FREE, FREE]], FREE),
+        ([[UNKNOWN, UNKNOWN], [UNKNOWN, UNKNOWN]], UNKNOWN),
+    ],
+)
+def test_downsample_block_rule(block: list[list[int]], expected: int) -> None:
+    assert downsample(np.array(block, np.int8), 2)[0, 0] == expected
+
+
+@pytest.mark.parametrize("factor", [1, 2, 3, 5])
+def test_downsample_matches_the_rule_on_random_grids(factor: int) -> None:
+    rng = np.random.default_rng(factor)
+    data = rng.choice(np.array([FREE, OCC, UNKNOWN], np.int8), size=(30, 60), p=[0.6, 0.05, 0.35])
+    out = downsample(data, factor)
+    np.testing.assert_array_equal(out, _downsample_reference(data, factor))
+    if factor == 1:
+        np.testing.assert_array_equal(out, data)
+    # walls never vanish: every occupied cell lies in an occupied block
+    rows, cols = np.nonzero(data == OCC)
+    assert np.all(out[rows // factor, cols // factor] == OCC)
+
+
+@pytest.mark.parametrize("factor", [0, -2, 4, 7])
+def test_downsample_rejects_a_factor_that_does_not_divide(factor: int) -> None:
+    with pytest.raises(ConfigError, match=str(factor)):
+        downsample(np.zeros((30, 45), np.int8), factor)

@@ -11,7 +11,6 @@ import math
 from collections.abc import Sequence
 from dataclasses import dataclass
 
-import numba as nb
 import numpy as np
 from numpy.typing import NDArray
 
@@ -29,8 +28,6 @@ from frontier_rl.core.sensing.lidar import MAX_BEAMS, Lidar, Scan
 from frontier_rl.core.world.grid import CellState, OccupancyGrid
 from frontier_rl.core.world.robot import Pose, wrap_angle
 from frontier_rl.errors import ConfigError
-
-_OCCUPIED, _FREE, _UNKNOWN = np.int8(CellState.OCCUPIED), np.int8(CellState.FREE), np.int8(CellState.UNKNOWN)
 
 
 @dataclass(frozen=True)
@@ -354,33 +351,3 @@ class LogOddsMapper:
             res,
             (self.origin[0] + c0 * res, self.origin[1] + r0 * res),
         )
-
-
-def downsample(data: NDArray[np.int8], factor: int) -> NDArray[np.int8]:
-    """Shrink a grid by an integer ``factor`` (the shape must divide).
-
-    A block is OCCUPIED if any of its cells is, else FREE if at least half its cells are known
-    free, else UNKNOWN: walls never vanish, and half-seen blocks stay unexplored.
-    """
-    rows, cols = data.shape
-    if factor < 1 or rows % factor or cols % factor:
-        raise ConfigError(f"downsample factor {factor!r} must be >= 1 and divide the shape {data.shape}")
-    return _downsample(np.ascontiguousarray(data, np.int8), factor)
-
-
-@nb.njit(cache=True)
-def _downsample(data: NDArray[np.int8], factor: int) -> NDArray[np.int8]:
-    """:func:`downsample` in one pass over the cells."""
-    rows, cols = data.shape[0] // factor, data.shape[1] // factor
-    out = np.empty((rows, cols), np.int8)
-    half = factor * factor
-    for br in range(rows):
-        for bc in range(cols):
-            occupied, free = False, 0
-            for r in range(br * factor, br * factor + factor):
-                for c in range(bc * factor, bc * factor + factor):
-                    value = data[r, c]
-                    occupied |= value == _OCCUPIED
-                    free += value == _FREE
-            out[br, bc] = _OCCUPIED if occupied else _FREE if 2 * free >= half else _UNKNOWN
-    return out
