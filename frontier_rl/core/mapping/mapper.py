@@ -22,8 +22,8 @@ from frontier_rl.core.mapping.log_odds import (
     cast_and_mark,
     drop_marks,
     mark_beams,
-    merge_window,
 )
+from frontier_rl.core.mapping.map_merge import merge_window
 from frontier_rl.core.sensing.lidar import MAX_BEAMS, Lidar, Scan
 from frontier_rl.core.world.grid import CellState, OccupancyGrid
 from frontier_rl.core.world.robot import Pose, wrap_angle
