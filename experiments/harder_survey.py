@@ -4,7 +4,8 @@ and floors of 50-100 m, each explored from several random starts by each method.
 Runs ``frontier-rl evaluate`` once per map into ``OUT/MAP`` (rerunning resumes), then writes
 ``OUT/survey.md`` and ``OUT/survey.json``: per map and method the end reasons, the goals given up
 by cause, the explorable area left (m², what the robot could have seen on the true map and did not),
-the lowest coverage, and the mean time against the map's fastest method; and the five worst
+the lowest coverage, and the mean time against the map's fastest method; the mean coverage of
+the maps' free space against its ceiling (what an episode can map at all); and the five worst
 episodes (lowest coverage, a time cap first), each drawn again with ``frontier-rl explore --png``
 into ``OUT/worst/``.
 
@@ -23,8 +24,13 @@ from dataclasses import dataclass
 from pathlib import Path
 from statistics import mean
 
+import numpy as np
+
+from frontier_rl.api import load_world
 from frontier_rl.atomic_write import write_text_atomic
+from frontier_rl.core.sim.config import SimConfig
 from frontier_rl.core.sim.leg_result import AbortCause
+from frontier_rl.core.world.grid import CellState
 from frontier_rl.evaluation.results.episode_record import EpisodeRow, EpisodeTrace
 
 MAPS = (
@@ -64,6 +70,7 @@ class Episode:
     with_path_left: int
     with_path_on_map_left: int | None  # None in traces from before the count
     unrevealable_left: int
+    free_coverage: float
 
 
 def run_map(frontier_rl: Path, world: str, methods: str, episodes: int, out: Path, workers: int | None) -> None:
@@ -113,13 +120,30 @@ def read_episodes(folder: Path) -> list[Episode]:
                 trace.frontiers_with_path_left or 0,
                 trace.frontiers_with_path_on_map_left,
                 trace.frontiers_unrevealable_left or 0,
+                row.free_coverage,
             )
         )
     return found
 
 
-def table(episodes: list[Episode]) -> tuple[str, list[dict[str, object]]]:
-    """The per-map, per-method table (Markdown) and its rows."""
+def free_space_ceiling(world: str, seeds: list[int]) -> float:
+    """The most of ``world``'s free space an episode can map, over the starts drawn with ``seeds``
+    (mean): the share of the map's free cells that lie within the mapping range of a pose the robot
+    can reach from its start (its explorable space), with the simulator's robot and sensor. A map
+    whose free space lies partly behind gaps narrower than the robot, or whose file stores its
+    unknown as free, has a ceiling below 1."""
+    config = SimConfig()
+    shares = []
+    for seed in seeds:
+        loaded = config.fit_world(load_world(world, seed))
+        free = int(np.count_nonzero(loaded.grid.data == CellState.FREE))
+        shares.append(loaded.explorable_count / max(free, 1))
+    return mean(shares)
+
+
+def table(episodes: list[Episode], ceilings: dict[str, float]) -> tuple[str, list[dict[str, object]]]:
+    """The per-map, per-method table (Markdown) and its rows; ``ceilings``: each map's
+    :func:`free_space_ceiling`."""
     groups: dict[tuple[str, str], list[Episode]] = defaultdict(list)
     for episode in episodes:
         groups[(episode.world, episode.method)].append(episode)
@@ -166,7 +190,10 @@ def table(episodes: list[Episode]) -> tuple[str, list[dict[str, object]]]:
         f"{sum(e.end_reason == 'unreachable' and e.with_path_left > 0 for e in episodes)} ended unreachable with "
         f"a path left on their own map ({_shown(_on_map(episodes))} of them on the normal costmap, through the walls "
         f"as mapped; the others only through walls the narrow-passage recovery thinned), mean coverage "
-        f"{mean(e.coverage for e in episodes):.4f}."
+        f"{mean(e.coverage for e in episodes):.4f}; mean coverage of the maps' free space "
+        f"{mean(e.free_coverage for e in episodes):.4f}, against a ceiling of "
+        f"{mean(ceilings[e.world] for e in episodes):.4f} (the free space within the mapping range of a "
+        "pose the robot can reach)."
     )
     return "\n".join(lines) + "\n", rows
 
@@ -226,10 +253,14 @@ def main() -> None:
     for world in maps:
         run_map(frontier_rl, world, args.methods, args.episodes, args.out, args.workers)
     episodes = [e for world in maps for e in read_episodes(args.out / world)]
-    markdown, rows = table(episodes)
+    ceilings = {
+        world: free_space_ceiling(world, sorted({e.seed for e in episodes if e.world == world})) for world in maps
+    }
+    markdown, rows = table(episodes, ceilings)
     worst = draw_worst(frontier_rl, episodes, args.out)
     write_text_atomic(args.out / "survey.md", markdown + "\nThe worst episodes:\n\n" + "\n".join(worst) + "\n")
-    write_text_atomic(args.out / "survey.json", json.dumps({"rows": rows, "worst": worst}, indent=1) + "\n")
+    survey = {"rows": rows, "worst": worst, "free_space_ceilings": ceilings}
+    write_text_atomic(args.out / "survey.json", json.dumps(survey, indent=1) + "\n")
     print(markdown)
     print("\n".join(worst))
 

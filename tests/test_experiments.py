@@ -232,3 +232,5 @@ def test_the_harder_survey_tabulates_causes_and_draws_the_worst(tmp_path: Path) 
         assert row["explorable_left_m2"] >= 0 and 0.99 <= row["min_coverage"] <= 1
     assert min(row["time_over_fastest"] for row in survey["rows"]) == 1.0
     assert len(survey["worst"]) == 4 and len(list((out / "worst").glob("*.png"))) == 4
+    assert 0.9 < survey["free_space_ceilings"]["lse_arena"] <= 1  # a walled arena: nearly all of it in sight
+    assert "against a ceiling of" in (out / "survey.md").read_text()
