@@ -7,8 +7,10 @@ with ``lo`` up and multicast on (discovery needs it) and ``ROS_AUTOMATIC_DISCOVE
 processes in two namespaces never see each other, so tests run side by side.
 
 Every script may end the processes it started in the background with ``stop PID...``: Ctrl-C
-(SIGINT) to each, then its exit status; one still running 20 s later is killed, named on standard
-error, and ``stop`` fails, so a process that does not shut down is a clear failure, not a timeout.
+(SIGINT) to each, then its exit status; one still running 20 s later is aborted (SIGABRT: a Python
+process, run with ``PYTHONFAULTHANDLER``, writes every thread's stack to its standard error, so
+that its log says where it hung), killed 2 s after if it still runs, named on standard error, and
+``stop`` fails, so a process that does not shut down is a clear failure, not a timeout.
 """
 
 from __future__ import annotations
@@ -23,16 +25,21 @@ from pathlib import Path
 _SETUP = 'ip link set lo up && ip link set lo multicast on && exec "$@"'
 
 STOP_GRACE_S = 20.0
-"""How long ``stop`` waits for a process to end after its SIGINT before killing it (s)."""
+"""How long ``stop`` waits for a process to end after its SIGINT before aborting it (s)."""
+ABORT_GRACE_S = 2.0
+"""How long ``stop`` gives an aborted process to write its stacks before killing it (s)."""
 
 
 def _stop_function(grace_s: float) -> str:
     """The shell function ``stop PID...`` defined before every script (see the module's docstring)."""
     return (
         'stop() { kill -INT "$@" 2>/dev/null; '
-        f'( sleep {grace_s:g}; kill -KILL "$@" ) >/dev/null 2>&1 & watchdog=$!; '
+        f'( sleep {grace_s:g}; kill -ABRT "$@"; sleep {ABORT_GRACE_S:g}; kill -KILL "$@" ) >/dev/null 2>&1 & '
+        "watchdog=$!; "
         'failed=0; for p in "$@"; do wait "$p"; s=$?; '
-        f'if [ "$s" -eq 137 ]; then echo "process $p did not stop within {grace_s:g} s of SIGINT" >&2; failed=1; fi; '
+        'if [ "$s" -eq 134 ] || [ "$s" -eq 137 ]; then '
+        f'echo "process $p did not stop within {grace_s:g} s of SIGINT (its stacks, if Python, in its log)" >&2; '
+        "failed=1; fi; "
         'done; kill "$watchdog" 2>/dev/null; return $failed; }; '
     )
 
@@ -73,6 +80,7 @@ def loopback_env(home: Path) -> dict[str, str]:
         ROS_AUTOMATIC_DISCOVERY_RANGE="LOCALHOST",
         ROS_LOG_DIR=str(home / "ros_log"),
         PYTHONUNBUFFERED="1",
+        PYTHONFAULTHANDLER="1",  # a process ``stop`` aborts writes where it hung
     )
     return env
 

@@ -42,6 +42,21 @@ def test_stop_ends_processes_with_sigint_and_names_one_that_ignores_it(tmp_path:
     assert "did not stop" not in done.stderr.replace(f"process {pid} did not stop", "")
 
 
+def test_a_python_process_that_hangs_on_sigint_leaves_its_stacks_in_its_log(tmp_path: Path) -> None:
+    hung = (
+        "import signal, time; signal.signal(signal.SIGINT, signal.SIG_IGN); open('ready', 'w').close(); time.sleep(30)"
+    )
+    script = (
+        f"{shlex.quote(sys.executable)} -c {shlex.quote(hung)} > hung.log 2>&1 & hung=$!; "
+        "until [ -e ready ]; do sleep 0.05; done; stop $hung; echo $? $hung"
+    )
+    done = run_in_loopback(script, tmp_path, 20, stop_grace_s=1)
+    status, pid = done.stdout.split()
+    assert status == "1" and f"process {pid} did not stop within 1 s of SIGINT" in done.stderr
+    log = (tmp_path / "hung.log").read_text()
+    assert "Fatal Python error: Aborted" in log and 'File "<string>", line 1' in log  # where it hung
+
+
 def test_a_script_past_its_time_is_reported_with_its_logs(tmp_path: Path) -> None:
     with pytest.raises(LoopbackTimeoutError, match=r"(?s)timed out after 1 s.*--- sim\.log \(end\)\nsimulator started"):
         run_in_loopback("echo simulator started > sim.log; sleep 30", tmp_path, 1)
