@@ -9,6 +9,7 @@ from dataclasses import replace
 import numpy as np
 import rclpy
 from rclpy.executors import ExternalShutdownException, SingleThreadedExecutor
+from rclpy.node import Node
 from rclpy.parameter import Parameter
 
 from frontier_rl.core.sim.config import SimConfig
@@ -38,6 +39,31 @@ def _spin(spin: Callable[[], None]) -> None:
             raise
 
 
+SPIN_POLL_S = 0.1
+"""How often (s) a served node's executor wakes to see whether Ctrl-C or SIGTERM ended rclpy."""
+
+
+def _serve(node: Node) -> None:
+    """Spin ``node`` on an executor of its own until Ctrl-C or SIGTERM, then shut the executor down
+    before destroying the node, as :func:`run_explorer` does. The executor waits at most
+    :data:`SPIN_POLL_S` at a time: a signal that shut rclpy down without waking a wait with no
+    timeout left ``ros2 rank`` spinning, now and then, with nothing more to receive (and spun by
+    ``rclpy.spin``, the global executor, it hung in ``destroy_node``; the stacks a test's ``stop``
+    had it write)."""
+    executor = SingleThreadedExecutor()
+    executor.add_node(node)
+
+    def until_shutdown() -> None:
+        while rclpy.ok():
+            executor.spin_once(timeout_sec=SPIN_POLL_S)
+
+    try:
+        _spin(until_shutdown)
+    finally:
+        executor.shutdown()
+        node.destroy_node()
+
+
 def simulated_team(
     world: World, namespaces: Sequence[str], seed: int = 0, config: SimConfig | None = None
 ) -> list[tuple[str, SimulatedRobot]]:
@@ -59,9 +85,8 @@ def run_sim(robots: Sequence[tuple[str, SimulatedRobot]], rate: float | None = 1
     rclpy.init()
     node = SimNode(robots, rate)
     try:
-        _spin(lambda: rclpy.spin(node))
+        _serve(node)
     finally:
-        node.destroy_node()
         rclpy.try_shutdown()
     lines = []
     for port in node.ports:
@@ -86,8 +111,7 @@ def run_ranking(settings: ServiceSettings, pose_source: PoseSource | None = None
         node = RankingNode(service, pose_source)
         node.set_parameters([Parameter("use_sim_time", Parameter.Type.BOOL, use_sim_time)])
         node.get_logger().info(f"ranking for robots {list(settings.robots)} with {service.policy_name}")
-        _spin(lambda: rclpy.spin(node))
-        node.destroy_node()
+        _serve(node)
     except KeyboardInterrupt:  # while the workers start
         pass
     finally:
