@@ -155,8 +155,13 @@ def run_explorer(
     node.set_parameters([Parameter("use_sim_time", Parameter.Type.BOOL, use_sim_time)])
     executor = SingleThreadedExecutor()
     executor.add_node(node)
+
+    def until_done() -> None:  # waking as a served node's executor does (_serve)
+        while rclpy.ok() and not node.done.done():
+            executor.spin_once(timeout_sec=SPIN_POLL_S)
+
     try:
-        _spin(lambda: executor.spin_until_future_complete(node.done))
+        _spin(until_done)
     finally:
         ended = node.finished is not None
         status = node.status("finished" if ended else "interrupted", "")
