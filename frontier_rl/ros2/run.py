@@ -46,10 +46,10 @@ SPIN_POLL_S = 0.1
 def _serve(node: Node) -> None:
     """Spin ``node`` on an executor of its own until Ctrl-C or SIGTERM, then shut the executor down
     before destroying the node, as :func:`run_explorer` does. The executor waits at most
-    :data:`SPIN_POLL_S` at a time: a signal that shut rclpy down without waking a wait with no
-    timeout left ``ros2 rank`` spinning, now and then, with nothing more to receive (and spun by
-    ``rclpy.spin``, the global executor, it hung in ``destroy_node``; the stacks a test's ``stop``
-    had it write)."""
+    :data:`SPIN_POLL_S` at a time: now and then a Ctrl-C did not wake a wait with no timeout, and
+    ``ros2 rank`` went on waiting with nothing more to receive (spun by ``rclpy.spin``, the global
+    executor, it hung in ``destroy_node`` instead; the stacks a test's ``stop`` had it write). Why
+    rclpy's signal handling missed the wait is not known."""
     executor = SingleThreadedExecutor()
     executor.add_node(node)
 
