@@ -8,7 +8,7 @@ from dataclasses import replace
 
 import numpy as np
 import rclpy
-from rclpy.executors import ExternalShutdownException, SingleThreadedExecutor
+from rclpy.executors import Executor, ExternalShutdownException, SingleThreadedExecutor
 from rclpy.node import Node
 from rclpy.parameter import Parameter
 
@@ -43,6 +43,13 @@ SPIN_POLL_S = 0.1
 """How often (s) a served node's executor wakes to see whether Ctrl-C or SIGTERM ended rclpy."""
 
 
+def _spin_until(executor: Executor, finished: Callable[[], bool] = lambda: False) -> None:
+    """Spin ``executor`` until rclpy is shut down or ``finished()``, waking every
+    :data:`SPIN_POLL_S` to look (see :func:`_serve`)."""
+    while rclpy.ok() and not finished():
+        executor.spin_once(timeout_sec=SPIN_POLL_S)
+
+
 def _serve(node: Node) -> None:
     """Spin ``node`` on an executor of its own until Ctrl-C or SIGTERM, then shut the executor down
     before destroying the node, as :func:`run_explorer` does. The executor waits at most
@@ -52,13 +59,8 @@ def _serve(node: Node) -> None:
     rclpy's signal handling missed the wait is not known."""
     executor = SingleThreadedExecutor()
     executor.add_node(node)
-
-    def until_shutdown() -> None:
-        while rclpy.ok():
-            executor.spin_once(timeout_sec=SPIN_POLL_S)
-
     try:
-        _spin(until_shutdown)
+        _spin(lambda: _spin_until(executor))
     finally:
         executor.shutdown()
         node.destroy_node()
@@ -155,13 +157,8 @@ def run_explorer(
     node.set_parameters([Parameter("use_sim_time", Parameter.Type.BOOL, use_sim_time)])
     executor = SingleThreadedExecutor()
     executor.add_node(node)
-
-    def until_done() -> None:  # waking as a served node's executor does (_serve)
-        while rclpy.ok() and not node.done.done():
-            executor.spin_once(timeout_sec=SPIN_POLL_S)
-
     try:
-        _spin(until_done)
+        _spin(lambda: _spin_until(executor, node.done.done))
     finally:
         ended = node.finished is not None
         status = node.status("finished" if ended else "interrupted", "")
