@@ -45,6 +45,8 @@ class Candidates:
         frontiers: the reachable frontiers that are not blacklisted.
         recovery: the costmap they were found on: the normal one, or the narrow-passage recovery's
             at one of its levels (:mod:`frontier_rl.core.navigation.thin_walls`).
+        looks: whether the frontiers are last looks (:mod:`frontier_rl.core.sim.looks`): small
+            clusters, each with its goal at the viewpoint that sees most of the unknown beyond it.
     """
 
     grid: OccupancyGrid
@@ -52,6 +54,7 @@ class Candidates:
     reachable: NDArray[np.bool_]
     frontiers: Frontiers
     recovery: Recovery = Recovery.NONE
+    looks: bool = False
 
 
 def reachable_frontiers(

@@ -4,6 +4,8 @@ keeps one per episode (it moves the robot; this decides where it may move)."""
 
 from __future__ import annotations
 
+import dataclasses
+
 import numpy as np
 from numpy.typing import NDArray
 
@@ -17,6 +19,7 @@ from frontier_rl.core.navigation.thin_walls import Recovery, recovery_robot
 from frontier_rl.core.sim.candidates import Candidates, find_candidates
 from frontier_rl.core.sim.config import SimConfig
 from frontier_rl.core.sim.episode_log import EpisodeLog
+from frontier_rl.core.sim.looks import last_looks
 from frontier_rl.core.sim.paths import map_blocks_path, replan_path
 from frontier_rl.core.sim.teammates import Teammates
 from frontier_rl.core.sim.trail import mark_path
@@ -61,7 +64,8 @@ class Navigator:
         self._footprints = {
             level: footprint_offsets(recovery_robot(config.robot, res, level).radius, res) for level in Recovery
         }
-        self._cached: Candidates | None = None
+        self._cached: list[Candidates] | None = None  # see _levels
+        self._looks: Candidates | None = None  # the last looks of the cached levels, once asked for
         self._gave_way_on: tuple[float, float] | None = None  # the goal of a leg that gave way, see give_way
 
     def trail(self) -> NDArray[np.bool_]:
@@ -75,7 +79,7 @@ class Navigator:
 
     def forget(self) -> None:
         """The map or the blacklist changed: find the candidates afresh."""
-        self._cached = None
+        self._cached = self._looks = None
 
     def candidates(self, pose: Pose) -> Candidates:
         """The current map, its costmap and the reachable, non-blacklisted frontiers for a robot at
@@ -83,7 +87,24 @@ class Navigator:
         When the normal costmap leaves none, those of the narrow-passage recovery's levels in turn
         (the map with its walls a cell thinner, as range noise made them a cell thicker, for a robot
         half a cell and then a cell slimmer: :class:`~frontier_rl.core.navigation.thin_walls.Recovery`)
-        are the candidates, the first level that has any."""
+        are the candidates, the first level that has any; when none has any, the last looks
+        (:func:`~frontier_rl.core.sim.looks.last_looks`) from the first level that has one."""
+        levels = self._levels(pose)
+        if len(levels[-1].frontiers):
+            return levels[-1]
+        if self._looks is None:  # computed once per map: a look costs rays from thousands of viewpoints
+            self._looks = levels[0]
+            for cand in levels:
+                looks = last_looks(cand.grid, pose, cand.reachable, self._config, self.blacklist)
+                if len(looks):
+                    self._looks = dataclasses.replace(cand, frontiers=looks, looks=True)
+                    break
+        return self._looks
+
+    def _levels(self, pose: Pose) -> list[Candidates]:
+        """The candidates of the normal costmap and then of each narrow-passage recovery level in
+        turn, up to the first that has a frontier (cached until :meth:`forget`): without the last
+        looks, which only a decision needs (a replanning leg needs the costmaps)."""
         if self._cached is None:
             grid = self._mapper.occupancy_grid(margin=CANDIDATE_MAP_MARGIN)
             cand = self.candidates_on(grid, Recovery.NONE, pose)
@@ -91,20 +112,20 @@ class Navigator:
                 self.blacklist.fail(*self._gave_way_on, self._mapper.state)
                 self._gave_way_on = None
                 cand = self.candidates_on(grid, Recovery.NONE, pose)
+            levels = [cand]
             for level in (Recovery.HALF_CELL, Recovery.WHOLE_CELL):
-                if len(cand.frontiers):
+                if len(levels[-1].frontiers):
                     break
-                recovered = self.candidates_on(grid, level, pose)
-                if len(recovered.frontiers):
-                    cand = recovered
-            self._cached = cand
+                levels.append(self.candidates_on(grid, level, pose))
+            self._cached = levels
         return self._cached
 
     def decision_candidates(self, pose: Pose) -> Candidates:
         """The candidates of a decision: after :meth:`give_way`, of this decision only."""
         cand = self.candidates(pose)
         if self._gave_way_on is not None:
-            self._gave_way_on = self._cached = None
+            self._gave_way_on = None
+            self.forget()
         return cand
 
     def candidates_on(self, grid: OccupancyGrid, recovery: Recovery, pose: Pose) -> Candidates:
@@ -138,7 +159,8 @@ class Navigator:
         planned on (``recovery``): a leg through a passage opened by the narrow-passage recovery
         keeps to it (on the normal costmap the robot inside the passage could not move). With
         ``round_teammates``, only a path that keeps out of the teammates in contact with the robot."""
-        cand = self.candidates(pose)
+        levels = self._levels(pose)
+        cand = levels[-1] if len(levels[-1].frontiers) else levels[0]
         if recovery is not Recovery.NONE and cand.recovery is not recovery:
             cand = self.candidates_on(cand.grid, recovery, pose)
         return replan_path(cand, pose, goal, self._robots, self._config, round_teammates)
@@ -146,7 +168,7 @@ class Navigator:
     def give_way(self, goal: tuple[float, float]) -> None:
         """A teammate blocks the leg to ``goal`` (m): the next decision sees those in contact as walls."""
         self._gave_way_on = goal
-        self._cached = None
+        self.forget()
 
     def path_blocked(self, path_cells: NDArray[np.int64], first: int, recovery: Recovery) -> bool:
         """Whether the robot's map puts a wall on the path (world cells) from index ``first`` on;
@@ -170,4 +192,4 @@ class Navigator:
         the candidates afresh."""
         cells = None if frontier_cells is None else self._world.grid.cells_to_world(frontier_cells)
         self.blacklist.fail(*goal, self._mapper.state, reached=reached, frontier=cells)
-        self._cached = None
+        self.forget()
