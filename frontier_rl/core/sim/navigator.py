@@ -19,7 +19,7 @@ from frontier_rl.core.navigation.thin_walls import Recovery, recovery_robot
 from frontier_rl.core.sim.candidates import Candidates, find_candidates
 from frontier_rl.core.sim.config import SimConfig
 from frontier_rl.core.sim.episode_log import EpisodeLog
-from frontier_rl.core.sim.looks import last_looks
+from frontier_rl.core.sim.looks import LOOK_PAYOFF_M2, last_looks
 from frontier_rl.core.sim.paths import map_blocks_path, replan_path
 from frontier_rl.core.sim.teammates import Teammates
 from frontier_rl.core.sim.trail import mark_path
@@ -66,6 +66,10 @@ class Navigator:
         }
         self._cached: list[Candidates] | None = None  # see _levels
         self._looks: Candidates | None = None  # the last looks of the cached levels, once asked for
+        self._confirmed = False  # a look paid: the next need no floor seen near (see last_looks)
+        self.looking = True
+        """Whether the last looks are still taken: until one reveals less than
+        :data:`~frontier_rl.core.sim.looks.LOOK_PAYOFF_M2` (:meth:`looked`)."""
         self._gave_way_on: tuple[float, float] | None = None  # the goal of a leg that gave way, see give_way
 
     def trail(self) -> NDArray[np.bool_]:
@@ -94,8 +98,8 @@ class Navigator:
             return levels[-1]
         if self._looks is None:  # computed once per map: a look costs rays from thousands of viewpoints
             self._looks = levels[0]
-            for cand in levels:
-                looks = last_looks(cand.grid, pose, cand.reachable, self._config, self.blacklist)
+            for cand in levels if self.looking else ():
+                looks = last_looks(cand.grid, pose, cand.reachable, self._config, self.blacklist, self._confirmed)
                 if len(looks):
                     self._looks = dataclasses.replace(cand, frontiers=looks, looks=True)
                     break
@@ -119,6 +123,13 @@ class Navigator:
                 levels.append(self.candidates_on(grid, level, pose))
             self._cached = levels
         return self._cached
+
+    def looked(self, revealed_m2: float) -> None:
+        """A look revealed ``revealed_m2`` (m² of the map newly known): one that paid less than
+        :data:`~frontier_rl.core.sim.looks.LOOK_PAYOFF_M2` ends the looks of the episode."""
+        self.looking = self.looking and revealed_m2 >= LOOK_PAYOFF_M2
+        self._confirmed = self.looking
+        self.forget()
 
     def decision_candidates(self, pose: Pose) -> Candidates:
         """The candidates of a decision: after :meth:`give_way`, of this decision only."""

@@ -271,7 +271,7 @@ class ExplorationSimulator:
             if cand.looks:  # a point goal, the view; recorded as a visit of its cluster whatever it shows
                 result = yield from self._drive(Leg(self, path, goal, None, cand.recovery), index, weight)
                 self.blacklist.fail(*goal, self.mapper.state, reached=True, frontier=frontier)
-                self.navigator.forget()
+                self.navigator.looked(result.new_free * self.world.grid.resolution**2)
                 return result
             frontier_cells = self.world.grid.world_to_cells(frontier)
             return (yield from self._drive(Leg(self, path, goal, frontier_cells, cand.recovery), index, weight))

@@ -23,13 +23,13 @@ GAP_ROWS = slice(38, 41)  # three cells, 0.15 m: narrower than the robot (0.21 m
 
 def window_map() -> OccupancyGrid:
     """A robot's map: a 3 m x 4 m room seen, walled; its right wall one cell thick with a gap of
-    three cells at y = 1.9-2.05 m, and behind it a room not seen but for a patch of floor at its
-    far wall, seen through the gap (and too far from the room to be a frontier's goal)."""
+    three cells at y = 1.9-2.05 m, and behind it a room not seen but for a patch of floor 2 m
+    beyond, seen through the gap (no frontier goal sees it: the way there is unknown)."""
     data = np.full((82, 130), UNKNOWN, np.int8)
     data[:, :62] = OCC
     data[1:81, 1:61] = FREE
     data[GAP_ROWS, 61] = FREE
-    data[35:44, 122:129] = FREE
+    data[35:44, 100:109] = FREE
     return OccupancyGrid(data, RES)
 
 
