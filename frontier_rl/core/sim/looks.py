@@ -1,22 +1,25 @@
 """Last looks: before an episode ends, frontier clusters too small to be candidates through which
-the robot saw space it cannot drive to, looked through once more from the cell that sees most.
+the robot saw floor it cannot drive to, looked through once more from the cell that sees most.
 
 The size filter (``min_frontier_cells``, the thesis's 4) drops clusters of a few cells as LiDAR
 specks. A gap in a thin wall narrower than the robot, a window between rooms, is one too: on the
 harder survey's ``brsu_c069`` 15 of 20 episodes stopped at 94 % of the space the robot could see,
 12.8 m² behind such a gap of three or four cells. Taken as candidates all along, such clusters cost
 the office a third of its speed, and on the robot's map a window looks like a speck at a wall's
-foot: a few free cells beside unknown. What tells them apart is what lies beyond: the unknown
-behind a window borders free space the robot saw through it, far from anywhere it can reach
-(:data:`LOOK_BEYOND_M`); the unknown in a wall's mass borders only space it drove beside.
+foot or a streak's end: a few free cells beside unknown. What tells them apart is what the robot
+saw through them: floor (:data:`LOOK_EVIDENCE_M2`) on the far side, farther than
+:data:`LOOK_BEYOND_M` from anywhere it can reach, not the single-cell rays of a streak through
+glass, and nothing beyond a wall's mass.
 
-So when no candidate is left, each such cluster gets a look: the reachable cell within a frontier
-goal's reach whose scan would see the most of that unknown
-(:func:`~frontier_rl.core.frontiers.detection.visible_unknown`), if at least
-:data:`LOOK_MIN_GAIN_M2`. The clusters one cell is best for make one look. A look is recorded in
-the blacklist as a visit of its clusters whatever it reveals, and no look is taken from near a
-goal already tried, so a cluster gets at most two looks (visited twice it is unrevealable), each
-from another place.
+So when no candidate is left, each such cluster with that floor within the mapping range gets a
+look: the reachable cell within a frontier goal's reach whose scan would see the most of the
+unknown the cluster opens onto (:func:`~frontier_rl.core.frontiers.detection.visible_unknown`), if
+at least :data:`LOOK_MIN_GAIN_M2`. The clusters one cell is best for make one look. Once a look has
+paid (mapped :data:`LOOK_PAYOFF_M2` of floor), the building has such windows, and any cluster whose
+unknown borders free space seen beyond may be one (``confirmed``); a look that maps less ends the
+episode's looks. A look is recorded in the blacklist as a visit of its clusters whatever it
+reveals, and no look is taken from near a goal already tried, so a cluster gets at most two looks
+(visited twice it is unrevealable), each from another place.
 """
 
 from __future__ import annotations
@@ -37,18 +40,20 @@ LOOK_MIN_GAIN_M2 = 1.0
 At the end of the office's episodes the small clusters promise at most 0.54 m²."""
 
 LOOK_BEYOND_M = 0.75
-"""How far (m) from every cell the robot can reach the free space bordering a look's unknown must
-lie: seen through the gap, on the wall's far side. The unknown in a wall's mass borders only free
-cells the robot drove beside: at most 0.46 m away at the end of the office's, the cluttered world's
-and the cave's episodes; beyond ``brsu_c069``'s window 1.0-3.0 m."""
+"""How far (m) from every cell the robot can reach the floor seen through a cluster (or, once a
+look paid, the free space bordering its unknown) must lie: seen through the gap, on the wall's far
+side. The unknown in a wall's mass borders only free cells the robot drove beside: at most 0.46 m
+away at the end of the office's, the cluttered world's and the cave's episodes; beyond
+``brsu_c069``'s window 1.0-3.0 m."""
 
 LOOK_EVIDENCE_M2 = 0.02
 """How much floor seen beyond (m², cells whose eight neighbours are free: not the single rays of a
-streak) must lie within the mapping range of a cluster for a look. Measured beside the clusters
-looked at: 0.022-0.13 m² at ``brsu_c069``'s window, at most 0.008 m² on ``aws_bookstore``."""
+streak) must lie within the mapping range of a cluster for a look before one has paid. Measured: 0.022-0.13
+m² beside the clusters at ``brsu_c069``'s window; at most 0.008 m² beside those ``aws_bookstore``'s
+looks were taken for when any floor counted (within 3.5 m), where they mapped 0.02-0.09 m² each."""
 
 LOOK_PAYOFF_M2 = 0.25
-"""A look that maps less than this (m², free and occupied) ends the episode's looks: the unknown
+"""A look that maps less floor than this (m²) ends the episode's looks: the unknown
 the robot's map offers is then most likely wall (behind glass, in a wall's mass), which a look at
 the next cluster would not map either. On ``brsu_c069`` the looks through its window mapped
 0.3-3.5 m² each; on ``willow_2010`` and ``aws_bookstore``, whose streaks through glass are seen
@@ -70,8 +75,10 @@ def last_looks(
     """The small frontier clusters of ``grid`` (those the size filter drops) worth a look from
     the cells a robot at ``pose`` can reach (``reachable``), each at the viewpoint that sees most
     of the unknown it opens onto; the clusters one viewpoint is best for make one frontier, so
-    that one look is taken for all of them. Clusters with a history in the ``blacklist`` (looked
-    at, or failed) are left out."""
+    that one look is taken for all of them. Clusters visited twice (``blacklist``) are left out,
+    and so are viewpoints near a goal tried before. Without ``confirmed`` (no look has paid yet) a
+    cluster needs floor seen beyond it within the mapping range; with it, unknown that borders
+    free space seen beyond anywhere."""
     reach = min(config.frontier_goal_reach, config.mapping_range)
     drop = config.drop_cells(grid.resolution)
     small = detect_frontiers(grid, pose, reachable, 0, config.frontier_segment_length, reach)

@@ -10,11 +10,14 @@ import numpy as np
 
 from frontier_rl import load_world, make_policy, run_episode
 from frontier_rl.core.frontiers.blacklist import Blacklist
+from frontier_rl.core.frontiers.detection import Frontiers
 from frontier_rl.core.sim.candidates import reachable_frontiers
 from frontier_rl.core.sim.config import SimConfig
-from frontier_rl.core.sim.looks import LOOK_MIN_GAIN_M2, last_looks
+from frontier_rl.core.sim.looks import LOOK_MIN_GAIN_M2, LOOK_PAYOFF_M2, last_looks
+from frontier_rl.core.sim.simulator import ExplorationSimulator
 from frontier_rl.core.world.grid import CellState, OccupancyGrid
 from frontier_rl.core.world.robot import Pose
+from frontier_rl.core.world.worlds import make_world
 
 RES = 0.05
 FREE, OCC, UNKNOWN = (np.int8(v) for v in (CellState.FREE, CellState.OCCUPIED, CellState.UNKNOWN))
@@ -39,11 +42,11 @@ def _blacklist() -> Blacklist:
     )
 
 
-def _looks(grid: OccupancyGrid, blacklist: Blacklist | None = None) -> tuple[Pose, object]:
+def _looks(grid: OccupancyGrid, blacklist: Blacklist | None = None, confirmed: bool = False) -> tuple[Pose, Frontiers]:
     config, pose = SimConfig(), Pose(0.5, 0.5, 0.0)
     _, reachable, frontiers = reachable_frontiers(grid, pose, config)
     assert len(frontiers) == 0  # the gap is too small a cluster to be a candidate
-    return pose, last_looks(grid, pose, reachable, config, blacklist or _blacklist())
+    return pose, last_looks(grid, pose, reachable, config, blacklist or _blacklist(), confirmed)
 
 
 def test_a_gap_in_a_thin_wall_gets_one_look_from_a_viewpoint_in_line_with_it() -> None:
@@ -66,6 +69,27 @@ def test_specks_and_the_unknown_in_a_walls_mass_get_no_look() -> None:
     unseen = window_map()
     unseen.data[:, 62:] = UNKNOWN  # nothing seen through the gap: a hole in a wall, to the robot
     assert len(_looks(unseen)[1]) == 0
+
+
+def test_floor_seen_beyond_the_mapping_range_takes_a_look_that_paid_first() -> None:
+    far = window_map()
+    far.data[35:44, 100:109] = UNKNOWN
+    far.data[35:44, 121:130] = FREE  # the floor seen through the gap lies 3 m beyond it
+    assert len(_looks(far)[1]) == 0  # none near enough: a look must first pay (frontier_rl.core.sim.looks)
+    assert len(_looks(far, confirmed=True)[1]) == 1  # then the unknown beside any floor seen beyond
+
+
+def test_a_look_that_maps_little_ends_the_looks_and_one_that_pays_confirms_them() -> None:
+    sim = ExplorationSimulator(
+        make_world(window_map(), "window", start=Pose(0.5, 0.5, 0.0)), SimConfig(), np.random.default_rng(0)
+    )
+    navigator = sim.navigator
+    navigator.looked(LOOK_PAYOFF_M2)
+    assert navigator.looking
+    navigator.looked(LOOK_PAYOFF_M2 / 2)
+    assert not navigator.looking
+    navigator.looked(10.0)
+    assert not navigator.looking  # for the rest of the episode
 
 
 def test_a_cluster_looked_at_once_gets_a_second_look_from_elsewhere_and_none_after() -> None:
