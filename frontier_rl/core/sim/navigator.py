@@ -19,7 +19,7 @@ from frontier_rl.core.navigation.thin_walls import Recovery, recovery_robot
 from frontier_rl.core.sim.candidates import Candidates, find_candidates
 from frontier_rl.core.sim.config import SimConfig
 from frontier_rl.core.sim.episode_log import EpisodeLog
-from frontier_rl.core.sim.looks import LOOK_PAYOFF_M2, last_looks
+from frontier_rl.core.sim.looks import LOOK_PAYOFF_M2, last_looks, may_look
 from frontier_rl.core.sim.paths import map_blocks_path, replan_path
 from frontier_rl.core.sim.teammates import Teammates
 from frontier_rl.core.sim.trail import mark_path
@@ -98,7 +98,8 @@ class Navigator:
             return levels[-1]
         if self._looks is None:  # computed once per map: a look costs rays from thousands of viewpoints
             self._looks = levels[0]
-            for cand in levels if self.looking else ():
+            worth = self.looking and (self._confirmed or may_look(levels[0].grid, levels[0].reachable))
+            for cand in levels if worth else ():
                 looks = last_looks(cand.grid, pose, cand.reachable, self._config, self.blacklist, self._confirmed)
                 if len(looks):
                     self._looks = dataclasses.replace(cand, frontiers=looks, looks=True)
