@@ -126,8 +126,9 @@ class Navigator:
         return self._cached
 
     def looked(self, revealed_m2: float) -> None:
-        """A look revealed ``revealed_m2`` (m² of the map newly known): one that paid less than
-        :data:`~frontier_rl.core.sim.looks.LOOK_PAYOFF_M2` ends the looks of the episode."""
+        """A look mapped ``revealed_m2`` of floor (m², cells newly known free): one that paid less than
+        :data:`~frontier_rl.core.sim.looks.LOOK_PAYOFF_M2` ends the looks of the episode, one that
+        paid lets the next do without floor seen near their clusters."""
         self.looking = self.looking and revealed_m2 >= LOOK_PAYOFF_M2
         self._confirmed = self.looking
         self.forget()
