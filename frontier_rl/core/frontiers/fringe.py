@@ -15,6 +15,16 @@ NEIGHBOURS_8 = np.array([(-1, -1), (-1, 0), (-1, 1), (0, -1), (0, 1), (1, -1), (
 """The offsets (rows, columns) of a cell's 8-neighbours."""
 
 
+def labels_beside(labels: NDArray[np.int32], rows: NDArray[np.int64], cols: NDArray[np.int64]) -> NDArray[np.int64]:
+    """The labels (of an ``ndimage.label`` image, 0 for none) of the regions that touch
+    (8-neighbours) one of the cells at ``rows``, ``cols``, each once."""
+    r = (rows[:, None] + NEIGHBOURS_8[:, 0]).ravel()
+    c = (cols[:, None] + NEIGHBOURS_8[:, 1]).ravel()
+    inside = (r >= 0) & (r < labels.shape[0]) & (c >= 0) & (c < labels.shape[1])
+    found = np.unique(labels[r[inside], c[inside]])
+    return found[found > 0].astype(np.int64)
+
+
 @nb.njit(cache=True, inline="always")
 def _is_fringe(state: NDArray[np.int8], row: int, col: int) -> bool:
     rows, cols = state.shape

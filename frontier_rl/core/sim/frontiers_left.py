@@ -13,7 +13,7 @@ from scipy import ndimage
 
 from frontier_rl.core.frontiers.blacklist import Blacklist
 from frontier_rl.core.frontiers.detection import Frontiers, detect_frontiers
-from frontier_rl.core.frontiers.fringe import NEIGHBOURS_8, unknown_beside
+from frontier_rl.core.frontiers.fringe import labels_beside, unknown_beside
 from frontier_rl.core.navigation.thin_walls import Recovery
 from frontier_rl.core.sim.candidates import Candidates, reachable_frontiers
 from frontier_rl.core.sim.config import UNSEEN_ROOM_M2, SimConfig
@@ -43,11 +43,7 @@ class UnseenRegions:
 
     def cells_behind(self, rows: NDArray[np.int64], cols: NDArray[np.int64]) -> int:
         """The cells of every region that touches (8-neighbours) one of the given cells, each region once."""
-        r = (rows[:, None] + NEIGHBOURS_8[:, 0]).ravel()
-        c = (cols[:, None] + NEIGHBOURS_8[:, 1]).ravel()
-        inside = (r >= 0) & (r < self.labels.shape[0]) & (c >= 0) & (c < self.labels.shape[1])
-        found = np.unique(self.labels[r[inside], c[inside]])
-        return int(self.sizes[found[found > 0]].sum())
+        return int(self.sizes[labels_beside(self.labels, rows, cols)].sum())
 
 
 @dataclass(frozen=True)

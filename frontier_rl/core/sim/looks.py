@@ -30,7 +30,7 @@ from scipy import ndimage
 
 from frontier_rl.core.frontiers.blacklist import Blacklist
 from frontier_rl.core.frontiers.detection import Frontiers, detect_frontiers, visible_unknown
-from frontier_rl.core.frontiers.fringe import NEIGHBOURS_8
+from frontier_rl.core.frontiers.fringe import labels_beside
 from frontier_rl.core.sim.config import SimConfig
 from frontier_rl.core.world.grid import CellState, OccupancyGrid
 from frontier_rl.core.world.robot import Pose
@@ -109,7 +109,7 @@ def last_looks(
             continue
         if floor is not None and np.count_nonzero(np.hypot(*(floor - cells.mean(axis=0)).T) <= sight) < evidence:
             continue  # no floor seen through it: a speck at a wall's foot, or rays through glass
-        regions = _regions_beside(labels, cells)
+        regions = labels_beside(labels, cells[:, 0], cells[:, 1])
         regions = regions[areas[regions] > 0]
         if areas[regions].sum() < LOOK_MIN_GAIN_M2:
             continue
@@ -185,15 +185,6 @@ def _viewpoint_cells(reachable: NDArray[np.bool_], grid: OccupancyGrid, blacklis
         gaps = np.hypot(xy[:, None, 0] - tried[None, :, 0], xy[:, None, 1] - tried[None, :, 1])
         views = views[gaps.min(axis=1) > blacklist.radius]
     return views
-
-
-def _regions_beside(labels: NDArray[np.int32], cells: NDArray[np.int64]) -> NDArray[np.int64]:
-    """The labels of the unknown regions that touch (8-neighbours) one of ``cells`` ((n, 2) row, col)."""
-    r = (cells[:, 0, None] + NEIGHBOURS_8[:, 0]).ravel()
-    c = (cells[:, 1, None] + NEIGHBOURS_8[:, 1]).ravel()
-    inside = (r >= 0) & (r < labels.shape[0]) & (c >= 0) & (c < labels.shape[1])
-    found = np.unique(labels[r[inside], c[inside]])
-    return found[found > 0].astype(np.int64)
 
 
 def _best_viewpoint(
