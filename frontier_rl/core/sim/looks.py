@@ -180,10 +180,11 @@ def _viewpoint_cells(reachable: NDArray[np.bool_], grid: OccupancyGrid, blacklis
     lattice[::VIEWPOINT_STRIDE, ::VIEWPOINT_STRIDE] = True
     views = np.argwhere(reachable & lattice).astype(np.int64)
     if blacklist.entries and len(views):
-        tried = np.vstack([entry.goals for entry in blacklist.entries])
         xy = grid.cells_to_world(views)
-        gaps = np.hypot(xy[:, None, 0] - tried[None, :, 0], xy[:, None, 1] - tried[None, :, 1])
-        views = views[gaps.min(axis=1) > blacklist.radius]
+        tried = np.zeros(len(views), np.bool_)
+        for entry in blacklist.entries:
+            tried |= entry.near_goals(xy, blacklist.radius)
+        views = views[~tried]
     return views
 
 
