@@ -5,6 +5,7 @@ from __future__ import annotations
 from collections import defaultdict
 from pathlib import Path
 from statistics import mean
+from typing import Any
 
 from results_data import Episode, Study, label
 from results_format import markdown_table, reproduce_section, seconds
@@ -178,6 +179,23 @@ def _value(row: dict[str, object]) -> str:
     return (f"{text}×" if unit == "×" else f"{text} {unit}") + str(row.get("detail", ""))
 
 
+def _startup_floor(results: list[dict[str, Any]]) -> str:
+    """A paragraph on the floor under an episode's process and the small explore above it, where
+    the benchmark measured both."""
+    floor = next((row for row in results if row["metric"].startswith("floor:")), None)
+    explore = next((row for row in results if "explore" in row["metric"] and "process" in row["metric"]), None)
+    if floor is None or explore is None:
+        return ""
+    return f"""
+No process that runs an episode starts faster than the floor row: importing NumPy, SciPy's ndimage
+and numba and setting up numba's compiler target for one cached kernel take {floor["value"]:.2f} s
+on this machine, before any of frontier_rl is imported. The small explore takes
+{explore["value"]:.2f} s, {explore["value"] / floor["value"]:.2f} × the floor: its own imports, the
+loading of its kernels from numba's cache, the world and the episode.
+
+"""
+
+
 def speed_page(study: Study, images: Path) -> str:
     """The speed benchmarks against the speed budget."""
     report = study.json("speed.json")
@@ -188,6 +206,7 @@ def speed_page(study: Study, images: Path) -> str:
         goal = "" if target is None else f"{'≥' if row['higher_is_better'] else '≤'} {target:,g} {row['unit']}"
         rows.append([row["metric"], _value(row), goal, {None: "", True: "met", False: "**missed**"}[row["ok"]]])
     machine = report["machine"]
+    floor = _startup_floor(report["results"])
     return f"""# Speed
 
 The simulator is the product's engine: an experiment that took the thesis a week in Gazebo should take
@@ -196,7 +215,7 @@ numba and BLAS on one thread, each benchmark warmed up first so that compilation
 and the median over repeats.
 
 {markdown_table(("benchmark", "measured", "target", ""), rows)}
-Machine: {machine["cpu"]}, Python {machine["python"]}, NumPy {machine["numpy"]}, numba {machine["numba"]};
+{floor}Machine: {machine["cpu"]}, Python {machine["python"]}, NumPy {machine["numpy"]}, numba {machine["numba"]};
 the whole benchmark took {seconds(report["runtime_s"])} s.
 
 {reproduce_section(study)}"""
