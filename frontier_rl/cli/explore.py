@@ -126,7 +126,7 @@ def _episode(
 
 def _print_episode(world: str, seed: int, policy: str, result: EpisodeResult, as_json: bool) -> None:
     """An episode's metrics on standard output: one JSON object, or a table."""
-    summary = {"world": world, "seed": seed, "policy": policy, **result.summary()}
+    summary = {"world": world, "seed": seed, "policy": policy, **result.summary().to_json()}
     weights = [d.weight for d in result.decision_log if d.weight is not None]
     if weights and as_json:
         summary["weights"] = weights  # the weight of every decision, in order

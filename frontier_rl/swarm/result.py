@@ -3,12 +3,11 @@
 from __future__ import annotations
 
 from dataclasses import dataclass, field
-from typing import Any
 
 import numpy as np
 from numpy.typing import NDArray
 
-from frontier_rl.core.sim.metrics import EpisodeResult
+from frontier_rl.core.sim.metrics import EpisodeResult, EpisodeSummary
 from frontier_rl.core.world.grid import OccupancyGrid
 
 
@@ -40,17 +39,30 @@ class TeamResult(EpisodeResult):
     trajectories: tuple[NDArray[np.float64], ...] = field(repr=False, default=())
     team_map: OccupancyGrid | None = field(repr=False, default=None)
 
-    def summary(self) -> dict[str, Any]:
-        """The scalar metrics as a JSON-ready dict, with the team's figures."""
-        return {
-            **super().summary(),
-            "robots": self.robots,
-            "strategy": self.strategy,
-            "overlap": round(self.overlap, 5),
-            "robot_path_lengths_m": [round(v, 3) for v in self.robot_path_lengths_m],
-            "robot_coverage": [round(v, 5) for v in self.robot_coverage],
-            "failed_at_s": [None if t is None else round(t, 3) for t in self.failed_at_s],
-        }
+    def summary(self) -> TeamSummary:
+        """The scalar metrics, rounded as the result files keep them, with the team's figures."""
+        return TeamSummary(
+            **vars(super().summary()),
+            robots=self.robots,
+            strategy=self.strategy,
+            overlap=round(self.overlap, 5),
+            robot_path_lengths_m=tuple(round(v, 3) for v in self.robot_path_lengths_m),
+            robot_coverage=tuple(round(v, 5) for v in self.robot_coverage),
+            failed_at_s=tuple(None if t is None else round(t, 3) for t in self.failed_at_s),
+        )
+
+
+@dataclass(frozen=True)
+class TeamSummary(EpisodeSummary):
+    """A team episode's scalar metrics (:meth:`TeamResult.summary`), rounded as those of one robot;
+    the team's fields are those of :class:`TeamResult` of the same names."""
+
+    robots: int = 1
+    strategy: str = "uncoordinated"
+    overlap: float = 0.0
+    robot_path_lengths_m: tuple[float, ...] = ()
+    robot_coverage: tuple[float, ...] = ()
+    failed_at_s: tuple[float | None, ...] = ()
 
 
 def overlap_share(observed: list[NDArray[np.bool_]], explorable: NDArray[np.bool_]) -> float:

@@ -79,7 +79,7 @@ def test_teams_finish_the_map_and_report_every_robot(strategy: str) -> None:
     assert all(length > 0 for length in result.robot_path_lengths_m)
     assert math.isclose(result.path_length_m, sum(result.robot_path_lengths_m))
     assert 0.0 <= result.overlap <= 1.0 and all(0 < c <= 1 for c in result.robot_coverage)
-    summary = result.summary()
+    summary = result.summary().to_json()
     assert summary["robots"] == 3 and len(summary["robot_path_lengths_m"]) == 3 and "overlap" in summary
 
 

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import dataclasses
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass, field
 from typing import Any
@@ -193,29 +194,60 @@ class EpisodeResult:
         """Simulated seconds per wall-clock second."""
         return self.sim_time_s / self.wall_time_s if self.wall_time_s > 0 else float("inf")
 
-    def summary(self) -> dict[str, Any]:
-        """The scalar metrics as a JSON-ready dict."""
-        return {
-            "sim_time_s": round(self.sim_time_s, 3),
-            "path_length_m": round(self.path_length_m, 3),
-            "coverage": round(self.coverage, 5),
-            "t90_s": None if self.t90_s is None else round(self.t90_s, 3),
-            "t99_s": None if self.t99_s is None else round(self.t99_s, 3),
-            "decisions": self.decisions,
-            "aborts": self.aborts,
-            "aborts_by_cause": dict(self.aborts_by_cause),
-            "done": self.done,
-            "truncated": self.truncated,
-            "end_reason": self.end_reason,
-            "free_coverage": round(self.free_coverage, 5),
-            "unknown_left_m2": round(self.unknown_left_m2, 4),
-            "explorable_left_m2": round(self.explorable_left_m2, 4),
-            "frontiers_with_path_left": self.frontiers_with_path_left,
-            "frontiers_with_path_on_map_left": self.frontiers_with_path_on_map_left,
-            "frontiers_unrevealable_left": self.frontiers_unrevealable_left,
-            "wall_time_s": round(self.wall_time_s, 4),
-            "real_time_factor": round(self.real_time_factor, 1),
-        }
+    def summary(self) -> EpisodeSummary:
+        """The scalar metrics, rounded as the result files and ``explore --json`` keep them."""
+        return EpisodeSummary(
+            sim_time_s=round(self.sim_time_s, 3),
+            path_length_m=round(self.path_length_m, 3),
+            coverage=round(self.coverage, 5),
+            t90_s=None if self.t90_s is None else round(self.t90_s, 3),
+            t99_s=None if self.t99_s is None else round(self.t99_s, 3),
+            decisions=self.decisions,
+            aborts=self.aborts,
+            aborts_by_cause=dict(self.aborts_by_cause),
+            done=self.done,
+            truncated=self.truncated,
+            end_reason=self.end_reason,
+            free_coverage=round(self.free_coverage, 5),
+            unknown_left_m2=round(self.unknown_left_m2, 4),
+            explorable_left_m2=round(self.explorable_left_m2, 4),
+            frontiers_with_path_left=self.frontiers_with_path_left,
+            frontiers_with_path_on_map_left=self.frontiers_with_path_on_map_left,
+            frontiers_unrevealable_left=self.frontiers_unrevealable_left,
+            wall_time_s=round(self.wall_time_s, 4),
+            real_time_factor=round(self.real_time_factor, 1),
+        )
+
+
+@dataclass(frozen=True)
+class EpisodeSummary:
+    """An episode's scalar metrics (:meth:`EpisodeResult.summary`), rounded: times to the
+    millisecond, shares to 10⁻⁵, areas to 10⁻⁴ m². The fields are those of :class:`EpisodeResult`
+    of the same names, and ``explorable_left_m2`` and the audit's counts of the frontiers left."""
+
+    sim_time_s: float
+    path_length_m: float
+    coverage: float
+    t90_s: float | None
+    t99_s: float | None
+    decisions: int
+    aborts: int
+    aborts_by_cause: dict[str, int]
+    done: bool
+    truncated: bool
+    end_reason: str | None
+    free_coverage: float
+    unknown_left_m2: float
+    explorable_left_m2: float
+    frontiers_with_path_left: int
+    frontiers_with_path_on_map_left: int
+    frontiers_unrevealable_left: int
+    wall_time_s: float
+    real_time_factor: float
+
+    def to_json(self) -> dict[str, Any]:
+        """The summary as a JSON-ready dict, its keys the field names."""
+        return dataclasses.asdict(self)
 
 
 def time_to_coverage(times: NDArray[np.float64], curve: NDArray[np.float64], level: float) -> float | None:

@@ -11,6 +11,7 @@ from pathlib import Path
 from PIL import Image
 
 from frontier_rl.core.sim.episode import run_episode, warm_up
+from frontier_rl.core.sim.metrics import EpisodeSummary
 from frontier_rl.evaluation.report.table import short_labels
 from frontier_rl.evaluation.running.experiment import EpisodeJob, ExperimentConfig, job_parts
 from frontier_rl.recording import EpisodeRecorder, save_team_png
@@ -75,15 +76,15 @@ def _draw(config: ExperimentConfig, job: EpisodeJob, stem: Path, title: str, gif
     if team is not None:
         team_result = run_team_episode(world, policy, config.sim, team, seed=job.seed)
         path = _fit(save_team_png(stem.with_name(stem.name + ".png"), world, team_result, title))
-        summary = team_result.summary()
+        summary: EpisodeSummary = team_result.summary()
     else:
         recorder = EpisodeRecorder(world, frames=gif)
         result = run_episode(world, policy, config.sim, seed=job.seed, on_decision=recorder)
         path = save_image(_shrink(recorder.final_picture(result, title)), stem.with_name(stem.name + ".png"))
         summary = result.summary()
     caption = (
-        f"Episode 0 (seed {job.seed}): {summary['sim_time_s']:.1f} s, coverage "
-        f"{100 * summary['coverage']:.1f} %, ended {str(summary['end_reason']).replace('_', ' ')}. Left: the true "
+        f"Episode 0 (seed {job.seed}): {summary.sim_time_s:.1f} s, coverage "
+        f"{100 * summary.coverage:.1f} %, ended {str(summary.end_reason).replace('_', ' ')}. Left: the true "
         "map and the path driven; right: the map the robot built"
         + ("." if team is not None else ", with the frontiers ranked at the last decision (green: the chosen one).")
     )

@@ -28,7 +28,7 @@ from frontier_rl.evaluation.results.episode_record import EpisodeOutcome, Episod
 from frontier_rl.evaluation.results.identity import ExperimentIdentity, TeamIdentity
 from frontier_rl.policies import PolicySpec, make_policy
 from frontier_rl.policies.user_policies import user_policy_fingerprint
-from frontier_rl.swarm import Failure, Strategy, TeamConfig, TeamMethod, TeamResult, run_team_episode
+from frontier_rl.swarm import Failure, Strategy, TeamConfig, TeamMethod, TeamSummary, run_team_episode
 from frontier_rl.world_spec import parse_world_list, read_map, resolve_world
 
 ORACLE = "oracle"
@@ -278,6 +278,7 @@ def run_job(job: EpisodeJob, settings: EpisodeSettings) -> EpisodeOutcome:
     summary = result.summary()
     weights = [(d.time_s, d.weight) for d in result.decision_log if d.weight is not None]
     times, curve = _thin_curve(result.coverage_times_s, result.coverage_curve, result.sim_time_s)
+    team_summary = summary if isinstance(summary, TeamSummary) else None
     row = EpisodeRow(
         method=job.method,
         world=job.world,
@@ -286,13 +287,23 @@ def run_job(job: EpisodeJob, settings: EpisodeSettings) -> EpisodeOutcome:
         start_x_m=round(world.start.x, 4),
         start_y_m=round(world.start.y, 4),
         start_theta_rad=round(world.start.theta, 4),
-        **{k: summary[k] for k in ROW_METRICS},
+        sim_time_s=summary.sim_time_s,
+        path_length_m=summary.path_length_m,
+        coverage=summary.coverage,
+        t90_s=summary.t90_s,
+        t99_s=summary.t99_s,
+        decisions=summary.decisions,
+        aborts=summary.aborts,
+        done=summary.done,
+        truncated=summary.truncated,
+        end_reason=summary.end_reason,
+        free_coverage=summary.free_coverage,
+        unknown_left_m2=summary.unknown_left_m2,
         mean_weight=round(float(np.mean([w for _, w in weights])), 4) if weights else None,
-        robots=summary.get("robots", 1),
-        overlap=summary.get("overlap", 0.0),
-        wall_time_s=summary["wall_time_s"],
+        robots=1 if team_summary is None else team_summary.robots,
+        overlap=0.0 if team_summary is None else team_summary.overlap,
+        wall_time_s=summary.wall_time_s,
     )
-    team_lists = ("robot_path_lengths_m", "robot_coverage", "failed_at_s") if isinstance(result, TeamResult) else ()
     trace = EpisodeTrace(
         method=job.method,
         world=job.world,
@@ -301,31 +312,16 @@ def run_job(job: EpisodeJob, settings: EpisodeSettings) -> EpisodeOutcome:
         coverage=tuple(curve),
         weight_t=tuple(round(t, 2) for t, _ in weights),
         weight=tuple(round(float(w), 4) for _, w in weights),
-        aborts_by_cause=summary["aborts_by_cause"],
-        explorable_left_m2=summary["explorable_left_m2"],
-        frontiers_with_path_left=summary["frontiers_with_path_left"],
-        frontiers_with_path_on_map_left=summary["frontiers_with_path_on_map_left"],
-        frontiers_unrevealable_left=summary["frontiers_unrevealable_left"],
-        **{k: tuple(summary[k]) for k in team_lists},
+        aborts_by_cause=summary.aborts_by_cause,
+        explorable_left_m2=summary.explorable_left_m2,
+        frontiers_with_path_left=summary.frontiers_with_path_left,
+        frontiers_with_path_on_map_left=summary.frontiers_with_path_on_map_left,
+        frontiers_unrevealable_left=summary.frontiers_unrevealable_left,
+        robot_path_lengths_m=None if team_summary is None else team_summary.robot_path_lengths_m,
+        robot_coverage=None if team_summary is None else team_summary.robot_coverage,
+        failed_at_s=None if team_summary is None else team_summary.failed_at_s,
     )
     return EpisodeOutcome(row, trace)
-
-
-ROW_METRICS = (
-    "sim_time_s",
-    "path_length_m",
-    "coverage",
-    "t90_s",
-    "t99_s",
-    "decisions",
-    "aborts",
-    "done",
-    "truncated",
-    "end_reason",
-    "free_coverage",
-    "unknown_left_m2",
-)
-"""The episode metrics a row carries (see :class:`frontier_rl.core.sim.metrics.EpisodeResult`)."""
 
 
 def _thin_curve(times: np.ndarray, curve: np.ndarray, end: float) -> tuple[list[float], list[float]]:

@@ -28,7 +28,7 @@ def test_a_goal_without_a_path_at_the_decision_is_counted_as_not_planned(monkeyp
     result = sim.result(0.0)
     assert result.aborts == candidates > 0
     assert result.aborts_by_cause == {cause: candidates if cause == "not_planned" else 0 for cause in CAUSES}
-    assert result.summary()["aborts_by_cause"] == result.aborts_by_cause
+    assert result.summary().to_json()["aborts_by_cause"] == result.aborts_by_cause
 
 
 def test_the_causes_add_up_to_the_aborts_of_an_episode() -> None:

@@ -97,10 +97,10 @@ def test_a_frontier_the_map_has_a_way_to_is_retried_after_its_tries_within_the_b
     result = sim.result(0.0)
     assert result.end_reason == "unreachable"
     assert result.frontiers_with_path_left == sum(f.has_path for f in left) > 0
-    assert result.summary()["frontiers_with_path_left"] == result.frontiers_with_path_left
+    assert result.summary().to_json()["frontiers_with_path_left"] == result.frontiers_with_path_left
     # a door of 0.8 m: the path runs through the walls as mapped, not only through thinned ones
     assert result.frontiers_with_path_on_map_left == result.frontiers_with_path_left
-    assert result.summary()["frontiers_with_path_on_map_left"] == result.frontiers_with_path_on_map_left
+    assert result.summary().to_json()["frontiers_with_path_on_map_left"] == result.frontiers_with_path_on_map_left
 
 
 @pytest.mark.parametrize(("door_m", "level"), [(0.25, Recovery.HALF_CELL), (0.4, Recovery.NONE)])

@@ -370,4 +370,4 @@ def test_the_explorable_area_left_is_what_the_coverage_leaves_of_the_world() -> 
     result = run_episode(world, make_policy("nearest"), SimConfig(), seed=0)
     assert result.explorable_m2 == world.explorable_count * world.grid.resolution**2
     assert result.explorable_left_m2 == pytest.approx((1.0 - result.coverage) * result.explorable_m2)
-    assert 0.0 < result.summary()["explorable_left_m2"] < 0.01 * result.explorable_m2
+    assert 0.0 < result.summary().explorable_left_m2 < 0.01 * result.explorable_m2

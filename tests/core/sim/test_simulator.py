@@ -117,7 +117,7 @@ def _same_decisions(a: tuple[DecisionRecord, ...], b: tuple[DecisionRecord, ...]
 
 
 def _comparable(result: EpisodeResult) -> dict[str, object]:
-    summary = result.summary()
+    summary = result.summary().to_json()
     summary.pop("wall_time_s")
     summary.pop("real_time_factor")
     return summary
