@@ -34,12 +34,13 @@ from frontier_rl.errors import ConfigError, short_repr
 from frontier_rl.policies import make_policy
 from frontier_rl.policies.user_policies import checked_policy
 from frontier_rl.seeds import checked_seed
-from frontier_rl.swarm import Failure, TeamConfig, TeamResult, run_team_episode
+from frontier_rl.swarm.config import Failure, TeamConfig
 from frontier_rl.world_spec import resolve_world
 
 if TYPE_CHECKING:  # loaded by the functions that need them: the command line's help loads this module
     from frontier_rl.evaluation.results.summary import ExperimentSummary
     from frontier_rl.rl.config import TrainConfig
+    from frontier_rl.swarm.result import TeamResult
 
 DecisionHook = Callable[[ExplorationSimulator, DecisionContext, Ranking], None]
 """Called at every decision of a single robot's episode, before the robot drives."""
@@ -134,6 +135,8 @@ def explore(
     the_world = world if isinstance(world, World) else load_world(world, seed, resolution=resolution)
     _warm_up()
     if team is not None:
+        from frontier_rl.swarm.episode import run_team_episode  # the team engine, for a team only
+
         return run_team_episode(the_world, chosen, config, team, seed)
     return run_episode(the_world, chosen, config, seed, on_decision=on_decision)
 

@@ -16,7 +16,8 @@ try:
     app(sys.argv[1:])
 except SystemExit as end:
     code = end.code
-heavy = ("numba", "scipy", "torch", "gymnasium", "matplotlib", "frontier_rl.core.sim.simulator", "frontier_rl.api")
+heavy = ("numba", "scipy", "torch", "gymnasium", "matplotlib", "frontier_rl.core.sim.simulator", "frontier_rl.api",
+         "frontier_rl.swarm.team")
 print(json.dumps({"code": code, "loaded": [name for name in heavy if name in sys.modules]}))
 """
 
@@ -60,6 +61,9 @@ def test_help_and_argument_errors_load_none_of_the_engine(args: list[str], code:
     assert outcome == {"code": code, "loaded": []}, outcome
 
 
-def test_a_command_that_runs_loads_the_engine() -> None:
+def test_a_command_that_runs_loads_the_engine_and_a_single_robot_not_the_team_engine() -> None:
     outcome = _run("explore", "--world", "lse_arena", "--max-time", "5", "--json")
     assert outcome["code"] in (0, None) and "numba" in outcome["loaded"]  # type: ignore[operator]
+    assert "frontier_rl.swarm.team" not in outcome["loaded"]  # type: ignore[operator]
+    team = _run("explore", "--world", "lse_arena", "--max-time", "5", "--robots", "2", "--json")
+    assert team["code"] in (0, None) and "frontier_rl.swarm.team" in team["loaded"]  # type: ignore[operator]
