@@ -55,14 +55,14 @@ class TeamResult(EpisodeResult):
 @dataclass(frozen=True)
 class TeamSummary(EpisodeSummary):
     """A team episode's scalar metrics (:meth:`TeamResult.summary`), rounded as those of one robot;
-    the team's fields are those of :class:`TeamResult` of the same names."""
+    each of the team's fields is the :class:`TeamResult` attribute of the same name."""
 
-    robots: int = 1
-    strategy: str = "uncoordinated"
-    overlap: float = 0.0
-    robot_path_lengths_m: tuple[float, ...] = ()
-    robot_coverage: tuple[float, ...] = ()
-    failed_at_s: tuple[float | None, ...] = ()
+    robots: int
+    strategy: str
+    overlap: float
+    robot_path_lengths_m: tuple[float, ...]
+    robot_coverage: tuple[float, ...]
+    failed_at_s: tuple[float | None, ...]
 
 
 def overlap_share(observed: list[NDArray[np.bool_]], explorable: NDArray[np.bool_]) -> float:

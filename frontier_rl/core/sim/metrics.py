@@ -222,8 +222,8 @@ class EpisodeResult:
 @dataclass(frozen=True)
 class EpisodeSummary:
     """An episode's scalar metrics (:meth:`EpisodeResult.summary`), rounded: times to the
-    millisecond, shares to 10⁻⁵, areas to 10⁻⁴ m². The fields are those of :class:`EpisodeResult`
-    of the same names, and ``explorable_left_m2`` and the audit's counts of the frontiers left."""
+    millisecond, shares to 10⁻⁵, areas to 10⁻⁴ m². Each field is the :class:`EpisodeResult`
+    attribute or property of the same name."""
 
     sim_time_s: float
     path_length_m: float

@@ -20,7 +20,7 @@ from frontier_rl.config_files import to_dict
 from frontier_rl.core.frontiers.thesis import THESIS_BASELINE
 from frontier_rl.core.sim.config import SimConfig
 from frontier_rl.core.sim.episode import ExplorationPolicy, run_episode, warm_up
-from frontier_rl.core.sim.metrics import sample_step
+from frontier_rl.core.sim.metrics import EpisodeSummary, sample_step
 from frontier_rl.core.world.catalog import WORLD_GENERATORS
 from frontier_rl.core.world.worlds import World
 from frontier_rl.errors import ConfigError, model_file_label, short_repr
@@ -279,7 +279,32 @@ def run_job(job: EpisodeJob, settings: EpisodeSettings) -> EpisodeOutcome:
     weights = [(d.time_s, d.weight) for d in result.decision_log if d.weight is not None]
     times, curve = _thin_curve(result.coverage_times_s, result.coverage_curve, result.sim_time_s)
     team_summary = summary if isinstance(summary, TeamSummary) else None
-    row = EpisodeRow(
+    trace = EpisodeTrace(
+        method=job.method,
+        world=job.world,
+        episode=job.episode,
+        coverage_t=tuple(times),
+        coverage=tuple(curve),
+        weight_t=tuple(round(t, 2) for t, _ in weights),
+        weight=tuple(round(float(w), 4) for _, w in weights),
+        aborts_by_cause=summary.aborts_by_cause,
+        explorable_left_m2=summary.explorable_left_m2,
+        frontiers_with_path_left=summary.frontiers_with_path_left,
+        frontiers_with_path_on_map_left=summary.frontiers_with_path_on_map_left,
+        frontiers_unrevealable_left=summary.frontiers_unrevealable_left,
+        robot_path_lengths_m=None if team_summary is None else team_summary.robot_path_lengths_m,
+        robot_coverage=None if team_summary is None else team_summary.robot_coverage,
+        failed_at_s=None if team_summary is None else team_summary.failed_at_s,
+    )
+    mean_weight = round(float(np.mean([w for _, w in weights])), 4) if weights else None
+    return EpisodeOutcome(_episode_row(job, world, summary, mean_weight), trace)
+
+
+def _episode_row(job: EpisodeJob, world: World, summary: EpisodeSummary, mean_weight: float | None) -> EpisodeRow:
+    """The result row of ``job``'s episode on ``world``: its start, its ``summary`` and the mean
+    ranking weight it chose (None for a method without a weight)."""
+    team = summary if isinstance(summary, TeamSummary) else None
+    return EpisodeRow(
         method=job.method,
         world=job.world,
         episode=job.episode,
@@ -299,29 +324,11 @@ def run_job(job: EpisodeJob, settings: EpisodeSettings) -> EpisodeOutcome:
         end_reason=summary.end_reason,
         free_coverage=summary.free_coverage,
         unknown_left_m2=summary.unknown_left_m2,
-        mean_weight=round(float(np.mean([w for _, w in weights])), 4) if weights else None,
-        robots=1 if team_summary is None else team_summary.robots,
-        overlap=0.0 if team_summary is None else team_summary.overlap,
+        mean_weight=mean_weight,
+        robots=1 if team is None else team.robots,
+        overlap=0.0 if team is None else team.overlap,
         wall_time_s=summary.wall_time_s,
     )
-    trace = EpisodeTrace(
-        method=job.method,
-        world=job.world,
-        episode=job.episode,
-        coverage_t=tuple(times),
-        coverage=tuple(curve),
-        weight_t=tuple(round(t, 2) for t, _ in weights),
-        weight=tuple(round(float(w), 4) for _, w in weights),
-        aborts_by_cause=summary.aborts_by_cause,
-        explorable_left_m2=summary.explorable_left_m2,
-        frontiers_with_path_left=summary.frontiers_with_path_left,
-        frontiers_with_path_on_map_left=summary.frontiers_with_path_on_map_left,
-        frontiers_unrevealable_left=summary.frontiers_unrevealable_left,
-        robot_path_lengths_m=None if team_summary is None else team_summary.robot_path_lengths_m,
-        robot_coverage=None if team_summary is None else team_summary.robot_coverage,
-        failed_at_s=None if team_summary is None else team_summary.failed_at_s,
-    )
-    return EpisodeOutcome(row, trace)
 
 
 def _thin_curve(times: np.ndarray, curve: np.ndarray, end: float) -> tuple[list[float], list[float]]:
