@@ -12,7 +12,7 @@ loads Gymnasium or torch.
   :class:`DecisionContext` it sees (the map, the candidate :class:`Frontiers`, the :class:`Pose`, ...)
   and the :class:`Ranking` it returns.
 * The engine's types: :class:`OccupancyGrid`, :class:`CellState`, :class:`World`, :class:`SimConfig`,
-  :class:`EpisodeResult`, :func:`run_episode`.
+  :class:`EpisodeResult` (its rounded scalars an :class:`EpisodeSummary`), :func:`run_episode`.
 * The policies: :class:`NearestFrontier`, :class:`LargestFrontier`, :class:`FixedWeight`,
   :class:`ExploreLite`, :class:`InformationGain`, :class:`RandomFrontier`, :class:`FrontierTour`,
   :class:`OracleTour`, and :func:`make_policy` for a spec as on the command line.
@@ -57,6 +57,7 @@ _NAMES: dict[str, str] = {
     "Ranking": "frontier_rl.core.sim.episode",
     "run_episode": "frontier_rl.core.sim.episode",
     "EpisodeResult": "frontier_rl.core.sim.metrics",
+    "EpisodeSummary": "frontier_rl.core.sim.metrics",
     "SimConfig": "frontier_rl.core.sim.config",
     "Frontiers": "frontier_rl.core.frontiers.detection",
     "CellState": "frontier_rl.core.world.grid",
@@ -102,6 +103,7 @@ __all__ = [
     "DecisionContext",
     "EpisodeAwarePolicy",
     "EpisodeResult",
+    "EpisodeSummary",
     "ExperimentSummary",
     "ExplorationPolicy",
     "ExploreLite",
@@ -149,7 +151,7 @@ if TYPE_CHECKING:
         Ranking,
         run_episode,
     )
-    from frontier_rl.core.sim.metrics import EpisodeResult
+    from frontier_rl.core.sim.metrics import EpisodeResult, EpisodeSummary
     from frontier_rl.core.world.grid import CellState, OccupancyGrid
     from frontier_rl.core.world.robot import Pose
     from frontier_rl.core.world.worlds import World
