@@ -16,6 +16,7 @@ from PIL import Image
 from typer.testing import CliRunner
 
 import frontier_rl.api as api
+import frontier_rl.swarm.episode as team_episode
 from frontier_rl.cli import MAX_SEED, app
 from frontier_rl.cli.output import one_line, print_error
 from frontier_rl.core.world.grid import CellState, OccupancyGrid
@@ -49,7 +50,7 @@ def no_episode(monkeypatch: pytest.MonkeyPatch) -> None:
         raise AssertionError("an episode ran before the bad input was refused")
 
     monkeypatch.setattr(api, "run_episode", refuse)  # the command runs its episode through the API
-    monkeypatch.setattr(api, "run_team_episode", refuse)
+    monkeypatch.setattr(team_episode, "run_team_episode", refuse)  # which imports a team's when it runs one
 
 
 def error_line(result: Any, needle: str) -> str:
