@@ -16,10 +16,11 @@ look: the reachable cell within a frontier goal's reach whose scan would see the
 unknown the cluster opens onto (:func:`~frontier_rl.core.frontiers.detection.visible_unknown`), if
 at least :data:`LOOK_MIN_GAIN_M2`. The clusters one cell is best for make one look. Once a look has
 paid (mapped :data:`LOOK_PAYOFF_M2` of floor), the building has such windows, and any cluster whose
-unknown borders free space seen beyond may be one (``confirmed``); a look that maps less ends the
-episode's looks. A look is recorded in the blacklist as a visit of its clusters whatever it
-reveals, and no look is taken from near a goal already tried, so a cluster gets at most two looks
-(visited twice it is unrevealable), each from another place.
+unknown borders free space seen beyond may be one (``confirmed``), until a look taken on that word
+maps less: then the looks need floor seen through their clusters again, and the first of those
+that maps less ends the episode's looks. A look is recorded in the blacklist as a visit of its
+clusters whatever it reveals, and no look is taken from near a goal already tried, so a cluster
+gets at most two looks (visited twice it is unrevealable), each from another place.
 """
 
 from __future__ import annotations
@@ -53,9 +54,10 @@ m² beside the clusters at ``brsu_c069``'s window; at most 0.008 m² beside thos
 looks were taken for when any floor counted (within 3.5 m), where they mapped 0.02-0.09 m² each."""
 
 LOOK_PAYOFF_M2 = 0.25
-"""A look that maps less floor than this (m²) ends the episode's looks: the unknown
-the robot's map offers is then most likely wall (behind glass, in a wall's mass), which a look at
-the next cluster would not map either. On ``brsu_c069`` the looks through its window mapped
+"""A look through floor seen beyond that maps less floor than this (m²) ends the episode's looks:
+the unknown the robot's map offers is then most likely wall (behind glass, in a wall's mass),
+which a look at the next cluster would not map either. One taken on a paid look's word alone
+(``confirmed``) that maps less ends only such looks. On ``brsu_c069`` the looks through its window mapped
 0.3-3.5 m² each; on ``willow_2010`` and ``aws_bookstore``, whose streaks through glass are seen
 floor too, 0-0.09 m² (a few 0.14-0.61 m²)."""
 

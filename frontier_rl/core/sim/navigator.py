@@ -66,10 +66,13 @@ class Navigator:
         }
         self._cached: list[Candidates] | None = None  # see _levels
         self._looks: Candidates | None = None  # the last looks of the cached levels, once asked for
-        self._confirmed = False  # a look paid: the next need no floor seen near (see last_looks)
         self.looking = True
-        """Whether the last looks are still taken: until one reveals less than
-        :data:`~frontier_rl.core.sim.looks.LOOK_PAYOFF_M2` (:meth:`looked`)."""
+        """Whether the last looks are still taken: until one with floor seen through its clusters
+        reveals less than :data:`~frontier_rl.core.sim.looks.LOOK_PAYOFF_M2` (:meth:`looked`)."""
+        self.confirmed = False
+        """Whether a look has paid, so that the next need no floor seen near their clusters
+        (``confirmed`` of :func:`~frontier_rl.core.sim.looks.last_looks`): until one of those misses."""
+        self._confirmable = True  # no look taken on a paid look's word alone has missed yet
         self._gave_way_on: tuple[float, float] | None = None  # the goal of a leg that gave way, see give_way
 
     def trail(self) -> NDArray[np.bool_]:
@@ -98,9 +101,9 @@ class Navigator:
             return levels[-1]
         if self._looks is None:  # computed once per map: a look costs rays from thousands of viewpoints
             self._looks = levels[0]
-            worth = self.looking and (self._confirmed or may_look(levels[0].grid, levels[0].reachable))
+            worth = self.looking and (self.confirmed or may_look(levels[0].grid, levels[0].reachable))
             for cand in levels if worth else ():
-                looks = last_looks(cand.grid, pose, cand.reachable, self._config, self.blacklist, self._confirmed)
+                looks = last_looks(cand.grid, pose, cand.reachable, self._config, self.blacklist, self.confirmed)
                 if len(looks):
                     self._looks = dataclasses.replace(cand, frontiers=looks, looks=True)
                     break
@@ -126,11 +129,17 @@ class Navigator:
         return self._cached
 
     def looked(self, revealed_m2: float) -> None:
-        """A look mapped ``revealed_m2`` of floor (m², cells newly known free): one that paid less than
-        :data:`~frontier_rl.core.sim.looks.LOOK_PAYOFF_M2` ends the looks of the episode, one that
-        paid lets the next do without floor seen near their clusters."""
-        self.looking = self.looking and revealed_m2 >= LOOK_PAYOFF_M2
-        self._confirmed = self.looking
+        """A look mapped ``revealed_m2`` of floor (m², cells newly known free). One that paid
+        :data:`~frontier_rl.core.sim.looks.LOOK_PAYOFF_M2` lets the next do without floor seen near
+        their clusters. One that paid less ends those looks for the episode, where it was taken on a
+        paid look's word (the looks with floor seen through their clusters go on), and otherwise
+        every look."""
+        paid = revealed_m2 >= LOOK_PAYOFF_M2
+        if self.confirmed and not paid:
+            self._confirmable = False
+        else:
+            self.looking = self.looking and paid
+        self.confirmed = self.looking and paid and self._confirmable
         self.forget()
 
     def decision_candidates(self, pose: Pose) -> Candidates:

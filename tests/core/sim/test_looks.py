@@ -14,6 +14,7 @@ from frontier_rl.core.frontiers.detection import Frontiers
 from frontier_rl.core.sim.candidates import reachable_frontiers
 from frontier_rl.core.sim.config import SimConfig
 from frontier_rl.core.sim.looks import LOOK_MIN_GAIN_M2, LOOK_PAYOFF_M2, last_looks
+from frontier_rl.core.sim.navigator import Navigator
 from frontier_rl.core.sim.simulator import ExplorationSimulator
 from frontier_rl.core.world.grid import CellState, OccupancyGrid
 from frontier_rl.core.world.robot import Pose
@@ -79,17 +80,32 @@ def test_floor_seen_beyond_the_mapping_range_takes_a_look_that_paid_first() -> N
     assert len(_looks(far, confirmed=True)[1]) == 1  # then the unknown beside any floor seen beyond
 
 
+def _navigator() -> Navigator:
+    world = make_world(window_map(), "window", start=Pose(0.5, 0.5, 0.0))
+    return ExplorationSimulator(world, SimConfig(), np.random.default_rng(0)).navigator
+
+
 def test_a_look_that_maps_little_ends_the_looks_and_one_that_pays_confirms_them() -> None:
-    sim = ExplorationSimulator(
-        make_world(window_map(), "window", start=Pose(0.5, 0.5, 0.0)), SimConfig(), np.random.default_rng(0)
-    )
-    navigator = sim.navigator
-    navigator.looked(LOOK_PAYOFF_M2)
-    assert navigator.looking
-    navigator.looked(LOOK_PAYOFF_M2 / 2)
-    assert not navigator.looking
+    navigator = _navigator()
+    assert navigator.looking and not navigator.confirmed
+    navigator.looked(LOOK_PAYOFF_M2 / 2)  # a look through floor seen beyond that missed
+    assert not navigator.looking and not navigator.confirmed
     navigator.looked(10.0)
     assert not navigator.looking  # for the rest of the episode
+    navigator = _navigator()
+    navigator.looked(LOOK_PAYOFF_M2)
+    assert navigator.looking and navigator.confirmed
+
+
+def test_a_miss_on_a_paid_looks_word_ends_those_looks_and_the_others_go_on() -> None:
+    navigator = _navigator()
+    navigator.looked(LOOK_PAYOFF_M2)  # paid: the next look needs no floor seen near its clusters
+    navigator.looked(0.0)  # and missed
+    assert navigator.looking and not navigator.confirmed  # the looks through floor seen beyond go on
+    navigator.looked(LOOK_PAYOFF_M2)
+    assert navigator.looking and not navigator.confirmed  # none on a paid look's word again
+    navigator.looked(0.0)
+    assert not navigator.looking
 
 
 def test_a_cluster_looked_at_once_gets_a_second_look_from_elsewhere_and_none_after() -> None:
