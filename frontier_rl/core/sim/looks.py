@@ -54,12 +54,12 @@ m² beside the clusters at ``brsu_c069``'s window; at most 0.008 m² beside thos
 looks were taken for when any floor counted (within 3.5 m), where they mapped 0.02-0.09 m² each."""
 
 LOOK_PAYOFF_M2 = 0.25
-"""A look through floor seen beyond that maps less floor than this (m²) ends the episode's looks:
-the unknown the robot's map offers is then most likely wall (behind glass, in a wall's mass),
-which a look at the next cluster would not map either. One taken on a paid look's word alone
-(``confirmed``) that maps less ends only such looks. On ``brsu_c069`` the looks through its window mapped
-0.3-3.5 m² each; on ``willow_2010`` and ``aws_bookstore``, whose streaks through glass are seen
-floor too, 0-0.09 m² (a few 0.14-0.61 m²)."""
+"""A look that maps less floor than this (m²) ends the episode's looks: the unknown the robot's
+map offers is then most likely wall (behind glass, in a wall's mass), which a look at the next
+cluster would not map either. One taken while a paid look's word held (``confirmed``) that maps
+less ends only that word: the looks that need floor seen through their clusters go on. On
+``brsu_c069`` the looks through its window mapped 0.3-3.5 m² each; on ``willow_2010`` and
+``aws_bookstore``, whose streaks through glass are seen floor too, 0-0.09 m² (a few 0.14-0.61 m²)."""
 
 VIEWPOINT_STRIDE = 2
 """Every how many reachable cells (along rows and columns) a viewpoint is tried: 0.1 m on the

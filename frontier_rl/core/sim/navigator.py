@@ -131,9 +131,8 @@ class Navigator:
     def looked(self, revealed_m2: float) -> None:
         """A look mapped ``revealed_m2`` of floor (m², cells newly known free). One that paid
         :data:`~frontier_rl.core.sim.looks.LOOK_PAYOFF_M2` lets the next do without floor seen near
-        their clusters. One that paid less ends those looks for the episode, where it was taken on a
-        paid look's word (the looks with floor seen through their clusters go on), and otherwise
-        every look."""
+        their clusters. One that paid less, taken while a paid look's word held, ends that word for the
+        episode (the looks with floor seen through their clusters go on); otherwise it ends every look."""
         paid = revealed_m2 >= LOOK_PAYOFF_M2
         if self.confirmed and not paid:
             self._confirmable = False
