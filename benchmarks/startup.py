@@ -35,13 +35,37 @@ def total(values):
 """The floor under any process of the engine: a module that imports what every episode needs (NumPy,
 SciPy's ndimage, numba) and one cached kernel; numba sets up its compiler target at the first call."""
 
+FLOOR_CLI = """
+import typer
+
+app = typer.Typer()
+
+
+@app.command()
+def explore(world: str = "office", seed: int = 0) -> None:
+    \"\"\"Explore one world.\"\"\"
+
+
+@app.command()
+def evaluate(seeds: int = 10) -> None:
+    \"\"\"Evaluate policies.\"\"\"
+
+
+app()
+"""
+"""The floor under ``--help``: a typer command line of two commands, its help laid out by rich as
+typer does when rich is installed."""
+
 
 def process_seconds(args: list[str], repeats: int, path: Path = CHECKOUT) -> list[float]:
     """Wall time (s) of ``repeats`` runs of ``python ARGS`` with ``path`` on the module path (this
     checkout), after one untimed run that fills the caches (numba's kernels, Python's bytecode, the
-    disk's)."""
+    disk's). Python writes its bytecode even where the caller's environment says not to
+    (``PYTHONDONTWRITEBYTECODE``, set on some CI and container images): a user's installed package
+    has it, and compiling the package's source again in every process cost 0.1-0.2 s here."""
     command = [sys.executable, *args]
-    environment = os.environ | {"PYTHONPATH": str(path)}
+    environment = {k: v for k, v in os.environ.items() if k != "PYTHONDONTWRITEBYTECODE"}
+    environment["PYTHONPATH"] = str(path)
 
     def run() -> float:
         start = time.perf_counter()
@@ -61,14 +85,25 @@ def floor_seconds(repeats: int) -> list[float]:
         return process_seconds(["-c", script], repeats, Path(folder))
 
 
+def help_floor_seconds(repeats: int) -> list[float]:
+    """Wall time (s) of ``repeats`` processes printing :data:`FLOOR_CLI`'s ``--help``: what no
+    typer command line's help goes below."""
+    with tempfile.TemporaryDirectory() as folder:
+        (Path(folder) / "floor_cli.py").write_text(FLOOR_CLI)
+        return process_seconds(["-m", "floor_cli", "--help"], repeats, Path(folder))
+
+
 def bench_startup(repeats: int) -> list[tuple[str, float, float | None]]:
-    """(metric, median seconds, target seconds or None) of ``--help``, of one explore on the small
-    map and of the floor under it (:func:`floor_seconds`)."""
+    """(metric, median seconds, target seconds or None) of ``--help`` and of the floor under it
+    (:func:`help_floor_seconds`), of one explore on the small map and of the floor under it
+    (:func:`floor_seconds`)."""
     cli = ["-m", "frontier_rl.cli"]
     explore = [*cli, "explore", "--world", SMALL_MAP, "--policy", "nearest", "--seed", "0", "--json"]
     return [
         (f"`frontier-rl --help` as a process (median of {repeats})",
          statistics.median(process_seconds([*cli, "--help"], repeats)), HELP_TARGET_S),
+        (f"floor: a typer command line of two commands, its --help (median of {repeats})",
+         statistics.median(help_floor_seconds(repeats)), None),
         (f"`frontier-rl explore --world {SMALL_MAP}` as a process (median of {repeats})",
          statistics.median(process_seconds(explore, repeats)), SMALL_EXPLORE_TARGET_S),
         (f"floor: a process importing NumPy, SciPy's ndimage and numba, one cached kernel (median of {repeats})",

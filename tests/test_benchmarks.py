@@ -47,9 +47,11 @@ def test_the_decision_benchmark_runs_every_policy(bench: ModuleType) -> None:
     assert all(row.value > 0 for row in rows)
 
 
-def test_the_process_benchmark_times_help_a_small_explore_and_the_floor_under_it(bench: ModuleType) -> None:
+def test_the_process_benchmark_times_help_a_small_explore_and_the_floors_under_them(bench: ModuleType) -> None:
     rows = bench.bench_processes(1)
-    assert [row.target for row in rows] == [0.3, 0.8, None]
-    assert rows[2].metric.startswith("floor:")
+    assert [row.target for row in rows] == [0.3, None, 0.8, None]
+    assert rows[1].metric.startswith("floor:") and "--help" in rows[1].metric
+    assert rows[3].metric.startswith("floor:") and "numba" in rows[3].metric
     assert all(0 < row.value < 60 and not row.higher_is_better for row in rows)
-    assert rows[2].value < rows[1].value  # the explore imports and runs more than the floor
+    assert rows[3].value < rows[2].value  # the explore imports and runs more than the floor
+    assert rows[1].value < rows[2].value  # a help that loads no engine

@@ -235,8 +235,8 @@ def test_explore_with_a_team_reports_every_robot(tmp_path: Path) -> None:
         (["--robots", "2", "--comm-range", "-1"], "-1"),
         (["--strategy", "swarming"], "swarming"),
         (["--robots", "2", "--gif", "x.gif"], "--gif"),
-        (["--robots", "2.5"], "got '2.5'"),  # typer's own message named the option, not the value
-        (["--robots=abc"], "got 'abc'"),
+        (["--robots", "2.5"], "'2.5'"),  # some typer versions' own message names the option, not the value
+        (["--robots=abc"], "'abc'"),
     ],
 )
 def test_bad_team_input_is_one_line_and_exit_2(args: list[str], needle: str) -> None:

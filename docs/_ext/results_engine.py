@@ -180,20 +180,29 @@ def _value(row: dict[str, object]) -> str:
 
 
 def _startup_floor(results: list[dict[str, Any]]) -> str:
-    """A paragraph on the floor under an episode's process and the small explore above it, where
-    the benchmark measured both."""
-    floor = next((row for row in results if row["metric"].startswith("floor:")), None)
+    """Paragraphs on the floors under a command's process and the commands above them, where the
+    benchmark measured both."""
+    floors = [row for row in results if row["metric"].startswith("floor:")]
+    engine_floor = next((row for row in floors if "numba" in row["metric"]), None)
+    help_floor = next((row for row in floors if "--help" in row["metric"]), None)
     explore = next((row for row in results if "explore" in row["metric"] and "process" in row["metric"]), None)
-    if floor is None or explore is None:
-        return ""
-    return f"""
-No process that runs an episode starts faster than the floor row: importing NumPy, SciPy's ndimage
-and numba and setting up numba's compiler target for one cached kernel take {floor["value"]:.2f} s
-on this machine, before any of frontier_rl is imported. The small explore takes
-{explore["value"]:.2f} s, {explore["value"] / floor["value"]:.2f} × the floor: its own imports, the
-loading of its kernels from numba's cache, the world and the episode.
-
+    help_row = next((row for row in results if "--help" in row["metric"] and "process" in row["metric"]), None)
+    text = ""
+    if engine_floor is not None and explore is not None:
+        text += f"""
+No process that runs an episode starts faster than the engine's floor row: importing NumPy, SciPy's
+ndimage and numba and setting up numba's compiler target for one cached kernel take
+{engine_floor["value"]:.2f} s on this machine, before any of frontier_rl is imported. The small explore
+takes {explore["value"]:.2f} s, {explore["value"] / engine_floor["value"]:.2f} × that floor: its own imports,
+the loading of its kernels from numba's cache, the world and the episode.
 """
+    if help_floor is not None and help_row is not None:
+        text += f"""
+The help's floor row is a typer command line of two commands whose help rich lays out, as typer
+does for `frontier-rl`: Python, typer and rich alone take {help_floor["value"]:.3f} s on this machine.
+`frontier-rl --help` takes {help_row["value"]:.3f} s, {help_row["value"] / help_floor["value"]:.2f} × that floor.
+"""
+    return text + "\n" if text else ""
 
 
 def speed_page(study: Study, images: Path) -> str:
