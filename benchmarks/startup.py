@@ -62,7 +62,8 @@ def process_seconds(args: list[str], repeats: int, path: Path = CHECKOUT) -> lis
     checkout), after one untimed run that fills the caches (numba's kernels, Python's bytecode, the
     disk's). Python writes its bytecode even where the caller's environment says not to
     (``PYTHONDONTWRITEBYTECODE``, set on some CI and container images): a user's installed package
-    has it, and compiling the package's source again in every process cost 0.1-0.2 s here."""
+    has it, and compiling the package's source again in every process cost the small explore
+    0.1-0.3 s here."""
     command = [sys.executable, *args]
     environment = {k: v for k, v in os.environ.items() if k != "PYTHONDONTWRITEBYTECODE"}
     environment["PYTHONPATH"] = str(path)
