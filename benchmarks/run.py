@@ -345,9 +345,10 @@ def bench_envs(n_episodes: int) -> list[Row]:
 
 
 def bench_processes(repeats: int) -> list[Row]:
-    """Whole ``frontier-rl`` processes (start-up included): ``--help`` and an explore on a small map."""
+    """Whole ``frontier-rl`` processes (start-up included): ``--help`` and an explore on a small map,
+    each beside the floor under it."""
     timings = bench_startup(repeats)
-    return [Row(metric, seconds, "s", target, higher_is_better=False) for metric, seconds, target in timings]
+    return [Row(metric, value, unit, target, higher_is_better=False) for metric, value, unit, target in timings]
 
 
 def machine_info() -> dict[str, str]:
@@ -402,7 +403,7 @@ def main(argv: list[str] | None = None) -> int:
         + bench_decisions(6 if args.quick else 20, 3 if args.quick else 9, args.model)
         + bench_teams(3 if args.quick else 10)
         + bench_envs(2 if args.quick else 10)
-        + bench_processes(2 if args.quick else 5)
+        + bench_processes(2 if args.quick else 9)
     )
     total = time.perf_counter() - started
 

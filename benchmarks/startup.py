@@ -13,6 +13,7 @@ import subprocess
 import sys
 import tempfile
 import time
+from dataclasses import dataclass
 from pathlib import Path
 
 CHECKOUT = Path(__file__).resolve().parents[1]
@@ -57,66 +58,80 @@ app()
 typer does when rich is installed."""
 
 
-def process_seconds(args: list[str], repeats: int, path: Path = CHECKOUT) -> list[float]:
-    """Wall time (s) of ``repeats`` runs of ``python ARGS`` with ``path`` on the module path (this
-    checkout), after one untimed run that fills the caches (numba's kernels, Python's bytecode, the
-    disk's). Python writes its bytecode even where the caller's environment says not to
-    (``PYTHONDONTWRITEBYTECODE``, set on some CI and container images): a user's installed package
-    has it, and compiling the package's source again in every process cost the small explore
-    0.1-0.3 s here."""
-    command = [sys.executable, *args]
-    environment = {k: v for k, v in os.environ.items() if k != "PYTHONDONTWRITEBYTECODE"}
-    environment["PYTHONPATH"] = str(path)
+@dataclass(frozen=True)
+class Process:
+    """A Python process the benchmark times: ``python ARGS`` with ``path`` on the module path."""
 
-    def run() -> float:
+    args: tuple[str, ...]
+    path: Path = CHECKOUT
+
+
+def interleaved_seconds(processes: list[Process], repeats: int) -> list[list[float]]:
+    """Wall time (s) of ``repeats`` runs of each process, run in turn (one of each, then again), so
+    that a machine slowing down for a while slows all of them alike; after one untimed run of each
+    that fills the caches (numba's kernels, Python's bytecode, the disk's). Python writes its bytecode
+    even where the caller's environment says not to (``PYTHONDONTWRITEBYTECODE``, set on some CI and
+    container images): a user's installed package has it, and compiling the package's source again
+    in every process cost the small explore 0.1-0.3 s here."""
+    environment = {k: v for k, v in os.environ.items() if k != "PYTHONDONTWRITEBYTECODE"}
+
+    def run(process: Process) -> float:
         start = time.perf_counter()
-        subprocess.run(command, env=environment, check=True, stdout=subprocess.DEVNULL, timeout=120)
+        subprocess.run(
+            [sys.executable, *process.args],
+            env=environment | {"PYTHONPATH": str(process.path)},
+            check=True,
+            stdout=subprocess.DEVNULL,
+            timeout=120,
+        )
         return time.perf_counter() - start
 
-    run()
-    return [run() for _ in range(repeats)]
+    for process in processes:
+        run(process)
+    rounds = [[run(process) for process in processes] for _ in range(repeats)]
+    return [list(times) for times in zip(*rounds, strict=True)]
 
 
-def floor_seconds(repeats: int) -> list[float]:
-    """Wall time (s) of ``repeats`` processes that import :data:`FLOOR_KERNEL`'s module and call its
-    kernel once: what no command that runs an episode can go below."""
+def bench_startup(repeats: int) -> list[tuple[str, float, str, float | None]]:
+    """(metric, value, unit, target or None): the median seconds of ``--help``, of the floor under it
+    (:data:`FLOOR_CLI`), of one explore on the small map and of the floor under that
+    (:data:`FLOOR_KERNEL`), and each command's median ratio to its floor over the rounds."""
+    cli = ("-m", "frontier_rl.cli")
+    explore = (*cli, "explore", "--world", SMALL_MAP, "--policy", "nearest", "--seed", "0", "--json")
     with tempfile.TemporaryDirectory() as folder:
-        (Path(folder) / "floor_kernel.py").write_text(FLOOR_KERNEL)
-        script = "import numpy as np, floor_kernel; floor_kernel.total(np.ones(3))"
-        return process_seconds(["-c", script], repeats, Path(folder))
+        floors = Path(folder)
+        (floors / "floor_kernel.py").write_text(FLOOR_KERNEL)
+        (floors / "floor_cli.py").write_text(FLOOR_CLI)
+        kernel = ("-c", "import numpy as np, floor_kernel; floor_kernel.total(np.ones(3))")
+        help_floor = ("-m", "floor_cli", "--help")
+        processes = [Process((*cli, "--help")), Process(help_floor, floors), Process(explore), Process(kernel, floors)]
+        help_s, help_floor_s, explore_s, floor_s = interleaved_seconds(processes, repeats)
 
+    def ratio(command: list[float], floor: list[float]) -> float:
+        return statistics.median(c / f for c, f in zip(command, floor, strict=True))
 
-def help_floor_seconds(repeats: int) -> list[float]:
-    """Wall time (s) of ``repeats`` processes printing :data:`FLOOR_CLI`'s ``--help``: what no
-    typer command line's help goes below."""
-    with tempfile.TemporaryDirectory() as folder:
-        (Path(folder) / "floor_cli.py").write_text(FLOOR_CLI)
-        return process_seconds(["-m", "floor_cli", "--help"], repeats, Path(folder))
-
-
-def bench_startup(repeats: int) -> list[tuple[str, float, float | None]]:
-    """(metric, median seconds, target seconds or None) of ``--help`` and of the floor under it
-    (:func:`help_floor_seconds`), of one explore on the small map and of the floor under it
-    (:func:`floor_seconds`)."""
-    cli = ["-m", "frontier_rl.cli"]
-    explore = [*cli, "explore", "--world", SMALL_MAP, "--policy", "nearest", "--seed", "0", "--json"]
+    help_name, explore_name = "`frontier-rl --help`", f"`frontier-rl explore --world {SMALL_MAP}`"
+    median, of = statistics.median, f"median of {repeats}"
     return [
-        (f"`frontier-rl --help` as a process (median of {repeats})",
-         statistics.median(process_seconds([*cli, "--help"], repeats)), HELP_TARGET_S),
-        (f"floor: a typer command line of two commands, its --help (median of {repeats})",
-         statistics.median(help_floor_seconds(repeats)), None),
-        (f"`frontier-rl explore --world {SMALL_MAP}` as a process (median of {repeats})",
-         statistics.median(process_seconds(explore, repeats)), SMALL_EXPLORE_TARGET_S),
-        (f"floor: a process importing NumPy, SciPy's ndimage and numba, one cached kernel (median of {repeats})",
-         statistics.median(floor_seconds(repeats)), None),
-    ]  # fmt: skip
+        (f"{help_name} as a process ({of})", median(help_s), "s", HELP_TARGET_S),
+        (f"floor: a typer command line of two commands, its --help ({of})", median(help_floor_s), "s", None),
+        (f"{help_name} over its floor ({of} rounds)", ratio(help_s, help_floor_s), "×", None),
+        (f"{explore_name} as a process ({of})", median(explore_s), "s", SMALL_EXPLORE_TARGET_S),
+        (
+            f"floor: a process importing NumPy, SciPy's ndimage and numba, one cached kernel ({of})",
+            median(floor_s),
+            "s",
+            None,
+        ),
+        (f"{explore_name} over its floor ({of} rounds)", ratio(explore_s, floor_s), "×", None),
+    ]
 
 
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0] if __doc__ else None)
     parser.add_argument("--repeats", type=int, default=5)
-    for metric, seconds, target in bench_startup(parser.parse_args().repeats):
-        print(f"{metric}: {seconds:.3f} s" + ("" if target is None else f" (target {target} s)"))
+    for metric, value, unit, target in bench_startup(parser.parse_args().repeats):
+        print(f"{metric}: {value:.3f} {unit}" + ("" if target is None else f" (target {target} {unit})"))
 
 
 if __name__ == "__main__":
