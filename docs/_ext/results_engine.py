@@ -210,8 +210,8 @@ does for `frontier-rl`: Python, typer and rich alone take {help_floor["value"]:.
 """
     if row("over its floor") is not None:
         text += """
-The processes are run in turn (each command, then each floor, then again), and the ratio to a floor
-is the median of each round's ratio, so that a machine slowing down for a while slows both alike.
+The four processes run in rounds, one run of each per round, and a command's ratio to its floor is
+the median of the rounds' ratios, so that a machine slowing down for a while slows both alike.
 """
     return text + "\n" if text else ""
 
