@@ -235,7 +235,7 @@ def test_explore_with_a_team_reports_every_robot(tmp_path: Path) -> None:
         (["--robots", "2", "--comm-range", "-1"], "-1"),
         (["--strategy", "swarming"], "swarming"),
         (["--robots", "2", "--gif", "x.gif"], "--gif"),
-        (["--robots", "2.5"], "'2.5'"),  # some typer versions' own message names the option, not the value
+        (["--robots", "2.5"], "'2.5'"),  # typer's own message: the value named, by typer or by us
         (["--robots=abc"], "'abc'"),
     ],
 )

@@ -186,27 +186,28 @@ def _startup_floor(results: list[dict[str, Any]]) -> str:
     def row(*words: str) -> dict[str, Any] | None:
         return next((r for r in results if all(word in r["metric"] for word in words)), None)
 
-    def times(command: dict[str, Any], floor: dict[str, Any]) -> float:
+    def times(command: dict[str, Any], floor: dict[str, Any], paired: dict[str, Any] | None) -> float:
         """The command's ratio to its floor: the benchmark's paired ratio where it measured one."""
-        paired = row(command["metric"].split(" as a process")[0], "over its floor")
         return float(paired["value"]) if paired is not None else command["value"] / floor["value"]
 
     engine_floor, explore = row("floor:", "numba"), row("explore", "as a process")
     help_floor, help_row = row("floor:", "--help"), row("--help", "as a process")
     text = ""
     if engine_floor is not None and explore is not None:
+        explore_times = times(explore, engine_floor, row("explore", "over its floor"))
         text += f"""
 No process that runs an episode starts faster than the engine's floor row: importing NumPy, SciPy's
 ndimage and numba and setting up numba's compiler target for one cached kernel take
 {engine_floor["value"]:.2f} s on this machine, before any of frontier_rl is imported. The small explore
-takes {explore["value"]:.2f} s, {times(explore, engine_floor):.2f} × that floor: its own imports,
+takes {explore["value"]:.2f} s, {explore_times:.2f} × that floor: its own imports,
 the loading of its kernels from numba's cache, the world and the episode.
 """
     if help_floor is not None and help_row is not None:
+        help_times = times(help_row, help_floor, row("--help", "over its floor"))
         text += f"""
 The help's floor row is a typer command line of two commands whose help rich lays out, as typer
 does for `frontier-rl`: Python, typer and rich alone take {help_floor["value"]:.3f} s on this machine.
-`frontier-rl --help` takes {help_row["value"]:.3f} s, {times(help_row, help_floor):.2f} × that floor.
+`frontier-rl --help` takes {help_row["value"]:.3f} s, {help_times:.2f} × that floor.
 """
     if row("over its floor") is not None:
         text += """

@@ -159,8 +159,9 @@ class OneLineGroup(TyperGroup):
 
 
 def _usage_message(exc: Exception, args: Sequence[str]) -> str:
-    """A usage error's message, with the value given where it names none (typer's "not a valid
-    integer" names only the option) and where to find the command's help."""
+    """A usage error's message, with the value given where it names none (typer 0.29's pydantic
+    messages named only the option; those of the typer this package requires name the value) and
+    where to find the command's help."""
     message = getattr(exc, "format_message", exc.__str__)()
     given = _given(args, getattr(getattr(exc, "param", None), "opts", []))
     if given is not None and given not in message:
