@@ -7,18 +7,31 @@ import typer
 from frontier_rl.cli.experiments import demo, evaluate
 from frontier_rl.cli.explore import explore
 from frontier_rl.cli.maps import maps_command
-from frontier_rl.cli.output import OneLineGroup
 from frontier_rl.cli.protocols import benchmark_app
 from frontier_rl.cli.ros2 import ros2_app
+from frontier_rl.cli.subcommands import LazyGroup, Subcommand
 from frontier_rl.cli.train import train
 
+
+class FrontierRLGroup(LazyGroup):
+    """The program's commands, in the order its help lists them."""
+
+    subcommands = (
+        Subcommand("explore", explore),
+        Subcommand("demo", demo),
+        Subcommand("evaluate", evaluate),
+        Subcommand("train", train),
+        Subcommand("maps", maps_command),
+        Subcommand("benchmark", benchmark_app),
+        Subcommand("ros2", ros2_app),
+    )
+
+
 app = typer.Typer(
-    add_completion=False, no_args_is_help=True, help="Frontier exploration for search and rescue.", cls=OneLineGroup
+    add_completion=False, no_args_is_help=True, help="Frontier exploration for search and rescue.", cls=FrontierRLGroup
 )
-app.command()(explore)
-app.command()(demo)
-app.command()(evaluate)
-app.command()(train)
-app.add_typer(benchmark_app, name="benchmark")
-app.command("maps")(maps_command)
-app.add_typer(ros2_app, name="ros2")
+
+
+@app.callback()
+def _program() -> None:
+    """The program's own options (only ``--help``); Typer runs this before the command."""
