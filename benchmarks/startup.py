@@ -39,7 +39,7 @@ SciPy's ndimage, numba) and one cached kernel; numba sets up its compiler target
 FLOOR_CLI = """
 import typer
 
-app = typer.Typer()
+app = typer.Typer(rich_markup_mode=None)
 
 
 @app.command()
@@ -54,8 +54,8 @@ def evaluate(seeds: int = 10) -> None:
 
 app()
 """
-"""The floor under ``--help``: a typer command line of two commands, its help laid out by rich as
-typer does when rich is installed."""
+"""The floor under ``--help``: a typer command line of two commands, its help laid out by click as
+plain text, as ``frontier-rl``'s is."""
 
 
 @dataclass(frozen=True)

@@ -21,21 +21,34 @@ def _group() -> tuple[LazyGroup, typer.Context]:
     return group, typer.Context(group, info_name="frontier-rl")
 
 
-def test_the_help_builds_no_command_and_lists_each_as_when_all_are_built(capsys: pytest.CaptureFixture[str]) -> None:
+def test_the_help_builds_no_command_and_lists_each_as_when_all_are_built() -> None:
     group, context = _group()
-    group.get_help(context)
-    listed = capsys.readouterr().out
+    listed = group.get_help(context)
     assert not any(command.params for command in group.commands.values())  # listed, none built
     for name in group.list_commands(context):
         assert group.get_command(context, name) is not None
-    group.get_help(context)
-    assert capsys.readouterr().out == listed
-    assert all(f" {s.name} " in listed for s in FrontierRLGroup.subcommands)
+    assert group.get_help(context) == listed
+    assert all(f"  {s.name}  " in listed for s in FrontierRLGroup.subcommands)
+
+
+def _first_sentences_listed(group: typer.core.TyperGroup, context: typer.Context) -> None:
+    listed = group.get_help(context)
+    for name in group.list_commands(context):
+        command = group.get_command(context, name)
+        assert command is not None and command.help
+        assert f"{command.help.split('.')[0]}." in listed, name
+        if isinstance(command, typer.core.TyperGroup):
+            _first_sentences_listed(command, typer.Context(command, info_name=name, parent=context))
+
+
+def test_the_help_gives_each_command_its_whole_first_sentence() -> None:
+    _first_sentences_listed(*_group())
 
 
 @pytest.mark.parametrize("subcommand", FrontierRLGroup.subcommands, ids=lambda s: s.name)
 def test_a_stand_in_carries_the_built_commands_name_and_help(subcommand: Subcommand) -> None:
-    stand_in, built = subcommand.summary(), subcommand.build()
+    group, _ = _group()
+    stand_in, built = subcommand.summary(), subcommand.build(group.rich_markup_mode)
     assert (stand_in.name, stand_in.help) == (built.name, built.help)
     assert built.help and not stand_in.params and (built.params or hasattr(built, "commands"))
 
@@ -60,3 +73,11 @@ def test_a_mistyped_command_is_still_named_with_a_suggestion() -> None:
     result = runner.invoke(app, ["explor"])
     assert result.exit_code == 2
     assert "No such command 'explor'" in result.output and "'explore'" in result.output
+
+
+@pytest.mark.parametrize("args", [[], ["ros2"]], ids=["program", "group"])
+def test_a_bare_group_prints_its_help_and_exits_2(args: list[str]) -> None:
+    result = runner.invoke(app, args, prog_name="frontier-rl")
+    assert result.exit_code == 2
+    assert result.stderr.startswith(" ".join(["Usage: frontier-rl", *args, "[OPTIONS] COMMAND"]))
+    assert "Commands:" in result.stderr and not result.stdout

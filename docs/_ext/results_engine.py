@@ -205,8 +205,9 @@ the loading of its kernels from numba's cache, the world and the episode.
     if help_floor is not None and help_row is not None:
         help_times = times(help_row, help_floor, row("--help", "over its floor"))
         text += f"""
-The help's floor row is a typer command line of two commands whose help rich lays out, as typer
-does for `frontier-rl`: Python, typer and rich alone take {help_floor["value"]:.3f} s on this machine.
+The help's floor row is a typer command line of two commands whose help click lays out as plain
+text, as it does for `frontier-rl`: Python and typer alone take {help_floor["value"]:.3f} s on this
+machine.
 `frontier-rl --help` takes {help_row["value"]:.3f} s, {help_times:.2f} × that floor.
 """
     if row("over its floor") is not None:

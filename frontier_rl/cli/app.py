@@ -27,8 +27,14 @@ class FrontierRLGroup(LazyGroup):
     )
 
 
+# Help laid out by click as plain text: typer's rich layout imports rich's Markdown, syntax and
+# traceback modules (0.1 s of every `--help`) and breaks a command's summary where its docstring does.
 app = typer.Typer(
-    add_completion=False, no_args_is_help=True, help="Frontier exploration for search and rescue.", cls=FrontierRLGroup
+    add_completion=False,
+    no_args_is_help=True,
+    help="Frontier exploration for search and rescue.",
+    cls=FrontierRLGroup,
+    rich_markup_mode=None,
 )
 
 

@@ -67,9 +67,11 @@ def demo(
     max_time: MaxTimeOption = None,
     progress: ProgressOption = True,
 ) -> None:
-    """The compact experiment: the shipped models against fixed:0.75, nearest, tour and the oracle
-    on the built-in worlds, with a report in OUT/experiment, and a picture of each method's first
-    episode on each world (plus an animation of one)."""
+    """The compact experiment, on the built-in worlds.
+
+    The shipped models against fixed:0.75, nearest, tour and the oracle, with a report in
+    OUT/experiment, and a picture of each method's first episode on each world (plus an animation of
+    one)."""
     import shutil
 
     checked_run_arguments(seed, out)
@@ -168,9 +170,11 @@ def evaluate(
     fail: FailOption = None,
     pictures: Annotated[int, typer.Option(help="Draw each method's first episode on this many worlds.")] = 3,
 ) -> None:
-    """The paired experiment: every method on the same worlds, starts and noise; statistics against the
-    baseline, plots, and a Markdown and HTML report in --out. With --robots, teams of each size run each
-    method, and the report adds exploration time against team size, overlap and per-robot coverage."""
+    """The paired experiment: every method on the same worlds.
+
+    The same worlds, starts and noise for each method; statistics against the baseline, plots, and a
+    Markdown and HTML report in --out. With --robots, teams of each size run each method, and the
+    report adds exploration time against team size, overlap and per-robot coverage."""
     resolution = checked_run_arguments(seed, out, resolution)
     from frontier_rl import api
     from frontier_rl.evaluation.running.evaluate import parse_thresholds

@@ -64,7 +64,9 @@ def explore(
         typer.Option(help="ROBOT@SECONDS: that robot stops for good then (either may be 'random'); repeatable."),
     ] = None,
 ) -> None:
-    """Explore one world with one policy (or a team of robots) and report time, distance and coverage."""
+    """Explore one world with one policy, or a team of robots.
+
+    Reports the time, distance and coverage of the episode."""
     # Every option is checked before the episode runs (outputs included); the metrics are printed
     # before the pictures are written, so a picture that cannot be written loses no result.
     checked_seed(seed, "--seed")

@@ -19,7 +19,9 @@ def maps_command(
         bool, typer.Option("--json", help="Print a JSON list (every field, the source whole) instead of a table.")
     ] = False,
 ) -> None:
-    """The maps that ship with frontier_rl: pass a name as --world, or a collection in a world list."""
+    """The maps that ship with frontier_rl.
+
+    Pass a map's name as --world, or a collection's in a world list."""
     from frontier_rl.cli.map_listing import show_maps
 
     show_maps(name, as_json)

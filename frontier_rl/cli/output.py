@@ -148,8 +148,10 @@ class OneLineGroup(TyperGroup):
                 code = result if isinstance(result, int) else 0
             except _CLICK_EXCEPTION as exc:
                 code = int(getattr(exc, "exit_code", 2))
-                if type(exc).__name__ != "NoArgsIsHelpError":  # for that one typer has printed the help
+                if type(exc).__name__ != "NoArgsIsHelpError":
                     print_error(_usage_message(exc, sys.argv[1:] if args is None else args))
+                elif str(exc).strip():  # the help as text, where click prints it (a rich layout printed itself)
+                    print(str(exc), file=sys.stderr)
             except typer.Abort:
                 print_error("aborted")
                 code = 1

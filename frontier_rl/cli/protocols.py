@@ -37,7 +37,9 @@ def ariadne(
     workers: Annotated[int, typer.Option(help="Processes (0: every core).")] = 0,
     json_out: Annotated[Path | None, typer.Option("--json", help="Also write every run and the summary here.")] = None,
 ) -> None:
-    """ARiADNE's test protocol (80 px sensor, a run ends at <= 250 unseen free px, distance in px)."""
+    """ARiADNE's test protocol, beside our time to explore.
+
+    An 80 px sensor; a run ends at <= 250 unseen free px; distance in px."""
     from frontier_rl.evaluation.protocols.published import ariadne_maps, run_protocol, summary_rows
 
     names = policy_list(methods)
@@ -98,8 +100,10 @@ def explore_bench(
     workers: Annotated[int, typer.Option(help="Processes (0: every core).")] = 0,
     json_out: Annotated[Path | None, typer.Option("--json", help="Also write every run and the summary here.")] = None,
 ) -> None:
-    """Explore-Bench's metrics (T_90, T_total at a 0.99 exploration rate, path; for teams the
-    coverage std and the overlap rate) on ROS maps, beside our time to explore."""
+    """Explore-Bench's metrics on ROS maps, beside our time.
+
+    T_90, T_total at a 0.99 exploration rate and the path; for teams the coverage std and the
+    overlap rate."""
     from frontier_rl.evaluation.protocols import explore_bench as bench
 
     names = policy_list(methods)

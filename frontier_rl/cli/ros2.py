@@ -24,7 +24,7 @@ MAX_ROBOTS = 8
 ros2_app = typer.Typer(
     no_args_is_help=True,
     cls=OneLineGroup,
-    help="ROS 2: explore with Nav2 (explore), or run a world as a ROS 2 robot (sim).",
+    help="ROS 2: explore with Nav2, or run a world as ROS 2 robots.",
 )
 
 _NO_ROS2 = (
@@ -94,7 +94,9 @@ def sim(
     namespace: Annotated[str, typer.Option(help="The robot's namespace (its topics and action).")] = "",
     robots: Annotated[int, typer.Option(help="Robots in the world (2 or more: namespaces tb3_0, tb3_1, ...).")] = 1,
 ) -> None:
-    """Run a world as a ROS 2 robot: map, pose, odom, scan, /clock, and Nav2's navigate_to_pose."""
+    """Run a world as ROS 2 robots, for an explorer to drive.
+
+    Each robot publishes map, pose, odom, scan and /clock, and serves Nav2's navigate_to_pose."""
     checked_seed(seed)
     paced = _checked_rate(rate)
     if not 1 <= robots <= MAX_ROBOTS:
@@ -135,7 +137,9 @@ def rank(
     robot_base_frame: Annotated[str, typer.Option(help="Each robot's base frame, for --pose-type tf.")] = "base_link",
     use_sim_time: Annotated[bool, typer.Option(help="Time from /clock (a simulator's).")] = False,
 ) -> None:
-    """The thesis's ranking service: /frontier_request answered on /frontier_list, for one or more robots."""
+    """The thesis's ranking service, for one or more robots.
+
+    Each /frontier_request is answered on /frontier_list."""
     from frontier_rl.robot.node_settings import StaleMapAnswer, count_parameter, robot_namespaces, seconds_parameter
 
     pose_source = _pose_source(pose_type, pose_topic, robot_base_frame)
@@ -194,7 +198,9 @@ def explore(
         Path | None, typer.Option(help="explore_lite's parameter file (explore.yaml), for the options not given here.")
     ] = None,
 ) -> None:
-    """Explore with Nav2: rank the map's frontiers with a policy and send the best as goals.
+    """Explore with Nav2, a policy choosing the goals.
+
+    The map's frontiers are ranked with the policy and the best is sent to Nav2 as the next goal.
 
     The settings are also the node's ROS parameters: after --ros-args, -p NAME:=VALUE overrides
     them, and ros2 param set changes them while it explores."""

@@ -16,7 +16,7 @@ from typing import Any, ClassVar
 
 import typer
 import typer.main
-from typer.core import TyperCommand, TyperGroup
+from typer.core import MarkupMode, TyperCommand, TyperGroup
 
 from frontier_rl.cli.output import OneLineGroup
 
@@ -46,9 +46,9 @@ class Subcommand:
         """A stand-in that carries the name and the help text, all a group's help lists of it."""
         return TyperCommand(self.name, help=self.help)
 
-    def build(self) -> TyperCommand | TyperGroup:
-        """The command as Typer builds it inside a group."""
-        holder = typer.Typer(add_completion=False)
+    def build(self, rich_markup_mode: MarkupMode) -> TyperCommand | TyperGroup:
+        """The command as Typer builds it inside a group whose help uses ``rich_markup_mode``."""
+        holder = typer.Typer(add_completion=False, rich_markup_mode=rich_markup_mode)
         if isinstance(self.target, typer.Typer):
             holder.add_typer(self.target, name=self.name)
         else:
@@ -77,7 +77,7 @@ class LazyGroup(OneLineGroup):
         subcommand = self._unbuilt.get(cmd_name)
         if subcommand is not None and not self._listing:
             del self._unbuilt[cmd_name]
-            self.commands[cmd_name] = subcommand.build()
+            self.commands[cmd_name] = subcommand.build(self.rich_markup_mode)
         return super().get_command(ctx, cmd_name)
 
     def format_help(self, ctx: Any, formatter: Any) -> None:

@@ -44,7 +44,9 @@ def train(
     resume: Annotated[bool, typer.Option(help="Continue the run in --out from its last checkpoint.")] = False,
     progress: Annotated[bool, typer.Option(help="Show a progress bar.")] = True,
 ) -> None:
-    """Train a model (1-4 the thesis's, 5-7 ours) with Stable-Baselines3 (A2C as in the thesis, or PPO)."""
+    """Train a model: 1-4 the thesis's, 5-7 ours.
+
+    With Stable-Baselines3 (A2C as in the thesis, or PPO)."""
     resolution = checked_run_arguments(seed, out, resolution)
     from frontier_rl.api import train as run_training
     from frontier_rl.rl.config import TrainConfig
