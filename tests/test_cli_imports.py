@@ -1,5 +1,6 @@
 """The command line loads what a command runs, no more: its help and its argument errors need none of
-the engine (numba, SciPy, the simulator) and neither Gymnasium nor torch."""
+the engine (numba, SciPy, the simulator) and neither Gymnasium nor torch; its help, plain text, not
+even rich (an error line is coloured by it)."""
 
 from __future__ import annotations
 
@@ -18,7 +19,8 @@ except SystemExit as end:
     code = end.code
 heavy = ("numba", "scipy", "torch", "gymnasium", "matplotlib", "frontier_rl.core.sim.simulator", "frontier_rl.api",
          "frontier_rl.swarm.team")
-print(json.dumps({"code": code, "loaded": [name for name in heavy if name in sys.modules]}))
+print(json.dumps({"code": code, "loaded": [name for name in heavy if name in sys.modules],
+                  "rich": "rich.console" in sys.modules}))
 """
 
 
@@ -58,7 +60,7 @@ def _run(*args: str) -> dict[str, object]:
 )
 def test_help_and_argument_errors_load_none_of_the_engine(args: list[str], code: int) -> None:
     outcome = _run(*args)
-    assert outcome == {"code": code, "loaded": []}, outcome
+    assert outcome == {"code": code, "loaded": [], "rich": code != 0}, outcome
 
 
 def test_a_command_that_runs_loads_the_engine_and_a_single_robot_not_the_team_engine() -> None:

@@ -10,8 +10,6 @@ from pathlib import Path
 from typing import TYPE_CHECKING, Annotated
 
 import typer
-from rich.table import Table
-from rich.text import Text
 
 from frontier_rl.cli.options import (
     ResolutionOption,
@@ -24,11 +22,10 @@ from frontier_rl.cli.options import (
 )
 from frontier_rl.cli.output import (
     comma_list,
-    err_console,
     friendly_errors,
     int_list,
-    one_line,
     policy_list,
+    print_note,
     stdout_console,
 )
 from frontier_rl.core.frontiers.thesis import THESIS_BASELINE
@@ -118,11 +115,13 @@ def _note_missing_models() -> None:
     if missing:
         note = f"note: {', '.join(missing)} not found in {Path.cwd()}: the demo runs without "
         note += "them (run it in a checkout of the repository to include the shipped models)"
-        err_console.print(Text(one_line(note)))
+        print_note(note)
 
 
 def _print_summary(summary: ExperimentSummary, title: str, baseline: str) -> None:
     """The main numbers of the experiment's summary as a table on the terminal."""
+    from rich.table import Table
+
     from frontier_rl.evaluation.report.conclusion import unfinished
     from frontier_rl.evaluation.report.table import short_labels
 
@@ -215,7 +214,7 @@ def _resumable(out: Path) -> Iterator[None]:
     try:
         yield
     except KeyboardInterrupt:
-        err_console.print(Text(one_line(_INTERRUPTED.format(out=out))))
+        print_note(_INTERRUPTED.format(out=out))
         raise typer.Exit(130) from None
 
 

@@ -7,7 +7,6 @@ from pathlib import Path
 from typing import TYPE_CHECKING, Annotated
 
 import typer
-from rich.table import Table
 
 from frontier_rl.cli.options import (
     MAX_SEED,
@@ -128,6 +127,8 @@ def _episode(
 
 def _print_episode(world: str, seed: int, policy: str, result: EpisodeResult, as_json: bool) -> None:
     """An episode's metrics on standard output: one JSON object, or a table."""
+    from rich.table import Table
+
     summary = {"world": world, "seed": seed, "policy": policy, **result.summary().to_json()}
     weights = [d.weight for d in result.decision_log if d.weight is not None]
     if weights and as_json:

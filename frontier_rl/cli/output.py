@@ -10,23 +10,21 @@ import warnings
 from collections.abc import Callable, Iterator, Sequence
 from contextlib import contextmanager
 from functools import wraps
-from typing import Any, TypeVar
+from typing import TYPE_CHECKING, Any, TypeVar
 
 import typer
-from rich.console import Console
-from rich.text import Text
 from typer.core import TyperGroup
 
 from frontier_rl.errors import ConfigError, FrontierRLError, short_repr
+
+if TYPE_CHECKING:  # rich loads when a command prints: help and argument checks need none of it
+    from rich.console import Console
 
 #: Longest message the error printer writes (characters); the rest is cut.
 MESSAGE_LIMIT = 600
 #: Most distinct warnings printed at the end of a command (one line each).
 MAX_WARNINGS = 5
 
-# Messages carry user text (paths, names, values) and are printed as plain text: Rich markup and
-# emoji codes off, so "[/x]" or "[red]" in a name is printed as it is, never parsed.
-err_console = Console(stderr=True, soft_wrap=True, markup=False, emoji=False, highlight=False)
 F = TypeVar("F", bound=Callable[..., Any])
 _LINE_BREAKS = re.compile(r"[ \t]*[\r\n\t\v\f]+[ \t]*")
 _CONTROL = re.compile(r"[\x00-\x1f\x7f-\x9f]")
@@ -35,8 +33,18 @@ _CONTROL = re.compile(r"[\x00-\x1f\x7f-\x9f]")
 _CLICK_EXCEPTION: type[Exception] = next(c for c in typer.BadParameter.__mro__ if c.__name__ == "ClickException")
 
 
+def err_console() -> Console:
+    """Standard error, for messages: they carry user text (paths, names, values) and are printed as
+    plain text, Rich markup and emoji codes off, so "[/x]" or "[red]" in a name is printed as it is."""
+    from rich.console import Console
+
+    return Console(stderr=True, soft_wrap=True, markup=False, emoji=False, highlight=False)
+
+
 def stdout_console() -> Console:
     """Standard output, with Rich markup and emoji codes off (names and paths print as they are)."""
+    from rich.console import Console
+
     return Console(markup=False, emoji=False)
 
 
@@ -78,12 +86,25 @@ def int_list(option: str, text: str) -> list[int]:
 
 def print_error(message: str) -> None:
     """``error: MESSAGE`` on standard error, on one line, as plain text (never Rich markup)."""
-    err_console.print(Text.assemble(("error:", "red"), " ", one_line(message)))
+    _print_labelled(("error:", "red"), message)
+
+
+def print_note(message: str) -> None:
+    """``MESSAGE`` on standard error, on one line, as plain text (never Rich markup)."""
+    err_console().print(one_line(message))
 
 
 def print_warning(message: str) -> None:
     """``warning: MESSAGE`` on standard error, on one line, as plain text (never Rich markup)."""
-    err_console.print(Text.assemble(("warning:", "yellow"), " ", one_line(message)))
+    _print_labelled(("warning:", "yellow"), message)
+
+
+def _print_labelled(label: tuple[str, str], message: str) -> None:
+    """``LABEL MESSAGE`` on standard error, the label in its colour (text, colour), the message on
+    one line as plain text."""
+    from rich.text import Text
+
+    err_console().print(Text.assemble(label, " ", one_line(message)))
 
 
 def os_message(exc: OSError) -> str:
@@ -108,7 +129,7 @@ def _interrupt_ends_command() -> Iterator[None]:
     try:
         yield
     except KeyboardInterrupt:
-        err_console.print("interrupted", markup=False, highlight=False)
+        err_console().print("interrupted", markup=False, highlight=False)
         raise typer.Exit(130) from None
 
 

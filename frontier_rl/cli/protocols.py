@@ -10,7 +10,6 @@ from pathlib import Path
 from typing import Annotated, Any
 
 import typer
-from rich.table import Table
 
 from frontier_rl.atomic_write import write_text_atomic
 from frontier_rl.cli.output import OneLineGroup, friendly_errors, int_list, policy_list, stdout_console
@@ -40,6 +39,8 @@ def ariadne(
     """ARiADNE's test protocol, beside our time to explore.
 
     An 80 px sensor; a run ends at <= 250 unseen free px; distance in px."""
+    from rich.table import Table
+
     from frontier_rl.evaluation.protocols.published import ariadne_maps, run_protocol, summary_rows
 
     names = policy_list(methods)
@@ -104,6 +105,8 @@ def explore_bench(
 
     T_90, T_total at a 0.99 exploration rate and the path; for teams the coverage std and the
     overlap rate."""
+    from rich.table import Table
+
     from frontier_rl.evaluation.protocols import explore_bench as bench
 
     names = policy_list(methods)

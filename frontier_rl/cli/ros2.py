@@ -11,7 +11,7 @@ from typing import TYPE_CHECKING, Annotated, Any
 import typer
 
 from frontier_rl.cli.options import MAX_SEED, WORLD_HELP, fail
-from frontier_rl.cli.output import OneLineGroup, err_console, friendly_errors, stdout_console
+from frontier_rl.cli.output import OneLineGroup, friendly_errors, print_note, stdout_console
 from frontier_rl.seeds import checked_seed
 
 if TYPE_CHECKING:
@@ -75,7 +75,7 @@ def _with_parameter_file(ctx: typer.Context, path: Path | None, options: dict[st
         if source is None or source.name in ("DEFAULT", "DEFAULT_MAP"):
             options[name] = value
     if ignored:
-        err_console.print(f"{path}: not used here: {', '.join(ignored)}")
+        print_note(f"{path}: not used here: {', '.join(ignored)}")
     return options
 
 

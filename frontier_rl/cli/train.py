@@ -6,10 +6,9 @@ from pathlib import Path
 from typing import Annotated
 
 import typer
-from rich.text import Text
 
 from frontier_rl.cli.options import ResolutionOption, SimConfigOption, checked_run_arguments, sim_config
-from frontier_rl.cli.output import err_console, friendly_errors, one_line, stdout_console
+from frontier_rl.cli.output import friendly_errors, print_note, stdout_console
 
 PrivilegedCriticOption = Annotated[
     bool, typer.Option(help="Models 5 and 7: the critic also reads the true map's unseen share (training only).")
@@ -76,6 +75,6 @@ def train(
     try:
         final = run_training(settings, out, resume=resume, progress=progress)
     except KeyboardInterrupt:
-        err_console.print(Text(one_line(interruption_note(settings, out))))
+        print_note(interruption_note(settings, out))
         raise typer.Exit(130) from None
     stdout_console().print(f"model: {final}   learning curve: {out / 'learning_curve.png'}")
