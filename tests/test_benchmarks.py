@@ -4,7 +4,10 @@ timings belong to ``make bench``). A smoke run of its cheapest parts."""
 from __future__ import annotations
 
 import importlib.util
+import os
+import subprocess
 import sys
+import time
 from pathlib import Path
 from types import ModuleType
 
@@ -58,3 +61,16 @@ def test_the_process_benchmark_times_help_a_small_explore_and_the_floors_under_t
     assert rows[1].value < rows[3].value  # a help that loads no engine
     assert rows[2].value == pytest.approx(rows[0].value / rows[1].value)  # one round: the ratio of its two times
     assert rows[5].value == pytest.approx(rows[3].value / rows[4].value)
+
+
+def test_a_timed_process_is_waited_for_not_polled_and_one_that_fails_or_hangs_is_an_error() -> None:
+    from benchmarks.startup import exact_wall_seconds
+
+    environment = dict(os.environ)
+    assert exact_wall_seconds([sys.executable, "-c", "import time; time.sleep(0.2)"], environment) >= 0.2
+    with pytest.raises(subprocess.CalledProcessError):
+        exact_wall_seconds([sys.executable, "-c", "raise SystemExit(3)"], environment)
+    started = time.perf_counter()
+    with pytest.raises(subprocess.CalledProcessError):  # killed at its limit
+        exact_wall_seconds([sys.executable, "-c", "import time; time.sleep(60)"], environment, limit_s=0.5)
+    assert time.perf_counter() - started < 30
