@@ -43,6 +43,18 @@ def test_explore_writes_png_and_gif(tmp_path: Path, real_maps: Path) -> None:
         assert image.n_frames >= 2
 
 
+def test_a_team_explore_writes_its_picture_and_refuses_an_animation(tmp_path: Path) -> None:
+    png = tmp_path / "team.png"
+    result = runner.invoke(app, ["explore", "--world", "lse_arena", "--robots", "2", "--png", str(png)])
+    assert result.exit_code == 0, result.output
+    from PIL import Image
+
+    with Image.open(png) as image:
+        assert image.format == "PNG" and image.width > 1.5 * image.height  # true map | merged map
+    refused = runner.invoke(app, ["explore", "--world", "lse_arena", "--robots", "2", "--gif", str(tmp_path / "a.gif")])
+    assert refused.exit_code == 2 and "--gif" in refused.output and not (tmp_path / "a.gif").exists()
+
+
 @pytest.mark.parametrize(
     ("args", "needle"),
     [

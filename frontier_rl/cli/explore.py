@@ -77,7 +77,7 @@ def explore(
     spec = PolicySpec.parse(policy)  # a malformed name, before the engine loads
     from frontier_rl import api  # the engine: after every check of the arguments
     from frontier_rl.policies.registry import make_policy
-    from frontier_rl.recording import EpisodeRecorder, save_team_png
+    from frontier_rl.recording import EpisodeRecorder
     from frontier_rl.render import check_output_file
 
     settings = sim_config(config, max_time)
@@ -90,13 +90,30 @@ def explore(
     recorder = EpisodeRecorder(the_world, frames=gif is not None) if team is None and (png or gif) else None
     result = _episode(the_world, spec, chosen, seed, settings, team, recorder)
     _print_episode(the_world.name, seed, chosen.name, result, as_json)
-    title = f"{the_world.name} / {chosen.name}"
-    if team is not None and png is not None:
-        save_team_png(png, the_world, result, title)  # type: ignore[arg-type]
-    if recorder is not None and png is not None:
-        recorder.save_png(png, result, title)
-    if recorder is not None and gif is not None:
-        recorder.save_gif(gif, result, title)
+    _save_pictures(png, gif, the_world, result, f"{the_world.name} / {chosen.name}", recorder)
+
+
+def _save_pictures(
+    png: Path | None,
+    gif: Path | None,
+    world: World,
+    result: EpisodeResult,
+    title: str,
+    recorder: EpisodeRecorder | None,
+) -> None:
+    """The picture and the animation asked for: a single robot's from its ``recorder``, a team's
+    picture from its result (a team's episode has no recorder and no animation)."""
+    if recorder is not None:
+        if png is not None:
+            recorder.save_png(png, result, title)
+        if gif is not None:
+            recorder.save_gif(gif, result, title)
+    elif png is not None:
+        from frontier_rl.recording import save_team_png
+        from frontier_rl.swarm.result import TeamResult
+
+        assert isinstance(result, TeamResult)
+        save_team_png(png, world, result, title)
 
 
 def _episode(

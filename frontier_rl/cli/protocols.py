@@ -7,7 +7,7 @@ import json
 import math
 from collections.abc import Sequence
 from pathlib import Path
-from typing import Annotated, Any
+from typing import TYPE_CHECKING, Annotated, Any
 
 import typer
 
@@ -15,6 +15,9 @@ from frontier_rl.atomic_write import write_text_atomic
 from frontier_rl.cli.output import OneLineGroup, friendly_errors, int_list, policy_list, stdout_console
 from frontier_rl.errors import ConfigError, short_repr
 from frontier_rl.swarm.config import MAX_ROBOTS
+
+if TYPE_CHECKING:
+    from rich.table import Table
 
 benchmark_app = typer.Typer(
     no_args_is_help=True, cls=OneLineGroup, help="Run a published evaluation protocol, its metric beside ours."
@@ -39,8 +42,6 @@ def ariadne(
     """ARiADNE's test protocol, beside our time to explore.
 
     An 80 px sensor; a run ends at <= 250 unseen free px; distance in px."""
-    from rich.table import Table
-
     from frontier_rl.evaluation.protocols.published import ariadne_maps, run_protocol, summary_rows
 
     names = policy_list(methods)
@@ -51,32 +52,8 @@ def ariadne(
     runs, failures = run_protocol(names, files, workers or None)
     _some_finished(runs, failures)
     rows = summary_rows(runs, names)
-    table = Table(title=f"ARiADNE protocol on {maps} ({len(files)} maps)")
-    for column in (
-        "method",
-        "tests",
-        "average length (px)",
-        "length std (px)",
-        "rule met",
-        "ours: time (s)",
-        "ours: path (m)",
-        "ours: explored",
-    ):
-        table.add_column(column, justify="left" if column == "method" else "right")
-    for row in rows:
-        n = row["tests"]
-        table.add_row(
-            str(row["method"]),
-            str(n),
-            f"{row['average_length_px']:.1f}",
-            f"{row['length_std_px']:.1f}",
-            f"{row['rule_met']}/{n}",
-            f"{row['mean_time_s']:.1f}",
-            f"{row['mean_path_m']:.1f}",
-            f"{row['explored']}/{n}",
-        )
     console = stdout_console()
-    console.print(table)
+    console.print(_ariadne_table(rows, f"ARiADNE protocol on {maps} ({len(files)} maps)"))
     for row in rows:  # as ARiADNE's test driver prints them
         console.print(
             f"{row['method']}: |#Total test: {row['tests']} |#Average length: {row['average_length_px']:.2f} "
@@ -105,8 +82,6 @@ def explore_bench(
 
     T_90, T_total at a 0.99 exploration rate and the path; for teams the coverage std and the
     overlap rate."""
-    from rich.table import Table
-
     from frontier_rl.evaluation.protocols import explore_bench as bench
 
     names = policy_list(methods)
@@ -122,6 +97,49 @@ def explore_bench(
     runs, failures = bench.run_explore_bench_all(names, blueprints, seeds, sizes, workers or None)
     _some_finished(runs, failures)
     rows = bench.explore_bench_rows(runs)
+    stdout_console().print(_explore_bench_table(rows, seeds))
+    _finish(
+        json_out,
+        {"protocol": "explore-bench", "maps": maps, "summary": rows, "runs": [vars(r) for r in runs]},
+        failures,
+    )
+
+
+def _ariadne_table(rows: list[dict[str, float | str | int]], title: str) -> Table:
+    """The ARiADNE protocol's summary rows as a table, its metric beside ours."""
+    from rich.table import Table
+
+    table = Table(title=title)
+    for column in (
+        "method",
+        "tests",
+        "average length (px)",
+        "length std (px)",
+        "rule met",
+        "ours: time (s)",
+        "ours: path (m)",
+        "ours: explored",
+    ):
+        table.add_column(column, justify="left" if column == "method" else "right")
+    for row in rows:
+        n = row["tests"]
+        table.add_row(
+            str(row["method"]),
+            str(n),
+            f"{row['average_length_px']:.1f}",
+            f"{row['length_std_px']:.1f}",
+            f"{row['rule_met']}/{n}",
+            f"{row['mean_time_s']:.1f}",
+            f"{row['mean_path_m']:.1f}",
+            f"{row['explored']}/{n}",
+        )
+    return table
+
+
+def _explore_bench_table(rows: list[dict[str, float | str | int]], seeds: int) -> Table:
+    """Explore-Bench's summary rows as a table, its metrics beside our time."""
+    from rich.table import Table
+
     table = Table(title=f"Explore-Bench metrics, {seeds} start(s) per map and team size")
     for column in (
         "method",
@@ -148,12 +166,7 @@ def explore_bench(
                 for k in ("t90_s", "t_total_s", "path_m", "coverage_std", "overlap_rate", "final_rate", "ours_time_s")
             ),
         )
-    stdout_console().print(table)
-    _finish(
-        json_out,
-        {"protocol": "explore-bench", "maps": maps, "summary": rows, "runs": [vars(r) for r in runs]},
-        failures,
-    )
+    return table
 
 
 def _located(entry: str) -> str:

@@ -198,9 +198,7 @@ def explore(
         Path | None, typer.Option(help="explore_lite's parameter file (explore.yaml), for the options not given here.")
     ] = None,
 ) -> None:
-    """Explore with Nav2, a policy choosing the goals.
-
-    The map's frontiers are ranked with the policy and the best is sent to Nav2 as the next goal.
+    """Explore with Nav2, a policy choosing among the map's frontiers.
 
     The settings are also the node's ROS parameters: after --ros-args, -p NAME:=VALUE overrides
     them, and ros2 param set changes them while it explores."""
