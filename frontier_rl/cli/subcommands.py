@@ -2,7 +2,7 @@
 
 Typer builds a command by reading its function's signature and evaluating every parameter's
 annotation (twice); for the ten commands of ``frontier-rl`` that took about 30 ms of every process
-here, a tenth of ``frontier-rl --help``. Here the group starts with each command's name and help text only
+here, whichever command ran. Here the group starts with each command's name and help text only
 (what its help lists) and builds a command when it is run, its own help is shown, or a tool asks
 the group for it (:meth:`LazyGroup.get_command`).
 """
