@@ -144,8 +144,6 @@ def _episode(
 
 def _print_episode(world: str, seed: int, policy: str, result: EpisodeResult, as_json: bool) -> None:
     """An episode's metrics on standard output: one JSON object, or a table."""
-    from rich.table import Table
-
     summary = {"world": world, "seed": seed, "policy": policy, **result.summary().to_json()}
     weights = [d.weight for d in result.decision_log if d.weight is not None]
     if weights and as_json:
@@ -157,6 +155,8 @@ def _print_episode(world: str, seed: int, policy: str, result: EpisodeResult, as
         typer.echo(json.dumps(summary))
         return
     summary["frontiers_left"] = len(result.frontiers_left)
+    from rich.table import Table  # the table's only: JSON output needs no rich
+
     table = Table(title=f"{world}, seed {seed}, {policy}")
     table.add_column("metric")
     table.add_column("value", justify="right")

@@ -129,7 +129,7 @@ def _interrupt_ends_command() -> Iterator[None]:
     try:
         yield
     except KeyboardInterrupt:
-        err_console().print("interrupted", markup=False, highlight=False)
+        print_note("interrupted")
         raise typer.Exit(130) from None
 
 
