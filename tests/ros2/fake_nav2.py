@@ -88,13 +88,17 @@ def main() -> None:
     args = parser.parse_args()
     rclpy.init()
     node = FakeNav2(args.mode, args.die_after)
-    bad_until = time.monotonic() + (4.0 if args.bad_inputs else 0.0)
+    # bad inputs until 2 s after the explorer has subscribed to the pose: its start (imports, numba)
+    # took more than the 4 s fixed here before on a busy machine, and it never saw a NaN pose
+    bad_until = None if args.bad_inputs else 0.0
     node.map_pub.publish(_map(bad=args.bad_inputs))
     published_good_map = not args.bad_inputs
 
     def tick() -> None:
-        nonlocal published_good_map
-        bad = time.monotonic() < bad_until
+        nonlocal published_good_map, bad_until
+        if bad_until is None and node.pose_pub.get_subscription_count() > 0:
+            bad_until = time.monotonic() + 2.0
+        bad = bad_until is None or time.monotonic() < bad_until
         node.pose_pub.publish(_pose(float("nan") if bad else node.pose_x))
         if bad:
             node.map_pub.publish(_map(bad=True))
