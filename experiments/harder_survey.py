@@ -68,6 +68,7 @@ class Episode:
     explorable_left_m2: float
     aborts: Counter[str]
     with_path_left: int
+    with_path_to_space_left: int | None  # None in traces from before the count
     with_path_on_map_left: int | None  # None in traces from before the count
     unrevealable_left: int
     free_coverage: float
@@ -118,6 +119,7 @@ def read_episodes(folder: Path) -> list[Episode]:
                 math.nan if trace.explorable_left_m2 is None else trace.explorable_left_m2,
                 Counter(trace.aborts_by_cause),
                 trace.frontiers_with_path_left or 0,
+                trace.frontiers_with_path_to_space_left,
                 trace.frontiers_with_path_on_map_left,
                 trace.frontiers_unrevealable_left or 0,
                 row.free_coverage,
@@ -160,7 +162,8 @@ def table(episodes: list[Episode], ceilings: dict[str, float]) -> tuple[str, lis
                 **{r: reasons[r] for r in ("explored", "unreachable", "time_cap")},
                 "at_99": sum(e.coverage >= 0.99 for e in group),
                 "unreachable_with_a_path": sum(e.end_reason == "unreachable" and e.with_path_left > 0 for e in group),
-                "unreachable_with_a_path_on_map": _on_map(group),
+                "unreachable_with_a_path_to_space": _counted(group, "with_path_to_space_left"),
+                "unreachable_with_a_path_on_map": _counted(group, "with_path_on_map_left"),
                 "unrevealable_left": sum(e.unrevealable_left for e in group),
                 "aborts": aborts,
                 "explorable_left_m2": round(mean(e.explorable_left_m2 for e in group), 2),
@@ -170,15 +173,16 @@ def table(episodes: list[Episode], ceilings: dict[str, float]) -> tuple[str, lis
         )
     lines = [
         "| map | method | episodes | explored | unreachable | time cap | >= 99 % | unreachable, a path left "
-        "| of them, on the map as built | unrevealable frontiers left | aborts by cause "
+        "| of them, to space left | of them, on the map as built | unrevealable frontiers left | aborts by cause "
         "| explorable left (m², mean) | coverage min | time / fastest |",
-        "|---|---|---:|---:|---:|---:|---:|---:|---:|---:|---|---:|---:|---:|",
+        "|---|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---|---:|---:|---:|",
     ]
     for row in rows:
         causes = ", ".join(f"{k} {v}" for k, v in sorted(row["aborts"].items()) if v) or "none"  # type: ignore[attr-defined]
         lines.append(
             f"| {row['map']} | {row['method']} | {row['episodes']} | {row['explored']} | {row['unreachable']} "
             f"| {row['time_cap']} | {row['at_99']} | {row['unreachable_with_a_path']} "
+            f"| {_shown(row['unreachable_with_a_path_to_space'])} "
             f"| {_shown(row['unreachable_with_a_path_on_map'])} | {row['unrevealable_left']} "
             f"| {causes} "
             f"| {row['explorable_left_m2']} | {row['min_coverage']:.2%} | {row['time_over_fastest']} |"
@@ -188,8 +192,10 @@ def table(episodes: list[Episode], ceilings: dict[str, float]) -> tuple[str, lis
         f"\nAll {n} episodes: {sum(e.coverage >= 0.99 for e in episodes)} at 99 % of the explorable space or more, "
         f"{sum(e.end_reason == 'time_cap' for e in episodes)} at the time cap, "
         f"{sum(e.end_reason == 'unreachable' and e.with_path_left > 0 for e in episodes)} ended unreachable with "
-        f"a path left on their own map ({_shown(_on_map(episodes))} of them on the normal costmap, through the walls "
-        f"as mapped; the others only through walls the narrow-passage recovery thinned), mean coverage "
+        f"a path left on their own map ({_shown(_counted(episodes, 'with_path_to_space_left'))} of them to a frontier "
+        "that leaves space, the others only to frontiers whose unknown side is wall on the true map; "
+        f"{_shown(_counted(episodes, 'with_path_on_map_left'))} on the normal costmap, through the walls "
+        f"as mapped, the others only through walls the narrow-passage recovery thinned), mean coverage "
         f"{mean(e.coverage for e in episodes):.4f}; mean coverage of the maps' free space "
         f"{mean(e.free_coverage for e in episodes):.4f}, against a ceiling of "
         f"{mean(ceilings[e.world] for e in episodes):.4f} (the free space within the mapping range of a "
@@ -198,12 +204,14 @@ def table(episodes: list[Episode], ceilings: dict[str, float]) -> tuple[str, lis
     return "\n".join(lines) + "\n", rows
 
 
-def _on_map(episodes: list[Episode]) -> int | None:
-    """The episodes that ended ``unreachable`` with a frontier left that their final map had a path
-    to on the normal costmap; None when a trace predates the count."""
-    if any(e.with_path_on_map_left is None for e in episodes):
+def _counted(episodes: list[Episode], count: str) -> int | None:
+    """The episodes that ended ``unreachable`` with one or more of the frontiers ``count`` names
+    (an :class:`Episode` attribute: those with a path that leave space, or with a path on the
+    normal costmap); None when a trace predates the count."""
+    counts = [getattr(e, count) for e in episodes]
+    if any(n is None for n in counts):
         return None
-    return sum(e.end_reason == "unreachable" and (e.with_path_on_map_left or 0) > 0 for e in episodes)
+    return sum(e.end_reason == "unreachable" and n > 0 for e, n in zip(episodes, counts, strict=True))
 
 
 def _shown(count: object) -> str:

@@ -96,11 +96,23 @@ HARDER_HEADER = (
     "coverage mean / min",
     "explorable left (m², mean)",
     "unreachable, a path left",
+    "of them, to space left",
     "of them, on the map as built",
     "legs given up: no path / no progress / detour / not planned",
     "time / fastest",
 )
 _CAUSES = ("no_path", "no_progress", "detour", "not_planned")
+
+
+def _count(value: object) -> str:
+    """A survey row's count, "n/a" where the data predate it."""
+    return "n/a" if value is None else str(value)
+
+
+def _total(rows: list[dict[str, object]], count: str) -> int | None:
+    """``count`` summed over the survey's rows; None when a row predates it."""
+    values = [row.get(count) for row in rows]
+    return None if None in values else sum(int(str(v)) for v in values)
 
 
 def harder_buildings_page(study: Study, images: Path) -> str:
@@ -119,11 +131,10 @@ def harder_buildings_page(study: Study, images: Path) -> str:
             found = audit[(world, method)]
             given_up = " / ".join(str(found["aborts"][cause]) for cause in _CAUSES)
             at_99 = sum(e.coverage >= 0.99 for e in episodes)
-            on_map = found.get("unreachable_with_a_path_on_map")
             audited = [
                 f"{found['explorable_left_m2']:.2f}",
                 str(found["unreachable_with_a_path"]),
-                "n/a" if on_map is None else str(on_map),
+                *(_count(found.get(f"unreachable_with_a_path_{part}")) for part in ("to_space", "on_map")),
                 given_up,
             ]
             rows.append([*row[:6], str(at_99), row[6], *audited, f"{found['time_over_fastest']:.2f}"])
@@ -131,11 +142,17 @@ def harder_buildings_page(study: Study, images: Path) -> str:
     capped = sum(e.end_reason == "time_cap" for e in every)
     at_99 = sum(e.coverage >= 0.99 for e in every)
     with_path = sum(int(r["unreachable_with_a_path"]) for r in survey["rows"])
-    on_map = [r.get("unreachable_with_a_path_on_map") for r in survey["rows"]]
+    to_space, on_map = (_total(survey["rows"], f"unreachable_with_a_path_{part}") for part in ("to_space", "on_map"))
+    space = (
+        ""
+        if to_space is None
+        else f" ({to_space} of them to a frontier that leaves space to explore, the others only to frontiers "
+        "whose unknown side is wall on the true map)"
+    )
     split = (
         "on the normal costmap or the narrow-passage recovery's"
-        if None in on_map
-        else f"{sum(int(n) for n in on_map)} of them on the normal costmap, through the walls as mapped; the "
+        if on_map is None
+        else f"{on_map} of them on the normal costmap, through the walls as mapped; the "
         "others only through walls the narrow-passage recovery thinned"
     )
     unrevealable = sum(int(r.get("unrevealable_left", 0)) for r in survey["rows"])
@@ -151,13 +168,16 @@ explorable space: about three times what the fastest method takes).
 
 Of the {len(every)} episodes, {at_99} reached 99 % of the explorable space and {capped} met the time
 cap; mean coverage {100 * mean(e.coverage for e in every):.2f} %. {with_path} ended `unreachable`
-while the audit found a frontier their final map still had a path to, its tries spent ({split});
+while the audit found a frontier their final map still had a path to, its tries spent{space}
+({split});
 {unrevealable} frontiers were left as
 unrevealable (reached twice, and nothing seen: [concepts](../../concepts.md)).
 
 {markdown_table(HARDER_HEADER, rows)}
 `explorable left`: what the robot could have seen on the true map and did not. `unreachable, a
-path left`: episodes that ended `unreachable` with such a frontier; `on the map as built`: of them,
+path left`: episodes that ended `unreachable` with such a frontier; `to space left`: of them, those
+with such a frontier that leaves space to explore (more unseen free cells beside it than a speck
+has, or more than 0.5 m² behind it; the others' unknown side is wall); `on the map as built`: of them,
 those with a path on the normal costmap (the others have one only through walls the narrow-passage
 recovery thinned, which may not be there). `legs given up`: by why the
 goal was given up, summed over the episodes. `time / fastest`: the method's mean time over the

@@ -269,7 +269,7 @@ class FrontierExplorer:
         speck = self.config.speck_cells(grid.resolution)
         real = tuple(f for f in left if f.cells > speck)  # a speck is a speck, whatever unknown lies behind it
         if reason is EndReason.EXPLORED:
-            reason = completion_reason(real, speck)
+            reason = completion_reason(real)
         self.goal = None
         self.finished = Finished(reason, real, len(left) - len(real))
         return self.finished

@@ -83,7 +83,7 @@ def end_reason(team: TeamSimulator, left: tuple[FrontierLeft, ...]) -> str | Non
         return None
     if not team.alive:
         return "failed"
-    return str(completion_reason(left, team.config.speck_cells(team.world.grid.resolution)).value)
+    return str(completion_reason(left).value)
 
 
 def free_coverage(team: TeamSimulator) -> float:

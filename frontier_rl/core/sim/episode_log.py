@@ -25,16 +25,22 @@ class EndReason(Enum):
     TIME_CAP = "time_cap"  # the sim-time cap
 
 
-def completion_reason(left: Sequence[FrontierLeft], speck_cells: int) -> EndReason:
-    """How an episode that ran out of candidates ended: ``UNREACHABLE`` when real space is left
-    unseen by the frontiers left: more than ``speck_cells``
-    (:meth:`SimConfig.speck_cells <frontier_rl.core.sim.config.SimConfig.speck_cells>`) cells that
-    are unknown in the map and free in the true world beside one of them (fewer is a speck, as the
-    thesis treats fringe clusters that small), or more than :data:`UNSEEN_ROOM_M2` of such space
-    behind one; else ``EXPLORED``. A frontier whose unknown side is all wall (cells no beam
-    reached, or range noise that marked cells inside a wall free) leaves nothing to explore."""
-    unresolved = any(f.unseen_free_cells > speck_cells or f.unseen_behind_m2 > UNSEEN_ROOM_M2 for f in left)
-    return EndReason.UNREACHABLE if unresolved else EndReason.EXPLORED
+def completion_reason(left: Sequence[FrontierLeft]) -> EndReason:
+    """How an episode that ran out of candidates ended: ``UNREACHABLE`` when one of the frontiers
+    left leaves real space unseen (:attr:`FrontierLeft.leaves_space
+    <frontier_rl.core.sim.metrics.FrontierLeft.leaves_space>`: more unseen free cells beside it
+    than a speck has, or more than :data:`UNSEEN_ROOM_M2` behind it); else ``EXPLORED``. A frontier
+    whose unknown side is all wall (cells no beam reached, or range noise that marked cells inside
+    a wall free) leaves nothing to explore."""
+    return EndReason.UNREACHABLE if any(f.leaves_space for f in left) else EndReason.EXPLORED
+
+
+def leaves_space(unseen_free_cells: int, unseen_behind_m2: float, speck_cells: int) -> bool:
+    """Whether a frontier left with ``unseen_free_cells`` beside it and ``unseen_behind_m2`` (m²)
+    behind it leaves space to explore: more than ``speck_cells`` cells
+    (:meth:`SimConfig.speck_cells <frontier_rl.core.sim.config.SimConfig.speck_cells>`; fewer is a
+    speck, as the thesis treats fringe clusters that small), or more than :data:`UNSEEN_ROOM_M2`."""
+    return unseen_free_cells > speck_cells or unseen_behind_m2 > UNSEEN_ROOM_M2
 
 
 class EpisodeLog:

@@ -1,7 +1,8 @@
 """What an episode leaves unexplored: the frontiers of the robot's map that are not candidates,
 each with the unseen free space beside it (its unknown 8-neighbours that are free in the true world)
 and behind it (the unseen free region those open onto). They decide between ``explored`` and
-``unreachable`` (:func:`~frontier_rl.core.sim.episode_log.completion_reason`)."""
+``unreachable`` (:func:`~frontier_rl.core.sim.episode_log.completion_reason`) by whether one
+leaves space (:func:`~frontier_rl.core.sim.episode_log.leaves_space`)."""
 
 from __future__ import annotations
 
@@ -17,6 +18,7 @@ from frontier_rl.core.frontiers.fringe import labels_beside, unknown_beside
 from frontier_rl.core.navigation.thin_walls import Recovery
 from frontier_rl.core.sim.candidates import Candidates, reachable_frontiers
 from frontier_rl.core.sim.config import UNSEEN_ROOM_M2, SimConfig
+from frontier_rl.core.sim.episode_log import leaves_space
 from frontier_rl.core.sim.metrics import FrontierLeft
 from frontier_rl.core.world.grid import CellState, OccupancyGrid
 from frontier_rl.core.world.robot import Pose
@@ -59,6 +61,7 @@ class _MapAgainstTruth:
         regions: the unseen free regions of the world.
         path_levels: per flat cell of ``grid``, the lowest costmap level on which the audit found a
             path to a frontier through it, -1 for none (:func:`audit_levels`).
+        speck_cells: the most unseen free cells beside a frontier that leaves no space (:func:`leaves_space`).
     """
 
     grid: OccupancyGrid
@@ -69,6 +72,7 @@ class _MapAgainstTruth:
     beside: NDArray[np.int8]
     regions: UnseenRegions
     path_levels: NDArray[np.int8]
+    speck_cells: int
 
     def behind_m2(self, cells: NDArray[np.int64]) -> float:
         """The unseen free area (m²) behind a frontier of ``cells`` (rows, cols of ``grid``)."""
@@ -98,6 +102,7 @@ class _MapAgainstTruth:
             has_path=has_path,
             path_on_map=bool((levels == Recovery.NONE).any()),
             unrevealable=unrevealable,
+            leaves_space=leaves_space(unseen.size, behind_m2, self.speck_cells),
         )
 
 
@@ -132,6 +137,7 @@ def frontiers_left(
         beside=np.where(state == CellState.UNKNOWN, grid.data, np.int8(CellState.FREE)),  # unseen in both
         regions=UnseenRegions.of(map_state, truth_grid.data),
         path_levels=audit_levels(grid, pose, config, felt[crop], None if trail is None else trail[crop]),
+        speck_cells=config.speck_cells(grid.resolution),
     )
     candidate_cells = np.zeros(grid.shape[0] * grid.shape[1], np.bool_)
     for start, end in cand.frontiers.spans:

@@ -61,6 +61,9 @@ class FrontierLeft:
             recovery thinned, which may not be there (a streak in a wall's mass, a gap in clutter).
         unrevealable: the robot reached a goal of it as often as a goal may fail, and it stayed: the
             view it was chosen for revealed nothing (:mod:`~frontier_rl.core.frontiers.blacklist`).
+        leaves_space: it leaves space to explore, the end reason's test: more unseen free cells
+            beside it than a speck has (``SimConfig.speck_cells``), or more than ``UNSEEN_ROOM_M2``
+            behind it; one whose unknown side is wall (cells no beam reached) leaves none.
     """
 
     x: float
@@ -75,6 +78,7 @@ class FrontierLeft:
     has_path: bool = False
     path_on_map: bool = False
     unrevealable: bool = False
+    leaves_space: bool = False
 
     def summary(self) -> dict[str, Any]:
         """A JSON-ready dict."""
@@ -90,6 +94,7 @@ class FrontierLeft:
             "has_path": self.has_path,
             "path_on_map": self.path_on_map,
             "unrevealable": self.unrevealable,
+            "leaves_space": self.leaves_space,
         }
 
 
@@ -177,6 +182,13 @@ class EpisodeResult:
         return sum(f.has_path and not f.unrevealable for f in self.frontiers_left)
 
     @property
+    def frontiers_with_path_to_space_left(self) -> int:
+        """Of :attr:`frontiers_with_path_left`, those that leave space to explore
+        (:attr:`FrontierLeft.leaves_space`): space given up though the map had a way to it. The
+        others' unknown side is wall on the true map, which the robot cannot know."""
+        return sum(f.has_path and f.leaves_space and not f.unrevealable for f in self.frontiers_left)
+
+    @property
     def frontiers_with_path_on_map_left(self) -> int:
         """Of :attr:`frontiers_with_path_left`, those with a path on the normal costmap, through the
         walls as mapped (:attr:`FrontierLeft.path_on_map`); the others have one only through walls
@@ -212,6 +224,7 @@ class EpisodeResult:
             unknown_left_m2=round(self.unknown_left_m2, 4),
             explorable_left_m2=round(self.explorable_left_m2, 4),
             frontiers_with_path_left=self.frontiers_with_path_left,
+            frontiers_with_path_to_space_left=self.frontiers_with_path_to_space_left,
             frontiers_with_path_on_map_left=self.frontiers_with_path_on_map_left,
             frontiers_unrevealable_left=self.frontiers_unrevealable_left,
             wall_time_s=round(self.wall_time_s, 4),
@@ -240,6 +253,7 @@ class EpisodeSummary:
     unknown_left_m2: float
     explorable_left_m2: float
     frontiers_with_path_left: int
+    frontiers_with_path_to_space_left: int
     frontiers_with_path_on_map_left: int
     frontiers_unrevealable_left: int
     wall_time_s: float

@@ -133,7 +133,7 @@ class ExplorationSimulator:
             return EndReason.TIME_CAP
         if not self.finished:
             return None
-        return completion_reason(self.frontiers_left(), self.config.speck_cells(self.world.grid.resolution))
+        return completion_reason(self.frontiers_left())
 
     def frontiers_left(self, known: NDArray[np.bool_] | None = None) -> tuple[FrontierLeft, ...]:
         """The frontiers not candidates, with the unseen space beside and behind each (``known``: what a team saw)."""
@@ -347,8 +347,7 @@ class ExplorationSimulator:
         """The episode's metrics so far (an episode still under way has end reason None)."""
         ended = self.truncated or self.finished
         left = self.frontiers_left() if ended else ()  # computed once: the end reason reads it too
-        speck = self.config.speck_cells(self.world.grid.resolution)
-        reason = None if not ended else EndReason.TIME_CAP if self.truncated else completion_reason(left, speck)
+        reason = None if not ended else EndReason.TIME_CAP if self.truncated else completion_reason(left)
         free = self.world.grid.data == CellState.FREE
         return self.log.result(
             sim_time_s=self.sim_time,

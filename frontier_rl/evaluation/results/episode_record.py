@@ -156,6 +156,8 @@ class EpisodeTrace:
         frontiers_with_path_left: frontiers left, not reached in vain, that the robot's final map had
             a path to, on the normal costmap or through walls the narrow-passage recovery thinned
             (the audit; None in older traces).
+        frontiers_with_path_to_space_left: of them, those that leave space to explore (more than a
+            speck's unseen free cells beside, or a room's behind: space given up; None in older traces).
         frontiers_with_path_on_map_left: of them, those with a path on the normal costmap, through
             the walls as mapped (None in older traces).
         frontiers_unrevealable_left: frontiers left whose goal was reached in vain (None in older traces).
@@ -173,6 +175,7 @@ class EpisodeTrace:
     aborts_by_cause: Mapping[str, int] = field(default_factory=dict)
     explorable_left_m2: float | None = None
     frontiers_with_path_left: int | None = None
+    frontiers_with_path_to_space_left: int | None = None
     frontiers_with_path_on_map_left: int | None = None
     frontiers_unrevealable_left: int | None = None
     robot_path_lengths_m: tuple[float, ...] | None = None
@@ -222,6 +225,7 @@ class EpisodeTrace:
             aborts_by_cause={str(cause): n for cause, n in causes.items()},
             explorable_left_m2=_measure(data, "explorable_left_m2"),
             frontiers_with_path_left=_whole(data, "frontiers_with_path_left", optional=True),
+            frontiers_with_path_to_space_left=_whole(data, "frontiers_with_path_to_space_left", optional=True),
             frontiers_with_path_on_map_left=_whole(data, "frontiers_with_path_on_map_left", optional=True),
             frontiers_unrevealable_left=_whole(data, "frontiers_unrevealable_left", optional=True),
             **team,

@@ -9,9 +9,10 @@ import pytest
 from frontier_rl.core.frontiers.blacklist import AUDIT_BUDGET, Blacklist
 from frontier_rl.core.navigation.thin_walls import Recovery
 from frontier_rl.core.sim.candidates import find_candidates
-from frontier_rl.core.sim.config import SimConfig
+from frontier_rl.core.sim.config import UNSEEN_ROOM_M2, SimConfig
 from frontier_rl.core.sim.episode import run_episode
-from frontier_rl.core.sim.frontiers_left import audit_levels
+from frontier_rl.core.sim.episode_log import EndReason, completion_reason, leaves_space
+from frontier_rl.core.sim.frontiers_left import audit_levels, frontiers_left
 from frontier_rl.core.sim.simulator import ExplorationSimulator
 from frontier_rl.core.world.grid import CellState, OccupancyGrid
 from frontier_rl.core.world.robot import Pose
@@ -101,6 +102,36 @@ def test_a_frontier_the_map_has_a_way_to_is_retried_after_its_tries_within_the_b
     # a door of 0.8 m: the path runs through the walls as mapped, not only through thinned ones
     assert result.frontiers_with_path_on_map_left == result.frontiers_with_path_left
     assert result.summary().to_json()["frontiers_with_path_on_map_left"] == result.frontiers_with_path_on_map_left
+    # the far room is unseen space beside and behind them
+    assert result.frontiers_with_path_to_space_left == sum(f.has_path and f.leaves_space for f in left) > 0
+
+
+def test_a_frontier_whose_unknown_side_is_wall_leaves_no_space_and_is_not_counted_as_space_given_up() -> None:
+    """The same frontiers given up, against a true world in which every cell the robot has not
+    seen is wall: they still have a path, but they leave nothing to explore."""
+    sim = _sim_on_two_rooms()
+    _fail_every_candidate(sim, AUDIT_BUDGET * MAX_FAILURES)
+    assert sim.finished
+    truth = sim.world.grid.data.copy()
+    truth[sim.mapper.state == CellState.UNKNOWN] = CellState.OCCUPIED
+    walled = OccupancyGrid(truth, sim.world.grid.resolution, sim.world.grid.origin)
+    left = frontiers_left(
+        sim.candidates(), walled, sim.pose, sim.config, sim.blacklist, sim.mapper.state, sim.mapper.felt
+    )
+    assert left and all(f.has_path and not f.leaves_space and f.unseen_free_cells == 0 for f in left)
+    assert completion_reason(left) == EndReason.EXPLORED
+    assert all(f.leaves_space for f in sim.frontiers_left())  # against the true world: the far room
+    assert completion_reason(sim.frontiers_left()) == EndReason.UNREACHABLE
+
+
+@pytest.mark.parametrize(
+    ("beside", "behind_m2", "leaves"), [(4, 0.0, False), (5, 0.0, True), (0, 0.5, False), (0, 0.51, True)]
+)
+def test_a_frontier_leaves_space_with_more_than_a_speck_beside_or_a_room_behind(
+    beside: int, behind_m2: float, leaves: bool
+) -> None:
+    assert SimConfig().speck_cells(RES) == 4 and UNSEEN_ROOM_M2 == 0.5
+    assert leaves_space(beside, behind_m2, 4) is leaves
 
 
 @pytest.mark.parametrize(("door_m", "level"), [(0.25, Recovery.HALF_CELL), (0.4, Recovery.NONE)])

@@ -184,7 +184,7 @@ def test_a_speck_is_left_out_unless_a_room_lies_behind_it(room: bool) -> None:
     cand = find_candidates(OccupancyGrid(state, RES), start, config, blacklist, state)
     assert len(cand.frontiers) == 0
     left = frontiers_left(cand, world.grid, start, config, blacklist, state, np.zeros(state.shape, np.bool_))
-    reason = completion_reason(left, config.speck_cells(RES))
+    reason = completion_reason(left)
     if room:
         [speck] = left
         assert speck.cells == 3 and speck.unseen_free_cells == 3 and speck.unseen_behind_m2 > 6.0
