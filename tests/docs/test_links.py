@@ -4,8 +4,10 @@ the build generates are checked against what the generators write."""
 
 from __future__ import annotations
 
+import atexit
 import functools
 import re
+import shutil
 import tempfile
 from pathlib import Path
 from urllib.parse import unquote
@@ -21,10 +23,11 @@ EXTERNAL = re.compile(r"^[a-z][a-z0-9+.-]*:", re.IGNORECASE)
 @functools.cache
 def generated_root() -> Path:
     """A folder holding what every page generator writes, each in its folder as under docs/ (made
-    once, and only when a link points into a generated folder)."""
+    once, and only when a link points into a generated folder; removed when the tests end)."""
     import generated_pages
 
     root = Path(tempfile.mkdtemp(prefix="generated-docs-"))
+    atexit.register(shutil.rmtree, root, ignore_errors=True)
     for generator in generated_pages.GENERATORS:
         target = root / generator.folder
         target.mkdir(parents=True)

@@ -8,7 +8,7 @@ import numpy as np
 import pytest
 import torch
 from stable_baselines3.common.callbacks import BaseCallback
-from stable_baselines3.common.logger import configure as configure_logger
+from stable_baselines3.common.logger import Logger
 from stable_baselines3.common.vec_env import DummyVecEnv, VecEnv, VecEnvWrapper
 from stable_baselines3.common.vec_env.base_vec_env import VecEnvObs, VecEnvStepReturn
 
@@ -118,12 +118,12 @@ def test_dagger_rounds_teacher_schedule_and_callbacks(
     config = _config(map_file, n_envs=2)
     venv = _Spy(DummyVecEnv([lambda: TeacherLabels(FrontierChoiceEnv(worlds=(str(map_file),), max_decisions=24))] * 2))
     model = build_model(config, venv, tmp_path)
-    model.set_logger(configure_logger(None, [""]))
+    model.set_logger(Logger(folder=None, output_formats=[]))  # configure(None) makes a folder in /tmp
     losses = imitation.dagger(model, venv, 32, 1e-3, progress=False)
     assert len(losses) == 4 and all(np.isfinite(losses)) and model.num_timesteps == 32
     assert venv.actions[:4] == venv.labels[:4]  # round 0: 4 steps of 2 envs, the teacher's labels
     model = build_model(config, venv, tmp_path)
-    model.set_logger(configure_logger(None, [""]))
+    model.set_logger(Logger(folder=None, output_formats=[]))
     stop = _Stop(12)
     losses = imitation.dagger(model, venv, 32, 1e-3, callbacks=[stop], progress=False)
     assert model.num_timesteps == 12 and len(losses) == 1 and stop.ended
