@@ -69,6 +69,7 @@ class Episode:
     aborts: Counter[str]
     with_path_left: int
     with_path_to_space_left: int | None  # None in traces from before the count
+    explorable_given_up_m2: float | None  # None in traces from before the audit on the true map
     with_path_on_map_left: int | None  # None in traces from before the count
     unrevealable_left: int
     free_coverage: float
@@ -120,6 +121,7 @@ def read_episodes(folder: Path) -> list[Episode]:
                 Counter(trace.aborts_by_cause),
                 trace.frontiers_with_path_left or 0,
                 trace.frontiers_with_path_to_space_left,
+                trace.explorable_given_up_m2,
                 trace.frontiers_with_path_on_map_left,
                 trace.frontiers_unrevealable_left or 0,
                 row.free_coverage,
@@ -146,6 +148,29 @@ def free_space_ceiling(world: str, seeds: list[int]) -> float:
 def table(episodes: list[Episode], ceilings: dict[str, float]) -> tuple[str, list[dict[str, object]]]:
     """The per-map, per-method table (Markdown) and its rows; ``ceilings``: each map's
     :func:`free_space_ceiling`."""
+    rows = _rows(episodes)
+    lines = [
+        "| map | method | episodes | explored | unreachable | time cap | >= 99 % | unreachable, a path left "
+        "| of them, to space left | of them, on the map as built | explorable given up (m², most) "
+        "| unrevealable frontiers left | aborts by cause | explorable left (m², mean) | coverage min "
+        "| time / fastest |",
+        "|---|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---|---:|---:|---:|",
+    ]
+    for row in rows:
+        causes = ", ".join(f"{k} {v}" for k, v in sorted(row["aborts"].items()) if v) or "none"  # type: ignore[attr-defined]
+        lines.append(
+            f"| {row['map']} | {row['method']} | {row['episodes']} | {row['explored']} | {row['unreachable']} "
+            f"| {row['time_cap']} | {row['at_99']} | {row['unreachable_with_a_path']} "
+            f"| {_shown(row['unreachable_with_a_path_to_space'])} "
+            f"| {_shown(row['unreachable_with_a_path_on_map'])} | {_shown(row['explorable_given_up_m2_max'])} "
+            f"| {row['unrevealable_left']} | {causes} "
+            f"| {row['explorable_left_m2']} | {row['min_coverage']:.2%} | {row['time_over_fastest']} |"
+        )
+    return "\n".join(lines) + "\n\n" + _closing_line(episodes, ceilings) + "\n", rows
+
+
+def _rows(episodes: list[Episode]) -> list[dict[str, object]]:
+    """The table's rows, per map and method."""
     groups: dict[tuple[str, str], list[Episode]] = defaultdict(list)
     for episode in episodes:
         groups[(episode.world, episode.method)].append(episode)
@@ -164,6 +189,7 @@ def table(episodes: list[Episode], ceilings: dict[str, float]) -> tuple[str, lis
                 "unreachable_with_a_path": sum(e.end_reason == "unreachable" and e.with_path_left > 0 for e in group),
                 "unreachable_with_a_path_to_space": _counted(group, "with_path_to_space_left"),
                 "unreachable_with_a_path_on_map": _counted(group, "with_path_on_map_left"),
+                "explorable_given_up_m2_max": _most_given_up(group),
                 "unrevealable_left": sum(e.unrevealable_left for e in group),
                 "aborts": aborts,
                 "explorable_left_m2": round(mean(e.explorable_left_m2 for e in group), 2),
@@ -171,37 +197,37 @@ def table(episodes: list[Episode], ceilings: dict[str, float]) -> tuple[str, lis
                 "time_over_fastest": round(mean(e.sim_time_s for e in group) / fastest[world], 2),
             }
         )
-    lines = [
-        "| map | method | episodes | explored | unreachable | time cap | >= 99 % | unreachable, a path left "
-        "| of them, to space left | of them, on the map as built | unrevealable frontiers left | aborts by cause "
-        "| explorable left (m², mean) | coverage min | time / fastest |",
-        "|---|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---|---:|---:|---:|",
-    ]
-    for row in rows:
-        causes = ", ".join(f"{k} {v}" for k, v in sorted(row["aborts"].items()) if v) or "none"  # type: ignore[attr-defined]
-        lines.append(
-            f"| {row['map']} | {row['method']} | {row['episodes']} | {row['explored']} | {row['unreachable']} "
-            f"| {row['time_cap']} | {row['at_99']} | {row['unreachable_with_a_path']} "
-            f"| {_shown(row['unreachable_with_a_path_to_space'])} "
-            f"| {_shown(row['unreachable_with_a_path_on_map'])} | {row['unrevealable_left']} "
-            f"| {causes} "
-            f"| {row['explorable_left_m2']} | {row['min_coverage']:.2%} | {row['time_over_fastest']} |"
-        )
-    n = len(episodes)
-    lines.append(
-        f"\nAll {n} episodes: {sum(e.coverage >= 0.99 for e in episodes)} at 99 % of the explorable space or more, "
-        f"{sum(e.end_reason == 'time_cap' for e in episodes)} at the time cap, "
+    return rows
+
+
+def _closing_line(episodes: list[Episode], ceilings: dict[str, float]) -> str:
+    """The survey in one paragraph: coverage, caps, the audit's counts and the free space's ceiling."""
+    given_up = [e.explorable_given_up_m2 for e in episodes]
+    on_truth = (
+        "n/a"
+        if None in given_up
+        else f"{sum(m > 0 for m in given_up if m is not None)} episodes gave up explorable space with a path "
+        f"({max(m for m in given_up if m is not None):.2f} m² the most)"
+    )
+    return (
+        f"All {len(episodes)} episodes: {sum(e.coverage >= 0.99 for e in episodes)} at 99 % of the explorable "
+        f"space or more, {sum(e.end_reason == 'time_cap' for e in episodes)} at the time cap, "
         f"{sum(e.end_reason == 'unreachable' and e.with_path_left > 0 for e in episodes)} ended unreachable with "
         f"a path left on their own map ({_shown(_counted(episodes, 'with_path_to_space_left'))} of them to a frontier "
         "that leaves space, the others only to frontiers whose unknown side is wall on the true map; "
         f"{_shown(_counted(episodes, 'with_path_on_map_left'))} on the normal costmap, through the walls "
-        f"as mapped, the others only through walls the narrow-passage recovery thinned), mean coverage "
-        f"{mean(e.coverage for e in episodes):.4f}; mean coverage of the maps' free space "
-        f"{mean(e.free_coverage for e in episodes):.4f}, against a ceiling of "
+        "as mapped, the others only through walls the narrow-passage recovery thinned); on the true map, "
+        f"{on_truth}; mean coverage {mean(e.coverage for e in episodes):.4f}; mean coverage of the maps' free "
+        f"space {mean(e.free_coverage for e in episodes):.4f}, against a ceiling of "
         f"{mean(ceilings[e.world] for e in episodes):.4f} (the free space within the mapping range of a "
         "pose the robot can reach)."
     )
-    return "\n".join(lines) + "\n", rows
+
+
+def _most_given_up(episodes: list[Episode]) -> float | None:
+    """The most explorable space (m²) an episode gave up with a path; None when a trace predates it."""
+    given_up = [e.explorable_given_up_m2 for e in episodes]
+    return None if None in given_up else round(max(m for m in given_up if m is not None), 2)
 
 
 def _counted(episodes: list[Episode], count: str) -> int | None:

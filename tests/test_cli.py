@@ -123,12 +123,14 @@ def test_explore_lists_the_frontiers_left(tmp_path: Path) -> None:
     assert data["end_reason"] == "unreachable" and data["truncated"] is False and data["done"] is False
     left = data["frontiers_left"]
     keys = {"x", "y", "cells", "unknown_cells", "unseen_free_cells", "unknown_m2", "failures", "unseen_behind_m2",
-            "has_path", "path_on_map", "unrevealable", "leaves_space"}  # fmt: skip
+            "has_path", "path_on_map", "unrevealable", "leaves_space",
+            "explorable_behind_m2"}  # fmt: skip
     assert left and all(set(f) == keys for f in left)
     assert data["frontiers_with_path_left"] == sum(f["has_path"] and not f["unrevealable"] for f in left)
     assert data["frontiers_unrevealable_left"] == sum(f["unrevealable"] for f in left)
     to_space = sum(f["has_path"] and f["leaves_space"] and not f["unrevealable"] for f in left)
     assert data["frontiers_with_path_to_space_left"] == to_space <= data["frontiers_with_path_left"]
+    assert 0.0 <= data["explorable_given_up_m2"] <= data["explorable_left_m2"] + 1e-3
     on_map = sum(f["path_on_map"] and not f["unrevealable"] for f in left)
     assert data["frontiers_with_path_on_map_left"] == on_map <= data["frontiers_with_path_left"]
     assert all(f["has_path"] for f in left if f["path_on_map"])

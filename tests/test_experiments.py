@@ -232,7 +232,9 @@ def test_the_harder_survey_tabulates_causes_and_draws_the_worst(tmp_path: Path) 
         assert row["explorable_left_m2"] >= 0 and 0.99 <= row["min_coverage"] <= 1
         for part in ("unreachable_with_a_path_to_space", "unreachable_with_a_path_on_map"):
             assert 0 <= row[part] <= row["unreachable_with_a_path"] <= row["unreachable"]
+        assert 0.0 <= row["explorable_given_up_m2_max"] <= max(row["explorable_left_m2"], 0.0) * 2 + 0.01
     assert min(row["time_over_fastest"] for row in survey["rows"]) == 1.0
     assert len(survey["worst"]) == 4 and len(list((out / "worst").glob("*.png"))) == 4
     assert 0.9 < survey["free_space_ceilings"]["lse_arena"] <= 1  # a walled arena: nearly all of it in sight
     assert "against a ceiling of" in (out / "survey.md").read_text()
+    assert "episodes gave up explorable space with a path" in (out / "survey.md").read_text()

@@ -98,6 +98,7 @@ HARDER_HEADER = (
     "unreachable, a path left",
     "of them, to space left",
     "of them, on the map as built",
+    "explorable given up (m², most)",
     "legs given up: no path / no progress / detour / not planned",
     "time / fastest",
 )
@@ -135,6 +136,7 @@ def harder_buildings_page(study: Study, images: Path) -> str:
                 f"{found['explorable_left_m2']:.2f}",
                 str(found["unreachable_with_a_path"]),
                 *(_count(found.get(f"unreachable_with_a_path_{part}")) for part in ("to_space", "on_map")),
+                _count(found.get("explorable_given_up_m2_max")),
                 given_up,
             ]
             rows.append([*row[:6], str(at_99), row[6], *audited, f"{found['time_over_fastest']:.2f}"])
@@ -156,6 +158,13 @@ def harder_buildings_page(study: Study, images: Path) -> str:
         "others only through walls the narrow-passage recovery thinned"
     )
     unrevealable = sum(int(r.get("unrevealable_left", 0)) for r in survey["rows"])
+    most = [r.get("explorable_given_up_m2_max") for r in survey["rows"]]
+    on_truth = (
+        ""
+        if None in most
+        else " On the true map, the most explorable space (what this robot could have seen from where it "
+        f"can go) an episode gave up with a path was {max(float(str(m)) for m in most):.2f} m²."
+    )
     worst = "\n".join(line.rsplit(" (", 1)[0] for line in survey["worst"])
     return f"""# Harder buildings
 
@@ -171,7 +180,7 @@ cap; mean coverage {100 * mean(e.coverage for e in every):.2f} %. {with_path} en
 while the audit found a frontier their final map still had a path to, its tries spent{space}
 ({split});
 {unrevealable} frontiers were left as
-unrevealable (reached twice, and nothing seen: [concepts](../../concepts.md)).
+unrevealable (reached twice, and nothing seen: [concepts](../../concepts.md)).{on_truth}
 
 {markdown_table(HARDER_HEADER, rows)}
 `explorable left`: what the robot could have seen on the true map and did not. `unreachable, a
@@ -179,7 +188,9 @@ path left`: episodes that ended `unreachable` with such a frontier; `to space le
 with such a frontier that leaves space to explore (more unseen free cells beside it than a speck
 has, or more than 0.5 m² behind it; the others' unknown side is wall); `on the map as built`: of them,
 those with a path on the normal costmap (the others have one only through walls the narrow-passage
-recovery thinned, which may not be there). `legs given up`: by why the
+recovery thinned, which may not be there). `explorable given up`: the audit on the true map, the
+most explorable space behind the frontiers left with a path in one episode: what the robot gave up
+after its tries and could have seen. `legs given up`: by why the
 goal was given up, summed over the episodes. `time / fastest`: the method's mean time over the
 fastest method's on the same map.
 

@@ -84,6 +84,7 @@ def test_a_trace_reads_back_as_it_was_written_and_refuses_what_the_report_cannot
         explorable_left_m2=0.5,
         frontiers_with_path_left=2,
         frontiers_with_path_to_space_left=1,
+        explorable_given_up_m2=0.25,
         frontiers_unrevealable_left=1,
         robot_path_lengths_m=(3.0, 4.0),
         robot_coverage=(0.5, 0.6),

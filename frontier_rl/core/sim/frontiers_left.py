@@ -32,20 +32,32 @@ class UnseenRegions:
     Attributes:
         labels: each cell's region, 0 for none (the map's shape).
         sizes: each region's cells, by label (``sizes[0]`` counts the other cells).
+        explorable: each region's cells that lie in the world's explorable space, by label (0 for
+            the other cells, and for every region when the explorable space is not known).
     """
 
     labels: NDArray[np.int32]
     sizes: NDArray[np.int64]
+    explorable: NDArray[np.int64]
 
     @classmethod
-    def of(cls, state: NDArray[np.int8], truth: NDArray[np.int8]) -> UnseenRegions:
-        """The regions of the map ``state`` against the true world ``truth`` (same shape)."""
+    def of(
+        cls, state: NDArray[np.int8], truth: NDArray[np.int8], explorable: NDArray[np.bool_] | None = None
+    ) -> UnseenRegions:
+        """The regions of the map ``state`` against the true world ``truth`` and its explorable
+        space ``explorable`` (all the same shape; None: a robot's, which has no true map)."""
         labels, count = ndimage.label((state == CellState.UNKNOWN) & (truth == CellState.FREE))
-        return cls(np.asarray(labels, np.int32), np.bincount(labels.ravel(), minlength=count + 1))
+        flat = labels.ravel()
+        sizes = np.bincount(flat, minlength=count + 1)
+        seeable = np.zeros(count + 1, np.int64)
+        if explorable is not None:
+            seeable = np.bincount(flat, weights=explorable.ravel(), minlength=count + 1).astype(np.int64)
+            seeable[0] = 0
+        return cls(np.asarray(labels, np.int32), sizes, seeable)
 
-    def cells_behind(self, rows: NDArray[np.int64], cols: NDArray[np.int64]) -> int:
-        """The cells of every region that touches (8-neighbours) one of the given cells, each region once."""
-        return int(self.sizes[labels_beside(self.labels, rows, cols)].sum())
+    def beside(self, rows: NDArray[np.int64], cols: NDArray[np.int64]) -> NDArray[np.int64]:
+        """The labels of the regions that touch (8-neighbours) one of the given cells, each once."""
+        return labels_beside(self.labels, rows, cols)
 
 
 @dataclass(frozen=True)
@@ -74,14 +86,21 @@ class _MapAgainstTruth:
     path_levels: NDArray[np.int8]
     speck_cells: int
 
-    def behind_m2(self, cells: NDArray[np.int64]) -> float:
-        """The unseen free area (m²) behind a frontier of ``cells`` (rows, cols of ``grid``)."""
-        res = self.grid.resolution
-        return self.regions.cells_behind(cells[:, 0] + self.top, cells[:, 1] + self.left) * res * res
+    def behind(self, cells: NDArray[np.int64]) -> NDArray[np.int64]:
+        """The labels of the unseen free regions behind a frontier of ``cells`` (rows, cols of ``grid``)."""
+        return self.regions.beside(cells[:, 0] + self.top, cells[:, 1] + self.left)
 
-    def frontier_left(self, frontiers: Frontiers, i: int, behind_m2: float, blacklist: Blacklist) -> FrontierLeft:
-        """Frontier ``i`` of ``frontiers`` as left by the episode, with its history in ``blacklist``."""
+    def behind_m2(self, regions: NDArray[np.int64]) -> float:
+        """The unseen free area (m²) of ``regions`` (labels)."""
+        return float(self.regions.sizes[regions].sum()) * self.grid.resolution**2
+
+    def frontier_left(
+        self, frontiers: Frontiers, i: int, behind: NDArray[np.int64], blacklist: Blacklist
+    ) -> FrontierLeft:
+        """Frontier ``i`` of ``frontiers`` as left by the episode, with the unseen regions ``behind``
+        it (labels) and its history in ``blacklist``."""
         cells, res, width = frontiers.cells_of(i), self.grid.resolution, self.grid.width
+        behind_m2 = self.behind_m2(behind)
         failures, unrevealable = blacklist.history_of(self.grid.cells_to_world(cells))
         unknown, unseen = unknown_beside(self.beside, cells[:, 0], cells[:, 1], self.truth)
         rows, cols = np.divmod(unseen, width)
@@ -103,6 +122,7 @@ class _MapAgainstTruth:
             path_on_map=bool((levels == Recovery.NONE).any()),
             unrevealable=unrevealable,
             leaves_space=leaves_space(unseen.size, behind_m2, self.speck_cells),
+            explorable_behind={int(r): float(self.regions.explorable[r]) * res * res for r in behind},
         )
 
 
@@ -115,12 +135,13 @@ def frontiers_left(
     map_state: NDArray[np.int8],
     felt: NDArray[np.bool_],
     trail: NDArray[np.bool_] | None = None,
+    explorable: NDArray[np.bool_] | None = None,
 ) -> tuple[FrontierLeft, ...]:
     """The frontiers of ``cand``'s map that are not candidates (blacklisted after failed attempts,
     with no reachable cell that sees them, or no larger than the drop size), with the unseen
     space beside and behind each (free cells read from ``truth_grid``, the world; ``map_state`` is
-    the robot's whole map, ``felt`` the walls it touched and ``trail`` the cells it crossed, the
-    world's shape), and the audit:
+    the robot's whole map, ``felt`` the walls it touched, ``trail`` the cells it crossed and
+    ``explorable`` the world's explorable space, the world's shape; None: not known), and the audit:
     whether the map has a path to each, and on which costmap (:func:`audit_levels`). A cluster of at most
     ``config.speck_cells`` cells is a speck and left out, unless more than :data:`UNSEEN_ROOM_M2`
     of unseen free space lies behind it: a room seen only through a slot is not a speck."""
@@ -135,7 +156,7 @@ def frontiers_left(
         world_width=truth_grid.width,
         truth=truth_grid.data[crop],
         beside=np.where(state == CellState.UNKNOWN, grid.data, np.int8(CellState.FREE)),  # unseen in both
-        regions=UnseenRegions.of(map_state, truth_grid.data),
+        regions=UnseenRegions.of(map_state, truth_grid.data, explorable),
         path_levels=audit_levels(grid, pose, config, felt[crop], None if trail is None else trail[crop]),
         speck_cells=config.speck_cells(grid.resolution),
     )
@@ -149,10 +170,10 @@ def frontiers_left(
             cells = frontiers.cells_of(i)
             if candidate_cells[cells[:, 0] * grid.width + cells[:, 1]].any():
                 continue
-            behind_m2 = against.behind_m2(cells)
-            if specks and behind_m2 <= UNSEEN_ROOM_M2:
+            behind = against.behind(cells)
+            if specks and against.behind_m2(behind) <= UNSEEN_ROOM_M2:
                 continue
-            left.append(against.frontier_left(frontiers, i, behind_m2, blacklist))
+            left.append(against.frontier_left(frontiers, i, behind, blacklist))
     return tuple(left)
 
 

@@ -64,6 +64,10 @@ class FrontierLeft:
         leaves_space: it leaves space to explore, the end reason's test: more unseen free cells
             beside it than a speck has (``SimConfig.speck_cells``), or more than ``UNSEEN_ROOM_M2``
             behind it; one whose unknown side is wall (cells no beam reached) leaves none.
+        explorable_behind: of the unseen free regions behind it, the part a robot of this size can
+            see from where it can go on the true map (its explorable space), in m², by region
+            (keys: the regions' labels in the episode's end, so that a region behind two frontiers
+            is counted once; :func:`explorable_given_up_m2`).
     """
 
     x: float
@@ -79,6 +83,7 @@ class FrontierLeft:
     path_on_map: bool = False
     unrevealable: bool = False
     leaves_space: bool = False
+    explorable_behind: Mapping[int, float] = field(repr=False, compare=False, default_factory=dict)
 
     def summary(self) -> dict[str, Any]:
         """A JSON-ready dict."""
@@ -95,7 +100,19 @@ class FrontierLeft:
             "path_on_map": self.path_on_map,
             "unrevealable": self.unrevealable,
             "leaves_space": self.leaves_space,
+            "explorable_behind_m2": round(sum(self.explorable_behind.values()), 4),
         }
+
+
+def explorable_given_up_m2(left: Sequence[FrontierLeft]) -> float:
+    """The audit on the true map: the explorable area (m²) behind the frontiers ``left`` that the
+    robot's final map had a path to (:attr:`FrontierLeft.has_path`, not reached in vain): space the
+    robot could have seen on the true map and gave up on after its tries; each region once."""
+    regions: dict[int, float] = {}
+    for frontier in left:
+        if frontier.has_path and not frontier.unrevealable:
+            regions.update(frontier.explorable_behind)
+    return float(sum(regions.values()))
 
 
 def unseen_area_m2(left: Sequence[FrontierLeft], resolution: float) -> float:
@@ -189,6 +206,12 @@ class EpisodeResult:
         return sum(f.has_path and f.leaves_space and not f.unrevealable for f in self.frontiers_left)
 
     @property
+    def explorable_given_up_m2(self) -> float:
+        """The explorable area (m²) behind the frontiers left with a path: given up after their
+        tries, though the robot could have seen it on the true map (:func:`explorable_given_up_m2`)."""
+        return explorable_given_up_m2(self.frontiers_left)
+
+    @property
     def frontiers_with_path_on_map_left(self) -> int:
         """Of :attr:`frontiers_with_path_left`, those with a path on the normal costmap, through the
         walls as mapped (:attr:`FrontierLeft.path_on_map`); the others have one only through walls
@@ -225,6 +248,7 @@ class EpisodeResult:
             explorable_left_m2=round(self.explorable_left_m2, 4),
             frontiers_with_path_left=self.frontiers_with_path_left,
             frontiers_with_path_to_space_left=self.frontiers_with_path_to_space_left,
+            explorable_given_up_m2=round(self.explorable_given_up_m2, 4),
             frontiers_with_path_on_map_left=self.frontiers_with_path_on_map_left,
             frontiers_unrevealable_left=self.frontiers_unrevealable_left,
             wall_time_s=round(self.wall_time_s, 4),
@@ -254,6 +278,7 @@ class EpisodeSummary:
     explorable_left_m2: float
     frontiers_with_path_left: int
     frontiers_with_path_to_space_left: int
+    explorable_given_up_m2: float
     frontiers_with_path_on_map_left: int
     frontiers_unrevealable_left: int
     wall_time_s: float

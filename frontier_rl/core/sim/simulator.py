@@ -147,6 +147,7 @@ class ExplorationSimulator:
             state,
             self.mapper.felt,
             self.navigator.trail(),
+            self.world.explorable,
         )
 
     def trajectory(self) -> NDArray[np.float64]:

@@ -158,6 +158,8 @@ class EpisodeTrace:
             (the audit; None in older traces).
         frontiers_with_path_to_space_left: of them, those that leave space to explore (more than a
             speck's unseen free cells beside, or a room's behind: space given up; None in older traces).
+        explorable_given_up_m2: the explorable area (m²) behind the frontiers left with a path: space
+            given up that the robot could have seen on the true map (None in older traces).
         frontiers_with_path_on_map_left: of them, those with a path on the normal costmap, through
             the walls as mapped (None in older traces).
         frontiers_unrevealable_left: frontiers left whose goal was reached in vain (None in older traces).
@@ -176,6 +178,7 @@ class EpisodeTrace:
     explorable_left_m2: float | None = None
     frontiers_with_path_left: int | None = None
     frontiers_with_path_to_space_left: int | None = None
+    explorable_given_up_m2: float | None = None
     frontiers_with_path_on_map_left: int | None = None
     frontiers_unrevealable_left: int | None = None
     robot_path_lengths_m: tuple[float, ...] | None = None
@@ -226,6 +229,7 @@ class EpisodeTrace:
             explorable_left_m2=_measure(data, "explorable_left_m2"),
             frontiers_with_path_left=_whole(data, "frontiers_with_path_left", optional=True),
             frontiers_with_path_to_space_left=_whole(data, "frontiers_with_path_to_space_left", optional=True),
+            explorable_given_up_m2=_measure(data, "explorable_given_up_m2"),
             frontiers_with_path_on_map_left=_whole(data, "frontiers_with_path_on_map_left", optional=True),
             frontiers_unrevealable_left=_whole(data, "frontiers_unrevealable_left", optional=True),
             **team,

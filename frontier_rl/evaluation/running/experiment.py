@@ -291,6 +291,7 @@ def run_job(job: EpisodeJob, settings: EpisodeSettings) -> EpisodeOutcome:
         explorable_left_m2=summary.explorable_left_m2,
         frontiers_with_path_left=summary.frontiers_with_path_left,
         frontiers_with_path_to_space_left=summary.frontiers_with_path_to_space_left,
+        explorable_given_up_m2=summary.explorable_given_up_m2,
         frontiers_with_path_on_map_left=summary.frontiers_with_path_on_map_left,
         frontiers_unrevealable_left=summary.frontiers_unrevealable_left,
         robot_path_lengths_m=None if team_summary is None else team_summary.robot_path_lengths_m,

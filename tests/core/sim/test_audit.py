@@ -13,6 +13,7 @@ from frontier_rl.core.sim.config import UNSEEN_ROOM_M2, SimConfig
 from frontier_rl.core.sim.episode import run_episode
 from frontier_rl.core.sim.episode_log import EndReason, completion_reason, leaves_space
 from frontier_rl.core.sim.frontiers_left import audit_levels, frontiers_left
+from frontier_rl.core.sim.metrics import FrontierLeft, explorable_given_up_m2
 from frontier_rl.core.sim.simulator import ExplorationSimulator
 from frontier_rl.core.world.grid import CellState, OccupancyGrid
 from frontier_rl.core.world.robot import Pose
@@ -104,6 +105,11 @@ def test_a_frontier_the_map_has_a_way_to_is_retried_after_its_tries_within_the_b
     assert result.summary().to_json()["frontiers_with_path_on_map_left"] == result.frontiers_with_path_on_map_left
     # the far room is unseen space beside and behind them
     assert result.frontiers_with_path_to_space_left == sum(f.has_path and f.leaves_space for f in left) > 0
+    # and the robot could have seen it on the true map: the far room's explorable space, once (but
+    # for a few unseen cells no frontier opens onto)
+    unseen_m2 = np.count_nonzero(sim.world.explorable & (sim.mapper.state == CellState.UNKNOWN)) * RES**2
+    assert 0.99 * unseen_m2 < result.explorable_given_up_m2 <= unseen_m2
+    assert result.summary().explorable_given_up_m2 == pytest.approx(result.explorable_given_up_m2, abs=1e-4)
 
 
 def test_a_frontier_whose_unknown_side_is_wall_leaves_no_space_and_is_not_counted_as_space_given_up() -> None:
@@ -122,6 +128,32 @@ def test_a_frontier_whose_unknown_side_is_wall_leaves_no_space_and_is_not_counte
     assert completion_reason(left) == EndReason.EXPLORED
     assert all(f.leaves_space for f in sim.frontiers_left())  # against the true world: the far room
     assert completion_reason(sim.frontiers_left()) == EndReason.UNREACHABLE
+    assert explorable_given_up_m2(left) == 0.0
+
+
+def test_space_given_up_that_the_robot_could_not_have_seen_on_the_true_map_is_not_explorable_given_up() -> None:
+    """The far room left with a path, in a world whose explorable space (what this robot can see
+    from where it can go on the true map) leaves it out: space left, none of it explorable."""
+    sim = _sim_on_two_rooms()
+    _fail_every_candidate(sim, AUDIT_BUDGET * MAX_FAILURES)
+    nothing = np.zeros(sim.world.grid.shape, np.bool_)
+    args = (sim.candidates(), sim.world.grid, sim.pose, sim.config, sim.blacklist, sim.mapper.state, sim.mapper.felt)
+    left = frontiers_left(*args, explorable=nothing)
+    assert left and all(f.has_path and f.leaves_space for f in left)
+    assert explorable_given_up_m2(left) == 0.0
+    assert explorable_given_up_m2(frontiers_left(*args, explorable=sim.world.explorable)) > 1.0
+
+
+def test_explorable_space_given_up_counts_each_region_once_and_only_behind_frontiers_with_a_path() -> None:
+    def left(regions: dict[int, float], has_path: bool = True, unrevealable: bool = False) -> FrontierLeft:
+        return FrontierLeft(0.0, 0.0, 5, 5, 5, 0.0125, 2, 1.0, has_path=has_path, unrevealable=unrevealable,
+                            explorable_behind=regions)  # fmt: skip
+
+    segments = [left({1: 0.5, 2: 0.25}), left({2: 0.25})]  # two segments of one frontier, both onto region 2
+    assert explorable_given_up_m2(segments) == pytest.approx(0.75)
+    assert explorable_given_up_m2([*segments, left({3: 9.0}, has_path=False), left({4: 9.0}, unrevealable=True)]) == (
+        pytest.approx(0.75)
+    )
 
 
 @pytest.mark.parametrize(

@@ -256,11 +256,16 @@ def test_space_behind_a_frontier_left_is_measured_once_per_region() -> None:
     state[:, :3] = FREE
     truth = np.full((6, 8), FREE, np.int8)
     truth[:, 5] = OCC  # two unseen regions: columns 3-4 (12 cells) and 6-7 (12 cells)
-    regions = UnseenRegions.of(state, truth)
+    explorable = np.zeros((6, 8), np.bool_)
+    explorable[:, :4] = True  # the robot could see column 3 of the first region, none of the second
+    regions = UnseenRegions.of(state, truth, explorable)
     rows, cols = np.arange(6, dtype=np.int64), np.full(6, 2, np.int64)
-    assert regions.cells_behind(rows, cols) == 12  # the first region, once, though six cells touch it
-    assert regions.cells_behind(np.array([0], np.int64), np.array([0], np.int64)) == 0  # no unknown neighbour
-    assert regions.cells_behind(np.array([5], np.int64), np.array([7], np.int64)) == 12  # at the edge
+    [first] = regions.beside(rows, cols)  # the first region, once, though six cells touch it
+    assert regions.sizes[first] == 12 and regions.explorable[first] == 6
+    assert regions.beside(np.array([0], np.int64), np.array([0], np.int64)).size == 0  # no unknown neighbour
+    [second] = regions.beside(np.array([5], np.int64), np.array([7], np.int64))  # at the edge
+    assert regions.sizes[second] == 12 and regions.explorable[second] == 0
+    assert not UnseenRegions.of(state, truth).explorable.any()  # a robot's: no true map to ask
 
 
 def test_a_goal_is_never_farther_from_its_frontier_than_the_map_update_reaches() -> None:
