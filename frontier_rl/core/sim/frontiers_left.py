@@ -92,7 +92,8 @@ class _MapAgainstTruth:
 
     def behind_m2(self, regions: NDArray[np.int64]) -> float:
         """The unseen free area (m²) of ``regions`` (labels)."""
-        return float(self.regions.sizes[regions].sum()) * self.grid.resolution**2
+        res = self.grid.resolution
+        return int(self.regions.sizes[regions].sum()) * res * res
 
     def frontier_left(
         self, frontiers: Frontiers, i: int, behind: NDArray[np.int64], blacklist: Blacklist
