@@ -148,14 +148,14 @@ def harder_buildings_page(study: Study, images: Path) -> str:
     space = (
         ""
         if to_space is None
-        else f" ({to_space} of them to a frontier that leaves space to explore, the others only to frontiers "
-        "whose unknown side is wall on the true map)"
+        else f" {to_space} of them to a frontier that leaves space to explore (the others only to frontiers "
+        "whose unknown side is wall on the true map);"
     )
     split = (
-        "on the normal costmap or the narrow-passage recovery's"
+        " on the normal costmap or the narrow-passage recovery's"
         if on_map is None
-        else f"{on_map} of them on the normal costmap, through the walls as mapped; the "
-        "others only through walls the narrow-passage recovery thinned"
+        else f" {on_map} on the normal costmap, through the walls as mapped (the others only through walls "
+        "the narrow-passage recovery thinned)"
     )
     unrevealable = sum(int(r.get("unrevealable_left", 0)) for r in survey["rows"])
     most = [r.get("explorable_given_up_m2_max") for r in survey["rows"]]
@@ -177,8 +177,7 @@ explorable space: about three times what the fastest method takes).
 
 Of the {len(every)} episodes, {at_99} reached 99 % of the explorable space and {capped} met the time
 cap; mean coverage {100 * mean(e.coverage for e in every):.2f} %. {with_path} ended `unreachable`
-while the audit found a frontier their final map still had a path to, its tries spent{space}
-({split});
+while the audit found a frontier their final map still had a path to, its tries spent:{space}{split};
 {unrevealable} frontiers were left as
 unrevealable (reached twice, and nothing seen: [concepts](../../concepts.md)).{on_truth}
 
