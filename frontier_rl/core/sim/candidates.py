@@ -4,6 +4,7 @@ the frontiers it may drive to."""
 from __future__ import annotations
 
 from dataclasses import dataclass
+from enum import Enum
 
 import numpy as np
 from numpy.typing import NDArray
@@ -34,6 +35,17 @@ def with_robots_as_walls(grid: OccupancyGrid, robots: Discs) -> OccupancyGrid:
     return OccupancyGrid(data, grid.resolution, grid.origin)
 
 
+class Look(Enum):
+    """What a decision's frontiers are for (:mod:`frontier_rl.core.sim.looks`)."""
+
+    NONE = "none"
+    """Frontiers to drive to, as the thesis's explorer has them."""
+    SMALL = "small"
+    """Last looks at clusters the size filter drops (a gap in a thin wall, a window)."""
+    GIVEN_UP = "given_up"
+    """Last looks at frontiers given up after their tries, from another place."""
+
+
 @dataclass(frozen=True)
 class Candidates:
     """The frontiers a decision chooses from, and what they were found on.
@@ -45,8 +57,8 @@ class Candidates:
         frontiers: the reachable frontiers that are not blacklisted.
         recovery: the costmap they were found on: the normal one, or the narrow-passage recovery's
             at one of its levels (:mod:`frontier_rl.core.navigation.thin_walls`).
-        looks: whether the frontiers are last looks (:mod:`frontier_rl.core.sim.looks`): small
-            clusters, each with its goal at the viewpoint that sees most of the unknown beyond it.
+        looks: whether the frontiers are last looks, and at what (:mod:`frontier_rl.core.sim.looks`):
+            clusters each with its goal at the viewpoint that sees most of the unknown beyond it.
     """
 
     grid: OccupancyGrid
@@ -54,7 +66,7 @@ class Candidates:
     reachable: NDArray[np.bool_]
     frontiers: Frontiers
     recovery: Recovery = Recovery.NONE
-    looks: bool = False
+    looks: Look = Look.NONE
 
 
 def reachable_frontiers(

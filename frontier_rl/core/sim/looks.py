@@ -94,23 +94,73 @@ def last_looks(
     small = small.subset(small.sizes <= drop)
     if len(small) == 0:
         return small
-    unknown = grid.data == CellState.UNKNOWN
-    labels, count = ndimage.label(unknown)
-    areas = np.bincount(labels.ravel(), minlength=count + 1) * grid.resolution**2
+    labels, areas = _unknown_regions(grid)
     if confirmed:  # a look paid: any unknown beside space seen beyond may be a room
-        areas[np.setdiff1d(np.arange(count + 1), _regions_seen_beyond(grid, reachable, labels))] = 0.0
+        areas[np.setdiff1d(np.arange(len(areas)), _regions_seen_beyond(grid, reachable, labels))] = 0.0
     floor = None if confirmed else floor_seen_beyond(grid, reachable)
     evidence = LOOK_EVIDENCE_M2 / grid.resolution**2
     sight = config.mapping_range / grid.resolution
-    least = LOOK_MIN_GAIN_M2 / grid.resolution**2
-    views = _viewpoint_cells(reachable, grid, blacklist)
-    groups: dict[tuple[int, int], list[int]] = {}  # the clusters each viewpoint is the best look at
+    chosen = []
     for i in range(len(small)):
         cells = small.cells_of(i)
         if blacklist.history_of(grid.cells_to_world(cells))[1]:  # looked at twice (or reached in vain)
             continue
         if floor is not None and np.count_nonzero(np.hypot(*(floor - cells.mean(axis=0)).T) <= sight) < evidence:
             continue  # no floor seen through it: a speck at a wall's foot, or rays through glass
+        chosen.append(i)
+    views = _viewpoint_cells(reachable, grid, blacklist)
+    return _looks_at(small, _best_looks(grid, small, chosen, (labels, areas), views, config), pose)
+
+
+def spent_looks(
+    grid: OccupancyGrid, pose: Pose, reachable: NDArray[np.bool_], config: SimConfig, blacklist: Blacklist
+) -> Frontiers:
+    """The frontiers a robot at ``pose`` can reach (``reachable``; larger than the drop size) that
+    the ``blacklist`` has given up on after their tries, but not visited twice, each at the
+    viewpoint away from every goal tried that sees most of the unknown it opens onto, if at least
+    :data:`LOOK_MIN_GAIN_M2`: a last look from elsewhere at a frontier the robot could not get to
+    (a gap narrower than the robot, with a room seen through it), as the small clusters get."""
+    reach = min(config.frontier_goal_reach, config.mapping_range)
+    drop = config.drop_cells(grid.resolution)
+    given_up = detect_frontiers(grid, pose, reachable, drop, config.frontier_segment_length, reach)
+    chosen = [
+        i
+        for i in range(len(given_up))
+        if not blacklist.history_of(grid.cells_to_world(given_up.cells_of(i)))[1]  # not visited twice
+    ]
+    if not chosen:
+        return given_up.subset(np.zeros(0, np.int64))
+    labels, areas = _unknown_regions(grid)
+    views = _viewpoint_cells(reachable, grid, blacklist)
+    return _looks_at(given_up, _best_looks(grid, given_up, chosen, (labels, areas), views, config), pose)
+
+
+def _unknown_regions(grid: OccupancyGrid) -> tuple[NDArray[np.int32], NDArray[np.float64]]:
+    """The labels of ``grid``'s 4-connected unknown regions (0: known cells) and each one's area (m²)."""
+    labels, count = ndimage.label(grid.data == CellState.UNKNOWN)
+    areas = np.bincount(labels.ravel(), minlength=count + 1) * grid.resolution**2
+    return np.asarray(labels, np.int32), areas.astype(np.float64)
+
+
+def _best_looks(
+    grid: OccupancyGrid,
+    clusters: Frontiers,
+    chosen: list[int],
+    unknown_regions: tuple[NDArray[np.int32], NDArray[np.float64]],
+    views: NDArray[np.int64],
+    config: SimConfig,
+) -> dict[tuple[int, int], list[int]]:
+    """The ``chosen`` clusters worth a look, by the viewpoint (row, col) of ``views`` that is the
+    best look at each: whose scan would see at least :data:`LOOK_MIN_GAIN_M2` of the unknown
+    regions the cluster opens onto (``unknown_regions``: the labels of the map's unknown regions
+    and each one's area in m², 0 for those a look may not count)."""
+    labels, areas = unknown_regions
+    reach = min(config.frontier_goal_reach, config.mapping_range)
+    least = LOOK_MIN_GAIN_M2 / grid.resolution**2
+    unknown = labels > 0
+    groups: dict[tuple[int, int], list[int]] = {}
+    for i in chosen:
+        cells = clusters.cells_of(i)
         regions = labels_beside(labels, cells[:, 0], cells[:, 1])
         regions = regions[areas[regions] > 0]
         if areas[regions].sum() < LOOK_MIN_GAIN_M2:
@@ -118,7 +168,7 @@ def last_looks(
         best, gain = _best_viewpoint(grid, unknown & np.isin(labels, regions), views, cells, reach, config)
         if gain >= least:
             groups.setdefault((int(best[0]), int(best[1])), []).append(i)
-    return _looks_at(small, groups, pose)
+    return groups
 
 
 def _looks_at(small: Frontiers, groups: dict[tuple[int, int], list[int]], pose: Pose) -> Frontiers:

@@ -16,10 +16,10 @@ from frontier_rl.core.navigation.astar import SearchScratch
 from frontier_rl.core.navigation.follower import footprint_offsets
 from frontier_rl.core.navigation.inflation import InflationMemory
 from frontier_rl.core.navigation.thin_walls import Recovery, recovery_robot
-from frontier_rl.core.sim.candidates import Candidates, find_candidates
+from frontier_rl.core.sim.candidates import Candidates, Look, find_candidates
 from frontier_rl.core.sim.config import SimConfig
 from frontier_rl.core.sim.episode_log import EpisodeLog
-from frontier_rl.core.sim.looks import LOOK_PAYOFF_M2, last_looks, may_look
+from frontier_rl.core.sim.looks import LOOK_PAYOFF_M2, last_looks, may_look, spent_looks
 from frontier_rl.core.sim.paths import map_blocks_path, replan_path
 from frontier_rl.core.sim.teammates import Teammates
 from frontier_rl.core.sim.trail import mark_path
@@ -100,14 +100,23 @@ class Navigator:
         if len(levels[-1].frontiers):
             return levels[-1]
         if self._looks is None:  # computed once per map: a look costs rays from thousands of viewpoints
-            self._looks = levels[0]
-            worth = self.looking and (self.confirmed or may_look(levels[0].grid, levels[0].reachable))
-            for cand in levels if worth else ():
-                looks = last_looks(cand.grid, pose, cand.reachable, self._config, self.blacklist, self.confirmed)
-                if len(looks):
-                    self._looks = dataclasses.replace(cand, frontiers=looks, looks=True)
-                    break
+            self._looks = self._last_looks(levels, pose)
         return self._looks
+
+    def _last_looks(self, levels: list[Candidates], pose: Pose) -> Candidates:
+        """The last looks of ``levels`` (which have no frontier left) from the first level that has
+        one: at the small clusters while :attr:`looking`, else at the frontiers given up after their
+        tries (each at most twice, as a visit); ``levels[0]`` when there is none."""
+        worth = self.looking and (self.confirmed or may_look(levels[0].grid, levels[0].reachable))
+        for cand in levels if worth else ():
+            looks = last_looks(cand.grid, pose, cand.reachable, self._config, self.blacklist, self.confirmed)
+            if len(looks):
+                return dataclasses.replace(cand, frontiers=looks, looks=Look.SMALL)
+        for cand in levels:
+            looks = spent_looks(cand.grid, pose, cand.reachable, self._config, self.blacklist)
+            if len(looks):
+                return dataclasses.replace(cand, frontiers=looks, looks=Look.GIVEN_UP)
+        return levels[0]
 
     def _levels(self, pose: Pose) -> list[Candidates]:
         """The candidates of the normal costmap and then of each narrow-passage recovery level in
@@ -129,10 +138,11 @@ class Navigator:
         return self._cached
 
     def looked(self, revealed_m2: float) -> None:
-        """A look mapped ``revealed_m2`` of floor (m², cells newly known free). One that paid
-        :data:`~frontier_rl.core.sim.looks.LOOK_PAYOFF_M2` lets the next do without floor seen near
-        their clusters. One that paid less, taken while a paid look's word held, ends that word for the
-        episode (the looks with floor seen through their clusters go on); otherwise it ends every look."""
+        """A look at the small clusters mapped ``revealed_m2`` of floor (m², cells newly known
+        free). One that paid :data:`~frontier_rl.core.sim.looks.LOOK_PAYOFF_M2` lets the next do
+        without floor seen near their clusters. One that paid less, taken while a paid look's word
+        held, ends that word for the episode (the looks with floor seen through their clusters go
+        on); otherwise it ends every look at them."""
         paid = revealed_m2 >= LOOK_PAYOFF_M2
         if self.confirmed and not paid:
             self._confirmable = False

@@ -23,7 +23,7 @@ from frontier_rl.core.navigation.follower import FollowerParams
 from frontier_rl.core.navigation.inflation import InflationMemory
 from frontier_rl.core.sensing.lidar import Lidar
 from frontier_rl.core.sim.body import touched_walls, until_next_scan
-from frontier_rl.core.sim.candidates import Candidates
+from frontier_rl.core.sim.candidates import Candidates, Look
 from frontier_rl.core.sim.config import SimConfig
 from frontier_rl.core.sim.episode_log import EndReason, EpisodeLog, completion_reason
 from frontier_rl.core.sim.frontiers_left import frontiers_left
@@ -269,10 +269,12 @@ class ExplorationSimulator:
                 self.blacklist.fail(*goal, self.mapper.state, frontier=frontier)
                 self.log.abort(AbortCause.NOT_PLANNED)
                 continue
-            if cand.looks:  # a point goal, the view; recorded as a visit of its cluster whatever it shows
+            if cand.looks is not Look.NONE:  # a point goal, the view; a visit of its cluster whatever it shows
                 result = yield from self._drive(Leg(self, path, goal, None, cand.recovery), index, weight)
                 self.blacklist.fail(*goal, self.mapper.state, reached=True, frontier=frontier)
-                self.navigator.looked(result.new_free * self.world.grid.resolution**2)
+                if cand.looks is Look.SMALL:  # whether the looks at small clusters go on
+                    self.navigator.looked(result.new_free * self.world.grid.resolution**2)
+                self.navigator.forget()  # the blacklist changed
                 return result
             frontier_cells = self.world.grid.world_to_cells(frontier)
             return (yield from self._drive(Leg(self, path, goal, frontier_cells, cand.recovery), index, weight))

@@ -8,7 +8,8 @@ import pytest
 
 from frontier_rl.core.frontiers.blacklist import AUDIT_BUDGET, Blacklist
 from frontier_rl.core.navigation.thin_walls import Recovery
-from frontier_rl.core.sim.candidates import find_candidates
+from frontier_rl.core.sim import navigator
+from frontier_rl.core.sim.candidates import Look, find_candidates
 from frontier_rl.core.sim.config import UNSEEN_ROOM_M2, SimConfig
 from frontier_rl.core.sim.episode import run_episode
 from frontier_rl.core.sim.episode_log import EndReason, completion_reason, leaves_space
@@ -79,6 +80,14 @@ def _sim_on_two_rooms() -> ExplorationSimulator:
     return ExplorationSimulator(make_world(grid, "two rooms", start=start), SimConfig(), np.random.default_rng(0))
 
 
+@pytest.fixture
+def no_look_from_elsewhere(monkeypatch: pytest.MonkeyPatch) -> None:
+    """Frontiers given up after their tries get no look from elsewhere: as where no viewpoint away
+    from the goals tried sees enough of their unknown (:func:`~frontier_rl.core.sim.looks.spent_looks`)."""
+    offered = navigator.spent_looks
+    monkeypatch.setattr(navigator, "spent_looks", lambda *args: offered(*args).subset(np.zeros(0, np.int64)))
+
+
 def _fail_every_candidate(sim: ExplorationSimulator, times: int) -> None:
     goals = [sim.map().cell_to_world(*cell) for cell in sim.frontiers().goal_cells]
     for x, y in goals:
@@ -87,11 +96,33 @@ def _fail_every_candidate(sim: ExplorationSimulator, times: int) -> None:
     sim.refresh()
 
 
-def test_a_frontier_the_map_has_a_way_to_is_retried_after_its_tries_within_the_budget() -> None:
+def test_a_frontier_given_up_after_its_tries_gets_a_look_from_elsewhere_and_is_unrevealable_after_two() -> None:
     sim = _sim_on_two_rooms()
     before = len(sim.frontiers())
     _fail_every_candidate(sim, MAX_FAILURES)
     assert len(sim.frontiers()) == before  # the audit gave them their tries again
+    tried = np.array([sim.map().cell_to_world(*cell) for cell in sim.frontiers().goal_cells])
+    _fail_every_candidate(sim, AUDIT_BUDGET * MAX_FAILURES)
+    for _ in range(2):  # two looks from elsewhere, each recorded as a visit that revealed nothing
+        cand = sim.candidates()
+        assert cand.looks is Look.GIVEN_UP and len(cand.frontiers) and not sim.finished
+        gaps = np.hypot(*(cand.frontiers.goals[:, None, :] - tried[None, :, :]).transpose(2, 0, 1))
+        assert (gaps > sim.blacklist.radius).all()  # from another place than any goal tried
+        for i in range(len(cand.frontiers)):
+            frontier = cand.grid.cells_to_world(cand.frontiers.cells_of(i))
+            sim.blacklist.fail(*cand.frontiers.goals[i], sim.mapper.state, reached=True, frontier=frontier)
+        tried = np.vstack((tried, cand.frontiers.goals))
+        sim.refresh()
+    assert sim.finished
+    result = sim.result(0.0)
+    assert result.end_reason == "unreachable"  # the far room is left, behind frontiers seen in vain
+    assert result.frontiers_with_path_left == 0 and result.frontiers_unrevealable_left > 0
+
+
+def test_a_frontier_the_map_has_a_way_to_is_retried_after_its_tries_within_the_budget(
+    no_look_from_elsewhere: None,
+) -> None:
+    sim = _sim_on_two_rooms()
     _fail_every_candidate(sim, AUDIT_BUDGET * MAX_FAILURES)
     assert sim.finished
     left = sim.frontiers_left()
@@ -112,7 +143,9 @@ def test_a_frontier_the_map_has_a_way_to_is_retried_after_its_tries_within_the_b
     assert result.summary().explorable_given_up_m2 == pytest.approx(result.explorable_given_up_m2, abs=1e-4)
 
 
-def test_a_frontier_whose_unknown_side_is_wall_leaves_no_space_and_is_not_counted_as_space_given_up() -> None:
+def test_a_frontier_whose_unknown_side_is_wall_leaves_no_space_and_is_not_counted_as_space_given_up(
+    no_look_from_elsewhere: None,
+) -> None:
     """The same frontiers given up, against a true world in which every cell the robot has not
     seen is wall: they still have a path, but they leave nothing to explore."""
     sim = _sim_on_two_rooms()
@@ -131,7 +164,9 @@ def test_a_frontier_whose_unknown_side_is_wall_leaves_no_space_and_is_not_counte
     assert explorable_given_up_m2(left) == 0.0
 
 
-def test_space_given_up_that_the_robot_could_not_have_seen_on_the_true_map_is_not_explorable_given_up() -> None:
+def test_space_given_up_that_the_robot_could_not_have_seen_on_the_true_map_is_not_explorable_given_up(
+    no_look_from_elsewhere: None,
+) -> None:
     """The far room left with a path, in a world whose explorable space (what this robot can see
     from where it can go on the true map) leaves it out: space left, none of it explorable."""
     sim = _sim_on_two_rooms()

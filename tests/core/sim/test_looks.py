@@ -1,6 +1,7 @@
 """The last looks (issue 58): before an episode ends, a frontier cluster too small to be a candidate
 that a reachable viewpoint would see a room's worth of unknown through (a gap in a thin wall
-narrower than the robot) gets one look; specks do not, and no cluster gets two."""
+narrower than the robot) gets one look; specks do not, and no cluster gets two. A frontier given
+up after its tries gets looks from elsewhere too, at most two."""
 
 from __future__ import annotations
 
@@ -9,11 +10,11 @@ from pathlib import Path
 import numpy as np
 
 from frontier_rl import load_world, make_policy, run_episode
-from frontier_rl.core.frontiers.blacklist import Blacklist
+from frontier_rl.core.frontiers.blacklist import AUDIT_BUDGET, Blacklist
 from frontier_rl.core.frontiers.detection import Frontiers
 from frontier_rl.core.sim.candidates import reachable_frontiers
 from frontier_rl.core.sim.config import SimConfig
-from frontier_rl.core.sim.looks import LOOK_MIN_GAIN_M2, LOOK_PAYOFF_M2, last_looks
+from frontier_rl.core.sim.looks import LOOK_MIN_GAIN_M2, LOOK_PAYOFF_M2, last_looks, spent_looks
 from frontier_rl.core.sim.navigator import Navigator
 from frontier_rl.core.sim.simulator import ExplorationSimulator
 from frontier_rl.core.world.grid import CellState, OccupancyGrid
@@ -119,6 +120,46 @@ def test_a_cluster_looked_at_once_gets_a_second_look_from_elsewhere_and_none_aft
     assert len(second) == 1 and np.hypot(*(second.goals[0] - first.goals[0])) > looked.radius
     looked.fail(*second.goals[0], grid.data, reached=True, frontier=gap)
     assert len(_looks(grid, looked)[1]) == 0
+
+
+def _given_up(closet: bool = False) -> tuple[OccupancyGrid, Blacklist, Frontiers]:
+    """The window map with a gap of seven cells (0.35 m), a frontier, given up after the audit's
+    budget of failed legs to its goal (with ``closet``, the unknown behind it is 0.14 m² walled
+    in); and the last looks at it."""
+    grid = window_map()
+    grid.data[35:42, 61] = FREE
+    if closet:
+        grid.data[:, 62:] = OCC
+        grid.data[33:44, 62:67] = UNKNOWN  # 11 x 5 cells behind the gap: 0.14 m²
+    config, pose = SimConfig(), Pose(0.5, 0.5, 0.0)
+    _, reachable, frontiers = reachable_frontiers(grid, pose, config)
+    assert len(frontiers) == 1  # the gap is a candidate
+    blacklist, frontier = _blacklist(), grid.cells_to_world(frontiers.cells_of(0))
+    for _ in range(AUDIT_BUDGET * blacklist.max_failures):
+        blacklist.fail(*frontiers.goals[0], grid.data, frontier=frontier)
+    return grid, blacklist, spent_looks(grid, pose, reachable, config, blacklist)
+
+
+def test_a_frontier_given_up_gets_a_look_from_elsewhere_twice_at_most() -> None:
+    grid, blacklist, looks = _given_up()
+    assert len(looks) == 1 and looks.sizes[0] > SimConfig().min_frontier_cells
+    tried = blacklist.entries[0].goals
+    assert np.hypot(*(looks.goals[0] - tried[0])) > blacklist.radius and grid.data[tuple(looks.goal_cells[0])] == FREE
+    gap = grid.cells_to_world(looks.cells_of(0))
+    for visit in range(2):  # each look a visit that revealed nothing: then one from elsewhere, then none
+        blacklist.fail(*looks.goals[0], grid.data, reached=True, frontier=gap)
+        config, pose = SimConfig(), Pose(0.5, 0.5, 0.0)
+        _, reachable, _ = reachable_frontiers(grid, pose, config)
+        again = spent_looks(grid, pose, reachable, config, blacklist)
+        assert len(again) == (1 - visit)
+        if len(again):
+            assert np.hypot(*(again.goals[0] - looks.goals[0])) > blacklist.radius
+            looks = again
+
+
+def test_a_frontier_given_up_onto_less_unknown_than_a_person_lying_down_gets_no_look() -> None:
+    assert LOOK_MIN_GAIN_M2 >= 1.0
+    assert len(_given_up(closet=True)[2]) == 0
 
 
 def test_the_window_of_a_slam_map_is_looked_through(real_maps: Path) -> None:
