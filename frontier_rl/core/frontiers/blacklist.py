@@ -202,6 +202,12 @@ class Blacklist:
             if entry.failures < limit and not self.unrevealable(entry):
                 entry.active = False
 
+    def gave_up(self) -> bool:
+        """Whether a goal has used up the audit's budget (``AUDIT_BUDGET`` times ``max_failures``)
+        without being :meth:`unrevealable`: a frontier given up for want of a way there, not of a view."""
+        budget = AUDIT_BUDGET * self.max_failures
+        return any(entry.failures >= budget and not self.unrevealable(entry) for entry in self.entries)
+
     def failures_near(self, x: float, y: float) -> int:
         """How often a goal within ``radius`` of (x, y) (m) failed."""
         return self.history_of(np.array([[x, y]]))[0]

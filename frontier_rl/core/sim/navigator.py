@@ -112,7 +112,7 @@ class Navigator:
             looks = last_looks(cand.grid, pose, cand.reachable, self._config, self.blacklist, self.confirmed)
             if len(looks):
                 return dataclasses.replace(cand, frontiers=looks, looks=Look.SMALL)
-        for cand in levels:
+        for cand in levels if self.blacklist.gave_up() else ():  # a frontier given up to look at
             looks = spent_looks(cand.grid, pose, cand.reachable, self._config, self.blacklist)
             if len(looks):
                 return dataclasses.replace(cand, frontiers=looks, looks=Look.GIVEN_UP)

@@ -36,11 +36,11 @@ def test_the_audit_budget_lifts_goals_that_used_their_tries_once_more_and_then_n
     bl.retry()
     assert bl.blocked(goal).all()  # used its tries
     bl.retry(AUDIT_BUDGET * MAX_FAILURES)
-    assert not bl.blocked(goal).any()  # the audit's: as many again
+    assert not bl.blocked(goal).any() and not bl.gave_up()  # the audit's: as many again
     for _ in range(AUDIT_BUDGET * MAX_FAILURES - MAX_FAILURES):
         bl.fail(1.0, 1.0, state)
     bl.retry(AUDIT_BUDGET * MAX_FAILURES)
-    assert bl.blocked(goal).all()  # the budget is spent: given up for good
+    assert bl.blocked(goal).all() and bl.gave_up()  # the budget is spent: given up for good
 
 
 def test_a_goal_reached_twice_in_vain_is_unrevealable_and_the_audit_leaves_it() -> None:
@@ -54,6 +54,7 @@ def test_a_goal_reached_twice_in_vain_is_unrevealable_and_the_audit_leaves_it() 
     assert bl.history_of(goal) == (MAX_FAILURES, True)
     bl.retry(AUDIT_BUDGET * MAX_FAILURES)
     assert bl.blocked(goal).all()  # the view it was chosen for revealed nothing, twice: not chased again
+    assert not bl.gave_up()  # not for want of a way: no look from elsewhere
     bl.fail(2.0, 2.0, state)
     bl.fail(2.0, 2.0, state, reached=True)
     bl.retry(AUDIT_BUDGET * MAX_FAILURES)
