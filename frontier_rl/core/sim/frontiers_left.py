@@ -49,8 +49,9 @@ class UnseenRegions:
         labels, count = ndimage.label((state == CellState.UNKNOWN) & (truth == CellState.FREE))
         flat = labels.ravel()
         sizes = np.bincount(flat, minlength=count + 1)
-        seeable = np.zeros(count + 1, np.int64)
-        if explorable is not None:
+        if explorable is None:
+            seeable = np.zeros(count + 1, np.int64)
+        else:
             seeable = np.bincount(flat, weights=explorable.ravel(), minlength=count + 1).astype(np.int64)
             seeable[0] = 0
         return cls(np.asarray(labels, np.int32), sizes, seeable)

@@ -21,6 +21,13 @@ maps less: then the looks need floor seen through their clusters again, and the 
 that maps less ends the episode's looks. A look is recorded in the blacklist as a visit of its
 clusters whatever it reveals, and no look is taken from near a goal already tried, so a cluster
 gets at most two looks (visited twice it is unrevealable), each from another place.
+
+Then the frontiers given up after the audit's tries (:func:`spent_looks`) get looks too, from a
+reachable cell away from every goal tried for them: on the harder survey's Willow Garage maps a
+frontier given up after four failed legs through a gap narrower than the robot had 2.9 m² of
+floor behind it that a cell the robot could reach sees. They need no floor seen through them (the
+frontier is the robot's own evidence of free space there) and no look ends them: each is a visit,
+so a frontier gets at most two.
 """
 
 from __future__ import annotations
@@ -115,11 +122,12 @@ def last_looks(
 def spent_looks(
     grid: OccupancyGrid, pose: Pose, reachable: NDArray[np.bool_], config: SimConfig, blacklist: Blacklist
 ) -> Frontiers:
-    """The frontiers a robot at ``pose`` can reach (``reachable``; larger than the drop size) that
-    the ``blacklist`` has given up on after their tries, but not visited twice, each at the
-    viewpoint away from every goal tried that sees most of the unknown it opens onto, if at least
-    :data:`LOOK_MIN_GAIN_M2`: a last look from elsewhere at a frontier the robot could not get to
-    (a gap narrower than the robot, with a room seen through it), as the small clusters get."""
+    """The frontiers a robot at ``pose`` can reach (``reachable``; larger than the drop size) but
+    those visited twice (``blacklist``), each at the viewpoint away from every goal tried that sees
+    most of the unknown it opens onto, if at least :data:`LOOK_MIN_GAIN_M2`; the frontiers one
+    viewpoint is best for make one. Asked when no candidate is left, so that each is a frontier
+    given up after the audit's tries: a last look from elsewhere at one the robot could not get to
+    (through a gap narrower than itself, with a room seen through it)."""
     reach = min(config.frontier_goal_reach, config.mapping_range)
     drop = config.drop_cells(grid.resolution)
     given_up = detect_frontiers(grid, pose, reachable, drop, config.frontier_segment_length, reach)

@@ -95,7 +95,8 @@ class Navigator:
         (the map with its walls a cell thinner, as range noise made them a cell thicker, for a robot
         half a cell and then a cell slimmer: :class:`~frontier_rl.core.navigation.thin_walls.Recovery`)
         are the candidates, the first level that has any; when none has any, the last looks
-        (:func:`~frontier_rl.core.sim.looks.last_looks`) from the first level that has one."""
+        (:func:`~frontier_rl.core.sim.looks.last_looks`, then
+        :func:`~frontier_rl.core.sim.looks.spent_looks`) from the first level that has one."""
         levels = self._levels(pose)
         if len(levels[-1].frontiers):
             return levels[-1]
