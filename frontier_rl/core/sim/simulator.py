@@ -274,7 +274,8 @@ class ExplorationSimulator:
                 self.blacklist.fail(*goal, self.mapper.state, reached=True, frontier=frontier)
                 if cand.looks is Look.SMALL:  # whether the looks at small clusters go on
                     self.navigator.looked(result.new_free * self.world.grid.resolution**2)
-                self.navigator.forget()  # the blacklist changed
+                else:
+                    self.navigator.forget()  # the blacklist changed
                 return result
             frontier_cells = self.world.grid.world_to_cells(frontier)
             return (yield from self._drive(Leg(self, path, goal, frontier_cells, cand.recovery), index, weight))
