@@ -9,7 +9,7 @@ import numpy as np
 import pytest
 
 from frontier_rl.core.frontiers.blacklist import AUDIT_BUDGET
-from frontier_rl.core.navigation.follower import FollowerParams, FollowStatus, follow_path
+from frontier_rl.core.navigation.follower import FollowerParams, FollowStatus, careful_flags, follow_path
 from frontier_rl.core.sim.candidates import reachable_frontiers
 from frontier_rl.core.sim.config import SimConfig
 from frontier_rl.core.sim.leg_result import LegOutcome
@@ -123,7 +123,7 @@ def _follow_straight(x0: float, to_x: float) -> tuple[float, int]:
     gate = np.array([1e9, 0.0, 0.0, 0.0, np.inf, np.inf])
     open_space = np.full((100, 100), 10.0)
     x, *_, status = follow_path(path[:, 0], path[:, 1], 0, x0, 0.0, heading, 1.0, params, open_space, np.zeros((1, 2)),
-                                2 * RADIUS, -2.5, -2.5, 0.05, gate, np.zeros(2, np.bool_))  # fmt: skip
+                                2 * RADIUS, -2.5, -2.5, 0.05, gate, careful_flags())  # fmt: skip
     return x, status
 
 

@@ -167,12 +167,14 @@ def _careful_target(
     careful: NDArray[np.bool_],
 ) -> tuple[int, int, bool]:
     """The waypoint a careful robot at (x, y) (m) steers at: the one after its nearest, or the
-    nearest itself while ``careful[1]`` (cleared once it stands on it). Returns the target, the
-    nearest waypoint and whether the robot stands off its centre (m, cells of ``resolution``)."""
+    nearest itself while ``careful[1]`` (cleared once it stands on it, when ``careful[2]`` is set).
+    Returns the target, the nearest waypoint and whether the robot stands off its centre (m, cells
+    of ``resolution``)."""
     near = _nearest_waypoint(path_x, path_y, index, x, y, lookahead)
     off_centre = math.hypot(path_x[near] - x, path_y[near] - y) > _CENTRED * resolution
     if careful[1] and not off_centre:
         careful[1] = False
+        careful[2] = True
     return (near if careful[1] else min(near + 1, path_x.shape[0] - 1)), near, off_centre
 
 
@@ -246,6 +248,23 @@ def _deeper_into_a_mate(x: float, y: float, nx: float, ny: float, mates: NDArray
     return False
 
 
+@nb.njit(cache=True, inline="always")
+def _moved_on(
+    careful: NDArray[np.bool_],
+    x: float,
+    y: float,
+    nx: float,
+    ny: float,
+    origin_x: float,
+    origin_y: float,
+    resolution: float,
+) -> None:
+    """A step from (x, y) into another cell (nx, ny) (m) clears the careful robot's third flag:
+    it has left the waypoint it stepped back onto."""
+    if careful[2] and not _same_cell(x, y, nx, ny, origin_x, origin_y, resolution):
+        careful[2] = False
+
+
 _ALIGNED = 1e-3
 """Heading error (rad) below which a robot blocked by a wall counts as facing its waypoint."""
 
@@ -277,11 +296,13 @@ def follow_path(
     of other robots, m; (0, 2) alone).
     ``gate`` = (tick, x0, y0, theta0, linear, angular): the drive also stops at the first tick
     boundary (every ``tick`` s) where the robot is ``linear`` m from (x0, y0) or has turned
-    ``angular`` rad from theta0, the moment the mapper wants a new scan. ``careful`` (two flags,
-    kept by the caller for the whole path): the first switches from steering at the lookahead
-    point to following the waypoints one by one, set the first time the lookahead cuts a corner
-    into a wall; the second steers back to the nearest waypoint before the next, set when the way
-    to the next from off its centre is walled.
+    ``angular`` rad from theta0, the moment the mapper wants a new scan. ``careful``
+    (:func:`careful_flags`, kept by the caller for the whole path): the first switches from
+    steering at the lookahead point to following the waypoints one by one, set the first time the
+    lookahead cuts a corner into a wall; the second steers back to the nearest waypoint before the
+    next, set when the way to the next from off its centre is walled; the third is set once the
+    robot stands on that waypoint again, until it enters another cell: walled a second time
+    from there, the way is too tight (BLOCKED), where stepping back again would circle for ever.
 
     Returns (x, y, theta, index, distance driven (m), time used (s), status), the status a
     :class:`FollowStatus`.
@@ -328,7 +349,7 @@ def follow_path(
                     elapsed += used
                     continue
                 cut = not _same_cell(nx, ny, path_x[target], path_y[target], origin_x, origin_y, resolution)
-                if wall and cut and not careful[1] and off_centre and target != near:
+                if wall and cut and not careful[1] and not careful[2] and off_centre and target != near:
                     # The straight line to the next waypoint cuts the corner of a cell the robot
                     # may not enter (it stands at its cell's edge): its own waypoint first.
                     careful[1] = True
@@ -338,7 +359,13 @@ def follow_path(
             # one by one from now on, which keeps the robot on the planned cells.
             careful[0] = True
             continue
+        _moved_on(careful, x, y, nx, ny, origin_x, origin_y, resolution)
         driven += math.hypot(nx - x, ny - y)
         x, y, theta = nx, ny, new_theta
         elapsed += step
     return x, y, theta, index, driven, elapsed, _DRIVING
+
+
+def careful_flags() -> NDArray[np.bool_]:
+    """The careful follower's three flags for a new path, all clear (see :func:`follow_path`)."""
+    return np.zeros(3, np.bool_)

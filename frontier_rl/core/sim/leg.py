@@ -16,7 +16,7 @@ from typing import Protocol, TypeVar
 import numpy as np
 from numpy.typing import NDArray
 
-from frontier_rl.core.navigation.follower import FollowerParams, FollowStatus, follow_path
+from frontier_rl.core.navigation.follower import FollowerParams, FollowStatus, careful_flags, follow_path
 from frontier_rl.core.navigation.thin_walls import Recovery
 from frontier_rl.core.sim.config import SimConfig
 from frontier_rl.core.sim.leg_result import AbortCause, LegOutcome
@@ -158,7 +158,7 @@ class Leg:
         self._path = path
         self._path_cells = self._port.world.grid.world_to_cells(path)
         self._tail = tail_lengths(path)
-        self._careful = np.zeros(2, np.bool_)  # the follower's waypoint-by-waypoint modes, per path
+        self._careful = careful_flags()  # the follower's waypoint-by-waypoint modes, per path
         self._index = 0
 
     def run(self) -> Generator[None, None, LegOutcome]:

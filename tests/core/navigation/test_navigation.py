@@ -18,7 +18,7 @@ from frontier_rl.core.navigation import astar as astar_module
 from frontier_rl.core.navigation.astar import SearchScratch, astar, astar_padded
 from frontier_rl.core.navigation.config import NavigationConfig
 from frontier_rl.core.navigation.costmap import Costmap, nearest_cell
-from frontier_rl.core.navigation.follower import FollowerParams, follow_path, footprint_offsets
+from frontier_rl.core.navigation.follower import FollowerParams, careful_flags, follow_path, footprint_offsets
 from frontier_rl.core.navigation.path_costs import cost_to_go_padded
 from frontier_rl.core.sim.teammates import obstacle_distance
 from frontier_rl.core.world.catalog import generate_world
@@ -441,7 +441,7 @@ def drive(path_xy: NDArray[np.float64], x: float, y: float, theta: float, durati
           gate: NDArray[np.float64] = NO_GATE) -> tuple[float, ...]:  # fmt: skip
     return tuple(
         follow_path(path_xy[:, 0].copy(), path_xy[:, 1].copy(), 0, x, y, theta, duration, p, clearance,
-                    NO_MATES, 0.0, origin[0], origin[1], res, gate, np.zeros(2, np.bool_))
+                    NO_MATES, 0.0, origin[0], origin[1], res, gate, careful_flags())
     )  # fmt: skip
 
 
@@ -506,7 +506,7 @@ def test_follow_path_refuses_to_enter_cells_closer_than_the_radius_to_a_wall() -
     clearance, grid = wall_world()
     path = np.column_stack((np.linspace(0.525, 2.8, 50), np.full(50, 0.525)))
     x, y, theta, pose_index = 0.525, 0.525, 0.0, 0
-    careful = np.zeros(2, np.bool_)
+    careful = careful_flags()
     status = 0
     for _ in range(400):  # tick by tick, checking every pose on the way
         x, y, theta, pose_index, _, _, status = follow_path(

@@ -65,7 +65,7 @@ def _corner_world() -> tuple[NDArray[np.float64], NDArray[np.float64]]:
 
 def _follow(path: NDArray[np.float64], clearance: NDArray[np.float64], x: float, y: float, theta: float,
             ticks: int) -> tuple[float, float, list[tuple[int, int]]]:  # fmt: skip
-    careful = np.array([True, False])
+    careful = np.array([True, False, False])
     index, cells = 0, []
     for _ in range(ticks):
         x, y, theta, index, _, _, status = follow_path(
@@ -90,7 +90,7 @@ def test_a_careful_robot_at_its_cells_edge_steps_back_onto_its_waypoint_instead_
 def test_a_careful_robot_blocked_on_its_waypoint_reports_blocked() -> None:
     clearance, _ = _corner_world()
     path = _centres([(5, 5), (5, 4), (5, 3)])  # straight through the cell too close to the wall
-    careful = np.array([True, False])
+    careful = np.array([True, False, False])
     *_, status = follow_path(path[:, 0], path[:, 1], 0, 5.5 * RES, 5.5 * RES, math.pi, 2.0, _params(), clearance,
                              NO_MATES, 0.0, 0.0, 0.0, RES, NO_GATE, careful)  # fmt: skip
     assert status == 2  # blocked: the bumper may feel the wall, and the leg replans
@@ -155,10 +155,35 @@ def test_a_step_across_a_corner_whose_two_side_cells_are_too_close_to_a_wall_is_
     assert clearance[4, 4] >= ROBOT.radius and clearance[5, 5] >= ROBOT.radius
     path = _centres([(5, 5), (4, 4), (3, 3)])
     start_x, start_y = 5 * RES + 0.002, 5 * RES + 0.002  # at the corner
-    careful = np.array([True, False])
+    careful = np.array([True, False, False])
     *_, status = follow_path(path[:, 0], path[:, 1], 0, start_x, start_y, math.atan2(-1.0, -1.0), 2.0, _params(),
                              clearance, NO_MATES, 0.0, 0.0, 0.0, RES, NO_GATE, careful)  # fmt: skip
     assert status == 2  # blocked: through a corner the planner never cuts, the robot does not slip either
+
+
+def test_a_careful_robot_that_cannot_cross_a_corner_reports_blocked_instead_of_circling() -> None:
+    # a staircase one cell wide along a diagonal, as a slimmer robot's plan may take it: the
+    # waypoints' cells are clear, the cells beside them too close to a wall, so every step to the
+    # next waypoint crosses a corner the robot may not cut. Steering at the next waypoint with an
+    # error within the turn-in-place angle, it drifts into a cell beside, steps back onto its
+    # waypoint, and used to do so for ever, driving in circles until the leg's progress check
+    # gave up 30 s later, with nothing felt, so that the next leg planned the same way.
+    clearance = np.zeros((12, 12))
+    for k in range(2, 10):
+        clearance[k, k] = math.sqrt(2) * RES
+    path = _centres([(k, k) for k in range(8, 1, -1)])
+    x, y = path[0, 0], path[0, 1]
+    theta = math.atan2(-1.0, -1.0) - 0.45  # within the turn-in-place angle of the next waypoint
+    careful = np.array([True, False, False])
+    index, elapsed, status = 0, 0.0, 0
+    while status == 0 and elapsed < 10.0:
+        x, y, theta, index, _, used, status = follow_path(
+            path[:, 0], path[:, 1], index, x, y, theta, 0.2, _params(), clearance, NO_MATES, 0.0, 0.0, 0.0, RES,
+            NO_GATE, careful,
+        )  # fmt: skip
+        elapsed += max(used, 0.2)
+        assert clearance[math.floor(y / RES), math.floor(x / RES)] >= ROBOT.radius  # never into a cell beside
+    assert status == 2  # blocked: the bumper feels the walls, and the way is planned anew without the corner
 
 
 def test_the_way_the_robot_came_stays_open_on_the_recovery_costmap_but_not_beside_a_felt_wall() -> None:
