@@ -14,6 +14,7 @@ from frontier_rl.core.navigation.config import NavigationConfig
 from frontier_rl.core.navigation.costmap import Costmap
 from frontier_rl.core.navigation.follower import FollowerParams, _nearest_waypoint, follow_path
 from frontier_rl.core.navigation.thin_walls import Recovery, recovery_costmap, recovery_robot
+from frontier_rl.core.sim.body import touched_walls
 from frontier_rl.core.sim.candidates import find_candidates
 from frontier_rl.core.sim.config import SimConfig
 from frontier_rl.core.sim.teammates import obstacle_distance
@@ -184,6 +185,22 @@ def test_a_careful_robot_that_cannot_cross_a_corner_reports_blocked_instead_of_c
         elapsed += max(used, 0.2)
         assert clearance[math.floor(y / RES), math.floor(x / RES)] >= ROBOT.radius  # never into a cell beside
     assert status == 2  # blocked: the bumper feels the walls, and the way is planned anew without the corner
+
+
+def test_a_staircase_a_slimmer_robot_fits_is_closed_on_the_recovery_costmap_once_the_robot_felt_its_walls() -> None:
+    # a diagonal corridor three cells across, its walls where the map has them: the robot's centre
+    # fits on the middle cells only, and a step between two of them crosses a corner. Planned a
+    # whole cell slimmer the way is open; the robot that reported BLOCKED on it feels the walls
+    # round it, and the way is shut there, as the planner never cuts a corner
+    data = np.full((16, 16), OCC, np.int8)
+    for k in range(16):
+        data[k, max(k - 1, 0) : k + 2] = FREE
+    grid = OccupancyGrid(data, RES)
+    start, goal = (1, 1), (14, 14)
+    felt = np.zeros(grid.shape, np.bool_)
+    assert len(recovery_costmap(grid, felt, ROBOT, NAV, Recovery.WHOLE_CELL).plan(start, goal)) > 0
+    felt[touched_walls(grid, Pose(7.5 * RES, 7.5 * RES, 0.0), ROBOT.radius)] = True
+    assert len(recovery_costmap(grid, felt, ROBOT, NAV, Recovery.WHOLE_CELL).plan(start, goal)) == 0
 
 
 def test_the_way_the_robot_came_stays_open_on_the_recovery_costmap_but_not_beside_a_felt_wall() -> None:
