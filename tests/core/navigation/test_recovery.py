@@ -12,7 +12,7 @@ from numpy.typing import NDArray
 from frontier_rl.core.frontiers.blacklist import Blacklist
 from frontier_rl.core.navigation.config import NavigationConfig
 from frontier_rl.core.navigation.costmap import Costmap
-from frontier_rl.core.navigation.follower import FollowerParams, _nearest_waypoint, follow_path
+from frontier_rl.core.navigation.follower import FollowerParams, _nearest_waypoint, careful_flags, follow_path
 from frontier_rl.core.navigation.thin_walls import Recovery, recovery_costmap, recovery_robot
 from frontier_rl.core.sim.body import touched_walls
 from frontier_rl.core.sim.candidates import find_candidates
@@ -31,6 +31,13 @@ NO_GATE = np.array([1e9, 0.0, 0.0, 0.0, np.inf, np.inf])
 
 def _params() -> FollowerParams:
     return FollowerParams.of(ROBOT, NAV)
+
+
+def _careful_mode() -> NDArray[np.bool_]:
+    """The follower's flags for a robot already following the waypoints one by one."""
+    careful = careful_flags()
+    careful[0] = True
+    return careful
 
 
 def _centres(cells: list[tuple[int, int]]) -> NDArray[np.float64]:
@@ -66,7 +73,7 @@ def _corner_world() -> tuple[NDArray[np.float64], NDArray[np.float64]]:
 
 def _follow(path: NDArray[np.float64], clearance: NDArray[np.float64], x: float, y: float, theta: float,
             ticks: int) -> tuple[float, float, list[tuple[int, int]]]:  # fmt: skip
-    careful = np.array([True, False, False])
+    careful = _careful_mode()
     index, cells = 0, []
     for _ in range(ticks):
         x, y, theta, index, _, _, status = follow_path(
@@ -91,7 +98,7 @@ def test_a_careful_robot_at_its_cells_edge_steps_back_onto_its_waypoint_instead_
 def test_a_careful_robot_blocked_on_its_waypoint_reports_blocked() -> None:
     clearance, _ = _corner_world()
     path = _centres([(5, 5), (5, 4), (5, 3)])  # straight through the cell too close to the wall
-    careful = np.array([True, False, False])
+    careful = _careful_mode()
     *_, status = follow_path(path[:, 0], path[:, 1], 0, 5.5 * RES, 5.5 * RES, math.pi, 2.0, _params(), clearance,
                              NO_MATES, 0.0, 0.0, 0.0, RES, NO_GATE, careful)  # fmt: skip
     assert status == 2  # blocked: the bumper may feel the wall, and the leg replans
@@ -156,7 +163,7 @@ def test_a_step_across_a_corner_whose_two_side_cells_are_too_close_to_a_wall_is_
     assert clearance[4, 4] >= ROBOT.radius and clearance[5, 5] >= ROBOT.radius
     path = _centres([(5, 5), (4, 4), (3, 3)])
     start_x, start_y = 5 * RES + 0.002, 5 * RES + 0.002  # at the corner
-    careful = np.array([True, False, False])
+    careful = _careful_mode()
     *_, status = follow_path(path[:, 0], path[:, 1], 0, start_x, start_y, math.atan2(-1.0, -1.0), 2.0, _params(),
                              clearance, NO_MATES, 0.0, 0.0, 0.0, RES, NO_GATE, careful)  # fmt: skip
     assert status == 2  # blocked: through a corner the planner never cuts, the robot does not slip either
@@ -175,7 +182,7 @@ def test_a_careful_robot_that_cannot_cross_a_corner_reports_blocked_instead_of_c
     path = _centres([(k, k) for k in range(8, 1, -1)])
     x, y = path[0, 0], path[0, 1]
     theta = math.atan2(-1.0, -1.0) - 0.45  # within the turn-in-place angle of the next waypoint
-    careful = np.array([True, False, False])
+    careful = _careful_mode()
     index, elapsed, status = 0, 0.0, 0
     while status == 0 and elapsed < 10.0:
         x, y, theta, index, _, used, status = follow_path(
