@@ -90,10 +90,17 @@ def recovery_costmap(
         costmap = costmap.with_cells_opened(trail & (grid.data == _FREE))
     if not felt.any():
         return costmap
-    reach = robot.radius / grid.resolution
+    return costmap.with_cells_blocked(ndimage.binary_dilation(felt, felt_keep_out(robot.radius, grid.resolution)))
+
+
+def felt_keep_out(radius: float, resolution: float) -> NDArray[np.bool_]:
+    """The cells round a wall the robot touched where the recovery keeps its centre out, even on
+    its trail: a square mask (2n + 1 cells a side) of the cell centres closer than ``radius`` (m)
+    to the middle one's, on cells of ``resolution`` (m)."""
+    reach = radius / resolution
     n = int(math.ceil(reach))
     dr, dc = np.mgrid[-n : n + 1, -n : n + 1]
-    return costmap.with_cells_blocked(ndimage.binary_dilation(felt, dr**2 + dc**2 < reach**2))
+    return np.asarray(dr**2 + dc**2 < reach**2)
 
 
 def recovery_robot(robot: RobotConfig, resolution: float, level: Recovery) -> RobotConfig:

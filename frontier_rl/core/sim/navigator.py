@@ -15,14 +15,14 @@ from frontier_rl.core.mapping.mapper import LogOddsMapper
 from frontier_rl.core.navigation.astar import SearchScratch
 from frontier_rl.core.navigation.follower import footprint_offsets
 from frontier_rl.core.navigation.inflation import InflationMemory
-from frontier_rl.core.navigation.thin_walls import Recovery, recovery_robot
+from frontier_rl.core.navigation.thin_walls import Recovery, felt_keep_out, recovery_robot
 from frontier_rl.core.sim.candidates import Candidates, Look, find_candidates
 from frontier_rl.core.sim.config import SimConfig
 from frontier_rl.core.sim.episode_log import EpisodeLog
 from frontier_rl.core.sim.looks import LOOK_PAYOFF_M2, last_looks, may_look, spent_looks
 from frontier_rl.core.sim.paths import map_blocks_path, replan_path
 from frontier_rl.core.sim.teammates import Teammates
-from frontier_rl.core.sim.trail import mark_path
+from frontier_rl.core.sim.trail import mark_path, opened_on_trail
 from frontier_rl.core.world.grid import OccupancyGrid
 from frontier_rl.core.world.robot import Pose
 from frontier_rl.core.world.worlds import World
@@ -64,6 +64,7 @@ class Navigator:
         self._footprints = {
             level: footprint_offsets(recovery_robot(config.robot, res, level).radius, res) for level in Recovery
         }
+        self._keep_out = felt_keep_out(config.robot.radius, res)
         self._cached: list[Candidates] | None = None  # see _levels
         self._looks: Candidates | None = None  # the last looks of the cached levels, once asked for
         self.looking = True
@@ -205,11 +206,13 @@ class Navigator:
     def path_blocked(self, path_cells: NDArray[np.int64], first: int, recovery: Recovery) -> bool:
         """Whether the robot's map puts a wall on the path (world cells) from index ``first`` on;
         for a leg of the narrow-passage ``recovery``, the map with its walls thinned around the path
-        and the slimmer robot, as it was planned on."""
-        state = self._mapper.state
+        and the slimmer robot, open along its trail, as it was planned on."""
+        state, cells = self._mapper.state, path_cells[first:]
         if recovery is Recovery.NONE:
-            return map_blocks_path(state, path_cells[first:], self._footprints[recovery])
-        return map_blocks_path(state, path_cells[first:], self._footprints[recovery], self._mapper.felt)
+            return map_blocks_path(state, cells, self._footprints[recovery])
+        felt = self._mapper.felt
+        opened = opened_on_trail(cells, self.trail(), state, felt, self._keep_out)
+        return map_blocks_path(state, cells, self._footprints[recovery], felt, opened)
 
     def frontier_alive(self, cells: NDArray[np.int64]) -> bool:
         """Whether more than the drop size of a frontier's cells (world cells) are still fringe cells."""

@@ -59,11 +59,13 @@ def map_blocks_path(
     path_cells: NDArray[np.int64],
     footprint: NDArray[np.int64],
     felt: NDArray[np.bool_] | None = None,
+    opened: NDArray[np.bool_] | None = None,
 ) -> bool:
     """Whether the map ``state`` puts a wall within the robot's ``footprint`` (cell offsets) of a
     cell of ``path_cells`` ((n, 2) map cells). With ``felt`` (the walls the robot touched), the map
     is first thinned around the path as the narrow-passage recovery planned it
-    (:func:`~frontier_rl.core.navigation.thin_walls.thin_walls`)."""
+    (:func:`~frontier_rl.core.navigation.thin_walls.thin_walls`); the path cells ``opened`` ((n,)
+    mask; :func:`~frontier_rl.core.sim.trail.opened_on_trail`) are not checked."""
     rows, cols = path_cells[:, 0], path_cells[:, 1]
     if felt is not None:
         reach = int(np.abs(footprint).max()) + 2  # the peel looks two cells beyond a cell
@@ -71,6 +73,8 @@ def map_blocks_path(
         r1, c1 = int(rows.max()) + reach + 1, int(cols.max()) + reach + 1
         state = thin_walls(state[r0:r1, c0:c1], felt[r0:r1, c0:c1])
         rows, cols = rows - r0, cols - c0
+    if opened is not None:
+        rows, cols = rows[~opened], cols[~opened]
     return path_blocked(state, rows, cols, 0, footprint)
 
 

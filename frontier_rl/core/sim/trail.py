@@ -13,7 +13,7 @@ import numba as nb
 import numpy as np
 from numpy.typing import NDArray
 
-from frontier_rl.core.world.grid import OccupancyGrid
+from frontier_rl.core.world.grid import CellState, OccupancyGrid
 
 
 def mark_path(trail: NDArray[np.bool_], grid: OccupancyGrid, points: NDArray[np.float64]) -> None:
@@ -47,3 +47,29 @@ def _mark_path(
                 trail[last_row, col] = True
                 trail[row, last_col] = True
             last_row, last_col = row, col
+
+
+def opened_on_trail(
+    cells: NDArray[np.int64],
+    trail: NDArray[np.bool_],
+    state: NDArray[np.int8],
+    felt: NDArray[np.bool_],
+    keep_out: NDArray[np.bool_],
+) -> NDArray[np.bool_]:
+    """Which of ``cells`` ((n, 2) map cells) the narrow-passage recovery's costmap opens along the
+    robot's ``trail``: those the trail crossed that the map ``state`` has free, with no wall the robot
+    touched (``felt``) within the ``keep_out`` disc
+    (:func:`~frontier_rl.core.navigation.thin_walls.felt_keep_out`) of them. A check of a path
+    planned on that costmap that ignored the trail would find the path it was given walled."""
+    rows, cols = cells[:, 0], cells[:, 1]
+    opened: NDArray[np.bool_] = trail[rows, cols] & (state[rows, cols] == CellState.FREE)
+    if not opened.any():
+        return opened
+    n = keep_out.shape[0] // 2
+    offsets = np.argwhere(keep_out) - n
+    near_r = rows[opened, None] + offsets[None, :, 0]
+    near_c = cols[opened, None] + offsets[None, :, 1]
+    inside = (near_r >= 0) & (near_r < state.shape[0]) & (near_c >= 0) & (near_c < state.shape[1])
+    touched = inside & felt[np.where(inside, near_r, 0), np.where(inside, near_c, 0)]
+    opened[opened] = ~touched.any(axis=1)
+    return opened

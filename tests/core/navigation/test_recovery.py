@@ -4,6 +4,7 @@ recovery's costmap (the map thinned, the robot half a cell slimmer, the walls it
 from __future__ import annotations
 
 import math
+from collections.abc import Callable
 
 import numpy as np
 import pytest
@@ -12,13 +13,20 @@ from numpy.typing import NDArray
 from frontier_rl.core.frontiers.blacklist import Blacklist
 from frontier_rl.core.navigation.config import NavigationConfig
 from frontier_rl.core.navigation.costmap import Costmap
-from frontier_rl.core.navigation.follower import FollowerParams, _nearest_waypoint, careful_flags, follow_path
-from frontier_rl.core.navigation.thin_walls import Recovery, recovery_costmap, recovery_robot
+from frontier_rl.core.navigation.follower import (
+    FollowerParams,
+    _nearest_waypoint,
+    careful_flags,
+    follow_path,
+    footprint_offsets,
+)
+from frontier_rl.core.navigation.thin_walls import Recovery, felt_keep_out, recovery_costmap, recovery_robot
 from frontier_rl.core.sim.body import touched_walls
 from frontier_rl.core.sim.candidates import find_candidates
 from frontier_rl.core.sim.config import SimConfig
+from frontier_rl.core.sim.paths import map_blocks_path
 from frontier_rl.core.sim.teammates import obstacle_distance
-from frontier_rl.core.sim.trail import mark_path
+from frontier_rl.core.sim.trail import mark_path, opened_on_trail
 from frontier_rl.core.world.grid import CellState, OccupancyGrid
 from frontier_rl.core.world.robot import Pose, RobotConfig
 
@@ -233,3 +241,48 @@ def test_a_diagonal_trail_is_four_connected_with_both_corner_cells() -> None:
     assert trail[2, 2] and trail[3, 3] and trail[4, 4]
     assert trail[2, 3] and trail[3, 2] and trail[3, 4] and trail[4, 3]
     assert trail.sum() == 7
+
+
+def _recovery_check(
+    data: NDArray[np.int8], felt: NDArray[np.bool_], trail: NDArray[np.bool_], level: Recovery
+) -> Callable[[NDArray[np.int64]], bool]:
+    """The path check of a leg on ``level``'s costmap, one path cell at a time, as the navigator makes it."""
+    footprint = footprint_offsets(recovery_robot(ROBOT, RES, level).radius, RES)
+    keep_out = felt_keep_out(ROBOT.radius, RES)
+
+    def blocked(cells: NDArray[np.int64]) -> bool:
+        return map_blocks_path(data, cells, footprint, felt, opened_on_trail(cells, trail, data, felt, keep_out))
+
+    return blocked
+
+
+def test_the_path_check_leaves_the_trail_open_as_the_recovery_costmap_does_unless_a_felt_wall_is_beside_it() -> None:
+    data = np.full((20, 20), FREE, np.int8)
+    data[10, 10] = OCC
+    felt = np.zeros(data.shape, np.bool_)
+    trail = np.zeros(data.shape, np.bool_)
+    trail[11, 8:16] = True
+    path = np.array([[11, c] for c in range(8, 16)])
+    footprint = footprint_offsets(recovery_robot(ROBOT, RES, Recovery.HALF_CELL).radius, RES)
+    assert map_blocks_path(data, path, footprint, felt)  # the post beside (11, 10), ignoring the trail
+    assert not _recovery_check(data, felt, trail, Recovery.HALF_CELL)(path)
+    felt[10, 10] = True
+    assert _recovery_check(data, felt, trail, Recovery.HALF_CELL)(path)
+
+
+@pytest.mark.parametrize("level", [Recovery.HALF_CELL, Recovery.WHOLE_CELL])
+def test_no_cell_the_recovery_costmap_lets_the_robot_stand_on_is_walled_for_the_path_check(level: Recovery) -> None:
+    # A leg replans when the check finds its path walled: had it called walled a path the planner
+    # gives again, the robot would have turned to and fro on the spot, replanning, until the leg
+    # was given up, and again for every goal (a robot on its trail beside a wall, 3,100 s of a 50 m
+    # floor's episode). Random clutter, unknown cells, felt walls and trail.
+    rng = np.random.default_rng(7)
+    for _ in range(4):
+        data = np.where(rng.random((24, 24)) < 0.12, OCC, FREE).astype(np.int8)
+        data[rng.random(data.shape) < 0.05] = CellState.UNKNOWN
+        felt = (data == OCC) & (rng.random(data.shape) < 0.3)
+        trail = rng.random(data.shape) < 0.3
+        standing = recovery_costmap(OccupancyGrid(data, RES), felt, ROBOT, NAV, level, trail=trail).traversable
+        blocked = _recovery_check(data, felt, trail, level)
+        walled = [(r, c) for r, c in np.argwhere(standing[3:-3, 3:-3]) + 3 if blocked(np.array([[r, c]]))]
+        assert walled == []
