@@ -25,10 +25,12 @@ from frontier_rl.core.sim.body import touched_walls
 from frontier_rl.core.sim.candidates import find_candidates
 from frontier_rl.core.sim.config import SimConfig
 from frontier_rl.core.sim.paths import map_blocks_path
+from frontier_rl.core.sim.simulator import ExplorationSimulator
 from frontier_rl.core.sim.teammates import obstacle_distance
 from frontier_rl.core.sim.trail import mark_path, opened_on_trail
 from frontier_rl.core.world.grid import CellState, OccupancyGrid
 from frontier_rl.core.world.robot import Pose, RobotConfig
+from frontier_rl.core.world.worlds import make_world
 
 FREE, OCC = CellState.FREE, CellState.OCCUPIED
 ROBOT, NAV = RobotConfig(), NavigationConfig()
@@ -286,3 +288,17 @@ def test_no_cell_the_recovery_costmap_lets_the_robot_stand_on_is_walled_for_the_
         blocked = _recovery_check(data, felt, trail, level)
         walled = [(r, c) for r, c in np.argwhere(standing[3:-3, 3:-3]) + 3 if blocked(np.array([[r, c]]))]
         assert walled == []
+
+
+def test_the_navigator_checks_a_recovery_path_on_the_robots_trail_as_the_recovery_costmap_planned_it() -> None:
+    # The robot's map puts a speck beside the cell it stands on, which its trail crossed: the
+    # recovery costmap plans from there, so the check of a recovery leg's path must not wall it
+    data = np.full((22, 62), FREE, np.int8)
+    data[[0, -1], :] = data[:, [0, -1]] = OCC
+    sim = ExplorationSimulator(make_world(OccupancyGrid(data, 0.05), "room", start=Pose(1.025, 0.525, 0.0)))
+    here = np.array([sim.world.grid.world_to_cell(sim.pose.x, sim.pose.y)])
+    sim.mapper.state[here[0, 0] + 1, here[0, 1]] = OCC
+    assert sim.navigator.path_blocked(here, 0, Recovery.NONE)
+    assert not sim.navigator.path_blocked(here, 0, Recovery.HALF_CELL)
+    sim.mapper.felt[here[0, 0] + 1, here[0, 1]] = True  # felt: too close after all
+    assert sim.navigator.path_blocked(here, 0, Recovery.HALF_CELL)
