@@ -20,9 +20,9 @@ from frontier_rl.core.sim.candidates import Candidates, Look, find_candidates
 from frontier_rl.core.sim.config import SimConfig
 from frontier_rl.core.sim.episode_log import EpisodeLog
 from frontier_rl.core.sim.looks import LOOK_PAYOFF_M2, last_looks, may_look, spent_looks
-from frontier_rl.core.sim.paths import map_blocks_path, replan_path
+from frontier_rl.core.sim.paths import map_blocks_path, recovery_blocks_path, replan_path
 from frontier_rl.core.sim.teammates import Teammates
-from frontier_rl.core.sim.trail import mark_path, opened_on_trail
+from frontier_rl.core.sim.trail import mark_path
 from frontier_rl.core.world.grid import OccupancyGrid
 from frontier_rl.core.world.robot import Pose
 from frontier_rl.core.world.worlds import World
@@ -210,9 +210,9 @@ class Navigator:
         state, cells = self._mapper.state, path_cells[first:]
         if recovery is Recovery.NONE:
             return map_blocks_path(state, cells, self._footprints[recovery])
-        felt = self._mapper.felt
-        opened = opened_on_trail(cells, self.trail(), state, felt, self._keep_out)
-        return map_blocks_path(state, cells, self._footprints[recovery], felt, opened)
+        return recovery_blocks_path(
+            state, cells, self._footprints[recovery], self._mapper.felt, self.trail(), self._keep_out
+        )
 
     def frontier_alive(self, cells: NDArray[np.int64]) -> bool:
         """Whether more than the drop size of a frontier's cells (world cells) are still fringe cells."""

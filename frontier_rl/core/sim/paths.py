@@ -14,6 +14,7 @@ from frontier_rl.core.navigation.thin_walls import thin_walls
 from frontier_rl.core.sim.candidates import Candidates
 from frontier_rl.core.sim.config import SimConfig
 from frontier_rl.core.sim.teammates import Teammates
+from frontier_rl.core.sim.trail import opened_on_trail
 from frontier_rl.core.world.robot import Pose
 
 
@@ -76,6 +77,21 @@ def map_blocks_path(
     if opened is not None:
         rows, cols = rows[~opened], cols[~opened]
     return path_blocked(state, rows, cols, 0, footprint)
+
+
+def recovery_blocks_path(
+    state: NDArray[np.int8],
+    path_cells: NDArray[np.int64],
+    footprint: NDArray[np.int64],
+    felt: NDArray[np.bool_],
+    trail: NDArray[np.bool_],
+    keep_out: NDArray[np.bool_],
+) -> bool:
+    """:func:`map_blocks_path` for a path the narrow-passage recovery planned: the map thinned except
+    at the ``felt`` walls, and the cells of the robot's ``trail`` its costmap opens left unchecked
+    (:func:`~frontier_rl.core.sim.trail.opened_on_trail`, ``keep_out`` round the felt walls)."""
+    opened = opened_on_trail(path_cells, trail, state, felt, keep_out)
+    return map_blocks_path(state, path_cells, footprint, felt, opened)
 
 
 def replan_path(

@@ -24,10 +24,10 @@ from frontier_rl.core.navigation.thin_walls import Recovery, felt_keep_out, reco
 from frontier_rl.core.sim.body import touched_walls
 from frontier_rl.core.sim.candidates import find_candidates
 from frontier_rl.core.sim.config import SimConfig
-from frontier_rl.core.sim.paths import map_blocks_path
+from frontier_rl.core.sim.paths import map_blocks_path, recovery_blocks_path
 from frontier_rl.core.sim.simulator import ExplorationSimulator
 from frontier_rl.core.sim.teammates import obstacle_distance
-from frontier_rl.core.sim.trail import mark_path, opened_on_trail
+from frontier_rl.core.sim.trail import mark_path
 from frontier_rl.core.world.grid import CellState, OccupancyGrid
 from frontier_rl.core.world.robot import Pose, RobotConfig
 from frontier_rl.core.world.worlds import make_world
@@ -253,7 +253,7 @@ def _recovery_check(
     keep_out = felt_keep_out(ROBOT.radius, RES)
 
     def blocked(cells: NDArray[np.int64]) -> bool:
-        return map_blocks_path(data, cells, footprint, felt, opened_on_trail(cells, trail, data, felt, keep_out))
+        return recovery_blocks_path(data, cells, footprint, felt, trail, keep_out)
 
     return blocked
 
