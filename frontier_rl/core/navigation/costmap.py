@@ -167,11 +167,19 @@ class Costmap:
         escape = escape_radius / self.grid.resolution
         reach = flood_known(self.open_padded, self.grid.data, r, c, self.clearance_padded, escape)
         if not reach[r, c]:
-            mask = self.traversable & (self.grid.data == CellState.FREE)
-            nearest = nearest_cell(mask, start, max_radius=int(round(0.5 / self.grid.resolution)))
+            nearest = self.departure_near(start)
             if nearest is not None:
                 reach = flood_known(self.open_padded, self.grid.data, *nearest)
         return reach
+
+    def departure_near(self, start: tuple[int, int]) -> tuple[int, int] | None:
+        """The cell a robot at ``start`` (row, col) sets out from when its map does not have
+        ``start`` free (a wall cell under the robot: a speck the LiDAR drew there, or a gap only
+        the narrow-passage recovery's costmap opened, where a leg ended): the nearest traversable
+        known-free cell within 0.5 m; None if there is none. :meth:`reachable_known` and
+        :meth:`plan` both set out from it, so that every cell one calls reachable the other plans to."""
+        mask = self.traversable & (self.grid.data == CellState.FREE)
+        return nearest_cell(mask, start, max_radius=int(round(0.5 / self.grid.resolution)))
 
     def cost_to_go(self, start: tuple[int, int]) -> NDArray[np.float64]:
         """Planner path cost (m, weighted by the cell costs) from ``start`` (row, col) to every
@@ -186,11 +194,22 @@ class Costmap:
         """A* path (cells, (n, 2) rows and columns) from ``start`` to ``goal``; empty if none.
 
         Cells within ``escape_radius`` (m) of the start may be crossed even if inflated (not if
-        occupied), so that a robot that ended up too close to a wall can still leave.
+        occupied), so that a robot that ended up too close to a wall can still leave. A robot on
+        a cell its map has a wall on, which no path leaves, sets out from :meth:`departure_near`
+        (the path then starts there).
         """
         if not (self.grid.in_bounds(*start) and self.grid.in_bounds(*goal)):
             return np.zeros((0, 2), np.int64)
         escape = escape_radius / self.grid.resolution
+        cells = self._astar(start, goal, escape)
+        if len(cells) == 0 and self.grid.data[start] != CellState.FREE:
+            nearest = self.departure_near(start)
+            if nearest is not None:
+                cells = self._astar(nearest, goal, escape)
+        return cells
+
+    def _astar(self, start: tuple[int, int], goal: tuple[int, int], escape: float) -> NDArray[np.int64]:
+        """:meth:`plan`'s search from ``start``, ``escape`` in cells."""
         scratch, stamp = self.scratch.next_search(self.open_padded.size)
         costs = (self.grid.data, self.inflation_table, self.inflation_radius, self.unknown_cost)
         return astar_padded(

@@ -615,6 +615,33 @@ def test_every_reachable_cell_can_be_planned_to(seed: int) -> None:
         assert len(cm.plan(start, (int(goal[0]), int(goal[1])))) > 0
 
 
+@pytest.mark.parametrize("seed", range(4))
+def test_a_robot_on_a_wall_cell_of_its_map_plans_to_every_cell_it_can_reach(seed: int) -> None:
+    """Wall cells under and around the robot (specks its LiDAR drew there, or a gap only the
+    narrow-passage recovery's costmap opened, where a leg ended): what it can reach is flooded
+    from the nearest traversable free cell within 0.5 m, and the planner sets out from there too.
+    It had planned from the wall cell, found no path to any of the candidates, and blacklisted
+    them all (26 goals in one decision on ``willow_full``)."""
+    rng = np.random.default_rng(seed)
+    free = np.where(rng.random((60, 60)) < 0.04, OCC, FREE).astype(np.int8)
+    free[rng.random((60, 60)) < 0.1] = CellState.UNKNOWN
+    tried = 0
+    for r, c in rng.integers(5, 55, size=(15, 2)):
+        data = free.copy()
+        data[r - 2 : r + 3, c - 2 : c + 3] = OCC  # the robot's cell, two cells deep in a wall
+        cm = Costmap.build(OccupancyGrid(data, 0.05), RobotConfig(), NavigationConfig())
+        start = (int(r), int(c))
+        departure, reach = cm.departure_near(start), cm.reachable_known(start)
+        if departure is None or reach.sum() < 20:
+            continue
+        tried += 1
+        cells = np.argwhere(reach)
+        for goal in cells[rng.integers(len(cells), size=5)]:
+            path = cm.plan(start, (int(goal[0]), int(goal[1])))
+            assert len(path) > 0 and tuple(path[0]) == departure
+    assert tried >= 8
+
+
 @pytest.mark.parametrize("off", [0.3, -0.3, 0.45, -0.45])
 def test_a_robot_in_a_slot_one_cell_wide_turns_to_its_waypoint_and_gets_through(off: float) -> None:
     """Only one column of a slot is far enough from both walls; the robot stands at its edge,
