@@ -195,8 +195,8 @@ class Costmap:
 
         Cells within ``escape_radius`` (m) of the start may be crossed even if inflated (not if
         occupied), so that a robot that ended up too close to a wall can still leave. A robot on
-        a cell its map has a wall on, which no path leaves, sets out from :meth:`departure_near`
-        (the path then starts there).
+        a cell its map does not have free (a wall cell under it), from which no path leads, sets
+        out from :meth:`departure_near`, as :meth:`reachable_known` does (the path starts there).
         """
         if not (self.grid.in_bounds(*start) and self.grid.in_bounds(*goal)):
             return np.zeros((0, 2), np.int64)
