@@ -27,7 +27,11 @@ reachable cell away from every goal tried for them: on the harder survey's Willo
 frontier given up after four failed legs through a gap narrower than the robot had 2.9 m² of
 floor behind it that a cell the robot could reach sees. They need no floor seen through them (the
 frontier is the robot's own evidence of free space there) and no look ends them: each is a visit,
-so a frontier gets at most two.
+so a frontier gets at most two. Such a look need promise only more than a speck
+(:func:`spent_look_min_gain_m2`): a frontier given up with more unseen space than that beside it
+ends the episode ``unreachable``, and on the harder survey those left with a path had nooks of
+0.03-0.13 m² behind them (on ``gdc_3ne`` a slanted slot narrower than the robot, seen into from
+neither end).
 """
 
 from __future__ import annotations
@@ -124,8 +128,8 @@ def spent_looks(
 ) -> Frontiers:
     """The frontiers a robot at ``pose`` can reach (``reachable``; larger than the drop size) but
     those visited twice (``blacklist``), each at the viewpoint away from every goal tried that sees
-    most of the unknown it opens onto, if at least :data:`LOOK_MIN_GAIN_M2`; the frontiers one
-    viewpoint is best for make one. Asked when no candidate is left, so that each is a frontier
+    most of the unknown it opens onto, if more than a speck (:func:`spent_look_min_gain_m2`); the
+    frontiers one viewpoint is best for make one. Asked when no candidate is left, so that each is a frontier
     given up after the audit's tries: a last look from elsewhere at one the robot could not get to
     (through a gap narrower than itself, with a room seen through it)."""
     reach = min(config.frontier_goal_reach, config.mapping_range)
@@ -140,7 +144,17 @@ def spent_looks(
         return given_up.subset(np.zeros(0, np.int64))
     labels, areas = _unknown_regions(grid)
     views = _viewpoint_cells(reachable, grid, blacklist)
-    return _looks_at(given_up, _best_looks(grid, given_up, chosen, (labels, areas), views, config), pose)
+    least = spent_look_min_gain_m2(config, grid.resolution)
+    return _looks_at(given_up, _best_looks(grid, given_up, chosen, (labels, areas), views, config, least), pose)
+
+
+def spent_look_min_gain_m2(config: SimConfig, resolution: float) -> float:
+    """The least unknown area (m²) a look at a frontier given up must promise on a map of
+    ``resolution`` m cells: one cell more than a speck (``config.speck_cells``), the unseen space
+    beside a frontier left that ends an episode ``unreachable``. Not :data:`LOOK_MIN_GAIN_M2`: a
+    frontier the robot failed to reach is its own evidence of space, and left unlooked-at with a
+    path it is space given up."""
+    return (config.speck_cells(resolution) + 1) * resolution * resolution
 
 
 def _unknown_regions(grid: OccupancyGrid) -> tuple[NDArray[np.int32], NDArray[np.float64]]:
@@ -157,21 +171,22 @@ def _best_looks(
     unknown_regions: tuple[NDArray[np.int32], NDArray[np.float64]],
     views: NDArray[np.int64],
     config: SimConfig,
+    least_m2: float = LOOK_MIN_GAIN_M2,
 ) -> dict[tuple[int, int], list[int]]:
     """The ``chosen`` clusters worth a look, by the viewpoint (row, col) of ``views`` that is the
-    best look at each: whose scan would see at least :data:`LOOK_MIN_GAIN_M2` of the unknown
-    regions the cluster opens onto (``unknown_regions``: the labels of the map's unknown regions
-    and each one's area in m², 0 for those a look may not count)."""
+    best look at each: whose scan would see at least ``least_m2`` of the unknown regions the
+    cluster opens onto (``unknown_regions``: the labels of the map's unknown regions and each one's
+    area in m², 0 for those a look may not count)."""
     labels, areas = unknown_regions
     reach = min(config.frontier_goal_reach, config.mapping_range)
-    least = LOOK_MIN_GAIN_M2 / grid.resolution**2
+    least = least_m2 / grid.resolution**2
     unknown = labels > 0
     groups: dict[tuple[int, int], list[int]] = {}
     for i in chosen:
         cells = clusters.cells_of(i)
         regions = labels_beside(labels, cells[:, 0], cells[:, 1])
         regions = regions[areas[regions] > 0]
-        if areas[regions].sum() < LOOK_MIN_GAIN_M2:
+        if areas[regions].sum() < least_m2:
             continue
         best, gain = _best_viewpoint(grid, unknown & np.isin(labels, regions), views, cells, reach, config)
         if gain >= least:

@@ -5,16 +5,18 @@ up after its tries gets looks from elsewhere too, at most two."""
 
 from __future__ import annotations
 
+import math
 from pathlib import Path
 
 import numpy as np
+import pytest
 
 from frontier_rl import load_world, make_policy, run_episode
 from frontier_rl.core.frontiers.blacklist import AUDIT_BUDGET, Blacklist
 from frontier_rl.core.frontiers.detection import Frontiers
 from frontier_rl.core.sim.candidates import reachable_frontiers
 from frontier_rl.core.sim.config import SimConfig
-from frontier_rl.core.sim.looks import LOOK_MIN_GAIN_M2, LOOK_PAYOFF_M2, last_looks, spent_looks
+from frontier_rl.core.sim.looks import LOOK_MIN_GAIN_M2, LOOK_PAYOFF_M2, last_looks, spent_look_min_gain_m2, spent_looks
 from frontier_rl.core.sim.navigator import Navigator
 from frontier_rl.core.sim.simulator import ExplorationSimulator
 from frontier_rl.core.world.grid import CellState, OccupancyGrid
@@ -122,18 +124,23 @@ def test_a_cluster_looked_at_once_gets_a_second_look_from_elsewhere_and_none_aft
     assert len(_looks(grid, looked)[1]) == 0
 
 
-def _given_up(closet: bool = False) -> tuple[OccupancyGrid, Blacklist, Frontiers]:
+def _given_up(closet: tuple[slice, slice] | None = None, speck: int = 0) -> tuple[OccupancyGrid, Blacklist, Frontiers]:
     """The window map with a gap of seven cells (0.35 m), a frontier, given up after the audit's
-    budget of failed legs to its goal (with ``closet``, the unknown behind it is 0.14 m² walled
-    in); and the last looks at it."""
+    budget of failed legs to its goal (with ``closet``, the unknown behind it is only those cells,
+    walled in; with ``speck``, the gap is walled up and the frontier is round a square of ``speck``
+    unknown cells in the middle of the room); and the last looks at it."""
     grid = window_map()
     grid.data[35:42, 61] = FREE
-    if closet:
+    if closet is not None:
         grid.data[:, 62:] = OCC
-        grid.data[33:44, 62:67] = UNKNOWN  # 11 x 5 cells behind the gap: 0.14 m²
+        grid.data[closet] = UNKNOWN
+    if speck:
+        grid.data[:, 61] = OCC
+        side = math.isqrt(speck)
+        grid.data[40 : 40 + side, 30 : 30 + side] = UNKNOWN
     config, pose = SimConfig(), Pose(0.5, 0.5, 0.0)
     _, reachable, frontiers = reachable_frontiers(grid, pose, config)
-    assert len(frontiers) == 1  # the gap is a candidate
+    assert len(frontiers) == 1  # the gap (or the speck) is a candidate
     blacklist, frontier = _blacklist(), grid.cells_to_world(frontiers.cells_of(0))
     for _ in range(AUDIT_BUDGET * blacklist.max_failures):
         blacklist.fail(*frontiers.goals[0], grid.data, frontier=frontier)
@@ -157,9 +164,16 @@ def test_a_frontier_given_up_gets_a_look_from_elsewhere_twice_at_most() -> None:
             looks = again
 
 
-def test_a_frontier_given_up_onto_less_unknown_than_a_person_lying_down_gets_no_look() -> None:
-    assert LOOK_MIN_GAIN_M2 >= 1.0
-    assert len(_given_up(closet=True)[2]) == 0
+def test_a_frontier_given_up_onto_a_nook_gets_a_look_but_not_onto_a_speck() -> None:
+    """A look at a frontier given up needs to promise more than a speck, not a person's room: a
+    nook of 0.14 m² (11 x 5 cells) behind the gap gets one, a square of four cells (a speck) in
+    the open does not."""
+    config = SimConfig()
+    speck = config.speck_cells(0.05)
+    least = spent_look_min_gain_m2(config, 0.05)
+    assert least == pytest.approx((speck + 1) * 0.05**2) and least < LOOK_MIN_GAIN_M2
+    assert len(_given_up(closet=(slice(33, 44), slice(62, 67)))[2]) == 1
+    assert speck == 4 and len(_given_up(speck=speck)[2]) == 0
 
 
 def test_the_window_of_a_slam_map_is_looked_through(real_maps: Path) -> None:
