@@ -19,6 +19,7 @@ from frontier_rl.core.navigation.thin_walls import Recovery
 from frontier_rl.core.sim.candidates import Candidates, reachable_frontiers
 from frontier_rl.core.sim.config import UNSEEN_ROOM_M2, SimConfig
 from frontier_rl.core.sim.episode_log import leaves_space
+from frontier_rl.core.sim.looks import look_promise_cells, unknown_regions
 from frontier_rl.core.sim.metrics import FrontierLeft
 from frontier_rl.core.world.grid import CellState, OccupancyGrid
 from frontier_rl.core.world.robot import Pose
@@ -72,9 +73,10 @@ class _MapAgainstTruth:
         truth: the true world's cells under ``grid``.
         beside: ``grid``'s cells, free where the robot's whole map knows them (unseen in both).
         regions: the unseen free regions of the world.
-        path_levels: per flat cell of ``grid``, the lowest costmap level on which the audit found a
-            path to a frontier through it, -1 for none (:func:`audit_levels`).
-        speck_cells: the most unseen free cells beside a frontier that leaves no space (:func:`leaves_space`).
+        audit: where the audit found paths (:func:`audit`).
+        unknown: the labels of ``grid``'s unknown regions and their areas (m²), for the looks a
+            frontier left with a path could have had (:func:`~frontier_rl.core.sim.looks.look_promise_cells`).
+        config: the simulation's settings.
     """
 
     grid: OccupancyGrid
@@ -84,8 +86,9 @@ class _MapAgainstTruth:
     truth: NDArray[np.int8]
     beside: NDArray[np.int8]
     regions: UnseenRegions
-    path_levels: NDArray[np.int8]
-    speck_cells: int
+    audit: Audit
+    unknown: tuple[NDArray[np.int32], NDArray[np.float64]]
+    config: SimConfig
 
     def behind(self, cells: NDArray[np.int64]) -> NDArray[np.int64]:
         """The labels of the unseen free regions behind a frontier of ``cells`` (rows, cols of ``grid``)."""
@@ -107,8 +110,12 @@ class _MapAgainstTruth:
         unknown, unseen = unknown_beside(self.beside, cells[:, 0], cells[:, 1], self.truth)
         rows, cols = np.divmod(unseen, width)
         in_world = (rows + self.top) * self.world_width + cols + self.left
-        levels = self.path_levels[cells[:, 0] * width + cells[:, 1]]
+        levels = self.audit.levels[cells[:, 0] * width + cells[:, 1]]
         has_path = bool((levels >= 0).any())
+        speck = self.config.speck_cells(res)
+        if has_path and not unrevealable:  # could a look from anywhere it can go reveal more than a speck?
+            promise = look_promise_cells(self.grid, cells, self.audit.reachable, self.config, self.unknown)
+            unrevealable = promise <= speck
         x, y = (float(v) for v in frontiers.centers[i])
         return FrontierLeft(
             x=x,
@@ -123,7 +130,7 @@ class _MapAgainstTruth:
             has_path=has_path,
             path_on_map=bool((levels == Recovery.NONE).any()),
             unrevealable=unrevealable,
-            leaves_space=leaves_space(unseen.size, behind_m2, self.speck_cells),
+            leaves_space=leaves_space(unseen.size, behind_m2, speck),
             explorable_behind={int(r): float(self.regions.explorable[r]) * res * res for r in behind},
         )
 
@@ -144,7 +151,9 @@ def frontiers_left(
     space beside and behind each (free cells read from ``truth_grid``, the world; ``map_state`` is
     the robot's whole map, ``felt`` the walls it touched, ``trail`` the cells it crossed and
     ``explorable`` the world's explorable space, the world's shape; None: not known), and the audit:
-    whether the map has a path to each, and on which costmap (:func:`audit_levels`). A cluster of at most
+    whether the map has a path to each, and on which costmap (:func:`audit`); one with a path
+    whose best look from any cell the robot can reach would reveal no more than a speck of its
+    unknown is unrevealable, as one reached twice in vain is. A cluster of at most
     ``config.speck_cells`` cells is a speck and left out, unless more than :data:`UNSEEN_ROOM_M2`
     of unseen free space lies behind it: a room seen only through a slot is not a speck."""
     grid = cand.grid
@@ -159,8 +168,9 @@ def frontiers_left(
         truth=truth_grid.data[crop],
         beside=np.where(state == CellState.UNKNOWN, grid.data, np.int8(CellState.FREE)),  # unseen in both
         regions=UnseenRegions.of(map_state, truth_grid.data, explorable),
-        path_levels=audit_levels(grid, pose, config, felt[crop], None if trail is None else trail[crop]),
-        speck_cells=config.speck_cells(grid.resolution),
+        audit=audit(grid, pose, config, felt[crop], None if trail is None else trail[crop]),
+        unknown=unknown_regions(grid),
+        config=config,
     )
     candidate_cells = np.zeros(grid.shape[0] * grid.shape[1], np.bool_)
     for start, end in cand.frontiers.spans:
@@ -179,26 +189,42 @@ def frontiers_left(
     return tuple(left)
 
 
-def audit_levels(
+@dataclass(frozen=True)
+class Audit:
+    """Where the robot's final map has paths, planned afresh (a new costmap, no blacklist).
+
+    Attributes:
+        levels: per flat cell of the map, the lowest costmap level (a
+            :class:`~frontier_rl.core.navigation.thin_walls.Recovery` value; -1: none) on which the
+            robot could drive to a frontier through that cell.
+        reachable: the cells it can reach on some level (the map's shape).
+    """
+
+    levels: NDArray[np.int8]
+    reachable: NDArray[np.bool_]
+
+
+def audit(
     grid: OccupancyGrid,
     pose: Pose,
     config: SimConfig,
     felt: NDArray[np.bool_],
     trail: NDArray[np.bool_] | None = None,
-) -> NDArray[np.int8]:
-    """The audit before an episode gives up: per flat cell of ``grid``, the lowest costmap level
-    (a :class:`~frontier_rl.core.navigation.thin_walls.Recovery` value; -1: none) on which the
-    robot at ``pose`` could drive to a frontier through that cell on its map ``grid`` as it is now,
-    planned afresh (a new costmap, no blacklist): the normal costmap, or a level of the
-    narrow-passage recovery's, whose walls are thinned (``felt``: the walls it touched; ``trail``:
-    the cells it crossed; ``grid``'s shape). A frontier left with such a cell was given up on after
-    its failed attempts, not for want of a way; on the normal costmap, through walls as mapped."""
+) -> Audit:
+    """The audit before an episode gives up: where the robot at ``pose`` could drive to a frontier
+    on its map ``grid`` as it is now, planned afresh (a new costmap, no blacklist), on the normal
+    costmap or a level of the narrow-passage recovery's, whose walls are thinned (``felt``: the
+    walls it touched; ``trail``: the cells it crossed; ``grid``'s shape). A frontier left with such
+    a cell was given up on after its failed attempts, not for want of a way; on the normal
+    costmap, through walls as mapped."""
     levels = np.full(grid.height * grid.width, -1, np.int8)
+    reachable = np.zeros(grid.shape, np.bool_)
     for level in reversed(Recovery):  # the lowest level last: it is the one kept
-        _, _, frontiers = reachable_frontiers(grid, pose, config, recovery=level, felt=felt, trail=trail)
+        _, reach, frontiers = reachable_frontiers(grid, pose, config, recovery=level, felt=felt, trail=trail)
+        reachable |= reach
         for start, end in frontiers.spans:
             levels[frontiers.flat_cells[start:end]] = level
-    return levels
+    return Audit(levels, reachable)
 
 
 def _frontiers(grid: OccupancyGrid, pose: Pose, config: SimConfig, specks: bool) -> Frontiers:

@@ -105,7 +105,7 @@ def last_looks(
     small = small.subset(small.sizes <= drop)
     if len(small) == 0:
         return small
-    labels, areas = _unknown_regions(grid)
+    labels, areas = unknown_regions(grid)
     if confirmed:  # a look paid: any unknown beside space seen beyond may be a room
         areas[np.setdiff1d(np.arange(len(areas)), _regions_seen_beyond(grid, reachable, labels))] = 0.0
     floor = None if confirmed else floor_seen_beyond(grid, reachable)
@@ -142,7 +142,7 @@ def spent_looks(
     ]
     if not chosen:
         return given_up.subset(np.zeros(0, np.int64))
-    labels, areas = _unknown_regions(grid)
+    labels, areas = unknown_regions(grid)
     views = _viewpoint_cells(reachable, grid, blacklist)
     least = spent_look_min_gain_m2(config, grid.resolution)
     return _looks_at(given_up, _best_looks(grid, given_up, chosen, (labels, areas), views, config, least), pose)
@@ -157,27 +157,45 @@ def spent_look_min_gain_m2(config: SimConfig, resolution: float) -> float:
     return (config.speck_cells(resolution) + 1) * resolution * resolution
 
 
-def _unknown_regions(grid: OccupancyGrid) -> tuple[NDArray[np.int32], NDArray[np.float64]]:
+def unknown_regions(grid: OccupancyGrid) -> tuple[NDArray[np.int32], NDArray[np.float64]]:
     """The labels of ``grid``'s 4-connected unknown regions (0: known cells) and each one's area (m²)."""
     labels, count = ndimage.label(grid.data == CellState.UNKNOWN)
     areas = np.bincount(labels.ravel(), minlength=count + 1) * grid.resolution**2
     return np.asarray(labels, np.int32), areas.astype(np.float64)
 
 
+def look_promise_cells(
+    grid: OccupancyGrid,
+    cells: NDArray[np.int64],
+    reachable: NDArray[np.bool_],
+    config: SimConfig,
+    regions: tuple[NDArray[np.int32], NDArray[np.float64]],
+) -> int:
+    """How many cells of the unknown the frontier ``cells`` (rows, cols of ``grid``) opens onto a
+    scan would see from the best of the ``reachable`` cells (every one, not a lattice's) within a
+    frontier goal's reach of it: the most any look at it could reveal. ``regions``: the map's
+    unknown regions (:func:`unknown_regions`)."""
+    labels, areas = regions
+    beside = labels_beside(labels, cells[:, 0], cells[:, 1])
+    target = np.isin(labels, beside[areas[beside] > 0]) & (labels > 0)
+    reach = min(config.frontier_goal_reach, config.mapping_range)
+    return _best_viewpoint(grid, target, np.argwhere(reachable).astype(np.int64), cells, reach, config)[1]
+
+
 def _best_looks(
     grid: OccupancyGrid,
     clusters: Frontiers,
     chosen: list[int],
-    unknown_regions: tuple[NDArray[np.int32], NDArray[np.float64]],
+    map_unknown: tuple[NDArray[np.int32], NDArray[np.float64]],
     views: NDArray[np.int64],
     config: SimConfig,
     least_m2: float = LOOK_MIN_GAIN_M2,
 ) -> dict[tuple[int, int], list[int]]:
     """The ``chosen`` clusters worth a look, by the viewpoint (row, col) of ``views`` that is the
     best look at each: whose scan would see at least ``least_m2`` of the unknown regions the
-    cluster opens onto (``unknown_regions``: the labels of the map's unknown regions and each one's
+    cluster opens onto (``map_unknown``: the labels of the map's unknown regions and each one's
     area in m², 0 for those a look may not count)."""
-    labels, areas = unknown_regions
+    labels, areas = map_unknown
     reach = min(config.frontier_goal_reach, config.mapping_range)
     least = least_m2 / grid.resolution**2
     unknown = labels > 0

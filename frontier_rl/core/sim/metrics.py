@@ -60,7 +60,10 @@ class FrontierLeft:
             mapped them; with ``has_path`` but not this, only through walls the narrow-passage
             recovery thinned, which may not be there (a streak in a wall's mass, a gap in clutter).
         unrevealable: the robot reached a goal of it as often as a goal may fail, and it stayed: the
-            view it was chosen for revealed nothing (:mod:`~frontier_rl.core.frontiers.blacklist`).
+            view it was chosen for revealed nothing (:mod:`~frontier_rl.core.frontiers.blacklist`);
+            or, with ``has_path``, no cell the audit found it can reach would see more than a speck
+            of the unknown it opens onto (its expected gain: a look from anywhere would reveal
+            nothing that leaves space; :func:`~frontier_rl.core.sim.looks.look_promise_cells`).
         leaves_space: it leaves space to explore, the end reason's test: more unseen free cells
             beside it than a speck has (``SimConfig.speck_cells``), or more than ``UNSEEN_ROOM_M2``
             behind it; one whose unknown side is wall (cells no beam reached) leaves none.

@@ -13,7 +13,7 @@ from frontier_rl.core.sim.candidates import Look, find_candidates
 from frontier_rl.core.sim.config import UNSEEN_ROOM_M2, SimConfig
 from frontier_rl.core.sim.episode import run_episode
 from frontier_rl.core.sim.episode_log import EndReason, completion_reason, leaves_space
-from frontier_rl.core.sim.frontiers_left import audit_levels, frontiers_left
+from frontier_rl.core.sim.frontiers_left import audit, frontiers_left
 from frontier_rl.core.sim.metrics import FrontierLeft, explorable_given_up_m2
 from frontier_rl.core.sim.simulator import ExplorationSimulator
 from frontier_rl.core.world.grid import CellState, OccupancyGrid
@@ -210,8 +210,32 @@ def test_the_audit_says_whether_a_path_runs_through_walls_as_mapped(door_m: floa
     data = grid.data.copy()
     data[:, 66:] = CellState.UNKNOWN  # the far room unseen: a frontier beyond the door
     unseen = OccupancyGrid(data, grid.resolution)
-    levels = audit_levels(unseen, start, SimConfig(), np.zeros(unseen.shape, np.bool_)).reshape(unseen.shape)
+    levels = audit(unseen, start, SimConfig(), np.zeros(unseen.shape, np.bool_)).levels.reshape(unseen.shape)
     assert set(levels[:, 64:].ravel().tolist()) == {-1, int(level)}
+
+
+@pytest.mark.parametrize(("side", "unrevealable"), [(2, True), (3, False)])
+def test_a_frontier_left_with_a_path_whose_unknown_no_look_could_see_more_than_a_speck_of_is_unrevealable(
+    side: int, unrevealable: bool
+) -> None:
+    """A square of unknown cells in the open floor of a walled room, its frontier given up after
+    the audit's budget of failed legs: of four cells (a speck) no look from anywhere reveals more
+    than a speck, so it is unrevealable, not space given up with a path; of nine, it is not."""
+    data = np.full((60, 60), FREE, np.int8)
+    data[[0, -1], :] = data[:, [0, -1]] = CellState.OCCUPIED
+    data[30 : 30 + side, 30 : 30 + side] = CellState.UNKNOWN
+    grid, pose, config = OccupancyGrid(data, RES), Pose(0.5, 0.5, 0.0), SimConfig()
+    blacklist = Blacklist(radius=0.25, max_failures=MAX_FAILURES, resolution=RES, origin=(0.0, 0.0))
+    offered = find_candidates(grid, pose, config, blacklist, data).frontiers
+    assert len(offered) == 1 and config.speck_cells(RES) == 4
+    for _ in range(AUDIT_BUDGET * MAX_FAILURES):
+        blacklist.fail(*offered.goals[0], data, frontier=grid.cells_to_world(offered.cells_of(0)))
+    cand = find_candidates(grid, pose, config, blacklist, data)
+    assert len(cand.frontiers) == 0
+    truth = OccupancyGrid(np.where(data == CellState.UNKNOWN, FREE, data), RES)
+    (left,) = frontiers_left(cand, truth, pose, config, blacklist, data, np.zeros(data.shape, np.bool_))
+    assert left.has_path and left.path_on_map and left.failures == AUDIT_BUDGET * MAX_FAILURES
+    assert left.unrevealable is unrevealable
 
 
 def test_frontiers_behind_a_door_narrower_than_the_robot_have_no_path() -> None:
