@@ -84,13 +84,14 @@ class Finished:
 
     @property
     def with_a_path(self) -> int:
-        """How many frontiers left the map still has a path to (the audit), not counting those
-        reached twice in vain (:attr:`unrevealable`)."""
+        """How many frontiers left the map still has a path to (the audit), not counting the
+        unrevealable ones (:attr:`unrevealable`)."""
         return sum(f.has_path and not f.unrevealable for f in self.left)
 
     @property
     def unrevealable(self) -> int:
-        """How many frontiers left the robot reached twice without their frontier going away."""
+        """How many frontiers left are unrevealable: reached twice without their frontier going away,
+        or with no more than a speck of their unknown in sight of any cell the robot can reach."""
         return sum(f.unrevealable for f in self.left)
 
 

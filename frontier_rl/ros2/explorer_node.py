@@ -61,7 +61,8 @@ class ExplorerStatus:
             reached without seeing their frontier).
         frontiers_left: frontiers larger than a speck left at the end; unknown_m2: the unknown
             area beside them (m²); with_a_path: of them, those the map still has a path to;
-            unrevealable: those reached twice without their frontier going away.
+            unrevealable: those reached twice without their frontier going away, or with no more
+                than a speck of their unknown in sight of anywhere the robot can reach.
         coverage: the simulator's share of the explorable space mapped, when a simulator
             publishes it (``coverage``); -1 otherwise.
         detail: a sentence on what happened last.
@@ -350,7 +351,7 @@ class ExplorerNode(Node):
         if status.frontiers_left:
             line += (
                 f"; {status.frontiers_left} frontiers left with {status.unknown_m2:.2f} m² unknown beside them"
-                f" ({status.with_a_path} with a path on the map, {status.unrevealable} reached twice in vain)"
+                f" ({status.with_a_path} with a path on the map, {status.unrevealable} unrevealable)"
             )
         return line
 

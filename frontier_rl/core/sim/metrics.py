@@ -109,7 +109,7 @@ class FrontierLeft:
 
 def explorable_given_up_m2(left: Sequence[FrontierLeft]) -> float:
     """The audit on the true map: the explorable area (m²) behind the frontiers ``left`` that the
-    robot's final map had a path to (:attr:`FrontierLeft.has_path`, not reached in vain): space the
+    robot's final map had a path to (:attr:`FrontierLeft.has_path`, not unrevealable): space the
     robot could have seen on the true map and gave up on after its tries; each region once."""
     regions: dict[int, float] = {}
     for frontier in left:
@@ -197,8 +197,8 @@ class EpisodeResult:
     @property
     def frontiers_with_path_left(self) -> int:
         """The audit's count: frontiers left to which the robot's final map has a path
-        (:attr:`FrontierLeft.has_path`), given up on after their failed attempts; not those the
-        robot reached in vain (:attr:`frontiers_unrevealable_left`)."""
+        (:attr:`FrontierLeft.has_path`), given up on after their failed attempts; not the
+        unrevealable ones (:attr:`frontiers_unrevealable_left`)."""
         return sum(f.has_path and not f.unrevealable for f in self.frontiers_left)
 
     @property

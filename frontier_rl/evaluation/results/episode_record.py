@@ -153,7 +153,7 @@ class EpisodeTrace:
         weight_t, weight: the ranking weight of every decision and its time (s); empty without weights.
         aborts_by_cause: goals given up, per cause.
         explorable_left_m2: the unseen explorable area left (m²; None in older traces).
-        frontiers_with_path_left: frontiers left, not reached in vain, that the robot's final map had
+        frontiers_with_path_left: frontiers left, not unrevealable, that the robot's final map had
             a path to, on the normal costmap or through walls the narrow-passage recovery thinned
             (the audit; None in older traces).
         frontiers_with_path_to_space_left: of them, those that leave space to explore (more than a
@@ -162,7 +162,8 @@ class EpisodeTrace:
             given up that the robot could have seen on the true map (None in older traces).
         frontiers_with_path_on_map_left: of them, those with a path on the normal costmap, through
             the walls as mapped (None in older traces).
-        frontiers_unrevealable_left: frontiers left whose goal was reached in vain (None in older traces).
+        frontiers_unrevealable_left: frontiers left whose goal was reached in vain, or of whose unknown
+            no reachable cell sees more than a speck (None in older traces).
         robot_path_lengths_m, robot_coverage, failed_at_s: a team's, per robot (None for one robot;
             a failure time is None for a robot that did not fail).
     """
