@@ -10,6 +10,7 @@ import pytest
 
 from frontier_rl.core.frontiers.blacklist import AUDIT_BUDGET
 from frontier_rl.core.navigation.follower import FollowerParams, FollowStatus, careful_flags, follow_path
+from frontier_rl.core.sim import navigator
 from frontier_rl.core.sim.candidates import reachable_frontiers
 from frontier_rl.core.sim.config import SimConfig
 from frontier_rl.core.sim.leg_result import LegOutcome
@@ -95,11 +96,14 @@ def test_a_way_round_from_contact_is_driven_in_open_space() -> None:
     assert result.outcome is LegOutcome.REACHED and not sim.blacklist.entries
 
 
-def test_a_teammate_standing_for_good_in_a_corridor_ends_the_episode() -> None:
-    """Robot 1 has given up the corridor's far end for good (its audit budget spent too) and stands
-    in the way of robot 0, whose only
-    frontier lies behind it: robot 0 gives way, finds nothing else, and counts the goal as failed
-    each time, so the episode ends (`unreachable`) instead of giving way until the time cap."""
+def test_a_teammate_standing_for_good_in_a_corridor_ends_the_episode(monkeypatch: pytest.MonkeyPatch) -> None:
+    """Robot 1 has given up the corridor's far end for good (its audit budget spent too, and no look
+    from elsewhere: as where no cell away from the goals tried sees its unknown) and stands in the
+    way of robot 0, whose only frontier lies behind it: robot 0 gives way, finds nothing else, and
+    counts the goal as failed each time, so the episode ends (`unreachable`) instead of giving way
+    until the time cap."""
+    offered = navigator.spent_looks
+    monkeypatch.setattr(navigator, "spent_looks", lambda *args: offered(*args).subset(np.zeros(0, np.int64)))
     world = room(8, 200)  # 0.4 m x 9.9 m
     team = TeamSimulator(world, SimConfig(max_sim_time=400.0), TeamConfig(robots=2), np.random.default_rng(0))
     second = team.robots[1]
