@@ -129,9 +129,9 @@ def spent_looks(
     """The frontiers a robot at ``pose`` can reach (``reachable``; larger than the drop size) but
     those visited twice (``blacklist``), each at the viewpoint away from every goal tried that sees
     most of the unknown it opens onto, if more than a speck (:func:`spent_look_min_gain_m2`); the
-    frontiers one viewpoint is best for make one. Asked when no candidate is left, so that each is a frontier
-    given up after the audit's tries: a last look from elsewhere at one the robot could not get to
-    (through a gap narrower than itself, with a room seen through it)."""
+    frontiers one viewpoint is best for make one. Asked when no candidate is left, so that each is
+    a frontier given up after the audit's tries: a last look from elsewhere at one the robot could
+    not get to (through a gap narrower than itself, with a room seen through it)."""
     reach = min(config.frontier_goal_reach, config.mapping_range)
     drop = config.drop_cells(grid.resolution)
     given_up = detect_frontiers(grid, pose, reachable, drop, config.frontier_segment_length, reach)
@@ -175,11 +175,17 @@ def look_promise_cells(
     scan would see from the best of the ``reachable`` cells (every one, not a lattice's) within a
     frontier goal's reach of it: the most any look at it could reveal. ``regions``: the map's
     unknown regions (:func:`unknown_regions`)."""
-    labels, areas = regions
-    beside = labels_beside(labels, cells[:, 0], cells[:, 1])
-    target = np.isin(labels, beside[areas[beside] > 0]) & (labels > 0)
+    target = np.isin(regions[0], _opened_onto(regions, cells)) & (regions[0] > 0)
     reach = min(config.frontier_goal_reach, config.mapping_range)
     return _best_viewpoint(grid, target, np.argwhere(reachable).astype(np.int64), cells, reach, config)[1]
+
+
+def _opened_onto(regions: tuple[NDArray[np.int32], NDArray[np.float64]], cells: NDArray[np.int64]) -> NDArray[np.int64]:
+    """The labels of the unknown ``regions`` (labels, areas in m²) the cluster ``cells`` (rows,
+    cols) opens onto: those beside its cells, but any whose area is 0 (one a look may not count)."""
+    labels, areas = regions
+    beside = labels_beside(labels, cells[:, 0], cells[:, 1])
+    return beside[areas[beside] > 0]
 
 
 def _best_looks(
@@ -202,8 +208,7 @@ def _best_looks(
     groups: dict[tuple[int, int], list[int]] = {}
     for i in chosen:
         cells = clusters.cells_of(i)
-        regions = labels_beside(labels, cells[:, 0], cells[:, 1])
-        regions = regions[areas[regions] > 0]
+        regions = _opened_onto(map_unknown, cells)
         if areas[regions].sum() < least_m2:
             continue
         best, gain = _best_viewpoint(grid, unknown & np.isin(labels, regions), views, cells, reach, config)
