@@ -22,7 +22,9 @@ drawn by rays through glass, a slot narrower than a beam's spacing) is a visit, 
 there. A goal visited ``max_failures`` times without its frontier going away is *unrevealable*: the
 view it was chosen for has been had, twice, and revealed nothing. The audit does not lift it, so
 such frontiers are not chased again and again (the harder survey's SLAM maps had 86-146 such legs
-an episode); the episode names them apart from the frontiers it gave up on with a path left.
+an episode); the episode names them apart from the frontiers it gave up on with a path left. The
+goals reached are kept as *views had* (:meth:`Blacklist.views_had`): the robot stood there and its
+scan showed what it could, so that the audit does not count a look from there as one still to have.
 
 A frontier keeps its history where it reappears: on a SLAM map a streak's frontier comes back a cell
 further on, or split, its goal elsewhere. A failure whose frontier touches (within a cell and a half)
@@ -37,6 +39,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 from numpy.typing import NDArray
+from scipy.spatial import cKDTree
 
 from frontier_rl.core.world.grid import CellState
 
@@ -58,6 +61,7 @@ class BlacklistEntry:
         goals: every goal that failed there ((k, 2), m): frontiers whose goal lies within the
             blacklist's radius of one are blocked.
         frontier: the cells of the frontiers those goals were for ((n, 2), m; empty when unknown).
+        viewed: of ``goals``, those the robot reached and scanned from ((j, 2), m): views had.
     """
 
     x: float
@@ -68,6 +72,7 @@ class BlacklistEntry:
     visits: int = 0
     goals: NDArray[np.float64] = field(default_factory=lambda: np.zeros((0, 2)))
     frontier: NDArray[np.float64] = field(default_factory=lambda: np.zeros((0, 2)))
+    viewed: NDArray[np.float64] = field(default_factory=lambda: np.zeros((0, 2)))
 
     def __post_init__(self) -> None:
         if len(self.goals) == 0:
@@ -153,15 +158,22 @@ class Blacklist:
         *,
         reached: bool = False,
         frontier: NDArray[np.float64] | None = None,
+        viewed: bool | None = None,
     ) -> None:
         """Record that the goal (x, y) (m) failed, with the map ``state`` as it is now; ``reached``:
-        the robot got there and the frontier stayed (a visit); ``frontier``: the cells of the
-        frontier it was for ((n, 2), m), whose history it joins where it touches an entry's."""
+        a visit (the robot got there and the frontier stayed); ``frontier``: the cells of the
+        frontier it was for ((n, 2), m), whose history it joins where it touches an entry's;
+        ``viewed``: whether the robot stood at the goal and scanned from it (default ``reached``;
+        a look counts as a visit whatever its leg did)."""
         cells = np.zeros((0, 2)) if frontier is None else np.asarray(frontier, np.float64).reshape(-1, 2)
+        had_view = reached if viewed is None else viewed
+        views = np.array([[x, y]] if had_view else [], np.float64).reshape(-1, 2)
         entry = self._entry_of(x, y, cells)
         if entry is None:
-            self.entries.append(BlacklistEntry(x, y, 1, self._known(state, x, y), visits=int(reached), frontier=cells))
+            known = self._known(state, x, y)
+            self.entries.append(BlacklistEntry(x, y, 1, known, visits=int(reached), frontier=cells, viewed=views))
             return
+        entry.viewed = np.vstack((entry.viewed, views))
         entry.failures += 1
         entry.visits += reached
         entry.known = self._known(state, entry.x, entry.y)  # the window refresh watches
@@ -207,6 +219,32 @@ class Blacklist:
         without being :meth:`unrevealable`: a frontier given up for want of a way there, not of a view."""
         budget = AUDIT_BUDGET * self.max_failures
         return any(entry.failures >= budget and not self.unrevealable(entry) for entry in self.entries)
+
+    def views_had(self, points: NDArray[np.float64]) -> NDArray[np.bool_]:
+        """Which of ``points`` ((n, 2), m) lie within ``radius`` of a goal the robot reached and
+        scanned from (:attr:`BlacklistEntry.viewed`): the blacklist's radius makes a goal there the
+        same goal, so a look from there is a view already had."""
+        views = np.vstack([np.zeros((0, 2))] + [entry.viewed for entry in self.entries])
+        if len(views) == 0 or len(points) == 0:
+            return np.zeros(len(points), np.bool_)
+        return np.asarray(cKDTree(views).query_ball_point(points, self.radius, return_length=True) > 0)
+
+    def tried_near(self, points: NDArray[np.float64]) -> NDArray[np.bool_]:
+        """Which of ``points`` ((n, 2), m) lie within ``radius`` of a goal tried (any entry's)."""
+        tried = np.zeros(len(points), np.bool_)
+        for entry in self.entries:
+            tried |= entry.near_goals(points, self.radius)
+        return tried
+
+    def spent_near(self, points: NDArray[np.float64]) -> NDArray[np.bool_]:
+        """Which of ``points`` ((n, 2), m) lie within ``radius`` of a view had (:meth:`views_had`)
+        or of a goal of an entry that has used up the audit's budget: goals not to try again."""
+        budget = AUDIT_BUDGET * self.max_failures
+        spent = self.views_had(points)
+        for entry in self.entries:
+            if entry.failures >= budget:
+                spent |= entry.near_goals(points, self.radius)
+        return spent
 
     def failures_near(self, x: float, y: float) -> int:
         """How often a goal within ``radius`` of (x, y) (m) failed."""

@@ -74,6 +74,9 @@ class _MapAgainstTruth:
         beside: ``grid``'s cells, free where the robot's whole map knows them (unseen in both).
         regions: the unseen free regions of the world.
         audit: where the audit found paths (:func:`audit`).
+        views_left: the cells it reaches (``audit.reachable``) but those within the blacklist's
+            radius of a goal reached and scanned from (``Blacklist.views_had``): where a look at a
+            frontier left could still be had.
         unknown: the labels of ``grid``'s unknown regions and their areas (m²), for the looks a
             frontier left with a path could have had (:func:`~frontier_rl.core.sim.looks.look_promise_cells`).
         config: the simulation's settings.
@@ -87,6 +90,7 @@ class _MapAgainstTruth:
     beside: NDArray[np.int8]
     regions: UnseenRegions
     audit: Audit
+    views_left: NDArray[np.bool_]
     unknown: tuple[NDArray[np.int32], NDArray[np.float64]]
     config: SimConfig
 
@@ -114,7 +118,7 @@ class _MapAgainstTruth:
         has_path = bool((levels >= 0).any())
         speck = self.config.speck_cells(res)
         if has_path and not unrevealable:  # could a look from anywhere it can go reveal more than a speck?
-            promise = look_promise_cells(self.grid, cells, self.audit.reachable, self.config, self.unknown)
+            promise = look_promise_cells(self.grid, cells, self.views_left, self.config, self.unknown)
             unrevealable = promise <= speck
         x, y = (float(v) for v in frontiers.centers[i])
         return FrontierLeft(
@@ -152,14 +156,16 @@ def frontiers_left(
     the robot's whole map, ``felt`` the walls it touched, ``trail`` the cells it crossed and
     ``explorable`` the world's explorable space, the world's shape; None: not known), and the audit:
     whether the map has a path to each, and on which costmap (:func:`audit`); one with a path
-    whose best look from any cell the robot can reach would reveal no more than a speck of its
-    unknown is unrevealable, as one reached twice in vain is. A cluster of at most
+    whose best look from any cell the robot can reach, but where it has had one (a goal reached in
+    vain), would reveal no more than a speck of its unknown is unrevealable, as one reached twice
+    in vain is. A cluster of at most
     ``config.speck_cells`` cells is a speck and left out, unless more than :data:`UNSEEN_ROOM_M2`
     of unseen free space lies behind it: a room seen only through a slot is not a speck."""
     grid = cand.grid
     top, left_col = truth_grid.world_to_cell(*grid.cell_to_world(0, 0))
     crop = (slice(top, top + grid.height), slice(left_col, left_col + grid.width))
     state = map_state[crop]
+    found = audit(grid, pose, config, felt[crop], None if trail is None else trail[crop])
     against = _MapAgainstTruth(
         grid=grid,
         top=top,
@@ -168,7 +174,8 @@ def frontiers_left(
         truth=truth_grid.data[crop],
         beside=np.where(state == CellState.UNKNOWN, grid.data, np.int8(CellState.FREE)),  # unseen in both
         regions=UnseenRegions.of(map_state, truth_grid.data, explorable),
-        audit=audit(grid, pose, config, felt[crop], None if trail is None else trail[crop]),
+        audit=found,
+        views_left=_views_left(grid, found.reachable, blacklist),
         unknown=unknown_regions(grid),
         config=config,
     )
@@ -187,6 +194,16 @@ def frontiers_left(
                 continue
             left.append(against.frontier_left(frontiers, i, behind, blacklist))
     return tuple(left)
+
+
+def _views_left(grid: OccupancyGrid, reachable: NDArray[np.bool_], blacklist: Blacklist) -> NDArray[np.bool_]:
+    """The ``reachable`` cells of ``grid`` away from the views ``blacklist`` has had
+    (:meth:`~frontier_rl.core.frontiers.blacklist.Blacklist.views_had`)."""
+    cells = np.argwhere(reachable)
+    had = blacklist.views_had(grid.cells_to_world(cells))
+    left = reachable.copy()
+    left[cells[had, 0], cells[had, 1]] = False
+    return left
 
 
 @dataclass(frozen=True)

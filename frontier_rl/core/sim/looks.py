@@ -36,6 +36,8 @@ neither end).
 
 from __future__ import annotations
 
+from collections.abc import Callable
+
 import numpy as np
 from numpy.typing import NDArray
 from scipy import ndimage
@@ -119,7 +121,7 @@ def last_looks(
         if floor is not None and np.count_nonzero(np.hypot(*(floor - cells.mean(axis=0)).T) <= sight) < evidence:
             continue  # no floor seen through it: a speck at a wall's foot, or rays through glass
         chosen.append(i)
-    views = _viewpoint_cells(reachable, grid, blacklist)
+    views = _viewpoint_cells(reachable, grid, blacklist.tried_near)
     return _looks_at(small, _best_looks(grid, small, chosen, (labels, areas), views, config), pose)
 
 
@@ -127,11 +129,13 @@ def spent_looks(
     grid: OccupancyGrid, pose: Pose, reachable: NDArray[np.bool_], config: SimConfig, blacklist: Blacklist
 ) -> Frontiers:
     """The frontiers a robot at ``pose`` can reach (``reachable``; larger than the drop size) but
-    those visited twice (``blacklist``), each at the viewpoint away from every goal tried that sees
-    most of the unknown it opens onto, if more than a speck (:func:`spent_look_min_gain_m2`); the
-    frontiers one viewpoint is best for make one. Asked when no candidate is left, so that each is
-    a frontier given up after the audit's tries: a last look from elsewhere at one the robot could
-    not get to (through a gap narrower than itself, with a room seen through it)."""
+    those visited twice (``blacklist``), each at the viewpoint that sees most of the unknown it opens
+    onto, if more than a speck (:func:`spent_look_min_gain_m2`), away from the views had and the
+    goals that used up the audit's budget (``Blacklist.spent_near``: a look whose leg aborted is
+    offered again, as a leg to a frontier is retried); the frontiers one viewpoint is best for make
+    one. Asked when no candidate is left, so that each is a frontier given up after the audit's
+    tries: a last look from elsewhere at one the robot could not get to (through a gap narrower
+    than itself, with a room seen through it)."""
     reach = min(config.frontier_goal_reach, config.mapping_range)
     drop = config.drop_cells(grid.resolution)
     given_up = detect_frontiers(grid, pose, reachable, drop, config.frontier_segment_length, reach)
@@ -143,7 +147,7 @@ def spent_looks(
     if not chosen:
         return given_up.subset(np.zeros(0, np.int64))
     labels, areas = unknown_regions(grid)
-    views = _viewpoint_cells(reachable, grid, blacklist)
+    views = _viewpoint_cells(reachable, grid, blacklist.spent_near)
     least = spent_look_min_gain_m2(config, grid.resolution)
     return _looks_at(given_up, _best_looks(grid, given_up, chosen, (labels, areas), views, config, least), pose)
 
@@ -271,18 +275,16 @@ def _regions_seen_beyond(
     return found[found > 0].astype(np.int64)
 
 
-def _viewpoint_cells(reachable: NDArray[np.bool_], grid: OccupancyGrid, blacklist: Blacklist) -> NDArray[np.int64]:
-    """(k, 2) the reachable cells (row, col) on the viewpoint lattice, but those within the
-    ``blacklist``'s radius of a goal that failed or was looked from (the view was had)."""
+def _viewpoint_cells(
+    reachable: NDArray[np.bool_], grid: OccupancyGrid, tried: Callable[[NDArray[np.float64]], NDArray[np.bool_]]
+) -> NDArray[np.int64]:
+    """(k, 2) the reachable cells (row, col) on the viewpoint lattice, but those ``tried`` (a mask
+    of world points (m), such as :meth:`~frontier_rl.core.frontiers.blacklist.Blacklist.tried_near`)."""
     lattice = np.zeros_like(reachable)
     lattice[::VIEWPOINT_STRIDE, ::VIEWPOINT_STRIDE] = True
     views = np.argwhere(reachable & lattice).astype(np.int64)
-    if blacklist.entries and len(views):
-        xy = grid.cells_to_world(views)
-        tried = np.zeros(len(views), np.bool_)
-        for entry in blacklist.entries:
-            tried |= entry.near_goals(xy, blacklist.radius)
-        views = views[~tried]
+    if len(views):
+        views = views[~tried(grid.cells_to_world(views))]
     return views
 
 

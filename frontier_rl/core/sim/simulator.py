@@ -271,7 +271,8 @@ class ExplorationSimulator:
                 continue
             if cand.looks is not Look.NONE:  # a point goal, the view; a visit of its cluster whatever it shows
                 result = yield from self._drive(Leg(self, path, goal, None, cand.recovery), index, weight)
-                self.blacklist.fail(*goal, self.mapper.state, reached=True, frontier=frontier)
+                viewed = result.outcome is LegOutcome.REACHED
+                self.blacklist.fail(*goal, self.mapper.state, reached=True, frontier=frontier, viewed=viewed)
                 if cand.looks is Look.SMALL:  # whether the looks at small clusters go on
                     self.navigator.looked(result.new_free * self.world.grid.resolution**2)
                 else:

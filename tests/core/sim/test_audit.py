@@ -214,13 +214,10 @@ def test_the_audit_says_whether_a_path_runs_through_walls_as_mapped(door_m: floa
     assert set(levels[:, 64:].ravel().tolist()) == {-1, int(level)}
 
 
-@pytest.mark.parametrize(("side", "unrevealable"), [(2, True), (3, False)])
-def test_a_frontier_left_with_a_path_whose_unknown_no_look_could_see_more_than_a_speck_of_is_unrevealable(
-    side: int, unrevealable: bool
-) -> None:
-    """A square of unknown cells in the open floor of a walled room, its frontier given up after
-    the audit's budget of failed legs: of four cells (a speck) no look from anywhere reveals more
-    than a speck, so it is unrevealable, not space given up with a path; of nine, it is not."""
+def _square_left(side: int, views: bool | None = None) -> FrontierLeft:
+    """The frontier left round a square of ``side`` x ``side`` unknown cells in the open floor of a
+    walled room (3 x 3 m), given up after the audit's budget of failed legs; with ``views``, a goal
+    every 0.35 m over the floor failed too, reached and scanned from (True) or not (False)."""
     data = np.full((60, 60), FREE, np.int8)
     data[[0, -1], :] = data[:, [0, -1]] = CellState.OCCUPIED
     data[30 : 30 + side, 30 : 30 + side] = CellState.UNKNOWN
@@ -230,12 +227,34 @@ def test_a_frontier_left_with_a_path_whose_unknown_no_look_could_see_more_than_a
     assert len(offered) == 1 and config.speck_cells(RES) == 4
     for _ in range(AUDIT_BUDGET * MAX_FAILURES):
         blacklist.fail(*offered.goals[0], data, frontier=grid.cells_to_world(offered.cells_of(0)))
+    steps = np.arange(-9, 10) * 0.35  # a lattice through the frontier's goal, none nearer it than 0.35 m
+    lattice = offered.goals[0] + np.stack(np.meshgrid(steps, steps), axis=-1).reshape(-1, 2)
+    for x, y in lattice[((lattice > 0) & (lattice < 3)).all(axis=1)] if views is not None else ():
+        blacklist.fail(x, y, data, reached=views)
     cand = find_candidates(grid, pose, config, blacklist, data)
     assert len(cand.frontiers) == 0
     truth = OccupancyGrid(np.where(data == CellState.UNKNOWN, FREE, data), RES)
     (left,) = frontiers_left(cand, truth, pose, config, blacklist, data, np.zeros(data.shape, np.bool_))
-    assert left.has_path and left.path_on_map and left.failures == AUDIT_BUDGET * MAX_FAILURES
-    assert left.unrevealable is unrevealable
+    assert left.has_path and left.path_on_map and left.failures >= AUDIT_BUDGET * MAX_FAILURES
+    assert not any(blacklist.unrevealable(entry) for entry in blacklist.entries)  # none reached twice
+    return left
+
+
+@pytest.mark.parametrize(("side", "unrevealable"), [(2, True), (3, False)])
+def test_a_frontier_left_with_a_path_whose_unknown_no_look_could_see_more_than_a_speck_of_is_unrevealable(
+    side: int, unrevealable: bool
+) -> None:
+    """Of four cells (a speck) no look from anywhere reveals more than a speck, so the frontier is
+    unrevealable, not space given up with a path; of nine, it is not."""
+    assert _square_left(side).unrevealable is unrevealable
+
+
+@pytest.mark.parametrize("reached", [True, False])
+def test_a_look_from_where_the_robot_reached_a_goal_and_scanned_is_a_view_had(reached: bool) -> None:
+    """Nine unknown cells, and a goal tried every 0.35 m over the floor: where the robot reached
+    them and scanned, every look at the square was had (within the blacklist's radius of one) and
+    it is unrevealable; where it only failed to get there, the looks are still to have."""
+    assert _square_left(3, views=reached).unrevealable is reached
 
 
 def test_frontiers_behind_a_door_narrower_than_the_robot_have_no_path() -> None:

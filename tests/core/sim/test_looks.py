@@ -164,6 +164,23 @@ def test_a_frontier_given_up_gets_a_look_from_elsewhere_twice_at_most() -> None:
             looks = again
 
 
+def test_a_look_whose_leg_aborted_is_offered_again_until_its_goal_has_used_the_budget() -> None:
+    """A look whose leg aborted had no view: the same viewpoint is offered again (its goal failed
+    twice, below the audit's budget); after a second abort the frontier has had its two looks."""
+    grid, blacklist, looks = _given_up()
+    config, pose = SimConfig(), Pose(0.5, 0.5, 0.0)
+    _, reachable, _ = reachable_frontiers(grid, pose, config)
+    gap, first = grid.cells_to_world(looks.cells_of(0)), looks.goals[0].copy()
+    for aborted in range(2):  # as the simulator records a look whose leg aborted
+        blacklist.fail(*first, grid.data)
+        blacklist.fail(*first, grid.data, reached=True, frontier=gap, viewed=False)
+        again = spent_looks(grid, pose, reachable, config, blacklist)
+        assert len(again) == 1 - aborted
+        if len(again):
+            assert np.hypot(*(again.goals[0] - first)) <= blacklist.radius
+    assert not blacklist.views_had(first[None, :])[0] and blacklist.spent_near(first[None, :])[0]
+
+
 def test_a_frontier_given_up_onto_a_nook_gets_a_look_but_not_onto_a_speck() -> None:
     """A look at a frontier given up needs to promise more than a speck, not a person's room: a
     nook of 0.14 m² (11 x 5 cells) behind the gap gets one, a square of four cells (a speck) in
