@@ -7,6 +7,7 @@ leaves space (:func:`~frontier_rl.core.sim.episode_log.leaves_space`)."""
 from __future__ import annotations
 
 from dataclasses import dataclass
+from functools import cached_property
 
 import numpy as np
 from numpy.typing import NDArray
@@ -74,9 +75,7 @@ class _MapAgainstTruth:
         beside: ``grid``'s cells, free where the robot's whole map knows them (unseen in both).
         regions: the unseen free regions of the world.
         audit: where the audit found paths (:func:`audit`).
-        views_left: the cells it reaches (``audit.reachable``) but those within the blacklist's
-            radius of a goal reached and scanned from (``Blacklist.views_had``): where a look at a
-            frontier left could still be had.
+        blacklist: the robot's failed goals: each frontier's history, and the views it had.
         unknown: the labels of ``grid``'s unknown regions and their areas (m²), for the looks a
             frontier left with a path could have had (:func:`~frontier_rl.core.sim.looks.look_promise_cells`).
         config: the simulation's settings.
@@ -90,9 +89,21 @@ class _MapAgainstTruth:
     beside: NDArray[np.int8]
     regions: UnseenRegions
     audit: Audit
-    views_left: NDArray[np.bool_]
+    blacklist: Blacklist
     unknown: tuple[NDArray[np.int32], NDArray[np.float64]]
     config: SimConfig
+
+    @cached_property
+    def views_left(self) -> NDArray[np.bool_]:
+        """The cells the audit reaches (``audit.reachable``) but those within the blacklist's
+        radius of a goal reached and scanned from (:meth:`~frontier_rl.core.frontiers.blacklist.Blacklist.views_had`):
+        where a look at a frontier left could still be had (computed for the first that asks)."""
+        reachable = self.audit.reachable
+        cells = np.argwhere(reachable)
+        had = self.blacklist.views_had(self.grid.cells_to_world(cells))
+        left = reachable.copy()
+        left[cells[had, 0], cells[had, 1]] = False
+        return left
 
     def behind(self, cells: NDArray[np.int64]) -> NDArray[np.int64]:
         """The labels of the unseen free regions behind a frontier of ``cells`` (rows, cols of ``grid``)."""
@@ -103,14 +114,12 @@ class _MapAgainstTruth:
         res = self.grid.resolution
         return int(self.regions.sizes[regions].sum()) * res * res
 
-    def frontier_left(
-        self, frontiers: Frontiers, i: int, behind: NDArray[np.int64], blacklist: Blacklist
-    ) -> FrontierLeft:
+    def frontier_left(self, frontiers: Frontiers, i: int, behind: NDArray[np.int64]) -> FrontierLeft:
         """Frontier ``i`` of ``frontiers`` as left by the episode, with the unseen regions ``behind``
-        it (labels) and its history in ``blacklist``."""
+        it (labels)."""
         cells, res, width = frontiers.cells_of(i), self.grid.resolution, self.grid.width
         behind_m2 = self.behind_m2(behind)
-        failures, unrevealable = blacklist.history_of(self.grid.cells_to_world(cells))
+        failures, unrevealable = self.blacklist.history_of(self.grid.cells_to_world(cells))
         unknown, unseen = unknown_beside(self.beside, cells[:, 0], cells[:, 1], self.truth)
         rows, cols = np.divmod(unseen, width)
         in_world = (rows + self.top) * self.world_width + cols + self.left
@@ -165,7 +174,6 @@ def frontiers_left(
     top, left_col = truth_grid.world_to_cell(*grid.cell_to_world(0, 0))
     crop = (slice(top, top + grid.height), slice(left_col, left_col + grid.width))
     state = map_state[crop]
-    found = audit(grid, pose, config, felt[crop], None if trail is None else trail[crop])
     against = _MapAgainstTruth(
         grid=grid,
         top=top,
@@ -174,8 +182,8 @@ def frontiers_left(
         truth=truth_grid.data[crop],
         beside=np.where(state == CellState.UNKNOWN, grid.data, np.int8(CellState.FREE)),  # unseen in both
         regions=UnseenRegions.of(map_state, truth_grid.data, explorable),
-        audit=found,
-        views_left=_views_left(grid, found.reachable, blacklist),
+        audit=audit(grid, pose, config, felt[crop], None if trail is None else trail[crop]),
+        blacklist=blacklist,
         unknown=unknown_regions(grid),
         config=config,
     )
@@ -192,18 +200,8 @@ def frontiers_left(
             behind = against.behind(cells)
             if specks and against.behind_m2(behind) <= UNSEEN_ROOM_M2:
                 continue
-            left.append(against.frontier_left(frontiers, i, behind, blacklist))
+            left.append(against.frontier_left(frontiers, i, behind))
     return tuple(left)
-
-
-def _views_left(grid: OccupancyGrid, reachable: NDArray[np.bool_], blacklist: Blacklist) -> NDArray[np.bool_]:
-    """The ``reachable`` cells of ``grid`` away from the views ``blacklist`` has had
-    (:meth:`~frontier_rl.core.frontiers.blacklist.Blacklist.views_had`)."""
-    cells = np.argwhere(reachable)
-    had = blacklist.views_had(grid.cells_to_world(cells))
-    left = reachable.copy()
-    left[cells[had, 0], cells[had, 1]] = False
-    return left
 
 
 @dataclass(frozen=True)
