@@ -180,7 +180,7 @@ cap; mean coverage {100 * mean(e.coverage for e in every):.2f} %. {with_path} en
 while the audit found a frontier their final map still had a path to, its tries spent:{space}{split};
 {unrevealable} frontiers were left as
 unrevealable (reached twice and nothing seen, or no more than a speck of their unknown in sight of
-anywhere the robot can go: [concepts](../../concepts.md)).{on_truth}
+anywhere the robot can go but where it has had its view: [concepts](../../concepts.md)).{on_truth}
 
 {markdown_table(HARDER_HEADER, rows)}
 `explorable left`: what the robot could have seen on the true map and did not. `unreachable, a
