@@ -61,7 +61,8 @@ class BlacklistEntry:
         goals: every goal that failed there ((k, 2), m): frontiers whose goal lies within the
             blacklist's radius of one are blocked.
         frontier: the cells of the frontiers those goals were for ((n, 2), m; empty when unknown).
-        viewed: of ``goals``, those the robot reached and scanned from ((j, 2), m): views had.
+        viewed: the goals it failed at that the robot reached and scanned from ((j, 2), m, one
+            row a time): views had.
     """
 
     x: float

@@ -167,9 +167,9 @@ def frontiers_left(
     whether the map has a path to each, and on which costmap (:func:`audit`); one with a path
     whose best look from any cell the robot can reach, but where it has had one (a goal reached in
     vain), would reveal no more than a speck of its unknown is unrevealable, as one reached twice
-    in vain is. A cluster of at most
-    ``config.speck_cells`` cells is a speck and left out, unless more than :data:`UNSEEN_ROOM_M2`
-    of unseen free space lies behind it: a room seen only through a slot is not a speck."""
+    in vain is. A cluster of at most ``config.speck_cells`` cells is a speck and left out, unless
+    more than :data:`UNSEEN_ROOM_M2` of unseen free space lies behind it: a room seen only through
+    a slot is not a speck."""
     grid = cand.grid
     top, left_col = truth_grid.world_to_cell(*grid.cell_to_world(0, 0))
     crop = (slice(top, top + grid.height), slice(left_col, left_col + grid.width))
