@@ -200,11 +200,15 @@ class Blacklist:
     def blocked(self, goals: NDArray[np.float64], *, retrying: bool = False) -> NDArray[np.bool_]:
         """Which of the goals ((n, 2), m) an active entry blocks; with ``retrying``, only the
         entries that have used up their failures block."""
-        blocked = np.zeros(len(goals), np.bool_)
-        for entry in self.entries:
-            if entry.active and (not retrying or entry.failures >= self.max_failures):
-                blocked |= entry.near_goals(goals, self.radius)
-        return blocked
+        least = self.max_failures if retrying else 0
+        return self._near_goals_of(goals, [e for e in self.entries if e.active and e.failures >= least])
+
+    def _near_goals_of(self, points: NDArray[np.float64], entries: list[BlacklistEntry]) -> NDArray[np.bool_]:
+        """Which of ``points`` ((n, 2), m) lie within ``radius`` of a goal of one of ``entries``."""
+        near = np.zeros(len(points), np.bool_)
+        for entry in entries:
+            near |= entry.near_goals(points, self.radius)
+        return near
 
     def retry(self, budget: int | None = None) -> None:
         """Lift every entry that may still be retried: failed fewer than ``budget`` times
@@ -232,20 +236,13 @@ class Blacklist:
 
     def tried_near(self, points: NDArray[np.float64]) -> NDArray[np.bool_]:
         """Which of ``points`` ((n, 2), m) lie within ``radius`` of a goal tried (any entry's)."""
-        tried = np.zeros(len(points), np.bool_)
-        for entry in self.entries:
-            tried |= entry.near_goals(points, self.radius)
-        return tried
+        return self._near_goals_of(points, self.entries)
 
     def spent_near(self, points: NDArray[np.float64]) -> NDArray[np.bool_]:
         """Which of ``points`` ((n, 2), m) lie within ``radius`` of a view had (:meth:`views_had`)
         or of a goal of an entry that has used up the audit's budget: goals not to try again."""
         budget = AUDIT_BUDGET * self.max_failures
-        spent = self.views_had(points)
-        for entry in self.entries:
-            if entry.failures >= budget:
-                spent |= entry.near_goals(points, self.radius)
-        return spent
+        return self.views_had(points) | self._near_goals_of(points, [e for e in self.entries if e.failures >= budget])
 
     def failures_near(self, x: float, y: float) -> int:
         """How often a goal within ``radius`` of (x, y) (m) failed."""
