@@ -143,6 +143,9 @@ def test_explore_lists_the_frontiers_left(tmp_path: Path) -> None:
     assert table.exit_code == 0, table.output
     rows = {line.split()[1]: line.split()[3] for line in table.stdout.splitlines() if line.count("│") == 3}
     assert rows["end_reason"] == data["end_reason"] and rows["frontiers_left"] == str(len(left))
+    causes = ", ".join(f"{cause} {n}" for cause, n in data["aborts_by_cause"].items() if n) or "none"
+    (aborts,) = (line for line in table.stdout.splitlines() if "aborts_by_cause" in line)
+    assert f"│ {causes} │" in " ".join(aborts.split())  # each cause given up for, not a dict's repr
 
 
 def test_train_then_explore_with_the_learned_policy(tmp_path: Path) -> None:

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import json
+from collections.abc import Mapping
 from pathlib import Path
 from typing import TYPE_CHECKING, Annotated
 
@@ -161,8 +162,16 @@ def _print_episode(world: str, seed: int, policy: str, result: EpisodeResult, as
     table.add_column("metric")
     table.add_column("value", justify="right")
     for key, value in summary.items():
-        table.add_row(key, str(value))
+        table.add_row(key, _table_value(value))
     stdout_console().print(table)
+
+
+def _table_value(value: object) -> str:
+    """A metric as the table shows it: a count per kind (aborts by cause) as "kind n" for each
+    kind that has any ("none" when none has), anything else as itself."""
+    if isinstance(value, Mapping):
+        return ", ".join(f"{kind} {count}" for kind, count in value.items() if count) or "none"
+    return str(value)
 
 
 def _team_config(robots: int, strategy: str, comm_range: float | None, fail: list[str]) -> TeamConfig | None:
