@@ -242,6 +242,11 @@ def test_explore_with_a_team_reports_every_robot(tmp_path: Path) -> None:
     assert data["robots"] == 3 and data["strategy"] == "coordinated" and 0 <= data["overlap"] <= 1
     assert len(data["robot_path_lengths_m"]) == 3 and data["failed_at_s"][2] >= 60 and data["done"]
     assert png.stat().st_size > 0
+    table = runner.invoke(app, args[:-1])
+    assert table.exit_code == 0, table.output
+    rows = {line.split()[1]: " ".join(line.split()[3:-1]) for line in table.stdout.splitlines() if line.count("│") == 3}
+    assert rows["failed_at_s"] == f"-, -, {data['failed_at_s'][2]}"  # a value per robot, not a tuple's repr
+    assert rows["robot_path_lengths_m"] == ", ".join(str(length) for length in data["robot_path_lengths_m"])
 
 
 @pytest.mark.parametrize(

@@ -167,10 +167,15 @@ def _print_episode(world: str, seed: int, policy: str, result: EpisodeResult, as
 
 
 def _table_value(value: object) -> str:
-    """A metric as the table shows it: a count per kind (aborts by cause) as "kind n" for each
-    kind that has any ("none" when none has), anything else as itself."""
+    """A metric as the table shows it: ``-`` for none (a robot that never failed, a coverage never
+    reached), one value per robot separated by commas, a count per kind (aborts by cause) as
+    "kind n" for each kind that has any ("none" when none has), anything else as itself."""
+    if value is None:
+        return "-"
     if isinstance(value, Mapping):
         return ", ".join(f"{kind} {count}" for kind, count in value.items() if count) or "none"
+    if isinstance(value, (list, tuple)):
+        return ", ".join(_table_value(item) for item in value)
     return str(value)
 
 
