@@ -188,9 +188,11 @@ path left`: episodes that ended `unreachable` with such a frontier; `to space le
 with such a frontier that leaves space to explore (more unseen free cells beside it than a speck
 has, or more than 0.5 m² behind it; the others' unknown side is wall); `on the map as built`: of them,
 those with a path on the normal costmap (the others have one only through walls the narrow-passage
-recovery thinned, which may not be there). `explorable given up`: the audit on the true map, the
-most explorable space behind the frontiers left with a path in one episode: what the robot gave up
-after its tries and could have seen. `legs given up`: by why the
+recovery thinned, which may not be there: at such gaps the map's cells change between free and wall
+from scan to scan, so which episodes end with one changes from run to run whenever a change of the
+engine moves the legs before; [research log](../../research-log.md)). `explorable given up`: the
+audit on the true map, the most explorable space behind the frontiers left with a path in one
+episode: what the robot gave up after its tries and could have seen. `legs given up`: by why the
 goal was given up, summed over the episodes. `time / fastest`: the method's mean time over the
 fastest method's on the same map.
 
