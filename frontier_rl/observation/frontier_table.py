@@ -35,9 +35,11 @@ TOUR_STOPS = 10
 def frontier_path_costs(
     costmap: Costmap, pose: Pose, frontiers: Frontiers, robot_radius: float, want: int | None = None
 ) -> NDArray[np.float64]:
-    """Planner path cost (m) from the robot to each frontier: the cheapest cell within the robot's
-    radius (a square window) of one of its fringe cells (fringe cells hug walls, where the robot
-    centre cannot go); :data:`UNREACHABLE_COST_M` where there is no path. With ``want``, only the
+    """Planner path cost (m) from the robot (from where it sets out when it stands too close to a
+    wall, :meth:`~frontier_rl.core.navigation.costmap.Costmap.set_out`) to each frontier: the
+    cheapest cell within the robot's radius (a square window) of one of its fringe cells (fringe
+    cells hug walls, where the robot centre cannot go); :data:`UNREACHABLE_COST_M` where there is
+    no path. With ``want``, only the
     ``want`` cheapest are searched for (exact, and with them any tied): the others are inf unless
     the search covered all it could reach, so a decision's work grows with the distance to its
     nearest frontiers, not with the size of the map. On a map of more than
@@ -46,8 +48,9 @@ def frontier_path_costs(
     grid = costmap.grid
     reach = max(1, math.ceil(robot_radius / grid.resolution) + 1)
     members, groups = frontier_cells(frontiers)
-    start = grid.world_to_cell(pose.x, pose.y)
+    start, lead = costmap.set_out(grid.world_to_cell(pose.x, pose.y))
     costs, exhausted = group_path_costs(costmap, start, members, groups, len(frontiers), reach, robot_radius, want)
+    costs += lead
     if exhausted:
         costs[np.isinf(costs)] = UNREACHABLE_COST_M
     return costs

@@ -11,7 +11,12 @@ from frontier_rl.core.sim.episode import DecisionContext, run_episode
 from frontier_rl.core.world.catalog import generate_world
 from frontier_rl.core.world.grid import CellState, OccupancyGrid
 from frontier_rl.core.world.robot import Pose
-from frontier_rl.observation.frontier_table import FEATURE_BOUND, tour_regret
+from frontier_rl.observation.frontier_table import (
+    FEATURE_BOUND,
+    UNREACHABLE_COST_M,
+    frontier_path_costs,
+    tour_regret,
+)
 from frontier_rl.policies import FrontierTour, make_policy
 
 
@@ -54,6 +59,27 @@ def test_model_7s_tour_column_is_zero_for_the_tours_first_stop() -> None:
     others = np.delete(regret, behind)
     assert np.all((others > 0.05) & (others < FEATURE_BOUND))  # each costs the tour more than 0.5 m
     assert np.all(tour_regret(costmap, pose, frontiers.subset(np.arange(1)), SimConfig().robot.radius) == 0.0)
+
+
+def test_a_robot_against_a_wall_ranks_by_its_paths_from_where_it_sets_out() -> None:
+    """A robot 0.05 m from the corridor's wall stands on a cell the path-cost searches could not
+    leave: every frontier cost "no path" (model 7's table all 100 m, the tour's order by straight
+    distance), though the planner backs the robot away from the wall and has a path to each."""
+    grid, middle = _corridor()
+    config = SimConfig()
+    costmap, _, frontiers = reachable_frontiers(grid, middle, config)
+    against = Pose(middle.x, 10 * 0.05 + 0.025)  # row 10, next to the wall's row 9
+    assert not costmap.traversable[grid.world_to_cell(against.x, against.y)]
+    costs = frontier_path_costs(costmap, against, frontiers, config.robot.radius)
+    assert np.all(costs < UNREACHABLE_COST_M)
+    from_middle = frontier_path_costs(costmap, middle, frontiers, config.robot.radius)
+    assert np.array_equal(np.argsort(costs), np.argsort(from_middle))  # 0.5 m off the middle, in the wall's cost
+    assert np.all(np.abs(costs - from_middle) < 1.0)
+    context = DecisionContext(
+        grid, frontiers, against, 0.0, config.lidar.max_range, costmap, robot_radius=config.robot.radius
+    )
+    assert FrontierTour().rank(context, np.random.default_rng(0)).order[0] == np.argmin(frontiers.centers[:, 0])
+    assert np.all(tour_regret(costmap, against, frontiers, config.robot.radius) < FEATURE_BOUND)
 
 
 def test_tour_ranks_every_frontier_when_there_are_more_than_it_tours() -> None:

@@ -14,6 +14,7 @@ from functools import cached_property
 import numba as nb
 import numpy as np
 from numpy.typing import NDArray
+from scipy import ndimage
 
 from frontier_rl.core.navigation.astar import SearchScratch, astar_padded
 from frontier_rl.core.navigation.config import NavigationConfig
@@ -180,6 +181,40 @@ class Costmap:
         :meth:`plan` both set out from it, so that every cell one calls reachable the other plans to."""
         mask = self.traversable & (self.grid.data == CellState.FREE)
         return nearest_cell(mask, start, max_radius=int(round(0.5 / self.grid.resolution)))
+
+    def set_out(self, start: tuple[int, int], escape_radius: float = ESCAPE_RADIUS_M) -> tuple[tuple[int, int], float]:
+        """Where a path-cost search for a robot at ``start`` (row, col) sets out, and how far that
+        cell is (m): ``start`` itself when it is traversable; else the traversable cell nearest to
+        it that the robot gets to across the cells within ``escape_radius`` (m) it may cross, as
+        :meth:`plan` does (no closer to a wall than ``start``, never occupied); else, on a cell the
+        map does not have free, :meth:`departure_near`. ``start`` (and no path) when there is none.
+
+        The cost searches cannot cross those cells, so from a robot that ended up too close to a
+        wall every frontier had cost "no path", though the planner had a path to each."""
+        r, c = start
+        if not self.grid.in_bounds(r, c) or self.traversable[r, c]:
+            return start, 0.0
+        escape = escape_radius / self.grid.resolution
+        k = math.ceil(escape) + 1
+        r0, c0 = max(r - k, 0), max(c - k, 0)
+        window = (slice(r0, r + k + 1), slice(c0, c + k + 1))
+        clearance = self.clearance_padded[1:-1, 1:-1][window]
+        dr, dc = np.ogrid[r0 - r : window[0].stop - r, c0 - c : window[1].stop - c]
+        floor_clear = max(float(clearance[r - r0, c - c0]), 0.5)  # >= 0.5: never an occupied cell
+        exits = self.traversable[window]
+        crossable = exits | ((dr * dr + dc * dc <= escape * escape) & (clearance >= floor_clear))
+        crossable[r - r0, c - c0] = True
+        parts, _ = ndimage.label(crossable, structure=np.ones((3, 3), np.bool_))
+        mine = exits & (parts == parts[r - r0, c - c0])
+        if mine.any():
+            d2 = np.where(mine, dr * dr + dc * dc, np.iinfo(np.int64).max)
+            i, j = np.unravel_index(int(np.argmin(d2)), d2.shape)
+            cell = (r0 + int(i), c0 + int(j))
+        elif self.grid.data[r, c] != CellState.FREE and (near := self.departure_near(start)) is not None:
+            cell = near
+        else:
+            return start, 0.0
+        return cell, math.hypot(cell[0] - r, cell[1] - c) * self.grid.resolution
 
     def cost_to_go(self, start: tuple[int, int]) -> NDArray[np.float64]:
         """Planner path cost (m, weighted by the cell costs) from ``start`` (row, col) to every

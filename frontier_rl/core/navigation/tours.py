@@ -78,17 +78,20 @@ def first_stop_costs(dist: NDArray[np.float64]) -> NDArray[np.float64]:
 def costs_to_stops(
     costmap: Costmap, start: tuple[int, int], goals: NDArray[np.int64], robot_radius: float, want: int
 ) -> NDArray[np.float64]:
-    """Planner path costs (m) from ``start`` to each of ``goals`` (row, col cells): exact on a map
+    """Planner path costs (m) from ``start`` (the robot's cell; from where it sets out when it stands
+    too close to a wall, :meth:`~frontier_rl.core.navigation.costmap.Costmap.set_out`) to each of
+    ``goals`` (row, col cells): exact on a map
     searched cell by cell; on a map searched on blocks (:func:`block_factor` > 1, for a robot of
     ``robot_radius`` m), block estimates for the ``want`` cheapest and inf for the rest, so that
     the work is bounded by their distance, not by the map."""
     grid = costmap.grid
     goals = np.asarray(goals, np.int64).reshape(-1, 2)
+    start, lead = costmap.set_out(start)
     if block_factor(grid.shape, grid.resolution, robot_radius) == 1:
         exact: NDArray[np.float64] = path_costs(costmap, np.array([start], np.int64), goals)[0]
-        return exact
+        return exact + lead
     flat = goals[:, 0] * grid.width + goals[:, 1]
-    return group_path_costs(costmap, start, flat, np.arange(len(goals)), len(goals), 0, robot_radius, want)[0]
+    return group_path_costs(costmap, start, flat, np.arange(len(goals)), len(goals), 0, robot_radius, want)[0] + lead
 
 
 def stop_costs(
