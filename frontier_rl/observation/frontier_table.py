@@ -48,9 +48,10 @@ def frontier_path_costs(
     grid = costmap.grid
     reach = max(1, math.ceil(robot_radius / grid.resolution) + 1)
     members, groups = frontier_cells(frontiers)
-    start, lead = costmap.set_out(grid.world_to_cell(pose.x, pose.y))
-    costs, exhausted = group_path_costs(costmap, start, members, groups, len(frontiers), reach, robot_radius, want)
-    costs += lead
+    costs, exhausted = costmap.costs_from(
+        grid.world_to_cell(pose.x, pose.y),
+        lambda start: group_path_costs(costmap, start, members, groups, len(frontiers), reach, robot_radius, want),
+    )
     if exhausted:
         costs[np.isinf(costs)] = UNREACHABLE_COST_M
     return costs

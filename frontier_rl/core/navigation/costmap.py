@@ -8,6 +8,7 @@ of them when there is room.
 from __future__ import annotations
 
 import math
+from collections.abc import Callable
 from dataclasses import dataclass, field
 from functools import cached_property
 
@@ -27,6 +28,11 @@ from frontier_rl.core.world.grid import CellState, OccupancyGrid
 from frontier_rl.core.world.robot import RobotConfig
 
 _NO_COSTS = np.zeros(0)  # astar_padded works the step costs out itself
+
+Departure = tuple[tuple[int, int], float]
+"""A cell a path-cost search sets out from (row, col) and the way to it from the robot (m)."""
+CostSearch = Callable[[tuple[int, int]], tuple[NDArray[np.float64], bool]]
+"""Path costs (m) from a start cell, and whether the search covered all it could reach."""
 ESCAPE_RADIUS_M = 0.25
 """Around the robot, cells closer to a wall than the robot radius may be crossed within this
 distance (m), if no closer to a wall than the robot already is: so it can leave a wall it ended up
@@ -182,18 +188,19 @@ class Costmap:
         mask = self.traversable & (self.grid.data == CellState.FREE)
         return nearest_cell(mask, start, max_radius=int(round(0.5 / self.grid.resolution)))
 
-    def set_out(self, start: tuple[int, int], escape_radius: float = ESCAPE_RADIUS_M) -> tuple[tuple[int, int], float]:
-        """Where a path-cost search for a robot at ``start`` (row, col) sets out, and how far that
-        cell is (m): ``start`` itself when it is traversable; else the traversable cell nearest to
-        it that the robot gets to across the cells within ``escape_radius`` (m) it may cross, as
-        :meth:`plan` does (no closer to a wall than ``start``, never occupied); else, on a cell the
-        map does not have free, :meth:`departure_near`. ``start`` (and no path) when there is none.
+    def set_out(self, start: tuple[int, int], escape_radius: float = ESCAPE_RADIUS_M) -> list[Departure]:
+        """Where path-cost searches for a robot at ``start`` (row, col) set out, each with the way
+        there (m): ``start`` itself when it is traversable; else the nearest traversable cell of
+        each group of them the robot gets to across the cells within ``escape_radius`` (m) it may
+        cross, as :meth:`plan` does (no closer to a wall than ``start``, never occupied): one way
+        out beside a wall, two from a gap it stands in; else, on a cell the map does not have
+        free, :meth:`departure_near`; ``start`` (and no path) when there is none.
 
         The cost searches cannot cross those cells, so from a robot that ended up too close to a
         wall every frontier had cost "no path", though the planner had a path to each."""
         r, c = start
         if not self.grid.in_bounds(r, c) or self.traversable[r, c]:
-            return start, 0.0
+            return [(start, 0.0)]
         escape = escape_radius / self.grid.resolution
         k = math.ceil(escape) + 1
         r0, c0 = max(r - k, 0), max(c - k, 0)
@@ -204,17 +211,32 @@ class Costmap:
         exits = self.traversable[window]
         crossable = exits | ((dr * dr + dc * dc <= escape * escape) & (clearance >= floor_clear))
         crossable[r - r0, c - c0] = True
-        parts, _ = ndimage.label(crossable, structure=np.ones((3, 3), np.bool_))
-        mine = exits & (parts == parts[r - r0, c - c0])
-        if mine.any():
-            d2 = np.where(mine, dr * dr + dc * dc, np.iinfo(np.int64).max)
-            i, j = np.unravel_index(int(np.argmin(d2)), d2.shape)
-            cell = (r0 + int(i), c0 + int(j))
-        elif self.grid.data[r, c] != CellState.FREE and (near := self.departure_near(start)) is not None:
-            cell = near
+        eight = np.ones((3, 3), np.bool_)
+        parts, _ = ndimage.label(crossable, structure=eight)
+        groups, n_groups = ndimage.label(exits & (parts == parts[r - r0, c - c0]), structure=eight)
+        if n_groups == 0:
+            near = self.departure_near(start) if self.grid.data[r, c] != CellState.FREE else None
+            cells = [] if near is None else [near]
         else:
-            return start, 0.0
-        return cell, math.hypot(cell[0] - r, cell[1] - c) * self.grid.resolution
+            d2 = np.broadcast_to(dr * dr + dc * dc, groups.shape)
+            first = ndimage.minimum_position(d2, groups, np.arange(1, n_groups + 1))
+            cells = [(r0 + int(i), c0 + int(j)) for i, j in first]
+        if not cells:
+            return [(start, 0.0)]
+        return [(cell, math.hypot(cell[0] - r, cell[1] - c) * self.grid.resolution) for cell in cells]
+
+    def costs_from(self, start: tuple[int, int], search: CostSearch) -> tuple[NDArray[np.float64], bool]:
+        """``search``'s costs (m) for a robot at ``start`` (row, col): the least over the places it
+        sets out from (:meth:`set_out`), each with the way there; and whether every search covered
+        all it could reach (``search`` returns both for a start cell)."""
+        best: NDArray[np.float64] | None = None
+        exhausted = True
+        for cell, lead in self.set_out(start):
+            costs, covered = search(cell)
+            best = costs + lead if best is None else np.minimum(best, costs + lead)
+            exhausted &= covered
+        assert best is not None  # set_out gives at least one place
+        return best, exhausted
 
     def cost_to_go(self, start: tuple[int, int]) -> NDArray[np.float64]:
         """Planner path cost (m, weighted by the cell costs) from ``start`` (row, col) to every

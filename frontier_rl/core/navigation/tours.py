@@ -86,12 +86,15 @@ def costs_to_stops(
     the work is bounded by their distance, not by the map."""
     grid = costmap.grid
     goals = np.asarray(goals, np.int64).reshape(-1, 2)
-    start, lead = costmap.set_out(start)
     if block_factor(grid.shape, grid.resolution, robot_radius) == 1:
-        exact: NDArray[np.float64] = path_costs(costmap, np.array([start], np.int64), goals)[0]
-        return exact + lead
+        return costmap.costs_from(
+            start, lambda cell: (path_costs(costmap, np.array([cell], np.int64), goals)[0], True)
+        )[0]
     flat = goals[:, 0] * grid.width + goals[:, 1]
-    return group_path_costs(costmap, start, flat, np.arange(len(goals)), len(goals), 0, robot_radius, want)[0] + lead
+    return costmap.costs_from(
+        start,
+        lambda cell: group_path_costs(costmap, cell, flat, np.arange(len(goals)), len(goals), 0, robot_radius, want),
+    )[0]
 
 
 def stop_costs(

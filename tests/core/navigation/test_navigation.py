@@ -331,25 +331,40 @@ def test_plan_escapes_from_an_inflated_start_but_not_through_walls() -> None:
 
 def test_a_robot_too_close_to_a_wall_sets_out_from_where_it_can_back_away_to() -> None:
     """The path-cost searches cannot cross the cells the planner lets a robot back away across;
-    they set out from the nearest traversable cell the robot gets to across them (the lead is the
-    way there), from :meth:`Costmap.departure_near` on a wall cell, and from the robot's cell
-    itself when it is traversable or nothing leads out."""
+    they set out from the nearest traversable cell the robot gets to across them (with the way
+    there), from :meth:`Costmap.departure_near` on a wall cell, and from the robot's cell itself
+    when it is traversable or nothing leads out."""
     data = np.full((40, 40), FREE, np.int8)
     data[:, 0] = OCC
     cm = Costmap.build(OccupancyGrid(data, 0.05), RobotConfig(), NavigationConfig())
-    assert cm.set_out((10, 10)) == ((10, 10), 0.0)  # traversable
-    assert not cm.traversable[10, 1] and cm.traversable[10, 3] and not cm.traversable[10, 2]
-    assert cm.set_out((10, 1)) == ((10, 3), pytest.approx(0.1))  # backs away across (10, 2)
-    assert cm.set_out((10, 0)) == ((10, 3), pytest.approx(0.15))  # on the wall: across free cells
+    assert cm.set_out((10, 10)) == [((10, 10), 0.0)]  # traversable
+    assert not cm.traversable[10, 1] and not cm.traversable[10, 2] and cm.traversable[10, 3]
+    assert cm.set_out((10, 1)) == [((10, 3), pytest.approx(0.1))]  # backs away across (10, 2)
+    assert cm.set_out((10, 0)) == [((10, 3), pytest.approx(0.15))]  # on the wall: across free cells
     data[:, 1:3] = OCC  # now three cells deep: nothing but walls to cross
     cm = Costmap.build(OccupancyGrid(data, 0.05), RobotConfig(), NavigationConfig())
     assert cm.departure_near((10, 0)) == (10, 5)
-    assert cm.set_out((10, 0)) == ((10, 5), pytest.approx(0.25))
+    assert cm.set_out((10, 0)) == [((10, 5), pytest.approx(0.25))]
     pocket = np.full((20, 20), OCC, np.int8)
     pocket[9:12, 9:12] = FREE  # no cell of it is traversable, none near it either
     cm = Costmap.build(OccupancyGrid(pocket, 0.05), RobotConfig(), NavigationConfig())
-    assert cm.set_out((10, 10)) == ((10, 10), 0.0)
-    assert cm.set_out((-1, 3)) == ((-1, 3), 0.0)  # off the map
+    assert cm.set_out((10, 10)) == [((10, 10), 0.0)]
+    assert cm.set_out((-1, 3)) == [((-1, 3), 0.0)]  # off the map
+
+
+def test_a_robot_in_a_gap_sets_out_both_ways() -> None:
+    """A robot in a gap narrower than itself (where a leg on the narrow-passage recovery's costmap
+    ended) may back out on either side, and the planner has paths both ways."""
+    data = np.full((41, 40), FREE, np.int8)
+    data[20, :] = OCC
+    data[20, 18:22] = FREE  # 0.2 m: closed on the normal costmap
+    cm = Costmap.build(OccupancyGrid(data, 0.05), RobotConfig(), NavigationConfig())
+    assert not cm.traversable[20, 18:22].any()
+    ways = cm.set_out((20, 20))
+    assert sorted(cell[0] < 20 for cell, _ in ways) == [False, True]  # one above the wall, one below
+    for cell, lead in ways:
+        assert cm.traversable[cell] and 0.1 <= lead <= 0.3
+    assert len(cm.plan((20, 20), (5, 20))) and len(cm.plan((20, 20), (35, 20)))
 
 
 @pytest.mark.parametrize("seed", range(3))

@@ -75,3 +75,22 @@ def test_costs_to_stops_on_blocks_find_the_wanted_cheapest() -> None:
     costs = costs_to_stops(costmap, (50, 50), goals, radius, want=2)
     assert np.isfinite(costs[[0, 2]]).all() and np.isinf(costs[[1, 3]]).all()  # the two nearest only
     assert costs[2] < costs[0]
+
+
+def test_costs_from_a_robot_in_a_gap_reach_both_sides() -> None:
+    """A robot in a gap narrower than itself has paths to both rooms (it backs out either way); the
+    costs from it had been "no path" to all, and from one way out, to the room behind it."""
+    data = np.full((41, 40), CellState.FREE, np.int8)
+    data[20, :] = CellState.OCCUPIED
+    data[20, 18:22] = CellState.FREE
+    config = SimConfig()
+    costmap = Costmap.build(OccupancyGrid(data, 0.05), config.robot, config.navigation)
+    goals = np.array([[5, 20], [35, 20], [5, 5]], np.int64)
+    costs = costs_to_stops(costmap, (20, 20), goals, config.robot.radius, want=3)
+    assert np.all(np.isfinite(costs))
+    exact = [
+        min(lead + path_costs(costmap, np.array([c]), goals[k : k + 1])[0, 0] for c, lead in costmap.set_out((20, 20)))
+        for k in range(3)
+    ]
+    assert costs == pytest.approx(exact)
+    assert abs(costs[0] - costs[1]) < 0.2  # the gap's middle: as far from either room
