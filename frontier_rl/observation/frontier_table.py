@@ -39,10 +39,9 @@ def frontier_path_costs(
     wall, :meth:`~frontier_rl.core.navigation.costmap.Costmap.set_out`) to each frontier: the
     cheapest cell within the robot's radius (a square window) of one of its fringe cells (fringe
     cells hug walls, where the robot centre cannot go); :data:`UNREACHABLE_COST_M` where there is
-    no path. With ``want``, only the
-    ``want`` cheapest are searched for (exact, and with them any tied): the others are inf unless
-    the search covered all it could reach, so a decision's work grows with the distance to its
-    nearest frontiers, not with the size of the map. On a map of more than
+    no path. With ``want``, only the ``want`` cheapest are searched for (exact, and with them any
+    tied): the others are inf unless the search covered all it could reach, so a decision's work
+    grows with the distance to its nearest frontiers, not with the size of the map. On a map of more than
     :data:`~frontier_rl.core.navigation.group_costs.MAX_SEARCH_CELLS` cells the costs are
     estimated on blocks of cells (:func:`~frontier_rl.core.navigation.group_costs.group_path_costs`)."""
     grid = costmap.grid

@@ -29,14 +29,15 @@ from frontier_rl.core.world.robot import RobotConfig
 
 _NO_COSTS = np.zeros(0)  # astar_padded works the step costs out itself
 
-Departure = tuple[tuple[int, int], float]
-"""A cell a path-cost search sets out from (row, col) and the way to it from the robot (m)."""
-CostSearch = Callable[[tuple[int, int]], tuple[NDArray[np.float64], bool]]
-"""Path costs (m) from a start cell, and whether the search covered all it could reach."""
 ESCAPE_RADIUS_M = 0.25
 """Around the robot, cells closer to a wall than the robot radius may be crossed within this
 distance (m), if no closer to a wall than the robot already is: so it can leave a wall it ended up
 against (move_base clears the robot's footprint for the same reason)."""
+
+Departure = tuple[tuple[int, int], float]
+"""A cell a path-cost search sets out from (row, col) and the way to it from the robot (m)."""
+CostSearch = Callable[[tuple[int, int]], tuple[NDArray[np.float64], bool]]
+"""Path costs (m) from a start cell, and whether the search covered all it could reach."""
 
 
 @dataclass(frozen=True)

@@ -80,10 +80,9 @@ def costs_to_stops(
 ) -> NDArray[np.float64]:
     """Planner path costs (m) from ``start`` (the robot's cell; from where it sets out when it stands
     too close to a wall, :meth:`~frontier_rl.core.navigation.costmap.Costmap.set_out`) to each of
-    ``goals`` (row, col cells): exact on a map
-    searched cell by cell; on a map searched on blocks (:func:`block_factor` > 1, for a robot of
-    ``robot_radius`` m), block estimates for the ``want`` cheapest and inf for the rest, so that
-    the work is bounded by their distance, not by the map."""
+    ``goals`` (row, col cells): exact on a map searched cell by cell; on a map searched on blocks
+    (:func:`block_factor` > 1, for a robot of ``robot_radius`` m), block estimates for the ``want``
+    cheapest and inf for the rest, so that the work is bounded by their distance, not by the map."""
     grid = costmap.grid
     goals = np.asarray(goals, np.int64).reshape(-1, 2)
     if block_factor(grid.shape, grid.resolution, robot_radius) == 1:
