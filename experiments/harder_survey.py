@@ -20,7 +20,7 @@ import math
 import subprocess
 import sys
 from collections import Counter, defaultdict
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from pathlib import Path
 from statistics import mean
 
@@ -76,7 +76,8 @@ class Episode:
 
 
 def run_map(frontier_rl: Path, world: str, methods: str, episodes: int, out: Path, workers: int | None) -> None:
-    """``evaluate`` on one map (no oracle: the survey asks how episodes end, not how far from optimal)."""
+    """``evaluate`` on one map (no oracle: the survey asks how episodes end, not how far from optimal)
+    into the folder ``out``."""
     command = [
         str(frontier_rl),
         "evaluate",
@@ -92,11 +93,24 @@ def run_map(frontier_rl: Path, world: str, methods: str, episodes: int, out: Pat
         "--pictures",
         "0",
         "--out",
-        str(out / world),
+        str(out),
     ]
     if workers is not None:
         command += ["--workers", str(workers)]
     subprocess.run(command, check=True)
+
+
+def named_maps(worlds: list[str]) -> dict[str, str]:
+    """Each of ``worlds`` (catalogue names or map files) by its world's name (a map file's stem),
+    which names its results folder and its rows of the survey. Two maps of one name exit with an
+    error."""
+    named: dict[str, str] = {}
+    for world in worlds:
+        name = load_world(world, 0).name
+        if name in named:
+            sys.exit(f"error: maps {named[name]!r} and {world!r} are both called {name!r}; rename one")
+        named[name] = world
+    return named
 
 
 def read_episodes(folder: Path) -> list[Episode]:
@@ -244,8 +258,9 @@ def _shown(count: object) -> str:
     return "n/a" if count is None else str(count)
 
 
-def draw_worst(frontier_rl: Path, episodes: list[Episode], out: Path) -> list[str]:
-    """The :data:`WORST` episodes (a time cap first, then the lowest coverage), drawn again."""
+def draw_worst(frontier_rl: Path, episodes: list[Episode], maps: dict[str, str], out: Path) -> list[str]:
+    """The :data:`WORST` episodes (a time cap first, then the lowest coverage), drawn again;
+    ``maps``: each world's name (a map file's stem) and the map as given."""
     worst = sorted(episodes, key=lambda e: (e.end_reason != "time_cap", e.coverage))[:WORST]
     (out / "worst").mkdir(parents=True, exist_ok=True)
     lines = []
@@ -256,7 +271,7 @@ def draw_worst(frontier_rl: Path, episodes: list[Episode], out: Path) -> list[st
                 str(frontier_rl),
                 "explore",
                 "--world",
-                e.world,
+                maps[e.world],
                 "--policy",
                 e.method,
                 "--seed",
@@ -283,15 +298,16 @@ def main() -> None:
     parser.add_argument("--out", type=Path, required=True)
     args = parser.parse_args()
     frontier_rl = Path(sys.executable).with_name("frontier-rl")
-    maps = [m.strip() for m in args.maps.split(",") if m.strip()]
-    for world in maps:
-        run_map(frontier_rl, world, args.methods, args.episodes, args.out, args.workers)
-    episodes = [e for world in maps for e in read_episodes(args.out / world)]
+    maps = named_maps([m.strip() for m in args.maps.split(",") if m.strip()])
+    for name, world in maps.items():
+        run_map(frontier_rl, world, args.methods, args.episodes, args.out / name, args.workers)
+    episodes = [replace(e, world=name) for name in maps for e in read_episodes(args.out / name)]
     ceilings = {
-        world: free_space_ceiling(world, sorted({e.seed for e in episodes if e.world == world})) for world in maps
+        name: free_space_ceiling(world, sorted({e.seed for e in episodes if e.world == name}))
+        for name, world in maps.items()
     }
     markdown, rows = table(episodes, ceilings)
-    worst = draw_worst(frontier_rl, episodes, args.out)
+    worst = draw_worst(frontier_rl, episodes, maps, args.out)
     write_text_atomic(args.out / "survey.md", markdown + "\nThe worst episodes:\n\n" + "\n".join(worst) + "\n")
     survey = {"rows": rows, "worst": worst, "free_space_ceilings": ceilings}
     write_text_atomic(args.out / "survey.json", json.dumps(survey, indent=1) + "\n")

@@ -93,6 +93,7 @@ def _script(name: str) -> Any:
     spec = importlib.util.spec_from_file_location(name, SCRIPT.parent / f"{name}.py")
     assert spec is not None and spec.loader is not None
     module = importlib.util.module_from_spec(spec)
+    sys.modules[name] = module  # its dataclasses look their module up there
     spec.loader.exec_module(module)
     return module
 
@@ -216,11 +217,15 @@ def test_teacher_experiment_pairs_its_noise_with_run_episode() -> None:
     assert teacher._simulator(world, 8).rng.bit_generator.state != seen[0][0]
 
 
-def test_the_harder_survey_tabulates_causes_and_draws_the_worst(tmp_path: Path) -> None:
+def test_the_harder_survey_tabulates_causes_and_draws_the_worst(tmp_path: Path, real_maps: Path) -> None:
+    """On a map given as a file (in a folder of another name): the survey calls it by its stem."""
+    shutil.copytree(real_maps / "lse_arena", tmp_path / "maps" / "arena")
     out = tmp_path / "survey"
-    args = [sys.executable, str(SCRIPT.parent / "harder_survey.py"), "--maps", "lse_arena", "--methods", "nearest,tour",
+    args = [sys.executable, str(SCRIPT.parent / "harder_survey.py"), "--maps",
+            str(tmp_path / "maps" / "arena" / "lse_arena.yaml"), "--methods", "nearest,tour",
             "--episodes", "2", "--workers", "1", "--out", str(out)]  # fmt: skip
     subprocess.run(args, capture_output=True, text=True, check=True, timeout=300)
+    assert (out / "lse_arena" / "episodes.csv").is_file()
     survey = json.loads((out / "survey.json").read_text())
     assert [(row["map"], row["method"], row["episodes"]) for row in survey["rows"]] == [
         ("lse_arena", "nearest", 2),
@@ -238,3 +243,13 @@ def test_the_harder_survey_tabulates_causes_and_draws_the_worst(tmp_path: Path) 
     assert 0.9 < survey["free_space_ceilings"]["lse_arena"] <= 1  # a walled arena: nearly all of it in sight
     assert "against a ceiling of" in (out / "survey.md").read_text()
     assert "episodes gave up explorable space with a path" in (out / "survey.md").read_text()
+
+
+def test_the_harder_survey_names_maps_as_their_episodes_do(tmp_path: Path, real_maps: Path) -> None:
+    named_maps = _script("harder_survey").named_maps
+    copy = tmp_path / "lse_arena.yaml"
+    for part in ("lse_arena.yaml", "lse_arena.pgm"):
+        shutil.copy(real_maps / "lse_arena" / part, tmp_path / part)
+    assert named_maps(["office", str(copy)]) == {"office": "office", "lse_arena": str(copy)}
+    with pytest.raises(SystemExit, match="are both called 'lse_arena'"):
+        named_maps(["lse_arena", str(copy)])
