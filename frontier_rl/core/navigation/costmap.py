@@ -204,10 +204,10 @@ class Costmap:
             return [(start, 0.0)]
         escape = escape_radius / self.grid.resolution
         k = math.ceil(escape) + 1
-        r0, c0 = max(r - k, 0), max(c - k, 0)
-        window = (slice(r0, r + k + 1), slice(c0, c + k + 1))
+        (r0, r1), (c0, c1) = ((max(i - k, 0), min(i + k + 1, n)) for i, n in zip(start, self.grid.shape, strict=True))
+        window = (slice(r0, r1), slice(c0, c1))
         clearance = self.clearance_padded[1:-1, 1:-1][window]
-        dr, dc = np.ogrid[r0 - r : window[0].stop - r, c0 - c : window[1].stop - c]
+        dr, dc = np.ogrid[r0 - r : r1 - r, c0 - c : c1 - c]
         floor_clear = max(float(clearance[r - r0, c - c0]), 0.5)  # >= 0.5: never an occupied cell
         exits = self.traversable[window]
         crossable = exits | ((dr * dr + dc * dc <= escape * escape) & (clearance >= floor_clear))

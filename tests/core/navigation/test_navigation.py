@@ -335,12 +335,14 @@ def test_a_robot_too_close_to_a_wall_sets_out_from_where_it_can_back_away_to() -
     there), from :meth:`Costmap.departure_near` on a wall cell, and from the robot's cell itself
     when it is traversable or nothing leads out."""
     data = np.full((40, 40), FREE, np.int8)
-    data[:, 0] = OCC
+    data[:, 0] = data[:, -1] = OCC
     cm = Costmap.build(OccupancyGrid(data, 0.05), RobotConfig(), NavigationConfig())
     assert cm.set_out((10, 10)) == [((10, 10), 0.0)]  # traversable
     assert not cm.traversable[10, 1] and not cm.traversable[10, 2] and cm.traversable[10, 3]
     assert cm.set_out((10, 1)) == [((10, 3), pytest.approx(0.1))]  # backs away across (10, 2)
     assert cm.set_out((10, 0)) == [((10, 3), pytest.approx(0.15))]  # on the wall: across free cells
+    assert cm.set_out((39, 1)) == [((39, 3), pytest.approx(0.1))]  # on the map's edges
+    assert cm.set_out((0, 38)) == [((0, 36), pytest.approx(0.1))]
     data[:, 1:3] = OCC  # now three cells deep: nothing but walls to cross
     cm = Costmap.build(OccupancyGrid(data, 0.05), RobotConfig(), NavigationConfig())
     assert cm.departure_near((10, 0)) == (10, 5)
