@@ -204,7 +204,9 @@ class Costmap:
             return [(start, 0.0)]
         escape = escape_radius / self.grid.resolution
         k = math.ceil(escape) + 1
-        (r0, r1), (c0, c1) = ((max(i - k, 0), min(i + k + 1, n)) for i, n in zip(start, self.grid.shape, strict=True))
+        rows, cols = self.grid.shape
+        r0, r1 = max(r - k, 0), min(r + k + 1, rows)
+        c0, c1 = max(c - k, 0), min(c + k + 1, cols)
         window = (slice(r0, r1), slice(c0, c1))
         clearance = self.clearance_padded[1:-1, 1:-1][window]
         dr, dc = np.ogrid[r0 - r : r1 - r, c0 - c : c1 - c]
