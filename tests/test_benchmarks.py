@@ -57,8 +57,6 @@ def test_the_process_benchmark_times_help_a_small_explore_and_the_floors_under_t
     assert rows[1].metric.startswith("floor:") and "--help" in rows[1].metric
     assert rows[4].metric.startswith("floor:") and "numba" in rows[4].metric
     assert all(0 < row.value < 60 and not row.higher_is_better for row in rows)
-    assert rows[4].value < rows[3].value  # the explore imports and runs more than the floor
-    assert rows[1].value < rows[3].value  # a help that loads no engine
     assert rows[2].value == pytest.approx(rows[0].value / rows[1].value)  # one round: the ratio of its two times
     assert rows[5].value == pytest.approx(rows[3].value / rows[4].value)
 
