@@ -32,6 +32,7 @@ from frontier_rl.core.sim.config import SimConfig
 from frontier_rl.core.sim.leg_result import AbortCause
 from frontier_rl.core.world.grid import CellState
 from frontier_rl.evaluation.results.episode_record import EpisodeRow, EpisodeTrace
+from frontier_rl.world_spec import world_name
 
 MAPS = (
     "aws_bookstore",
@@ -106,7 +107,7 @@ def named_maps(worlds: list[str]) -> dict[str, str]:
     error."""
     named: dict[str, str] = {}
     for world in worlds:
-        name = load_world(world, 0).name
+        name = world_name(world)
         if name in named:
             sys.exit(f"error: maps {named[name]!r} and {world!r} are both called {name!r}; rename one")
         named[name] = world

@@ -94,6 +94,23 @@ def map_file(spec: str, base_dir: str | Path | None = None) -> Path:
     return _map_located(spec, base_dir)[0]
 
 
+def world_name(spec: str, base_dir: str | Path | None = None) -> str:
+    """The name of the world ``spec`` names, as :func:`resolve_world` gives it, without reading a
+    map: a generator's or catalogue map's own name, a map file's stem.
+
+    Raises:
+        UnknownNameError, ConfigError, MapError: as :func:`resolve_world`.
+    """
+    if spec in WORLD_GENERATORS:
+        return spec
+    path, entry = _map_located(spec, base_dir)
+    return _map_name(spec, path, entry)
+
+
+def _map_name(spec: str, path: Path, entry: CatalogueMap | None) -> str:
+    return spec if entry is not None else path.stem
+
+
 def resolve_world(
     spec: str,
     seed: int,
@@ -133,7 +150,7 @@ def resolve_world(
     path, entry = _map_located(spec, base_dir)
     loaded = read_map(str(path), resolution)
     start = start or (loaded.start if stored_start else None)
-    name = spec if entry is not None else path.stem
+    name = _map_name(spec, path, entry)
     return make_world(loaded.grid, name, start=start, rng=np.random.default_rng(seed))
 
 

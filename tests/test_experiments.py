@@ -245,7 +245,7 @@ def test_the_harder_survey_tabulates_causes_and_draws_the_worst(tmp_path: Path, 
     assert "episodes gave up explorable space with a path" in (out / "survey.md").read_text()
 
 
-def test_the_harder_survey_names_maps_as_their_episodes_do(tmp_path: Path, real_maps: Path) -> None:
+def test_the_harder_survey_names_maps_by_their_worlds_names(tmp_path: Path, real_maps: Path) -> None:
     named_maps = _script("harder_survey").named_maps
     copy = tmp_path / "lse_arena.yaml"
     for part in ("lse_arena.yaml", "lse_arena.pgm"):

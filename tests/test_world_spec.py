@@ -16,7 +16,7 @@ from frontier_rl.core.world.robot import Pose
 from frontier_rl.core.world.worlds import make_world
 from frontier_rl.errors import ConfigError, MapError, UnknownNameError
 from frontier_rl.io import load_map, save_ros_map
-from frontier_rl.world_spec import read_map, resolve_world
+from frontier_rl.world_spec import read_map, resolve_world, world_name
 
 
 def test_a_generator_is_drawn_with_the_seed_and_a_start_replaces_its_own() -> None:
@@ -45,6 +45,13 @@ def _room(path: Path, wall_col: int) -> Path:
     data[[0, -1], :] = CellState.OCCUPIED
     data[:, [0, -1, wall_col]] = CellState.OCCUPIED
     return save_ros_map(OccupancyGrid(data, 0.05), path)
+
+
+def test_a_worlds_name_is_known_without_reading_it(tmp_path: Path) -> None:
+    room = _room(tmp_path / "hall.yaml", 5)
+    for spec in ("office", "lse_arena", str(room)):
+        assert world_name(spec) == resolve_world(spec, 0).name
+    assert world_name(str(room)) == room.stem
 
 
 def test_a_map_file_is_read_once_per_version(tmp_path: Path) -> None:
