@@ -10,6 +10,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
+from frontier_rl import world_spec
 from frontier_rl.core.world.catalog import generate_world
 from frontier_rl.core.world.grid import CellState, OccupancyGrid
 from frontier_rl.core.world.robot import Pose
@@ -47,10 +48,16 @@ def _room(path: Path, wall_col: int) -> Path:
     return save_ros_map(OccupancyGrid(data, 0.05), path)
 
 
-def test_a_worlds_name_is_known_without_reading_it(tmp_path: Path) -> None:
+def test_a_worlds_name_is_known_without_reading_it(tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> None:
     room = _room(tmp_path / "hall.yaml", 5)
-    for spec in ("office", "lse_arena", str(room)):
-        assert world_name(spec) == resolve_world(spec, 0).name
+    specs = ("office", "lse_arena", str(room))
+    names = [resolve_world(spec, 0).name for spec in specs]
+
+    def no_read(*args: object, **kwargs: object) -> None:
+        raise AssertionError("world_name read a map")
+
+    monkeypatch.setattr(world_spec, "read_map", no_read)
+    assert [world_name(spec) for spec in specs] == names
     assert world_name(str(room)) == room.stem
 
 
