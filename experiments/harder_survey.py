@@ -6,8 +6,9 @@ Runs ``frontier-rl evaluate`` once per map into ``OUT/MAP`` (rerunning resumes),
 by cause, the explorable area left (m², what the robot could have seen on the true map and did not),
 the lowest coverage, and the mean time against the map's fastest method; the mean coverage of
 the maps' free space against its ceiling (what an episode can map at all); and the five worst
-episodes (lowest coverage, a time cap first), each drawn again with ``frontier-rl explore --png``
-into ``OUT/worst/``.
+episodes (lowest coverage, a time cap first), each run again and drawn into ``OUT/worst/`` (the
+picture of ``frontier-rl explore --png``: the explorable space left unseen in amber), with where
+that space lies and how near the robot's path came to it.
 
     .venv/bin/python experiments/harder_survey.py --episodes 5 --out results/harder_survey
 """
@@ -20,18 +21,19 @@ import math
 import subprocess
 import sys
 from collections import Counter, defaultdict
-from dataclasses import dataclass, replace
+from dataclasses import asdict, dataclass, replace
 from pathlib import Path
 from statistics import mean
 
 import numpy as np
 
-from frontier_rl.api import load_world
+from frontier_rl.api import explore, load_world
 from frontier_rl.atomic_write import write_text_atomic
 from frontier_rl.core.sim.config import SimConfig
 from frontier_rl.core.sim.leg_result import AbortCause
 from frontier_rl.core.world.grid import CellState
 from frontier_rl.evaluation.results.episode_record import EpisodeRow, EpisodeTrace
+from frontier_rl.recording import EpisodeRecorder
 from frontier_rl.world_spec import world_name
 
 MAPS = (
@@ -259,35 +261,55 @@ def _shown(count: object) -> str:
     return "n/a" if count is None else str(count)
 
 
-def draw_worst(frontier_rl: Path, episodes: list[Episode], maps: dict[str, str], out: Path) -> list[str]:
-    """The :data:`WORST` episodes (a time cap first, then the lowest coverage), drawn again;
-    ``maps``: each world's name (a map file's stem) and the map as given."""
+def draw_worst(episodes: list[Episode], maps: dict[str, str], out: Path) -> list[dict[str, object]]:
+    """The :data:`WORST` episodes (a time cap first, then the lowest coverage), run again and drawn
+    into ``OUT/worst/`` (what ``frontier-rl explore --png`` draws), each with where the explorable
+    space it left lies (:meth:`~frontier_rl.recording.EpisodeRecorder.unseen_places`); ``maps``:
+    each world's name (a map file's stem) and the map as given. Exits with an error if an episode run
+    again does not end as the survey's did (the engine changed since: run the survey again)."""
     worst = sorted(episodes, key=lambda e: (e.end_reason != "time_cap", e.coverage))[:WORST]
     (out / "worst").mkdir(parents=True, exist_ok=True)
-    lines = []
+    drawn: list[dict[str, object]] = []
     for e in worst:
-        picture = out / "worst" / f"{e.world}-{e.method.replace(':', '_').replace('/', '_')}-{e.seed}.png"
-        subprocess.run(
-            [
-                str(frontier_rl),
-                "explore",
-                "--world",
-                maps[e.world],
-                "--policy",
-                e.method,
-                "--seed",
-                str(e.seed),
-                "--png",
-                str(picture),
-            ],
-            check=True,
-            stdout=subprocess.DEVNULL,
+        world = load_world(maps[e.world], e.seed)
+        recorder = EpisodeRecorder(world)
+        result = explore(world, e.method, seed=e.seed, on_decision=recorder)
+        same_time = abs(result.sim_time_s - e.sim_time_s) <= 0.1  # the table's rounding
+        if str(result.end_reason) != e.end_reason or abs(result.coverage - e.coverage) > 1e-4 or not same_time:
+            sys.exit(
+                f"error: {e.world} {e.method} seed {e.seed} ran again to {result.end_reason} at "
+                f"{result.coverage:.4f} in {result.sim_time_s:.1f} s, not as surveyed ({e.end_reason}, "
+                f"{e.coverage:.4f}, {e.sim_time_s:.1f} s): the engine changed since; run the survey again"
+            )
+        picture = Path("worst") / f"{e.world}-{e.method.replace(':', '_').replace('/', '_')}-{e.seed}.png"
+        recorder.save_png(out / picture, result, f"{e.world} / {e.method} / seed {e.seed}")
+        drawn.append(
+            {
+                "map": e.world,
+                "method": e.method,
+                "seed": e.seed,
+                "end_reason": e.end_reason,
+                "coverage": e.coverage,
+                "explorable_left_m2": round(e.explorable_left_m2, 2),
+                "sim_time_s": e.sim_time_s,
+                "picture": picture.as_posix(),
+                "unseen": [{k: round(v, 2) for k, v in asdict(p).items()} for p in recorder.unseen_places(result)],
+            }
         )
-        lines.append(
-            f"- {e.world}, {e.method}, seed {e.seed}: {e.end_reason} at {e.coverage:.2%} of the explorable "
-            f"space, {e.explorable_left_m2:.1f} m² left, {e.sim_time_s:.0f} s ({picture.name})"
-        )
-    return lines
+    return drawn
+
+
+def worst_line(episode: dict[str, object]) -> str:
+    """One of :func:`draw_worst`'s episodes as a line of the survey's Markdown."""
+    places = "; ".join(
+        f"{p['area_m2']:.1f} m² around ({p['x']:.1f}, {p['y']:.1f}), the path within {p['path_within_m']:.1f} m"
+        for p in episode["unseen"]  # type: ignore[attr-defined]
+    )
+    return (
+        f"- {episode['map']}, {episode['method']}, seed {episode['seed']}: {episode['end_reason']} at "
+        f"{episode['coverage']:.2%} of the explorable space, {episode['explorable_left_m2']:.1f} m² left, "
+        f"{episode['sim_time_s']:.0f} s; unseen: {places or 'no piece of 0.25 m² or more'} ({episode['picture']})"
+    )
 
 
 def main() -> None:
@@ -308,9 +330,10 @@ def main() -> None:
         for name, world in maps.items()
     }
     markdown, rows = table(episodes, ceilings)
-    worst = draw_worst(frontier_rl, episodes, maps, args.out)
+    drawn = draw_worst(episodes, maps, args.out)
+    worst = [worst_line(e) for e in drawn]
     write_text_atomic(args.out / "survey.md", markdown + "\nThe worst episodes:\n\n" + "\n".join(worst) + "\n")
-    survey = {"rows": rows, "worst": worst, "free_space_ceilings": ceilings}
+    survey = {"rows": rows, "worst": drawn, "free_space_ceilings": ceilings}
     write_text_atomic(args.out / "survey.json", json.dumps(survey, indent=1) + "\n")
     print(markdown)
     print("\n".join(worst))

@@ -137,7 +137,7 @@ STUDIES: tuple[Study, ...] = (
     Study(
         "harder_buildings",
         (f"{PYTHON} experiments/harder_survey.py --out {{out}}",),
-        keep=("survey.json", "*/summary.json", "*/episodes.csv"),
+        keep=("survey.json", "*/summary.json", "*/episodes.csv", "worst/*.png"),
     ),
     Study("speed", (f"{PYTHON} benchmarks/run.py --json {{out}}/speed.json",), keep=("speed.json",)),
 )

@@ -1,4 +1,5 @@
-"""Pictures of an episode: the true map, the built map, the ranked frontiers and the path.
+"""Pictures of an episode: the true map, the built map, the ranked frontiers, the path and, at the
+end, the explorable space the robot left unseen.
 
 Drawn with Pillow straight from the grids (one pixel block per cell), so a frame costs about a
 millisecond and an episode's GIF a fraction of a second.
@@ -26,6 +27,7 @@ _COLOURS = {
     CellState.OCCUPIED: (25, 25, 30),
 }
 _TRUE_FREE = (225, 235, 245)
+_UNSEEN = (240, 160, 0)  # amber: explorable space the robot's map left unknown
 _PATH = (220, 40, 40)
 _ROBOT = (200, 0, 120)
 _BEST = np.array([20, 170, 60])
@@ -47,12 +49,31 @@ class FrameCanvas:
     Args:
         world: the ground-truth grid; it fixes the extent and the frame.
         scale: pixels per cell.
+        crop_margin: if given, the pictures of :meth:`episode` and :meth:`team` show only the
+            world's free space and this margin (m) around it, not a map file's wide border of wall.
     """
 
-    def __init__(self, world: OccupancyGrid, scale: int = 2) -> None:
+    def __init__(self, world: OccupancyGrid, scale: int = 2, crop_margin: float | None = None) -> None:
         self.world = world
         self.scale = max(int(scale), 1)
         self._truth: Image.Image | None = None  # drawn once: a recorder draws it at every frame
+        self._box = None if crop_margin is None else self._free_box(crop_margin)
+
+    def _free_box(self, margin: float) -> tuple[int, int, int, int] | None:
+        """The pixel box (left, top, right, bottom) of the world's free cells and ``margin`` (m)
+        around them, within the world; None if it has no free cell."""
+        rows, cols = np.nonzero(self.world.data == CellState.FREE)
+        if len(rows) == 0:
+            return None
+        pad = int(np.ceil(margin / self.world.resolution))
+        height, width = self.world.shape
+        r0, r1 = max(int(rows.min()) - pad, 0), min(int(rows.max()) + pad, height - 1)
+        c0, c1 = max(int(cols.min()) - pad, 0), min(int(cols.max()) + pad, width - 1)
+        s = self.scale
+        return c0 * s, (height - 1 - r1) * s, (c1 + 1) * s, (height - r0) * s
+
+    def _cropped(self, image: Image.Image) -> Image.Image:
+        return image if self._box is None else image.crop(self._box)
 
     def _to_px(self, xy: NDArray[np.float64]) -> NDArray[np.float64]:
         g = self.world
@@ -60,29 +81,45 @@ class FrameCanvas:
         py = (g.height - (xy[:, 1] - g.origin[1]) / g.resolution) * self.scale
         return np.column_stack((px, py))
 
-    def base(self, grid: OccupancyGrid | None) -> Image.Image:
-        """The world's extent with ``grid`` pasted where it lies (all unknown if None)."""
-        canvas = np.full((*self.world.shape, 3), _COLOURS[CellState.UNKNOWN], np.uint8)
+    def states(self, grid: OccupancyGrid | None) -> NDArray[np.int8]:
+        """The cell states of ``grid`` in the world's frame and shape, row 0 at the bottom: unknown
+        wherever ``grid`` does not reach (everywhere if None)."""
+        states = np.full(self.world.shape, CellState.UNKNOWN, np.int8)
         if grid is not None:
             r0, c0 = self.world.world_to_cell(
                 grid.origin[0] + 0.5 * grid.resolution, grid.origin[1] + 0.5 * grid.resolution
             )
             rows = slice(max(r0, 0), min(r0 + grid.height, self.world.height))
             cols = slice(max(c0, 0), min(c0 + grid.width, self.world.width))
-            sub = grid.data[rows.start - r0 : rows.stop - r0, cols.start - c0 : cols.stop - c0]
-            canvas[rows, cols] = grid_to_rgb(sub)[::-1]
-        image = Image.fromarray(np.ascontiguousarray(canvas[::-1]))
+            states[rows, cols] = grid.data[rows.start - r0 : rows.stop - r0, cols.start - c0 : cols.stop - c0]
+        return states
+
+    def unseen(self, grid: OccupancyGrid | None, explorable: NDArray[np.bool_]) -> NDArray[np.bool_]:
+        """The ``explorable`` cells (a mask of the world's shape) ``grid`` leaves unknown."""
+        return np.asarray(explorable & (self.states(grid) == CellState.UNKNOWN))
+
+    def base(self, grid: OccupancyGrid | None) -> Image.Image:
+        """The world's extent with ``grid`` pasted where it lies (all unknown if None)."""
+        return self._image(grid_to_rgb(self.states(grid)))
+
+    def _image(self, rgb: NDArray[np.uint8]) -> Image.Image:
+        """An (rows, cols, 3) picture, row 0 at the top, at the canvas's scale."""
+        image = Image.fromarray(np.ascontiguousarray(rgb))
         return image.resize((image.width * self.scale, image.height * self.scale), Image.Resampling.NEAREST)
 
-    def truth(self) -> Image.Image:
-        """The ground truth (free space tinted so it reads as 'the real building'): a new image
-        to draw on."""
+    def truth(self, unseen: NDArray[np.bool_] | None = None) -> Image.Image:
+        """The ground truth (free space tinted so it reads as 'the real building'), with the
+        ``unseen`` cells (a mask of the world's shape: :meth:`unseen`) in amber: a new image to draw on."""
         if self._truth is None:
             rgb = grid_to_rgb(self.world.data)
             rgb[(self.world.data == CellState.FREE)[::-1]] = _TRUE_FREE
-            image = Image.fromarray(np.ascontiguousarray(rgb))
-            self._truth = image.resize((image.width * self.scale, image.height * self.scale), Image.Resampling.NEAREST)
-        return self._truth.copy()
+            self._truth = self._image(rgb)
+        if unseen is None or not unseen.any():
+            return self._truth.copy()
+        rgb = np.array(self._truth)
+        block = np.ones((self.scale, self.scale), bool)
+        rgb[np.kron(unseen[::-1], block).astype(bool)] = _UNSEEN
+        return Image.fromarray(rgb)
 
     def draw_path(
         self, image: Image.Image, trajectory: NDArray[np.float64], colour: tuple[int, int, int] | None = None
@@ -127,21 +164,27 @@ class FrameCanvas:
         grid: OccupancyGrid | None,
         trajectory: NDArray[np.float64],
         centers_ranked: NDArray[np.float64] | None = None,
+        unseen: NDArray[np.bool_] | None = None,
     ) -> Image.Image:
-        """One robot's picture: the true world with the path | the built map ``grid`` with the
-        path and the ranked frontiers (best first)."""
-        truth = self.truth()
+        """One robot's picture: the true world with the path and the ``unseen`` cells in amber |
+        the built map ``grid`` with the path and the ranked frontiers (best first)."""
+        truth = self.truth(unseen)
         self.draw_path(truth, trajectory)
-        return side_by_side(truth, self.frame(grid, trajectory, centers_ranked))
+        return side_by_side(self._cropped(truth), self._cropped(self.frame(grid, trajectory, centers_ranked)))
 
-    def team(self, grid: OccupancyGrid | None, trajectories: Sequence[NDArray[np.float64]]) -> Image.Image:
-        """A team's picture: the true world with every robot's path | the team's map ``grid`` with
-        them, one colour per robot (:data:`TEAM_COLOURS`)."""
-        truth, built = self.truth(), self.base(grid)
+    def team(
+        self,
+        grid: OccupancyGrid | None,
+        trajectories: Sequence[NDArray[np.float64]],
+        unseen: NDArray[np.bool_] | None = None,
+    ) -> Image.Image:
+        """A team's picture: the true world with every robot's path and the ``unseen`` cells in amber |
+        the team's map ``grid`` with them, one colour per robot (:data:`TEAM_COLOURS`)."""
+        truth, built = self.truth(unseen), self.base(grid)
         for index, trajectory in enumerate(trajectories):
             for image in (truth, built):
                 self.draw_path(image, trajectory, TEAM_COLOURS[index % len(TEAM_COLOURS)])
-        return side_by_side(truth, built)
+        return side_by_side(self._cropped(truth), self._cropped(built))
 
 
 #: One colour per robot of a team (matplotlib's tab10).

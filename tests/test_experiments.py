@@ -8,6 +8,7 @@ import json
 import shutil
 import subprocess
 import sys
+from dataclasses import replace
 from pathlib import Path
 from typing import Any
 
@@ -239,10 +240,23 @@ def test_the_harder_survey_tabulates_causes_and_draws_the_worst(tmp_path: Path, 
             assert 0 <= row[part] <= row["unreachable_with_a_path"] <= row["unreachable"]
         assert 0.0 <= row["explorable_given_up_m2_max"] <= max(row["explorable_left_m2"], 0.0) * 2 + 0.01
     assert min(row["time_over_fastest"] for row in survey["rows"]) == 1.0
-    assert len(survey["worst"]) == 4 and len(list((out / "worst").glob("*.png"))) == 4
+    worst = survey["worst"]
+    assert len(worst) == 4 and sorted((out / w["picture"]) for w in worst) == sorted((out / "worst").glob("*.png"))
+    assert [w["coverage"] for w in worst] == sorted(w["coverage"] for w in worst)
+    for w in worst:
+        assert sum(p["area_m2"] for p in w["unseen"]) <= w["explorable_left_m2"] + 0.01
+        assert all(p["area_m2"] >= 0.25 and p["path_within_m"] > 0 for p in w["unseen"])
     assert 0.9 < survey["free_space_ceilings"]["lse_arena"] <= 1  # a walled arena: nearly all of it in sight
     assert "against a ceiling of" in (out / "survey.md").read_text()
     assert "episodes gave up explorable space with a path" in (out / "survey.md").read_text()
+    # an episode that runs again otherwise than surveyed (the engine changed since) is not drawn
+    survey_script = _script("harder_survey")
+    episodes = survey_script.read_episodes(out / "lse_arena")
+    changed = [replace(e, world="lse_arena", coverage=e.coverage - 0.001) for e in episodes]
+    maps = {"lse_arena": str(tmp_path / "maps" / "arena" / "lse_arena.yaml")}
+    with pytest.raises(SystemExit, match=r"ran again to .* not as surveyed .* run the survey again"):
+        survey_script.draw_worst(changed, maps, tmp_path / "again")
+    assert not list((tmp_path / "again" / "worst").glob("*.png"))
 
 
 def test_the_harder_survey_names_maps_by_their_worlds_names(tmp_path: Path, real_maps: Path) -> None:

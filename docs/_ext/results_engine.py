@@ -2,13 +2,14 @@
 
 from __future__ import annotations
 
+import shutil
 from collections import defaultdict
 from pathlib import Path
 from statistics import mean
 from typing import Any
 
 from results_data import Episode, Study, label
-from results_format import markdown_table, reproduce_section, seconds
+from results_format import markdown_table, relative, reproduce_section, seconds
 
 FAMILY_NAMES = {
     "ros": "ROS map_server maps (SLAM)",
@@ -20,12 +21,17 @@ FAMILY_NAMES = {
 }
 
 
+def _method_name(method: str) -> str:
+    """A method as a page names it: its label, or its spec as code where it has none."""
+    return f"`{method}`" if label(method) == method else label(method)
+
+
 def _completion_row(name: str, method: str, episodes: list[Episode]) -> list[str]:
     reasons = [e.end_reason for e in episodes]
     coverage = [e.coverage for e in episodes]
     return [
         name,
-        f"`{method}`" if label(method) == method else label(method),
+        _method_name(method),
         str(len(episodes)),
         str(reasons.count("explored")),
         str(reasons.count("unreachable")),
@@ -165,7 +171,7 @@ def harder_buildings_page(study: Study, images: Path) -> str:
         else " On the true map, the most explorable space (what this robot could have seen from where it "
         f"can go) an episode gave up with a path was {max(float(str(m)) for m in most):.2f} m²."
     )
-    worst = "\n".join(line.rsplit(" (", 1)[0] for line in survey["worst"])
+    worst = _worst_episodes(study, survey["worst"], images)
     return f"""# Harder buildings
 
 Real SLAM maps with what such maps have: radial streaks where the laser saw through glass, clutter,
@@ -198,12 +204,37 @@ fastest method's on the same map.
 
 ## The five worst episodes
 
-The lowest coverage, a time cap first (`frontier-rl explore --world MAP --policy METHOD --seed N
---png FILE` draws each again):
+The lowest coverage, a time cap first, each run again and drawn as `frontier-rl explore --world MAP
+--policy METHOD --seed N --png FILE` draws it. Left, the true map with the path driven and, in amber,
+the explorable space the robot did not see; right, the map it built, with the frontiers ranked at
+its last decision. Under each, the pieces of that space of 0.25 m² or more: where they lie (their
+centre, in the map's frame) and how near the robot's path came to them. What these places are,
+looked at cell by cell, is in the [research log](../../research-log.md).
 
 {worst}
 
 {reproduce_section(study)}"""
+
+
+def _worst_episodes(study: Study, worst: list[dict[str, Any]], images: Path) -> str:
+    """The survey's worst episodes, each a heading, a line of facts and its picture (copied from the
+    study's data into ``images``)."""
+    sections = []
+    for rank, episode in enumerate(worst, start=1):
+        picture = images / f"harder_worst_{rank}.png"
+        shutil.copyfile(study.folder / episode["picture"], picture)
+        places = "; ".join(
+            f"{p['area_m2']:.1f} m² around ({p['x']:.1f}, {p['y']:.1f}) m, the path within {p['path_within_m']:.1f} m"
+            for p in episode["unseen"]
+        )
+        title = f"{episode['map']}, {_method_name(episode['method'])}, seed {episode['seed']}"
+        sections.append(
+            f"### {title}\n\n`{episode['end_reason']}` at {100 * episode['coverage']:.2f} % of the explorable "
+            f"space in {episode['sim_time_s']:.0f} s, {episode['explorable_left_m2']:.1f} m² left. Unseen: "
+            f"{places or 'no piece of 0.25 m² or more'}.\n\n![{title}: the true map and the explorable space "
+            f"left unseen, and the robot's map]({relative(picture)})"
+        )
+    return "\n\n".join(sections)
 
 
 def _value(row: dict[str, object]) -> str:

@@ -85,7 +85,8 @@ def _draw(config: ExperimentConfig, job: EpisodeJob, stem: Path, title: str, gif
     caption = (
         f"Episode 0 (seed {job.seed}): {summary.sim_time_s:.1f} s, coverage "
         f"{100 * summary.coverage:.1f} %, ended {str(summary.end_reason).replace('_', ' ')}. Left: the true "
-        "map and the path driven; right: the map the robot built"
+        "map, the path driven and, in amber, the space the robot could have seen and did not; right: the map "
+        "the robot built"
         + ("." if team is not None else ", with the frontiers ranked at the last decision (green: the chosen one).")
     )
     pictures = [RunPicture(job.world, job.method, path, title, caption)]
