@@ -26,7 +26,6 @@ LEGEND = "square: start   disc: robot   dots: frontiers ranked, green best to or
 UNSEEN_LEGEND = "amber (left): space the robot could have seen and did not"
 """What a final picture adds to :data:`LEGEND`: the explorable cells its map left unknown."""
 
-
 PICTURE_MARGIN_M = 1.0
 """How much (m) of the world around its free space an episode's pictures show: a map file's border
 of unknown, read as wall, is cut off."""
@@ -96,7 +95,8 @@ class EpisodeRecorder:
         return captioned(self._canvas.episode(grid, trajectory, centers, unseen), f"{caption}\n{legend}", 32)
 
     def unseen(self, result: EpisodeResult) -> NDArray[np.bool_]:
-        """The explorable cells (a mask of the world's grid) ``result``'s final map left unknown."""
+        """The explorable cells (a mask of the world's grid) ``result``'s final map left unknown: those
+        of the simulated robot's world (fitted to its size) once it made a decision, else the world's."""
         explorable = self.world.explorable if self._explorable is None else self._explorable
         return self._canvas.unseen(result.final_map, explorable)
 

@@ -110,16 +110,18 @@ class FrameCanvas:
     def truth(self, unseen: NDArray[np.bool_] | None = None) -> Image.Image:
         """The ground truth (free space tinted so it reads as 'the real building'), with the
         ``unseen`` cells (a mask of the world's shape: :meth:`unseen`) in amber: a new image to draw on."""
+        if unseen is not None and unseen.any():
+            rgb = self._truth_rgb()
+            rgb[unseen[::-1]] = _UNSEEN
+            return self._image(rgb)
         if self._truth is None:
-            rgb = grid_to_rgb(self.world.data)
-            rgb[(self.world.data == CellState.FREE)[::-1]] = _TRUE_FREE
-            self._truth = self._image(rgb)
-        if unseen is None or not unseen.any():
-            return self._truth.copy()
-        rgb = np.array(self._truth)
-        block = np.ones((self.scale, self.scale), bool)
-        rgb[np.kron(unseen[::-1], block).astype(bool)] = _UNSEEN
-        return Image.fromarray(rgb)
+            self._truth = self._image(self._truth_rgb())
+        return self._truth.copy()
+
+    def _truth_rgb(self) -> NDArray[np.uint8]:
+        rgb = grid_to_rgb(self.world.data)
+        rgb[(self.world.data == CellState.FREE)[::-1]] = _TRUE_FREE
+        return rgb
 
     def draw_path(
         self, image: Image.Image, trajectory: NDArray[np.float64], colour: tuple[int, int, int] | None = None
