@@ -228,10 +228,11 @@ def _worst_episodes(study: Study, worst: list[dict[str, Any]], images: Path) -> 
             for p in episode["unseen"]
         )
         title = f"{episode['map']}, {_method_name(episode['method'])}, seed {episode['seed']}"
+        alt = f"{episode['map']}, {label(episode['method'])}, seed {episode['seed']}"  # no code span in alt text
         sections.append(
             f"### {title}\n\n`{episode['end_reason']}` at {100 * episode['coverage']:.2f} % of the explorable "
             f"space in {episode['sim_time_s']:.0f} s, {episode['explorable_left_m2']:.1f} m² left. Unseen: "
-            f"{places or 'no piece of 0.25 m² or more'}.\n\n![{title}: the true map and the explorable space "
+            f"{places or 'no piece of 0.25 m² or more'}.\n\n![{alt}: the true map and the explorable space "
             f"left unseen, and the robot's map]({relative(picture)})"
         )
     return "\n\n".join(sections)
