@@ -150,6 +150,15 @@ class Costmap:
             self.grid, open_p, clear_p, self.inflation_table, self.inflation_radius, self.unknown_cost, self.scratch
         )
 
+    def with_felt_walls(self, felt: NDArray[np.bool_], radius: float) -> Costmap:
+        """A copy that keeps the robot's centre ``radius`` (m) off the walls it touched (``felt``,
+        the map's shape): the collision check on the true map found them there, and refuses every
+        cell closer (:func:`felt_keep_out`), which the start's escape zone would otherwise let a
+        path cross where the map draws a wall a cell nearer than it is. Itself when none was felt."""
+        if not felt.any():
+            return self
+        return self.with_cells_blocked(ndimage.binary_dilation(felt, felt_keep_out(radius, self.grid.resolution)))
+
     def with_cells_opened(self, opened: NDArray[np.bool_]) -> Costmap:
         """A copy in which the cells set in ``opened`` (the map's shape) are traversable."""
         open_p = self.open_padded.copy()
@@ -285,6 +294,16 @@ class Costmap:
             scratch,
             stamp,
         )
+
+
+def felt_keep_out(radius: float, resolution: float) -> NDArray[np.bool_]:
+    """The cells round a wall the robot touched where the planner keeps its centre out: a square
+    mask (2n + 1 cells a side) of the cell centres closer than ``radius`` (m) to the middle one's,
+    on cells of ``resolution`` (m)."""
+    reach = radius / resolution
+    n = int(math.ceil(reach))
+    dr, dc = np.mgrid[-n : n + 1, -n : n + 1]
+    return np.asarray(dr**2 + dc**2 < reach**2)
 
 
 def nearest_cell(mask: NDArray[np.bool_], target: tuple[int, int], max_radius: int) -> tuple[int, int] | None:

@@ -17,12 +17,10 @@ narrow, and the wall cells it touches are kept from then on.
 from __future__ import annotations
 
 import dataclasses
-import math
 from enum import IntEnum
 
 import numpy as np
 from numpy.typing import NDArray
-from scipy import ndimage
 
 from frontier_rl.core.navigation.astar import SearchScratch
 from frontier_rl.core.navigation.config import NavigationConfig
@@ -88,19 +86,7 @@ def recovery_costmap(
     costmap = Costmap.build(thinned, recovery_robot(robot, grid.resolution, level), navigation, scratch)
     if trail is not None and trail.any():
         costmap = costmap.with_cells_opened(trail & (grid.data == _FREE))
-    if not felt.any():
-        return costmap
-    return costmap.with_cells_blocked(ndimage.binary_dilation(felt, felt_keep_out(robot.radius, grid.resolution)))
-
-
-def felt_keep_out(radius: float, resolution: float) -> NDArray[np.bool_]:
-    """The cells round a wall the robot touched where the recovery keeps its centre out, even on
-    its trail: a square mask (2n + 1 cells a side) of the cell centres closer than ``radius`` (m)
-    to the middle one's, on cells of ``resolution`` (m)."""
-    reach = radius / resolution
-    n = int(math.ceil(reach))
-    dr, dc = np.mgrid[-n : n + 1, -n : n + 1]
-    return np.asarray(dr**2 + dc**2 < reach**2)
+    return costmap.with_felt_walls(felt, robot.radius)
 
 
 def recovery_robot(robot: RobotConfig, resolution: float, level: Recovery) -> RobotConfig:

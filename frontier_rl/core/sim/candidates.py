@@ -95,6 +95,8 @@ def reachable_frontiers(
         grid, memory = with_robots_as_walls(grid, avoid), None
     if recovery is Recovery.NONE:
         costmap = Costmap.build(grid, config.robot, config.navigation, scratch, memory)
+        if felt is not None:
+            costmap = costmap.with_felt_walls(felt, config.robot.radius)
         reachable = costmap.reachable_known(grid.world_to_cell(pose.x, pose.y))
     else:
         touched = np.zeros(grid.shape, np.bool_) if felt is None else felt

@@ -13,9 +13,10 @@ from frontier_rl.core.frontiers.blacklist import Blacklist
 from frontier_rl.core.frontiers.fringe import count_fringe
 from frontier_rl.core.mapping.mapper import LogOddsMapper
 from frontier_rl.core.navigation.astar import SearchScratch
+from frontier_rl.core.navigation.costmap import felt_keep_out
 from frontier_rl.core.navigation.follower import footprint_offsets
 from frontier_rl.core.navigation.inflation import InflationMemory
-from frontier_rl.core.navigation.thin_walls import Recovery, felt_keep_out, recovery_robot
+from frontier_rl.core.navigation.thin_walls import Recovery, recovery_robot
 from frontier_rl.core.sim.candidates import Candidates, Look, find_candidates
 from frontier_rl.core.sim.config import SimConfig
 from frontier_rl.core.sim.episode_log import EpisodeLog

@@ -59,7 +59,7 @@ def opened_on_trail(
     """Which of ``cells`` ((n, 2) map cells) the narrow-passage recovery's costmap opens along the
     robot's ``trail``: those the trail crossed that the map ``state`` has free, with no wall the robot
     touched (``felt``) within the ``keep_out`` disc
-    (:func:`~frontier_rl.core.navigation.thin_walls.felt_keep_out`) of them. A check of a path
+    (:func:`~frontier_rl.core.navigation.costmap.felt_keep_out`) of them. A check of a path
     planned on that costmap that ignored the trail would find the path it was given walled."""
     rows, cols = cells[:, 0], cells[:, 1]
     opened: NDArray[np.bool_] = trail[rows, cols] & (state[rows, cols] == CellState.FREE)

@@ -12,7 +12,7 @@ from numpy.typing import NDArray
 
 from frontier_rl.core.frontiers.blacklist import Blacklist
 from frontier_rl.core.navigation.config import NavigationConfig
-from frontier_rl.core.navigation.costmap import Costmap
+from frontier_rl.core.navigation.costmap import Costmap, felt_keep_out
 from frontier_rl.core.navigation.follower import (
     FollowerParams,
     _nearest_waypoint,
@@ -20,7 +20,7 @@ from frontier_rl.core.navigation.follower import (
     follow_path,
     footprint_offsets,
 )
-from frontier_rl.core.navigation.thin_walls import Recovery, felt_keep_out, recovery_costmap, recovery_robot
+from frontier_rl.core.navigation.thin_walls import Recovery, recovery_costmap, recovery_robot
 from frontier_rl.core.sim.body import touched_walls
 from frontier_rl.core.sim.candidates import find_candidates
 from frontier_rl.core.sim.config import SimConfig
