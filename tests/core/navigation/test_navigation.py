@@ -18,7 +18,13 @@ from frontier_rl.core.navigation import astar as astar_module
 from frontier_rl.core.navigation.astar import SearchScratch, astar, astar_padded
 from frontier_rl.core.navigation.config import NavigationConfig
 from frontier_rl.core.navigation.costmap import Costmap, nearest_cell
-from frontier_rl.core.navigation.follower import FollowerParams, careful_flags, follow_path, footprint_offsets
+from frontier_rl.core.navigation.follower import (
+    FollowerParams,
+    FollowStatus,
+    careful_flags,
+    follow_path,
+    footprint_offsets,
+)
 from frontier_rl.core.navigation.path_costs import cost_to_go_padded
 from frontier_rl.core.sim.teammates import obstacle_distance
 from frontier_rl.core.world.catalog import generate_world
@@ -697,3 +703,51 @@ def test_a_robot_in_a_slot_one_cell_wide_turns_to_its_waypoint_and_gets_through(
     # heading off toward the near wall: a positive ``off`` points right, from the right edge
     *_, status = drive(path, x, 0.3, math.pi / 2 - off, 30.0, params(), clearance, (0.0, 0.0))
     assert status == 1  # reached
+
+
+def _drive_to_the_end(path_cells: NDArray[np.int64], grid: OccupancyGrid, clearance: NDArray[np.float64]) -> int:
+    """The follower's status after driving along ``path_cells`` on the true ``clearance``, a
+    half-second at a time with its flags kept for the path, as a leg does: REACHED, or BLOCKED
+    where it stops."""
+    xy = grid.cells_to_world(path_cells)
+    x, y, theta, index, status = float(xy[0, 0]), float(xy[0, 1]), math.pi, 0, 0
+    careful = careful_flags()
+    for _ in range(200):
+        x, y, theta, index, _, _, status = follow_path(
+            xy[:, 0], xy[:, 1], index, x, y, theta, 0.5, params(), clearance, NO_MATES, 0.0, *grid.origin,
+            grid.resolution, NO_GATE, careful,
+        )  # fmt: skip
+        if status != FollowStatus.DRIVING:
+            break
+    return int(status)
+
+
+def test_a_path_keeps_off_a_wall_the_robot_touched_where_its_map_draws_it_too_near() -> None:
+    """The wedge seen on a held-out SLAM map: the map draws a wall a cell nearer than it is, so the
+    robot stands, by its map, closer than its radius to it, and the start's escape zone lets a path
+    cross the cell beside it, which the true wall (a cell the robot touched) holds closer than the
+    radius: the follower refuses it at every replan. Kept off the touched wall, the path goes round."""
+    truth = np.full((40, 60), FREE, np.int8)
+    truth[:, [0, -1]] = OCC
+    truth[25:, :] = OCC
+    truth[:16, :] = OCC  # a corridor, rows 16 to 24
+    truth[22:25, 29] = OCC  # a pillar reaching up from its floor, beside the robot's column
+    mapped = truth.copy()
+    mapped[22, 28:31] = OCC  # the map draws the pillar a cell wider on each side
+    grid = OccupancyGrid(mapped, 0.05)
+    clearance = obstacle_distance(truth == OCC, 0.05)
+    start, goal = (20, 30), (20, 10)
+    assert clearance[start] >= ROBOT.radius > clearance[20, 29]  # the robot may stand there, not beside
+    plain = Costmap.build(grid, ROBOT, NAV)
+    assert plain.clearance[start] < ROBOT.radius  # by its map it stands too close: the escape zone is open
+    path = plain.plan(start, goal)
+    assert (20, 29) in {(int(r), int(c)) for r, c in path}  # across the cell the true pillar is too near
+    assert _drive_to_the_end(path, grid, clearance) == FollowStatus.BLOCKED
+    felt = np.zeros(truth.shape, bool)
+    felt[22, 29] = True  # what the bumper marked when the follower stopped there
+    kept_off = plain.with_felt_walls(felt, ROBOT.radius)
+    around = kept_off.plan(start, goal)
+    assert len(around) and (int(around[-1, 0]), int(around[-1, 1])) == goal
+    assert np.all(np.hypot(around[:, 0] - 22, around[:, 1] - 29) * 0.05 >= ROBOT.radius)
+    assert _drive_to_the_end(around, grid, clearance) == FollowStatus.REACHED
+    assert plain.with_felt_walls(np.zeros(truth.shape, bool), ROBOT.radius) is plain  # nothing felt: as it was
