@@ -33,7 +33,7 @@ from frontier_rl.core.sim.config import SimConfig
 from frontier_rl.core.sim.leg_result import AbortCause
 from frontier_rl.core.world.grid import CellState
 from frontier_rl.evaluation.results.episode_record import EpisodeRow, EpisodeTrace
-from frontier_rl.recording import EpisodeRecorder
+from frontier_rl.recording import EpisodeRecorder, UnseenPlace
 from frontier_rl.world_spec import world_name
 
 MAPS = (
@@ -261,7 +261,50 @@ def _shown(count: object) -> str:
     return "n/a" if count is None else str(count)
 
 
-def draw_worst(episodes: list[Episode], maps: dict[str, str], out: Path) -> list[dict[str, object]]:
+@dataclass(frozen=True)
+class DrawnEpisode:
+    """One of the survey's worst episodes, run again and drawn.
+
+    Attributes:
+        episode: the survey's row of it.
+        picture: its picture, relative to the survey's folder.
+        unseen: where the explorable space it left lies, largest first.
+    """
+
+    episode: Episode
+    picture: Path
+    unseen: list[UnseenPlace]
+
+    def to_json(self) -> dict[str, object]:
+        """As ``survey.json`` keeps it (the results page reads it)."""
+        e = self.episode
+        return {
+            "map": e.world,
+            "method": e.method,
+            "seed": e.seed,
+            "end_reason": e.end_reason,
+            "coverage": e.coverage,
+            "explorable_left_m2": round(e.explorable_left_m2, 2),
+            "sim_time_s": e.sim_time_s,
+            "picture": self.picture.as_posix(),
+            "unseen": [{k: round(v, 2) for k, v in asdict(p).items()} for p in self.unseen],
+        }
+
+    def line(self) -> str:
+        """As a line of the survey's Markdown."""
+        e = self.episode
+        places = "; ".join(
+            f"{p.area_m2:.1f} m² around ({p.x:.1f}, {p.y:.1f}), the path within {p.path_within_m:.1f} m"
+            for p in self.unseen
+        )
+        return (
+            f"- {e.world}, {e.method}, seed {e.seed}: {e.end_reason} at {e.coverage:.2%} of the explorable "
+            f"space, {e.explorable_left_m2:.1f} m² left, {e.sim_time_s:.0f} s; unseen: "
+            f"{places or 'no piece of 0.25 m² or more'} ({self.picture.as_posix()})"
+        )
+
+
+def draw_worst(episodes: list[Episode], maps: dict[str, str], out: Path) -> list[DrawnEpisode]:
     """The :data:`WORST` episodes (a time cap first, then the lowest coverage), run again and drawn
     into ``OUT/worst/`` (what ``frontier-rl explore --png`` draws), each with where the explorable
     space it left lies (:meth:`~frontier_rl.recording.EpisodeRecorder.unseen_places`); ``maps``:
@@ -269,7 +312,7 @@ def draw_worst(episodes: list[Episode], maps: dict[str, str], out: Path) -> list
     again does not end as the survey's did (the engine changed since: run the survey again)."""
     worst = sorted(episodes, key=lambda e: (e.end_reason != "time_cap", e.coverage))[:WORST]
     (out / "worst").mkdir(parents=True, exist_ok=True)
-    drawn: list[dict[str, object]] = []
+    drawn = []
     for e in worst:
         world = load_world(maps[e.world], e.seed)
         recorder = EpisodeRecorder(world)
@@ -283,33 +326,8 @@ def draw_worst(episodes: list[Episode], maps: dict[str, str], out: Path) -> list
             )
         picture = Path("worst") / f"{e.world}-{e.method.replace(':', '_').replace('/', '_')}-{e.seed}.png"
         recorder.save_png(out / picture, result, f"{e.world} / {e.method} / seed {e.seed}")
-        drawn.append(
-            {
-                "map": e.world,
-                "method": e.method,
-                "seed": e.seed,
-                "end_reason": e.end_reason,
-                "coverage": e.coverage,
-                "explorable_left_m2": round(e.explorable_left_m2, 2),
-                "sim_time_s": e.sim_time_s,
-                "picture": picture.as_posix(),
-                "unseen": [{k: round(v, 2) for k, v in asdict(p).items()} for p in recorder.unseen_places(result)],
-            }
-        )
+        drawn.append(DrawnEpisode(e, picture, recorder.unseen_places(result)))
     return drawn
-
-
-def worst_line(episode: dict[str, object]) -> str:
-    """One of :func:`draw_worst`'s episodes as a line of the survey's Markdown."""
-    places = "; ".join(
-        f"{p['area_m2']:.1f} m² around ({p['x']:.1f}, {p['y']:.1f}), the path within {p['path_within_m']:.1f} m"
-        for p in episode["unseen"]  # type: ignore[attr-defined]
-    )
-    return (
-        f"- {episode['map']}, {episode['method']}, seed {episode['seed']}: {episode['end_reason']} at "
-        f"{episode['coverage']:.2%} of the explorable space, {episode['explorable_left_m2']:.1f} m² left, "
-        f"{episode['sim_time_s']:.0f} s; unseen: {places or 'no piece of 0.25 m² or more'} ({episode['picture']})"
-    )
 
 
 def main() -> None:
@@ -331,9 +349,9 @@ def main() -> None:
     }
     markdown, rows = table(episodes, ceilings)
     drawn = draw_worst(episodes, maps, args.out)
-    worst = [worst_line(e) for e in drawn]
+    worst = [d.line() for d in drawn]
     write_text_atomic(args.out / "survey.md", markdown + "\nThe worst episodes:\n\n" + "\n".join(worst) + "\n")
-    survey = {"rows": rows, "worst": drawn, "free_space_ceilings": ceilings}
+    survey = {"rows": rows, "worst": [d.to_json() for d in drawn], "free_space_ceilings": ceilings}
     write_text_atomic(args.out / "survey.json", json.dumps(survey, indent=1) + "\n")
     print(markdown)
     print("\n".join(worst))
