@@ -157,7 +157,16 @@ class Costmap:
         path cross where the map draws a wall a cell nearer than it is. Itself when none was felt."""
         if not felt.any():
             return self
-        return self.with_cells_blocked(ndimage.binary_dilation(felt, felt_keep_out(radius, self.grid.resolution)))
+        keep_out = felt_keep_out(radius, self.grid.resolution)
+        n = keep_out.shape[0] // 2
+        rows, cols = np.nonzero(felt)
+        # dilated within the touched walls' box and its margin only: the same cells, and a few of a
+        # large map's instead of all of them at every costmap (10 ms on 1,000 x 1,000 cells)
+        box = (slice(max(int(rows.min()) - n, 0), int(rows.max()) + n + 1),
+               slice(max(int(cols.min()) - n, 0), int(cols.max()) + n + 1))  # fmt: skip
+        blocked = np.zeros_like(felt)
+        blocked[box] = ndimage.binary_dilation(felt[box], keep_out)
+        return self.with_cells_blocked(blocked)
 
     def with_cells_opened(self, opened: NDArray[np.bool_]) -> Costmap:
         """A copy in which the cells set in ``opened`` (the map's shape) are traversable."""

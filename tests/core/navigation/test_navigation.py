@@ -17,7 +17,7 @@ from scipy.sparse.csgraph import dijkstra
 from frontier_rl.core.navigation import astar as astar_module
 from frontier_rl.core.navigation.astar import SearchScratch, astar, astar_padded
 from frontier_rl.core.navigation.config import NavigationConfig
-from frontier_rl.core.navigation.costmap import Costmap, nearest_cell
+from frontier_rl.core.navigation.costmap import Costmap, felt_keep_out, nearest_cell
 from frontier_rl.core.navigation.follower import (
     FollowerParams,
     FollowStatus,
@@ -751,3 +751,24 @@ def test_a_path_keeps_off_a_wall_the_robot_touched_where_its_map_draws_it_too_ne
     assert np.all(np.hypot(around[:, 0] - 22, around[:, 1] - 29) * 0.05 >= ROBOT.radius)
     assert _drive_to_the_end(around, grid, clearance) == FollowStatus.REACHED
     assert plain.with_felt_walls(np.zeros(truth.shape, bool), ROBOT.radius) is plain  # nothing felt: as it was
+
+
+def test_walls_touched_block_the_cells_a_dilation_of_the_whole_map_would() -> None:
+    """With touched walls at the map's edges and in its middle, the cells kept off are exactly the
+    touched walls dilated by the keep-out disc over the whole map."""
+    data = np.full((60, 80), FREE, np.int8)
+    cm = Costmap.build(OccupancyGrid(data, 0.05), ROBOT, NAV)
+    rng = np.random.default_rng(3)
+    for cells in (
+        [(0, 0)],
+        [(59, 79), (0, 40)],
+        [(30, 2), (31, 77)],
+        list(zip(rng.integers(0, 60, 5), rng.integers(0, 80, 5), strict=True)),
+    ):
+        felt = np.zeros(data.shape, bool)
+        felt[tuple(np.array(cells).T)] = True
+        expected = ndimage.binary_dilation(felt, felt_keep_out(ROBOT.radius, 0.05))
+        kept_off = cm.with_felt_walls(felt, ROBOT.radius)
+        assert cm.clearance.min() > 0  # open ground: only the blocked cells have no clearance
+        np.testing.assert_array_equal(kept_off.clearance == 0, expected)
+        np.testing.assert_array_equal(kept_off.traversable, cm.traversable & ~expected)
