@@ -31,6 +31,11 @@ class PolicyError(FrontierRLError, RuntimeError):
     or the user's code of a policy raised."""
 
 
+class MapWarning(UserWarning):
+    """A map file read as its fields say, though probably not as its author meant (grey unknown
+    pixels that its thresholds read as free space)."""
+
+
 class UnknownNameError(FrontierRLError, KeyError):
     """A world, policy or method name that does not exist."""
 

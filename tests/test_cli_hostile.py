@@ -343,6 +343,24 @@ def test_warnings_are_one_line_each_after_the_results(box: Path, monkeypatch: py
     ]
 
 
+def test_a_map_whose_grey_unknown_loads_as_free_is_named_in_one_warning(tmp_path: Path) -> None:
+    pixels = np.full((60, 60), 205, dtype=np.uint8)  # a 2 m room amid unknown, saved with Nav2's free_thresh
+    pixels[10:52, 10:52] = 0
+    pixels[11:51, 11:51] = 254
+    Image.fromarray(pixels).save(tmp_path / "slam.pgm")
+    yaml_path = tmp_path / "slam.yaml"
+    yaml_path.write_text(
+        "image: slam.pgm\nresolution: 0.05\norigin: [0, 0, 0]\nnegate: 0\noccupied_thresh: 0.65\nfree_thresh: 0.25\n"
+    )
+    with warnings.catch_warnings():
+        warnings.simplefilter("default")  # as a user's Python: the suite's turns warnings into errors
+        result = runner.invoke(app, ["explore", "--world", str(yaml_path), "--max-time", "2", "--json"])
+    assert result.exit_code == 0, result.output
+    (line,) = result.stderr.splitlines()
+    assert line.startswith(f"warning: MapWarning: {yaml_path}: 1,836 pixels of grey 205 (map_saver's unknown)")
+    assert line.endswith("set free_thresh: 0.196 in the YAML")
+
+
 def test_an_error_is_the_only_line_even_after_warnings(box: Path, monkeypatch: pytest.MonkeyPatch) -> None:
     def noisy() -> None:
         warnings.warn("noise", UserWarning, stacklevel=1)

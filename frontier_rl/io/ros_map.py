@@ -22,6 +22,7 @@ import io
 import json
 import math
 import numbers
+import warnings
 from dataclasses import dataclass
 from enum import StrEnum
 from pathlib import Path
@@ -34,7 +35,7 @@ from PIL import Image
 
 from frontier_rl.atomic_write import write_bytes_atomic, write_text_atomic
 from frontier_rl.core.world.grid import CellState, OccupancyGrid
-from frontier_rl.errors import MapError, short_repr
+from frontier_rl.errors import MapError, MapWarning, short_repr
 from frontier_rl.io._image import read_image
 from frontier_rl.io.loaded_map import MAX_COORDINATE_M
 from frontier_rl.safe_yaml import load_yaml_file, parse_yaml
@@ -52,6 +53,12 @@ without ``occupied_thresh`` means, what ``map_saver`` writes, and (as 65 %) how 
 ``OccupancyGrid`` message's values are read (:class:`~frontier_rl.robot.map_message.MapThresholds`)."""
 FREE_THRESH = 0.196
 """map_server's default occupancy probability below which a cell is free (0..1), likewise."""
+GREY_AS_FREE_WARN_SHARE = 0.1
+"""The share of a map's free cells that may be grey :data:`UNKNOWN_PIXEL` read as free before loading
+the map warns (:class:`~frontier_rl.errors.MapWarning`). ``map_saver`` writes unknown as 205, which is
+free for a ``free_thresh`` above 0.196 (p = 50 / 255 = 0.19608), as Nav2's default of 0.25: a SLAM
+map saved so reads its whole unknown surround as free space. Nav2's depot sample reads 5 % of its
+free cells so (grey spots among the shelves), quietly."""
 _IMAGE_FORMATS = {"pgm": "PPM", "png": "PNG"}
 _MAX_PIXEL = 255.0
 _SCALE_SPAN = 98  # scale mode maps the in-between ratio onto 1 .. 1 + 98
@@ -225,7 +232,29 @@ def load_ros_map(yaml_path: str | Path) -> OccupancyGrid:
     params = _params(doc, path)
     if not image_path.is_file():
         raise MapError(f"{path}: image file not found: {image_path}")
-    return load_map_image(image_path, resolution, (x, y), params)
+    image = read_image(image_path)
+    cells = pixels_to_cells(image.shade, image.transparent, params)
+    _warn_of_grey_read_as_free(path, params, np.rint(image.shade) == UNKNOWN_PIXEL, cells)
+    return OccupancyGrid(np.ascontiguousarray(np.flipud(cells)), resolution, (x, y))
+
+
+def _warn_of_grey_read_as_free(
+    path: Path, params: MapImageParams, grey: NDArray[np.bool_], cells: NDArray[np.int8]
+) -> None:
+    """A :class:`~frontier_rl.errors.MapWarning` where more than :data:`GREY_AS_FREE_WARN_SHARE` of
+    the free cells are ``grey`` pixels (map_saver's unknown) that the thresholds read as free."""
+    free = cells == CellState.FREE
+    grey_free = int(np.count_nonzero(grey & free))
+    share = grey_free / max(int(np.count_nonzero(free)), 1)
+    if share > GREY_AS_FREE_WARN_SHARE:
+        warnings.warn(
+            f"{path}: {grey_free:,} pixel{'s' if grey_free > 1 else ''} of grey {UNKNOWN_PIXEL} "
+            f"(map_saver's unknown) load{'' if grey_free > 1 else 's'} as free space, "
+            f"{share:.0%} of the map's free cells, as map_server reads them with free_thresh "
+            f"{params.free_thresh:g}; if they are unknown, set free_thresh: {FREE_THRESH} in the YAML",
+            MapWarning,
+            stacklevel=3,
+        )
 
 
 def _yaml_string(text: str) -> str:

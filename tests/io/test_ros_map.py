@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import warnings
 from collections.abc import Mapping
 from pathlib import Path
 
@@ -11,7 +12,7 @@ from numpy.typing import NDArray
 from PIL import Image
 
 from frontier_rl.core.world.grid import CellState, OccupancyGrid
-from frontier_rl.errors import MapError
+from frontier_rl.errors import MapError, MapWarning
 from frontier_rl.io.ros_map import load_ros_map, save_ros_map
 
 FREE, OCC, UNK = CellState.FREE, CellState.OCCUPIED, CellState.UNKNOWN
@@ -150,6 +151,46 @@ def test_warehouse_is_tall_and_uses_its_own_free_thresh(real_maps: Path) -> None
     assert grid.resolution == 0.03
     assert grid.origin == (-15.1, -25.0)
     assert grid.count(FREE) == 1422292  # 254 and 255 pixels
+
+
+def slam_map_pixels() -> NDArray[np.uint8]:
+    """A 20 x 20 room of white floor inside a black wall, amid grey unknown as map_saver writes it
+    (40 x 40 pixels: 324 free, 76 wall, 1,200 grey)."""
+    pixels = np.full((40, 40), 205, dtype=np.uint8)
+    pixels[10:30, 10:30] = 0
+    pixels[11:29, 11:29] = 254
+    return pixels
+
+
+def test_grey_unknown_read_as_free_by_nav2s_default_threshold_warns(tmp_path: Path) -> None:
+    yaml_path = write_map(tmp_path, slam_map_pixels(), fields={"free_thresh": 0.25})
+    with pytest.warns(MapWarning) as caught:
+        grid = load_ros_map(yaml_path)
+    assert grid.count(FREE) == 1524  # as map_server reads it: the grey is free
+    (warning,) = caught
+    assert str(warning.message) == (
+        f"{yaml_path}: 1,200 pixels of grey 205 (map_saver's unknown) load as free space, 79% of the map's "
+        "free cells, as map_server reads them with free_thresh 0.25; if they are unknown, set free_thresh: "
+        "0.196 in the YAML"
+    )
+
+
+@pytest.mark.parametrize("fields", [{}, {"free_thresh": 0.25, "negate": 1}, {"free_thresh": 0.1}])
+def test_grey_read_as_unknown_or_occupied_loads_quietly(tmp_path: Path, fields: dict[str, object]) -> None:
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        grid = load_ros_map(write_map(tmp_path, slam_map_pixels(), fields=fields))
+    assert grid.count(FREE) == (324 if fields.get("negate") != 1 else 76)
+
+
+def test_a_few_grey_spots_read_as_free_load_quietly(real_maps: Path, tmp_path: Path) -> None:
+    pixels = np.full((40, 40), 254, dtype=np.uint8)
+    pixels[:2, :] = 205  # 80 grey of 1,600 free: 5 %, as Nav2's depot sample
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        assert load_ros_map(write_map(tmp_path, pixels, fields={"free_thresh": 0.25})).count(FREE) == 1600
+        depot = load_ros_map(real_maps / "nav2_depot" / "depot.yaml")
+    assert depot.count(FREE) == 170587 + 8894
 
 
 @pytest.mark.parametrize("fmt", ["pgm", "png"])
