@@ -293,10 +293,7 @@ class DrawnEpisode:
     def line(self) -> str:
         """As a line of the survey's Markdown."""
         e = self.episode
-        places = "; ".join(
-            f"{p.area_m2:.1f} m² around ({p.x:.1f}, {p.y:.1f}), the path within {p.path_within_m:.1f} m"
-            for p in self.unseen
-        )
+        places = "; ".join(place.describe() for place in self.unseen)
         return (
             f"- {e.world}, {e.method}, seed {e.seed}: {e.end_reason} at {e.coverage:.2%} of the explorable "
             f"space, {e.explorable_left_m2:.1f} m² left, {e.sim_time_s:.0f} s; unseen: "

@@ -51,6 +51,11 @@ class UnseenPlace:
     y: float
     path_within_m: float
 
+    def describe(self) -> str:
+        """As a phrase: ``5.3 m² around (7.6, -2.6) m, the path within 0.3 m``."""
+        where = f"{self.area_m2:.1f} m² around ({self.x:.1f}, {self.y:.1f}) m"
+        return f"{where}, the path within {self.path_within_m:.1f} m"
+
 
 @dataclass
 class EpisodeRecorder:

@@ -13,7 +13,7 @@ from frontier_rl.core.sim.episode import run_episode
 from frontier_rl.core.world.catalog import generate_world
 from frontier_rl.core.world.grid import CellState, OccupancyGrid
 from frontier_rl.policies import make_policy
-from frontier_rl.recording import LEGEND, PLACE_MIN_M2, EpisodeRecorder, save_team_png
+from frontier_rl.recording import LEGEND, PLACE_MIN_M2, EpisodeRecorder, UnseenPlace, save_team_png
 from frontier_rl.render import FrameCanvas
 from frontier_rl.swarm import TeamConfig, run_team_episode
 
@@ -70,6 +70,7 @@ def test_the_final_picture_shows_the_explorable_space_left_unseen_in_amber() -> 
         assert place.path_within_m > 0  # unseen space lies off the path
         assert world.grid.in_bounds(*world.grid.world_to_cell(place.x, place.y))
     assert np.hypot(*(path - [places[0].x, places[0].y]).T).min() >= places[0].path_within_m
+    assert UnseenPlace(5.26, 7.64, -2.58, 0.33).describe() == "5.3 m² around (7.6, -2.6) m, the path within 0.3 m"
 
 
 def test_an_episode_that_leaves_nothing_unseen_names_no_place() -> None:

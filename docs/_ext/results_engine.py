@@ -11,6 +11,8 @@ from typing import Any
 from results_data import Episode, Study, label
 from results_format import markdown_table, relative, reproduce_section, seconds
 
+from frontier_rl.recording import UnseenPlace
+
 FAMILY_NAMES = {
     "ros": "ROS map_server maps (SLAM)",
     "stage": "Stage bitmaps",
@@ -223,10 +225,7 @@ def _worst_episodes(study: Study, worst: list[dict[str, Any]], images: Path) -> 
     for rank, episode in enumerate(worst, start=1):
         picture = images / f"harder_worst_{rank}.png"
         shutil.copyfile(study.folder / episode["picture"], picture)
-        places = "; ".join(
-            f"{p['area_m2']:.1f} m² around ({p['x']:.1f}, {p['y']:.1f}) m, the path within {p['path_within_m']:.1f} m"
-            for p in episode["unseen"]
-        )
+        places = "; ".join(UnseenPlace(**place).describe() for place in episode["unseen"])
         title = f"{episode['map']}, {_method_name(episode['method'])}, seed {episode['seed']}"
         alt = f"{episode['map']}, {label(episode['method'])}, seed {episode['seed']}"  # no code span in alt text
         sections.append(
