@@ -125,7 +125,11 @@ def load_map_image(
 ) -> OccupancyGrid:
     """An image read as ``map_server`` would with the given fields (resolution m/cell, origin m)."""
     image = read_image(Path(image_path))
-    cells = pixels_to_cells(image.shade, image.transparent, params or MapImageParams())
+    return _grid_of(pixels_to_cells(image.shade, image.transparent, params or MapImageParams()), resolution, origin)
+
+
+def _grid_of(cells: NDArray[np.int8], resolution: float, origin: tuple[float, float]) -> OccupancyGrid:
+    """The grid of cell values in image row order (the image's top row is the map's highest y)."""
     return OccupancyGrid(np.ascontiguousarray(np.flipud(cells)), resolution, origin)
 
 
@@ -235,7 +239,7 @@ def load_ros_map(yaml_path: str | Path) -> OccupancyGrid:
     image = read_image(image_path)
     cells = pixels_to_cells(image.shade, image.transparent, params)
     _warn_of_grey_read_as_free(path, params, np.rint(image.shade) == UNKNOWN_PIXEL, cells)
-    return OccupancyGrid(np.ascontiguousarray(np.flipud(cells)), resolution, (x, y))
+    return _grid_of(cells, resolution, (x, y))
 
 
 def _warn_of_grey_read_as_free(
