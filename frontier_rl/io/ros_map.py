@@ -238,15 +238,20 @@ def load_ros_map(yaml_path: str | Path) -> OccupancyGrid:
         raise MapError(f"{path}: image file not found: {image_path}")
     image = read_image(image_path)
     cells = pixels_to_cells(image.shade, image.transparent, params)
-    _warn_of_grey_read_as_free(path, params, np.rint(image.shade) == UNKNOWN_PIXEL, cells)
+    _warn_of_grey_read_as_free(path, params, image.shade, cells)
     return _grid_of(cells, resolution, (x, y))
 
 
 def _warn_of_grey_read_as_free(
-    path: Path, params: MapImageParams, grey: NDArray[np.bool_], cells: NDArray[np.int8]
+    path: Path, params: MapImageParams, shade: NDArray[np.float64], cells: NDArray[np.int8]
 ) -> None:
     """A :class:`~frontier_rl.errors.MapWarning` where more than :data:`GREY_AS_FREE_WARN_SHARE` of
-    the free cells are ``grey`` pixels (map_saver's unknown) that the thresholds read as free."""
+    the free ``cells`` are pixels of map_saver's grey unknown (by their ``shade``) that the
+    thresholds read as free; nothing to count where they read that grey otherwise (most maps)."""
+    one_grey = pixels_to_cells(np.full((1, 1), float(UNKNOWN_PIXEL)), np.zeros((1, 1), np.bool_), params)
+    if one_grey[0, 0] != CellState.FREE:
+        return
+    grey = np.rint(shade) == UNKNOWN_PIXEL
     free = cells == CellState.FREE
     grey_free = int(np.count_nonzero(grey & free))
     share = grey_free / max(int(np.count_nonzero(free)), 1)
