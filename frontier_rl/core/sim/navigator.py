@@ -20,7 +20,7 @@ from frontier_rl.core.navigation.thin_walls import Recovery, recovery_robot
 from frontier_rl.core.sim.candidates import Candidates, Look, find_candidates
 from frontier_rl.core.sim.config import SimConfig
 from frontier_rl.core.sim.episode_log import EpisodeLog
-from frontier_rl.core.sim.looks import LOOK_PAYOFF_M2, last_looks, may_look, spent_looks
+from frontier_rl.core.sim.looks import LOOK_PAYOFF_M2, blind_looks, last_looks, may_look, spent_looks
 from frontier_rl.core.sim.paths import map_blocks_path, recovery_blocks_path, replan_path
 from frontier_rl.core.sim.teammates import Teammates
 from frontier_rl.core.sim.trail import mark_path
@@ -75,6 +75,7 @@ class Navigator:
         """Whether a look has paid, so that the next need no floor seen near their clusters
         (``confirmed`` of :func:`~frontier_rl.core.sim.looks.last_looks`): until one of those misses."""
         self._confirmable = True  # no look taken on a paid look's word alone has missed yet
+        self._blind = True  # no blind look taken yet (:func:`~frontier_rl.core.sim.looks.blind_looks`)
         self._gave_way_on: tuple[float, float] | None = None  # the goal of a leg that gave way, see give_way
 
     def trail(self) -> NDArray[np.bool_]:
@@ -115,6 +116,11 @@ class Navigator:
             looks = last_looks(cand.grid, pose, cand.reachable, self._config, self.blacklist, self.confirmed)
             if len(looks):
                 return dataclasses.replace(cand, frontiers=looks, looks=Look.SMALL)
+        if self.looking and self._blind and not worth:  # no floor seen beyond: on the normal costmap only
+            cand = levels[0]
+            looks = blind_looks(cand.grid, pose, cand.reachable, self._config, self.blacklist)
+            if len(looks):
+                return dataclasses.replace(cand, frontiers=looks, looks=Look.BLIND)
         for cand in levels if self.blacklist.gave_up() else ():  # a frontier given up to look at
             looks = spent_looks(cand.grid, pose, cand.reachable, self._config, self.blacklist)
             if len(looks):
@@ -140,14 +146,16 @@ class Navigator:
             self._cached = levels
         return self._cached
 
-    def looked(self, revealed_m2: float) -> None:
+    def looked(self, revealed_m2: float, blind: bool = False) -> None:
         """A look at the small clusters mapped ``revealed_m2`` of floor (m², cells newly known
         free). One that paid :data:`~frontier_rl.core.sim.looks.LOOK_PAYOFF_M2` lets the next do
         without floor seen near their clusters. One that paid less, taken while a paid look's word
         held, ends that word for the episode (the looks with floor seen through their clusters go
-        on); otherwise it ends every look at them."""
+        on); otherwise it ends every look at them. A ``blind`` look (one an episode) ends no look."""
         paid = revealed_m2 >= LOOK_PAYOFF_M2
-        if self.confirmed and not paid:
+        if blind:  # one an episode; one that paid is a paid look
+            self._blind = False
+        elif self.confirmed and not paid:
             self._confirmable = False
         else:
             self.looking = self.looking and paid

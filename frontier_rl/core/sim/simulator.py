@@ -273,8 +273,8 @@ class ExplorationSimulator:
                 result = yield from self._drive(Leg(self, path, goal, None, cand.recovery), index, weight)
                 viewed = result.outcome is LegOutcome.REACHED
                 self.blacklist.fail(*goal, self.mapper.state, reached=True, frontier=frontier, viewed=viewed)
-                if cand.looks is Look.SMALL:  # whether the looks at small clusters go on
-                    self.navigator.looked(result.new_free * self.world.grid.resolution**2)
+                if cand.looks in (Look.SMALL, Look.BLIND):  # whether the looks at small clusters go on
+                    self.navigator.looked(result.new_free * self.world.grid.resolution**2, cand.looks is Look.BLIND)
                 else:
                     self.navigator.forget()  # the blacklist changed
                 return result
