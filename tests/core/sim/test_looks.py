@@ -1,7 +1,8 @@
 """The last looks (issue 58): before an episode ends, a frontier cluster too small to be a candidate
 that a reachable viewpoint would see a room's worth of unknown through (a gap in a thin wall
 narrower than the robot) gets one look; specks do not, and no cluster gets two. A frontier given
-up after its tries gets looks from elsewhere too, at most two."""
+up after its tries gets looks from elsewhere too, at most two. Where the robot saw no floor beyond
+anything at all, one look an episode goes to the clusters that promise a fortieth of its map."""
 
 from __future__ import annotations
 
@@ -14,9 +15,19 @@ import pytest
 from frontier_rl import load_world, make_policy, run_episode
 from frontier_rl.core.frontiers.blacklist import AUDIT_BUDGET, Blacklist
 from frontier_rl.core.frontiers.detection import Frontiers
-from frontier_rl.core.sim.candidates import reachable_frontiers
+from frontier_rl.core.sim.candidates import Look, reachable_frontiers
 from frontier_rl.core.sim.config import SimConfig
-from frontier_rl.core.sim.looks import LOOK_MIN_GAIN_M2, LOOK_PAYOFF_M2, last_looks, spent_look_min_gain_m2, spent_looks
+from frontier_rl.core.sim.looks import (
+    BLIND_LOOK_SHARE,
+    LOOK_MIN_GAIN_M2,
+    LOOK_PAYOFF_M2,
+    blind_looks,
+    last_looks,
+    look_promise_cells,
+    spent_look_min_gain_m2,
+    spent_looks,
+    unknown_regions,
+)
 from frontier_rl.core.sim.navigator import Navigator
 from frontier_rl.core.sim.simulator import ExplorationSimulator
 from frontier_rl.core.world.grid import CellState, OccupancyGrid
@@ -124,6 +135,55 @@ def test_a_cluster_looked_at_once_gets_a_second_look_from_elsewhere_and_none_aft
     assert len(_looks(grid, looked)[1]) == 0
 
 
+def _blind(grid: OccupancyGrid) -> Frontiers:
+    config, pose = SimConfig(), Pose(0.5, 0.5, 0.0)
+    _, reachable, frontiers = reachable_frontiers(grid, pose, config)
+    assert len(frontiers) == 0
+    return blind_looks(grid, pose, reachable, config, _blacklist())
+
+
+def test_a_gap_with_nothing_seen_through_it_gets_a_blind_look_where_it_promises_a_fortieth_of_the_map() -> None:
+    unseen = window_map()
+    unseen.data[:, 62:] = UNKNOWN  # nothing seen through the gap: no last look (above), but a blind one
+    looks = _blind(unseen)
+    assert len(looks) == 1 and abs(looks.goal_cells[0][0] - 39) <= 1 and 0 < (61 - looks.goal_cells[0][1]) * RES <= 0.2
+    speck = window_map()
+    speck.data[:, 61:] = OCC
+    speck.data[40, 30] = UNKNOWN  # one unseen cell in the room promises 0.0025 m²
+    assert len(_blind(speck)) == 0
+    # the same gap in the wall of a 15 m x 15 m hall promises less than a fortieth of it
+    large = np.full((302, 370), OCC, np.int8)
+    large[1:301, 1:300] = FREE
+    large[GAP_ROWS, 300] = FREE
+    large[:, 301:] = UNKNOWN
+    big = OccupancyGrid(large, RES)
+    _, reachable, _ = reachable_frontiers(big, Pose(0.5, 0.5, 0.0), SimConfig())
+    gap_rows = np.flatnonzero(big.data[:, 300] == FREE)
+    gap = np.column_stack([gap_rows, np.full_like(gap_rows, 300)])
+    promise_m2 = look_promise_cells(big, gap, reachable, SimConfig(), unknown_regions(big)) * RES**2
+    mapped_m2 = np.count_nonzero(large == FREE) * RES**2
+    assert LOOK_MIN_GAIN_M2 < promise_m2 < BLIND_LOOK_SHARE * mapped_m2 < 2 * promise_m2
+    assert len(_blind(big)) == 0
+
+
+def test_one_blind_look_an_episode_and_one_that_pays_confirms_the_looks() -> None:
+    unseen = window_map()
+    unseen.data[:, 62:] = UNKNOWN
+    world = make_world(unseen, "window", start=Pose(0.5, 0.5, 0.0))
+    sim = ExplorationSimulator(world, SimConfig(), np.random.default_rng(0))
+    sim.mapper.state[:] = unseen.data  # the robot's map as drawn, all of it seen
+    sim.mapper._bbox[:] = (0, unseen.shape[0] - 1, 0, unseen.shape[1] - 1)
+    sim.navigator.forget()
+    pose = Pose(0.5, 0.5, 0.0)
+    assert sim.navigator.candidates(pose).looks is Look.BLIND
+    sim.navigator.looked(0.0, blind=True)
+    assert sim.navigator.looking and not sim.navigator.confirmed  # a blind look that missed ends no look
+    assert sim.navigator.candidates(pose).looks is Look.NONE  # and there is no second
+    navigator = _navigator()
+    navigator.looked(LOOK_PAYOFF_M2, blind=True)
+    assert navigator.looking and navigator.confirmed
+
+
 def _given_up(closet: tuple[slice, slice] | None = None, speck: int = 0) -> tuple[OccupancyGrid, Blacklist, Frontiers]:
     """The window map with a gap of seven cells (0.35 m), a frontier, given up after the audit's
     budget of failed legs to its goal (with ``closet``, the unknown behind it is only those cells,
@@ -199,3 +259,11 @@ def test_the_window_of_a_slam_map_is_looked_through(real_maps: Path) -> None:
     world = load_world("brsu_c069", seed=0)
     result = run_episode(world, make_policy("nearest"), seed=0)
     assert result.coverage >= 0.99 and not result.truncated, result.summary()  # 0.9415 without the looks
+
+
+def test_a_window_nothing_was_seen_through_gets_the_blind_look(real_maps: Path) -> None:
+    """``brsu_c069`` by ``tour`` from seed 2: the robot never saw floor through the window (no last
+    look), and stopped at 94.2 % of the explorable space before the blind look."""
+    world = load_world("brsu_c069", seed=2)
+    result = run_episode(world, make_policy("tour"), seed=2)
+    assert result.coverage >= 0.99 and not result.truncated, result.summary()
