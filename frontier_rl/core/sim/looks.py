@@ -36,6 +36,7 @@ neither end).
 
 from __future__ import annotations
 
+import math
 from collections.abc import Callable
 
 import numpy as np
@@ -247,12 +248,16 @@ def _best_looks(
     least = least_m2 / grid.resolution**2
     unknown = labels > 0
     groups: dict[tuple[int, int], list[int]] = {}
+    counted: dict[tuple[int, ...], _ViewGains] = {}  # by the regions opened onto
     for i in chosen:
         cells = clusters.cells_of(i)
         regions = _opened_onto(map_unknown, cells)
         if areas[regions].sum() < least_m2:
             continue
-        best, gain = _best_viewpoint(grid, unknown & np.isin(labels, regions), views, cells, reach, config)
+        key = tuple(np.unique(regions).tolist())
+        if key not in counted:
+            counted[key] = _ViewGains(grid, unknown & np.isin(labels, regions), views, config)
+        best, gain = counted[key].best(cells, reach)
         if gain >= least:
             groups.setdefault((int(best[0]), int(best[1])), []).append(i)
     return groups
@@ -333,19 +338,57 @@ def _best_viewpoint(
     reach: float,
     config: SimConfig,
 ) -> tuple[NDArray[np.int64], int]:
-    """The viewpoint (row, col) within ``reach`` (m) of the cluster ``cells`` whose scan would
-    see the most ``target`` cells (the unknown the cluster opens onto; other unknown cells let the
-    rays through uncounted), and that count."""
-    centre = cells.mean(axis=0)
-    near = views[np.hypot(*(views - centre).T) * grid.resolution <= reach]
-    if len(near) == 0:
-        return np.array([-1, -1], np.int64), 0
-    state = np.where(
-        target, CellState.UNKNOWN, np.where(grid.data == CellState.OCCUPIED, CellState.OCCUPIED, CellState.FREE)
-    )
-    origins = near[:, ::-1].astype(np.float64) + 0.5  # (col, row), cell units
-    gains = visible_unknown(
-        state.astype(np.int8), origins, config.lidar.num_beams, config.mapping_range / grid.resolution
-    )
-    best = int(np.argmax(gains))
-    return near[best], int(gains[best])
+    """The viewpoint (row, col) of ``views`` within ``reach`` (m) of the cluster ``cells`` whose
+    scan would see the most ``target`` cells (:class:`_ViewGains`), and that count."""
+    return _ViewGains(grid, target, views, config).best(cells, reach)
+
+
+class _ViewGains:
+    """How many of the ``target`` cells of ``grid`` (the unknown a cluster opens onto; other
+    unknown cells let the rays through uncounted) a scan from each of the viewpoints ``views``
+    (row, col) would see: counted when first asked for, so that the clusters opening onto the same
+    unknown share them."""
+
+    def __init__(self, grid: OccupancyGrid, target: NDArray[np.bool_], views: NDArray[np.int64], config: SimConfig):
+        occupied = np.where(grid.data == CellState.OCCUPIED, CellState.OCCUPIED, CellState.FREE)
+        self._state = np.where(target, CellState.UNKNOWN, occupied).astype(np.int8)
+        self._views = views
+        self._gains = np.full(len(views), -1, np.int64)  # -1: not counted yet
+        self._resolution = grid.resolution
+        self._rays = config.lidar.num_beams
+        self._sight = config.mapping_range / grid.resolution
+
+    def best(self, cells: NDArray[np.int64], reach: float) -> tuple[NDArray[np.int64], int]:
+        """The viewpoint (row, col) within ``reach`` (m) of the cluster ``cells`` that sees the
+        most target cells (the first of those), and that count; (-1, -1) and 0 where none is."""
+        near = np.flatnonzero(np.hypot(*(self._views - cells.mean(axis=0)).T) * self._resolution <= reach)
+        if len(near) == 0:
+            return np.array([-1, -1], np.int64), 0
+        todo = near[self._gains[near] < 0]
+        if len(todo):
+            views = self._views[todo]
+            origins = views[:, ::-1].astype(np.float64) + 0.5  # (col, row), cell units
+            hints = _pocket_of(self._state, views, self._sight)
+            self._gains[todo] = visible_unknown(self._state, origins, self._rays, self._sight, *hints)
+        best = near[int(np.argmax(self._gains[near]))]
+        return self._views[best], int(self._gains[best])
+
+
+def _pocket_of(
+    state: NDArray[np.int8], views: NDArray[np.int64], sight: float
+) -> tuple[tuple[float, float, float, float], NDArray[np.int64]]:
+    """The box (top, bottom, left, right: cell edges) of the unknown cells of ``state`` within
+    ``sight`` (cells) of the box of the viewpoints ``views`` (row, col), and (m, 2) those among
+    them with a free 4-neighbour (row, col): the hints of
+    :func:`~frontier_rl.core.frontiers.detection.visible_unknown`."""
+    margin = int(math.ceil(sight)) + 2
+    top, left = np.maximum(views.min(axis=0) - margin, 0)
+    bottom, right = views.max(axis=0) + margin + 1
+    window = state[top:bottom, left:right]
+    unknown = window == CellState.UNKNOWN
+    entries = np.argwhere(unknown & ndimage.binary_dilation(window == CellState.FREE))  # 4-neighbours: the cross
+    rows, cols = np.nonzero(unknown)
+    if len(rows) == 0:
+        return (0.0, 0.0, 0.0, 0.0), entries.astype(np.int64)
+    box = (float(top + rows.min()), float(top + rows.max() + 1), float(left + cols.min()), float(left + cols.max() + 1))
+    return box, (entries + np.array([top, left])).astype(np.int64)

@@ -10,7 +10,7 @@ import pytest
 from numpy.typing import NDArray
 from scipy import ndimage
 
-from frontier_rl.core.frontiers.detection import Frontiers, detect_frontiers
+from frontier_rl.core.frontiers.detection import Frontiers, detect_frontiers, visible_unknown
 from frontier_rl.core.frontiers.fringe import count_fringe, fringe_mask
 from frontier_rl.core.mapping.mapper import LogOddsMapper
 from frontier_rl.core.sensing.lidar import Lidar
@@ -346,3 +346,55 @@ def test_information_gain_in_a_small_room(grid_from_text: TextGrid, frontiers_fr
     blocked = [row[:4] + ("#" if 1 < i < 5 else row[4]) + row[5:] for i, row in enumerate(rows)]
     g = grid_from_text(blocked, resolution=1.0)
     assert single_frontier(g, 3, 3, frontiers_from).information_gain(10.0)[0] == 24 - 3 - 5
+
+
+def walled_pocket(rng: np.random.Generator) -> tuple[NDArray[np.int8], NDArray[np.float64]]:
+    """A random floor with pillars, an unknown pocket walled round but for a few holes, and
+    viewpoints on free cells (half on cells' centres, where rays pass through cells' corners)."""
+    rows, cols = rng.integers(20, 90, 2)
+    state = np.where(rng.random((rows, cols)) < 0.15, CellState.OCCUPIED, CellState.FREE).astype(np.int8)
+    top, left = rng.integers(0, rows - 3), rng.integers(0, cols - 3)
+    bottom, right = rng.integers(top + 1, rows + 1), rng.integers(left + 1, cols + 1)
+    pocket = np.zeros((rows, cols), np.bool_)
+    pocket[top:bottom, left:right] = rng.random((bottom - top, right - left)) < 0.8
+    state[ndimage.binary_dilation(pocket) & ~pocket & (rng.random((rows, cols)) < 0.9)] = CellState.OCCUPIED
+    state[pocket] = CellState.UNKNOWN
+    free = np.argwhere(state == CellState.FREE)
+    if not pocket.any() or len(free) == 0:
+        return walled_pocket(rng)
+    cells = free[rng.integers(0, len(free), 30)]
+    return state, cells[:, ::-1] + (0.5 if rng.random() < 0.5 else rng.random((30, 2)))
+
+
+def pocket_hints(state: NDArray[np.int8]) -> tuple[tuple[float, float, float, float], NDArray[np.int64]]:
+    """The box of ``state``'s unknown cells (cell edges) and those with a free 4-neighbour."""
+    unknown = state == CellState.UNKNOWN
+    rows, cols = np.nonzero(unknown)
+    box = (float(rows.min()), float(rows.max() + 1), float(cols.min()), float(cols.max() + 1))
+    return box, np.argwhere(unknown & ndimage.binary_dilation(state == CellState.FREE))
+
+
+@pytest.mark.parametrize("seed", range(4))
+def test_the_hints_of_a_pocket_change_no_count(seed: int) -> None:
+    # the box and the entries only spare rays that could not count: hundreds of random pockets
+    # and viewpoints, at ranges from a few cells to past the floor, count as every ray does
+    rng = np.random.default_rng(seed)
+    counted = 0
+    for _ in range(100):
+        state, centres = walled_pocket(rng)
+        sight = float(rng.uniform(3.0, 60.0))
+        every = visible_unknown(state, centres, 360, sight)
+        assert visible_unknown(state, centres, 360, sight, *pocket_hints(state)).tolist() == every.tolist()
+        counted += int(np.count_nonzero(every))
+    assert counted > 100  # the pockets were seen, not only missed
+
+
+def test_the_hints_are_used(grid_from_text: TextGrid) -> None:
+    # a box or entries that leave the pocket out leave it uncounted: the rays really are spared
+    room = grid_from_text(["#######", "#.....#", "###.###", "#?????#", "#######"], resolution=1.0).data
+    centre = np.array([[3.5, 3.5]])  # (col, row): above the door (row 2) to the pocket (row 1)
+    assert visible_unknown(room, centre, 360, 10.0).tolist() == [3]  # (1, 2), (1, 3), (1, 4)
+    assert visible_unknown(room, centre, 360, 10.0, (1.0, 2.0, 1.0, 6.0), np.array([[1, 3]])).tolist() == [3]
+    # a box from column 5: the rays towards (1, 2) are not cast
+    assert visible_unknown(room, centre, 360, 10.0, (1.0, 2.0, 5.0, 6.0), np.array([[1, 3]])).tolist() == [2]
+    assert visible_unknown(room, centre, 360, 10.0, (1.0, 2.0, 1.0, 6.0), np.array([[3, 1]])).tolist() == [0]
