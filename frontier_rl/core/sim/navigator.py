@@ -116,8 +116,9 @@ class Navigator:
             looks = last_looks(cand.grid, pose, cand.reachable, self._config, self.blacklist, self.confirmed)
             if len(looks):
                 return dataclasses.replace(cand, frontiers=looks, looks=Look.SMALL)
-        if self.looking and self._blind and not worth:  # no floor seen beyond: on the normal costmap only
-            cand = levels[0]
+        if self.looking and self._blind and not worth:  # no floor seen beyond: on the normal costmap
+            # unless the robot stands where only a recovery level reaches (a leg through a gap ended there)
+            cand = next((level for level in levels if level.reachable.any()), levels[0])
             looks = blind_looks(cand.grid, pose, cand.reachable, self._config, self.blacklist)
             if len(looks):
                 return dataclasses.replace(cand, frontiers=looks, looks=Look.BLIND)

@@ -14,7 +14,7 @@ import pytest
 
 from frontier_rl import load_world, make_policy, run_episode
 from frontier_rl.core.frontiers.blacklist import AUDIT_BUDGET, Blacklist
-from frontier_rl.core.frontiers.detection import Frontiers
+from frontier_rl.core.frontiers.detection import Frontiers, detect_frontiers, visible_unknown
 from frontier_rl.core.sim.candidates import Look, reachable_frontiers
 from frontier_rl.core.sim.config import SimConfig
 from frontier_rl.core.sim.looks import (
@@ -267,3 +267,45 @@ def test_a_window_nothing_was_seen_through_gets_the_blind_look(real_maps: Path) 
     world = load_world("brsu_c069", seed=2)
     result = run_episode(world, make_policy("tour"), seed=2)
     assert result.coverage >= 0.99 and not result.truncated, result.summary()
+
+
+def _every_ray_promise(grid: OccupancyGrid, cells: np.ndarray, reachable: np.ndarray, config: SimConfig) -> int:
+    """What :func:`look_promise_cells` promises, by the definition: every ray from every reachable
+    cell within a frontier goal's reach of the cluster, cast on the whole map."""
+    labels, areas = unknown_regions(grid)
+    beside = {int(labels[r + dr, c + dc]) for r, c in cells for dr in (-1, 0, 1) for dc in (-1, 0, 1)}
+    target = np.isin(labels, [label for label in beside if label > 0 and areas[label] > 0])
+    occupied = np.where(grid.data == OCC, OCC, FREE)
+    state = np.where(target, UNKNOWN, occupied).astype(np.int8)
+    views = np.argwhere(reachable)
+    reach = min(config.frontier_goal_reach, config.mapping_range)
+    views = views[np.hypot(*(views - cells.mean(axis=0)).T) * grid.resolution <= reach]
+    if len(views) == 0:
+        return 0
+    origins = views[:, ::-1].astype(np.float64) + 0.5
+    return int(visible_unknown(state, origins, config.lidar.num_beams, config.mapping_range / grid.resolution).max())
+
+
+@pytest.mark.parametrize("seed", range(3))
+def test_a_looks_promise_is_what_every_ray_would_see(seed: int) -> None:
+    # the search casts only the rays that can meet the unknown, in the part of the map they reach:
+    # it must find what casting every ray on the whole map finds, for each small cluster of a
+    # map with rooms left unseen behind walls with holes
+    rng = np.random.default_rng(seed)
+    config, pose = SimConfig(), Pose(0.5, 0.5, 0.0)
+    data = np.full((90, 140), FREE, np.int8)
+    data[[0, -1], :], data[:, [0, -1]] = OCC, OCC
+    for top, left in ((10, 30), (50, 80), (20, 100)):  # rooms walled round but for a few holes
+        data[top : top + 22, left : left + 26] = OCC
+        data[top + 1 : top + 21, left + 1 : left + 25] = UNKNOWN
+        wall = np.argwhere(data[top : top + 22, left : left + 26] == OCC) + np.array([top, left])
+        holes = wall[rng.choice(len(wall), 6, replace=False)]
+        data[holes[:, 0], holes[:, 1]] = FREE
+    grid = OccupancyGrid(data, RES)
+    _, reachable, _ = reachable_frontiers(grid, pose, config)
+    small = detect_frontiers(grid, pose, reachable, 0)
+    assert len(small) >= 3
+    regions = unknown_regions(grid)
+    promised = [look_promise_cells(grid, small.cells_of(i), reachable, config, regions) for i in range(len(small))]
+    assert promised == [_every_ray_promise(grid, small.cells_of(i), reachable, config) for i in range(len(small))]
+    assert max(promised) > 0
