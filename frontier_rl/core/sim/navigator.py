@@ -75,7 +75,9 @@ class Navigator:
         """Whether a look has paid, so that the next need no floor seen near their clusters
         (``confirmed`` of :func:`~frontier_rl.core.sim.looks.last_looks`): until one of those misses."""
         self._confirmable = True  # no look taken on a paid look's word alone has missed yet
-        self._blind = True  # no blind look taken yet (:func:`~frontier_rl.core.sim.looks.blind_looks`)
+        # the blind looks (:func:`~frontier_rl.core.sim.looks.blind_looks`): whether one was taken,
+        # and whether none has paid yet
+        self._blind_begun, self._blind_open = False, True
         self._gave_way_on: tuple[float, float] | None = None  # the goal of a leg that gave way, see give_way
 
     def trail(self) -> NDArray[np.bool_]:
@@ -111,17 +113,16 @@ class Navigator:
         """The last looks of ``levels`` (which have no frontier left) from the first level that has
         one: at the small clusters while :attr:`looking`, else at the frontiers given up after their
         tries (each at most twice, as a visit); ``levels[0]`` when there is none."""
-        worth = self.looking and (self.confirmed or may_look(levels[0].grid, levels[0].reachable))
+        home = _standing_on(levels)
+        worth = self.looking and (self.confirmed or may_look(home.grid, home.reachable))
         for cand in levels if worth else ():
             looks = last_looks(cand.grid, pose, cand.reachable, self._config, self.blacklist, self.confirmed)
             if len(looks):
                 return dataclasses.replace(cand, frontiers=looks, looks=Look.SMALL)
-        if self.looking and self._blind and not worth:  # no floor seen beyond: on the normal costmap
-            # unless the robot stands where only a recovery level reaches (a leg through a gap ended there)
-            cand = next((level for level in levels if level.reachable.any()), levels[0])
-            looks = blind_looks(cand.grid, pose, cand.reachable, self._config, self.blacklist)
+        if self.looking and self._blind_open and (self._blind_begun or not worth):  # no floor seen beyond
+            looks = blind_looks(home.grid, pose, home.reachable, self._config, self.blacklist)
             if len(looks):
-                return dataclasses.replace(cand, frontiers=looks, looks=Look.BLIND)
+                return dataclasses.replace(home, frontiers=looks, looks=Look.BLIND)
         for cand in levels if self.blacklist.gave_up() else ():  # a frontier given up to look at
             looks = spent_looks(cand.grid, pose, cand.reachable, self._config, self.blacklist)
             if len(looks):
@@ -152,10 +153,12 @@ class Navigator:
         free). One that paid :data:`~frontier_rl.core.sim.looks.LOOK_PAYOFF_M2` lets the next do
         without floor seen near their clusters. One that paid less, taken while a paid look's word
         held, ends that word for the episode (the looks with floor seen through their clusters go
-        on); otherwise it ends every look at them. A ``blind`` look (one an episode) ends no look."""
+        on); otherwise it ends every look at them. A ``blind`` look ends no look: once one is taken
+        (where no floor was seen beyond) the blind looks go on whatever they show (each from
+        elsewhere, each cluster looked at twice at most) until one pays, and that one is a paid look."""
         paid = revealed_m2 >= LOOK_PAYOFF_M2
-        if blind:  # one an episode; one that paid is a paid look
-            self._blind = False
+        if blind:
+            self._blind_begun, self._blind_open = True, not paid
         elif self.confirmed and not paid:
             self._confirmable = False
         else:
@@ -238,3 +241,13 @@ class Navigator:
         cells = None if frontier_cells is None else self._world.grid.cells_to_world(frontier_cells)
         self.blacklist.fail(*goal, self._mapper.state, reached=reached, frontier=cells)
         self.forget()
+
+
+def _standing_on(levels: list[Candidates]) -> Candidates:
+    """The first of ``levels`` that reaches at least half the cells the last one reaches: the
+    normal costmap, but where a leg through a gap only a recovery level opens ended on an island of
+    it (on ``brsu_c069`` islands of 2 and 43 cells beside the recovery's 31,500, from which every
+    floor the robot had seen lay "beyond"; the normal costmap reaches about nine tenths of the
+    recovery's elsewhere)."""
+    most = np.count_nonzero(levels[-1].reachable)
+    return next(level for level in levels if 2 * np.count_nonzero(level.reachable) >= most)

@@ -166,7 +166,7 @@ def test_a_gap_with_nothing_seen_through_it_gets_a_blind_look_where_it_promises_
     assert len(_blind(big)) == 0
 
 
-def test_one_blind_look_an_episode_and_one_that_pays_confirms_the_looks() -> None:
+def test_blind_looks_go_on_from_elsewhere_until_one_pays_and_that_one_confirms_the_looks() -> None:
     unseen = window_map()
     unseen.data[:, 62:] = UNKNOWN
     world = make_world(unseen, "window", start=Pose(0.5, 0.5, 0.0))
@@ -174,11 +174,17 @@ def test_one_blind_look_an_episode_and_one_that_pays_confirms_the_looks() -> Non
     sim.mapper.state[:] = unseen.data  # the robot's map as drawn, all of it seen
     sim.mapper._bbox[:] = (0, unseen.shape[0] - 1, 0, unseen.shape[1] - 1)
     sim.navigator.forget()
-    pose = Pose(0.5, 0.5, 0.0)
-    assert sim.navigator.candidates(pose).looks is Look.BLIND
-    sim.navigator.looked(0.0, blind=True)
-    assert sim.navigator.looking and not sim.navigator.confirmed  # a blind look that missed ends no look
-    assert sim.navigator.candidates(pose).looks is Look.NONE  # and there is no second
+    pose, gap = Pose(0.5, 0.5, 0.0), unseen.cells_to_world(np.array([[39, 61]]))
+    goals = []
+    for _ in range(2):  # a blind look that missed ends no look; the next is from elsewhere
+        cand = sim.navigator.candidates(pose)
+        assert cand.looks is Look.BLIND and len(cand.frontiers) == 1
+        goals.append(cand.frontiers.goals[0])
+        sim.blacklist.fail(*goals[-1], sim.mapper.state, reached=True, frontier=gap, viewed=True)
+        sim.navigator.looked(0.0, blind=True)
+        assert sim.navigator.looking and not sim.navigator.confirmed
+    assert np.hypot(*(goals[1] - goals[0])) > sim.blacklist.radius
+    assert sim.navigator.candidates(pose).looks is Look.NONE  # the gap was looked at twice
     navigator = _navigator()
     navigator.looked(LOOK_PAYOFF_M2, blind=True)
     assert navigator.looking and navigator.confirmed
