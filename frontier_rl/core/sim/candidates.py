@@ -43,8 +43,8 @@ class Look(Enum):
     SMALL = "small"
     """Last looks at clusters the size filter drops (a gap in a thin wall, a window)."""
     BLIND = "blind"
-    """A last look at clusters the size filter drops where no floor was seen beyond any (one an
-    episode, :func:`~frontier_rl.core.sim.looks.blind_looks`)."""
+    """A last look at clusters the size filter drops where no floor was seen beyond any (until one
+    pays, :func:`~frontier_rl.core.sim.looks.blind_looks`)."""
     GIVEN_UP = "given_up"
     """Last looks at frontiers given up after their tries, from another place."""
 
