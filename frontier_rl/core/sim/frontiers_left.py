@@ -20,7 +20,7 @@ from frontier_rl.core.navigation.thin_walls import Recovery
 from frontier_rl.core.sim.candidates import Candidates, reachable_frontiers
 from frontier_rl.core.sim.config import UNSEEN_ROOM_M2, SimConfig
 from frontier_rl.core.sim.episode_log import leaves_space
-from frontier_rl.core.sim.looks import look_promise_cells, unknown_regions
+from frontier_rl.core.sim.look_views import look_promise_cells, unknown_regions
 from frontier_rl.core.sim.metrics import FrontierLeft
 from frontier_rl.core.world.grid import CellState, OccupancyGrid
 from frontier_rl.core.world.robot import Pose
@@ -77,7 +77,7 @@ class _MapAgainstTruth:
         audit: where the audit found paths (:func:`audit`).
         blacklist: the robot's failed goals: each frontier's history, and the views it had.
         unknown: the labels of ``grid``'s unknown regions and their areas (m²), for the looks a
-            frontier left with a path could have had (:func:`~frontier_rl.core.sim.looks.look_promise_cells`).
+            frontier left with a path could have had (:func:`~frontier_rl.core.sim.look_views.look_promise_cells`).
         config: the simulation's settings.
     """
 

@@ -44,17 +44,20 @@ neither end).
 
 from __future__ import annotations
 
-import math
-from collections.abc import Callable
-
 import numpy as np
 from numpy.typing import NDArray
 from scipy import ndimage
 
 from frontier_rl.core.frontiers.blacklist import Blacklist
-from frontier_rl.core.frontiers.detection import Frontiers, detect_frontiers, visible_unknown
-from frontier_rl.core.frontiers.fringe import NEIGHBOURS_8, labels_beside
+from frontier_rl.core.frontiers.detection import Frontiers, detect_frontiers
 from frontier_rl.core.sim.config import SimConfig
+from frontier_rl.core.sim.look_views import (
+    VIEWPOINT_STRIDE,
+    best_looks,
+    opened_areas,
+    unknown_regions,
+    viewpoint_cells,
+)
 from frontier_rl.core.world.grid import CellState, OccupancyGrid
 from frontier_rl.core.world.robot import Pose
 
@@ -86,21 +89,18 @@ less ends only that word: the looks that need floor seen through their clusters 
 BLIND_LOOK_SHARE = 0.025
 """The least unknown area a look must promise where the robot saw no floor beyond anything it can
 reach (:func:`blind_looks`), as a share of the free space it has mapped: a look that may add a
-fortieth to the map. At the end of the fingerprinted episodes of the office,
-the cluttered world and the cave the small clusters promise at most 1.0 %, 0.9 % and 1.6 % of the
-free space mapped; at ``brsu_c069``'s window, in the episodes that ended without a look, 3.5-7 %."""
+fortieth to the map. At the end of the fingerprinted episodes of the office, the cluttered world
+and the cave the small clusters promise at most 1.0 %, 0.9 % and 1.6 % of the free space mapped;
+at ``brsu_c069``'s window, in the episodes that ended without a look, 3.5-7 %."""
 
 BLIND_SCREEN_STRIDE = 5
-"""How many times coarser (than :data:`VIEWPOINT_STRIDE`) the lattice of viewpoints is on which a
-blind look's clusters are screened first (half the promise needed): 0.5 m, a 25th of the rays.
+"""How many times coarser (than :data:`~frontier_rl.core.sim.look_views.VIEWPOINT_STRIDE`) the
+lattice of viewpoints is on which a blind look's clusters are screened first (half the promise
+needed): 0.5 m, a 25th of the rays.
 At the end of every office episode its sealed rooms pass the area check: their search cost a
 third of the CPU time of 20 episodes of ``fixed:0.75`` casting every ray, 4 % casting only those
 that can meet the unknown, 1.6 % screened too; the seven ``brsu_c069`` episodes the blind looks
 are for reach 99 % screened."""
-
-VIEWPOINT_STRIDE = 2
-"""Every how many reachable cells (along rows and columns) a viewpoint is tried: 0.1 m on the
-thesis's 0.05 m cells, finer than a gap the robot can see through is wide."""
 
 
 def may_look(grid: OccupancyGrid, reachable: NDArray[np.bool_]) -> bool:
@@ -126,12 +126,15 @@ def last_looks(
     and so are viewpoints near a goal tried before. Without ``confirmed`` (no look has paid yet) a
     cluster needs floor seen beyond it within the mapping range; with it, unknown that borders
     free space seen beyond anywhere."""
+    small = _small_clusters(grid, pose, reachable, config)
+    if len(small) == 0:
+        return small
     regions = unknown_regions(grid)
     if confirmed:  # a look paid: any unknown beside space seen beyond may be a room
         labels, areas = regions
         areas[np.setdiff1d(np.arange(len(areas)), _regions_seen_beyond(grid, reachable, labels))] = 0.0
     floor = None if confirmed else floor_seen_beyond(grid, reachable)
-    return _small_cluster_looks(grid, pose, reachable, config, blacklist, regions, floor, LOOK_MIN_GAIN_M2)
+    return _small_cluster_looks(small, pose, reachable, config, blacklist, regions, floor, LOOK_MIN_GAIN_M2)
 
 
 def blind_looks(
@@ -141,14 +144,25 @@ def blind_looks(
     at the small clusters whose best viewpoint would see at least :data:`BLIND_LOOK_SHARE` of the
     free space mapped (and :data:`LOOK_MIN_GAIN_M2`) of the unknown they open onto, whether or not
     floor was seen through them."""
-    regions = unknown_regions(grid)
+    small = _small_clusters(grid, pose, reachable, config)
+    if len(small) == 0:
+        return small
     mapped_m2 = np.count_nonzero(grid.data == CellState.FREE) * grid.resolution**2
     least_m2 = max(BLIND_LOOK_SHARE * mapped_m2, LOOK_MIN_GAIN_M2)
-    return _small_cluster_looks(grid, pose, reachable, config, blacklist, regions, None, least_m2, BLIND_SCREEN_STRIDE)
+    regions = unknown_regions(grid)
+    return _small_cluster_looks(small, pose, reachable, config, blacklist, regions, None, least_m2, BLIND_SCREEN_STRIDE)
+
+
+def _small_clusters(grid: OccupancyGrid, pose: Pose, reachable: NDArray[np.bool_], config: SimConfig) -> Frontiers:
+    """The frontier clusters of ``grid`` the size filter drops that a robot at ``pose`` can get
+    to see from the ``reachable`` cells."""
+    reach = min(config.frontier_goal_reach, config.mapping_range)
+    small = detect_frontiers(grid, pose, reachable, 0, config.frontier_segment_length, reach)
+    return small.subset(small.sizes <= config.drop_cells(grid.resolution))
 
 
 def _small_cluster_looks(
-    grid: OccupancyGrid,
+    small: Frontiers,
     pose: Pose,
     reachable: NDArray[np.bool_],
     config: SimConfig,
@@ -158,22 +172,17 @@ def _small_cluster_looks(
     least_m2: float,
     screen_stride: int = 1,
 ) -> Frontiers:
-    """The looks at the small clusters not visited twice that promise ``least_m2`` of the unknown
-    ``regions`` they open onto; where ``floor`` (cells seen beyond) is given, only at those with
-    :data:`LOOK_EVIDENCE_M2` of it within the mapping range. With a ``screen_stride`` above 1, only
-    those whose viewpoints on a lattice that many times coarser promise half of it are searched."""
-    reach = min(config.frontier_goal_reach, config.mapping_range)
-    drop = config.drop_cells(grid.resolution)
-    small = detect_frontiers(grid, pose, reachable, 0, config.frontier_segment_length, reach)
-    small = small.subset(small.sizes <= drop)
-    if len(small) == 0:
-        return small
+    """The looks at the ``small`` clusters not visited twice that promise ``least_m2`` of the
+    unknown ``regions`` they open onto; where ``floor`` (cells seen beyond) is given, only at those
+    with :data:`LOOK_EVIDENCE_M2` of it within the mapping range. With a ``screen_stride`` above 1,
+    only those whose viewpoints on a lattice that many times coarser promise half of it are searched."""
+    grid = small.grid
     evidence = LOOK_EVIDENCE_M2 / grid.resolution**2
     sight = config.mapping_range / grid.resolution
     chosen = []
-    # the area check of _best_looks for every cluster at once first (with room for rounding): on
+    # the area check of best_looks for every cluster at once first (with room for rounding): on
     # the office's maps, which end with a few dozen specks, it spares the loops
-    for i in np.flatnonzero(_opened_areas(small, regions) >= least_m2 - 1e-9).tolist():
+    for i in np.flatnonzero(opened_areas(small, regions) >= least_m2 - 1e-9).tolist():
         cells = small.cells_of(i)
         if blacklist.history_of(grid.cells_to_world(cells))[1]:  # looked at twice (or reached in vain)
             continue
@@ -182,12 +191,12 @@ def _small_cluster_looks(
         chosen.append(i)
     if not chosen:
         return small.subset(np.zeros(len(small), np.bool_))
-    views = _viewpoint_cells(reachable, grid, blacklist.tried_near)
+    views = viewpoint_cells(reachable, grid, blacklist.tried_near)
     if screen_stride > 1:
         coarse = views[np.all(views % (VIEWPOINT_STRIDE * screen_stride) == 0, axis=1)]
-        screened = _best_looks(grid, small, chosen, regions, coarse, config, least_m2 / 2)
+        screened = best_looks(grid, small, chosen, regions, coarse, config, least_m2 / 2)
         chosen = sorted(i for members in screened.values() for i in members)
-    return _looks_at(small, _best_looks(grid, small, chosen, regions, views, config, least_m2), pose)
+    return _looks_at(small, best_looks(grid, small, chosen, regions, views, config, least_m2), pose)
 
 
 def spent_looks(
@@ -212,9 +221,9 @@ def spent_looks(
     if not chosen:
         return given_up.subset(np.zeros(0, np.int64))
     labels, areas = unknown_regions(grid)
-    views = _viewpoint_cells(reachable, grid, blacklist.spent_near)
+    views = viewpoint_cells(reachable, grid, blacklist.spent_near)
     least = spent_look_min_gain_m2(config, grid.resolution)
-    return _looks_at(given_up, _best_looks(grid, given_up, chosen, (labels, areas), views, config, least), pose)
+    return _looks_at(given_up, best_looks(grid, given_up, chosen, (labels, areas), views, config, least), pose)
 
 
 def spent_look_min_gain_m2(config: SimConfig, resolution: float) -> float:
@@ -224,86 +233,6 @@ def spent_look_min_gain_m2(config: SimConfig, resolution: float) -> float:
     frontier the robot failed to reach is its own evidence of space, and left unlooked-at with a
     path it is space given up."""
     return (config.speck_cells(resolution) + 1) * resolution * resolution
-
-
-def unknown_regions(grid: OccupancyGrid) -> tuple[NDArray[np.int32], NDArray[np.float64]]:
-    """The labels of ``grid``'s 4-connected unknown regions (0: known cells) and each one's area (m²)."""
-    labels, count = ndimage.label(grid.data == CellState.UNKNOWN)
-    areas = np.bincount(labels.ravel(), minlength=count + 1) * grid.resolution**2
-    return np.asarray(labels, np.int32), areas.astype(np.float64)
-
-
-def look_promise_cells(
-    grid: OccupancyGrid,
-    cells: NDArray[np.int64],
-    reachable: NDArray[np.bool_],
-    config: SimConfig,
-    regions: tuple[NDArray[np.int32], NDArray[np.float64]],
-) -> int:
-    """How many cells of the unknown the frontier ``cells`` (rows, cols of ``grid``) opens onto a
-    scan would see from the best of the ``reachable`` cells (every one, not a lattice's) within a
-    frontier goal's reach of it: the most any look at it could reveal. ``regions``: the map's
-    unknown regions (:func:`unknown_regions`)."""
-    target = np.isin(regions[0], _opened_onto(regions, cells)) & (regions[0] > 0)
-    reach = min(config.frontier_goal_reach, config.mapping_range)
-    return _best_viewpoint(grid, target, np.argwhere(reachable).astype(np.int64), cells, reach, config)[1]
-
-
-def _opened_onto(regions: tuple[NDArray[np.int32], NDArray[np.float64]], cells: NDArray[np.int64]) -> NDArray[np.int64]:
-    """The labels of the unknown ``regions`` (labels, areas in m²) the cluster ``cells`` (rows,
-    cols) opens onto: those beside its cells, but any whose area is 0 (one a look may not count)."""
-    labels, areas = regions
-    beside = labels_beside(labels, cells[:, 0], cells[:, 1])
-    return beside[areas[beside] > 0]
-
-
-def _opened_areas(clusters: Frontiers, regions: tuple[NDArray[np.int32], NDArray[np.float64]]) -> NDArray[np.float64]:
-    """(n,) the area (m²) of the unknown ``regions`` (labels, areas in m²) each of the
-    ``clusters`` opens onto (:func:`_opened_onto`), for all of them at once."""
-    labels, areas = regions
-    sizes = clusters.spans[:, 1] - clusters.spans[:, 0]
-    owner = np.repeat(np.arange(len(clusters)), sizes)
-    at = np.repeat(clusters.spans[:, 0] - np.cumsum(sizes) + sizes, sizes) + np.arange(len(owner))
-    rows, cols = np.divmod(clusters.flat_cells[at], labels.shape[1])
-    r, c = rows[:, None] + NEIGHBOURS_8[:, 0], cols[:, None] + NEIGHBOURS_8[:, 1]
-    inside = (r >= 0) & (r < labels.shape[0]) & (c >= 0) & (c < labels.shape[1])
-    beside = np.where(inside, labels[np.clip(r, 0, labels.shape[0] - 1), np.clip(c, 0, labels.shape[1] - 1)], 0)
-    pairs = np.unique(np.column_stack((np.repeat(owner, 8), beside.ravel())), axis=0)
-    pairs = pairs[pairs[:, 1] > 0]
-    return np.asarray(np.bincount(pairs[:, 0], weights=areas[pairs[:, 1]], minlength=len(clusters)), np.float64)
-
-
-def _best_looks(
-    grid: OccupancyGrid,
-    clusters: Frontiers,
-    chosen: list[int],
-    map_unknown: tuple[NDArray[np.int32], NDArray[np.float64]],
-    views: NDArray[np.int64],
-    config: SimConfig,
-    least_m2: float = LOOK_MIN_GAIN_M2,
-) -> dict[tuple[int, int], list[int]]:
-    """The ``chosen`` clusters worth a look, by the viewpoint (row, col) of ``views`` that is the
-    best look at each: whose scan would see at least ``least_m2`` of the unknown regions the
-    cluster opens onto (``map_unknown``: the labels of the map's unknown regions and each one's
-    area in m², 0 for those a look may not count)."""
-    labels, areas = map_unknown
-    reach = min(config.frontier_goal_reach, config.mapping_range)
-    least = least_m2 / grid.resolution**2
-    unknown = labels > 0
-    groups: dict[tuple[int, int], list[int]] = {}
-    counted: dict[tuple[int, ...], _ViewGains] = {}  # by the regions opened onto
-    for i in chosen:
-        cells = clusters.cells_of(i)
-        regions = _opened_onto(map_unknown, cells)
-        if areas[regions].sum() < least_m2:
-            continue
-        key = tuple(np.unique(regions).tolist())
-        if key not in counted:
-            counted[key] = _ViewGains(grid, unknown & np.isin(labels, regions), views, config)
-        best, gain = counted[key].best(cells, reach)
-        if gain >= least:
-            groups.setdefault((int(best[0]), int(best[1])), []).append(i)
-    return groups
 
 
 def _looks_at(small: Frontiers, groups: dict[tuple[int, int], list[int]], pose: Pose) -> Frontiers:
@@ -358,75 +287,3 @@ def _regions_seen_beyond(
     seen = ndimage.binary_dilation(beyond & (grid.data == CellState.FREE), np.ones((3, 3), np.bool_))
     found = np.unique(labels[seen])
     return found[found > 0].astype(np.int64)
-
-
-def _viewpoint_cells(
-    reachable: NDArray[np.bool_], grid: OccupancyGrid, tried: Callable[[NDArray[np.float64]], NDArray[np.bool_]]
-) -> NDArray[np.int64]:
-    """(k, 2) the reachable cells (row, col) on the viewpoint lattice, but those ``tried`` (a mask
-    of world points (m), such as :meth:`~frontier_rl.core.frontiers.blacklist.Blacklist.tried_near`)."""
-    lattice = np.zeros_like(reachable)
-    lattice[::VIEWPOINT_STRIDE, ::VIEWPOINT_STRIDE] = True
-    views = np.argwhere(reachable & lattice).astype(np.int64)
-    if len(views):
-        views = views[~tried(grid.cells_to_world(views))]
-    return views
-
-
-def _best_viewpoint(
-    grid: OccupancyGrid,
-    target: NDArray[np.bool_],
-    views: NDArray[np.int64],
-    cells: NDArray[np.int64],
-    reach: float,
-    config: SimConfig,
-) -> tuple[NDArray[np.int64], int]:
-    """The viewpoint (row, col) of ``views`` within ``reach`` (m) of the cluster ``cells`` whose
-    scan would see the most ``target`` cells (:class:`_ViewGains`), and that count."""
-    return _ViewGains(grid, target, views, config).best(cells, reach)
-
-
-class _ViewGains:
-    """How many of the ``target`` cells of ``grid`` (the unknown a cluster opens onto; other
-    unknown cells let the rays through uncounted) a scan from each of the viewpoints ``views``
-    (row, col) would see: counted when first asked for, so that the clusters opening onto the same
-    unknown share them."""
-
-    def __init__(self, grid: OccupancyGrid, target: NDArray[np.bool_], views: NDArray[np.int64], config: SimConfig):
-        self._grid = grid
-        self._target = target
-        self._views = views
-        self._gains = np.full(len(views), -1, np.int64)  # -1: not counted yet
-        self._rays = config.lidar.num_beams
-        self._sight = config.mapping_range / grid.resolution
-
-    def best(self, cells: NDArray[np.int64], reach: float) -> tuple[NDArray[np.int64], int]:
-        """The viewpoint (row, col) within ``reach`` (m) of the cluster ``cells`` that sees the
-        most target cells (the first of those), and that count; (-1, -1) and 0 where none is."""
-        near = np.flatnonzero(np.hypot(*(self._views - cells.mean(axis=0)).T) * self._grid.resolution <= reach)
-        if len(near) == 0:
-            return np.array([-1, -1], np.int64), 0
-        todo = near[self._gains[near] < 0]
-        if len(todo):
-            self._gains[todo] = self._count(self._views[todo])
-        best = near[int(np.argmax(self._gains[near]))]
-        return self._views[best], int(self._gains[best])
-
-    def _count(self, views: NDArray[np.int64]) -> NDArray[np.int64]:
-        """The target cells a scan from each of ``views`` (row, col) would see, cast in the window
-        of the map the scans reach (a ray goes no farther than the sight and a cell and a half),
-        with the hints of :func:`~frontier_rl.core.frontiers.detection.visible_unknown`: the box
-        of the target cells there and those with a free 4-neighbour."""
-        margin = int(math.ceil(self._sight)) + 2
-        top, left = np.maximum(views.min(axis=0) - margin, 0)
-        bottom, right = views.max(axis=0) + margin + 1
-        target = self._target[top:bottom, left:right]
-        occupied = self._grid.data[top:bottom, left:right] == CellState.OCCUPIED
-        state = np.where(target, CellState.UNKNOWN, np.where(occupied, CellState.OCCUPIED, CellState.FREE))
-        entries = np.argwhere(target & ndimage.binary_dilation(~target & ~occupied))  # 4-neighbours: the cross
-        rows, cols = np.nonzero(target)
-        if len(rows) == 0:
-            return np.zeros(len(views), np.int64)
-        box = (float(rows.min()), float(rows.max() + 1), float(cols.min()), float(cols.max() + 1))
-        origins = (views - (top, left))[:, ::-1].astype(np.float64) + 0.5  # (col, row), cell units
-        return visible_unknown(state.astype(np.int8), origins, self._rays, self._sight, box, entries.astype(np.int64))

@@ -63,7 +63,7 @@ class FrontierLeft:
             view it was chosen for revealed nothing (:mod:`~frontier_rl.core.frontiers.blacklist`);
             or, with ``has_path``, no cell the audit found it can reach would see more than a speck
             of the unknown it opens onto (its expected gain: a look from anywhere would reveal
-            nothing that leaves space; :func:`~frontier_rl.core.sim.looks.look_promise_cells`).
+            nothing that leaves space; :func:`~frontier_rl.core.sim.look_views.look_promise_cells`).
         leaves_space: it leaves space to explore, the end reason's test: more unseen free cells
             beside it than a speck has (``SimConfig.speck_cells``), or more than ``UNSEEN_ROOM_M2``
             behind it; one whose unknown side is wall (cells no beam reached) leaves none.

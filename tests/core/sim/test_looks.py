@@ -2,7 +2,8 @@
 that a reachable viewpoint would see a room's worth of unknown through (a gap in a thin wall
 narrower than the robot) gets one look; specks do not, and no cluster gets two. A frontier given
 up after its tries gets looks from elsewhere too, at most two. Where the robot saw no floor beyond
-anything at all, one look an episode goes to the clusters that promise a fortieth of its map."""
+anything at all, blind looks go to the clusters that promise a fortieth of its map, until one pays;
+the search for a look's viewpoint finds what casting every ray on the whole map would."""
 
 from __future__ import annotations
 
@@ -17,16 +18,15 @@ from frontier_rl.core.frontiers.blacklist import AUDIT_BUDGET, Blacklist
 from frontier_rl.core.frontiers.detection import Frontiers, detect_frontiers, visible_unknown
 from frontier_rl.core.sim.candidates import Look, reachable_frontiers
 from frontier_rl.core.sim.config import SimConfig
+from frontier_rl.core.sim.look_views import look_promise_cells, unknown_regions
 from frontier_rl.core.sim.looks import (
     BLIND_LOOK_SHARE,
     LOOK_MIN_GAIN_M2,
     LOOK_PAYOFF_M2,
     blind_looks,
     last_looks,
-    look_promise_cells,
     spent_look_min_gain_m2,
     spent_looks,
-    unknown_regions,
 )
 from frontier_rl.core.sim.navigator import Navigator
 from frontier_rl.core.sim.simulator import ExplorationSimulator
