@@ -47,12 +47,11 @@ def visible_unknown(
     ``entries``, (m, 2) the cells (row, col) where a ray can meet the unknown first: every unknown
     cell with a free 4-neighbour, no centre in an unknown cell (only the rays through one of them
     within range are cast)."""
-    rows, cols = state.shape
-    edges = np.asarray((0.0, rows, 0.0, cols) if box is None else box, np.float64)
+    edges = np.zeros(4, np.float64) if box is None else np.asarray(box, np.float64)
     gates = np.zeros((0, 2), np.int64) if entries is None else np.ascontiguousarray(entries, np.int64)
     every_ray = entries is None or len(gates) > n_rays // 4  # more: marking them costs more than the rays
     origins = np.ascontiguousarray(centres, np.float64)
-    return _visible_unknown(state, origins, n_rays, max_range, edges, gates, every_ray)
+    return _visible_unknown(state, origins, n_rays, max_range, edges, gates, box is not None, every_ray)
 
 
 @nb.njit(cache=True, fastmath=FASTMATH)
@@ -105,11 +104,13 @@ def _visible_unknown(
     max_range: float,
     box: NDArray[np.float64],
     entries: NDArray[np.int64],
+    boxed: bool,
     every_ray: bool,
 ) -> NDArray[np.int64]:
-    """:func:`visible_unknown` with its hints (``every_ray``: ignore the ``entries``). The cells
-    counted are stamped in a window of the scan's extent around the centre, not in a map-sized
-    array: on a large map zeroing (and touching) one cost more than the rays."""
+    """:func:`visible_unknown` with its hints (``boxed``: use the ``box``; ``every_ray``: ignore
+    the ``entries``), the information gain's hot path asking neither. The cells counted are
+    stamped in a window of the scan's extent around the centre, not in a map-sized array: on a
+    large map zeroing (and touching) one cost more than the rays."""
     rows, cols = state.shape
     side = 2 * int(math.ceil(max_range)) + 5  # rays enter cells up to ceil(max_range) + 1 from its cell
     height, width = min(side, rows), min(side, cols)  # a window larger than the grid: the grid
@@ -133,8 +134,9 @@ def _visible_unknown(
         for i in range(n_rays):
             if not cast[i]:
                 continue  # it meets no unknown cell first
-            leave = _box_span(cx, cy, cos_a[i], sin_a[i], box)[1]
-            limit = min(max_range, leave + 1.0)  # past the box no cell counts
+            limit = max_range
+            if boxed:  # past the box no cell counts
+                limit = min(max_range, _box_span(cx, cy, cos_a[i], sin_a[i], box)[1] + 1.0)
             row, col, s_r, s_c, tm_r, tm_c, td_r, td_c = ray_start(cx, cy, cos_a[i], sin_a[i])
             t = 0.0
             while t <= limit and 0 <= row < rows and 0 <= col < cols:
