@@ -247,7 +247,7 @@ def _standing_on(levels: list[Candidates]) -> Candidates:
     """The first of ``levels`` that reaches at least half the cells the last one reaches: the
     normal costmap, but where a leg through a gap only a recovery level opens ended on an island of
     it (on ``brsu_c069`` islands of 2 and 43 cells beside the recovery's 31,500, from which every
-    floor the robot had seen lay "beyond"; the normal costmap reaches about nine tenths of the
-    recovery's elsewhere)."""
+    floor the robot had seen lay "beyond"; standing elsewhere on that map, the normal costmap
+    reached 27,700 of them)."""
     most = np.count_nonzero(levels[-1].reachable)
     return next(level for level in levels if 2 * np.count_nonzero(level.reachable) >= most)
