@@ -113,7 +113,7 @@ def best_looks(
         regions = opened_onto(map_unknown, cells)
         if areas[regions].sum() < least_m2:
             continue
-        key = tuple(np.unique(regions).tolist())
+        key = tuple(regions.tolist())  # sorted and unique, as labels_beside gives them
         if key not in counted:
             counted[key] = ViewGains(grid, unknown & np.isin(labels, regions), views, config)
         best, gain = counted[key].best(cells, reach)
@@ -170,12 +170,12 @@ class ViewGains:
         top, left = np.maximum(views.min(axis=0) - margin, 0)
         bottom, right = views.max(axis=0) + margin + 1
         target = self._target[top:bottom, left:right]
-        occupied = self._grid.data[top:bottom, left:right] == CellState.OCCUPIED
-        state = np.where(target, CellState.UNKNOWN, np.where(occupied, CellState.OCCUPIED, CellState.FREE))
-        entries = np.argwhere(target & ndimage.binary_dilation(~target & ~occupied))  # 4-neighbours: the cross
         rows, cols = np.nonzero(target)
         if len(rows) == 0:
             return np.zeros(len(views), np.int64)
+        occupied = self._grid.data[top:bottom, left:right] == CellState.OCCUPIED
+        state = np.where(target, CellState.UNKNOWN, np.where(occupied, CellState.OCCUPIED, CellState.FREE))
+        entries = np.argwhere(target & ndimage.binary_dilation(~target & ~occupied))  # 4-neighbours: the cross
         box = (float(rows.min()), float(rows.max() + 1), float(cols.min()), float(cols.max() + 1))
         origins = (views - (top, left))[:, ::-1].astype(np.float64) + 0.5  # (col, row), cell units
         return visible_unknown(state.astype(np.int8), origins, self._rays, self._sight, box, entries.astype(np.int64))
