@@ -8,6 +8,7 @@ clusters that touch the region the robot can reach through known free space are 
 from __future__ import annotations
 
 import math
+from collections.abc import Callable
 from dataclasses import dataclass, field
 from functools import cached_property
 
@@ -232,6 +233,7 @@ def detect_frontiers(
     min_cells: int = 4,
     segment_length: float = math.inf,
     goal_reach: float = 3.0,
+    keep: Callable[[NDArray[np.int64], NDArray[np.int64]], NDArray[np.bool_]] | None = None,
 ) -> Frontiers:
     """Frontier clusters of ``grid`` larger than ``min_cells``, split into segments of at most
     about ``segment_length`` (m), that the robot can get to see.
@@ -246,6 +248,9 @@ def detect_frontiers(
             simulator passes fewer on cells coarser than 0.05 m, so that no more than 0.2 m is dropped).
         segment_length: the largest span (m) of a segment; ``inf`` keeps clusters whole.
         goal_reach: how far (m) from a segment its goal may be.
+        keep: which segments to go on with, given their cells (flat indices into the grid,
+            grouped by segment) and sizes: the others are dropped before their goals are looked
+            for, which is most of the cost where the map has many specks. ``None`` keeps all.
     """
     res = grid.resolution
     robot_col = (robot.x - grid.origin[0]) / res
@@ -254,6 +259,9 @@ def detect_frontiers(
     counts, _, flat = cluster_fringe(grid.data, reach, robot_row, robot_col)
     radius = segment_length / (2.0 * res) if math.isfinite(segment_length) else np.inf
     cells, sizes = split_segments(flat, counts[:, 0].copy(), min_cells, grid.width, radius)
+    if keep is not None:
+        kept = keep(cells, sizes)
+        cells, sizes = cells[np.repeat(kept, sizes)], sizes[kept]
     offsets = disc_offsets(int(goal_reach / res) if reachable is not None else 0)
     centres, min_d2, goals = summarise_segments(grid.data, reach, cells, sizes, offsets, robot_row, robot_col)
     ends = np.cumsum(sizes)

@@ -47,17 +47,25 @@ def opened_onto(regions: tuple[NDArray[np.int32], NDArray[np.float64]], cells: N
 def opened_areas(clusters: Frontiers, regions: tuple[NDArray[np.int32], NDArray[np.float64]]) -> NDArray[np.float64]:
     """(n,) the area (m²) of the unknown ``regions`` (labels, areas in m²) each of the
     ``clusters`` opens onto (:func:`opened_onto`), for all of them at once."""
+    return segments_opened_areas(clusters.flat_cells, clusters.spans, regions)
+
+
+def segments_opened_areas(
+    flat_cells: NDArray[np.int64], spans: NDArray[np.int64], regions: tuple[NDArray[np.int32], NDArray[np.float64]]
+) -> NDArray[np.float64]:
+    """(n,) :func:`opened_areas` of the clusters whose cells are ``flat_cells[start:end]`` (flat
+    indices into the map) for each (start, end) of ``spans``."""
     labels, areas = regions
-    sizes = clusters.spans[:, 1] - clusters.spans[:, 0]
-    owner = np.repeat(np.arange(len(clusters)), sizes)
-    at = np.repeat(clusters.spans[:, 0] - np.cumsum(sizes) + sizes, sizes) + np.arange(len(owner))
-    rows, cols = np.divmod(clusters.flat_cells[at], labels.shape[1])
+    sizes = spans[:, 1] - spans[:, 0]
+    owner = np.repeat(np.arange(len(spans)), sizes)
+    at = np.repeat(spans[:, 0] - np.cumsum(sizes) + sizes, sizes) + np.arange(len(owner))
+    rows, cols = np.divmod(flat_cells[at], labels.shape[1])
     r, c = rows[:, None] + NEIGHBOURS_8[:, 0], cols[:, None] + NEIGHBOURS_8[:, 1]
     inside = (r >= 0) & (r < labels.shape[0]) & (c >= 0) & (c < labels.shape[1])
     beside = np.where(inside, labels[np.clip(r, 0, labels.shape[0] - 1), np.clip(c, 0, labels.shape[1] - 1)], 0)
     pairs = np.unique(np.column_stack((np.repeat(owner, 8), beside.ravel())), axis=0)
     pairs = pairs[pairs[:, 1] > 0]
-    return np.asarray(np.bincount(pairs[:, 0], weights=areas[pairs[:, 1]], minlength=len(clusters)), np.float64)
+    return np.asarray(np.bincount(pairs[:, 0], weights=areas[pairs[:, 1]], minlength=len(spans)), np.float64)
 
 
 def look_promise_cells(
@@ -105,20 +113,21 @@ def best_looks(
     labels, areas = map_unknown
     reach = min(config.frontier_goal_reach, config.mapping_range)
     least = least_m2 / grid.resolution**2
-    unknown = labels > 0
-    groups: dict[tuple[int, int], list[int]] = {}
-    counted: dict[tuple[int, ...], ViewGains] = {}  # by the regions opened onto
+    members: dict[tuple[int, ...], list[int]] = {}  # by the regions opened onto
     for i in chosen:
-        cells = clusters.cells_of(i)
-        regions = opened_onto(map_unknown, cells)
-        if areas[regions].sum() < least_m2:
-            continue
-        key = tuple(regions.tolist())  # sorted and unique, as labels_beside gives them
-        if key not in counted:
-            counted[key] = ViewGains(grid, unknown & np.isin(labels, regions), views, config)
-        best, gain = counted[key].best(cells, reach)
-        if gain >= least:
-            groups.setdefault((int(best[0]), int(best[1])), []).append(i)
+        regions = opened_onto(map_unknown, clusters.cells_of(i))
+        if areas[regions].sum() >= least_m2:
+            members.setdefault(tuple(regions.tolist()), []).append(i)  # sorted and unique (labels_beside)
+    best: dict[int, tuple[NDArray[np.int64], int]] = {}
+    for key, found in members.items():
+        gains = ViewGains(grid, np.isin(labels, key) & (labels > 0), views, config)
+        gains.count_near([clusters.cells_of(i) for i in found], reach)  # one cast for all of them
+        best.update((i, gains.best(clusters.cells_of(i), reach)) for i in found)
+    groups: dict[tuple[int, int], list[int]] = {}
+    for i in chosen:  # in their order: the looks' order
+        if i in best and best[i][1] >= least:
+            view = best[i][0]
+            groups.setdefault((int(view[0]), int(view[1])), []).append(i)
     return groups
 
 
@@ -143,11 +152,32 @@ class ViewGains:
 
     def __init__(self, grid: OccupancyGrid, target: NDArray[np.bool_], views: NDArray[np.int64], config: SimConfig):
         self._grid = grid
-        self._target = target
         self._views = views
         self._gains = np.full(len(views), -1, np.int64)  # -1: not counted yet
         self._rays = config.lidar.num_beams
         self._sight = config.mapping_range / grid.resolution
+        self._cells = np.argwhere(target).astype(np.int64)
+        # where a ray can first meet the target: its cells beside a cell neither target nor wall
+        # (4-neighbours: a ray crosses cells through their sides)
+        rows, cols = grid.shape
+        opening = np.zeros(len(self._cells), np.bool_)
+        for dr, dc in ((-1, 0), (1, 0), (0, -1), (0, 1)):
+            r, c = self._cells[:, 0] + dr, self._cells[:, 1] + dc
+            inside = (r >= 0) & (r < rows) & (c >= 0) & (c < cols)
+            r, c = r[inside], c[inside]
+            opening[inside] |= ~target[r, c] & (grid.data[r, c] != CellState.OCCUPIED)
+        self._entries = self._cells[opening]
+
+    def count_near(self, clusters: list[NDArray[np.int64]], reach: float) -> None:
+        """Count, in one cast, the viewpoints within ``reach`` (m) of any of the ``clusters``
+        (each its cells' rows, cols) not counted yet: the clusters opening onto the same unknown
+        lie near each other, and each cast sets up its window of the map."""
+        near = np.zeros(len(self._views), np.bool_)
+        for cells in clusters:
+            near |= np.hypot(*(self._views - cells.mean(axis=0)).T) * self._grid.resolution <= reach
+        todo = np.flatnonzero(near & (self._gains < 0))
+        if len(todo):
+            self._gains[todo] = self._count(self._views[todo])
 
     def best(self, cells: NDArray[np.int64], reach: float) -> tuple[NDArray[np.int64], int]:
         """The viewpoint (row, col) within ``reach`` (m) of the cluster ``cells`` that sees the
@@ -165,17 +195,20 @@ class ViewGains:
         """The target cells a scan from each of ``views`` (row, col) would see, cast in the window
         of the map the scans reach (a ray goes no farther than the sight and a cell and a half),
         with the hints of :func:`~frontier_rl.core.frontiers.detection.visible_unknown`: the box
-        of the target cells there and those with a free 4-neighbour."""
+        of the target cells there and those a ray can first meet them at."""
         margin = int(math.ceil(self._sight)) + 2
         top, left = np.maximum(views.min(axis=0) - margin, 0)
         bottom, right = views.max(axis=0) + margin + 1
-        target = self._target[top:bottom, left:right]
-        rows, cols = np.nonzero(target)
-        if len(rows) == 0:
+        corner = np.array([top, left], np.int64)
+        inside = np.all((self._cells >= corner) & (self._cells < (bottom, right)), axis=1)
+        cells = self._cells[inside] - corner
+        if len(cells) == 0:
             return np.zeros(len(views), np.int64)
         occupied = self._grid.data[top:bottom, left:right] == CellState.OCCUPIED
-        state = np.where(target, CellState.UNKNOWN, np.where(occupied, CellState.OCCUPIED, CellState.FREE))
-        entries = np.argwhere(target & ndimage.binary_dilation(~target & ~occupied))  # 4-neighbours: the cross
+        state = np.where(occupied, CellState.OCCUPIED, CellState.FREE).astype(np.int8)
+        state[cells[:, 0], cells[:, 1]] = CellState.UNKNOWN
+        entries = self._entries[np.all((self._entries >= corner) & (self._entries < (bottom, right)), axis=1)] - corner
+        rows, cols = cells[:, 0], cells[:, 1]
         box = (float(rows.min()), float(rows.max() + 1), float(cols.min()), float(cols.max() + 1))
-        origins = (views - (top, left))[:, ::-1].astype(np.float64) + 0.5  # (col, row), cell units
-        return visible_unknown(state.astype(np.int8), origins, self._rays, self._sight, box, entries.astype(np.int64))
+        origins = (views - corner)[:, ::-1].astype(np.float64) + 0.5  # (col, row), cell units
+        return visible_unknown(state, origins, self._rays, self._sight, box, entries)

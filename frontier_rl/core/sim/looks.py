@@ -54,7 +54,7 @@ from frontier_rl.core.sim.config import SimConfig
 from frontier_rl.core.sim.look_views import (
     VIEWPOINT_STRIDE,
     best_looks,
-    opened_areas,
+    segments_opened_areas,
     unknown_regions,
     viewpoint_cells,
 )
@@ -126,13 +126,13 @@ def last_looks(
     and so are viewpoints near a goal tried before. Without ``confirmed`` (no look has paid yet) a
     cluster needs floor seen beyond it within the mapping range; with it, unknown that borders
     free space seen beyond anywhere."""
-    small = _small_clusters(grid, pose, reachable, config)
-    if len(small) == 0:
-        return small
     regions = unknown_regions(grid)
     if confirmed:  # a look paid: any unknown beside space seen beyond may be a room
         labels, areas = regions
         areas[np.setdiff1d(np.arange(len(areas)), _regions_seen_beyond(grid, reachable, labels))] = 0.0
+    small = _small_clusters(grid, pose, reachable, config, regions, LOOK_MIN_GAIN_M2)
+    if len(small) == 0:
+        return small
     floor = None if confirmed else floor_seen_beyond(grid, reachable)
     return _small_cluster_looks(small, pose, reachable, config, blacklist, regions, floor, LOOK_MIN_GAIN_M2)
 
@@ -144,21 +144,38 @@ def blind_looks(
     at the small clusters whose best viewpoint would see at least :data:`BLIND_LOOK_SHARE` of the
     free space mapped (and :data:`LOOK_MIN_GAIN_M2`) of the unknown they open onto, whether or not
     floor was seen through them."""
-    small = _small_clusters(grid, pose, reachable, config)
-    if len(small) == 0:
-        return small
     mapped_m2 = np.count_nonzero(grid.data == CellState.FREE) * grid.resolution**2
     least_m2 = max(BLIND_LOOK_SHARE * mapped_m2, LOOK_MIN_GAIN_M2)
     regions = unknown_regions(grid)
+    small = _small_clusters(grid, pose, reachable, config, regions, least_m2)
+    if len(small) == 0:
+        return small
     return _small_cluster_looks(small, pose, reachable, config, blacklist, regions, None, least_m2, BLIND_SCREEN_STRIDE)
 
 
-def _small_clusters(grid: OccupancyGrid, pose: Pose, reachable: NDArray[np.bool_], config: SimConfig) -> Frontiers:
-    """The frontier clusters of ``grid`` the size filter drops that a robot at ``pose`` can get
-    to see from the ``reachable`` cells."""
+def _small_clusters(
+    grid: OccupancyGrid,
+    pose: Pose,
+    reachable: NDArray[np.bool_],
+    config: SimConfig,
+    regions: tuple[NDArray[np.int32], NDArray[np.float64]],
+    least_m2: float,
+) -> Frontiers:
+    """The frontier clusters of ``grid`` the size filter drops that open onto at least
+    ``least_m2`` of the unknown ``regions`` (:func:`~frontier_rl.core.sim.look_views.opened_areas`)
+    and that a robot at ``pose`` can get to see from the ``reachable`` cells. The area is checked
+    first: at the end of an office episode a few dozen specks are left, and looking for the cells
+    that see each cost more than the rest of a blind look."""
     reach = min(config.frontier_goal_reach, config.mapping_range)
-    small = detect_frontiers(grid, pose, reachable, 0, config.frontier_segment_length, reach)
-    return small.subset(small.sizes <= config.drop_cells(grid.resolution))
+    drop = config.drop_cells(grid.resolution)
+
+    def worth_a_look(cells: NDArray[np.int64], sizes: NDArray[np.int64]) -> NDArray[np.bool_]:
+        ends = np.cumsum(sizes)
+        spans = np.column_stack((ends - sizes, ends))
+        # with room for rounding
+        return np.asarray((sizes <= drop) & (segments_opened_areas(cells, spans, regions) >= least_m2 - 1e-9))
+
+    return detect_frontiers(grid, pose, reachable, 0, config.frontier_segment_length, reach, worth_a_look)
 
 
 def _small_cluster_looks(
@@ -180,9 +197,7 @@ def _small_cluster_looks(
     evidence = LOOK_EVIDENCE_M2 / grid.resolution**2
     sight = config.mapping_range / grid.resolution
     chosen = []
-    # the area check of best_looks for every cluster at once first (with room for rounding): on
-    # the office's maps, which end with a few dozen specks, it spares the loops
-    for i in np.flatnonzero(opened_areas(small, regions) >= least_m2 - 1e-9).tolist():
+    for i in range(len(small)):
         cells = small.cells_of(i)
         if blacklist.history_of(grid.cells_to_world(cells))[1]:  # looked at twice (or reached in vain)
             continue

@@ -258,6 +258,43 @@ def test_detect_frontiers_matches_scipy_components_on_a_real_map(seed: int) -> N
         assert centre == pytest.approx([xs.mean(), ys.mean()], abs=1e-9)
 
 
+@pytest.mark.parametrize("seed", [0, 3])
+def test_keep_drops_segments_as_a_filter_afterwards_would(seed: int) -> None:
+    """Segments ``keep`` refuses are dropped before their goals are looked for: the frontiers left
+    are those of the whole detection that it keeps, every array the same."""
+    w = generate_world("office", seed)
+    lidar = Lidar(w.grid)
+    mapper = LogOddsMapper(w.grid, explorable=w.explorable)
+    rng = np.random.default_rng(seed)
+    free = np.argwhere(w.grid.data == FREE)
+    for k in range(6):
+        r, c = free[rng.integers(len(free))]
+        mapper.integrate_simulated(lidar, Pose(*w.grid.cell_to_world(r, c), 0.0), rng, float(k))
+    grid = mapper.occupancy_grid(margin=2)
+    robot = Pose(*grid.cell_to_world(grid.height // 2, grid.width // 2), 0.0)
+    reachable = grid.data == FREE
+    asked: list[int] = []
+
+    def small_or_odd(cells: NDArray[np.int64], sizes: NDArray[np.int64]) -> NDArray[np.bool_]:
+        """Segments of 3 cells or fewer, or whose first cell has an odd flat index."""
+        asked.append(len(sizes))
+        assert len(cells) == sizes.sum()
+        firsts = cells[np.cumsum(sizes) - sizes]
+        return np.asarray((sizes <= 3) | (firsts % 2 == 1))
+
+    every = detect_frontiers(grid, robot, reachable, 0, 1.0)
+    kept = detect_frontiers(grid, robot, reachable, 0, 1.0, keep=small_or_odd)
+    assert asked and asked[0] >= len(every)  # asked of every segment, before the goals' filter
+    firsts = every.flat_cells[every.spans[:, 0]]
+    expected = every.subset((every.sizes <= 3) | (firsts % 2 == 1))
+    assert 0 < len(kept) < len(every)
+    assert len(kept) == len(expected)
+    for name in ("centers", "sizes", "distances", "min_distances", "goal_cells"):
+        np.testing.assert_array_equal(getattr(kept, name), getattr(expected, name))
+    for mine, theirs in zip(kept.cells, expected.cells, strict=True):
+        np.testing.assert_array_equal(mine, theirs)
+
+
 def test_a_map_without_unknown_cells_has_no_frontier() -> None:
     data = np.full((20, 20), FREE, np.int8)
     data[[0, -1], :] = OCC
