@@ -63,9 +63,10 @@ def segments_opened_areas(
     r, c = rows[:, None] + NEIGHBOURS_8[:, 0], cols[:, None] + NEIGHBOURS_8[:, 1]
     inside = (r >= 0) & (r < labels.shape[0]) & (c >= 0) & (c < labels.shape[1])
     beside = np.where(inside, labels[np.clip(r, 0, labels.shape[0] - 1), np.clip(c, 0, labels.shape[1] - 1)], 0)
-    pairs = np.unique(np.column_stack((np.repeat(owner, 8), beside.ravel())), axis=0)
-    pairs = pairs[pairs[:, 1] > 0]
-    return np.asarray(np.bincount(pairs[:, 0], weights=areas[pairs[:, 1]], minlength=len(spans)), np.float64)
+    count = len(areas)  # each (cluster, region) pair once, as one number
+    pairs = np.unique(np.repeat(owner, 8) * count + beside.ravel())
+    owners, regions_beside = np.divmod(pairs[pairs % count > 0], count)
+    return np.asarray(np.bincount(owners, weights=areas[regions_beside], minlength=len(spans)), np.float64)
 
 
 def look_promise_cells(
@@ -120,7 +121,8 @@ def best_looks(
             members.setdefault(tuple(regions.tolist()), []).append(i)  # sorted and unique (labels_beside)
     best: dict[int, tuple[NDArray[np.int64], int]] = {}
     for key, found in members.items():
-        gains = ViewGains(grid, np.isin(labels, key) & (labels > 0), views, config)
+        target = labels == key[0] if len(key) == 1 else np.isin(labels, key)  # labels > 0, as opened
+        gains = ViewGains(grid, target, views, config)
         gains.count_near([clusters.cells_of(i) for i in found], reach)  # one cast for all of them
         best.update((i, gains.best(clusters.cells_of(i), reach)) for i in found)
     groups: dict[tuple[int, int], list[int]] = {}
