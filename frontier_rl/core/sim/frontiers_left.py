@@ -20,7 +20,7 @@ from frontier_rl.core.navigation.thin_walls import Recovery
 from frontier_rl.core.sim.candidates import Candidates, reachable_frontiers
 from frontier_rl.core.sim.config import UNSEEN_ROOM_M2, SimConfig
 from frontier_rl.core.sim.episode_log import leaves_space
-from frontier_rl.core.sim.look_views import look_promise_cells, unknown_regions
+from frontier_rl.core.sim.look_views import look_promise_cells, segments_opened_areas, unknown_regions
 from frontier_rl.core.sim.metrics import FrontierLeft
 from frontier_rl.core.world.grid import CellState, OccupancyGrid
 from frontier_rl.core.world.robot import Pose
@@ -66,18 +66,20 @@ class UnseenRegions:
 @dataclass(frozen=True)
 class _MapAgainstTruth:
     """A crop of the robot's map beside the same cells of the true world: what a frontier left
-    leaves unseen, and whether the audit found a path to it.
+    leaves unseen, and whether the audit found a path to it. What each answer needs is computed
+    for the first frontier that asks: an office episode ends with none left, and the audit's
+    costmaps were a hundredth of its CPU time.
 
     Attributes:
         grid: the robot's map (a crop; ``top``, ``left`` its first cell in the world's grid).
         world_width: the world grid's width (cells).
-        truth: the true world's cells under ``grid``.
-        beside: ``grid``'s cells, free where the robot's whole map knows them (unseen in both).
-        regions: the unseen free regions of the world.
-        audit: where the audit found paths (:func:`audit`).
+        truth_grid: the true world.
+        map_state: the robot's whole map (the world's shape).
+        pose: the robot's pose (m).
+        felt: the walls the robot touched (``grid``'s shape).
+        trail: the cells its centre crossed (``grid``'s shape); None: not known.
+        explorable: the world's explorable space (the world's shape); None: not known.
         blacklist: the robot's failed goals: each frontier's history, and the views it had.
-        unknown: the labels of ``grid``'s unknown regions and their areas (m²), for the looks a
-            frontier left with a path could have had (:func:`~frontier_rl.core.sim.look_views.look_promise_cells`).
         config: the simulation's settings.
     """
 
@@ -85,13 +87,45 @@ class _MapAgainstTruth:
     top: int
     left: int
     world_width: int
-    truth: NDArray[np.int8]
-    beside: NDArray[np.int8]
-    regions: UnseenRegions
-    audit: Audit
+    truth_grid: OccupancyGrid
+    map_state: NDArray[np.int8]
+    pose: Pose
+    felt: NDArray[np.bool_]
+    trail: NDArray[np.bool_] | None
+    explorable: NDArray[np.bool_] | None
     blacklist: Blacklist
-    unknown: tuple[NDArray[np.int32], NDArray[np.float64]]
     config: SimConfig
+
+    @property
+    def _crop(self) -> tuple[slice, slice]:
+        """``grid``'s cells in the world's grid."""
+        return slice(self.top, self.top + self.grid.height), slice(self.left, self.left + self.grid.width)
+
+    @cached_property
+    def truth(self) -> NDArray[np.int8]:
+        """The true world's cells under ``grid``."""
+        return self.truth_grid.data[self._crop]
+
+    @cached_property
+    def beside(self) -> NDArray[np.int8]:
+        """``grid``'s cells, free where the robot's whole map knows them (unseen in both)."""
+        return np.where(self.map_state[self._crop] == CellState.UNKNOWN, self.grid.data, np.int8(CellState.FREE))
+
+    @cached_property
+    def regions(self) -> UnseenRegions:
+        """The unseen free regions of the world."""
+        return UnseenRegions.of(self.map_state, self.truth_grid.data, self.explorable)
+
+    @cached_property
+    def audit(self) -> Audit:
+        """Where the audit found paths (:func:`audit`)."""
+        return audit(self.grid, self.pose, self.config, self.felt, self.trail)
+
+    @cached_property
+    def unknown(self) -> tuple[NDArray[np.int32], NDArray[np.float64]]:
+        """The labels of ``grid``'s unknown regions and their areas (m²), for the looks a frontier
+        left with a path could have had (:func:`~frontier_rl.core.sim.look_views.look_promise_cells`)."""
+        return unknown_regions(self.grid)
 
     @cached_property
     def views_left(self) -> NDArray[np.bool_]:
@@ -108,6 +142,18 @@ class _MapAgainstTruth:
     def behind(self, cells: NDArray[np.int64]) -> NDArray[np.int64]:
         """The labels of the unseen free regions behind a frontier of ``cells`` (rows, cols of ``grid``)."""
         return self.regions.beside(cells[:, 0] + self.top, cells[:, 1] + self.left)
+
+    def roomy(self, frontiers: Frontiers) -> NDArray[np.bool_]:
+        """(n,) whether more than :data:`~frontier_rl.core.sim.config.UNSEEN_ROOM_M2` of unseen
+        free space lies behind each of ``frontiers`` (of ``grid``), for all at once: an office
+        episode ends with a few dozen specks, nothing behind them."""
+        rows, cols = np.divmod(frontiers.flat_cells, self.grid.width)
+        in_world = (rows + self.top) * self.world_width + cols + self.left
+        counts = segments_opened_areas(
+            in_world, frontiers.spans, (self.regions.labels, self.regions.sizes.astype(np.float64))
+        )
+        res = self.grid.resolution
+        return np.asarray([int(count) * res * res > UNSEEN_ROOM_M2 for count in counts.tolist()], np.bool_)
 
     def behind_m2(self, regions: NDArray[np.int64]) -> float:
         """The unseen free area (m²) of ``regions`` (labels)."""
@@ -173,18 +219,18 @@ def frontiers_left(
     grid = cand.grid
     top, left_col = truth_grid.world_to_cell(*grid.cell_to_world(0, 0))
     crop = (slice(top, top + grid.height), slice(left_col, left_col + grid.width))
-    state = map_state[crop]
     against = _MapAgainstTruth(
         grid=grid,
         top=top,
         left=left_col,
         world_width=truth_grid.width,
-        truth=truth_grid.data[crop],
-        beside=np.where(state == CellState.UNKNOWN, grid.data, np.int8(CellState.FREE)),  # unseen in both
-        regions=UnseenRegions.of(map_state, truth_grid.data, explorable),
-        audit=audit(grid, pose, config, felt[crop], None if trail is None else trail[crop]),
+        truth_grid=truth_grid,
+        map_state=map_state,
+        pose=pose,
+        felt=felt[crop],
+        trail=None if trail is None else trail[crop],
+        explorable=explorable,
         blacklist=blacklist,
-        unknown=unknown_regions(grid),
         config=config,
     )
     candidate_cells = np.zeros(grid.shape[0] * grid.shape[1], np.bool_)
@@ -193,14 +239,13 @@ def frontiers_left(
     left = []
     for specks in (False, True):
         frontiers = _frontiers(grid, pose, config, specks)
+        if specks:  # left out unless a room's worth lies behind
+            frontiers = frontiers.subset(against.roomy(frontiers))
         for i in range(len(frontiers)):
             cells = frontiers.cells_of(i)
             if candidate_cells[cells[:, 0] * grid.width + cells[:, 1]].any():
                 continue
-            behind = against.behind(cells)
-            if specks and against.behind_m2(behind) <= UNSEEN_ROOM_M2:
-                continue
-            left.append(against.frontier_left(frontiers, i, behind))
+            left.append(against.frontier_left(frontiers, i, against.behind(cells)))
     return tuple(left)
 
 
