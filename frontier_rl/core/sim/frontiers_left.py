@@ -68,7 +68,7 @@ class _MapAgainstTruth:
     """A crop of the robot's map beside the same cells of the true world: what a frontier left
     leaves unseen, and whether the audit found a path to it. What each answer needs is computed
     for the first frontier that asks: an office episode ends with none left, and the audit's
-    costmaps were a hundredth of its CPU time.
+    costmaps took almost a hundredth of its CPU time.
 
     Attributes:
         grid: the robot's map (a crop; ``top``, ``left`` its first cell in the world's grid).
