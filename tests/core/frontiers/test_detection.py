@@ -227,10 +227,8 @@ def test_subset_keeps_parallel_arrays_in_order() -> None:
     np.testing.assert_array_equal(sub.cells[1], f.cells[2])
 
 
-@pytest.mark.parametrize("seed", [0, 3])
-def test_detect_frontiers_matches_scipy_components_on_a_real_map(seed: int) -> None:
-    """After a few scans of an office world: unsplit, the clusters are exactly the 8-connected
-    components of the fringe mask with more than 4 cells."""
+def scanned_office(seed: int) -> tuple[OccupancyGrid, Pose]:
+    """The map of an office world after six scans from random free cells, and a robot at its middle."""
     w = generate_world("office", seed)
     lidar = Lidar(w.grid)
     mapper = LogOddsMapper(w.grid, explorable=w.explorable)
@@ -240,7 +238,14 @@ def test_detect_frontiers_matches_scipy_components_on_a_real_map(seed: int) -> N
         r, c = free[rng.integers(len(free))]
         mapper.integrate_simulated(lidar, Pose(*w.grid.cell_to_world(r, c), 0.0), rng, float(k))
     grid = mapper.occupancy_grid(margin=2)
-    robot = Pose(*grid.cell_to_world(grid.height // 2, grid.width // 2), 0.0)
+    return grid, Pose(*grid.cell_to_world(grid.height // 2, grid.width // 2), 0.0)
+
+
+@pytest.mark.parametrize("seed", [0, 3])
+def test_detect_frontiers_matches_scipy_components_on_a_real_map(seed: int) -> None:
+    """After a few scans of an office world: unsplit, the clusters are exactly the 8-connected
+    components of the fringe mask with more than 4 cells."""
+    grid, robot = scanned_office(seed)
     f = detect_frontiers(grid, robot)  # every cluster, unsplit
     labels, n = ndimage.label(fringe_reference(grid.data), structure=EIGHT)
     expected = []
@@ -262,16 +267,7 @@ def test_detect_frontiers_matches_scipy_components_on_a_real_map(seed: int) -> N
 def test_keep_drops_segments_as_a_filter_afterwards_would(seed: int) -> None:
     """Segments ``keep`` refuses are dropped before their goals are looked for: the frontiers left
     are those of the whole detection that it keeps, every array the same."""
-    w = generate_world("office", seed)
-    lidar = Lidar(w.grid)
-    mapper = LogOddsMapper(w.grid, explorable=w.explorable)
-    rng = np.random.default_rng(seed)
-    free = np.argwhere(w.grid.data == FREE)
-    for k in range(6):
-        r, c = free[rng.integers(len(free))]
-        mapper.integrate_simulated(lidar, Pose(*w.grid.cell_to_world(r, c), 0.0), rng, float(k))
-    grid = mapper.occupancy_grid(margin=2)
-    robot = Pose(*grid.cell_to_world(grid.height // 2, grid.width // 2), 0.0)
+    grid, robot = scanned_office(seed)
     reachable = grid.data == FREE
     asked: list[int] = []
 
