@@ -7,6 +7,10 @@ pinned to the same core, warms up, then every office seed is run by every checko
 percent from minute to minute; a ratio of two runs a second apart does not, so the result is the
 median over all episodes of each checkout's wall time divided by the baseline's on the same
 episode. Each checkout runs its own code: the workers import ``frontier_rl`` from the checkout.
+
+An episode's wall time here is that of the whole ``run_episode`` call: the loop and the result's
+account of what is left (the frontiers left and their audit), which the episode's own
+``wall_time_s`` leaves out (its loop only). Comparisons before 2026-12-01 timed the loop only.
 """
 
 from __future__ import annotations
@@ -20,7 +24,7 @@ import sys
 from pathlib import Path
 
 WORKER = r"""
-import json, os, sys
+import json, os, sys, time
 os.environ.update(dict.fromkeys(("NUMBA_NUM_THREADS", "OMP_NUM_THREADS", "OPENBLAS_NUM_THREADS"), "1"))
 sys.path.insert(0, os.getcwd())
 try:
@@ -37,8 +41,10 @@ run_episode(generate_world("office", 10_000), make_policy("fixed:0.75"), seed=10
 print("ready", flush=True)
 for line in sys.stdin:
     seed = int(line)
-    result = run_episode(generate_world("office", seed), make_policy("fixed:0.75"), seed=seed)
-    print(json.dumps([result.wall_time_s, result.sim_time_s]), flush=True)
+    world, policy = generate_world("office", seed), make_policy("fixed:0.75")
+    started = time.perf_counter()
+    result = run_episode(world, policy, seed=seed)
+    print(json.dumps([time.perf_counter() - started, result.sim_time_s]), flush=True)
 """
 
 
