@@ -114,22 +114,20 @@ def best_looks(
     labels, areas = map_unknown
     reach = min(config.frontier_goal_reach, config.mapping_range)
     least = least_m2 / grid.resolution**2
-    members: dict[tuple[int, ...], list[int]] = {}  # by the regions opened onto
-    for i in chosen:
-        regions = opened_onto(map_unknown, clusters.cells_of(i))
-        if areas[regions].sum() >= least_m2:
-            members.setdefault(tuple(regions.tolist()), []).append(i)  # sorted and unique (labels_beside)
-    best: dict[int, tuple[NDArray[np.int64], int]] = {}
-    for key, found in members.items():
-        target = labels == key[0] if len(key) == 1 else np.isin(labels, key)  # labels > 0, as opened
-        gains = ViewGains(grid, target, views, config)
-        gains.count_near([clusters.cells_of(i) for i in found], reach)  # one cast for all of them
-        best.update((i, gains.best(clusters.cells_of(i), reach)) for i in found)
     groups: dict[tuple[int, int], list[int]] = {}
-    for i in chosen:  # in their order: the looks' order
-        if i in best and best[i][1] >= least:
-            view = best[i][0]
-            groups.setdefault((int(view[0]), int(view[1])), []).append(i)
+    counted: dict[tuple[int, ...], ViewGains] = {}  # by the regions opened onto
+    for i in chosen:
+        cells = clusters.cells_of(i)
+        regions = opened_onto(map_unknown, cells)
+        if areas[regions].sum() < least_m2:
+            continue
+        key = tuple(regions.tolist())  # sorted and unique, as labels_beside gives them
+        if key not in counted:  # labels > 0, as opened onto
+            target = labels == key[0] if len(key) == 1 else np.isin(labels, key)
+            counted[key] = ViewGains(grid, target, views, config)
+        best, gain = counted[key].best(cells, reach)
+        if gain >= least:
+            groups.setdefault((int(best[0]), int(best[1])), []).append(i)
     return groups
 
 
@@ -154,32 +152,11 @@ class ViewGains:
 
     def __init__(self, grid: OccupancyGrid, target: NDArray[np.bool_], views: NDArray[np.int64], config: SimConfig):
         self._grid = grid
+        self._target = target
         self._views = views
         self._gains = np.full(len(views), -1, np.int64)  # -1: not counted yet
         self._rays = config.lidar.num_beams
         self._sight = config.mapping_range / grid.resolution
-        self._cells = np.argwhere(target).astype(np.int64)
-        # where a ray can first meet the target: its cells beside a cell neither target nor wall
-        # (4-neighbours: a ray crosses cells through their sides)
-        rows, cols = grid.shape
-        opening = np.zeros(len(self._cells), np.bool_)
-        for dr, dc in ((-1, 0), (1, 0), (0, -1), (0, 1)):
-            r, c = self._cells[:, 0] + dr, self._cells[:, 1] + dc
-            inside = (r >= 0) & (r < rows) & (c >= 0) & (c < cols)
-            r, c = r[inside], c[inside]
-            opening[inside] |= ~target[r, c] & (grid.data[r, c] != CellState.OCCUPIED)
-        self._entries = self._cells[opening]
-
-    def count_near(self, clusters: list[NDArray[np.int64]], reach: float) -> None:
-        """Count, in one cast, the viewpoints within ``reach`` (m) of any of the ``clusters``
-        (each its cells' rows, cols) not counted yet: the clusters opening onto the same unknown
-        lie near each other, and each cast sets up its window of the map."""
-        near = np.zeros(len(self._views), np.bool_)
-        for cells in clusters:
-            near |= np.hypot(*(self._views - cells.mean(axis=0)).T) * self._grid.resolution <= reach
-        todo = np.flatnonzero(near & (self._gains < 0))
-        if len(todo):
-            self._gains[todo] = self._count(self._views[todo])
 
     def best(self, cells: NDArray[np.int64], reach: float) -> tuple[NDArray[np.int64], int]:
         """The viewpoint (row, col) within ``reach`` (m) of the cluster ``cells`` that sees the
@@ -201,16 +178,22 @@ class ViewGains:
         margin = int(math.ceil(self._sight)) + 2
         top, left = np.maximum(views.min(axis=0) - margin, 0)
         bottom, right = views.max(axis=0) + margin + 1
-        corner = np.array([top, left], np.int64)
-        inside = np.all((self._cells >= corner) & (self._cells < (bottom, right)), axis=1)
-        cells = self._cells[inside] - corner
-        if len(cells) == 0:
+        target = self._target[top:bottom, left:right]
+        rows, cols = np.nonzero(target)
+        if len(rows) == 0:
             return np.zeros(len(views), np.int64)
         occupied = self._grid.data[top:bottom, left:right] == CellState.OCCUPIED
         state = np.where(occupied, CellState.OCCUPIED, CellState.FREE).astype(np.int8)
-        state[cells[:, 0], cells[:, 1]] = CellState.UNKNOWN
-        entries = self._entries[np.all((self._entries >= corner) & (self._entries < (bottom, right)), axis=1)] - corner
-        rows, cols = cells[:, 0], cells[:, 1]
+        state[rows, cols] = CellState.UNKNOWN
+        # where a ray can first meet the target: its cells beside a cell neither target nor wall
+        # (4-neighbours: a ray crosses cells through their sides)
+        open_ = ~target & ~occupied
+        beside = np.zeros_like(target)
+        beside[1:] |= open_[:-1]
+        beside[:-1] |= open_[1:]
+        beside[:, 1:] |= open_[:, :-1]
+        beside[:, :-1] |= open_[:, 1:]
+        entries = np.argwhere(target & beside).astype(np.int64)
         box = (float(rows.min()), float(rows.max() + 1), float(cols.min()), float(cols.max() + 1))
-        origins = (views - corner)[:, ::-1].astype(np.float64) + 0.5  # (col, row), cell units
+        origins = (views - (top, left))[:, ::-1].astype(np.float64) + 0.5  # (col, row), cell units
         return visible_unknown(state, origins, self._rays, self._sight, box, entries)
