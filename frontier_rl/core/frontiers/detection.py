@@ -248,9 +248,10 @@ def detect_frontiers(
             simulator passes fewer on cells coarser than 0.05 m, so that no more than 0.2 m is dropped).
         segment_length: the largest span (m) of a segment; ``inf`` keeps clusters whole.
         goal_reach: how far (m) from a segment its goal may be.
-        keep: which segments to go on with, given their cells (flat indices into the grid,
-            grouped by segment) and sizes: the others are dropped before their goals are looked
-            for, which is most of the cost where the map has many specks. ``None`` keeps all.
+        keep: which segments to go on with (a boolean mask, one entry per segment), given their
+            cells (flat indices into the grid, grouped by segment) and sizes: the others are
+            dropped before their goals are looked for, which is most of the cost where the map
+            has many specks. ``None`` keeps all.
     """
     res = grid.resolution
     robot_col = (robot.x - grid.origin[0]) / res
