@@ -23,6 +23,7 @@ from frontier_rl.core.frontiers.detection import Frontiers, visible_unknown
 from frontier_rl.core.frontiers.fringe import NEIGHBOURS_8, labels_beside
 from frontier_rl.core.sim.config import SimConfig
 from frontier_rl.core.world.grid import CellState, OccupancyGrid
+from frontier_rl.core.world.worlds import dilate
 
 VIEWPOINT_STRIDE = 2
 """Every how many reachable cells (along rows and columns) a viewpoint is tried: 0.1 m on the
@@ -187,13 +188,7 @@ class ViewGains:
         state[rows, cols] = CellState.UNKNOWN
         # where a ray can first meet the target: its cells beside a cell neither target nor wall
         # (4-neighbours: a ray crosses cells through their sides)
-        open_ = ~target & ~occupied
-        beside = np.zeros_like(target)
-        beside[1:] |= open_[:-1]
-        beside[:-1] |= open_[1:]
-        beside[:, 1:] |= open_[:, :-1]
-        beside[:, :-1] |= open_[:, 1:]
-        entries = np.argwhere(target & beside).astype(np.int64)
+        entries = np.argwhere(target & dilate(~target & ~occupied, 1.0)).astype(np.int64)
         box = (float(rows.min()), float(rows.max() + 1), float(cols.min()), float(cols.max() + 1))
         origins = (views - (top, left))[:, ::-1].astype(np.float64) + 0.5  # (col, row), cell units
         return visible_unknown(state, origins, self._rays, self._sight, box, entries)
