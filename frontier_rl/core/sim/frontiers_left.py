@@ -153,7 +153,7 @@ class _MapAgainstTruth:
             in_world, frontiers.spans, (self.regions.labels, self.regions.sizes.astype(np.float64))
         )
         res = self.grid.resolution
-        return np.asarray([int(count) * res * res > UNSEEN_ROOM_M2 for count in counts.tolist()], np.bool_)
+        return np.asarray(counts * res * res > UNSEEN_ROOM_M2)  # counts * res * res as behind_m2 has it
 
     def behind_m2(self, regions: NDArray[np.int64]) -> float:
         """The unseen free area (m²) of ``regions`` (labels)."""
