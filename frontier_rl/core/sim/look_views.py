@@ -45,17 +45,12 @@ def opened_onto(regions: tuple[NDArray[np.int32], NDArray[np.float64]], cells: N
     return beside[areas[beside] > 0]
 
 
-def opened_areas(clusters: Frontiers, regions: tuple[NDArray[np.int32], NDArray[np.float64]]) -> NDArray[np.float64]:
-    """(n,) the area (m²) of the unknown ``regions`` (labels, areas in m²) each of the
-    ``clusters`` opens onto (:func:`opened_onto`), for all of them at once."""
-    return segments_opened_areas(clusters.flat_cells, clusters.spans, regions)
-
-
 def segments_opened_areas(
     flat_cells: NDArray[np.int64], spans: NDArray[np.int64], regions: tuple[NDArray[np.int32], NDArray[np.float64]]
 ) -> NDArray[np.float64]:
-    """(n,) :func:`opened_areas` of the clusters whose cells are ``flat_cells[start:end]`` (flat
-    indices into the map) for each (start, end) of ``spans``."""
+    """(n,) the area (m²) of the unknown ``regions`` (labels, areas in m²) each cluster opens onto
+    (:func:`opened_onto`), for all at once: the clusters whose cells are ``flat_cells[start:end]``
+    (flat indices into the map) for each (start, end) of ``spans``."""
     labels, areas = regions
     sizes = spans[:, 1] - spans[:, 0]
     owner = np.repeat(np.arange(len(spans)), sizes)

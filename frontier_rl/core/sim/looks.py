@@ -162,7 +162,7 @@ def _small_clusters(
     least_m2: float,
 ) -> Frontiers:
     """The frontier clusters of ``grid`` the size filter drops that open onto at least
-    ``least_m2`` of the unknown ``regions`` (:func:`~frontier_rl.core.sim.look_views.opened_areas`)
+    ``least_m2`` of the unknown ``regions`` (:func:`~frontier_rl.core.sim.look_views.segments_opened_areas`)
     and that a robot at ``pose`` can get to see from the ``reachable`` cells. The area is checked
     first: at the end of an office episode some 80 specks are left, and looking for the cells that
     see each was most of the time spent finding them."""
