@@ -72,12 +72,11 @@ class _MapAgainstTruth:
 
     Attributes:
         grid: the robot's map (a crop; ``top``, ``left`` its first cell in the world's grid).
-        world_width: the world grid's width (cells).
         truth_grid: the true world.
         map_state: the robot's whole map (the world's shape).
         pose: the robot's pose (m).
-        felt: the walls the robot touched (``grid``'s shape).
-        trail: the cells its centre crossed (``grid``'s shape); None: not known.
+        felt: the walls the robot touched (the world's shape).
+        trail: the cells its centre crossed (the world's shape); None: not known.
         explorable: the world's explorable space (the world's shape); None: not known.
         blacklist: the robot's failed goals: each frontier's history, and the views it had.
         config: the simulation's settings.
@@ -86,7 +85,6 @@ class _MapAgainstTruth:
     grid: OccupancyGrid
     top: int
     left: int
-    world_width: int
     truth_grid: OccupancyGrid
     map_state: NDArray[np.int8]
     pose: Pose
@@ -119,7 +117,8 @@ class _MapAgainstTruth:
     @cached_property
     def audit(self) -> Audit:
         """Where the audit found paths (:func:`audit`)."""
-        return audit(self.grid, self.pose, self.config, self.felt, self.trail)
+        trail = None if self.trail is None else self.trail[self._crop]
+        return audit(self.grid, self.pose, self.config, self.felt[self._crop], trail)
 
     @cached_property
     def unknown(self) -> tuple[NDArray[np.int32], NDArray[np.float64]]:
@@ -148,7 +147,7 @@ class _MapAgainstTruth:
         free space lies behind each of ``frontiers`` (of ``grid``), for all at once: an office
         episode ends with a few dozen specks, nothing behind them."""
         rows, cols = np.divmod(frontiers.flat_cells, self.grid.width)
-        in_world = (rows + self.top) * self.world_width + cols + self.left
+        in_world = (rows + self.top) * self.truth_grid.width + cols + self.left
         counts = segments_opened_areas(
             in_world, frontiers.spans, (self.regions.labels, self.regions.sizes.astype(np.float64))
         )
@@ -168,7 +167,7 @@ class _MapAgainstTruth:
         failures, unrevealable = self.blacklist.history_of(self.grid.cells_to_world(cells))
         unknown, unseen = unknown_beside(self.beside, cells[:, 0], cells[:, 1], self.truth)
         rows, cols = np.divmod(unseen, width)
-        in_world = (rows + self.top) * self.world_width + cols + self.left
+        in_world = (rows + self.top) * self.truth_grid.width + cols + self.left
         levels = self.audit.levels[cells[:, 0] * width + cells[:, 1]]
         has_path = bool((levels >= 0).any())
         speck = self.config.speck_cells(res)
@@ -218,17 +217,15 @@ def frontiers_left(
     a slot is not a speck."""
     grid = cand.grid
     top, left_col = truth_grid.world_to_cell(*grid.cell_to_world(0, 0))
-    crop = (slice(top, top + grid.height), slice(left_col, left_col + grid.width))
     against = _MapAgainstTruth(
         grid=grid,
         top=top,
         left=left_col,
-        world_width=truth_grid.width,
         truth_grid=truth_grid,
         map_state=map_state,
         pose=pose,
-        felt=felt[crop],
-        trail=None if trail is None else trail[crop],
+        felt=felt,
+        trail=trail,
         explorable=explorable,
         blacklist=blacklist,
         config=config,
