@@ -286,9 +286,10 @@ def floor_seen_beyond(grid: OccupancyGrid, reachable: NDArray[np.bool_]) -> NDAr
     reach = LOOK_BEYOND_M / grid.resolution
     # the taxicab distance is never shorter: cells it puts within reach need no Euclidean one, nor
     # the erosion (on the office's maps, where every episode ends asking, none is left by then)
-    floor = (grid.data == CellState.FREE) & (np.asarray(ndimage.distance_transform_cdt(~reachable, "taxicab")) > reach)
+    free = grid.data == CellState.FREE
+    floor = free & (np.asarray(ndimage.distance_transform_cdt(~reachable, "taxicab")) > reach)
     if floor.any():
-        floor &= ndimage.binary_erosion(grid.data == CellState.FREE, np.ones((3, 3), np.bool_))
+        floor &= ndimage.binary_erosion(free, np.ones((3, 3), np.bool_))
         floor &= np.asarray(ndimage.distance_transform_edt(~reachable)) > reach
     return np.argwhere(floor).astype(np.int64)
 
