@@ -246,8 +246,8 @@ def test_the_harder_survey_tabulates_causes_and_draws_the_worst(tmp_path: Path, 
     for w in worst:
         assert sum(p["area_m2"] for p in w["unseen"]) <= w["explorable_left_m2"] + 0.01
         assert all(p["area_m2"] >= 0.25 and p["path_within_m"] > 0 for p in w["unseen"])
-    assert 0.9 < survey["free_space_ceilings"]["lse_arena"] <= 1  # a walled arena: nearly all of it in sight
-    assert "against a ceiling of" in (out / "survey.md").read_text()
+    assert 0.9 < survey["explorable_shares"]["lse_arena"] <= 1  # a walled arena: nearly all of it in sight
+    assert "against its explorable share of" in (out / "survey.md").read_text()
     assert "episodes gave up explorable space with a path" in (out / "survey.md").read_text()
     # an episode that runs again otherwise than surveyed (the engine changed since) is not drawn
     survey_script = _script("harder_survey")
