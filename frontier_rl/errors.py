@@ -32,8 +32,8 @@ class PolicyError(FrontierRLError, RuntimeError):
 
 
 class MapWarning(UserWarning):
-    """A map file read as its fields say, though probably not as its author meant (grey unknown
-    pixels that its thresholds read as free space)."""
+    """A map file whose fields say something its author probably did not mean (``map_saver``'s grey
+    unknown that its thresholds read as free space, read as unknown instead)."""
 
 
 class UnknownNameError(FrontierRLError, KeyError):

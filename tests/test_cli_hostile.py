@@ -343,7 +343,7 @@ def test_warnings_are_one_line_each_after_the_results(box: Path, monkeypatch: py
     ]
 
 
-def test_a_map_whose_grey_unknown_loads_as_free_is_named_in_one_warning(tmp_path: Path) -> None:
+def test_a_map_whose_grey_unknown_the_yaml_reads_as_free_is_read_as_unknown_with_one_warning(tmp_path: Path) -> None:
     pixels = np.full((60, 60), 205, dtype=np.uint8)  # a 2 m room amid unknown, saved with Nav2's free_thresh
     pixels[10:52, 10:52] = 0
     pixels[11:51, 11:51] = 254
@@ -357,8 +357,9 @@ def test_a_map_whose_grey_unknown_loads_as_free_is_named_in_one_warning(tmp_path
         result = runner.invoke(app, ["explore", "--world", str(yaml_path), "--max-time", "2", "--json"])
     assert result.exit_code == 0, result.output
     (line,) = result.stderr.splitlines()
-    assert line.startswith(f"warning: MapWarning: {yaml_path}: 1,836 pixels of grey 205 (map_saver's unknown)")
-    assert line.endswith("set free_thresh: 0.196 in the YAML")
+    assert line.startswith(f"warning: MapWarning: {yaml_path}: 1,836 pixels of grey 205 (map_saver's unknown")
+    assert line.endswith("set free_thresh: 0.196 in the YAML to say so")
+    assert json.loads(result.stdout)["end_reason"] == "explored"
 
 
 def test_an_error_is_the_only_line_even_after_warnings(box: Path, monkeypatch: pytest.MonkeyPatch) -> None:

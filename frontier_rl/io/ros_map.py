@@ -9,6 +9,9 @@ colour channels, ``p = (255 - brightness) / 255`` (``brightness / 255`` with ``n
 
 A fully transparent pixel is unknown in trinary and scale mode. The image's top row is the map's
 highest y, so rows are flipped: row 0 of the grid is the lower-left corner (the grid convention).
+One departure, with a warning: where the thresholds read ``map_saver``'s grey unknown (205) as free
+and that grey is more than :data:`GREY_AS_FREE_SHARE` of the free cells, it is read as unknown
+(:func:`load_ros_map`).
 Writing follows ``map_saver``: free 254, occupied 0, unknown 205, thresholds 0.65 / 0.196.
 
 The YAML is read by :mod:`frontier_rl.safe_yaml` (at most 1 MiB, no anchors or aliases, YAML-1.2
@@ -53,12 +56,14 @@ without ``occupied_thresh`` means, what ``map_saver`` writes, and (as 65 %) how 
 ``OccupancyGrid`` message's values are read (:class:`~frontier_rl.robot.map_message.MapThresholds`)."""
 FREE_THRESH = 0.196
 """map_server's default occupancy probability below which a cell is free (0..1), likewise."""
-GREY_AS_FREE_WARN_SHARE = 0.1
-"""The share of a map's free cells that may be grey :data:`UNKNOWN_PIXEL` read as free before loading
-the map warns (:class:`~frontier_rl.errors.MapWarning`). ``map_saver`` writes unknown as 205, which is
-free for a ``free_thresh`` above 0.196 (p = 50 / 255 = 0.19608), as Nav2's default of 0.25: a SLAM
-map saved so reads its whole unknown surround as free space. Nav2's depot sample reads 5 % of its
-free cells so (grey spots among the shelves), quietly."""
+GREY_AS_FREE_SHARE = 0.1
+"""The share of a map's free cells that may be grey :data:`UNKNOWN_PIXEL` read as free before the
+grey is read as unknown instead, with a :class:`~frontier_rl.errors.MapWarning`. ``map_saver``
+writes unknown as 205, which is free for a ``free_thresh`` above 0.196 (p = 50 / 255 = 0.19608), as
+Nav2's default of 0.25 that its ``map_saver`` writes into the YAML: so read (as Nav2's map server
+reads it), a SLAM map's whole unknown surround is floor, the building a room in a plain, and the
+robot starts and explores outside it. Nav2's depot sample reads 5 % of its free cells so (grey spots
+among the shelves), and keeps them free."""
 _IMAGE_FORMATS = {"pgm": "PPM", "png": "PNG"}
 _MAX_PIXEL = 255.0
 _SCALE_SPAN = 98  # scale mode maps the in-between ratio onto 1 .. 1 + 98
@@ -213,7 +218,10 @@ def ros_map_shades(yaml_path: str | Path) -> tuple[NDArray[np.float64], float]:
 
 
 def load_ros_map(yaml_path: str | Path) -> OccupancyGrid:
-    """Read a ``map_server`` map (YAML + image) into an :class:`OccupancyGrid`.
+    """Read a ``map_server`` map (YAML + image) into an :class:`OccupancyGrid`: as ``map_server``
+    reads it, but for ``map_saver``'s grey unknown where the YAML's thresholds make it more than
+    :data:`GREY_AS_FREE_SHARE` of the free cells (read as unknown, with a
+    :class:`~frontier_rl.errors.MapWarning`).
 
     Args:
         yaml_path: the YAML file; its ``image`` is resolved relative to the YAML's folder.
@@ -238,29 +246,28 @@ def load_ros_map(yaml_path: str | Path) -> OccupancyGrid:
         raise MapError(f"{path}: image file not found: {image_path}")
     image = read_image(image_path)
     cells = pixels_to_cells(image.shade, image.transparent, params)
-    _warn_of_grey_read_as_free(path, params, image.shade, cells)
+    _grey_as_unknown(path, params, image.shade, cells)
     return _grid_of(cells, resolution, (x, y))
 
 
-def _warn_of_grey_read_as_free(
-    path: Path, params: MapImageParams, shade: NDArray[np.float64], cells: NDArray[np.int8]
-) -> None:
-    """A :class:`~frontier_rl.errors.MapWarning` where more than :data:`GREY_AS_FREE_WARN_SHARE` of
-    the free ``cells`` are pixels of map_saver's grey unknown (by their ``shade``) that the
-    thresholds read as free; nothing to count where they read that grey otherwise (most maps)."""
+def _grey_as_unknown(path: Path, params: MapImageParams, shade: NDArray[np.float64], cells: NDArray[np.int8]) -> None:
+    """Read map_saver's grey unknown (pixels of :data:`UNKNOWN_PIXEL`, by their ``shade``) that the
+    thresholds read as free as unknown in ``cells``, in place, with a
+    :class:`~frontier_rl.errors.MapWarning`, where it is more than :data:`GREY_AS_FREE_SHARE` of the
+    free cells; nothing to count where the thresholds read that grey otherwise (most maps)."""
     one_grey = pixels_to_cells(np.full((1, 1), float(UNKNOWN_PIXEL)), np.zeros((1, 1), np.bool_), params)
     if one_grey[0, 0] != CellState.FREE:
         return
-    grey = np.rint(shade) == UNKNOWN_PIXEL
     free = cells == CellState.FREE
-    grey_free = int(np.count_nonzero(grey & free))
-    share = grey_free / max(int(np.count_nonzero(free)), 1)
-    if share > GREY_AS_FREE_WARN_SHARE:
+    grey_free = (np.rint(shade) == UNKNOWN_PIXEL) & free
+    count = int(np.count_nonzero(grey_free))
+    share = count / max(int(np.count_nonzero(free)), 1)
+    if share > GREY_AS_FREE_SHARE:
+        cells[grey_free] = CellState.UNKNOWN
         warnings.warn(
-            f"{path}: {grey_free:,} pixel{'s' if grey_free > 1 else ''} of grey {UNKNOWN_PIXEL} "
-            f"(map_saver's unknown) load{'' if grey_free > 1 else 's'} as free space, "
-            f"{share:.0%} of the map's free cells, as map_server reads them with free_thresh "
-            f"{params.free_thresh:g}; if they are unknown, set free_thresh: {FREE_THRESH} in the YAML",
+            f"{path}: {count:,} pixel{'s' if count > 1 else ''} of grey {UNKNOWN_PIXEL} (map_saver's unknown, "
+            f"{share:.0%} of the free cells) read as unknown, not as free space as free_thresh "
+            f"{params.free_thresh:g} would have them; set free_thresh: {FREE_THRESH} in the YAML to say so",
             MapWarning,
             stacklevel=3,
         )

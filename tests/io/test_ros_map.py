@@ -162,16 +162,17 @@ def slam_map_pixels() -> NDArray[np.uint8]:
     return pixels
 
 
-def test_grey_unknown_read_as_free_by_nav2s_default_threshold_warns(tmp_path: Path) -> None:
-    yaml_path = write_map(tmp_path, slam_map_pixels(), fields={"free_thresh": 0.25})
+@pytest.mark.parametrize("mode", ["trinary", "scale"])
+def test_grey_unknown_that_nav2s_default_threshold_reads_as_free_is_read_as_unknown(tmp_path: Path, mode: str) -> None:
+    yaml_path = write_map(tmp_path, slam_map_pixels(), fields={"free_thresh": 0.25, "mode": mode})
     with pytest.warns(MapWarning) as caught:
         grid = load_ros_map(yaml_path)
-    assert grid.count(FREE) == 1524  # as map_server reads it: the grey is free
+    assert grid.count(FREE) == 324  # the room, not the room and its surround (1,524 as map_server reads it)
+    assert grid.count(CellState.UNKNOWN) == 1200
     (warning,) = caught
     assert str(warning.message) == (
-        f"{yaml_path}: 1,200 pixels of grey 205 (map_saver's unknown) load as free space, 79% of the map's "
-        "free cells, as map_server reads them with free_thresh 0.25; if they are unknown, set free_thresh: "
-        "0.196 in the YAML"
+        f"{yaml_path}: 1,200 pixels of grey 205 (map_saver's unknown, 79% of the free cells) read as unknown, "
+        "not as free space as free_thresh 0.25 would have them; set free_thresh: 0.196 in the YAML to say so"
     )
 
 
