@@ -251,10 +251,10 @@ def load_ros_map(yaml_path: str | Path) -> OccupancyGrid:
 
 
 def _grey_as_unknown(path: Path, params: MapImageParams, shade: NDArray[np.float64], cells: NDArray[np.int8]) -> None:
-    """Read map_saver's grey unknown (pixels of :data:`UNKNOWN_PIXEL`, by their ``shade``) that the
-    thresholds read as free as unknown in ``cells``, in place, with a
-    :class:`~frontier_rl.errors.MapWarning`, where it is more than :data:`GREY_AS_FREE_SHARE` of the
-    free cells; nothing to count where the thresholds read that grey otherwise (most maps)."""
+    """Mark unknown, in ``cells`` (in place), the free cells that are pixels of map_saver's grey
+    unknown (:data:`UNKNOWN_PIXEL`, by their ``shade``), with a :class:`~frontier_rl.errors.MapWarning`,
+    where they are more than :data:`GREY_AS_FREE_SHARE` of the free cells; nothing to count where
+    the thresholds do not read that grey as free (most maps)."""
     one_grey = pixels_to_cells(np.full((1, 1), float(UNKNOWN_PIXEL)), np.zeros((1, 1), np.bool_), params)
     if one_grey[0, 0] != CellState.FREE:
         return
