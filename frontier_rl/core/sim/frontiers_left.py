@@ -99,6 +99,11 @@ class _MapAgainstTruth:
         """``grid``'s cells in the world's grid."""
         return slice(self.top, self.top + self.grid.height), slice(self.left, self.left + self.grid.width)
 
+    def in_world(self, flat: NDArray[np.int64]) -> NDArray[np.int64]:
+        """The flat indices (row-major) in the world's grid of ``grid``'s cells ``flat`` (its flat indices)."""
+        rows, cols = np.divmod(flat, self.grid.width)
+        return np.asarray((rows + self.top) * self.truth_grid.width + cols + self.left, np.int64)
+
     @cached_property
     def truth(self) -> NDArray[np.int8]:
         """The true world's cells under ``grid``."""
@@ -146,11 +151,8 @@ class _MapAgainstTruth:
         """(n,) whether more than :data:`~frontier_rl.core.sim.config.UNSEEN_ROOM_M2` of unseen
         free space lies behind each of ``frontiers`` (of ``grid``), for all at once: an office
         episode ends with a few dozen specks, nothing behind them."""
-        rows, cols = np.divmod(frontiers.flat_cells, self.grid.width)
-        in_world = (rows + self.top) * self.truth_grid.width + cols + self.left
-        counts = segments_opened_areas(
-            in_world, frontiers.spans, (self.regions.labels, self.regions.sizes.astype(np.float64))
-        )
+        unseen = (self.regions.labels, self.regions.sizes.astype(np.float64))
+        counts = segments_opened_areas(self.in_world(frontiers.flat_cells), frontiers.spans, unseen)
         res = self.grid.resolution
         return np.asarray(counts * res * res > UNSEEN_ROOM_M2)  # counts * res * res as behind_m2 has it
 
@@ -166,8 +168,7 @@ class _MapAgainstTruth:
         behind_m2 = self.behind_m2(behind)
         failures, unrevealable = self.blacklist.history_of(self.grid.cells_to_world(cells))
         unknown, unseen = unknown_beside(self.beside, cells[:, 0], cells[:, 1], self.truth)
-        rows, cols = np.divmod(unseen, width)
-        in_world = (rows + self.top) * self.truth_grid.width + cols + self.left
+        in_world = self.in_world(unseen)
         levels = self.audit.levels[cells[:, 0] * width + cells[:, 1]]
         has_path = bool((levels >= 0).any())
         speck = self.config.speck_cells(res)
