@@ -49,11 +49,14 @@ MAPS = (
     "brsu_c069",
     "nav2_depot",
     "aws_small_house",
+    "uom_floor3",
+    "elsabot_home",
     "slam_building",
 )
 """Catalogue maps with what real SLAM maps have (``nav2_depot`` and ``aws_small_house`` from the first
-survey, for reference), and the ``slam_building`` generator: a building floor with a SLAM map's
-streaks, specks and rough walls, a new one for every start."""
+survey, for reference; ``uom_floor3`` and ``elsabot_home`` saved by Nav2), and the ``slam_building``
+generator: a building floor with a SLAM map's streaks, specks and rough walls, a new one for every
+start."""
 METHODS = "nearest,fixed:0.75,tour,learned:models/model7.zip"
 WORST = 5
 

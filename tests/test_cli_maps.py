@@ -18,6 +18,7 @@ from frontier_rl.io.catalogue import MAPS_DIR, load_catalogue
 STANDALONE = (
     "turtlebot3_world", "aws_small_house", "nav2_depot", "nav2_warehouse", "lse_arena", "aws_bookstore", "willow_full",
     "willow_2010", "gdc_3ne", "gdc_3", "stata_basement", "ipa_office", "ipa_plant", "adblab", "brsu_c069",
+    "uom_floor3", "elsabot_home",
 )  # fmt: skip
 
 runner = CliRunner()
