@@ -35,7 +35,7 @@ ROS2_INTERFACES := $(VENV)/.ros2-interfaces
 ROS2_SOURCES := tools/build_ros2_interfaces.py \
                 $(shell find frontier_rl/ros2/interfaces -type f -not -path '*/__pycache__/*' 2>/dev/null)
 
-.PHONY: setup ros-deps browser-deps demo test test-fast lint typecheck docs pytest bench clean
+.PHONY: setup ros2-wheels ros-deps browser-deps demo test test-fast lint typecheck docs pytest bench clean
 
 $(STAMP): pyproject.toml
 	$(PYTHON) -m venv $(VENV)
@@ -50,6 +50,10 @@ $(ROS2_INTERFACES): $(STAMP) $(ROS2_SOURCES)
 	touch $(ROS2_INTERFACES)
 
 setup: $(STAMP) $(ROS2_INTERFACES)
+
+# the wheels the interfaces' build needs, for an install by hand (docs/guides/ros2.md)
+ros2-wheels:
+	@echo $(ROS2_WHEELS)
 
 # $(call apt_deps,CHECK,PACKAGES,WHAT,WHICH TEST): install Debian packages unless CHECK passes, where apt-get runs as root
 define apt_deps
