@@ -82,6 +82,53 @@ def test_a_block_not_run_as_the_same_as_another_is_that_code(block: CodeBlock) -
     check_same_as(block)
 
 
+POLICY_CLASS = re.compile(r"^class (\w+)\b[^\n]*:\n(?:[ \t]+[^\n]*\n|\s*\n)*?[ \t]+def rank\(", re.MULTILINE)
+"""A class with a ``rank`` method: a policy a reader may save to a file and name as ``FILE.py:CLASS``."""
+
+
+def policy_classes(block: CodeBlock) -> list[str]:
+    """The names of the policy classes ``block`` defines."""
+    return POLICY_CLASS.findall(block.code)
+
+
+def check_loads_quietly(block: CodeBlock, folder: Path) -> None:
+    """Save ``block`` as a file and load each of its policy classes as a command does
+    (``FILE.py:CLASS``): loading must print nothing (no episode run at import)."""
+    source = folder / "policy_file.py"
+    source.write_text(block.code, encoding="utf-8")
+    for name in policy_classes(block):
+        load = f"from frontier_rl.policies import make_policy; make_policy({f'{source}:{name}'!r})"
+        run = subprocess.run(
+            [sys.executable, "-c", load], cwd=folder, capture_output=True, text=True, timeout=TIMEOUT_S
+        )
+        assert run.returncode == 0, f"{block.name}: loading {name} failed:\n{run.stderr[-3000:]}"
+        assert run.stdout == "", f"{block.name}: loading {name} printed {run.stdout[:200]!r}"
+
+
+@pytest.mark.parametrize("block", [b for b in python_blocks() if policy_classes(b)], ids=lambda b: b.name)
+def test_a_documented_policy_file_loads_without_running_anything(block: CodeBlock, tmp_path: Path) -> None:
+    check_loads_quietly(block, tmp_path)
+
+
+def test_a_policy_file_that_runs_an_episode_at_import_is_caught(tmp_path: Path) -> None:
+    page = tmp_path / "page.md"
+    policy = (
+        "import numpy as np\nfrom frontier_rl import DecisionContext, Ranking\n\n\nclass First:\n"
+        '    """The first candidate."""\n\n    name = "first"\n\n'
+        "    def rank(self, context: DecisionContext, rng: np.random.Generator) -> Ranking:\n"
+        "        return Ranking(np.arange(len(context.frontiers)))\n\n\n"
+    )
+    page.write_text(
+        f"```python\n{policy}print('an episode')\n```\n\n"
+        f"```python\n{policy}if __name__ == '__main__':\n    print('an episode')\n```\n"
+    )
+    at_import, guarded = python_blocks([page])
+    assert policy_classes(at_import) == policy_classes(guarded) == ["First"]
+    with pytest.raises(AssertionError, match="loading First printed 'an episode"):
+        check_loads_quietly(at_import, tmp_path)
+    check_loads_quietly(guarded, tmp_path)
+
+
 def test_a_marked_block_is_left_out_and_others_are_run(tmp_path: Path) -> None:
     page = tmp_path / "page.md"
     page.write_text(
