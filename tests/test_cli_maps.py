@@ -14,12 +14,7 @@ from typer.testing import CliRunner
 
 from frontier_rl.cli import WORLD_HELP, app
 from frontier_rl.io.catalogue import MAPS_DIR, load_catalogue
-
-STANDALONE = (
-    "turtlebot3_world", "aws_small_house", "nav2_depot", "nav2_warehouse", "lse_arena", "aws_bookstore", "willow_full",
-    "willow_2010", "gdc_3ne", "gdc_3", "stata_basement", "ipa_office", "ipa_plant", "adblab", "brsu_c069",
-    "uom_floor3", "elsabot_home",
-)  # fmt: skip
+from tests.io.catalogue_names import STANDALONE
 
 runner = CliRunner()
 WIDTHS = (80, 200)

@@ -28,12 +28,8 @@ from frontier_rl.io.catalogue import (
 )
 from frontier_rl.rl.config import TrainConfig
 from frontier_rl.world_spec import map_file, parse_world_list, parse_world_mix, resolve_world, world_path
+from tests.io.catalogue_names import STANDALONE
 
-STANDALONE = (
-    "turtlebot3_world", "aws_small_house", "nav2_depot", "nav2_warehouse", "lse_arena", "aws_bookstore", "willow_full",
-    "willow_2010", "gdc_3ne", "gdc_3", "stata_basement", "ipa_office", "ipa_plant", "adblab", "brsu_c069",
-    "uom_floor3", "elsabot_home",
-)  # fmt: skip
 STAGE = ("stage/autolab", "stage/uoa_robotics_lab", "stage/simple_rooms", "stage/cave", "stage/mbicp")
 COLLECTIONS = {
     "stage": 5,
