@@ -1,4 +1,5 @@
-# frontier_rl: `make demo` and `make test` work on a fresh clone with only Python 3.11.
+# frontier_rl: `make demo` and `make test` work on a fresh clone with only Python 3.11 (`make test` also
+# needs cmake and a C/C++ compiler, for the ROS 2 interfaces).
 PYTHON ?= python3.11
 VENV   := .venv
 BIN    := $(VENV)/bin

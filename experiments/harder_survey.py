@@ -1,5 +1,5 @@
 """The harder survey of real buildings: SLAM maps with radial streaks, glass, clutter, narrow doors
-and floors of 50-100 m, each explored from several random starts by each method.
+and floors of up to 100 m, each explored from several random starts by each method.
 
 Runs ``frontier-rl evaluate`` once per map into ``OUT/MAP`` (rerunning resumes), then writes
 ``OUT/survey.md`` and ``OUT/survey.json``: per map and method the end reasons, the goals given up

@@ -177,7 +177,7 @@ def harder_buildings_page(study: Study, images: Path) -> str:
     return f"""# Harder buildings
 
 Real SLAM maps with what such maps have: radial streaks where the laser saw through glass, clutter,
-doorways the map narrowed, floors of 50 to 100 m; two of them (`uom_floor3`, `elsabot_home`) saved
+doorways the map narrowed, floors of up to 100 m; two of them (`uom_floor3`, `elsabot_home`) saved
 by Nav2 in ROS 2. Each map of the survey
 (`experiments/harder_survey.py`) is explored from several random starts by `nearest`, `fixed:0.75`,
 `tour` and model 7. The end reasons are those of [Real buildings](real-buildings.md); the goal is

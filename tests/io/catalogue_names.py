@@ -1,4 +1,4 @@
-"""The catalogue's names as its documentation lists them, for the tests of the catalogue and of
+"""The catalogue's names in ``catalogue.yaml``'s order, for the tests of the catalogue and of
 ``frontier-rl maps``."""
 
 STANDALONE = (
