@@ -4,7 +4,6 @@ today: every field of the output but the wall time, with its value."""
 from __future__ import annotations
 
 import json
-import shlex
 import subprocess
 import sys
 from pathlib import Path
@@ -12,6 +11,7 @@ from pathlib import Path
 import pytest
 
 from tests.docs.markdown_pages import DOCS, CodeBlock, code_blocks
+from tests.docs.test_cli_lines import SHELLS, invocations, shell_lines
 
 pytestmark = pytest.mark.slow
 
@@ -21,14 +21,15 @@ LEFT_OUT = {"wall_time_s", "real_time_factor"}
 
 
 def sample_and_command(page: Path) -> tuple[CodeBlock, list[str]]:
-    """The first json block of ``page`` and the ``frontier-rl explore ... --json`` line of the
-    shell block nearest above it, as arguments without ``frontier-rl`` and without ``--png FILE``."""
+    """The first json block of ``page`` and the ``frontier-rl explore`` command of the shell block
+    nearest above it, as arguments without ``frontier-rl`` and without ``--png FILE``."""
     blocks = code_blocks(page)
     first = next(i for i, block in enumerate(blocks) if block.language == "json")
     for block in reversed(blocks[:first]):
-        lines = [line for line in block.code.splitlines() if line.startswith("frontier-rl explore ")]
-        if block.language in ("bash", "console") and lines:
-            words = shlex.split(lines[0])[1:]
+        found = [args for line in shell_lines(block) for args in invocations(line)] if block.language in SHELLS else []
+        explore = [list(args) for args in found if args[:1] == ("explore",)]
+        if explore:
+            words = explore[0]
             if "--png" in words:
                 at = words.index("--png")
                 del words[at : at + 2]
