@@ -19,6 +19,7 @@ import json
 import sys
 from collections.abc import Callable, Iterator
 from dataclasses import fields
+from enum import Enum
 from pathlib import Path
 
 import numpy as np
@@ -66,6 +67,8 @@ def _feed(digest: hashlib._Hash, value: object, skip: frozenset[str]) -> None:
         digest.update(b"[%d" % len(value))
         for item in value:
             _feed(digest, item, skip)
+    elif isinstance(value, Enum):  # by its value, as when such fields were strings
+        digest.update(repr(value.value).encode())
     elif hasattr(value, "__dataclass_fields__"):
         for f in fields(value):  # type: ignore[arg-type]
             if f.name not in skip:

@@ -4,9 +4,25 @@ type they must have, with a one-line error that names where they came from."""
 from __future__ import annotations
 
 import math
-from typing import Any
+from enum import Enum
+from typing import Any, TypeVar
 
 from frontier_rl.errors import ConfigError, short_repr
+
+_E = TypeVar("_E", bound=Enum)
+
+
+def enum_member(kind: type[_E], value: object, where: str) -> _E:
+    """The member of ``kind`` whose value is ``value``.
+
+    Raises:
+        ConfigError: naming ``where``, quoting ``value`` and listing the values ``kind`` has.
+    """
+    try:
+        return kind(value)
+    except ValueError:
+        names = ", ".join(str(member.value) for member in kind)
+        raise ConfigError(f"{where} must be one of {names}, got {short_repr(value)}") from None
 
 
 def coerce(hint: Any, value: Any, where: str) -> Any:

@@ -16,6 +16,7 @@ import pytest
 
 import frontier_rl
 from frontier_rl.core.sim.config import SimConfig
+from frontier_rl.core.sim.metrics import EndReason
 from frontier_rl.core.world.robot import Pose
 from frontier_rl.errors import ConfigError, PolicyError, UnknownNameError
 from frontier_rl.evaluation.results.summary import ExperimentSummary, MethodSummary
@@ -215,6 +216,10 @@ def test_a_summary_with_a_bad_field_is_one_line_naming_it(tmp_path: Path) -> Non
     }
     summary = ExperimentSummary.from_json(good)
     assert summary.methods["nearest"].mean_time_s == 10.0 and summary.methods["nearest"].p_holm is None
+    ended = {"n": 1, "mean_time_s": 10.0, "end_reasons": {"explored": 1, "failed": 0}}
+    typed = ExperimentSummary.from_json({**good, "methods": {"nearest": ended}}).methods["nearest"]
+    assert typed.end_reasons == {EndReason.EXPLORED: 1, EndReason.FAILED: 0}
+    assert all(type(reason) is EndReason for reason in typed.end_reasons or {})
     bad_cases = [
         ({**good, "episodes": "1"}, "episodes must be a whole number"),
         (
@@ -223,6 +228,10 @@ def test_a_summary_with_a_bad_field_is_one_line_naming_it(tmp_path: Path) -> Non
         ),
         ({**good, "methods": {"nearest": {"n": 1}}}, "lacks mean_time_s"),
         ({**good, "outliers": {"soon": {"methods": {}}}}, "outlier threshold 'soon'"),
+        (
+            {**good, "methods": {"nearest": {"n": 1, "mean_time_s": 10.0, "end_reasons": {"lost": 1}}}},
+            "end_reasons must be one of explored, unreachable, time_cap, failed, got 'lost'",
+        ),
     ]
     for data, needle in bad_cases:
         with pytest.raises(ConfigError, match=needle):

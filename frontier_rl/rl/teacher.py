@@ -34,7 +34,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from frontier_rl.core.sim.episode import decision_context
-from frontier_rl.core.sim.episode_log import EndReason
+from frontier_rl.core.sim.metrics import EndReason
 from frontier_rl.core.sim.simulator import ExplorationSimulator
 from frontier_rl.envs.frontier_env import FrontierChoiceEnv
 from frontier_rl.observation.frontier_table import frontier_path_costs, slot_order

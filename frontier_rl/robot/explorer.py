@@ -25,9 +25,9 @@ from frontier_rl.core.navigation.thin_walls import Recovery
 from frontier_rl.core.sim.candidates import Candidates, find_candidates
 from frontier_rl.core.sim.config import DROP_CELL_M, SimConfig
 from frontier_rl.core.sim.episode import DecisionContext, EpisodeAwarePolicy, ExplorationPolicy, checked_ranking
-from frontier_rl.core.sim.episode_log import EndReason, completion_reason
+from frontier_rl.core.sim.episode_log import completion_reason
 from frontier_rl.core.sim.frontiers_left import frontiers_left
-from frontier_rl.core.sim.metrics import FrontierLeft
+from frontier_rl.core.sim.metrics import EndReason, FrontierLeft
 from frontier_rl.core.world.grid import CellState, OccupancyGrid
 from frontier_rl.core.world.robot import Pose
 from frontier_rl.errors import ConfigError, short_repr

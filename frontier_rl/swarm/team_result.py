@@ -6,8 +6,8 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
-from frontier_rl.core.sim.episode_log import EndReason, aborts_by_cause, completion_reason
-from frontier_rl.core.sim.metrics import FrontierLeft, time_to_coverage, unseen_area_m2
+from frontier_rl.core.sim.episode_log import aborts_by_cause, completion_reason
+from frontier_rl.core.sim.metrics import EndReason, FrontierLeft, time_to_coverage, unseen_area_m2
 from frontier_rl.core.world.grid import CellState
 from frontier_rl.swarm.result import TeamResult, overlap_share
 
@@ -75,15 +75,15 @@ def frontiers_left(team: TeamSimulator) -> tuple[FrontierLeft, ...]:
     return tuple(left.values())
 
 
-def end_reason(team: TeamSimulator, left: tuple[FrontierLeft, ...]) -> str | None:
-    """Why ``team``'s episode ended (None while it goes on): "failed" when no robot is left."""
+def end_reason(team: TeamSimulator, left: tuple[FrontierLeft, ...]) -> EndReason | None:
+    """Why ``team``'s episode ended (None while it goes on): ``FAILED`` when no robot is left."""
     if team.truncated:
-        return EndReason.TIME_CAP.value
+        return EndReason.TIME_CAP
     if not team.over:
         return None
     if not team.alive:
-        return "failed"
-    return str(completion_reason(left).value)
+        return EndReason.FAILED
+    return completion_reason(left)
 
 
 def free_coverage(team: TeamSimulator) -> float:

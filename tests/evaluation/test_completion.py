@@ -12,6 +12,7 @@ from typing import Any
 import pytest
 
 from frontier_rl.core.sim.config import SimConfig
+from frontier_rl.core.sim.metrics import EndReason
 from frontier_rl.errors import ConfigError
 from frontier_rl.evaluation.report.table import completion_table
 from frontier_rl.evaluation.report.tables import report_tables
@@ -71,6 +72,11 @@ def test_rows_carry_the_end_reason_and_coverages_typed() -> None:
         EpisodeRow.from_csv_line(line.replace(",0.5,", ",,", 1))
     with pytest.raises(ConfigError, match=r"decisions '3\.5' is not valid \(expected an integer"):
         EpisodeRow.from_csv_line(line.replace(",3,", ",3.5,", 1))
+    assert _row("nearest", 0, "failed", 0.5).end_reason is EndReason.FAILED
+    with pytest.raises(
+        ConfigError, match="end_reason must be one of explored, unreachable, time_cap, failed, got 'lost'"
+    ):
+        EpisodeRow.from_csv_line(line.replace(",time_cap,", ",lost,", 1))
 
 
 def test_a_trace_reads_back_as_it_was_written_and_refuses_what_the_report_cannot_draw() -> None:
@@ -141,8 +147,8 @@ def test_the_completion_table_lays_out_the_counts() -> None:
         4, 300.0, mean_coverage=0.8125, min_coverage=0.5, mean_free_coverage=0.75, mean_unknown_left_m2=1.5
     )
     entries = {
-        "fixed:0.75@2": replace(entry, end_reasons={"explored": 1, "unreachable": 1, "time_cap": 1, "failed": 1}),
-        "nearest": replace(entry, end_reasons={"explored": 3, "unreachable": 0, "time_cap": 1}),
+        "fixed:0.75@2": replace(entry, end_reasons=dict(zip(EndReason, (1, 1, 1, 1), strict=True))),
+        "nearest": replace(entry, end_reasons=dict(zip(EndReason, (3, 0, 1), strict=False))),
     }
     table = completion_table(entries, {"fixed:0.75@2": "fixed:0.75 ×2", "nearest": "nearest"})
     assert table.title == "Completion"

@@ -9,7 +9,7 @@ import numpy as np
 import pytest
 
 from frontier_rl import api
-from frontier_rl.core.sim.episode_log import EndReason
+from frontier_rl.core.sim.metrics import EndReason
 from frontier_rl.core.world.grid import CellState, OccupancyGrid
 from frontier_rl.core.world.robot import Pose
 from frontier_rl.errors import ConfigError

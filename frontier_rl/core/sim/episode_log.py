@@ -5,24 +5,22 @@ from __future__ import annotations
 
 from collections import Counter
 from collections.abc import Sequence
-from enum import Enum
 
 import numpy as np
 from numpy.typing import NDArray
 
 from frontier_rl.core.sim.config import UNSEEN_ROOM_M2
 from frontier_rl.core.sim.leg_result import AbortCause, LegResult
-from frontier_rl.core.sim.metrics import DecisionRecord, EpisodeResult, FrontierLeft, time_to_coverage, unseen_area_m2
+from frontier_rl.core.sim.metrics import (
+    DecisionRecord,
+    EndReason,
+    EpisodeResult,
+    FrontierLeft,
+    time_to_coverage,
+    unseen_area_m2,
+)
 from frontier_rl.core.world.grid import OccupancyGrid
 from frontier_rl.core.world.robot import Pose
-
-
-class EndReason(Enum):
-    """Why an episode ended."""
-
-    EXPLORED = "explored"  # no frontier left with free space behind it
-    UNREACHABLE = "unreachable"  # frontiers left with free space behind: every attempt failed, or no reachable view
-    TIME_CAP = "time_cap"  # the sim-time cap
 
 
 def completion_reason(left: Sequence[FrontierLeft]) -> EndReason:
@@ -83,9 +81,7 @@ class EpisodeLog:
         """A decision, taken with ranking weight ``weight`` (None for a policy without one), drove ``leg``."""
         (x, y), goal = leg.start_xy, leg.goal
         self.decisions.append(
-            DecisionRecord(
-                float(leg.start_s), float(x), float(y), float(goal[0]), float(goal[1]), weight, leg.outcome.value
-            )
+            DecisionRecord(float(leg.start_s), float(x), float(y), float(goal[0]), float(goal[1]), weight, leg.outcome)
         )
 
     def poses_since(self, first: int) -> NDArray[np.float64]:
@@ -129,7 +125,7 @@ class EpisodeLog:
             done=reason is EndReason.EXPLORED,
             truncated=truncated,
             wall_time_s=wall_time_s,
-            end_reason=None if reason is None else reason.value,
+            end_reason=reason,
             free_coverage=free_coverage,
             unknown_left_m2=unseen_area_m2(left, final_map.resolution),
             explorable_m2=self._explorable * final_map.resolution**2,

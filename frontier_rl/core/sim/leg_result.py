@@ -3,10 +3,10 @@
 from __future__ import annotations
 
 from dataclasses import dataclass
-from enum import Enum, StrEnum
+from enum import StrEnum
 
 
-class LegOutcome(Enum):
+class LegOutcome(StrEnum):
     """How a drive toward a goal ended."""
 
     REACHED = "reached"

@@ -5,12 +5,28 @@ from __future__ import annotations
 import dataclasses
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass, field
+from enum import StrEnum
 from typing import Any
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
+from frontier_rl.core.sim.leg_result import LegOutcome
 from frontier_rl.core.world.grid import OccupancyGrid
+
+
+class EndReason(StrEnum):
+    """Why an episode ended; its value is the name results files and reports write."""
+
+    EXPLORED = "explored"  # no frontier left with free space behind it
+    UNREACHABLE = "unreachable"  # frontiers left with free space behind: every attempt failed, or no reachable view
+    TIME_CAP = "time_cap"  # the sim-time cap
+    FAILED = "failed"  # a team's: no robot left
+
+    @property
+    def label(self) -> str:
+        """The reason in words, as the reports write it ("time cap")."""
+        return self.value.replace("_", " ")
 
 
 @dataclass(frozen=True)
@@ -22,8 +38,7 @@ class DecisionRecord:
         x, y: robot position (m).
         goal_x, goal_y: chosen goal (m); NaN when no goal could be planned.
         weight: the ranking weight in use, None for policies without one.
-        outcome: how the leg ended ("reached", "explored", "aborted", "gave_way", "timeout",
-            "none").
+        outcome: how the leg ended.
     """
 
     time_s: float
@@ -32,7 +47,7 @@ class DecisionRecord:
     goal_x: float
     goal_y: float
     weight: float | None
-    outcome: str
+    outcome: LegOutcome
 
 
 @dataclass(frozen=True)
@@ -145,12 +160,12 @@ class EpisodeResult:
             :class:`~frontier_rl.core.sim.leg_result.AbortCause`: ``not_planned``, ``no_progress``,
             ``detour``, ``no_path``); a team's summed over its robots.
         done: the map is explored: no frontier is left that the robot could see from where it can go
-            (``end_reason == "explored"``).
+            (``end_reason is EndReason.EXPLORED``).
         truncated: the sim-time cap ended the episode.
         wall_time_s: wall-clock time of the episode loop (s), without set-up and compilation.
-        end_reason: "explored", "unreachable" (frontiers are left, each failed its attempts or has
-            no reachable cell that sees it: see ``frontiers_left``) or "time_cap"; None while the
-            episode goes on.
+        end_reason: ``EXPLORED``, ``UNREACHABLE`` (frontiers are left, each failed its attempts or
+            has no reachable cell that sees it: see ``frontiers_left``), ``TIME_CAP`` or a team's
+            ``FAILED``; None while the episode goes on.
         free_coverage: share of all the world's free cells (connected to the start) that are
             mapped, explorable or not.
         unknown_left_m2: the unseen free area (m²) beside the frontiers left: free in the true
@@ -175,7 +190,7 @@ class EpisodeResult:
     done: bool
     truncated: bool
     wall_time_s: float
-    end_reason: str | None
+    end_reason: EndReason | None
     free_coverage: float
     unknown_left_m2: float
     coverage_times_s: NDArray[np.float64] = field(repr=False)
@@ -275,7 +290,7 @@ class EpisodeSummary:
     aborts_by_cause: dict[str, int]
     done: bool
     truncated: bool
-    end_reason: str | None
+    end_reason: EndReason | None
     free_coverage: float
     unknown_left_m2: float
     explorable_left_m2: float

@@ -25,11 +25,11 @@ from frontier_rl.core.sensing.lidar import Lidar
 from frontier_rl.core.sim.body import touched_walls, until_next_scan
 from frontier_rl.core.sim.candidates import Candidates, Look
 from frontier_rl.core.sim.config import SimConfig
-from frontier_rl.core.sim.episode_log import EndReason, EpisodeLog, completion_reason
+from frontier_rl.core.sim.episode_log import EpisodeLog, completion_reason
 from frontier_rl.core.sim.frontiers_left import frontiers_left
 from frontier_rl.core.sim.leg import Leg, run_leg
 from frontier_rl.core.sim.leg_result import AbortCause, LegOutcome, LegResult
-from frontier_rl.core.sim.metrics import EpisodeResult, FrontierLeft
+from frontier_rl.core.sim.metrics import EndReason, EpisodeResult, FrontierLeft
 from frontier_rl.core.sim.navigator import CANDIDATE_MAP_MARGIN, Navigator
 from frontier_rl.core.sim.paths import plan_path, point_goal_cell
 from frontier_rl.core.sim.teammates import Teammates

@@ -7,17 +7,18 @@ import math
 from collections.abc import Callable, Mapping
 from dataclasses import dataclass
 
+from frontier_rl.core.sim.metrics import EndReason
 from frontier_rl.evaluation.report.table import SIGNIFICANCE, number, p_value
 from frontier_rl.evaluation.results.summary import ExperimentSummary, MethodSummary
 from frontier_rl.evaluation.running.experiment import ORACLE
 
 _REASONS = {
-    "unreachable": "unreachable: frontiers were left, none of them reachable for a robot of this size or "
+    EndReason.UNREACHABLE: "unreachable: frontiers were left, none of them reachable for a robot of this size or "
     "each given up after its tries",
-    "time_cap": "time cap: cut at the sim-time cap, with the cap as its time (the default cap is about three "
+    EndReason.TIME_CAP: "time cap: cut at the sim-time cap, with the cap as its time (the default cap is about three "
     "times what the fastest method takes on large floors: a policy that meets it wanders)",
 }
-"""What each end reason other than "explored" means, said once when it occurs."""
+"""What each end reason other than ``EXPLORED`` means, said once when it occurs."""
 
 _MAX_WORLDS_NAMED = 12
 """The fastest method per world is named for at most this many worlds."""
@@ -111,13 +112,15 @@ def _change(entry: MethodSummary) -> str:
 
 
 def unfinished(
-    end_reasons: Mapping[str, Mapping[str, int]], labels: dict[str, str], reason_text: Callable[[str], str] = str
+    end_reasons: Mapping[str, Mapping[EndReason, int]],
+    labels: dict[str, str],
+    reason_text: Callable[[EndReason], str] = str,
 ) -> list[str]:
     """Per method with episodes that did not end explored: "LABEL N REASON, N REASON" (each
     reason as ``reason_text`` writes it), from each method's episodes per end reason."""
     parts = []
     for method, reasons in end_reasons.items():
-        ends = [f"{n} {reason_text(reason)}" for reason, n in reasons.items() if n and reason != "explored"]
+        ends = [f"{n} {reason_text(reason)}" for reason, n in reasons.items() if n and reason is not EndReason.EXPLORED]
         if ends:
             parts.append(f"{labels[method]} {', '.join(ends)}")
     return parts
@@ -126,11 +129,11 @@ def unfinished(
 def _completion(methods: Mapping[str, MethodSummary], labels: dict[str, str]) -> str:
     by_method = {method: entry.end_reasons or {} for method, entry in methods.items()}
     total = sum(e.n for e in methods.values())
-    explored = sum(reasons.get("explored", 0) for reasons in by_method.values())
+    explored = sum(reasons.get(EndReason.EXPLORED, 0) for reasons in by_method.values())
     if explored == total:
         return f"All {total} episodes ended with the map explored."
-    parts = unfinished(by_method, labels, lambda reason: reason.replace("_", " "))
-    reasons = {r for counts in by_method.values() for r, n in counts.items() if n and r != "explored"}
+    parts = unfinished(by_method, labels, lambda reason: reason.label)
+    reasons = {r for counts in by_method.values() for r, n in counts.items() if n and r is not EndReason.EXPLORED}
     meaning = [_REASONS[r] for r in sorted(reasons) if r in _REASONS]
     return f"{explored} of {total} episodes ended with the map explored; the others: {'; '.join(parts)}" + (
         f" ({'; '.join(meaning)})." if meaning else "."

@@ -82,9 +82,10 @@ def _draw(config: ExperimentConfig, job: EpisodeJob, stem: Path, title: str, gif
         result = run_episode(world, policy, config.sim, seed=job.seed, on_decision=recorder)
         path = save_image(_shrink(recorder.final_picture(result, title)), stem.with_name(stem.name + ".png"))
         summary = result.summary()
+    ended = summary.end_reason.label if summary.end_reason else "-"
     caption = (
         f"Episode 0 (seed {job.seed}): {summary.sim_time_s:.1f} s, coverage "
-        f"{100 * summary.coverage:.1f} %, ended {str(summary.end_reason).replace('_', ' ')}. Left: the true "
+        f"{100 * summary.coverage:.1f} %, ended {ended}. Left: the true "
         "map, the path driven and, in amber, the space the robot could have seen and did not; right: the map "
         "the robot built"
         + ("." if team is not None else ", with the frontiers ranked at the last decision (green: the chosen one).")

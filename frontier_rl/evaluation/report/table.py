@@ -171,7 +171,7 @@ def completion_table(entries: Mapping[str, MethodSummary], labels: dict[str, str
         (
             "method",
             "episodes",
-            *(reason.replace("_", " ") for reason in reasons),
+            *(reason.label for reason in reasons),
             "mean coverage",
             "min coverage",
             "free coverage",

@@ -9,6 +9,7 @@ from collections.abc import Mapping, Sequence
 
 import numpy as np
 
+from frontier_rl.core.sim.metrics import EndReason
 from frontier_rl.evaluation.report.method_notes import describe_method
 from frontier_rl.evaluation.report.table import (
     TABLE_4_1_HEADER,
@@ -153,7 +154,7 @@ def _left_out(cut: OutlierCut) -> bool:
 
 def _capped(entry: MethodSummary) -> int:
     """The episodes of ``entry`` cut at the time cap."""
-    return (entry.end_reasons or {}).get("time_cap", 0)
+    return (entry.end_reasons or {}).get(EndReason.TIME_CAP, 0)
 
 
 def methods_table(methods: tuple[str, ...]) -> Table:

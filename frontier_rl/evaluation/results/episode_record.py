@@ -15,8 +15,11 @@ import math
 import types
 from collections.abc import Mapping
 from dataclasses import dataclass, field, fields
+from enum import Enum
 from typing import Any, get_args, get_type_hints
 
+from frontier_rl.checked_values import enum_member
+from frontier_rl.core.sim.metrics import EndReason
 from frontier_rl.errors import ConfigError, short_repr
 
 Key = tuple[str, str, int]
@@ -43,8 +46,8 @@ class EpisodeRow:
         aborts: goals given up.
         done: the map was explored.
         truncated: cut at the sim-time cap.
-        end_reason: ``explored``, ``unreachable``, ``time_cap``, a team's ``failed`` (None in rows of
-            before the end reasons).
+        end_reason: why it ended, written as the reason's value (``explored``, ``unreachable``,
+            ``time_cap``, a team's ``failed``; None in rows of before the end reasons).
         free_coverage: share of all free cells mapped.
         unknown_left_m2: unseen free area beside the frontiers left (m²).
         mean_weight: mean ranking weight chosen (None for methods without a weight).
@@ -69,7 +72,7 @@ class EpisodeRow:
     aborts: int
     done: bool
     truncated: bool
-    end_reason: str | None
+    end_reason: EndReason | None
     free_coverage: float
     unknown_left_m2: float
     mean_weight: float | None
@@ -122,6 +125,8 @@ def _cell(column: str, text: str) -> Any:
         return None if optional and text == "" else text
     if optional and text == "":
         return None
+    if issubclass(kind, Enum):
+        return enum_member(kind, text, column)
     try:
         if kind is bool:
             return {"True": True, "False": False}[text]

@@ -15,6 +15,8 @@ from dataclasses import dataclass, field, fields
 from pathlib import Path
 from typing import Any, TypeVar
 
+from frontier_rl.checked_values import enum_member
+from frontier_rl.core.sim.metrics import EndReason
 from frontier_rl.errors import ConfigError, short_path, short_repr
 from frontier_rl.evaluation.statistics.paired import PairedStats
 
@@ -103,7 +105,7 @@ class MethodSummary(PairedSummary):
     median_time_s: float | None = None
     oracle_ratio: float | None = None
     episodes_done: int | None = None
-    end_reasons: Mapping[str, int] | None = None
+    end_reasons: Mapping[EndReason, int] | None = None
     mean_coverage: float | None = None
     min_coverage: float | None = None
     mean_free_coverage: float | None = None
@@ -318,7 +320,7 @@ def _summary(kind: type[_S], entry: Mapping[str, Any]) -> _S:
             values[f.name] = (_number(pair[0], f.name), _number(pair[1], f.name))
         elif f.name == "end_reasons":
             reasons = _object(entry[f.name], f.name)
-            values[f.name] = {str(k): _value(reasons, k, int) for k in reasons}
+            values[f.name] = {enum_member(EndReason, k, f.name): _value(reasons, k, int) for k in reasons}
         elif f.name in ("n", "episodes_done", "excluded", "robots"):
             values[f.name] = _value(entry, f.name, int)
         else:

@@ -11,7 +11,7 @@ from collections.abc import Iterable, Mapping, Sequence
 import numpy as np
 from scipy import stats as scipy_stats
 
-from frontier_rl.core.sim.episode_log import EndReason
+from frontier_rl.core.sim.metrics import EndReason
 from frontier_rl.evaluation.results.episode_record import EpisodeRow, Key
 from frontier_rl.evaluation.results.summary import (
     ExperimentSummary,
@@ -125,12 +125,16 @@ def _method_table(rows: Rows, config: ExperimentConfig, worlds: tuple[str, ...])
     return table
 
 
-def end_reasons(rows: Sequence[EpisodeRow]) -> dict[str, int]:
-    """How many of ``rows`` ended for each reason: "explored", "unreachable" and "time_cap" always
-    (0 if none did), then any other reason a row gives (a team's "failed"), by name."""
-    counts = Counter(str(r.end_reason) for r in rows if r.end_reason is not None)
-    standard = {reason.value: counts.pop(reason.value, 0) for reason in EndReason}
-    return standard | dict(sorted(counts.items()))
+ALWAYS_COUNTED = (EndReason.EXPLORED, EndReason.UNREACHABLE, EndReason.TIME_CAP)
+"""The end reasons a method's summary counts even where no episode ended so (a team's ``FAILED`` is
+counted only where one did)."""
+
+
+def end_reasons(rows: Sequence[EpisodeRow]) -> dict[EndReason, int]:
+    """How many of ``rows`` ended for each reason: those of :data:`ALWAYS_COUNTED` always (0 if none
+    did), then any other reason a row gives, in :class:`EndReason`'s order."""
+    counts = Counter(r.end_reason for r in rows if r.end_reason is not None)
+    return {reason: counts[reason] for reason in EndReason if reason in ALWAYS_COUNTED or counts[reason]}
 
 
 def _ratio(value: float, reference: float) -> float | None:

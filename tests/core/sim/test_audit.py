@@ -12,9 +12,9 @@ from frontier_rl.core.sim import navigator
 from frontier_rl.core.sim.candidates import Look, find_candidates
 from frontier_rl.core.sim.config import UNSEEN_ROOM_M2, SimConfig
 from frontier_rl.core.sim.episode import run_episode
-from frontier_rl.core.sim.episode_log import EndReason, completion_reason, leaves_space
+from frontier_rl.core.sim.episode_log import completion_reason, leaves_space
 from frontier_rl.core.sim.frontiers_left import audit, frontiers_left
-from frontier_rl.core.sim.metrics import FrontierLeft, explorable_given_up_m2
+from frontier_rl.core.sim.metrics import EndReason, FrontierLeft, explorable_given_up_m2
 from frontier_rl.core.sim.simulator import ExplorationSimulator
 from frontier_rl.core.world.grid import CellState, OccupancyGrid
 from frontier_rl.core.world.robot import Pose

@@ -14,9 +14,9 @@ from frontier_rl.core.frontiers.detection import detect_frontiers
 from frontier_rl.core.sim.candidates import find_candidates, reachable_frontiers
 from frontier_rl.core.sim.config import UNSEEN_ROOM_M2, SimConfig, drop_cells_at
 from frontier_rl.core.sim.episode import run_episode
-from frontier_rl.core.sim.episode_log import EndReason, completion_reason
+from frontier_rl.core.sim.episode_log import completion_reason
 from frontier_rl.core.sim.frontiers_left import UnseenRegions, frontiers_left
-from frontier_rl.core.sim.metrics import FrontierLeft, unseen_area_m2
+from frontier_rl.core.sim.metrics import EndReason, FrontierLeft, unseen_area_m2
 from frontier_rl.core.world.catalog import generate_world
 from frontier_rl.core.world.grid import CellState, OccupancyGrid
 from frontier_rl.core.world.robot import Pose
