@@ -9,6 +9,7 @@ results folder names them as given, wherever the package is installed."""
 
 from __future__ import annotations
 
+import contextlib
 import hashlib
 import math
 from dataclasses import dataclass, field, replace
@@ -24,6 +25,7 @@ from frontier_rl.core.world.worlds import World, make_world
 from frontier_rl.errors import ConfigError, MapError, UnknownNameError, short_repr
 from frontier_rl.io import LoadedMap, load_map
 from frontier_rl.io.catalogue import CatalogueEntry, CatalogueMap, MapCollection, catalogue
+from frontier_rl.io.ros_map import ros_map_image
 
 
 def _unknown_world(spec: str) -> UnknownNameError:
@@ -267,9 +269,8 @@ def _exists(item: str) -> bool:
 
 
 def _members(item: str) -> tuple[str, ...]:
-    """The generator name, the map file or catalogue map, a folder's map files (a ROS map's image
-    is read through its YAML, so it is not also listed as a bitmap), or a catalogue collection's
-    maps (by their catalogue names)."""
+    """The generator name, the map file or catalogue map, a folder's map files (:func:`_folder_maps`),
+    or a catalogue collection's maps (by their catalogue names)."""
     entry = _catalogued(item, None)
     if isinstance(entry, MapCollection):
         if not entry.members:
@@ -279,15 +280,26 @@ def _members(item: str) -> tuple[str, ...]:
         return (item,)
     path = Path(item)
     if item not in WORLD_GENERATORS and path.is_dir():
-        files = sorted(str(p) for p in path.iterdir() if p.suffix.lower() in MAP_SUFFIXES)
-        yaml_stems = {Path(p).stem for p in files if p.endswith((".yaml", ".yml"))}
-        files = [p for p in files if p.endswith((".yaml", ".yml")) or Path(p).stem not in yaml_stems]
+        files = _folder_maps(path)
         if not files:
             raise ConfigError(f"world folder {short_repr(item)} holds no map files ({', '.join(MAP_SUFFIXES)})")
-        return tuple(files)
+        return files
     if item in WORLD_GENERATORS or path.is_file():
         return (item,)
     raise _unknown_world(item)
+
+
+def _folder_maps(folder: Path) -> tuple[str, ...]:
+    """The map files of ``folder``, sorted: each map once, so a ROS map's image, read through its
+    YAML, is not also a bitmap of its own (the image a YAML names, or one of the YAML's stem)."""
+    files = sorted(p for p in folder.iterdir() if p.suffix.lower() in MAP_SUFFIXES)
+    yamls = [p for p in files if p.suffix.lower() in (".yaml", ".yml")]
+    stems = {p.with_suffix("") for p in yamls}
+    images = set()
+    for yaml_file in yamls:
+        with contextlib.suppress(MapError):  # a broken YAML is refused where its map is loaded, named
+            images.add(ros_map_image(yaml_file).resolve())
+    return tuple(str(p) for p in files if p in yamls or not (p.with_suffix("") in stems or p.resolve() in images))
 
 
 def parse_world_mix(text: str) -> tuple[WorldFamily, ...]:

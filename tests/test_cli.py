@@ -272,3 +272,31 @@ def test_bad_team_input_is_one_line_and_exit_2(args: list[str], needle: str) -> 
     assert result.exit_code == 2
     lines = [line for line in result.output.splitlines() if line.strip()]
     assert len(lines) == 1 and needle in lines[0], result.output
+
+
+def test_the_terminal_summary_gives_the_time_against_the_baseline_and_holms_p_of_the_methods_tested(
+    capsys: pytest.CaptureFixture[str], monkeypatch: pytest.MonkeyPatch
+) -> None:
+    from frontier_rl.cli.experiments import _print_summary
+    from frontier_rl.evaluation.results.summary import ExperimentSummary
+
+    monkeypatch.setenv("COLUMNS", "200")
+
+    def entry(mean: float, reduction: float, p: float, holm: float | None) -> dict[str, object]:
+        return {"n": 4, "mean_time_s": mean, "reduction_pct": reduction, "p_one_tailed": p, "p_holm": holm,
+                "episodes_done": 4, "end_reasons": {"explored": 4}}  # fmt: skip
+
+    methods = {
+        "fixed:0.75": entry(400.0, 0.0, 0.5, None),
+        "tour": entry(301.2, 24.7, 0.0021, 0.0042),
+        "oracle": entry(250.0, 37.5, 0.0001, None),
+    }
+    head = {"baseline": "fixed:0.75", "reference": "oracle", "worlds": ["office"], "episodes": 4, "seed": 0}
+    summary = ExperimentSummary.from_json(head | {"outliers": {}, "methods": methods})
+    _print_summary(summary, "run", "fixed:0.75")
+    lines = capsys.readouterr().out.splitlines()
+    assert any("time vs baseline" in line and "p Holm" in line for line in lines)
+    rows = {cells[0]: cells[1:] for line in lines if len(cells := line.replace("│", " ").split()) > 3}
+    assert rows["tour"][:4] == ["301.2", "-24.7", "%", "0.0042"]  # 24.7 % less time than the baseline
+    assert rows["oracle"][:3] == ["250.0", "-37.5", "%"] and "0.0001" not in rows["oracle"]  # the reference: no p
+    assert rows["fixed:0.75"][:2] == ["400.0", "baseline"]

@@ -7,6 +7,7 @@ from __future__ import annotations
 import json
 import subprocess
 import sys
+from pathlib import Path
 
 import pytest
 
@@ -69,3 +70,14 @@ def test_a_command_that_runs_loads_the_engine_and_a_single_robot_not_the_team_en
     assert "frontier_rl.swarm.team" not in outcome["loaded"]  # type: ignore[operator]
     team = _run("explore", "--world", "lse_arena", "--max-time", "5", "--robots", "2", "--json")
     assert team["code"] in (0, None) and "frontier_rl.swarm.team" in team["loaded"]  # type: ignore[operator]
+
+
+@pytest.mark.parametrize("missing", ["torch", "stable_baselines3"])
+def test_train_without_the_rl_extra_is_one_line_naming_it(missing: str, tmp_path: Path) -> None:
+    script = f"import sys\nsys.modules[{missing!r}] = None\nfrom frontier_rl.cli import app\napp(sys.argv[1:])\n"
+    args = ["train", "--out", str(tmp_path / "run"), "--timesteps", "8"]
+    done = subprocess.run([sys.executable, "-c", script, *args], capture_output=True, text=True, timeout=120)
+    assert done.returncode == 2, done.stderr
+    assert done.stderr.strip().splitlines() == [
+        f"error: training needs {missing}, which is not installed: pip install 'frontier_rl[rl]'"
+    ]

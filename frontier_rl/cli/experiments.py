@@ -129,7 +129,8 @@ def _print_summary(summary: ExperimentSummary, title: str, baseline: str) -> Non
     labels = short_labels(methods)
     ends = unfinished({name: e.end_reasons or {} for name, e in methods.items()}, labels)
     table = Table(title=title, caption="not explored: " + "; ".join(ends) if ends else None, caption_justify="left")
-    for column in ("method", "mean time (s)", "vs baseline", "p one-tailed", "time / oracle", "done"):
+    tested = set(summary.tested)  # the methods with a p: neither the baseline nor the oracle
+    for column in ("method", "mean time (s)", "time vs baseline", "p Holm", "time / oracle", "done"):
         table.add_column(column, justify="left" if column == "method" else "right", no_wrap=column == "method")
     for name, e in methods.items():
         compared = name != baseline and e.reduction_pct is not None
@@ -138,7 +139,7 @@ def _print_summary(summary: ExperimentSummary, title: str, baseline: str) -> Non
             labels[name],
             f"{e.mean_time_s:.1f}",
             change,
-            f"{e.p_one_tailed:.2g}" if compared and e.p_one_tailed is not None else "",
+            f"{e.p_holm:.2g}" if name in tested and e.p_holm is not None else "",
             f"{e.oracle_ratio:.2f}" if e.oracle_ratio is not None else "",
             f"{e.episodes_done}/{e.n}",
         )

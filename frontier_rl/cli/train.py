@@ -9,6 +9,10 @@ import typer
 
 from frontier_rl.cli.options import ResolutionOption, SimConfigOption, checked_run_arguments, sim_config
 from frontier_rl.cli.output import friendly_errors, print_note, stdout_console
+from frontier_rl.errors import ConfigError
+
+TRAINING_PACKAGES = frozenset({"torch", "stable_baselines3", "tensorboard"})
+"""The packages of the ``rl`` extra that training imports."""
 
 PrivilegedCriticOption = Annotated[
     bool, typer.Option(help="Models 5 and 7: the critic also reads the true map's unseen share (training only).")
@@ -47,9 +51,15 @@ def train(
 
     With Stable-Baselines3 (A2C as in the thesis, or PPO)."""
     resolution = checked_run_arguments(seed, out, resolution)
-    from frontier_rl.api import train as run_training
-    from frontier_rl.rl.config import TrainConfig
-    from frontier_rl.rl.train import interruption_note
+    try:  # the training stack is the rl extra
+        from frontier_rl.api import train as run_training
+        from frontier_rl.rl.config import TrainConfig
+        from frontier_rl.rl.train import interruption_note
+    except ImportError as error:
+        package = (error.name or "").split(".")[0]
+        if package not in TRAINING_PACKAGES:
+            raise
+        raise ConfigError(f"training needs {package}, which is not installed: pip install 'frontier_rl[rl]'") from None
 
     settings = TrainConfig(
         model=model,

@@ -105,6 +105,8 @@ def load_map(path: str | Path, resolution: float | None = None) -> LoadedMap:
         MapError: a missing, unsupported or malformed file, or a map without a single free cell.
     """
     source = Path(path)
+    if source.is_dir():
+        raise MapError(f"{source} is a folder, not a map file: name one of the maps in it")
     if not source.is_file():
         raise MapError(f"map file not found: {source}")
     loaded = _load(source, resolution)

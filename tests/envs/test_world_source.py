@@ -25,6 +25,17 @@ def test_parse_names_files_and_folders(real_maps: Path) -> None:
     assert len(houses) == 2 and all(h.endswith(".json") for h in houses)
 
 
+def test_a_folder_lists_a_ros_map_once_whatever_its_image_is_called(tmp_path: Path, real_maps: Path) -> None:
+    source = real_maps / "turtlebot3_world"
+    image = (source / "map.pgm").read_bytes()
+    (tmp_path / "world.pgm").write_bytes(image)  # the image the YAML names, of another stem
+    (tmp_path / "map.yaml").write_text((source / "map.yaml").read_text().replace("map.pgm", "world.pgm"))
+    (tmp_path / "world.png").write_bytes((real_maps / "dungeon" / "easy" / "img_1.png").read_bytes())
+    assert parse_world_list(str(tmp_path)) == (str(tmp_path / "map.yaml"), str(tmp_path / "world.png"))
+    (tmp_path / "map.yaml").write_text("image: [")  # broken: named where it is loaded, not here
+    assert str(tmp_path / "world.pgm") in parse_world_list(str(tmp_path))
+
+
 def test_parse_errors_name_the_entry(tmp_path: Path) -> None:
     with pytest.raises(UnknownNameError, match="mars"):
         parse_world_list("office,mars")

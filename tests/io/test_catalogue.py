@@ -137,7 +137,7 @@ def test_world_arguments_take_catalogue_names_after_generators_and_paths(
     monkeypatch.chdir(tmp_path)
     shutil.copytree(MAPS_DIR / "lse_arena", tmp_path / "nav2_depot")
     assert parse_world_list("nav2_depot") == (str(Path("nav2_depot", "lse_arena.yaml")),)
-    with pytest.raises(MapError, match="map file not found: nav2_depot"):  # a folder is no map
+    with pytest.raises(MapError, match=r"^nav2_depot is a folder, not a map file: name one of the maps in it$"):
         resolve_world("nav2_depot", 0)
     assert resolve_world("nav2_depot/lse_arena.yaml", 0).grid.shape == (60, 80)
     assert resolve_world("nav2_depot", 0, base_dir=MAPS_DIR / "dungeon").grid.shape == (307, 604)  # no such path

@@ -165,7 +165,10 @@ def explore_bench_maps(text: str) -> list[Path]:
     maps = []
     for entry in parse_world_list(text):
         if Path(entry).suffix.lower() not in (".yaml", ".yml"):
-            raise ConfigError(f"--maps {short_repr(entry)} is not a ROS map (YAML): Explore-Bench's blueprints are")
+            raise ConfigError(
+                f"--maps {short_repr(entry)} is not a ROS map (YAML): Explore-Bench's blueprints need the "
+                "unknown pixels that only a ROS map keeps"
+            )
         maps.append(Path(entry))
     return maps
 
