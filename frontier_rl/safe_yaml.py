@@ -9,6 +9,8 @@ Every YAML file the tool reads (a ROS map YAML, a ``--config`` file, a training 
   1 KB "billion laughs" document grows without bound, and no file the tool writes uses one;
 * refuses documents with more than :data:`MAX_YAML_NODES` nodes or nested deeper than
   :data:`MAX_YAML_DEPTH`;
+* refuses a mapping that gives a key twice (YAML forbids it; PyYAML would keep the last value
+  without a word, so a setting written twice, one of them a slip, would pass unnoticed);
 * resolves plain scalars as YAML 1.2 (the ``yaml-cpp`` of ROS's ``map_server``) does for numbers:
   ``6e2``, ``-1E3``, ``1e-3``, ``.5`` and ``1.`` are floats, ``010`` is the integer 10, ``0o17``
   and ``0x1F`` are octal and hex; ``_`` may separate digits (``100_000``). Dates stay strings
@@ -21,13 +23,14 @@ from __future__ import annotations
 
 import codecs
 import re
+from collections.abc import Hashable
 from pathlib import Path
 from typing import Any
 
 import yaml
 from yaml.constructor import ConstructorError
 from yaml.events import AliasEvent
-from yaml.nodes import Node, ScalarNode
+from yaml.nodes import MappingNode, Node, ScalarNode
 
 from frontier_rl.bounded_read import UnreadableFileError, read_bounded
 from frontier_rl.errors import FrontierRLError, short_text
@@ -86,6 +89,21 @@ class _BoundedLoader(yaml.SafeLoader):
             return super().compose_node(parent, index)
         finally:
             self._depth -= 1
+
+    def construct_mapping(self, node: MappingNode, deep: bool = False) -> dict[Any, Any]:
+        """A mapping, each key given once."""
+        seen: set[Any] = set()
+        for key_node, _ in node.value:
+            key = self.construct_object(key_node, deep=True)
+            if not isinstance(key, Hashable):
+                continue  # refused by SafeLoader below, as an unhashable key
+            if key in seen:
+                raise YamlRefusedError(
+                    problem=f"the key {short_text(str(key), 60)!r} is given twice in one mapping",
+                    problem_mark=key_node.start_mark,
+                )
+            seen.add(key)
+        return super().construct_mapping(node, deep)
 
     def construct_yaml_int(self, node: ScalarNode) -> int:
         """A YAML 1.2 integer: decimal (leading zeros allowed), ``0o`` octal or ``0x`` hex."""

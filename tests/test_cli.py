@@ -300,3 +300,14 @@ def test_the_terminal_summary_gives_the_time_against_the_baseline_and_holms_p_of
     assert rows["tour"][:4] == ["301.2", "-24.7", "%", "0.0042"]  # 24.7 % less time than the baseline
     assert rows["oracle"][:3] == ["250.0", "-37.5", "%"] and "0.0001" not in rows["oracle"]  # the reference: no p
     assert rows["fixed:0.75"][:2] == ["400.0", "baseline"]
+
+
+def test_the_program_says_its_version_and_takes_h_for_help() -> None:
+    from frontier_rl import __version__
+
+    runner = CliRunner()
+    version = runner.invoke(app, ["--version"])
+    assert version.exit_code == 0 and version.output == f"frontier-rl {__version__}\n"
+    for args in (["-h"], ["explore", "-h"], ["benchmark", "ariadne", "-h"]):
+        shown = runner.invoke(app, args)
+        assert shown.exit_code == 0 and shown.output.startswith("Usage: "), (args, shown.output)

@@ -34,6 +34,9 @@ def _run(*args: str) -> dict[str, object]:
     ("args", "code"),
     [
         (["--help"], 0),
+        (["-h"], 0),
+        (["--version"], 0),
+        (["ros2", "explore", "-h"], 0),
         (["explore", "--help"], 0),
         (["evaluate", "--help"], 0),
         (["train", "--help"], 0),

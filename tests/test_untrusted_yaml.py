@@ -256,6 +256,17 @@ def test_even_a_harmless_anchor_or_alias_is_refused(tmp_path: Path, reader: str,
 
 
 @pytest.mark.parametrize("reader", list(READERS))
+def test_a_key_given_twice_is_refused_naming_it_and_its_line(tmp_path: Path, reader: str) -> None:
+    first = VALID_TEXT[reader].splitlines()[0]
+    message = _refusal(tmp_path, reader, (VALID_TEXT[reader] + first + "\n").encode())
+    key = first.split(":")[0]
+    assert f"the key {key!r} is given twice in one mapping" in message
+    assert f"line {len(VALID_TEXT[reader].splitlines()) + 1}" in message
+    nested = _refusal(tmp_path, reader, (VALID_TEXT[reader] + "extra:\n  a: 1\n  a: 2\n").encode())
+    assert "the key 'a' is given twice" in nested
+
+
+@pytest.mark.parametrize("reader", list(READERS))
 @pytest.mark.parametrize(
     ("data", "needle"),
     [

@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+from typing import Annotated
+
 import typer
 
 from frontier_rl.cli.experiments import demo, evaluate
@@ -35,9 +37,22 @@ app = typer.Typer(
     help="Frontier exploration for search and rescue.",
     cls=FrontierRLGroup,
     rich_markup_mode=None,
+    context_settings={"help_option_names": ["-h", "--help"]},  # the commands' contexts inherit it
 )
 
 
+def _print_version(asked: bool) -> None:
+    if asked:
+        from frontier_rl import __version__
+
+        print(f"frontier-rl {__version__}")
+        raise typer.Exit
+
+
 @app.callback()
-def _program() -> None:
-    """The program's own options (only ``--help``); Typer runs this before the command."""
+def _program(
+    version: Annotated[
+        bool, typer.Option("--version", help="Print the version and exit.", is_eager=True, callback=_print_version)
+    ] = False,
+) -> None:
+    """The program's own options (``--help``, ``--version``); Typer runs this before the command."""

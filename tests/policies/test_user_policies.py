@@ -179,6 +179,7 @@ BAD_MODULES = {
     "bad_name.py": "class BadName:\n    name = 3\n    def rank(self, context, rng):\n        return None\n",
     "constant.py": "GREEDY = 3\n",
     "imports_missing.py": "import no_such_dependency_xyz\n",
+    "run.png": "not python",
 }
 
 
@@ -196,6 +197,7 @@ BAD_MODULES = {
         ("greedy.py", ConfigError, "names a file: write FILE.py:CLASS"),
         ("greedy.py:1x", ConfigError, "needs a class name after its last colon"),
         ("no_such_module_xyz:Greedy", UnknownNameError, "no module named 'no_such_module_xyz' on the Python path"),
+        ("run.png:Greedy", ConfigError, "'run.png' is a file but not Python: a policy file's name ends in .py"),
         ("imports_missing.py:X", ConfigError, "ModuleNotFoundError: No module named 'no_such_dependency_xyz'"),
         ("no-such-policy", UnknownNameError, "unknown policy 'no-such-policy'; choose one of nearest"),
     ],
