@@ -21,6 +21,7 @@ numbers as ``yaml-cpp`` reads them: ``6e2`` is 600.0); the image by :func:`~fron
 
 from __future__ import annotations
 
+import difflib
 import io
 import json
 import math
@@ -64,6 +65,11 @@ Nav2's default of 0.25 that its ``map_saver`` writes into the YAML: so read (as 
 reads it), a SLAM map's whole unknown surround is floor, the building a room in a plain, and the
 robot starts and explores outside it. Nav2's depot sample reads 5 % of its free cells so (grey spots
 among the shelves), and keeps them free."""
+MAP_YAML_FIELDS = ("image", "resolution", "origin", "negate", "occupied_thresh", "free_thresh", "mode")
+"""The fields ``map_server`` reads from a map YAML; it ignores any other, and so does this reader,
+with a :class:`~frontier_rl.errors.MapWarning` (``mod: raw`` would otherwise read as trinary
+without a word)."""
+
 _IMAGE_FORMATS = {"pgm": "PPM", "png": "PNG"}
 _MAX_PIXEL = 255.0
 _SCALE_SPAN = 98  # scale mode maps the in-between ratio onto 1 .. 1 + 98
@@ -242,12 +248,32 @@ def load_ros_map(yaml_path: str | Path) -> OccupancyGrid:
     if yaw != 0.0:
         raise MapError(f"{path}: rotated maps are not supported, origin yaw is {short_repr(yaw)} rad")
     params = _params(doc, path)
+    _warn_of_unknown_fields(doc, path)
     if not image_path.is_file():
         raise MapError(f"{path}: image file not found: {image_path}")
     image = read_image(image_path)
     cells = pixels_to_cells(image.shade, image.transparent, params)
     _grey_as_unknown(path, params, image.shade, cells)
     return _grid_of(cells, resolution, (x, y))
+
+
+def _warn_of_unknown_fields(doc: dict[str, Any], path: Path) -> None:
+    """A :class:`~frontier_rl.errors.MapWarning` naming the fields of ``doc`` that ``map_server``
+    does not read (at most five, each with the field it may be a slip for)."""
+    unknown = [str(key) for key in doc if key not in MAP_YAML_FIELDS]
+    if not unknown:
+        return
+    named = []
+    for key in unknown[:5]:
+        close = difflib.get_close_matches(key, MAP_YAML_FIELDS, n=1)
+        named.append(short_repr(key) + (f" (did you mean {close[0]}?)" if close else ""))
+    more = f" and {len(unknown) - 5} more" if len(unknown) > 5 else ""
+    warnings.warn(
+        f"{path}: field{'s' if len(unknown) > 1 else ''} {', '.join(named)}{more} ignored: map_server reads "
+        f"only {', '.join(MAP_YAML_FIELDS)}",
+        MapWarning,
+        stacklevel=3,
+    )
 
 
 def _grey_as_unknown(path: Path, params: MapImageParams, shade: NDArray[np.float64], cells: NDArray[np.int8]) -> None:

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import dataclasses
+import re
 import shutil
 from pathlib import Path
 
@@ -99,7 +100,8 @@ def test_saved_map_loads_back(tmp_path: Path) -> None:
 def test_missing_file_and_folder(tmp_path: Path) -> None:
     with pytest.raises(MapError, match=r"not found.*gone\.yaml"):
         load_map(tmp_path / "gone.yaml")
-    with pytest.raises(MapError, match="not found"):
+    folder = re.escape(str(tmp_path))
+    with pytest.raises(MapError, match=f"^{folder} is a folder, not a map file: name one of the maps in it$"):
         load_map(tmp_path)
 
 

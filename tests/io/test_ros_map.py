@@ -336,3 +336,18 @@ def test_palette_image_with_a_transparent_entry(tmp_path: Path) -> None:
 def test_save_handles_awkward_names(tmp_path: Path, name: str) -> None:
     grid = OccupancyGrid(np.array([[0, 100, -1]], dtype=np.int8), 0.05)
     np.testing.assert_array_equal(load_ros_map(save_ros_map(grid, tmp_path / name)).data, grid.data)
+
+
+def test_fields_map_server_does_not_read_are_named_in_a_warning_with_what_they_may_mean(tmp_path: Path) -> None:
+    yaml_path = write_map(tmp_path, slam_map_pixels(), fields={"mod": "raw", "comment": "office"})
+    with pytest.warns(MapWarning) as caught:
+        grid = load_ros_map(yaml_path)
+    assert grid.count(FREE) == 324  # read as without them: mode trinary
+    (warning,) = caught
+    assert str(warning.message) == (
+        f"{yaml_path}: fields 'mod' (did you mean mode?), 'comment' ignored: map_server reads only image, "
+        "resolution, origin, negate, occupied_thresh, free_thresh, mode"
+    )
+    many = {f"extra_{i}": i for i in range(7)}
+    with pytest.warns(MapWarning, match=r"'extra_4' and 2 more ignored"):
+        load_ros_map(write_map(tmp_path, slam_map_pixels(), fields=many))
