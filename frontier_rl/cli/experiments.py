@@ -15,6 +15,7 @@ from frontier_rl.cli.options import (
     ResolutionOption,
     SimConfigOption,
     TrustModelOption,
+    WorkersOption,
     checked_comm_range,
     checked_count,
     checked_run_arguments,
@@ -35,7 +36,6 @@ if TYPE_CHECKING:
     from frontier_rl.evaluation.results.summary import ExperimentSummary
 
 _INTERRUPTED = "interrupted: finished episodes are saved in {out}/; rerun the same command to resume"
-WorkersOption = Annotated[int | None, typer.Option(help="Episodes run at once (default: every core).")]
 MaxTimeOption = Annotated[float | None, typer.Option(help="Sim-time cap of every episode (s).")]
 ProgressOption = Annotated[bool, typer.Option(help="Show a progress bar.")]
 RobotsOption = Annotated[

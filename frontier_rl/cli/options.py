@@ -42,6 +42,7 @@ TrustModelOption = Annotated[
     bool, typer.Option(help="Allow learned:PATH to be an SB3 zip from elsewhere (unpickles it: runs its code).")
 ]
 SimConfigOption = Annotated[Path | None, typer.Option(help="SimConfig YAML (any subset of its fields).")]
+WorkersOption = Annotated[int | None, typer.Option(help="Processes running episodes at once (default: every core).")]
 
 
 def fail(message: str) -> NoReturn:

@@ -12,6 +12,7 @@ from typing import TYPE_CHECKING, Annotated, Any
 import typer
 
 from frontier_rl.atomic_write import write_text_atomic
+from frontier_rl.cli.options import WorkersOption
 from frontier_rl.cli.output import OneLineGroup, friendly_errors, int_list, policy_list, stdout_console
 from frontier_rl.errors import ConfigError, short_repr
 from frontier_rl.swarm.config import MAX_ROBOTS
@@ -36,7 +37,7 @@ def ariadne(
         str, typer.Option(help="A folder of DungeonMaps test PNGs, or a catalogue collection (dungeon/easy, ...).")
     ] = DEFAULT_DUNGEON_TESTS,
     limit: Annotated[int, typer.Option(help="Run only the first N maps in ARiADNE's order (0: all).")] = 0,
-    workers: Annotated[int, typer.Option(help="Processes (0: every core).")] = 0,
+    workers: WorkersOption = None,
     json_out: Annotated[Path | None, typer.Option("--json", help="Also write every run and the summary here.")] = None,
 ) -> None:
     """ARiADNE's test protocol, beside our time to explore.
@@ -46,10 +47,10 @@ def ariadne(
 
     names = policy_list(methods)
     _check_json(json_out)
-    if limit < 0 or workers < 0:
-        raise ConfigError(f"--limit and --workers must be >= 0, got {limit} and {workers}")
+    if limit < 0:
+        raise ConfigError(f"--limit must be >= 0, got {limit}")
     files = ariadne_maps(_folder(maps), limit or None)
-    runs, failures = run_protocol(names, files, workers or None)
+    runs, failures = run_protocol(names, files, workers)
     _some_finished(runs, failures)
     rows = summary_rows(runs, names)
     console = stdout_console()
@@ -75,7 +76,7 @@ def explore_bench(
     ] = DEFAULT_BLUEPRINTS,
     robots: Annotated[str, typer.Option(help="Team sizes, e.g. 1,2 (Explore-Bench runs one and two).")] = "1,2",
     seeds: Annotated[int, typer.Option(help="Starts per map and team size: seeds 0..N-1.")] = 5,
-    workers: Annotated[int, typer.Option(help="Processes (0: every core).")] = 0,
+    workers: WorkersOption = None,
     json_out: Annotated[Path | None, typer.Option("--json", help="Also write every run and the summary here.")] = None,
 ) -> None:
     """Explore-Bench's metrics on ROS maps, beside our time.
@@ -89,12 +90,12 @@ def explore_bench(
     sizes = list(dict.fromkeys(int_list("--robots", robots)))  # a size given twice runs once
     if not all(1 <= n <= MAX_ROBOTS for n in sizes):
         raise ConfigError(f"--robots takes team sizes 1 to {MAX_ROBOTS}, got {short_repr(robots)}")
-    if not 1 <= seeds <= 10_000 or workers < 0:
-        raise ConfigError(f"--seeds must be in 1..10000 and --workers >= 0, got {seeds} and {workers}")
+    if not 1 <= seeds <= 10_000:
+        raise ConfigError(f"--seeds must be in 1..10000, got {seeds}")
     from frontier_rl.world_spec import world_entries
 
     blueprints = [m for entry in world_entries(maps) for m in bench.explore_bench_maps(_located(entry))]
-    runs, failures = bench.run_explore_bench_all(names, blueprints, seeds, sizes, workers or None)
+    runs, failures = bench.run_explore_bench_all(names, blueprints, seeds, sizes, workers)
     _some_finished(runs, failures)
     rows = bench.explore_bench_rows(runs)
     stdout_console().print(_explore_bench_table(rows, seeds))

@@ -113,6 +113,7 @@ def test_cli_prints_both_metrics_and_writes_json(tmp_path: Path) -> None:
         (["--limit", "-1"], ">= 0"),
         (["--maps", "/nonexistent/folder"], "no such file or folder"),
         (["--workers", "1000"], "--workers must be at most 256"),
+        (["--workers", "0"], "--workers must be a positive integer, got 0"),  # as evaluate's
     ],
 )
 def test_cli_bad_input_is_one_line(tmp_path: Path, args: list[str], message: str) -> None:

@@ -139,7 +139,7 @@ def run_jobs(
     once first, so that an unknown one or a bad model file fails before any work."""
     for method in dict.fromkeys(job[0] for job in jobs):
         make_policy(method)
-    check_workers(workers or 1)
+    check_workers(workers)
     workers = max(1, min(workers or default_workers(), len(jobs)))
     catching = _Catching(run)
     if workers == 1:

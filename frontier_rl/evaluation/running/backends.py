@@ -39,8 +39,13 @@ def default_workers() -> int:
     return min(cores, MAX_WORKERS)
 
 
-def check_workers(workers: int) -> None:
-    """A clear error for more than :data:`MAX_WORKERS` parallel episodes."""
+def check_workers(workers: int | None) -> None:
+    """A clear error for a worker count that is not a positive integer or is more than
+    :data:`MAX_WORKERS` (None: every core, :func:`default_workers`)."""
+    if workers is None:
+        return
+    if isinstance(workers, bool) or not isinstance(workers, int) or workers < 1:
+        raise ConfigError(f"--workers must be a positive integer, got {workers!r}")
     if workers > MAX_WORKERS:
         raise ConfigError(f"--workers must be at most {MAX_WORKERS} (a process each), got {workers!r}")
 
@@ -49,8 +54,6 @@ def check_backend(backend: str, workers: int, ray_address: str | None) -> None:
     """A clear error for an unknown backend, a bad worker count or Ray options without Ray."""
     if backend not in BACKENDS:
         raise ConfigError(f"unknown backend {backend!r}; choose one of {', '.join(BACKENDS)}")
-    if isinstance(workers, bool) or not isinstance(workers, int) or workers < 1:
-        raise ConfigError(f"--workers must be a positive integer, got {workers!r}")
     check_workers(workers)
     if ray_address is not None and backend != "ray":
         raise ConfigError(f"--ray-address {ray_address!r} needs --backend ray")
