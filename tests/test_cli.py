@@ -274,6 +274,21 @@ def test_bad_team_input_is_one_line_and_exit_2(args: list[str], needle: str) -> 
     assert len(lines) == 1 and needle in lines[0], result.output
 
 
+def test_team_options_given_to_one_robot_are_named_in_a_warning() -> None:
+    base = ["explore", "--world", "lse_arena", "--max-time", "3", "--json"]
+    for extra, line in (
+        (["--comm-range", "3"], "warning: --comm-range acts between robots: with one robot it changes nothing"),
+        (["--strategy", "coordinated", "--comm-range", "3"], "warning: --strategy and --comm-range act between"),
+    ):
+        result = runner.invoke(app, [*base, *extra])
+        assert result.exit_code == 0, result.output
+        (warning,) = result.stderr.splitlines()
+        assert warning.startswith(line) and warning.endswith("(--robots N)")
+        assert json.loads(result.stdout)["world"] == "lse_arena"
+    quiet = runner.invoke(app, [*base, "--robots", "2", "--comm-range", "3"])
+    assert quiet.exit_code == 0 and quiet.stderr == ""
+
+
 def test_the_terminal_summary_gives_the_time_against_the_baseline_and_holms_p_of_the_methods_tested(
     capsys: pytest.CaptureFixture[str], monkeypatch: pytest.MonkeyPatch
 ) -> None:

@@ -19,7 +19,7 @@ from frontier_rl.cli.options import (
     checked_comm_range,
     sim_config,
 )
-from frontier_rl.cli.output import friendly_errors, stdout_console
+from frontier_rl.cli.output import friendly_errors, print_warning, stdout_console
 from frontier_rl.core.frontiers.thesis import THESIS_BASELINE
 from frontier_rl.core.world.robot import parse_pose
 from frontier_rl.core.world.scale import checked_resolution
@@ -183,4 +183,9 @@ def _team_config(robots: int, strategy: str, comm_range: float | None, fail: lis
     """The team of ``explore``'s options; None for a single robot with no team option."""
     failures = tuple(Failure.parse(text) for text in fail)
     team = TeamConfig(robots, parse_strategy(strategy), checked_comm_range(comm_range), failures)
+    between = [name for name, given in (("--strategy", team.strategy != TeamConfig().strategy),
+                                        ("--comm-range", comm_range is not None)) if given]  # fmt: skip
+    if robots == 1 and between:
+        verb, subject = ("acts", "it changes") if len(between) == 1 else ("act", "they change")
+        print_warning(f"{' and '.join(between)} {verb} between robots: with one robot {subject} nothing (--robots N)")
     return None if team == TeamConfig() else team
