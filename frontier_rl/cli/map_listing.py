@@ -115,10 +115,11 @@ RESOLUTION = _Column("res (m)", _resolution, right=True)
 LICENCE = _Column("licence", lambda e: e.licence)
 INSTALLED = _Column("installed", _installed)
 SOURCE = _Column("source", _repository)
-LEFT_OUT_FIRST = (SOURCE, MAPS, FAMILY, METRES, LICENCE, RESOLUTION)
+LEFT_OUT_FIRST = (SOURCE, CELLS, MAPS, FAMILY, METRES, LICENCE, RESOLUTION)
 """The columns a narrow terminal loses, in this order, until the table fits: at 80 columns only the
-source and the count of a collection's maps (``maps NAME`` and ``--json`` give every field); the
-name folds only on a terminal narrower still."""
+source and the size in cells (the size in metres over the resolution; ``maps NAME`` and ``--json``
+give every field), so that a collection still shows how many maps it holds; the name folds only on
+a terminal narrower still."""
 
 
 def _table(columns: Sequence[_Column], entries: Sequence[CatalogueEntry], title: str | None) -> Table:
