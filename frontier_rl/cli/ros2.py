@@ -13,13 +13,11 @@ import typer
 from frontier_rl.cli.options import MAX_SEED, WORLD_HELP, fail
 from frontier_rl.cli.output import OneLineGroup, friendly_errors, print_note, stdout_console
 from frontier_rl.seeds import checked_seed
+from frontier_rl.swarm.config import MAX_ROBOTS  # ros2 sim runs as many robots as a team of explore
 
 if TYPE_CHECKING:
     from frontier_rl.robot.explorer_params import ExplorerParams
     from frontier_rl.robot.pose_source import PoseSource
-
-MAX_ROBOTS = 8
-"""The most robots ``ros2 sim`` runs in one world (as a team of ``frontier-rl explore``)."""
 
 ros2_app = typer.Typer(
     no_args_is_help=True,

@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+from collections.abc import Iterator
+from contextlib import contextmanager
 from pathlib import Path
 from typing import Annotated
 
@@ -20,6 +22,18 @@ PrivilegedCriticOption = Annotated[
 PrivilegedMapOption = Annotated[
     bool, typer.Option(help="With --privileged-critic: it also sees the true map's unseen space as an image.")
 ]
+
+
+@contextmanager
+def _needs_rl_extra() -> Iterator[None]:
+    """A one-line error naming the package of the ``rl`` extra that an import in it misses."""
+    try:
+        yield
+    except ImportError as error:
+        package = (error.name or "").split(".")[0]
+        if package not in TRAINING_PACKAGES:
+            raise
+        raise ConfigError(f"training needs {package}, which is not installed: pip install 'frontier_rl[rl]'") from None
 
 
 @friendly_errors
@@ -51,15 +65,10 @@ def train(
 
     With Stable-Baselines3 (A2C as in the thesis, or PPO)."""
     resolution = checked_run_arguments(seed, out, resolution)
-    try:  # the training stack is the rl extra
+    with _needs_rl_extra():
         from frontier_rl.api import train as run_training
         from frontier_rl.rl.config import TrainConfig
         from frontier_rl.rl.train import interruption_note
-    except ImportError as error:
-        package = (error.name or "").split(".")[0]
-        if package not in TRAINING_PACKAGES:
-            raise
-        raise ConfigError(f"training needs {package}, which is not installed: pip install 'frontier_rl[rl]'") from None
 
     settings = TrainConfig(
         model=model,

@@ -17,7 +17,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from frontier_rl.core.frontiers.detection import Frontiers
-from frontier_rl.core.world.grid import CellState, OccupancyGrid
+from frontier_rl.core.world.grid import FREE_I8, OCCUPIED_I8, UNKNOWN_I8, CellState, OccupancyGrid
 from frontier_rl.core.world.robot import Pose
 from frontier_rl.errors import ConfigError
 
@@ -34,13 +34,6 @@ MARK = 255
 
 POSE_RADIUS_M = 0.2
 """Radius (m) of the disc that marks the robot in the pose channel (visible after downsampling)."""
-
-_BLOCK_OCCUPIED, _BLOCK_FREE, _BLOCK_UNKNOWN = (
-    np.int8(CellState.OCCUPIED),
-    np.int8(CellState.FREE),
-    np.int8(CellState.UNKNOWN),
-)
-"""The cell states as :func:`downsample`'s kernel compares them."""
 
 FRONTIER_FEATURES = ("distance", "path_cost", "size", "information_gain", "dx", "dy")
 """Per-frontier features of the frontier-choice observation, in column order."""
@@ -231,7 +224,7 @@ def _downsample(data: NDArray[np.int8], factor: int) -> NDArray[np.int8]:
             for r in range(br * factor, br * factor + factor):
                 for c in range(bc * factor, bc * factor + factor):
                     value = data[r, c]
-                    occupied |= value == _BLOCK_OCCUPIED
-                    free += value == _BLOCK_FREE
-            out[br, bc] = _BLOCK_OCCUPIED if occupied else _BLOCK_FREE if 2 * free >= half else _BLOCK_UNKNOWN
+                    occupied |= value == OCCUPIED_I8
+                    free += value == FREE_I8
+            out[br, bc] = OCCUPIED_I8 if occupied else FREE_I8 if 2 * free >= half else UNKNOWN_I8
     return out

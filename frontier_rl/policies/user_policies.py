@@ -31,6 +31,7 @@ from typing import cast
 
 from frontier_rl.core.sim.episode import ExplorationPolicy
 from frontier_rl.errors import ConfigError, FrontierRLError, UnknownNameError, short_path, short_repr, short_text
+from frontier_rl.file_digest import file_sha256
 from frontier_rl.policies.spec import ENTRY_POINT_GROUP, SIMPLE_POLICIES, PolicyKind, PolicySpec, unknown_policy
 
 _FILE_MODULE_PREFIX = "frontier_rl_user_policy_"
@@ -151,10 +152,10 @@ def user_policy_fingerprint(spec: PolicySpec) -> str:
     file alone, not the modules it imports, and an entry point's version stays the same while the
     code of an editable install changes. Use a new results folder after changing such code."""
     if spec.kind is PolicyKind.FILE:
-        return f"sha256:{_sha256(_policy_file(spec))}"
+        return f"sha256:{file_sha256(_policy_file(spec))}"
     if spec.kind is PolicyKind.MODULE:
         origin = getattr(_import_module(spec), "__file__", None)
-        return f"sha256:{_sha256(Path(origin))}" if origin and Path(origin).is_file() else ""
+        return f"sha256:{file_sha256(Path(origin))}" if origin and Path(origin).is_file() else ""
     if spec.kind is PolicyKind.ENTRY_POINT:
         dist = _entry_point(spec).dist
         return f"dist:{dist.name}=={dist.version}" if dist is not None else ""
@@ -253,12 +254,6 @@ def _policy_classes(module: ModuleType) -> list[str]:
         for name, value in vars(module).items()
         if inspect.isclass(value) and value.__module__ == module.__name__ and hasattr(value, "rank")
     ]
-
-
-def _sha256(path: Path) -> str:
-    """The first 16 hex digits of the SHA-256 of a (source) file's content."""
-    with path.open("rb") as handle:
-        return hashlib.file_digest(handle, "sha256").hexdigest()[:16]
 
 
 def _syntax_line(exc: SyntaxError) -> str:

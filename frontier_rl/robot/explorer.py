@@ -28,7 +28,7 @@ from frontier_rl.core.sim.episode import DecisionContext, EpisodeAwarePolicy, Ex
 from frontier_rl.core.sim.episode_log import completion_reason
 from frontier_rl.core.sim.frontiers_left import frontiers_left
 from frontier_rl.core.sim.metrics import EndReason, FrontierLeft
-from frontier_rl.core.world.grid import CellState, OccupancyGrid
+from frontier_rl.core.world.grid import FREE_I8, CellState, OccupancyGrid
 from frontier_rl.core.world.robot import Pose
 from frontier_rl.errors import ConfigError, short_repr
 from frontier_rl.robot.explorer_params import ExplorerParams
@@ -263,7 +263,7 @@ class FrontierExplorer:
         """The end: what is left of ``grid`` beside ``cand``'s frontiers, every unknown cell taken
         as possibly free (a robot has no true map to ask)."""
         maybe_free = OccupancyGrid(
-            np.where(grid.data == CellState.UNKNOWN, np.int8(CellState.FREE), grid.data), grid.resolution, grid.origin
+            np.where(grid.data == CellState.UNKNOWN, FREE_I8, grid.data), grid.resolution, grid.origin
         )
         felt = np.zeros(grid.shape, np.bool_)
         left = frontiers_left(cand, maybe_free, pose, self.config, self._blacklist_for(grid), grid.data, felt)

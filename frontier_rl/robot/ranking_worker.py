@@ -21,7 +21,7 @@ from typing import Any
 import numpy as np
 
 from frontier_rl.core.navigation.inflation import InflationMemory
-from frontier_rl.core.world.grid import OccupancyGrid
+from frontier_rl.core.world.grid import FREE_I8, OCCUPIED_I8, UNKNOWN_I8, OccupancyGrid
 from frontier_rl.core.world.robot import Pose
 from frontier_rl.errors import FrontierRLError
 from frontier_rl.policies import make_policy
@@ -142,10 +142,10 @@ def _warm_up(policy: Any, top_k: int, min_cells: int) -> None:
     """Rank a small room, then the same room with a wall more, so that the first real requests do
     not pay for loading the kernels (the second map's inflation is worked out where it changed)."""
     memory = InflationMemory()
-    cells = np.full((120, 120), -1, np.int8)  # large enough that a wall is inflated on a window of it
-    cells[5:115, 5:60] = 0
+    cells = np.full((120, 120), UNKNOWN_I8)  # large enough that a wall is inflated on a window of it
+    cells[5:115, 5:60] = FREE_I8
     for wall in (False, True):
-        cells[60, 5:10] = 100 if wall else 0
+        cells[60, 5:10] = OCCUPIED_I8 if wall else FREE_I8
         ranked = grid_from_message(120, 120, 0.05, cells.reshape(-1))
         rank_frontiers(ranked, Pose(0.6, 1.0, 0.0), policy, top_k, min_cells, memory=memory)
 

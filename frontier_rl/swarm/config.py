@@ -11,6 +11,7 @@ from frontier_rl.errors import ConfigError
 from frontier_rl.policies.spec import PolicySpec
 
 MAX_ROBOTS = 8
+"""The largest team (robots), in a simulated episode and in ``ros2 sim``."""
 
 
 class Strategy(StrEnum):

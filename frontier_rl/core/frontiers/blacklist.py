@@ -41,9 +41,8 @@ import numpy as np
 from numpy.typing import NDArray
 from scipy.spatial import cKDTree
 
-from frontier_rl.core.world.grid import CellState
+from frontier_rl.core.world.grid import UNKNOWN_I8
 
-_UNKNOWN = np.int8(CellState.UNKNOWN)
 AUDIT_BUDGET = 2
 """A goal is given up for good after this many times ``max_failures`` failed legs."""
 
@@ -134,7 +133,7 @@ class Blacklist:
         row = int(math.floor((y - self._origin[1]) / self._resolution))
         h = self._half
         window = state[max(row - h, 0) : row + h + 1, max(col - h, 0) : col + h + 1]
-        return int(window.size - np.count_nonzero(window == _UNKNOWN))
+        return int(window.size - np.count_nonzero(window == UNKNOWN_I8))
 
     def _touch_reach(self) -> float:
         """How near (m) a frontier's cell must lie to an entry's to be the same frontier: a cell and a half."""

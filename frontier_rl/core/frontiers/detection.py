@@ -18,13 +18,11 @@ from numpy.typing import NDArray
 
 from frontier_rl.core.frontiers.fringe import cluster_fringe
 from frontier_rl.core.frontiers.segments import disc_offsets, split_segments, summarise_segments
-from frontier_rl.core.world.grid import CellState, OccupancyGrid
+from frontier_rl.core.world.grid import OCCUPIED_I8, UNKNOWN_I8, OccupancyGrid
 from frontier_rl.core.world.raycast import FASTMATH, dda_step, ray_start
 from frontier_rl.core.world.robot import Pose
 from frontier_rl.errors import ConfigError
 
-_UNKNOWN = np.int8(CellState.UNKNOWN)
-_OCCUPIED = np.int8(CellState.OCCUPIED)
 _SLACK = 1e-6
 """Radians more either side of a cell's angle that :func:`_mark_rays` casts, for rounding: a ray
 along the square's edge (the thesis's LiDAR has a ray a degree)."""
@@ -142,11 +140,11 @@ def _visible_unknown(
             t = 0.0
             while t <= limit and 0 <= row < rows and 0 <= col < cols:
                 value = state[row, col]
-                if value == _OCCUPIED:
+                if value == OCCUPIED_I8:
                     break
                 wr, wc = row - top, col - left
                 assert 0 <= wr < height and 0 <= wc < width  # the window spans the range
-                if value == _UNKNOWN and stamp[wr, wc] != k + 1:
+                if value == UNKNOWN_I8 and stamp[wr, wc] != k + 1:
                     stamp[wr, wc] = k + 1
                     total += 1
                 row, col, tm_r, tm_c, t = dda_step(row, col, s_r, s_c, tm_r, tm_c, td_r, td_c)

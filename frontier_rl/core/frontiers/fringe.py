@@ -7,10 +7,8 @@ import numba as nb
 import numpy as np
 from numpy.typing import NDArray
 
-from frontier_rl.core.world.grid import CellState
+from frontier_rl.core.world.grid import FREE_I8, UNKNOWN_I8
 
-_UNKNOWN = np.int8(CellState.UNKNOWN)
-_FREE = np.int8(CellState.FREE)
 NEIGHBOURS_8 = np.array([(-1, -1), (-1, 0), (-1, 1), (0, -1), (0, 1), (1, -1), (1, 0), (1, 1)], np.int64)
 """The offsets (rows, columns) of a cell's 8-neighbours."""
 
@@ -28,13 +26,13 @@ def labels_beside(labels: NDArray[np.int32], rows: NDArray[np.int64], cols: NDAr
 @nb.njit(cache=True, inline="always")
 def _is_fringe(state: NDArray[np.int8], row: int, col: int) -> bool:
     rows, cols = state.shape
-    if state[row, col] != _FREE:
+    if state[row, col] != FREE_I8:
         return False
     return bool(
-        (row > 0 and state[row - 1, col] == _UNKNOWN)
-        or (row + 1 < rows and state[row + 1, col] == _UNKNOWN)
-        or (col > 0 and state[row, col - 1] == _UNKNOWN)
-        or (col + 1 < cols and state[row, col + 1] == _UNKNOWN)
+        (row > 0 and state[row - 1, col] == UNKNOWN_I8)
+        or (row + 1 < rows and state[row + 1, col] == UNKNOWN_I8)
+        or (col > 0 and state[row, col - 1] == UNKNOWN_I8)
+        or (col + 1 < cols and state[row, col + 1] == UNKNOWN_I8)
     )
 
 
@@ -42,16 +40,16 @@ def _is_fringe(state: NDArray[np.int8], row: int, col: int) -> bool:
 def fringe_mask(state: NDArray[np.int8]) -> NDArray[np.bool_]:
     """FREE cells with an UNKNOWN 4-neighbour (cells beyond the grid's edge are not unknown)."""
     rows, cols = state.shape
-    padded = np.full((rows + 2, cols + 2), _FREE, np.int8)
+    padded = np.full((rows + 2, cols + 2), FREE_I8, np.int8)
     padded[1:-1, 1:-1] = state
     out = np.zeros((rows, cols), np.bool_)
     for r in range(rows):
         for c in range(cols):
-            out[r, c] = padded[r + 1, c + 1] == _FREE and (
-                (padded[r, c + 1] == _UNKNOWN)
-                | (padded[r + 2, c + 1] == _UNKNOWN)
-                | (padded[r + 1, c] == _UNKNOWN)
-                | (padded[r + 1, c + 2] == _UNKNOWN)
+            out[r, c] = padded[r + 1, c + 1] == FREE_I8 and (
+                (padded[r, c + 1] == UNKNOWN_I8)
+                | (padded[r + 2, c + 1] == UNKNOWN_I8)
+                | (padded[r + 1, c] == UNKNOWN_I8)
+                | (padded[r + 1, c + 2] == UNKNOWN_I8)
             )
     return out
 
@@ -153,8 +151,8 @@ def unknown_beside(
     for i in range(rows_idx.shape[0]):
         for k in range(8):
             r, c = rows_idx[i] + NEIGHBOURS_8[k, 0], cols_idx[i] + NEIGHBOURS_8[k, 1]
-            if 0 <= r < rows and 0 <= c < cols and state[r, c] == _UNKNOWN and r * cols + c not in counted:
+            if 0 <= r < rows and 0 <= c < cols and state[r, c] == UNKNOWN_I8 and r * cols + c not in counted:
                 counted.add(r * cols + c)
-                if truth[r, c] == _FREE:
+                if truth[r, c] == FREE_I8:
                     free.append(r * cols + c)
     return len(counted), np.array(free, dtype=np.int64)

@@ -10,10 +10,9 @@ import numba as nb
 import numpy as np
 from numpy.typing import NDArray
 
-from frontier_rl.core.world.grid import CellState
+from frontier_rl.core.world.grid import FREE_I8
 from frontier_rl.core.world.raycast import FASTMATH, dda_step, ray_start
 
-_FREE = np.int8(CellState.FREE)
 _MAX_SIGHT_TRIES = 64
 
 
@@ -97,7 +96,7 @@ def _line_of_sight(state: NDArray[np.int8], r0: int, c0: int, r1: int, c1: int) 
         t = i / steps
         r = int(math.floor(r0 + 0.5 + (r1 - r0) * t))
         c = int(math.floor(c0 + 0.5 + (c1 - c0) * t))
-        if state[r, c] != _FREE:
+        if state[r, c] != FREE_I8:
             return False
     return True
 
@@ -117,7 +116,7 @@ def _viewer_by_rays(
         row, col, s_r, s_c, tm_r, tm_c, td_r, td_c = ray_start(ac + 0.5, ar + 0.5, math.cos(a), math.sin(a))
         t = 0.0
         while t <= min(reach, best_t) and 0 <= row < rows and 0 <= col < cols:
-            if state[row, col] != _FREE:
+            if state[row, col] != FREE_I8:
                 break
             if reachable[row, col]:
                 best_t, best_r, best_c = t, row, col

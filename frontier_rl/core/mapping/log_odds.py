@@ -18,14 +18,11 @@ import numpy as np
 from numpy.typing import NDArray
 
 from frontier_rl.core.sensing.lidar import RangeNoise, noisy_range
-from frontier_rl.core.world.grid import CellState
+from frontier_rl.core.world.grid import FREE_I8, OCCUPIED_I8, UNKNOWN_I8
 from frontier_rl.core.world.raycast import FASTMATH, ray_start
 
 HIT = np.int16(0x4000)  # bit set when a beam ended in the cell; the bits below count passes
 _RING = 32  # the last cells of a beam kept to undo when the noisy reading falls short
-_UNKNOWN = np.int8(CellState.UNKNOWN)
-_FREE = np.int8(CellState.FREE)
-_OCCUPIED = np.int8(CellState.OCCUPIED)
 MAX_LOOKS = np.uint16(np.iinfo(np.uint16).max)
 """The most looks a cell counts (and the count of a wall the robot touched, which no teammate's
 scans outweigh in a merge)."""
@@ -168,15 +165,15 @@ def apply_pending(
             value = min(max(logodds[row, col] + (hit if mark & HIT else miss), low), high)
             logodds[row, col] = value
             if value > occupied_above:
-                new_state = _OCCUPIED
+                new_state = OCCUPIED_I8
             elif value < free_below:
-                new_state = _FREE
+                new_state = FREE_I8
             else:
                 new_state = state[row, col]
             state[row, col] = new_state
-            if new_state != _UNKNOWN and not seen[row, col]:
+            if new_state != UNKNOWN_I8 and not seen[row, col]:
                 seen[row, col] = True
-                counters[0 if new_state == _FREE else 1] += 1
+                counters[0 if new_state == FREE_I8 else 1] += 1
                 if explorable[row, col]:
                     counters[2] += 1
                 bbox[0] = min(bbox[0], row)

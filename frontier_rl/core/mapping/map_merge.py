@@ -10,10 +10,7 @@ import numba as nb
 import numpy as np
 from numpy.typing import NDArray
 
-from frontier_rl.core.world.grid import CellState
-
-_UNKNOWN = np.int8(CellState.UNKNOWN)
-_OCCUPIED = np.int8(CellState.OCCUPIED)
+from frontier_rl.core.world.grid import OCCUPIED_I8, UNKNOWN_I8
 
 
 @nb.njit(cache=True)
@@ -46,12 +43,12 @@ def merge_window(
             if theirs_n < mine_n:
                 continue
             theirs = other_state[row, col]
-            if theirs == _UNKNOWN:
+            if theirs == UNKNOWN_I8:
                 continue
             value = other_logodds[row, col]
             if theirs_n == mine_n:  # a tie: the higher log-odds, then occupied
                 mine = logodds[row, col]
-                if value < mine or (value == mine and (theirs != _OCCUPIED or state[row, col] == _OCCUPIED)):
+                if value < mine or (value == mine and (theirs != OCCUPIED_I8 or state[row, col] == OCCUPIED_I8)):
                     continue
             state[row, col] = theirs
             logodds[row, col] = value

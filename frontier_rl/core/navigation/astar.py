@@ -15,10 +15,9 @@ import numpy as np
 from numpy.typing import NDArray
 
 from frontier_rl.core.navigation.step_costs import step_cost
-from frontier_rl.core.world.grid import CellState
+from frontier_rl.core.world.grid import UNKNOWN_I8
 
 _SQRT2 = math.sqrt(2.0)
-_UNKNOWN = np.int8(CellState.UNKNOWN)
 _MAX_STAMP = 2**31 - 2  # a search marks cells with its stamp and stamp + 1, as int32
 
 SearchArrays = tuple[NDArray[np.float64], NDArray[np.int32], NDArray[np.int32], NDArray[np.float64], NDArray[np.int32]]
@@ -204,7 +203,7 @@ def astar_padded(  # noqa: C901 (numba kernel: the search loop with its neighbou
             if given:
                 entry_cost = cost[nxt]
             else:
-                unknown = state[row + d_row - 1, col + d_col - 1] == _UNKNOWN
+                unknown = state[row + d_row - 1, col + d_col - 1] == UNKNOWN_I8
                 entry_cost = step_cost(clear[nxt], unknown, table, inflation_radius, unknown_cost)
             new_g = g[cur] + step * entry_cost
             if seen < stamp or new_g < g[nxt]:

@@ -13,10 +13,9 @@ import numba as nb
 import numpy as np
 from numpy.typing import NDArray
 
-from frontier_rl.core.world.grid import CellState
+from frontier_rl.core.world.grid import FREE_I8
 from frontier_rl.core.world.raycast import FASTMATH
 
-_FREE = np.int8(CellState.FREE)
 _DIAGONAL = math.sqrt(2.0)
 
 
@@ -115,7 +114,7 @@ def flood_known(  # noqa: C901 (numba kernel: the scanline fill written out)
     todo = np.zeros((rows + 2, cols + 2), np.uint8)  # 1: open, FREE and not reached yet; 0 border
     for r in range(rows):
         for c in range(cols):
-            todo[r + 1, c + 1] = open_padded[r + 1, c + 1] & (state[r, c] == _FREE)
+            todo[r + 1, c + 1] = open_padded[r + 1, c + 1] & (state[r, c] == FREE_I8)
     if clearance_padded is not None and escape > 0:
         floor_clear = max(clearance_padded[start_row + 1, start_col + 1], 0.5)  # never an occupied cell
         reach = int(math.ceil(escape))
@@ -123,7 +122,7 @@ def flood_known(  # noqa: C901 (numba kernel: the scanline fill written out)
             for dc in range(-reach, reach + 1):
                 r, c = start_row + dr, start_col + dc
                 inside = dr * dr + dc * dc <= escape * escape and 0 <= r < rows and 0 <= c < cols
-                if inside and clearance_padded[r + 1, c + 1] >= floor_clear and state[r, c] == _FREE:
+                if inside and clearance_padded[r + 1, c + 1] >= floor_clear and state[r, c] == FREE_I8:
                     todo[r + 1, c + 1] = 1
     if not todo[start_row + 1, start_col + 1]:
         return reached

@@ -16,11 +16,9 @@ import numpy as np
 from numpy.typing import NDArray
 
 from frontier_rl.core.navigation.config import NavigationConfig
-from frontier_rl.core.world.grid import CellState
+from frontier_rl.core.world.grid import OCCUPIED_I8
 from frontier_rl.core.world.raycast import FASTMATH
 from frontier_rl.core.world.robot import RobotConfig
-
-_OCCUPIED = np.int8(CellState.OCCUPIED)
 
 
 class FollowerParams(NamedTuple):
@@ -90,7 +88,7 @@ def path_blocked(
         for k in range(offsets.shape[0]):
             r = path_rows[i] + offsets[k, 0]
             c = path_cols[i] + offsets[k, 1]
-            if 0 <= r < rows and 0 <= c < cols and state[r, c] == _OCCUPIED:
+            if 0 <= r < rows and 0 <= c < cols and state[r, c] == OCCUPIED_I8:
                 return True
     return False
 

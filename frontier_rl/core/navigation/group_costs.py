@@ -21,7 +21,7 @@ from numpy.typing import NDArray
 
 from frontier_rl.core.navigation.bucket_queue import bucket_ring_mask, neighbour_steps, relax_neighbours
 from frontier_rl.core.navigation.step_costs import step_cost
-from frontier_rl.core.world.grid import CellState
+from frontier_rl.core.world.grid import UNKNOWN_I8
 
 if TYPE_CHECKING:  # the costmap keeps its block grids: no import cycle at run time
     from frontier_rl.core.navigation.costmap import Costmap
@@ -31,8 +31,6 @@ MAX_SEARCH_CELLS = 300 * 300
 blocks of the smallest f × f cells that bring the search within it, but no larger than a wall's
 closed band allows (:func:`max_block_factor`: 3 cells for the TurtleBot3 at 0.05 m, so a map of
 more than 810,000 cells is searched on more blocks than this)."""
-
-_UNKNOWN = np.int8(CellState.UNKNOWN)
 
 
 def block_factor(shape: tuple[int, int], resolution: float, robot_radius: float) -> int:
@@ -109,7 +107,7 @@ def _fill_tile(
             for r in range(br * f, min(br * f + f, rows)):
                 for c in range(bc * f, min(bc * f + f, cols)):
                     if open_padded[r + 1, c + 1]:
-                        if state[r, c] == _UNKNOWN:
+                        if state[r, c] == UNKNOWN_I8:
                             clear_unknown = max(clear_unknown, clearance_padded[r + 1, c + 1])
                         else:
                             clear_known = max(clear_known, clearance_padded[r + 1, c + 1])

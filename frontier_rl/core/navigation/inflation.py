@@ -17,9 +17,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from frontier_rl.core.navigation.distance import chamfer_distance_padded
-from frontier_rl.core.world.grid import CellState, OccupancyGrid
-
-_OCCUPIED = np.int8(CellState.OCCUPIED)
+from frontier_rl.core.world.grid import OCCUPIED_I8, OccupancyGrid
 
 Box = tuple[int, int, int, int]
 """Rows ``r0:r1`` and columns ``c0:c1`` of a grid (end exclusive)."""
@@ -35,7 +33,7 @@ def inflate(
     occupied = np.empty((rows, cols), np.bool_)
     for r in range(rows):
         for c in range(cols):
-            occupied[r, c] = state[r, c] == _OCCUPIED
+            occupied[r, c] = state[r, c] == OCCUPIED_I8
     clearance = chamfer_distance_padded(occupied, clearance_cap(inflation_radius))
     # Traversability must be exact, and the chamfer distance runs up to 8.24 % long: below the
     # lethal distance it is surely lethal, 8.24 % above it surely clear, and the cells in between
@@ -81,11 +79,11 @@ def _wall_changes(old: NDArray[np.int8], new: NDArray[np.int8], dr: int, dc: int
         was, now = old[r], new[r + dr, dc : dc + old.shape[1]]
         changed = 0  # a whole row first, in a loop without branches on rows (it compiles to vector code)
         for c in range(was.shape[0]):
-            changed += (was[c] == _OCCUPIED) != (now[c] == _OCCUPIED)
+            changed += (was[c] == OCCUPIED_I8) != (now[c] == OCCUPIED_I8)
         if changed:
             r0, r1 = min(r0, r + dr), max(r1, r + dr + 1)
             for c in range(was.shape[0]):
-                if (was[c] == _OCCUPIED) != (now[c] == _OCCUPIED):
+                if (was[c] == OCCUPIED_I8) != (now[c] == OCCUPIED_I8):
                     c0, c1 = min(c0, c + dc), max(c1, c + dc + 1)
     return r0, r1, c0, c1
 

@@ -9,9 +9,8 @@ import numba as nb
 import numpy as np
 from numpy.typing import NDArray
 
-from frontier_rl.core.world.grid import CellState
+from frontier_rl.core.world.grid import UNKNOWN_I8
 
-_UNKNOWN = np.int8(CellState.UNKNOWN)
 _COST_STEPS = 64  # inflation table entries per cell of clearance
 
 
@@ -53,6 +52,6 @@ def step_costs(
     for r in range(rows):
         for c in range(cols):
             cost[r + 1, c + 1] = step_cost(
-                clearance_padded[r + 1, c + 1], state[r, c] == _UNKNOWN, table, inflation_radius, unknown_cost
+                clearance_padded[r + 1, c + 1], state[r, c] == UNKNOWN_I8, table, inflation_radius, unknown_cost
             )
     return cost

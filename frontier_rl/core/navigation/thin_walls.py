@@ -25,7 +25,7 @@ from numpy.typing import NDArray
 from frontier_rl.core.navigation.astar import SearchScratch
 from frontier_rl.core.navigation.config import NavigationConfig
 from frontier_rl.core.navigation.costmap import Costmap
-from frontier_rl.core.world.grid import CellState, OccupancyGrid
+from frontier_rl.core.world.grid import FREE_I8, OCCUPIED_I8, OccupancyGrid
 from frontier_rl.core.world.robot import RobotConfig
 
 
@@ -39,18 +39,14 @@ class Recovery(IntEnum):
     WHOLE_CELL = 2
 
 
-_FREE = np.int8(CellState.FREE)
-_OCCUPIED = np.int8(CellState.OCCUPIED)
-
-
 def thin_walls(state: NDArray[np.int8], felt: NDArray[np.bool_] | None = None) -> NDArray[np.int8]:
     """A copy of ``state`` in which every occupied cell that faces a free cell (4-neighbour), with
     an occupied cell right behind it and no free cell right behind that, is free: each wall loses
     the layer it grew on every side it was seen from, and a wall never loses its last cell, nor a
     wall two cells thick one of them (it may be one true cell seen from either side). Cells set
     in ``felt`` (walls the robot touched, same shape) are kept."""
-    occupied = state == _OCCUPIED
-    free = np.pad(state == _FREE, 2)
+    occupied = state == OCCUPIED_I8
+    free = np.pad(state == FREE_I8, 2)
     wall = np.pad(occupied, 2)
     peel = np.zeros_like(occupied)
     rows, cols = state.shape
@@ -63,7 +59,7 @@ def thin_walls(state: NDArray[np.int8], felt: NDArray[np.bool_] | None = None) -
     if felt is not None:
         peel &= ~felt
     out = state.copy()
-    out[peel] = _FREE
+    out[peel] = FREE_I8
     return out
 
 
@@ -85,7 +81,7 @@ def recovery_costmap(
     thinned = OccupancyGrid(thin_walls(grid.data, felt), grid.resolution, grid.origin)
     costmap = Costmap.build(thinned, recovery_robot(robot, grid.resolution, level), navigation, scratch)
     if trail is not None and trail.any():
-        costmap = costmap.with_cells_opened(trail & (grid.data == _FREE))
+        costmap = costmap.with_cells_opened(trail & (grid.data == FREE_I8))
     return costmap.with_felt_walls(felt, robot.radius)
 
 

@@ -22,7 +22,7 @@ from frontier_rl.core.sim.config import UNSEEN_ROOM_M2, SimConfig
 from frontier_rl.core.sim.episode_log import leaves_space
 from frontier_rl.core.sim.look_views import look_promise_cells, segments_opened_areas, unknown_regions
 from frontier_rl.core.sim.metrics import FrontierLeft
-from frontier_rl.core.world.grid import CellState, OccupancyGrid
+from frontier_rl.core.world.grid import FREE_I8, CellState, OccupancyGrid
 from frontier_rl.core.world.robot import Pose
 
 
@@ -112,7 +112,7 @@ class _MapAgainstTruth:
     @cached_property
     def beside(self) -> NDArray[np.int8]:
         """``grid``'s cells, free where the robot's whole map knows them (unseen in both)."""
-        return np.where(self.map_state[self._crop] == CellState.UNKNOWN, self.grid.data, np.int8(CellState.FREE))
+        return np.where(self.map_state[self._crop] == CellState.UNKNOWN, self.grid.data, FREE_I8)
 
     @cached_property
     def regions(self) -> UnseenRegions:

@@ -13,7 +13,7 @@ from numpy.typing import NDArray
 from frontier_rl.core.world import generators as gen
 from frontier_rl.core.world.building import building_layout
 from frontier_rl.core.world.cave import CAVE_BLOCK_M, cave_layout
-from frontier_rl.core.world.grid import CellState, OccupancyGrid
+from frontier_rl.core.world.grid import FREE_I8, OCCUPIED_I8, OccupancyGrid
 from frontier_rl.core.world.names import GENERATOR_NAMES
 from frontier_rl.core.world.rubble import RUBBLE_GAP_M, close_diagonal_contacts, rubble_layout, upsample
 from frontier_rl.core.world.slam_artefacts import SlamArtefacts, with_slam_artefacts
@@ -22,9 +22,7 @@ from frontier_rl.errors import ConfigError, MapError, UnknownNameError
 
 
 def _layout_grid(occ: NDArray[np.bool_], resolution: float) -> OccupancyGrid:
-    return OccupancyGrid(
-        np.where(occ, np.int8(CellState.OCCUPIED), np.int8(CellState.FREE)).astype(np.int8), resolution
-    )
+    return OccupancyGrid(np.where(occ, OCCUPIED_I8, FREE_I8).astype(np.int8), resolution)
 
 
 def _check_size(what: str, value: float) -> None:

@@ -24,6 +24,13 @@ class CellState(IntEnum):
     OCCUPIED = 100
 
 
+# The cell values as int8 scalars, the grid's dtype: what compiled kernels compare cells with and
+# write (numba freezes a global it reads as a constant of its type).
+UNKNOWN_I8 = np.int8(CellState.UNKNOWN)
+FREE_I8 = np.int8(CellState.FREE)
+OCCUPIED_I8 = np.int8(CellState.OCCUPIED)
+
+
 @dataclass(frozen=True)
 class OccupancyGrid:
     """A 2D grid of :class:`CellState` values placed in the world.

@@ -26,6 +26,7 @@ from frontier_rl.core.world.worlds import World
 from frontier_rl.errors import ConfigError, model_file_label, short_repr
 from frontier_rl.evaluation.results.episode_record import EpisodeOutcome, EpisodeRow, EpisodeTrace
 from frontier_rl.evaluation.results.identity import ExperimentIdentity, TeamIdentity
+from frontier_rl.file_digest import file_sha256
 from frontier_rl.policies import PolicySpec, make_policy
 from frontier_rl.policies.user_policies import user_policy_fingerprint
 from frontier_rl.swarm import Failure, Strategy, TeamConfig, TeamMethod, TeamSummary, run_team_episode
@@ -181,15 +182,6 @@ def method_fingerprint(method: str) -> str:
     if not path.is_file():
         raise ConfigError(f"{model_file_label(spec.argument)} of method {short_repr(method)} does not exist")
     return f"{method}#sha256:{file_sha256(path)}"
-
-
-def file_sha256(path: Path) -> str:
-    """The first 16 hex digits of the SHA-256 of a file's content (how experiment.json names a model file)."""
-    digest = hashlib.sha256()
-    with path.open("rb") as handle:  # in chunks: a model file padded to gigabytes filled the memory
-        for chunk in iter(lambda: handle.read(1 << 20), b""):
-            digest.update(chunk)
-    return digest.hexdigest()[:16]
 
 
 def world_fingerprint(world: str, resolution: float | None) -> str:
