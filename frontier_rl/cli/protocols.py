@@ -6,6 +6,7 @@ from __future__ import annotations
 import json
 import math
 from collections.abc import Sequence
+from dataclasses import asdict
 from pathlib import Path
 from typing import TYPE_CHECKING, Annotated, Any
 
@@ -19,6 +20,9 @@ from frontier_rl.swarm.config import MAX_ROBOTS
 
 if TYPE_CHECKING:
     from rich.table import Table
+
+    from frontier_rl.evaluation.protocols.explore_bench import ExploreBenchSummary
+    from frontier_rl.evaluation.protocols.published import AriadneSummary
 
 benchmark_app = typer.Typer(
     no_args_is_help=True, cls=OneLineGroup, help="Run a published evaluation protocol, its metric beside ours."
@@ -57,10 +61,10 @@ def ariadne(
     console.print(_ariadne_table(rows, f"ARiADNE protocol on {maps} ({len(files)} maps)"))
     for row in rows:  # as ARiADNE's test driver prints them
         console.print(
-            f"{row['method']}: |#Total test: {row['tests']} |#Average length: {row['average_length_px']:.2f} "
-            f"|#Length std: {row['length_std_px']:.2f}"
+            f"{row.method}: |#Total test: {row.tests} |#Average length: {row.average_length_px:.2f} "
+            f"|#Length std: {row.length_std_px:.2f}"
         )
-    _finish(json_out, {"protocol": "ariadne", "maps": maps, "summary": rows, "runs": [vars(r) for r in runs]}, failures)
+    _finish(json_out, {"protocol": "ariadne", "maps": maps}, rows, runs, failures)
 
 
 DEFAULT_BLUEPRINTS = "turtlebot3_world,aws_small_house,nav2_depot"
@@ -99,14 +103,10 @@ def explore_bench(
     _some_finished(runs, failures)
     rows = bench.explore_bench_rows(runs)
     stdout_console().print(_explore_bench_table(rows, seeds))
-    _finish(
-        json_out,
-        {"protocol": "explore-bench", "maps": maps, "summary": rows, "runs": [vars(r) for r in runs]},
-        failures,
-    )
+    _finish(json_out, {"protocol": "explore-bench", "maps": maps}, rows, runs, failures)
 
 
-def _ariadne_table(rows: list[dict[str, float | str | int]], title: str) -> Table:
+def _ariadne_table(rows: list[AriadneSummary], title: str) -> Table:
     """The ARiADNE protocol's summary rows as a table, its metric beside ours."""
     from rich.table import Table
 
@@ -123,21 +123,21 @@ def _ariadne_table(rows: list[dict[str, float | str | int]], title: str) -> Tabl
     ):
         table.add_column(column, justify="left" if column == "method" else "right")
     for row in rows:
-        n = row["tests"]
+        n = row.tests
         table.add_row(
-            str(row["method"]),
+            row.method,
             str(n),
-            f"{row['average_length_px']:.1f}",
-            f"{row['length_std_px']:.1f}",
-            f"{row['rule_met']}/{n}",
-            f"{row['mean_time_s']:.1f}",
-            f"{row['mean_path_m']:.1f}",
-            f"{row['explored']}/{n}",
+            f"{row.average_length_px:.1f}",
+            f"{row.length_std_px:.1f}",
+            f"{row.rule_met}/{n}",
+            f"{row.mean_time_s:.1f}",
+            f"{row.mean_path_m:.1f}",
+            f"{row.explored}/{n}",
         )
     return table
 
 
-def _explore_bench_table(rows: list[dict[str, float | str | int]], seeds: int) -> Table:
+def _explore_bench_table(rows: list[ExploreBenchSummary], seeds: int) -> Table:
     """Explore-Bench's summary rows as a table, its metrics beside our time."""
     from rich.table import Table
 
@@ -157,15 +157,13 @@ def _explore_bench_table(rows: list[dict[str, float | str | int]], seeds: int) -
     ):
         table.add_column(column, justify="left" if column in ("method", "map") else "right")
     for row in rows:
+        figures = (row.t90_s, row.t_total_s, row.path_m, row.coverage_std, row.overlap_rate, row.final_rate)
         table.add_row(
-            str(row["method"]),
-            str(row["robots"]),
-            str(row["map"]),
-            f"{row['ended']} / {row['runs']}",
-            *(
-                _shown(row[k])
-                for k in ("t90_s", "t_total_s", "path_m", "coverage_std", "overlap_rate", "final_rate", "ours_time_s")
-            ),
+            row.method,
+            str(row.robots),
+            row.map,
+            f"{row.ended} / {row.runs}",
+            *(_shown(value) for value in (*figures, row.ours_time_s)),
         )
     return table
 
@@ -206,9 +204,9 @@ def _no_nan(value: Any) -> Any:
     return value
 
 
-def _shown(value: float | str | int) -> str:
+def _shown(value: float) -> str:
     """A table cell: 3 significant digits, a dash where there is no value (NaN)."""
-    return "—" if isinstance(value, float) and math.isnan(value) else f"{value:.3g}"
+    return "—" if math.isnan(value) else f"{value:.3g}"
 
 
 def _some_finished(runs: Sequence[object], failures: list[str]) -> None:
@@ -219,12 +217,16 @@ def _some_finished(runs: Sequence[object], failures: list[str]) -> None:
         raise EpisodeFailedError(f"every one of the {len(failures)} run(s) failed: {'; '.join(failures[:3])}")
 
 
-def _finish(json_out: Path | None, payload: dict[str, Any], failures: list[str]) -> None:
-    """Write the runs and the summary to ``json_out`` (if given), then fail if any run did: the
-    table and the file keep the runs that finished."""
+def _finish(
+    json_out: Path | None, head: dict[str, str], summary: Sequence[Any], runs: Sequence[Any], failures: list[str]
+) -> None:
+    """Write ``head``, the summary lines, the runs (dataclasses, as their fields) and the failures
+    to ``json_out`` (if given), then fail if any run did: the table and the file keep the runs that
+    finished."""
     from frontier_rl.evaluation.running.backends import EpisodeFailedError
 
     if json_out is not None:
+        payload = head | {"summary": [asdict(s) for s in summary], "runs": [asdict(r) for r in runs]}
         text = json.dumps(_no_nan(payload | {"failures": failures}), indent=2, allow_nan=False)
         write_text_atomic(json_out, text + "\n")
     if failures:

@@ -81,7 +81,7 @@ def test_a_blueprint_that_knows_what_no_robot_can_see_has_no_t_total(tmp_path: P
     plain = run_team_episode(resolve_world(str(room), 3), make_policy("nearest"), team=TeamConfig(robots=1), seed=3)
     assert run.path_m == plain.path_length_m  # without T_total: the whole episode's path
     rows = explore_bench_rows([run])
-    assert rows[0]["ended"] == 0 and np.isnan(rows[0]["t_total_s"])
+    assert rows[0].ended == 0 and np.isnan(rows[0].t_total_s)
 
 
 def test_only_ros_maps_are_blueprints(tmp_path: Path, real_maps: Path) -> None:

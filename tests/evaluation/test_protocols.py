@@ -73,9 +73,9 @@ def test_summary_prints_the_mean_and_population_std() -> None:
     runs = [ProtocolRun("a", f"m{k}", d, True, 10.0 * k, 2.0, True) for k, d in enumerate((100.0, 200.0, 600.0))]
     runs.append(ProtocolRun("b", "m0", 50.0, False, 5.0, 1.0, False))
     a, b = summary_rows(runs, ["a", "b"])
-    assert a["average_length_px"] == pytest.approx(300.0)
-    assert a["length_std_px"] == pytest.approx(np.sqrt(((100 - 300) ** 2 + (200 - 300) ** 2 + 300**2) / 3))
-    assert (a["tests"], a["rule_met"], b["rule_met"], b["explored"]) == (3, 3, 0, 0)
+    assert a.average_length_px == pytest.approx(300.0)
+    assert a.length_std_px == pytest.approx(np.sqrt(((100 - 300) ** 2 + (200 - 300) ** 2 + 300**2) / 3))
+    assert (a.tests, a.rule_met, b.rule_met, b.explored) == (3, 3, 0, 0)
 
 
 def test_maps_in_ariadne_order_and_bad_folders(tmp_path: Path) -> None:

@@ -182,33 +182,60 @@ def run_explore_bench_all(
     return run_jobs(run_explore_bench, jobs, workers)
 
 
-def explore_bench_rows(runs: Sequence[ExploreBenchRun]) -> list[dict[str, float | str | int]]:
-    """Per (method, team size, map): runs, how many reached ``T_total``, the means of ``T_90``
-    (over the runs that reached it), ``T_total`` and the path (over the runs that ended; NaN where
-    none did), the team figures' means, the mean final rate and our mean time."""
+@dataclass(frozen=True)
+class ExploreBenchSummary:
+    """Explore-Bench's line for a (method, team size, map): the means of its metrics over the runs,
+    NaN where no run gives one.
+
+    Attributes:
+        method, robots, map: which runs (the map as ``folder/file``).
+        runs: how many; ended: how many reached ``T_total``.
+        t90_s: mean ``T_90`` (s) over the runs that reached it.
+        t_total_s, path_m: mean ``T_total`` (s) and path (m) over the runs that ended.
+        coverage_std, overlap_rate: the team figures' means over the runs that ended.
+        final_rate: mean exploration rate at the end.
+        ours_time_s: our mean exploration time (s).
+    """
+
+    method: str
+    robots: int
+    map: str
+    runs: int
+    ended: int
+    t90_s: float
+    t_total_s: float
+    path_m: float
+    coverage_std: float
+    overlap_rate: float
+    final_rate: float
+    ours_time_s: float
+
+
+def explore_bench_rows(runs: Sequence[ExploreBenchRun]) -> list[ExploreBenchSummary]:
+    """Per (method, team size, map), in the runs' order: :class:`ExploreBenchSummary`."""
 
     def mean(values: list[float | None]) -> float:
         kept = [v for v in values if v is not None]
         return float(np.mean(kept)) if kept else math.nan
 
-    rows: list[dict[str, float | str | int]] = []
+    rows = []
     for method, robots, map_name in dict.fromkeys((r.method, r.robots, r.map_name) for r in runs):
         mine = [r for r in runs if (r.method, r.robots, r.map_name) == (method, robots, map_name)]
         ended = [r for r in mine if r.t_total_s is not None]
         rows.append(
-            {
-                "method": method,
-                "robots": robots,
-                "map": map_name,
-                "runs": len(mine),
-                "ended": len(ended),
-                "t90_s": mean([r.t90_s for r in mine]),
-                "t_total_s": mean([r.t_total_s for r in ended]),
-                "path_m": mean([r.path_m for r in ended]),
-                "coverage_std": mean([r.coverage_std for r in ended]),
-                "overlap_rate": mean([r.overlap_rate for r in ended]),
-                "final_rate": mean([r.final_rate for r in mine]),
-                "ours_time_s": mean([r.sim_time_s for r in mine]),
-            }
+            ExploreBenchSummary(
+                method=method,
+                robots=robots,
+                map=map_name,
+                runs=len(mine),
+                ended=len(ended),
+                t90_s=mean([r.t90_s for r in mine]),
+                t_total_s=mean([r.t_total_s for r in ended]),
+                path_m=mean([r.path_m for r in ended]),
+                coverage_std=mean([r.coverage_std for r in ended]),
+                overlap_rate=mean([r.overlap_rate for r in ended]),
+                final_rate=mean([r.final_rate for r in mine]),
+                ours_time_s=mean([r.sim_time_s for r in mine]),
+            )
         )
     return rows

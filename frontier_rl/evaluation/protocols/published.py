@@ -171,23 +171,46 @@ def run_protocol(
     return run_jobs(run_ariadne, [(m, p, resolution) for m in methods for p in maps], workers)
 
 
-def summary_rows(runs: Sequence[ProtocolRun], methods: Sequence[str]) -> list[dict[str, float | str | int]]:
-    """Per method: ARiADNE's numbers (``#Average length``, ``#Length std``: NumPy's population
-    std, as its driver prints) and ours (mean time and path length, runs explored)."""
-    rows: list[dict[str, float | str | int]] = []
+@dataclass(frozen=True)
+class AriadneSummary:
+    """A method's line of the ARiADNE protocol: its numbers and ours (NaN means over no run).
+
+    Attributes:
+        method: the method as given.
+        tests: the maps it ran on.
+        average_length_px, length_std_px: ARiADNE's ``#Average length`` and ``#Length std`` (px;
+            NumPy's population std, as its driver prints).
+        rule_met: the runs that ended by ARiADNE's rule.
+        mean_time_s, mean_path_m: our mean exploration time (s) and path length (m).
+        explored: the runs that ended with the map explored.
+    """
+
+    method: str
+    tests: int
+    average_length_px: float
+    length_std_px: float
+    rule_met: int
+    mean_time_s: float
+    mean_path_m: float
+    explored: int
+
+
+def summary_rows(runs: Sequence[ProtocolRun], methods: Sequence[str]) -> list[AriadneSummary]:
+    """Per method: ARiADNE's numbers and ours (:class:`AriadneSummary`)."""
+    rows = []
     for method in methods:
         mine = [r for r in runs if r.method == method]
         lengths = np.array([r.distance_px for r in mine])
         rows.append(
-            {
-                "method": method,
-                "tests": len(mine),
-                "average_length_px": float(lengths.mean()) if mine else math.nan,
-                "length_std_px": float(lengths.std()) if mine else math.nan,
-                "rule_met": sum(r.rule_met for r in mine),
-                "mean_time_s": float(np.mean([r.sim_time_s for r in mine])) if mine else math.nan,
-                "mean_path_m": float(np.mean([r.path_length_m for r in mine])) if mine else math.nan,
-                "explored": sum(r.explored for r in mine),
-            }
+            AriadneSummary(
+                method=method,
+                tests=len(mine),
+                average_length_px=float(lengths.mean()) if mine else math.nan,
+                length_std_px=float(lengths.std()) if mine else math.nan,
+                rule_met=sum(r.rule_met for r in mine),
+                mean_time_s=float(np.mean([r.sim_time_s for r in mine])) if mine else math.nan,
+                mean_path_m=float(np.mean([r.path_length_m for r in mine])) if mine else math.nan,
+                explored=sum(r.explored for r in mine),
+            )
         )
     return rows
