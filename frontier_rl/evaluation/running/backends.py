@@ -13,6 +13,7 @@ import os
 import socket
 import warnings
 from collections.abc import Callable, Generator
+from enum import StrEnum
 from typing import Any
 
 from frontier_rl.errors import ConfigError, FrontierRLError
@@ -20,7 +21,15 @@ from frontier_rl.evaluation.results.episode_record import EpisodeOutcome
 from frontier_rl.evaluation.running.experiment import EpisodeJob, EpisodeSettings, run_job
 from frontier_rl.evaluation.running.worker_pool import WorkerPool
 
-BACKENDS = ("serial", "process", "ray")
+
+class Backend(StrEnum):
+    """Where an experiment's episodes run."""
+
+    SERIAL = "serial"  # one after another, in this process
+    PROCESS = "process"  # a pool of processes on this machine
+    RAY = "ray"  # Ray tasks, on this machine or a Ray cluster
+
+
 ResultHandler = Callable[[EpisodeOutcome], None]
 Outcomes = Generator[tuple[EpisodeJob, Any], None, None]
 """Each episode with its row, or the exception it raised, as episodes finish."""
@@ -50,20 +59,22 @@ def check_workers(workers: int | None) -> None:
         raise ConfigError(f"--workers must be at most {MAX_WORKERS} (a process each), got {workers!r}")
 
 
-def check_backend(backend: str, workers: int, ray_address: str | None) -> None:
-    """A clear error for an unknown backend, a bad worker count or Ray options without Ray."""
-    if backend not in BACKENDS:
-        raise ConfigError(f"unknown backend {backend!r}; choose one of {', '.join(BACKENDS)}")
+def check_backend(backend: Backend | str, workers: int, ray_address: str | None) -> Backend:
+    """The backend named ``backend``; a clear error for an unknown one, a bad worker count or Ray
+    options without Ray."""
+    if backend not in tuple(Backend):
+        raise ConfigError(f"unknown backend {backend!r}; choose one of {', '.join(Backend)}")
     check_workers(workers)
-    if ray_address is not None and backend != "ray":
+    if ray_address is not None and backend != Backend.RAY:
         raise ConfigError(f"--ray-address {ray_address!r} needs --backend ray")
-    if backend == "ray":
+    if backend == Backend.RAY:
         try:
             import ray  # noqa: F401
         except ImportError:
             raise ConfigError("--backend ray needs Ray: pip install 'frontier_rl[ray]'") from None
         if ray_address is not None:
             check_ray_address(ray_address)
+    return Backend(backend)
 
 
 def check_ray_address(address: str, timeout_s: float = 5.0) -> None:
@@ -90,7 +101,7 @@ def run_jobs(
     jobs: list[EpisodeJob],
     settings: EpisodeSettings,
     on_result: ResultHandler,
-    backend: str = "process",
+    backend: Backend | str = Backend.PROCESS,
     workers: int | None = None,
     ray_address: str | None = None,
 ) -> None:
@@ -98,13 +109,13 @@ def run_jobs(
     episode that raises does not stop the others: once all have run, :class:`EpisodeFailedError`
     names the failures."""
     workers = default_workers() if workers is None else workers
-    check_backend(backend, workers, ray_address)
+    chosen = check_backend(backend, workers, ray_address)
     if not jobs:
         return
     failures: list[tuple[EpisodeJob, BaseException]] = []
-    if backend == "serial":
+    if chosen is Backend.SERIAL:
         outcomes: Outcomes = _serial(jobs, settings)
-    elif backend == "process":
+    elif chosen is Backend.PROCESS:
         outcomes = _process_pool(jobs, settings, workers)
     else:
         outcomes = _ray_tasks(jobs, settings, workers, ray_address)

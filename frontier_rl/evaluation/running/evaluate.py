@@ -17,7 +17,13 @@ from frontier_rl.evaluation.report.run_pictures import draw_runs
 from frontier_rl.evaluation.report.writer import write_report
 from frontier_rl.evaluation.results.episode_record import EpisodeOutcome
 from frontier_rl.evaluation.results.store import ResultStore
-from frontier_rl.evaluation.running.backends import EpisodeFailedError, check_backend, default_workers, run_jobs
+from frontier_rl.evaluation.running.backends import (
+    Backend,
+    EpisodeFailedError,
+    check_backend,
+    default_workers,
+    run_jobs,
+)
 from frontier_rl.evaluation.running.experiment import ExperimentConfig, check_methods, identity
 from frontier_rl.evaluation.statistics.paired import THESIS_OUTLIERS_S
 
@@ -80,14 +86,14 @@ def evaluate(
             says that the finished episodes are kept.
     """
     workers = default_workers() if workers is None else workers
-    check_backend(backend, workers, ray_address)
+    chosen = check_backend(backend, workers, ray_address)
     check_methods(config)  # a bad method or model file fails before anything is written
     try:
         store = ResultStore(out, identity(config))
     except OutputWriteError as exc:
         raise exc.with_note(f"the results already in {str(out)!r} are unchanged") from None
     try:
-        _run_missing(store, config, backend, workers, ray_address, progress)
+        _run_missing(store, config, chosen, workers, ray_address, progress)
         store.finalise(config.jobs())
         drawn = draw_runs(config, out, pictures, animate)
         return write_report(store, config, outliers, command, drawn)
@@ -101,7 +107,12 @@ def evaluate(
 
 
 def _run_missing(
-    store: ResultStore, config: ExperimentConfig, backend: str, workers: int, ray_address: str | None, progress: bool
+    store: ResultStore,
+    config: ExperimentConfig,
+    backend: Backend,
+    workers: int,
+    ray_address: str | None,
+    progress: bool,
 ) -> None:
     """Run the jobs of ``config`` that ``store`` does not hold yet, recording each as it finishes."""
     jobs = config.jobs()
