@@ -4,7 +4,7 @@ or a warehouse with rows of shelving; some wings are split by a cross corridor.
 
 Rescue sites are larger than the 12.5 m office maze: this is what a learned policy must hold on
 when the frontiers are tens of metres apart. Lengths in metres, turned into cells with the
-resolution; walls and doors follow :mod:`frontier_rl.core.world.generators` (walls at least 2
+resolution; walls and doors follow :mod:`frontier_rl.core.world.layout` (walls at least 2
 cells thick, every gap at least MIN_GAP_M wide); every zone opens onto the main corridor, so the
 whole floor is connected.
 """
@@ -13,9 +13,8 @@ from __future__ import annotations
 
 import numpy as np
 
-from frontier_rl.core.world.generators import (
+from frontier_rl.core.world.layout import (
     MIN_GAP_M,
-    ROOM_DOOR_M,
     BoolGrid,
     Rect,
     bordered,
@@ -24,6 +23,7 @@ from frontier_rl.core.world.generators import (
     place_pillars,
     wall_cells,
 )
+from frontier_rl.core.world.rooms import ROOM_DOOR_M
 
 CORRIDOR_M = (1.6, 2.4)  # main corridor clear width range (m)
 CROSS_CORRIDOR_M = (1.4, 2.0)  # cross corridor clear width range (m)

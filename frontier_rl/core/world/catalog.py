@@ -10,11 +10,13 @@ from types import MappingProxyType
 import numpy as np
 from numpy.typing import NDArray
 
-from frontier_rl.core.world import generators as gen
+from frontier_rl.core.world import layout
 from frontier_rl.core.world.building import building_layout
 from frontier_rl.core.world.cave import CAVE_BLOCK_M, cave_layout
 from frontier_rl.core.world.grid import FREE_I8, OCCUPIED_I8, OccupancyGrid
 from frontier_rl.core.world.names import GENERATOR_NAMES
+from frontier_rl.core.world.office import office_layout
+from frontier_rl.core.world.rooms import rooms_layout
 from frontier_rl.core.world.rubble import RUBBLE_GAP_M, close_diagonal_contacts, rubble_layout, upsample
 from frontier_rl.core.world.slam_artefacts import SlamArtefacts, with_slam_artefacts
 from frontier_rl.core.world.worlds import World, dilate, make_world
@@ -35,8 +37,8 @@ def office_world(rng: np.random.Generator, size_m: float = 12.5, resolution: flo
     with dead ends, rooms with 0.8-1.0 m doors, solid cores and 0.2-0.4 m square pillars."""
     _check_size("office size_m", size_m)
     _check_size("office resolution", resolution)
-    n = gen.cells(size_m, resolution)
-    return make_world(_layout_grid(gen.office_layout(rng, n, n, resolution), resolution), "office", rng=rng)
+    n = layout.cells(size_m, resolution)
+    return make_world(_layout_grid(office_layout(rng, n, n, resolution), resolution), "office", rng=rng)
 
 
 def rooms_world(
@@ -47,8 +49,8 @@ def rooms_world(
     _check_size("rooms width", size_m[0])
     _check_size("rooms height", size_m[1])
     _check_size("rooms resolution", resolution)
-    rows, cols = gen.cells(size_m[1], resolution), gen.cells(size_m[0], resolution)
-    return make_world(_layout_grid(gen.rooms_layout(rng, rows, cols, resolution), resolution), "rooms", rng=rng)
+    rows, cols = layout.cells(size_m[1], resolution), layout.cells(size_m[0], resolution)
+    return make_world(_layout_grid(rooms_layout(rng, rows, cols, resolution), resolution), "rooms", rng=rng)
 
 
 def cluttered_world(rng: np.random.Generator, size_m: float = 12.0, resolution: float = 0.05) -> World:
@@ -61,7 +63,7 @@ def cluttered_world(rng: np.random.Generator, size_m: float = 12.0, resolution: 
     _check_size("cluttered size_m", size_m)
     _check_size("cluttered resolution", resolution)
     block, wide = 2, RUBBLE_GAP_M / 2  # wide: radius (m) of the robot every passage must admit
-    n, radius = gen.cells(size_m, block * resolution), wide / (block * resolution)
+    n, radius = layout.cells(size_m, block * resolution), wide / (block * resolution)
     for _ in range(5):
         raw = rubble_layout(rng, n, n, block * resolution)
         coarse = close_diagonal_contacts(np.asarray(~dilate(~dilate(raw, radius), radius)))  # closing
@@ -119,7 +121,7 @@ def _building_layout(
             f"a building needs both sides of at least {BUILDING_MIN_M:g} m (a corridor with a zone of "
             f"4 m on each side), got {size_m[0]!r} x {size_m[1]!r}"
         )
-    rows, cols = gen.cells(size_m[1], resolution), gen.cells(size_m[0], resolution)
+    rows, cols = layout.cells(size_m[1], resolution), layout.cells(size_m[0], resolution)
     return building_layout(rng, rows, cols, resolution)
 
 
@@ -136,8 +138,8 @@ def cave_world(rng: np.random.Generator, size_m: tuple[float, float] = (26.0, 20
     _check_size("cave resolution", resolution)
     if min(size_m) < CAVE_MIN_M:
         raise ConfigError(f"a cave needs both sides of at least {CAVE_MIN_M:g} m, got {size_m[0]!r} x {size_m[1]!r}")
-    block = gen.cells(CAVE_BLOCK_M, resolution)  # cells per block: 2 or more at any cell a world admits (<= 0.105 m)
-    rows, cols = gen.cells(size_m[1], block * resolution), gen.cells(size_m[0], block * resolution)
+    block = layout.cells(CAVE_BLOCK_M, resolution)  # cells per block: 2 or more at any cell a world admits (<= 0.105 m)
+    rows, cols = layout.cells(size_m[1], block * resolution), layout.cells(size_m[0], block * resolution)
     return make_world(_layout_grid(upsample(cave_layout(rng, rows, cols), block), resolution), "cave", rng=rng)
 
 

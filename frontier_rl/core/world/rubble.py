@@ -8,7 +8,7 @@ import math
 import numpy as np
 from numpy.typing import NDArray
 
-from frontier_rl.core.world import generators as gen
+from frontier_rl.core.world import layout
 
 RUBBLE_M = (0.1, 0.8)  # rubble piece size range (m)
 RUBBLE_GAP_M = 0.5  # cluttered world: slots between rubble narrower than this are filled (m)
@@ -39,7 +39,7 @@ def _piece(rng: np.random.Generator, res: float, yx: NDArray[np.float64]) -> NDA
     lo, hi = RUBBLE_M
     kind = rng.random()
     if kind < 0.3:
-        return np.ones((gen.cells(rng.uniform(lo, hi), res), gen.cells(rng.uniform(lo, hi), res)), dtype=np.bool_)
+        return np.ones((layout.cells(rng.uniform(lo, hi), res), layout.cells(rng.uniform(lo, hi), res)), dtype=np.bool_)
     y, x = yx
     if kind < 0.65:
         length, width, angle = rng.uniform(0.3, hi) / res, rng.uniform(lo, 0.4) / res, rng.uniform(0, math.pi)
@@ -64,23 +64,23 @@ def rubble_layout(rng: np.random.Generator, n_rows: int, n_cols: int, resolution
 
     Raw pieces: narrow slots are left for the caller to close. One cell of ``resolution`` (about
     0.1 m) is the wall thickness; upsample the result for a finer map."""
-    pad = gen.cells(RUBBLE_M[1], resolution) + 2
+    pad = layout.cells(RUBBLE_M[1], resolution) + 2
     occ = np.zeros((n_rows + 2 * pad, n_cols + 2 * pad), dtype=np.bool_)  # padded: pieces may stick out
     inner = occ[pad:-pad, pad:-pad]
-    inner[...] = gen.bordered((n_rows, n_cols), 1)
+    inner[...] = layout.bordered((n_rows, n_cols), 1)
     for _ in range(int(rng.integers(2, 6))):  # ruined walls: some L-shaped, some broken
-        a, b = gen.cells(rng.uniform(1.5, 4.0), resolution), gen.cells(rng.uniform(0.8, 2.0), resolution)
+        a, b = layout.cells(rng.uniform(1.5, 4.0), resolution), layout.cells(rng.uniform(0.8, 2.0), resolution)
         wall = np.zeros((b, a), dtype=np.bool_)
         wall[0, :] = True
         wall[:, 0] = rng.random() < 0.5
         if rng.random() < 0.5:
             hole = int(rng.integers(1, a))
-            wall[0, hole : hole + gen.cells(1.0, resolution)] = False
+            wall[0, hole : hole + layout.cells(1.0, resolution)] = False
         wall = np.rot90(wall, int(rng.integers(4)))
         r, c = int(rng.integers(n_rows)), int(rng.integers(n_cols))
         inner[r : r + wall.shape[0], c : c + wall.shape[1]] |= wall[: n_rows - r, : n_cols - c]
     walls = np.flatnonzero(inner[1:-1, 1:-1])  # anchors of the rubble piled against walls
-    half = gen.cells(RUBBLE_M[1], resolution) // 2 + 1
+    half = layout.cells(RUBBLE_M[1], resolution) // 2 + 1
     yx = np.mgrid[-half : half + 1, -half : half + 1].astype(np.float64)
     spread = 0.5 / resolution  # cluster radius (cells)
     centres = [
