@@ -21,6 +21,17 @@ class ConfigError(FrontierRLError, ValueError):
     """A configuration value out of range or of the wrong kind (a weight outside [0, 1], ...)."""
 
 
+class SettingError(ConfigError):
+    """A setting out of its range, its name (``setting``, a field name such as ``planner_frequency``)
+    kept apart from what is wrong (``problem``), so that a command line can name it as its option
+    (``--planner-frequency``) and a ROS node as its parameter, without reading the message back."""
+
+    def __init__(self, setting: str, problem: str) -> None:
+        super().__init__(f"{setting} {problem}")
+        self.setting = setting
+        self.problem = problem
+
+
 class TrainingDivergedError(FrontierRLError, RuntimeError):
     """A training run whose updates left the policy with NaN or infinite weights."""
 
@@ -33,7 +44,8 @@ class PolicyError(FrontierRLError, RuntimeError):
 
 class MapWarning(UserWarning):
     """A map file whose fields say something its author probably did not mean (``map_saver``'s grey
-    unknown that its thresholds read as free space, read as unknown instead)."""
+    unknown that its thresholds read as free space, read as unknown instead; a field ``map_server``
+    does not read)."""
 
 
 class UnknownNameError(FrontierRLError, KeyError):

@@ -12,6 +12,7 @@ import typer
 
 from frontier_rl.cli.options import MAX_SEED, WORLD_HELP, fail
 from frontier_rl.cli.output import OneLineGroup, friendly_errors, print_note, stdout_console
+from frontier_rl.errors import SettingError
 from frontier_rl.seeds import checked_seed
 from frontier_rl.swarm.config import MAX_ROBOTS  # ros2 sim runs as many robots as a team of explore
 
@@ -55,9 +56,8 @@ def _explorer_params(
             return_to_init=return_to_init,
             time_cap=math.inf if time_cap == 0 else time_cap,
         )
-    except ValueError as error:
-        field = str(error).split()[0]
-        fail(str(error).replace(field, "--" + field.replace("_", "-"), 1))
+    except SettingError as error:
+        fail(f"{_option(error.setting)} {error.problem}")
 
 
 def _with_parameter_file(ctx: typer.Context, path: Path | None, options: dict[str, Any]) -> dict[str, Any]:
@@ -258,8 +258,13 @@ def _pose_source(pose_type: str, pose_topic: str, robot_base_frame: str) -> Pose
         fail(f"--pose-type must be pose, odom or tf, got {pose_type!r}")
     try:
         return PoseSource(kind, pose_topic, robot_base_frame)
-    except ValueError as error:
-        fail("--" + str(error).replace("_", "-", 2))
+    except SettingError as error:
+        fail(f"{_option(error.setting)} {error.problem}")
+
+
+def _option(setting: str) -> str:
+    """The command-line option of a setting (``planner_frequency``: ``--planner-frequency``)."""
+    return "--" + setting.replace("_", "-")
 
 
 def _teammates(value: str, namespace: str) -> tuple[str, ...]:
@@ -285,6 +290,7 @@ def _explore_with(policy: str, params: ExplorerParams, json_out: bool, **node: A
     status 130 if it was interrupted)."""
     from frontier_rl.policies.registry import make_policy
     from frontier_rl.robot.explorer import check_robot_policy
+    from frontier_rl.ros2.explorer_node import ExplorerState
     from frontier_rl.ros2.run import run_explorer
 
     the_policy = make_policy(policy)
@@ -294,5 +300,5 @@ def _explore_with(policy: str, params: ExplorerParams, json_out: bool, **node: A
         print(status.to_json())
     else:
         stdout_console().print(summary)
-    if status.state != "finished":
+    if status.state is not ExplorerState.FINISHED:
         raise typer.Exit(130)

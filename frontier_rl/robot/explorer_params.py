@@ -10,7 +10,7 @@ from pathlib import Path
 from typing import Any
 
 from frontier_rl.checked_values import coerce
-from frontier_rl.errors import ConfigError
+from frontier_rl.errors import ConfigError, SettingError
 from frontier_rl.safe_yaml import load_yaml_file
 
 DEFAULT_MIN_FRONTIER_SIZE_M = 0.2
@@ -42,9 +42,9 @@ class ExplorerParams:
         for name in ("planner_frequency", "progress_timeout", "time_cap", "progress_distance"):
             value = getattr(self, name)
             if not (isinstance(value, int | float) and value > 0 and not math.isnan(value)):
-                raise ValueError(f"{name} must be a positive number, got {value!r}")
+                raise SettingError(name, f"must be a positive number, got {value!r}")
         if not (math.isfinite(self.min_frontier_size) and self.min_frontier_size >= 0):
-            raise ValueError(f"min_frontier_size must be a number of metres >= 0, got {self.min_frontier_size!r}")
+            raise SettingError("min_frontier_size", f"must be a number of metres >= 0, got {self.min_frontier_size!r}")
 
 
 EXPLORE_LITE_NAMES = {

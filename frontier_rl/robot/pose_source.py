@@ -6,6 +6,8 @@ from __future__ import annotations
 from dataclasses import dataclass
 from enum import StrEnum
 
+from frontier_rl.errors import SettingError
+
 
 class PoseKind(StrEnum):
     """What carries the robot's pose."""
@@ -30,4 +32,4 @@ class PoseSource:
 
     def __post_init__(self) -> None:
         if not self.base_frame.strip().lstrip("/"):
-            raise ValueError(f"robot_base_frame must name a frame, got {self.base_frame!r}")
+            raise SettingError("robot_base_frame", f"must name a frame, got {self.base_frame!r}")

@@ -17,6 +17,7 @@ import math
 import time
 from collections.abc import Sequence
 from dataclasses import asdict, dataclass
+from enum import StrEnum
 from typing import Any
 
 from action_msgs.msg import GoalStatus as ActionStatus
@@ -49,12 +50,22 @@ _WARN_PERIOD_S = 5.0
 """Bad messages on one topic are logged at most this often (wall s)."""
 
 
+class ExplorerState(StrEnum):
+    """What the explorer is doing; its value is what ``explore/status`` says."""
+
+    WAITING = "waiting"  # for a map, a pose or Nav2
+    EXPLORING = "exploring"
+    RETURNING = "returning"  # to where it started (return_to_init)
+    FINISHED = "finished"
+    INTERRUPTED = "interrupted"  # stopped before it finished (Ctrl-C, a shutdown)
+
+
 @dataclass(frozen=True)
 class ExplorerStatus:
     """The explorer's state, published as JSON on ``explore/status`` after every change.
 
     Attributes:
-        state: ``waiting`` (for a map, a pose or Nav2), ``exploring``, ``returning`` or ``finished``.
+        state: what it is doing (:class:`ExplorerState`).
         reason: the end reason once finished (``explored``, ``unreachable``, ``time_cap``), else "".
         time_s: time since the first tick (s, on the node's clock: simulated with ``use_sim_time``).
         goals: goals sent; given_up: of them blacklisted (rejected, aborted, no progress, or
@@ -68,7 +79,7 @@ class ExplorerStatus:
         detail: a sentence on what happened last.
     """
 
-    state: str
+    state: ExplorerState
     reason: str
     time_s: float
     goals: int
@@ -158,7 +169,7 @@ class ExplorerNode(Node):
         self._returning = False
         self._finished_s: float | None = None  # the time explored when exploration ended (s)
         self._goal_ended = False  # Nav2 ended the goal under way: the next poll ticks at once
-        self._publish("waiting", "waiting for a map, a pose and Nav2's navigate_to_pose")
+        self._publish(ExplorerState.WAITING, "waiting for a map, a pose and Nav2's navigate_to_pose")
         self._timer = self.create_timer(_POLL_PERIOD_S, self._poll, clock=Clock(clock_type=ClockType.STEADY_TIME))
 
     # -------------------------------------------------------------- inputs
@@ -268,7 +279,7 @@ class ExplorerNode(Node):
             self._marker_pub.publish(frontier_markers(candidates, (goal.x, goal.y), self.get_clock().now().to_msg()))
         detail = f"goal {number} at ({goal.x:.2f}, {goal.y:.2f})"
         self.get_logger().debug(f"sent {detail}")  # --ros-args --log-level frontier_rl_explorer:=debug shows it
-        self._publish("returning" if self._returning else "exploring", detail)
+        self._publish(ExplorerState.RETURNING if self._returning else ExplorerState.EXPLORING, detail)
 
     def _on_response(self, number: int, future: Future[ClientGoalHandle[Any, Any, Any]]) -> None:
         handle = future.result()
@@ -310,7 +321,7 @@ class ExplorerNode(Node):
             return
         self.explorer.goal_lost()
         self._goal_ended = True
-        self._publish("exploring", why)
+        self._publish(ExplorerState.EXPLORING, why)
 
     def _goal_end(self, failed: bool, why: str) -> None:
         if self._returning:
@@ -322,7 +333,7 @@ class ExplorerNode(Node):
         elif not failed:
             self.explorer.goal_reached()
         self._goal_ended = True
-        self._publish("exploring", why)
+        self._publish(ExplorerState.EXPLORING, why)
 
     # ---------------------------------------------------------------- the end
     def _finish(self, finished: Finished) -> None:
@@ -337,14 +348,14 @@ class ExplorerNode(Node):
         self._close("exploration over")
 
     def _close(self, why: str) -> None:
-        self._publish("finished", why)
+        self._publish(ExplorerState.FINISHED, why)
         self.get_logger().info(self.summary())
         if not self.done.done():
             self.done.set_result(self.finished)
 
     def summary(self) -> str:
         """One line: the end reason, the time, the goals and what was left."""
-        status = self.status("finished", "")
+        status = self.status(ExplorerState.FINISHED, "")
         line = f"{status.reason} after {status.time_s:.1f} s, {status.goals} goals ({status.given_up} given up)"
         if status.coverage >= 0:
             line += f", {100 * status.coverage:.1f} % of the explorable space (the simulator's)"
@@ -355,7 +366,7 @@ class ExplorerNode(Node):
             )
         return line
 
-    def status(self, state: str, detail: str) -> ExplorerStatus:
+    def status(self, state: ExplorerState, detail: str) -> ExplorerStatus:
         """The explorer's state now."""
         end = self.finished
         return ExplorerStatus(
@@ -372,5 +383,5 @@ class ExplorerNode(Node):
             detail=detail,
         )
 
-    def _publish(self, state: str, detail: str) -> None:
+    def _publish(self, state: ExplorerState, detail: str) -> None:
         self._status_pub.publish(String(data=self.status(state, detail).to_json()))

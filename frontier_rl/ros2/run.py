@@ -20,7 +20,7 @@ from frontier_rl.robot.explorer_params import ExplorerParams
 from frontier_rl.robot.pose_source import PoseSource
 from frontier_rl.robot.ranking_service import RankingService, ServiceSettings
 from frontier_rl.robot.sim_robot import SimulatedRobot
-from frontier_rl.ros2.explorer_node import ExplorerNode, ExplorerStatus
+from frontier_rl.ros2.explorer_node import ExplorerNode, ExplorerState, ExplorerStatus
 from frontier_rl.ros2.ranking_node import RankingNode
 from frontier_rl.ros2.sim_node import SimNode
 from frontier_rl.swarm.config import TeamConfig
@@ -161,7 +161,7 @@ def run_explorer(
         _spin(lambda: _spin_until(executor, node.done.done))
     finally:
         ended = node.finished is not None
-        status = node.status("finished" if ended else "interrupted", "")
+        status = node.status(ExplorerState.FINISHED if ended else ExplorerState.INTERRUPTED, "")
         summary = node.summary() if ended else "interrupted before the map was explored"
         executor.shutdown()
         node.destroy_node()
