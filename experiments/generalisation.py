@@ -26,7 +26,8 @@ from frontier_rl.atomic_write import write_text_atomic
 from frontier_rl.config_files import load_sim_config
 from frontier_rl.core.sim.config import SimConfig
 from frontier_rl.evaluation.running.evaluate import evaluate
-from frontier_rl.evaluation.running.experiment import ORACLE, ExperimentConfig, expand_worlds
+from frontier_rl.evaluation.running.experiment import ExperimentConfig, expand_worlds
+from frontier_rl.evaluation.running.methods import ORACLE
 
 GENERATORS = ("office", "rooms", "cluttered", "building", "cave")
 DUNGEON_TESTS = ("easy", "medium", "complex")

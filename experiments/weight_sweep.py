@@ -24,7 +24,9 @@ from frontier_rl.core.sim.config import SimConfig
 from frontier_rl.evaluation.results.episode_record import EpisodeRow, Key
 from frontier_rl.evaluation.results.store import ResultStore
 from frontier_rl.evaluation.running.evaluate import evaluate
-from frontier_rl.evaluation.running.experiment import ORACLE, ExperimentConfig, expand_worlds, identity
+from frontier_rl.evaluation.running.experiment import ExperimentConfig, expand_worlds
+from frontier_rl.evaluation.running.fingerprints import identity
+from frontier_rl.evaluation.running.methods import ORACLE
 
 SWEEP = tuple(f"fixed:{0.05 * i:.2f}" for i in range(21))
 

@@ -213,7 +213,8 @@ def _names(
     methods: Sequence[str], worlds: Sequence[str | Path], baseline: str, oracle: bool
 ) -> tuple[tuple[str, ...], tuple[str, ...]]:
     """The methods (the baseline first, the oracle last) and worlds (folders expanded) of :func:`evaluate`."""
-    from frontier_rl.evaluation.running.experiment import expand_worlds, method_list
+    from frontier_rl.evaluation.running.experiment import expand_worlds
+    from frontier_rl.evaluation.running.methods import method_list
 
     if not (_list_of(methods, str) and _list_of(worlds, str | Path)):
         raise ConfigError(f"methods and worlds must be lists of names, got {short_repr(methods)}, {short_repr(worlds)}")

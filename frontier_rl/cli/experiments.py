@@ -76,7 +76,8 @@ def demo(
     from frontier_rl.evaluation.results.summary import ExperimentSummary
     from frontier_rl.evaluation.running.evaluate import DEFAULT_OUTLIERS_S
     from frontier_rl.evaluation.running.evaluate import evaluate as run_evaluation
-    from frontier_rl.evaluation.running.experiment import ORACLE, ExperimentConfig
+    from frontier_rl.evaluation.running.experiment import ExperimentConfig
+    from frontier_rl.evaluation.running.methods import ORACLE
 
     learned = [f"learned:{path}" for path in SHIPPED_MODELS if path.is_file()]
     methods = (THESIS_BASELINE, "nearest", "tour", *learned, ORACLE)
@@ -178,7 +179,7 @@ def evaluate(
     resolution = checked_run_arguments(seed, out, resolution)
     from frontier_rl import api
     from frontier_rl.evaluation.running.evaluate import parse_thresholds
-    from frontier_rl.evaluation.running.experiment import team_methods
+    from frontier_rl.evaluation.running.methods import team_methods
 
     strategies = [parse_strategy(s) for s in comma_list(strategy)]
     names = team_methods(policy_list(methods), int_list("--robots", robots), strategies)

@@ -29,8 +29,8 @@ from frontier_rl.evaluation.running.experiment import (
     EpisodeSettings,
     ExperimentConfig,
     expand_worlds,
-    identity,
 )
+from frontier_rl.evaluation.running.fingerprints import identity
 from tests.processes import children, gone, left_in_group, loads_numpy, sigint_as_in_a_terminal, workers_started
 
 pytestmark = pytest.mark.slow  # whole experiments, in worker processes and as subprocesses

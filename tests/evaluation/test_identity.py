@@ -14,7 +14,8 @@ from frontier_rl.errors import ConfigError
 from frontier_rl.evaluation.results.identity import ExperimentIdentity, TeamIdentity
 from frontier_rl.evaluation.results.row_checksums import RowChecksum, row_checksum, sha256_hex
 from frontier_rl.evaluation.results.store import ResultStore
-from frontier_rl.evaluation.running.experiment import ExperimentConfig, identity
+from frontier_rl.evaluation.running.experiment import ExperimentConfig
+from frontier_rl.evaluation.running.fingerprints import identity
 from frontier_rl.swarm import Failure
 
 

@@ -30,7 +30,8 @@ from frontier_rl.evaluation.results.episode_record import ROW_COLUMNS
 from frontier_rl.evaluation.results.identity import ExperimentIdentity
 from frontier_rl.evaluation.results.store import ResultStore, adopt_rows
 from frontier_rl.evaluation.running.evaluate import evaluate
-from frontier_rl.evaluation.running.experiment import ExperimentConfig, identity
+from frontier_rl.evaluation.running.experiment import ExperimentConfig
+from frontier_rl.evaluation.running.fingerprints import identity
 
 pytestmark = pytest.mark.slow  # experiments resumed from damaged results folders
 

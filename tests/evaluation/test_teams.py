@@ -13,7 +13,9 @@ from frontier_rl.cli import app
 from frontier_rl.core.sim.config import SimConfig
 from frontier_rl.errors import ConfigError
 from frontier_rl.evaluation.running.evaluate import evaluate
-from frontier_rl.evaluation.running.experiment import ExperimentConfig, identity, team_methods
+from frontier_rl.evaluation.running.experiment import ExperimentConfig
+from frontier_rl.evaluation.running.fingerprints import identity
+from frontier_rl.evaluation.running.methods import team_methods
 from frontier_rl.swarm import Failure, Strategy, TeamMethod
 
 pytestmark = pytest.mark.slow  # team experiments

@@ -15,7 +15,8 @@ from frontier_rl.core.world.catalog import WORLD_GENERATORS
 from frontier_rl.core.world.grid import CellState
 from frontier_rl.envs.world_source import WorldSource, check_world_files
 from frontier_rl.errors import ConfigError, MapError, UnknownNameError
-from frontier_rl.evaluation.running.experiment import EpisodeSettings, ExperimentConfig, job_parts, world_fingerprint
+from frontier_rl.evaluation.running.experiment import EpisodeSettings, ExperimentConfig, job_parts
+from frontier_rl.evaluation.running.fingerprints import world_fingerprint
 from frontier_rl.io import load_map
 from frontier_rl.io.catalogue import (
     MAPS_DIR,

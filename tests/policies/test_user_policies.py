@@ -18,7 +18,8 @@ from frontier_rl.core.sim.episode import run_episode
 from frontier_rl.core.world.catalog import generate_world
 from frontier_rl.errors import ConfigError, FrontierRLError, UnknownNameError
 from frontier_rl.evaluation.report.method_notes import describe_method
-from frontier_rl.evaluation.running.experiment import episode_policy, method_fingerprint
+from frontier_rl.evaluation.running.fingerprints import method_fingerprint
+from frontier_rl.evaluation.running.methods import episode_policy
 from frontier_rl.policies import (
     NearestFrontier,
     PolicyKind,

@@ -33,7 +33,7 @@ from frontier_rl.core.sim.episode import ExplorationPolicy, drive_episode
 from frontier_rl.core.world.worlds import World
 from frontier_rl.errors import ConfigError, short_repr
 from frontier_rl.evaluation.protocols.published import run_jobs
-from frontier_rl.evaluation.running.experiment import episode_policy
+from frontier_rl.evaluation.running.methods import episode_policy
 from frontier_rl.io import ros_map_shades
 from frontier_rl.swarm import TeamConfig, TeamResult
 from frontier_rl.swarm.episode import check_team_policy

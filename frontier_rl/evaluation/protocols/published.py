@@ -34,7 +34,7 @@ from frontier_rl.core.world.robot import Pose
 from frontier_rl.core.world.worlds import World, make_world
 from frontier_rl.errors import ConfigError, MapError, short_path
 from frontier_rl.evaluation.running.backends import check_workers, default_workers
-from frontier_rl.evaluation.running.experiment import episode_policy
+from frontier_rl.evaluation.running.methods import episode_policy
 from frontier_rl.evaluation.running.worker_pool import WorkerPool
 from frontier_rl.io.dungeon import DUNGEON_RESOLUTION, load_dungeon_map, marker_pixels
 from frontier_rl.policies import make_policy

@@ -10,7 +10,7 @@ from dataclasses import dataclass
 from frontier_rl.core.sim.metrics import EndReason
 from frontier_rl.evaluation.report.table import SIGNIFICANCE, number, p_value
 from frontier_rl.evaluation.results.summary import ExperimentSummary, MethodSummary
-from frontier_rl.evaluation.running.experiment import ORACLE
+from frontier_rl.evaluation.running.methods import ORACLE
 
 _REASONS = {
     EndReason.UNREACHABLE: "unreachable: frontiers were left, none of them reachable for a robot of this size or "

@@ -8,7 +8,7 @@ from pathlib import Path
 
 from frontier_rl.core.frontiers.thesis import THESIS_WEIGHT
 from frontier_rl.errors import FrontierRLError, short_repr, short_text
-from frontier_rl.evaluation.running.experiment import ORACLE
+from frontier_rl.evaluation.running.methods import ORACLE
 from frontier_rl.file_digest import file_sha256
 from frontier_rl.policies import PolicySpec
 from frontier_rl.policies.tour import FrontierTour

@@ -23,7 +23,8 @@ from frontier_rl.evaluation.report.table import (
 )
 from frontier_rl.evaluation.results.episode_record import EpisodeTrace
 from frontier_rl.evaluation.results.summary import ExperimentSummary, MethodSummary, OutlierCut, PairedSummary
-from frontier_rl.evaluation.running.experiment import ORACLE, ExperimentConfig
+from frontier_rl.evaluation.running.experiment import ExperimentConfig
+from frontier_rl.evaluation.running.methods import ORACLE
 from frontier_rl.evaluation.statistics.paired import THESIS_OUTLIERS_S
 from frontier_rl.swarm.config import TeamMethod
 

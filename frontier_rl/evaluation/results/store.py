@@ -1,6 +1,6 @@
 """An experiment's folder: its identity, the rows and traces written as episodes finish, resume.
 
-``OUT/experiment.json`` records what the rows depend on (:func:`~frontier_rl.evaluation.running.experiment.identity`);
+``OUT/experiment.json`` records what the rows depend on (:func:`~frontier_rl.evaluation.running.fingerprints.identity`);
 a rerun with a different seed, worlds or settings, or a changed model file under the same method
 name, is refused rather than mixed, and the refusal lists each setting that differs with its
 value there and now. ``OUT/episodes.csv`` gets one row per finished episode,

@@ -24,7 +24,9 @@ from frontier_rl.evaluation.running.backends import (
     default_workers,
     run_jobs,
 )
-from frontier_rl.evaluation.running.experiment import ExperimentConfig, check_methods, identity
+from frontier_rl.evaluation.running.experiment import ExperimentConfig
+from frontier_rl.evaluation.running.fingerprints import identity
+from frontier_rl.evaluation.running.methods import check_methods
 from frontier_rl.evaluation.statistics.paired import THESIS_OUTLIERS_S
 
 DEFAULT_OUTLIERS_S = THESIS_OUTLIERS_S

@@ -8,32 +8,24 @@ backend (a loop, a process pool, Ray tasks) runs the same episode and returns th
 
 from __future__ import annotations
 
-import hashlib
-from collections.abc import Sequence
 from dataclasses import dataclass, field
 from functools import lru_cache
 from pathlib import Path
 
 import numpy as np
 
-from frontier_rl.config_files import to_dict
 from frontier_rl.core.frontiers.thesis import THESIS_BASELINE
 from frontier_rl.core.sim.config import SimConfig
 from frontier_rl.core.sim.episode import ExplorationPolicy, run_episode, warm_up
 from frontier_rl.core.sim.metrics import EpisodeSummary, sample_step
 from frontier_rl.core.world.catalog import WORLD_GENERATORS
 from frontier_rl.core.world.worlds import World
-from frontier_rl.errors import ConfigError, model_file_label, short_repr
+from frontier_rl.errors import ConfigError
 from frontier_rl.evaluation.results.episode_record import EpisodeOutcome, EpisodeRow, EpisodeTrace
-from frontier_rl.evaluation.results.identity import ExperimentIdentity, TeamIdentity
-from frontier_rl.file_digest import file_sha256
-from frontier_rl.policies import PolicySpec, make_policy
-from frontier_rl.policies.user_policies import user_policy_fingerprint
-from frontier_rl.swarm import Failure, Strategy, TeamConfig, TeamMethod, TeamSummary, run_team_episode
-from frontier_rl.world_spec import parse_world_list, read_map, resolve_world
-
-ORACLE = "oracle"
-"""The full-knowledge reference every report measures methods against."""
+from frontier_rl.evaluation.running.methods import ORACLE, episode_policy, team_config
+from frontier_rl.policies import make_policy
+from frontier_rl.swarm import Failure, TeamConfig, TeamMethod, TeamSummary, run_team_episode
+from frontier_rl.world_spec import parse_world_list, resolve_world
 
 MAX_JOBS = 1_000_000
 """Most episodes (methods × worlds × episodes) an experiment may hold: its job list is built whole
@@ -157,85 +149,9 @@ class EpisodeSettings:
     failures: tuple[Failure, ...] = ()
 
 
-def team_config(method: TeamMethod, comm_range: float | None, failures: tuple[Failure, ...]) -> TeamConfig | None:
-    """The team of a parsed method under an experiment's range and failures; None for one robot."""
-    if method.robots is None:
-        return None
-    return TeamConfig(method.robots, method.strategy, comm_range, failures)
-
-
 def expand_worlds(text: str) -> tuple[str, ...]:
     """Generator names and map files from a comma list that may name folders of maps."""
     return parse_world_list(text)
-
-
-def method_fingerprint(method: str) -> str:
-    """What a method's results depend on besides its name: a model file's or a policy file's content
-    hash, a policy module's source hash, an installed policy's package and version."""
-    spec = TeamMethod.parse(method).policy
-    if spec.is_user_code:
-        extra = user_policy_fingerprint(spec)
-        return f"{method}#{extra}" if extra else method
-    if spec.name != "learned":
-        return method
-    path = Path(spec.argument)
-    if not path.is_file():
-        raise ConfigError(f"{model_file_label(spec.argument)} of method {short_repr(method)} does not exist")
-    return f"{method}#sha256:{file_sha256(path)}"
-
-
-def world_fingerprint(world: str, resolution: float | None) -> str:
-    """A generator's name, or a map file's path or catalogue name as given with a hash of the grid
-    it loads as (the same for a catalogue map wherever the package is installed)."""
-    if world in WORLD_GENERATORS:
-        return world
-    loaded = read_map(world, resolution)
-    digest = hashlib.sha256(loaded.grid.data.tobytes())
-    digest.update(repr((loaded.grid.shape, loaded.grid.resolution, loaded.grid.origin, loaded.start)).encode())
-    return f"{world}#sha256:{digest.hexdigest()[:16]}"
-
-
-def identity(config: ExperimentConfig) -> ExperimentIdentity:
-    """Everything a row's values depend on: rows of two experiments may be mixed only where these
-    agree (methods may be added and episodes extended; worlds, seed and settings not)."""
-    team = None
-    if config.comm_range is not None or config.failures:  # only then, so older results folders still match
-        team = TeamIdentity(config.comm_range, tuple(str(f) for f in config.failures))
-    return ExperimentIdentity(
-        seed=config.seed,
-        worlds=tuple(world_fingerprint(w, config.resolution) for w in config.worlds),
-        resolution=config.resolution,
-        sim=to_dict(config.sim),
-        methods={m: method_fingerprint(m) for m in config.methods},
-        team=team,
-    )
-
-
-def check_methods(config: ExperimentConfig) -> None:
-    """Build every method once, so a bad name or model file fails before any episode runs."""
-    for method in config.methods:
-        episode_policy(TeamMethod.parse(method).policy, config.trust_model)
-
-
-def episode_policy(method: str | PolicySpec, trust_model: bool) -> ExplorationPolicy:
-    """The policy of ``method`` for an episode: a built-in one is built once per process and version of
-    its model file (loading a model takes longer than an episode); a user policy afresh for every
-    episode (its module is loaded once), so that no state it keeps carries over from another episode."""
-    spec = method if isinstance(method, PolicySpec) else PolicySpec.parse(method)
-    if spec.is_user_code:
-        return make_policy(spec)
-    path = spec.file
-    stat = path.stat() if path is not None and path.is_file() else None
-    return _policy_version(spec, trust_model, None if stat is None else (stat.st_size, stat.st_mtime_ns))
-
-
-@lru_cache(maxsize=32)
-def _policy_version(spec: PolicySpec, trust_model: bool, version: tuple[int, int] | None) -> ExplorationPolicy:
-    if spec.name == "learned":
-        import torch
-
-        torch.set_num_threads(1)  # one episode per core; a tiny network gains nothing from threads
-    return make_policy(spec, trust_model=trust_model)
 
 
 @lru_cache(maxsize=1)
@@ -332,34 +248,3 @@ def _thin_curve(times: np.ndarray, curve: np.ndarray, end: float) -> tuple[list[
     grid = np.linspace(0.0, max(end, float(times[-1])), _TRACE_POINTS)
     values = sample_step(times, curve, grid)
     return [round(float(t), 2) for t in grid], [round(float(v), 5) for v in values]
-
-
-def method_list(methods: Sequence[str], baseline: str, oracle: bool) -> tuple[str, ...]:
-    """The methods of an experiment, each once: ``baseline`` first, then ``methods``, and the
-    :data:`ORACLE` last when ``oracle``."""
-    return tuple(dict.fromkeys([baseline, *methods, *([ORACLE] if oracle else [])]))
-
-
-def team_methods(methods: list[str], robots: list[int], strategies: list[Strategy]) -> list[str]:
-    """Every method run by every team size (a size of 1 is the method alone) and, above 1, every
-    strategy; methods already written as POLICY@N[:STRATEGY] are kept as they are.
-
-    Raises:
-        ConfigError: a team size out of range, or teams and no strategy (``--strategy ''``).
-    """
-    if not strategies and any(n > 1 for n in robots):
-        raise ConfigError("--strategy names no strategy for the teams of --robots")
-    out: list[str] = []
-    for method in methods:
-        parsed = TeamMethod.parse(method)
-        if parsed.robots is not None:
-            out.append(method)
-            continue
-        for n in robots:
-            if n == 1:
-                out.append(method)
-            else:
-                out += [str(TeamMethod(parsed.policy, n, s)) for s in strategies]
-    for n in robots:
-        TeamConfig(robots=n)  # a size out of range fails here, named
-    return list(dict.fromkeys(out))

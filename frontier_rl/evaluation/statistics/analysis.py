@@ -21,7 +21,8 @@ from frontier_rl.evaluation.results.summary import (
     TeamPoint,
     defined,
 )
-from frontier_rl.evaluation.running.experiment import ORACLE, ExperimentConfig
+from frontier_rl.evaluation.running.experiment import ExperimentConfig
+from frontier_rl.evaluation.running.methods import ORACLE
 from frontier_rl.evaluation.statistics.paired import compare_methods, holm_adjust
 from frontier_rl.swarm.config import TeamMethod
 
