@@ -160,7 +160,7 @@ def test_a_changed_model_file_is_refused(tmp_path: Path) -> None:
     config = _config(("fixed:0.75", f"learned:{copy}"), episodes=1)
     evaluate(config, tmp_path / "exp", backend="serial", progress=False)
     copy.write_bytes(Path("models/model5.zip").read_bytes())
-    with pytest.raises(ConfigError, match="different model file"):
+    with pytest.raises(ConfigError, match="from another version of its model file or policy code"):
         evaluate(config, tmp_path / "exp", backend="serial", progress=False)
 
 

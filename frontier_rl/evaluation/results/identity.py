@@ -120,8 +120,9 @@ def merged_identity(out: Path, stored: Mapping[str, object], identity: Experimen
         if old is not None and old != fingerprint:
             there, here = contrast(old, fingerprint)
             raise ConfigError(
-                f"--out {str(out)!r} holds results of {short_repr(method)} from a different model file "
-                f"({there} there, {here} now); choose another --out or rename the model"
+                f"--out {str(out)!r} holds results of {short_repr(method)} from another version of its model "
+                f"file or policy code ({there} there, {here} now); choose another --out or give the new version "
+                "another file name"
             )
     return replace(identity, methods={**old_methods, **identity.methods})
 
