@@ -30,11 +30,13 @@ _BLOCKED = (FollowStatus.BLOCKED, FollowStatus.BLOCKED_BY_ROBOT)
 class LegNavigation(Protocol):
     """What a leg needs of the robot's navigation (:class:`~frontier_rl.core.sim.navigator.Navigator`)."""
 
-    def replan(
-        self, goal: tuple[float, float], recovery: Recovery, pose: Pose, round_teammates: bool = False
+    def replan(self, goal: tuple[float, float], recovery: Recovery, pose: Pose) -> NDArray[np.float64] | None:
+        """A new path (n, 2) (m) from ``pose`` to ``goal`` on the current map, or None."""
+
+    def replan_round_teammates(
+        self, goal: tuple[float, float], recovery: Recovery, pose: Pose
     ) -> NDArray[np.float64] | None:
-        """A new path (n, 2) (m) from ``pose`` to ``goal`` on the current map (one that keeps out of
-        the teammates in contact, with ``round_teammates``), or None."""
+        """:meth:`replan`'s path, but one that keeps out of the teammates in contact, or None."""
 
     def give_way(self, goal: tuple[float, float]) -> None:
         """End the leg to ``goal`` for the teammates in contact: the next decision sees them as walls."""
@@ -300,7 +302,7 @@ class Leg:
         near = mates.collision_gap + port.config.navigation.goal_tolerance
         if any(math.dist(xy, self.goal) <= near for xy in (here, *mates.in_contact(here))):
             return LegOutcome.REACHED
-        path = port.navigator.replan(self.goal, self._recovery, port.pose, round_teammates=True)
+        path = port.navigator.replan_round_teammates(self.goal, self._recovery, port.pose)
         if path is None:
             port.navigator.give_way(self.goal)
             return LegOutcome.GAVE_WAY

@@ -21,7 +21,7 @@ from frontier_rl.core.sim.candidates import Candidates, Look, find_candidates
 from frontier_rl.core.sim.config import SimConfig
 from frontier_rl.core.sim.episode_log import EpisodeLog
 from frontier_rl.core.sim.looks import LOOK_PAYOFF_M2, blind_looks, last_looks, may_look, spent_looks
-from frontier_rl.core.sim.paths import map_blocks_path, recovery_blocks_path, replan_path
+from frontier_rl.core.sim.paths import map_blocks_path, recovery_blocks_path, replan_path, replan_round_teammates
 from frontier_rl.core.sim.teammates import Teammates
 from frontier_rl.core.sim.trail import mark_path
 from frontier_rl.core.world.grid import OccupancyGrid
@@ -198,18 +198,25 @@ class Navigator:
             trail,
         )
 
-    def replan(
-        self, goal: tuple[float, float], recovery: Recovery, pose: Pose, round_teammates: bool = False
-    ) -> NDArray[np.float64] | None:
+    def replan(self, goal: tuple[float, float], recovery: Recovery, pose: Pose) -> NDArray[np.float64] | None:
         """A new path from ``pose`` to ``goal`` (m) on the current map, on the costmap the leg was
         planned on (``recovery``): a leg through a passage opened by the narrow-passage recovery
-        keeps to it (on the normal costmap the robot inside the passage could not move). With
-        ``round_teammates``, only a path that keeps out of the teammates in contact with the robot."""
+        keeps to it (on the normal costmap the robot inside the passage could not move)."""
+        return replan_path(self._replan_candidates(recovery, pose), pose, goal, self._robots, self._config)
+
+    def replan_round_teammates(
+        self, goal: tuple[float, float], recovery: Recovery, pose: Pose
+    ) -> NDArray[np.float64] | None:
+        """:meth:`replan`'s path, but only one that keeps out of the teammates in contact with the robot."""
+        return replan_round_teammates(self._replan_candidates(recovery, pose), pose, goal, self._robots)
+
+    def _replan_candidates(self, recovery: Recovery, pose: Pose) -> Candidates:
+        """The candidates (their costmap) a replan of a leg planned on ``recovery``'s costmap uses."""
         levels = self._levels(pose)
         cand = levels[-1] if len(levels[-1].frontiers) else levels[0]
         if recovery is not Recovery.NONE and cand.recovery is not recovery:
             cand = self.candidates_on(cand.grid, recovery, pose)
-        return replan_path(cand, pose, goal, self._robots, self._config, round_teammates)
+        return cand
 
     def give_way(self, goal: tuple[float, float]) -> None:
         """A teammate blocks the leg to ``goal`` (m): the next decision sees those in contact as walls."""

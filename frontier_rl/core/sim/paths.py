@@ -95,22 +95,21 @@ def recovery_blocks_path(
 
 
 def replan_path(
-    cand: Candidates,
-    pose: Pose,
-    goal: tuple[float, float],
-    mates: Teammates,
-    config: SimConfig,
-    round_teammates: bool,
+    cand: Candidates, pose: Pose, goal: tuple[float, float], mates: Teammates, config: SimConfig
 ) -> NDArray[np.float64] | None:
     """A world-frame path (n, 2) (m) from ``pose`` to the cell of ``goal`` (m) a replan aims at
-    (:func:`passable_goal_cell`), or None: one that keeps out of the teammates in contact with
-    the robot with ``round_teammates`` (:func:`plan_round_teammates`), else :func:`plan_path`'s."""
+    (:func:`passable_goal_cell`, :func:`plan_path`), or None."""
     cell = passable_goal_cell(cand, goal)
-    if cell is None:
-        return None
-    if round_teammates:
-        return plan_round_teammates(cand, pose, cell, mates)
-    return plan_path(cand, pose, cell, mates, config)
+    return None if cell is None else plan_path(cand, pose, cell, mates, config)
+
+
+def replan_round_teammates(
+    cand: Candidates, pose: Pose, goal: tuple[float, float], mates: Teammates
+) -> NDArray[np.float64] | None:
+    """:func:`replan_path`'s path, but one that keeps out of the teammates in contact with the
+    robot (:func:`plan_round_teammates`), or None."""
+    cell = passable_goal_cell(cand, goal)
+    return None if cell is None else plan_round_teammates(cand, pose, cell, mates)
 
 
 def point_goal_cell(cand: Candidates, x: float, y: float) -> tuple[int, int] | None:

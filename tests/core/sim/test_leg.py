@@ -89,13 +89,16 @@ class ScriptedPort:
     def navigator(self) -> ScriptedPort:
         return self
 
-    def replan(
-        self, goal: tuple[float, float], recovery: Recovery, pose: Pose, round_teammates: bool = False
-    ) -> NDArray[np.float64] | None:
+    def replan(self, goal: tuple[float, float], recovery: Recovery, pose: Pose) -> NDArray[np.float64] | None:
         self.calls.append("replan")
         if self.replans is FROM_HERE:
             return _straight(goal[0], self.pose.x)
         return self.replans.pop(0) if self.replans else None
+
+    def replan_round_teammates(
+        self, goal: tuple[float, float], recovery: Recovery, pose: Pose
+    ) -> NDArray[np.float64] | None:
+        return self.replan(goal, recovery, pose)  # no teammates here
 
     def path_blocked(self, path_cells: NDArray[np.int64], first: int, recovery: Recovery) -> bool:
         return self.blocked_after is not None and self.sim_time >= self.blocked_after
@@ -195,9 +198,7 @@ class WanderingPort(ScriptedPort):
         self.driven += driven
         return super().advance(pose, driven, duration)
 
-    def replan(
-        self, goal: tuple[float, float], recovery: Recovery, pose: Pose, round_teammates: bool = False
-    ) -> NDArray[np.float64] | None:
+    def replan(self, goal: tuple[float, float], recovery: Recovery, pose: Pose) -> NDArray[np.float64] | None:
         self.calls.append("replan")
         self.east = self.pose.x < 8.5 if self.east else self.pose.x < 1.5
         xs = np.linspace(self.pose.x, 9.5 if self.east else 0.5, 100)
