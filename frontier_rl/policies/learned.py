@@ -11,6 +11,7 @@ to.
 from __future__ import annotations
 
 from dataclasses import dataclass, field, replace
+from enum import StrEnum
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
@@ -29,6 +30,15 @@ if TYPE_CHECKING:
     from frontier_rl.inference.interface import Actor
 
 
+class ModelKind(StrEnum):
+    """What a model file's network chooses."""
+
+    WEIGHT = "weight"  # a ranking weight from the map image (models 3 and 4)
+    POINT = "point"  # a goal cell of the map image (models 1 and 2)
+    WEIGHT_TABLE = "weight table"  # a ranking weight from the frontier table (model 6)
+    FRONTIER = "frontier"  # a frontier of the table (models 5 and 7)
+
+
 @dataclass
 class LearnedPolicy:
     """A trained model file as an exploration policy.
@@ -39,6 +49,9 @@ class LearnedPolicy:
         sim: the navigation settings of the costmap the frontier-table models' (5 to 7) path costs
             are computed on, when the decision context brings none (the robot's radius is always
             the context's).
+
+    Attributes:
+        kind: what the file's network chooses (:class:`ModelKind`), read from its shape.
     """
 
     path: Path
@@ -64,12 +77,12 @@ class LearnedPolicy:
         n_actions, rows = shape.actions, shape.table_rows
         self._tour = False
         if rows == 0:
-            self.kind = "weight" if n_actions == WEIGHT_BINS else "point"
+            self.kind = ModelKind.WEIGHT if n_actions == WEIGHT_BINS else ModelKind.POINT
         else:
             if n_actions not in (rows, WEIGHT_BINS):
                 raise ConfigError(f"{where} has {n_actions} actions for a frontier table of {rows} rows")
             table_weight = n_actions == WEIGHT_BINS if info is None else info.model == 6  # 100 rows: ask the file
-            self.kind = "weight table" if table_weight else "frontier"
+            self.kind = ModelKind.WEIGHT_TABLE if table_weight else ModelKind.FRONTIER
             n_actions = rows
             columns = (len(FRONTIER_FEATURES), len(FRONTIER_FEATURES) + 1)  # model 7's table: the tour column
             if shape.table_length not in tuple(rows * c for c in columns):
@@ -85,7 +98,7 @@ class LearnedPolicy:
             raise ConfigError(f"{where} expects map images of shape {short_repr(shape.image)}") from None
         if self._encoder.shape != shape.image:
             raise ConfigError(f"{where} expects map images of shape {short_repr(shape.image)}")
-        if self.kind == "point" and n_actions != size * size:
+        if self.kind is ModelKind.POINT and n_actions != size * size:
             raise ConfigError(f"{where} has {n_actions} actions, expected {WEIGHT_BINS} or {size}²")
         self._top_k = n_actions
 
@@ -100,11 +113,11 @@ class LearnedPolicy:
     def rank(self, context: DecisionContext, rng: np.random.Generator) -> Ranking:
         """The model's choice for this decision."""
         grid, pose, frontiers = context.grid, context.pose, context.frontiers
-        if self.kind == "point":
+        if self.kind is ModelKind.POINT:
             row, col = divmod(self._act(self._encoder.encode(grid, pose, frontiers)), self._encoder.size)
             goal = self._encoder.pixel_to_world(grid, pose, row, col)
             return Ranking(np.zeros(0, np.int64), goal=goal)
-        if self.kind == "weight":
+        if self.kind is ModelKind.WEIGHT:
             action = self._act(self._encoder.encode(grid, pose, frontiers))
         else:  # the frontier table's models
             radius, sensor_range = context.robot_radius, context.sensor_range
@@ -115,7 +128,7 @@ class LearnedPolicy:
                 self._encoder, self._top_k, costmap, pose, frontiers, radius, sensor_range, self._tour
             )
             action = self._act(obs)
-            if self.kind == "frontier":
+            if self.kind is ModelKind.FRONTIER:
                 return Ranking(slot_order(slots, action))
         weight = bin_to_weight(action)  # models 3, 4 and 6
         return Ranking(rank(weighted_cost(frontiers, weight)), weight)

@@ -97,10 +97,11 @@ def check_node_policy(policy: object, spec: str) -> None:
     have, or chooses a goal cell instead of ranking frontiers (the point models 1 and 2), which
     would leave every answer empty."""
     from frontier_rl.core.sim.episode import EpisodeAwarePolicy  # the engine, once a policy is made
+    from frontier_rl.policies.learned import ModelKind
 
     if isinstance(policy, EpisodeAwarePolicy):
         raise ConfigError(f"~policy {short_repr(spec)} plans on the true map, which the node does not have")
-    if getattr(policy, "kind", None) == "point":
+    if getattr(policy, "kind", None) == ModelKind.POINT:
         raise ConfigError(
             f"{short_repr(spec)} is a point model (it chooses a goal cell, as models 1 and 2 do), not a ranking "
             "of frontiers, which is what the node answers with"
