@@ -38,7 +38,7 @@ from scipy import stats
 from frontier_rl.atomic_write import write_text_atomic
 from frontier_rl.core.frontiers.ranking import rank, weighted_cost
 from frontier_rl.core.sim.episode import decision_context
-from frontier_rl.core.sim.episode_log import EndReason
+from frontier_rl.core.sim.metrics import EndReason
 from frontier_rl.core.sim.simulator import ExplorationSimulator
 from frontier_rl.core.world.catalog import generate_world
 

@@ -47,6 +47,7 @@ MAX_INT_DIGITS = 100
 _INT_TAG = "tag:yaml.org,2002:int"
 _FLOAT_TAG = "tag:yaml.org,2002:float"
 _TIMESTAMP_TAG = "tag:yaml.org,2002:timestamp"
+_MERGE_TAG = "tag:yaml.org,2002:merge"
 _DIGITS = r"[0-9][0-9_]*"
 # YAML 1.2 core schema, with "_" allowed between digits as PyYAML allows.
 _INT_RE = re.compile(rf"^(?:[-+]?{_DIGITS}|0o[0-7_]+|0x[0-9a-fA-F_]+)$")
@@ -94,6 +95,8 @@ class _BoundedLoader(yaml.SafeLoader):
         """A mapping, each key given once."""
         seen: set[Any] = set()
         for key_node, _ in node.value:
+            if key_node.tag == _MERGE_TAG:  # "<<" merges a mapping in: SafeLoader flattens it, keys may repeat
+                continue
             key = self.construct_object(key_node, deep=True)
             if not isinstance(key, Hashable):
                 continue  # refused by SafeLoader below, as an unhashable key

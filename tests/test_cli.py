@@ -277,14 +277,15 @@ def test_bad_team_input_is_one_line_and_exit_2(args: list[str], needle: str) -> 
 def test_team_options_given_to_one_robot_are_named_in_a_warning() -> None:
     base = ["explore", "--world", "lse_arena", "--max-time", "3", "--json"]
     for extra, line in (
-        (["--comm-range", "3"], "warning: --comm-range acts between robots: with one robot it changes nothing"),
+        (["--comm-range", "3"], "warning: --comm-range acts between robots: with one robot it is ignored"),
         (["--strategy", "coordinated", "--comm-range", "3"], "warning: --strategy and --comm-range act between"),
     ):
         result = runner.invoke(app, [*base, *extra])
         assert result.exit_code == 0, result.output
         (warning,) = result.stderr.splitlines()
         assert warning.startswith(line) and warning.endswith("(--robots N)")
-        assert json.loads(result.stdout)["world"] == "lse_arena"
+        alone = json.loads(result.stdout)
+        assert alone["world"] == "lse_arena" and "strategy" not in alone  # a single robot's episode
     quiet = runner.invoke(app, [*base, "--robots", "2", "--comm-range", "3"])
     assert quiet.exit_code == 0 and quiet.stderr == ""
 

@@ -266,6 +266,11 @@ def test_a_key_given_twice_is_refused_naming_it_and_its_line(tmp_path: Path, rea
     assert "the key 'a' is given twice" in nested
 
 
+def test_a_merge_key_without_an_alias_still_merges_its_mapping() -> None:
+    assert parse_yaml("a: 1\n<<: {b: 2}\n") == {"a": 1, "b": 2}
+    assert parse_yaml("a: 1\n<<: {a: 2}\n") == {"a": 1}  # a key of its own wins over a merged one
+
+
 @pytest.mark.parametrize("reader", list(READERS))
 @pytest.mark.parametrize(
     ("data", "needle"),

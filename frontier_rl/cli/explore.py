@@ -180,12 +180,13 @@ def _table_value(value: object) -> str:
 
 
 def _team_config(robots: int, strategy: str, comm_range: float | None, fail: list[str]) -> TeamConfig | None:
-    """The team of ``explore``'s options; None for a single robot with no team option."""
+    """The team of ``explore``'s options; None for a single robot that is not to fail (the options
+    that act between robots are ignored then, with a warning)."""
     failures = tuple(Failure.parse(text) for text in fail)
     team = TeamConfig(robots, parse_strategy(strategy), checked_comm_range(comm_range), failures)
     between = [name for name, given in (("--strategy", team.strategy != TeamConfig().strategy),
                                         ("--comm-range", comm_range is not None)) if given]  # fmt: skip
     if robots == 1 and between:
-        verb, subject = ("acts", "it changes") if len(between) == 1 else ("act", "they change")
-        print_warning(f"{' and '.join(between)} {verb} between robots: with one robot {subject} nothing (--robots N)")
-    return None if team == TeamConfig() else team
+        verb, subject = ("acts", "it is") if len(between) == 1 else ("act", "they are")
+        print_warning(f"{' and '.join(between)} {verb} between robots: with one robot {subject} ignored (--robots N)")
+    return None if robots == 1 and not failures else team

@@ -13,7 +13,7 @@ from frontier_rl.cli.options import ResolutionOption, SimConfigOption, checked_r
 from frontier_rl.cli.output import friendly_errors, print_note, stdout_console
 from frontier_rl.errors import ConfigError
 
-TRAINING_PACKAGES = frozenset({"torch", "stable_baselines3", "tensorboard"})
+TRAINING_PACKAGES = frozenset({"torch", "stable_baselines3"})
 """The packages of the ``rl`` extra that training imports."""
 
 PrivilegedCriticOption = Annotated[

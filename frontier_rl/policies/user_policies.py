@@ -203,12 +203,12 @@ def _import_module(spec: PolicySpec) -> ModuleType:
         return importlib.import_module(spec.name)
     except ModuleNotFoundError as exc:
         missing = exc.name or ""
-        if Path(spec.name).is_file():  # run.png:Policy reads as module "png" of a package "run"
-            raise ConfigError(
-                f"policy {short_repr(str(spec))}: {short_path(spec.name)} is a file but not Python: a policy "
-                "file's name ends in .py (FILE.py:CLASS)"
-            ) from None
         if missing == spec.name or spec.name.startswith(missing + "."):
+            if Path(spec.name).is_file():  # run.png:Policy reads as module "png" of a package "run"
+                raise ConfigError(
+                    f"policy {short_repr(str(spec))}: {short_path(spec.name)} is a file but not Python: a policy "
+                    "file's name ends in .py (FILE.py:CLASS)"
+                ) from None
             raise UnknownNameError(
                 f"policy {short_repr(str(spec))}: no module named {missing!r} on the Python path (add its folder "
                 "to PYTHONPATH)"

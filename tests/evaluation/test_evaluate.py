@@ -298,7 +298,7 @@ def test_short_labels_stay_unique() -> None:
         (["--methods", "learned:missing.zip"], "missing.zip"),
         (["--methods", "nearest", "--worlds", "atlantis"], "unknown world 'atlantis'"),
         (["--methods", "nearest", "--episodes", "0"], "episodes must be a positive integer"),
-        (["--methods", "nearest", "--backend", "mpi"], "unknown backend 'mpi'"),
+        (["--methods", "nearest", "--backend", "mpi"], "--backend must be one of serial, process, ray, got 'mpi'"),
         (["--methods", "nearest", "--workers", "0"], "--workers must be a positive integer"),
         (["--methods", "nearest", "--workers", "1000"], "--workers must be at most 256"),
         (["--methods", "nearest", "--outliers", "1000,abc"], "outlier thresholds"),

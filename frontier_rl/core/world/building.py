@@ -15,6 +15,7 @@ import numpy as np
 
 from frontier_rl.core.world.layout import (
     MIN_GAP_M,
+    ROOM_DOOR_M,
     BoolGrid,
     Rect,
     bordered,
@@ -23,7 +24,6 @@ from frontier_rl.core.world.layout import (
     place_pillars,
     wall_cells,
 )
-from frontier_rl.core.world.rooms import ROOM_DOOR_M
 
 CORRIDOR_M = (1.6, 2.4)  # main corridor clear width range (m)
 CROSS_CORRIDOR_M = (1.4, 2.0)  # cross corridor clear width range (m)

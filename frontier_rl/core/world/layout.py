@@ -21,6 +21,7 @@ BoolGrid = NDArray[np.bool_]
 WALL_M = (0.10, 0.15)  # wall thickness range (m)
 MIN_GAP_M = 0.8  # narrowest door or gap between obstacles (m)
 PILLAR_M = (0.2, 0.4)  # square pillar edge range (m)
+ROOM_DOOR_M = (0.8, 1.2)  # the door width range (m) of the BSP rooms and of the building's rooms
 
 
 class Rect(NamedTuple):

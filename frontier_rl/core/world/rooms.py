@@ -6,11 +6,10 @@ from __future__ import annotations
 
 import numpy as np
 
-from frontier_rl.core.world.layout import BoolGrid, Rect, bordered, cells, pick_start, wall_cells
+from frontier_rl.core.world.layout import ROOM_DOOR_M, BoolGrid, Rect, bordered, cells, pick_start, wall_cells
 from frontier_rl.errors import ConfigError
 
 ROOM_MIN_M = 2.5  # narrowest room of the BSP layout (m)
-ROOM_DOOR_M = (0.8, 1.2)  # BSP door width range (m)
 CORRIDOR_M = (1.2, 1.8)  # BSP corridor width range (m)
 
 

@@ -137,9 +137,9 @@ def run_jobs(
     must be a module-level function): the results in job order, and a line for each job that
     failed (the others are kept). A job's first argument is its method: every method is built
     once first, so that an unknown one or a bad model file fails before any work."""
+    check_workers(workers)
     for method in dict.fromkeys(job[0] for job in jobs):
         make_policy(method)
-    check_workers(workers)
     workers = max(1, min(workers or default_workers(), len(jobs)))
     catching = _Catching(run)
     if workers == 1:

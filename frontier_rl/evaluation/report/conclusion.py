@@ -120,7 +120,7 @@ def unfinished(
     reason as ``reason_text`` writes it), from each method's episodes per end reason."""
     parts = []
     for method, reasons in end_reasons.items():
-        ends = [f"{n} {reason_text(reason)}" for reason, n in reasons.items() if n and reason is not EndReason.EXPLORED]
+        ends = [f"{n} {reason_text(reason)}" for reason, n in reasons.items() if n and reason != EndReason.EXPLORED]
         if ends:
             parts.append(f"{labels[method]} {', '.join(ends)}")
     return parts
@@ -133,7 +133,7 @@ def _completion(methods: Mapping[str, MethodSummary], labels: dict[str, str]) ->
     if explored == total:
         return f"All {total} episodes ended with the map explored."
     parts = unfinished(by_method, labels, lambda reason: reason.label)
-    reasons = {r for counts in by_method.values() for r, n in counts.items() if n and r is not EndReason.EXPLORED}
+    reasons = {r for counts in by_method.values() for r, n in counts.items() if n and r != EndReason.EXPLORED}
     meaning = [_REASONS[r] for r in sorted(reasons) if r in _REASONS]
     return f"{explored} of {total} episodes ended with the map explored; the others: {'; '.join(parts)}" + (
         f" ({'; '.join(meaning)})." if meaning else "."

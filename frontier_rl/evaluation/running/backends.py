@@ -16,6 +16,7 @@ from collections.abc import Callable, Generator
 from enum import StrEnum
 from typing import Any
 
+from frontier_rl.checked_values import enum_member
 from frontier_rl.errors import ConfigError, FrontierRLError
 from frontier_rl.evaluation.results.episode_record import EpisodeOutcome
 from frontier_rl.evaluation.running.experiment import EpisodeJob, EpisodeSettings, run_job
@@ -62,19 +63,18 @@ def check_workers(workers: int | None) -> None:
 def check_backend(backend: Backend | str, workers: int, ray_address: str | None) -> Backend:
     """The backend named ``backend``; a clear error for an unknown one, a bad worker count or Ray
     options without Ray."""
-    if backend not in tuple(Backend):
-        raise ConfigError(f"unknown backend {backend!r}; choose one of {', '.join(Backend)}")
+    chosen = enum_member(Backend, backend, "--backend")
     check_workers(workers)
-    if ray_address is not None and backend != Backend.RAY:
+    if ray_address is not None and chosen is not Backend.RAY:
         raise ConfigError(f"--ray-address {ray_address!r} needs --backend ray")
-    if backend == Backend.RAY:
+    if chosen is Backend.RAY:
         try:
             import ray  # noqa: F401
         except ImportError:
             raise ConfigError("--backend ray needs Ray: pip install 'frontier_rl[ray]'") from None
         if ray_address is not None:
             check_ray_address(ray_address)
-    return Backend(backend)
+    return chosen
 
 
 def check_ray_address(address: str, timeout_s: float = 5.0) -> None:
