@@ -101,21 +101,19 @@ def run_jobs(
     jobs: list[EpisodeJob],
     settings: EpisodeSettings,
     on_result: ResultHandler,
-    backend: Backend | str = Backend.PROCESS,
-    workers: int | None = None,
+    backend: Backend,
+    workers: int,
     ray_address: str | None = None,
 ) -> None:
-    """Run ``jobs`` on ``backend`` with ``workers`` parallel episodes (default: every core). An
-    episode that raises does not stop the others: once all have run, :class:`EpisodeFailedError`
-    names the failures."""
-    workers = default_workers() if workers is None else workers
-    chosen = check_backend(backend, workers, ray_address)
+    """Run ``jobs`` on ``backend`` with ``workers`` parallel episodes, both as :func:`check_backend`
+    passed them (it probes a Ray address: once, by the caller). An episode that raises does not
+    stop the others: once all have run, :class:`EpisodeFailedError` names the failures."""
     if not jobs:
         return
     failures: list[tuple[EpisodeJob, BaseException]] = []
-    if chosen is Backend.SERIAL:
+    if backend is Backend.SERIAL:
         outcomes: Outcomes = _serial(jobs, settings)
-    elif chosen is Backend.PROCESS:
+    elif backend is Backend.PROCESS:
         outcomes = _process_pool(jobs, settings, workers)
     else:
         outcomes = _ray_tasks(jobs, settings, workers, ray_address)
