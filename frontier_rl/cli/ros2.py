@@ -13,11 +13,11 @@ import typer
 from frontier_rl.cli.options import MAX_SEED, WORLD_HELP, fail
 from frontier_rl.cli.output import OneLineGroup, friendly_errors, print_note, stdout_console
 from frontier_rl.errors import SettingError
+from frontier_rl.robot.explorer_params import ExplorerParams, setting_help
 from frontier_rl.seeds import checked_seed
 from frontier_rl.swarm.config import MAX_ROBOTS  # ros2 sim runs as many robots as a team of explore
 
 if TYPE_CHECKING:
-    from frontier_rl.robot.explorer_params import ExplorerParams
     from frontier_rl.robot.pose_source import PoseSource
 
 ros2_app = typer.Typer(
@@ -46,8 +46,6 @@ def _explorer_params(
 ) -> ExplorerParams:
     """The explorer's settings from its options (a time cap of 0: none); a one-line error naming
     the option that is out of range."""
-    from frontier_rl.robot.explorer_params import ExplorerParams
-
     try:
         return ExplorerParams(
             planner_frequency=planner_frequency,
@@ -65,7 +63,7 @@ def _with_parameter_file(ctx: typer.Context, path: Path | None, options: dict[st
     the command line; the file's parameters that mean nothing here are named on standard error."""
     if path is None:
         return options
-    from frontier_rl.robot.explorer_params import explore_lite_parameters
+    from frontier_rl.robot.explore_lite_file import explore_lite_parameters
 
     known, ignored = explore_lite_parameters(path)
     for name, value in known.items():
@@ -169,14 +167,18 @@ def explore(
     policy: Annotated[
         str, typer.Option(help="Any policy spec: nearest, fixed:0.75, tour, learned:PATH, ...")
     ] = "nearest",
-    planner_frequency: Annotated[float, typer.Option(help="Planner ticks per second (Hz).")] = 1.0,
+    planner_frequency: Annotated[
+        float, typer.Option(help=setting_help("planner_frequency"))
+    ] = ExplorerParams.planner_frequency,
     progress_timeout: Annotated[
-        float, typer.Option(help="A goal with no progress for this long is given up (s).")
-    ] = 30.0,
-    min_frontier_size: Annotated[float, typer.Option(help="Frontiers this long or shorter are no goals (m).")] = 0.2,
-    return_to_init: Annotated[bool, typer.Option(help="Drive back to the start once explored.")] = False,
-    visualize: Annotated[bool, typer.Option(help="Publish RViz markers on explore/frontiers.")] = True,
-    time_cap: Annotated[float, typer.Option(help="Stop exploring after this long (s; 0: never).")] = 0.0,
+        float, typer.Option(help=setting_help("progress_timeout"))
+    ] = ExplorerParams.progress_timeout,
+    min_frontier_size: Annotated[
+        float, typer.Option(help=setting_help("min_frontier_size"))
+    ] = ExplorerParams.min_frontier_size,
+    return_to_init: Annotated[bool, typer.Option(help=setting_help("return_to_init"))] = ExplorerParams.return_to_init,
+    visualize: Annotated[bool, typer.Option(help=setting_help("visualize"))] = True,
+    time_cap: Annotated[float, typer.Option(help=setting_help("time_cap"))] = 0.0,
     namespace: Annotated[str, typer.Option(help="The robot's namespace.")] = "",
     teammates: Annotated[
         str, typer.Option(help="Teammates' namespaces (tb3_1,tb3_2): their maps are merged into this robot's.")

@@ -1,42 +1,43 @@
-"""The explorer's settings (:class:`ExplorerParams`), checkable without loading the engine, and
-explore_lite's parameter file read into them (:func:`explore_lite_parameters`)."""
+"""The explorer's settings (:class:`ExplorerParams`), each with what it means and its unit, in one
+place: the command line's help and the ROS 2 node's parameter descriptions are these. Checkable
+without loading the engine (or YAML: explore_lite's parameter file is read in
+:mod:`frontier_rl.robot.explore_lite_file`)."""
 
 from __future__ import annotations
 
 import math
-from collections.abc import Mapping
-from dataclasses import dataclass
-from pathlib import Path
+from dataclasses import dataclass, field, fields
 from typing import Any
 
-from frontier_rl.checked_values import coerce
-from frontier_rl.errors import ConfigError, SettingError
-from frontier_rl.safe_yaml import load_yaml_file
+from frontier_rl.errors import SettingError
 
 DEFAULT_MIN_FRONTIER_SIZE_M = 0.2
 """The engine's frontier drop size (``SimConfig.min_frontier_cells``, 4 cells of 0.05 m)."""
 
+VISUALIZE_HELP = "Publish RViz markers on explore/frontiers."
+"""What the node's ``visualize`` parameter (and ``--visualize``) does; a setting of the node that
+draws, not of the explorer."""
+
+
+def _setting(default: Any, help_text: str) -> Any:
+    """A field of :class:`ExplorerParams` with its default and what it means (its ``help``)."""
+    return field(default=default, metadata={"help": help_text})
+
 
 @dataclass(frozen=True)
 class ExplorerParams:
-    """The explorer's settings, with explore_lite's names where they mean the same.
+    """The explorer's settings, with explore_lite's names where they mean the same; what each means,
+    with its unit, is its field's ``help`` (:func:`setting_help`). No time cap is ``math.inf`` here,
+    where the command line and the node's parameter write 0."""
 
-    Attributes:
-        planner_frequency: how often the frontiers are found and ranked again (Hz).
-        progress_timeout: a goal the robot gets no nearer to (by ``progress_distance``) for this
-            long is given up and blacklisted (s).
-        min_frontier_size: frontier clusters this long or shorter are no goals (m).
-        return_to_init: drive back to the start once the map is explored.
-        time_cap: stop exploring after this long (s); infinite by default.
-        progress_distance: the distance (m) to the goal that counts as progress.
-    """
-
-    planner_frequency: float = 1.0
-    progress_timeout: float = 30.0
-    min_frontier_size: float = DEFAULT_MIN_FRONTIER_SIZE_M
-    return_to_init: bool = False
-    time_cap: float = math.inf
-    progress_distance: float = 0.1
+    planner_frequency: float = _setting(1.0, "Planner ticks per second (Hz).")
+    progress_timeout: float = _setting(
+        30.0, "A goal the robot gets no nearer to (by progress_distance) for this long is given up (s)."
+    )
+    min_frontier_size: float = _setting(DEFAULT_MIN_FRONTIER_SIZE_M, "Frontiers this long or shorter are no goals (m).")
+    return_to_init: bool = _setting(False, "Drive back to the start once explored.")
+    time_cap: float = _setting(math.inf, "Stop exploring after this long (s; 0: never).")
+    progress_distance: float = _setting(0.1, "The distance (m) nearer to the goal that counts as progress.")
 
     def __post_init__(self) -> None:
         for name in ("planner_frequency", "progress_timeout", "time_cap", "progress_distance"):
@@ -47,39 +48,15 @@ class ExplorerParams:
             raise SettingError("min_frontier_size", f"must be a number of metres >= 0, got {self.min_frontier_size!r}")
 
 
-EXPLORE_LITE_NAMES = {
-    "planner_frequency": float,
-    "progress_timeout": float,
-    "min_frontier_size": float,
-    "return_to_init": bool,
-    "visualize": bool,
-    "robot_base_frame": str,
-}
-"""explore_lite's parameters that mean the same here, and their types (``robot_base_frame``: with
-the pose from ``tf``)."""
-
-
-def explore_lite_parameters(path: str | Path) -> tuple[dict[str, Any], list[str]]:
-    """The parameters of an explore_lite (m-explore-ros2) parameter file that mean the same here
-    (:data:`EXPLORE_LITE_NAMES`), checked, and the names of those it sets that have no meaning
-    here (``potential_scale``, ``transform_tolerance``, ...). The file is ROS 2's
-    (``NODE: {ros__parameters: {...}}``, the first node's) or a plain mapping of names to values.
+def setting_help(name: str) -> str:
+    """What the explorer's setting ``name`` means, with its unit (``visualize``: the node's markers).
 
     Raises:
-        ConfigError: an unreadable or malformed file, or a value of the wrong type, naming it.
+        KeyError: ``name`` is no setting.
     """
-    data = load_yaml_file(path, ConfigError, "parameter file")
-    if (
-        isinstance(data, Mapping)
-        and data
-        and all(isinstance(v, Mapping) and "ros__parameters" in v for v in data.values())
-    ):
-        data = next(iter(data.values()))["ros__parameters"]
-    if not isinstance(data, Mapping):
-        raise ConfigError(f"parameter file {path} must map parameter names to values")
-    known = {
-        str(name): coerce(EXPLORE_LITE_NAMES[name], value, f"{path}: {name}")
-        for name, value in data.items()
-        if name in EXPLORE_LITE_NAMES
-    }
-    return known, sorted(str(name) for name in data if name not in EXPLORE_LITE_NAMES)
+    if name == "visualize":
+        return VISUALIZE_HELP
+    for setting in fields(ExplorerParams):
+        if setting.name == name:
+            return str(setting.metadata["help"])
+    raise KeyError(name)

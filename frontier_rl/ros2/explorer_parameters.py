@@ -11,7 +11,7 @@ from __future__ import annotations
 
 import math
 from collections.abc import Mapping
-from dataclasses import dataclass
+from dataclasses import dataclass, fields, replace
 from typing import Any
 
 from rcl_interfaces.msg import ParameterDescriptor
@@ -19,19 +19,12 @@ from rclpy.exceptions import ParameterException
 from rclpy.node import Node
 
 from frontier_rl.checked_values import coerce
-from frontier_rl.errors import ConfigError
-from frontier_rl.robot.explorer_params import ExplorerParams
+from frontier_rl.errors import ConfigError, SettingError
+from frontier_rl.robot.explorer_params import ExplorerParams, setting_help
 
-DESCRIPTIONS = {
-    "planner_frequency": "Planner ticks per second (Hz).",
-    "progress_timeout": "A goal the robot gets no nearer to for this long is given up (s).",
-    "min_frontier_size": "Frontiers this long or shorter are no goals (m).",
-    "return_to_init": "Drive back to the start once explored.",
-    "time_cap": "Stop exploring after this long (s; 0: never).",
-    "progress_distance": "The distance (m) nearer to the goal that counts as progress.",
-    "visualize": "Publish RViz markers on explore/frontiers.",
-}
-"""The explorer's parameters and what each means."""
+PARAMETERS = (*(setting.name for setting in fields(ExplorerParams)), "visualize")
+"""The node's parameters that set the explorer (what each means: :func:`setting_help`)."""
+
 
 POLICY_PARAMETER = "policy"
 """A read-only parameter: the policy the explorer ranks with, as given."""
@@ -46,7 +39,7 @@ class ExplorerSettings:
 
     def values(self) -> dict[str, Any]:
         """Each parameter's value (a time cap of 0: none)."""
-        values: dict[str, Any] = {name: getattr(self.params, name) for name in DESCRIPTIONS if name != "visualize"}
+        values: dict[str, Any] = {name: getattr(self.params, name) for name in PARAMETERS if name != "visualize"}
         values["time_cap"] = 0.0 if math.isinf(self.params.time_cap) else float(self.params.time_cap)
         return values | {"visualize": self.visualize}
 
@@ -60,25 +53,14 @@ class ExplorerSettings:
         known = {
             name: coerce(bool if name in switches else float, value, f"parameter {name}")
             for name, value in changes.items()
-            if name in DESCRIPTIONS
+            if name in PARAMETERS
         }
         visualize = bool(known.pop("visualize", self.visualize))
         if known.get("time_cap") == 0.0:
             known["time_cap"] = math.inf
-
-        def value(name: str) -> Any:
-            return known.get(name, getattr(self.params, name))
-
         try:
-            params = ExplorerParams(
-                planner_frequency=float(value("planner_frequency")),
-                progress_timeout=float(value("progress_timeout")),
-                min_frontier_size=float(value("min_frontier_size")),
-                return_to_init=bool(value("return_to_init")),
-                time_cap=float(value("time_cap")),
-                progress_distance=float(value("progress_distance")),
-            )
-        except ValueError as error:
+            params = replace(self.params, **known)
+        except SettingError as error:
             raise ConfigError(f"parameter {error}") from None
         return ExplorerSettings(params, visualize)
 
@@ -95,7 +77,7 @@ def declare_explorer_parameters(node: Node, settings: ExplorerSettings, policy: 
         for name, value in values.items():
             # dynamic typing: an integer given for a number is taken, and a wrong type is named here
             node.declare_parameter(
-                name, value, ParameterDescriptor(description=DESCRIPTIONS[name], dynamic_typing=True)
+                name, value, ParameterDescriptor(description=setting_help(name), dynamic_typing=True)
             )
     except ParameterException as error:
         raise ConfigError(f"--ros-args: {error}") from None

@@ -1,13 +1,17 @@
-"""explore_lite's parameter file read into the explorer's settings."""
+"""The explorer's settings, described once, and explore_lite's parameter file read into them."""
 
 from __future__ import annotations
 
 from pathlib import Path
 
 import pytest
+import typer.core
+import typer.main
 
+from frontier_rl.cli import app
 from frontier_rl.errors import ConfigError
-from frontier_rl.robot.explorer_params import ExplorerParams, explore_lite_parameters
+from frontier_rl.robot.explore_lite_file import explore_lite_parameters
+from frontier_rl.robot.explorer_params import ExplorerParams, setting_help
 
 M_EXPLORE_ROS2 = """\
 explore_node:
@@ -70,3 +74,22 @@ def test_a_bad_file_is_one_error_naming_the_value(text: str, needle: str, tmp_pa
     path.write_text(text)
     with pytest.raises(ConfigError, match=needle):
         explore_lite_parameters(path)
+
+
+def test_the_command_line_describes_each_setting_as_the_node_does_with_its_default() -> None:
+    group = typer.main.get_command(app)
+    assert isinstance(group, typer.core.TyperGroup)
+    context = typer.Context(group, info_name="frontier-rl")
+    ros2 = group.get_command(context, "ros2")
+    assert isinstance(ros2, typer.core.TyperGroup)
+    explore = ros2.get_command(context, "explore")
+    assert explore is not None
+    options = {option.name: option for option in explore.params if isinstance(option, typer.core.TyperOption)}
+    for name in ("planner_frequency", "progress_timeout", "min_frontier_size", "return_to_init", "visualize"):
+        assert options[name].help == setting_help(name)
+        if name != "visualize":
+            assert options[name].default == getattr(ExplorerParams(), name), name
+    assert options["time_cap"].help == setting_help("time_cap") and "0: never" in setting_help("time_cap")
+    assert "(s)" in setting_help("progress_timeout") and "(Hz)" in setting_help("planner_frequency")
+    with pytest.raises(KeyError):
+        setting_help("potential_scale")  # explore_lite's, meaning nothing here
