@@ -26,7 +26,8 @@ def enum_member(kind: type[_E], value: object, where: str) -> _E:
 
 
 def coerce(hint: Any, value: Any, where: str) -> Any:
-    """``value`` checked against type ``hint`` (bool, int, float, float | None, str); others pass as they are.
+    """``value`` checked against type ``hint`` (bool, int, float, float | None, str, an Enum: the member
+    of that value); others pass as they are.
 
     Raises:
         ConfigError: naming ``where`` and quoting ``value`` (cut to a bounded length).
@@ -45,6 +46,8 @@ def coerce(hint: Any, value: Any, where: str) -> Any:
         if isinstance(value, bool) or not isinstance(value, int | float) or math.isnan(value):
             raise ConfigError(f"{where} must be a number, got {short_repr(value)}")
         return float(value)
+    if isinstance(hint, type) and issubclass(hint, Enum):
+        return enum_member(hint, value, where)
     if hint is str:
         if not isinstance(value, str):
             raise ConfigError(f"{where} must be a string, got {short_repr(value)}")

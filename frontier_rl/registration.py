@@ -5,6 +5,7 @@ Gymnasium: ``import frontier_rl.envs`` registers them (:func:`frontier_rl.envs.r
 from __future__ import annotations
 
 from dataclasses import dataclass
+from enum import StrEnum
 from typing import Any
 
 from frontier_rl.errors import ConfigError, short_repr
@@ -92,6 +93,15 @@ TABLE_MODELS: tuple[int, ...] = tuple(
 
 POINT_MODELS: tuple[int, ...] = tuple(m for m, spec in MODELS.items() if spec.entry_point.endswith(":PointEnv"))
 """The models whose action is a pixel of the map image (1 and 2)."""
+
+
+class Algorithm(StrEnum):
+    """The training algorithms a model file may name (a DAgger policy is kept in an A2C container)."""
+
+    A2C = "a2c"
+    PPO = "ppo"
+    DAGGER = "dagger"
+
 
 TOP_K = 16
 """The frontier table's rows (candidate slots) in the registered envs of :data:`TABLE_MODELS`."""

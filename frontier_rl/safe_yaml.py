@@ -24,6 +24,7 @@ from __future__ import annotations
 import codecs
 import re
 from collections.abc import Hashable
+from enum import Enum
 from pathlib import Path
 from typing import Any
 
@@ -135,11 +136,12 @@ class _Dumper(yaml.SafeDumper):
 
 
 _Dumper.yaml_implicit_resolvers = {first: list(rs) for first, rs in _BoundedLoader.yaml_implicit_resolvers.items()}
+_Dumper.add_multi_representer(Enum, lambda dumper, member: dumper.represent_data(member.value))
 
 
 def dump_yaml(data: Any) -> str:
-    """``data`` (plain dicts, lists, strings and numbers) as YAML text that :func:`parse_yaml` reads
-    back equal, keys in their order."""
+    """``data`` (plain dicts, lists, strings, numbers and enum members) as YAML text that
+    :func:`parse_yaml` reads back equal (an enum member as its value), keys in their order."""
     return yaml.dump(data, Dumper=_Dumper, sort_keys=False)
 
 

@@ -12,6 +12,7 @@ import typer
 from frontier_rl.cli.options import ResolutionOption, SimConfigOption, checked_run_arguments, sim_config
 from frontier_rl.cli.output import friendly_errors, print_note, stdout_console
 from frontier_rl.errors import ConfigError
+from frontier_rl.registration import Algorithm
 
 TRAINING_PACKAGES = frozenset({"torch", "stable_baselines3"})
 """The packages of the ``rl`` extra that training imports."""
@@ -43,7 +44,7 @@ def train(
     worlds: Annotated[str, typer.Option(help="Generators, files, folders, catalogue maps, each [=WEIGHT].")] = "office",
     timesteps: Annotated[int, typer.Option(help="Decisions to train for.")] = 100_000,
     n_envs: Annotated[int, typer.Option(help="Parallel environments (subprocesses).")] = 2,
-    algo: Annotated[str, typer.Option(help="a2c (the thesis), ppo or dagger (models 5 and 7).")] = "a2c",
+    algo: Annotated[Algorithm, typer.Option(help="a2c (the thesis), ppo or dagger (models 5 and 7).")] = Algorithm.A2C,
     observation_size: Annotated[int, typer.Option(help="Map image edge: 64 or 250 pixels.")] = 64,
     reward: Annotated[str, typer.Option(help="Reward preset: normalised or thesis.")] = "normalised",
     learning_rate: Annotated[float, typer.Option(help="Optimizer step size.")] = 7e-4,

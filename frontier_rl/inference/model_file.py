@@ -35,13 +35,12 @@ import torch
 
 from frontier_rl.errors import QUOTE_LIMIT, ConfigError, model_file_label, short_repr
 from frontier_rl.inference.bounded_zip import MAX_MEMBER_BYTES, first_line, open_checked_zip, read_member
-from frontier_rl.registration import ENV_IDS, MODELS, OBSERVATION_SIZES, env_id
+from frontier_rl.registration import ENV_IDS, MODELS, OBSERVATION_SIZES, Algorithm, env_id
 
 METADATA_ENTRY = "frontier_rl.json"
 WEIGHTS_ENTRY = "policy.pth"
 FORMAT_VERSION = 1
-ALGORITHMS = ("a2c", "ppo", "dagger")
-"""The training algorithms a model file may name (a DAgger policy is kept in an A2C container)."""
+
 
 MAX_FEATURES_DIM = 8192
 """Largest ``features_dim`` a run may use and a model file may hold (the shipped models use 128)."""
@@ -68,7 +67,7 @@ class ModelInfo:
         model: model number 1-7 (:data:`~frontier_rl.registration.MODELS`).
         env_id: the Gymnasium id it was trained on.
         observation_size: map image edge (pixels).
-        algo: "a2c", "ppo" or "dagger".
+        algo: what trained it.
         features_dim: CNN feature size.
         timesteps: decisions it was trained for.
         format: version of this metadata.
@@ -77,7 +76,7 @@ class ModelInfo:
     model: int
     env_id: str
     observation_size: int
-    algo: str
+    algo: Algorithm
     features_dim: int
     timesteps: int
     format: int = FORMAT_VERSION
@@ -171,7 +170,7 @@ def parse_metadata(raw: bytes, where: str) -> ModelInfo:
         raise ConfigError(
             f"{where}: metadata field 'env_id' is {name!r}, but model {model} at {size} px runs in {expected!r}"
         )
-    algo = _choice(values, "algo", ALGORITHMS, where)
+    algo = Algorithm(_choice(values, "algo", tuple(member.value for member in Algorithm), where))
     features_dim = _whole(values, "features_dim", 1, MAX_FEATURES_DIM, where)
     timesteps = _whole(values, "timesteps", 0, MAX_TIMESTEPS, where)
     return ModelInfo(model, name, size, algo, features_dim, timesteps, version)

@@ -7,14 +7,14 @@ from dataclasses import dataclass, field, fields
 from pathlib import Path
 from typing import Any
 
-from frontier_rl.checked_values import coerce
+from frontier_rl.checked_values import coerce, enum_member
 from frontier_rl.config_files import dump_config, from_dict, load_config, to_dict
 from frontier_rl.core.sim.config import SimConfig
 from frontier_rl.core.world.scale import checked_resolution
 from frontier_rl.envs.rewards import REWARD_PRESETS, reward_preset
 from frontier_rl.errors import ConfigError, FrontierRLError, short_repr, short_text
-from frontier_rl.inference.model_file import ALGORITHMS, MAX_FEATURES_DIM, MAX_TIMESTEPS
-from frontier_rl.registration import FRONTIER_CHOICE_MODELS, MODELS, env_id
+from frontier_rl.inference.model_file import MAX_FEATURES_DIM, MAX_TIMESTEPS
+from frontier_rl.registration import FRONTIER_CHOICE_MODELS, MODELS, Algorithm, env_id
 from frontier_rl.world_spec import parse_world_mix
 
 MAX_ENVS = 64
@@ -70,7 +70,7 @@ class TrainConfig:
             validation files (one in ten) are never trained on.
         timesteps: decisions to train for (one env step = one decision).
         n_envs: parallel environments (subprocesses when > 1).
-        algo: "a2c" (the thesis), "ppo", or "dagger" (models 5 and 7: imitation of a teacher that
+        algo: a2c (the thesis), ppo, or dagger (models 5 and 7: imitation of a teacher that
             looks ahead on copies of the simulator, :mod:`frontier_rl.rl.imitation`).
         observation_size: map image edge, 64 (Niroui et al., the default: 15× fewer pixels) or 250.
         reward: reward preset, "normalised" (trains well) or "thesis" (tables 3.1 / 3.2).
@@ -106,7 +106,7 @@ class TrainConfig:
     worlds: str = "office"
     timesteps: int = 100_000
     n_envs: int = 2
-    algo: str = "a2c"
+    algo: Algorithm = Algorithm.A2C
     observation_size: int = 64
     reward: str = "normalised"
     learning_rate: float = 7e-4
@@ -129,9 +129,9 @@ class TrainConfig:
     def __post_init__(self) -> None:  # noqa: C901 (a validator: one check per field)
         if self.model not in MODELS:
             raise ConfigError(f"unknown model {short_repr(self.model)}; choose one of {', '.join(map(str, MODELS))}")
-        if self.algo not in ALGORITHMS:
-            raise ConfigError(f"unknown algorithm {short_repr(self.algo)}; choose one of {', '.join(ALGORITHMS)}")
-        if self.algo == "dagger" and self.model not in FRONTIER_CHOICE_MODELS:
+        if not isinstance(self.algo, Algorithm):  # a2c given as text, in Python
+            object.__setattr__(self, "algo", enum_member(Algorithm, self.algo, "algo"))
+        if self.algo is Algorithm.DAGGER and self.model not in FRONTIER_CHOICE_MODELS:
             raise ConfigError(
                 f"algorithm 'dagger' trains models 5 and 7 (frontier choice) only, got model {self.model!r}"
             )
@@ -189,16 +189,16 @@ class TrainConfig:
                 raise ConfigError(f"{name} must be true or false, got {short_repr(getattr(self, name))}")
         if self.privileged_map and not self.privileged_critic:
             raise ConfigError("privileged_map is a part of the privileged critic: set privileged_critic too")
-        if self.privileged_critic and (self.model not in FRONTIER_CHOICE_MODELS or self.algo == "dagger"):
+        if self.privileged_critic and (self.model not in FRONTIER_CHOICE_MODELS or self.algo is Algorithm.DAGGER):
             raise ConfigError(
                 "a privileged critic is for models 5 and 7 with a2c or ppo, "
-                f"got model {self.model!r} with {self.algo!r}"
+                f"got model {self.model!r} with {self.algo.value}"
             )
 
     def _check_rollout(self) -> None:
         """A2C's and PPO's rollouts (``n_steps`` × ``n_envs`` decisions; DAgger has none): they fit
         in memory and in the run, and PPO's minibatches hold two decisions or more."""
-        if self.algo == "dagger":
+        if self.algo is Algorithm.DAGGER:
             return
         rollout = self.n_steps * self.n_envs
         what = f"one rollout (n_steps {self.n_steps:,} x n_envs {self.n_envs} = {rollout:,} decisions)"
@@ -207,7 +207,7 @@ class TrainConfig:
             raise ConfigError(f"{what} is more than {most:,} maps of {self.observation_size}² pixels can fill in 1 GiB")
         if rollout > self.timesteps:
             raise ConfigError(f"{what} is more than timesteps {self.timesteps:,}: SB3 always finishes a rollout")
-        if self.algo == "ppo" and rollout < 2:
+        if self.algo is Algorithm.PPO and rollout < 2:
             raise ConfigError(f"{what} is too few for PPO: its minibatches need 2 decisions or more")
 
     @property

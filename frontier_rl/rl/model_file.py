@@ -34,11 +34,11 @@ from frontier_rl.inference.model_file import (
     read_model,
 )
 from frontier_rl.inference.sb3_zip import load_trusted_policy
-from frontier_rl.registration import ENV_IDS, FRONTIER_CHOICE_MODELS
+from frontier_rl.registration import ENV_IDS, FRONTIER_CHOICE_MODELS, Algorithm
 from frontier_rl.rl.networks import PRIVILEGED_HEAD, FrontierPooling, FrontierScorer, GridCNN, PointerPolicy
 
-SB3_ALGORITHMS: dict[str, type[BaseAlgorithm]] = {"a2c": A2C, "ppo": PPO, "dagger": A2C}
-"""SB3 class of each ``algo`` (:data:`~frontier_rl.inference.model_file.ALGORITHMS`); a DAgger
+SB3_ALGORITHMS: dict[Algorithm, type[BaseAlgorithm]] = {Algorithm.A2C: A2C, Algorithm.PPO: PPO, Algorithm.DAGGER: A2C}
+"""SB3 class of each :class:`~frontier_rl.registration.Algorithm`; a DAgger
 policy is kept in an A2C container (no optimizer of its own)."""
 
 

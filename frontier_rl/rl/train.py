@@ -27,6 +27,7 @@ import frontier_rl.envs
 from frontier_rl.envs.world_source import check_world_files
 from frontier_rl.errors import ConfigError, short_path
 from frontier_rl.inference.model_file import ModelInfo, read_metadata
+from frontier_rl.registration import Algorithm
 from frontier_rl.rl.callbacks import AtomicCheckpoint, ValidationCallback
 from frontier_rl.rl.config import TrainConfig
 from frontier_rl.rl.curves import plot_learning_curve
@@ -105,7 +106,7 @@ def build_model(config: TrainConfig, env: object, out: Path) -> BaseAlgorithm:
         "device": "cpu",
         "verbose": 0,
     }
-    if config.algo == "ppo":
+    if config.algo is Algorithm.PPO:
         common["batch_size"] = min(64, config.n_steps * config.n_envs)
     return SB3_ALGORITHMS[config.algo](policy_cls, env, **common)  # type: ignore[arg-type]
 
@@ -113,7 +114,7 @@ def build_model(config: TrainConfig, env: object, out: Path) -> BaseAlgorithm:
 def _training_envs(config: TrainConfig, out: Path, start: int, env_kwargs: dict[str, Any]) -> VecMonitor:
     """``config.n_envs`` training envs (subprocesses when more than one), logged to ``out``."""
     vec_cls = SubprocVecEnv if config.n_envs > 1 else DummyVecEnv
-    factory = make_labelled_env if config.algo == "dagger" else make_env
+    factory = make_labelled_env if config.algo is Algorithm.DAGGER else make_env
     envs = vec_cls([partial(factory, config.env_id, **env_kwargs) for _ in range(config.n_envs)])
     # a resumed run must not replay the episodes it already saw: offset the env seeds by the start step
     envs.seed(config.seed + start)
@@ -198,7 +199,7 @@ def _run_algorithm(
     progress: bool,
 ) -> None:
     """Run the configured algorithm from step ``start`` to ``config.timesteps``."""
-    if config.algo == "dagger":
+    if config.algo is Algorithm.DAGGER:
         model.set_logger(configure_logger(str(out / "tb" / "dagger"), ["tensorboard"]))
         labels = out / "labels.npz"
         dagger(model, venv, config.timesteps, config.learning_rate, callbacks, config.seed, progress, labels)
@@ -208,7 +209,7 @@ def _run_algorithm(
         callback=callbacks,
         progress_bar=progress,
         reset_num_timesteps=start == 0,
-        tb_log_name=config.algo,
+        tb_log_name=config.algo.value,
     )
 
 
@@ -232,7 +233,7 @@ def interruption_note(config: TrainConfig, out: Path) -> str:
     if checkpoint is None:
         return f"interrupted: no checkpoint was written in {out}/ yet"
     kept = f"interrupted: the last checkpoint ({checkpoint[1]} decisions) is {checkpoint[0]}"
-    if config.algo == "dagger":
+    if config.algo is Algorithm.DAGGER:
         return f"{kept}; a dagger run cannot be resumed"
     return f"{kept}; add --resume to the same command to continue"
 
@@ -250,7 +251,7 @@ def train(
     and step count); its configuration must be the same. ``extra_callbacks`` run after the
     checkpoint and validation callbacks.
     """
-    if resume and config.algo == "dagger":
+    if resume and config.algo is Algorithm.DAGGER:
         raise ConfigError("a dagger run cannot be resumed: its labelled decisions are not checkpointed")
     start, initial = _start(config, out, resume)
     frontier_rl.envs.register_envs()
@@ -288,5 +289,5 @@ def train(
     elapsed = time.perf_counter() - started
     with (out / "training_time.txt").open("a") as sink:
         sink.write(f"steps {start}..{model.num_timesteps}: {elapsed:.1f} s wall\n")
-    plot_learning_curve(out, title=f"model {config.model} ({config.algo}, {config.worlds})")
+    plot_learning_curve(out, title=f"model {config.model} ({config.algo.value}, {config.worlds})")
     return final
