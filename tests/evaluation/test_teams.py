@@ -36,6 +36,25 @@ def test_the_same_failures_in_another_order_are_the_same_experiment() -> None:
     assert [str(f) for f in configs[0].failures] == ["0@7", "2@5", "random@3", "random@random"]
 
 
+def test_each_method_is_parsed_once_and_its_jobs_carry_it(monkeypatch: pytest.MonkeyPatch) -> None:
+    parsed: list[str] = []
+    parse = TeamMethod.parse.__func__  # type: ignore[attr-defined]
+
+    def counting(cls: type[TeamMethod], method: str) -> TeamMethod:
+        parsed.append(method)
+        return parse(cls, method)  # type: ignore[no-any-return]
+
+    monkeypatch.setattr(TeamMethod, "parse", classmethod(counting))
+    config = _config(("fixed:0.75", "nearest@2:coordinated"))
+    jobs, _ = config.jobs(), identity(config)
+    assert {config.team_for(m) is not None for m in config.methods} == {False, True}
+    assert sorted(parsed) == ["fixed:0.75", "nearest@2:coordinated"]
+    assert {job.method: job.team_method for job in jobs} == {
+        "fixed:0.75": TeamMethod.parse("fixed:0.75"),
+        "nearest@2:coordinated": TeamMethod(TeamMethod.parse("nearest").policy, 2, Strategy.COORDINATED),
+    }
+
+
 def test_team_methods_expand_every_size_and_strategy() -> None:
     out = team_methods(["fixed:0.75", "nearest@3"], [1, 2], [Strategy.UNCOORDINATED, Strategy.COORDINATED])
     assert out == ["fixed:0.75", "fixed:0.75@2", "fixed:0.75@2:coordinated", "nearest@3"]

@@ -67,7 +67,8 @@ def draw_runs(
                 continue
             stem = _file_stem(f"{world_labels[world_name]}_{method_labels[method]}")
             title = f"{world_labels[world_name]} / {method_labels[method]}"
-            pictures += _draw(config, EpisodeJob(method, world_name, 0, config.seed), folder / stem, title, gif)
+            job = EpisodeJob(method, world_name, 0, config.seed, config.parsed_methods[method])
+            pictures += _draw(config, job, folder / stem, title, gif)
     return pictures
 
 

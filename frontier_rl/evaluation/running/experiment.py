@@ -9,7 +9,7 @@ backend (a loop, a process pool, Ray tasks) runs the same episode and returns th
 from __future__ import annotations
 
 from dataclasses import dataclass, field
-from functools import lru_cache
+from functools import cached_property, lru_cache
 from pathlib import Path
 
 import numpy as np
@@ -72,13 +72,13 @@ class ExperimentConfig:
             raise ConfigError("an experiment needs at least one method")
         order = sorted(self.failures, key=lambda f: (f.robot is None, f.robot or 0, f.time_s is None, f.time_s or 0.0))
         object.__setattr__(self, "failures", tuple(order))  # frozen: set once, here
-        canonical = [str(TeamMethod.parse(m)) for m in self.methods]
+        canonical = [str(self.parsed_methods[m]) for m in self.methods]
         if len(set(canonical)) != len(canonical):
             raise ConfigError(f"methods are listed twice: {', '.join(self.methods)}")
         teams = [self.team_for(m) for m in self.methods]  # a bad team size, strategy or failure fails here
         if (self.comm_range is not None or self.failures) and not any(teams):
             raise ConfigError("a communication range or failures need team methods (POLICY@N[:STRATEGY])")
-        team_policies = {str(TeamMethod.parse(m).policy) for m, t in zip(self.methods, teams, strict=True) if t}
+        team_policies = {str(self.parsed_methods[m].policy) for m, t in zip(self.methods, teams, strict=True) if t}
         if ORACLE in team_policies:
             raise ConfigError(f"the {ORACLE} plans one robot's tour of the true map; it cannot run in a team")
         if self.baseline not in self.methods:
@@ -104,7 +104,7 @@ class ExperimentConfig:
     def jobs(self) -> list[EpisodeJob]:
         """Every (method, world, episode), episode-major so that partial results stay paired."""
         return [
-            EpisodeJob(method, world, episode, self.seed + episode)
+            EpisodeJob(method, world, episode, self.seed + episode, self.parsed_methods[method])
             for episode in range(self.episodes)
             for world in self.worlds
             for method in self.methods
@@ -117,19 +117,30 @@ class ExperimentConfig:
             self.sim, self.resolution, self.trust_model, str(Path.cwd()), self.comm_range, self.failures
         )
 
+    @cached_property
+    def parsed_methods(self) -> dict[str, TeamMethod]:
+        """Each method (as given) parsed once: its policy, and the team that runs it.
+
+        Raises:
+            ConfigError: a bad policy, team size or strategy (an unknown name an UnknownNameError).
+        """
+        return {method: TeamMethod.parse(method) for method in self.methods}
+
     def team_for(self, method: str) -> TeamConfig | None:
         """The team that runs ``method``; None for a single robot."""
-        return team_config(TeamMethod.parse(method), self.comm_range, self.failures)
+        return team_config(self.parsed_methods[method], self.comm_range, self.failures)
 
 
 @dataclass(frozen=True)
 class EpisodeJob:
-    """One episode of an experiment: ``method`` on ``world`` (name or file), episode index and seed."""
+    """One episode of an experiment: ``method`` (as given) on ``world`` (name or file), episode index
+    and seed, and the method parsed (``team_method``: its policy and team)."""
 
     method: str
     world: str
     episode: int
     seed: int
+    team_method: TeamMethod
 
     @property
     def key(self) -> tuple[str, str, int]:
@@ -165,7 +176,7 @@ def job_parts(job: EpisodeJob, settings: EpisodeSettings) -> tuple[World, Explor
     """The world, policy and team (None for one robot) of ``job``; relative paths resolve against
     ``settings.base_dir``."""
     base = Path(settings.base_dir)
-    method = TeamMethod.parse(job.method)
+    method = job.team_method
     spec = method.policy.against(base)  # a relative model or policy file, against the experiment's folder
     world = resolve_world(job.world, job.seed, resolution=settings.resolution, base_dir=base)
     return (

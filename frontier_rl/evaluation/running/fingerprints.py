@@ -13,6 +13,7 @@ from frontier_rl.core.world.catalog import WORLD_GENERATORS
 from frontier_rl.errors import ConfigError, model_file_label, short_repr
 from frontier_rl.evaluation.results.identity import ExperimentIdentity, TeamIdentity
 from frontier_rl.file_digest import file_sha256
+from frontier_rl.policies.spec import PolicySpec
 from frontier_rl.policies.user_policies import user_policy_fingerprint
 from frontier_rl.swarm import TeamMethod
 from frontier_rl.world_spec import read_map
@@ -24,7 +25,11 @@ if TYPE_CHECKING:
 def method_fingerprint(method: str) -> str:
     """What a method's results depend on besides its name: a model file's or a policy file's content
     hash, a policy module's source hash, an installed policy's package and version."""
-    spec = TeamMethod.parse(method).policy
+    return _policy_fingerprint(method, TeamMethod.parse(method).policy)
+
+
+def _policy_fingerprint(method: str, spec: PolicySpec) -> str:
+    """:func:`method_fingerprint` of ``method``, whose policy is ``spec``."""
     if spec.is_user_code:
         extra = user_policy_fingerprint(spec)
         return f"{method}#{extra}" if extra else method
@@ -58,6 +63,6 @@ def identity(config: ExperimentConfig) -> ExperimentIdentity:
         worlds=tuple(world_fingerprint(w, config.resolution) for w in config.worlds),
         resolution=config.resolution,
         sim=to_dict(config.sim),
-        methods={m: method_fingerprint(m) for m in config.methods},
+        methods={m: _policy_fingerprint(m, team.policy) for m, team in config.parsed_methods.items()},
         team=team,
     )

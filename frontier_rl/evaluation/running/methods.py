@@ -59,8 +59,8 @@ def team_config(method: TeamMethod, comm_range: float | None, failures: tuple[Fa
 
 def check_methods(config: ExperimentConfig) -> None:
     """Build every method once, so a bad name or model file fails before any episode runs."""
-    for method in config.methods:
-        episode_policy(TeamMethod.parse(method).policy, config.trust_model)
+    for method in config.parsed_methods.values():
+        episode_policy(method.policy, config.trust_model)
 
 
 def episode_policy(method: str | PolicySpec, trust_model: bool) -> ExplorationPolicy:
