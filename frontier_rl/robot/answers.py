@@ -8,6 +8,7 @@ from __future__ import annotations
 import json
 import math
 from dataclasses import asdict, dataclass
+from enum import StrEnum
 from typing import Any
 
 import numpy as np
@@ -75,13 +76,42 @@ class MapInfo:
         return max(0.0, now_s - self.stamp_s)
 
 
+class Problem(StrEnum):
+    """What is wrong with a request or its answer, of a kind: a robot's warnings are throttled per
+    kind, however their texts differ (a pose off the map names the pose)."""
+
+    UNKNOWN_ROBOT = "unknown robot"
+    NO_MAP = "no map"
+    NO_POSE = "no pose"
+    POSE_NOT_FINITE = "pose not finite"
+    POSE_OFF_MAP = "pose off the map"
+    STALE_MAP = "stale map"
+    BUSY = "requests queued"
+    FAILED = "request failed"
+    MAP_REJECTED = "map rejected"
+
+
+@dataclass(frozen=True)
+class Note:
+    """What an answer says besides its frontiers: why it is empty, or what to know of it
+    (``text``, "" if nothing), and the kind of problem (None if nothing)."""
+
+    text: str = ""
+    problem: Problem | None = None
+
+
 @dataclass(frozen=True)
 class Verdict:
-    """Whether to rank: ``reason`` says what is wrong or notable ("" if nothing); ``rank`` whether
-    the map is ranked all the same (a stale map served as configured)."""
+    """Whether to rank (``rank``: a stale map served as configured is ranked all the same), and
+    what to say of the request (``note``)."""
 
     rank: bool
-    reason: str = ""
+    note: Note = Note()
+
+    @property
+    def reason(self) -> str:
+        """What is wrong or notable ("" if nothing)."""
+        return self.note.text
 
 
 def check_request(
@@ -96,17 +126,22 @@ def check_request(
     """Whether ``robot``'s request can be ranked: a known robot with a map, a finite pose on the
     map, and a map no older than ``max_map_age_s`` (0: any age), or one served stale as configured."""
     if robot not in robots:
-        return Verdict(False, f"unknown robot {robot!r} (known: {', '.join(map(repr, robots))})")
+        known = ", ".join(map(repr, robots))
+        return Verdict(False, Note(f"unknown robot {robot!r} (known: {known})", Problem.UNKNOWN_ROBOT))
     if info is None:
-        return Verdict(False, f"no usable map of {robot!r} yet")
+        return Verdict(False, Note(f"no usable map of {robot!r} yet", Problem.NO_MAP))
     if pose is None:
-        return Verdict(False, f"no pose of {robot!r} yet")
+        return Verdict(False, Note(f"no pose of {robot!r} yet", Problem.NO_POSE))
     if not all(math.isfinite(v) for v in pose):
-        return Verdict(False, f"pose of {robot!r} is not finite: {pose[0]!r}, {pose[1]!r}, yaw {pose[2]!r}")
+        text = f"pose of {robot!r} is not finite: {pose[0]!r}, {pose[1]!r}, yaw {pose[2]!r}"
+        return Verdict(False, Note(text, Problem.POSE_NOT_FINITE))
     if not info.contains(pose[0], pose[1]):
-        return Verdict(False, f"pose of {robot!r} ({pose[0]:.2f}, {pose[1]:.2f}) lies outside its map")
+        text = f"pose of {robot!r} ({pose[0]:.2f}, {pose[1]:.2f}) lies outside its map"
+        return Verdict(False, Note(text, Problem.POSE_OFF_MAP))
     reason = stale_reason(robot, info, now_s, max_map_age_s)
-    return Verdict(not reason or stale is StaleMapAnswer.STALE, reason)
+    if not reason:
+        return Verdict(True)
+    return Verdict(stale is StaleMapAnswer.STALE, Note(reason, Problem.STALE_MAP))
 
 
 def stale_reason(robot: str, info: MapInfo, now_s: float, max_map_age_s: float) -> str:

@@ -19,7 +19,16 @@ from dataclasses import dataclass
 
 from frontier_rl.errors import FrontierRLError, MapError
 from frontier_rl.policies import make_policy
-from frontier_rl.robot.answers import MapCells, MapInfo, Status, check_request, parse_request, stale_reason
+from frontier_rl.robot.answers import (
+    MapCells,
+    MapInfo,
+    Note,
+    Problem,
+    Status,
+    check_request,
+    parse_request,
+    stale_reason,
+)
 from frontier_rl.robot.node_settings import StaleMapAnswer, check_node_policy
 from frontier_rl.robot.ranking_worker import RankJob, RankResult, RobotWorker
 from frontier_rl.robot.throttled_log import ThrottledLog
@@ -71,13 +80,13 @@ class Answer:
 
 @dataclass(frozen=True)
 class _Job:
-    """A request at a worker: robot, request id, the sequence of the map checked, the reason so
-    far, and when it arrived (monotonic s)."""
+    """A request at a worker: robot, request id, the sequence of the map checked, what to say of it so far,
+    and when it arrived (monotonic s)."""
 
     robot: str
     request: str
     checked: int
-    reason: str
+    note: Note
     arrived: float
 
 
@@ -142,9 +151,11 @@ class RankingService:
         for worker in self.workers.values():
             worker.close()
 
-    def warn(self, ns: str, kind: str, text: str) -> None:
-        """Log ``text`` unless a warning of this robot and kind was logged a moment ago."""
-        if self._log.due(ns, kind, time.monotonic()):
+    def warn(self, ns: str, kind: Problem, text: str) -> None:
+        """Log ``text`` unless a warning of this robot and kind was logged a moment ago (an unknown
+        robot's under one name: a request may name any)."""
+        robot = "" if kind is Problem.UNKNOWN_ROBOT else ns
+        if self._log.due(robot, kind, time.monotonic()):
             self._warn_line(text)
 
     # ------------------------------------------------------------------ inputs
@@ -157,7 +168,7 @@ class RankingService:
         except MapError as exc:
             kept = self.settings.keep_last_map and previous is not None
             then = "the last good map is kept" if kept else "no map until a good one arrives"
-            self.warn(ns, "map", f"map of {ns!r} rejected ({exc}); {then}")
+            self.warn(ns, Problem.MAP_REJECTED, f"map of {ns!r} rejected ({exc}); {then}")
             if not self.settings.keep_last_map:
                 self.maps[ns] = None
             return
@@ -183,19 +194,19 @@ class RankingService:
                 pose = pose_of(ns, info)
             verdict = check_request(ns, list(s.robots), info, pose, self._clock(), s.max_map_age, s.stale)
             if not verdict.rank or info is None or pose is None:
-                self._answer(ns, request, info, (), None, verdict.reason, arrived)
+                self._answer(ns, request, info, (), None, verdict.note, arrived)
                 return
             if self.workers[ns].pending >= s.max_pending:
                 busy = f"robot {ns!r} has {s.max_pending} requests queued (~max_pending)"
-                self._answer(ns, request, info, (), None, busy, arrived)
+                self._answer(ns, request, info, (), None, Note(busy, Problem.BUSY), arrived)
                 return
             with self._lock:
                 self._job_count += 1
                 job = self._job_count
-                self._jobs[job] = _Job(ns, request, info.sequence, verdict.reason, arrived)
+                self._jobs[job] = _Job(ns, request, info.sequence, verdict.note, arrived)
             self.workers[ns].submit(RankJob(job, pose[0], pose[1]))
         except Exception as exc:  # every request gets an answer, whatever failed in preparing it
-            failed = f"request failed: {type(exc).__name__}: {exc}"
+            failed = Note(f"request failed: {type(exc).__name__}: {exc}", Problem.FAILED)
             self._answer(ns, request, self.maps.get(ns), (), None, failed, arrived)
 
     # ----------------------------------------------------------------- answers
@@ -203,11 +214,13 @@ class RankingService:
         with self._lock:
             job = self._jobs.pop(result.job)
         info = result.info or self.maps.get(job.robot)  # the map the worker ranked on: it may be newer
-        reason = job.reason
+        note = job.note
         if info is not None and info.sequence != job.checked:  # judged on the map that was ranked
-            reason = stale_reason(job.robot, info, self._clock(), self.settings.max_map_age)
-        notes = "; ".join(part for part in (reason, result.error) if part)
-        self._answer(job.robot, job.request, info, result.centres, result.weight, notes, job.arrived)
+            stale = stale_reason(job.robot, info, self._clock(), self.settings.max_map_age)
+            note = Note(stale, Problem.STALE_MAP if stale else None)
+        if result.error:
+            note = Note("; ".join(part for part in (note.text, result.error) if part), Problem.FAILED)
+        self._answer(job.robot, job.request, info, result.centres, result.weight, note, job.arrived)
 
     def _answer(
         self,
@@ -216,13 +229,13 @@ class RankingService:
         info: MapInfo | None,
         centres: tuple[tuple[float, float], ...],
         weight: float | None,
-        reason: str,
+        note: Note,
         arrived: float,
     ) -> None:
-        if reason and not centres:
-            self.warn(ns, reason.split(":")[0][:40], f"request {request} of {ns!r} answered empty: {reason}")
-        elif reason:
-            self.warn(ns, reason.split(":")[0][:40], f"request {request} of {ns!r}: {reason}")
+        reason = note.text
+        if note.problem is not None:
+            answered = " answered empty" if not centres else ""
+            self.warn(ns, note.problem, f"request {request} of {ns!r}{answered}: {reason}")
         used = weight if weight is not None else (self.fixed_weight if centres else None)
         status = Status(
             ns,

@@ -137,3 +137,20 @@ def test_a_stale_map_is_ranked_and_said_so_or_answered_empty() -> None:
 def test_a_policy_that_plans_on_the_true_map_is_refused_at_once() -> None:
     with pytest.raises(Exception, match="true map"):
         _service(policy="oracle")
+
+
+def test_warnings_are_throttled_by_kind_however_their_texts_differ(team: tuple[RankingService, _Answers]) -> None:
+    """A robot off its map warned at every request: each warning named another pose, and the
+    throttle was keyed by the text; requests naming ever new robots each had a key of their own."""
+    service, answers = team
+    service.on_map("tb3_0", lambda sequence: _room())
+    for i in range(5):
+        service.on_pose("tb3_0", (9.0 + i, 9.0, 0.0))
+        service.on_request(f"tb3_0 off-{i}")
+        service.on_request(f"ghost{i} g-{i}")
+    got = answers.wait(10)
+    assert len({a.status.reason for a in got}) == 10  # each answer still says what was wrong
+    assert [w.split(":")[0] for w in answers.warnings] == [
+        "request off-0 of 'tb3_0' answered empty",
+        "request g-0 of 'ghost0' answered empty",
+    ]
