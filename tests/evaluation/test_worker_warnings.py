@@ -11,15 +11,26 @@ import pytest
 from frontier_rl.evaluation.running import backends
 
 
-def test_a_workers_warnings_are_raised_again_in_the_parent() -> None:
+class PolicyWarning(UserWarning):
+    """A category of a module this process has loaded (a user policy's, say)."""
+
+
+def test_a_workers_warnings_are_raised_again_in_the_parent_in_their_own_category() -> None:
+    """A MapWarning came back as a UserWarning, which a filter on MapWarning let through."""
     row = {"method": "nearest"}
-    caught = [("RuntimeWarning", "overflow in exp"), ("NumbaPerformanceWarning", "slow loop")]
+    caught = [
+        ("builtins", "RuntimeWarning", "overflow in exp"),
+        (__name__, "PolicyWarning", "seed reused"),
+        ("numba_not_loaded_here", "NumbaPerformanceWarning", "slow loop"),
+        ("frontier_rl.errors", "MapWarning", "/abs/m.yaml: field 'extra' ignored"),  # the parent read it already
+    ]
     with warnings.catch_warnings(record=True) as seen:
         warnings.simplefilter("always")
         assert backends._warn_again((row, caught)) is row
     assert [(w.category, str(w.message)) for w in seen] == [
         (RuntimeWarning, "overflow in exp"),
-        (UserWarning, "NumbaPerformanceWarning: slow loop"),  # not a built-in category: named in the text
+        (PolicyWarning, "seed reused"),
+        (UserWarning, "NumbaPerformanceWarning: slow loop"),  # a category not loaded here: named in the text
     ]
 
 
@@ -31,4 +42,4 @@ def test_a_worker_records_what_its_episode_warned(monkeypatch: pytest.MonkeyPatc
 
     monkeypatch.setattr(backends, "run_job", run_job)
     row, caught = backends.run_job_catching_warnings(3, None)  # type: ignore[arg-type]
-    assert row == {"episode": 3} and caught == [(category.__name__, "careful")]
+    assert row == {"episode": 3} and caught == [("builtins", category.__name__, "careful")]

@@ -7,17 +7,17 @@ Results are handed to ``on_result`` as episodes finish, in completion order.
 
 from __future__ import annotations
 
-import builtins
 import contextlib
 import os
 import socket
+import sys
 import warnings
 from collections.abc import Callable, Generator
 from enum import StrEnum
 from typing import Any
 
 from frontier_rl.checked_values import enum_member
-from frontier_rl.errors import ConfigError, FrontierRLError
+from frontier_rl.errors import ConfigError, FrontierRLError, MapWarning
 from frontier_rl.evaluation.results.episode_record import EpisodeOutcome
 from frontier_rl.evaluation.running.experiment import EpisodeJob, EpisodeSettings, run_job
 from frontier_rl.evaluation.running.worker_pool import WorkerPool
@@ -34,8 +34,9 @@ class Backend(StrEnum):
 ResultHandler = Callable[[EpisodeOutcome], None]
 Outcomes = Generator[tuple[EpisodeJob, Any], None, None]
 """Each episode with its row, or the exception it raised, as episodes finish."""
-Caught = list[tuple[str, str]]
-"""Warnings an episode raised in another process: (category name, message)."""
+Caught = list[tuple[str, str, str]]
+"""Warnings an episode raised in another process: (category's module, category's name, message).
+The category travels by name, not pickled: a user policy's own category may not unpickle here."""
 
 
 MAX_WORKERS = 256
@@ -147,18 +148,21 @@ def run_job_catching_warnings(job: EpisodeJob, settings: EpisodeSettings) -> tup
     with warnings.catch_warnings(record=True) as caught:
         warnings.simplefilter("default")
         outcome = run_job(job, settings)
-    return outcome, [(w.category.__name__, str(w.message)) for w in caught]
+    return outcome, [(w.category.__module__, w.category.__qualname__, str(w.message)) for w in caught]
 
 
 def _warn_again(outcome: tuple[EpisodeOutcome, Caught]) -> EpisodeOutcome:
-    """The episode of a worker's outcome, its warnings raised again here (as UserWarning when their
-    category is not a built-in one)."""
+    """The episode of a worker's outcome, its warnings raised again here in their own category (a
+    UserWarning naming it where this process has not loaded it). A map's warnings are not: this
+    process read every map of the experiment for its identity before any episode ran, and raised
+    them then (a worker names the file by its absolute path, so they would print twice)."""
     episode, caught = outcome
-    for name, message in caught:
-        category = getattr(builtins, name, None)
+    for module, name, message in caught:
+        category = getattr(sys.modules.get(module), name, None)
         if not (isinstance(category, type) and issubclass(category, Warning)):
             category, message = UserWarning, f"{name}: {message}"
-        warnings.warn(message, category, stacklevel=2)
+        if not issubclass(category, MapWarning):
+            warnings.warn(message, category, stacklevel=2)
     return episode
 
 
