@@ -136,7 +136,10 @@ class RankingService:
         """Start a worker per robot and wait for each to load its policy; False if ``stopped()``
         turns true meanwhile (a Ctrl-C while it starts)."""
         s = self.settings
-        self.workers = {ns: RobotWorker(s.policy, s.top_k, s.min_cells, self._on_result) for ns in s.robots}
+        self.workers = {  # a random policy's draws differ from robot to robot
+            ns: RobotWorker(s.policy, s.top_k, s.min_cells, self._on_result, seed=index)
+            for index, ns in enumerate(s.robots)
+        }
         deadline = time.monotonic() + WORKER_START_S
         for ns, worker in self.workers.items():
             while not worker.ready.wait(0.1):

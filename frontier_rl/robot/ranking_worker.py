@@ -78,7 +78,7 @@ class _HeldMap:
         return cls(grid, info, InflationMemory())
 
 
-def _serve(conn: Connection, policy_spec: str, top_k: int, min_cells: int) -> None:
+def _serve(conn: Connection, policy_spec: str, top_k: int, min_cells: int, seed: int) -> None:
     """The worker process: a map replaces the current one; the jobs that queued while it ranked are
     answered by one ranking on the newest map at the newest job's pose (a robot asks about where it
     is now, and a queue must not grow behind a slow model). It ends when the node's end of the
@@ -90,6 +90,7 @@ def _serve(conn: Connection, policy_spec: str, top_k: int, min_cells: int) -> No
     if "torch" in sys.modules:  # a learned policy: one thread, as every robot has a worker of its own
         sys.modules["torch"].set_num_threads(1)
     _warm_up(policy, top_k, min_cells)
+    rng = np.random.default_rng(seed)  # after the warm-up: its draws are not the robot's
     held: _HeldMap | None = None
     try:
         conn.send(READY)  # the node may have gone meanwhile
@@ -105,14 +106,16 @@ def _serve(conn: Connection, policy_spec: str, top_k: int, min_cells: int) -> No
                 if not conn.poll(0):
                     break
                 message = conn.recv()
-            for result in _rank(jobs, held, policy, top_k, min_cells):
+            for result in _rank(jobs, held, policy, top_k, min_cells, rng):
                 conn.send(result)
     except (EOFError, OSError):
         return
 
 
-def _rank(jobs: list[RankJob], held: _HeldMap | None, policy: Any, top_k: int, min_cells: int) -> list[RankResult]:
-    """One result per job, all from one ranking at the last job's pose."""
+def _rank(
+    jobs: list[RankJob], held: _HeldMap | None, policy: Any, top_k: int, min_cells: int, rng: np.random.Generator
+) -> list[RankResult]:
+    """One result per job, all from one ranking at the last job's pose (a random policy drawing from ``rng``)."""
     if not jobs:
         return []
     if held is None:  # the node sends a map before any job; kept as a guard
@@ -123,7 +126,8 @@ def _rank(jobs: list[RankJob], held: _HeldMap | None, policy: Any, top_k: int, m
         return [RankResult(job.job, error=error, info=held.info, shared=shared) for job in jobs]
     try:
         gx, gy = frame.to_grid(jobs[-1].x, jobs[-1].y)
-        ranked, weight = rank_frontiers(held.grid, Pose(gx, gy, 0.0), policy, top_k, min_cells, memory=held.memory)
+        pose = Pose(gx, gy, 0.0)
+        ranked, weight = rank_frontiers(held.grid, pose, policy, top_k, min_cells, rng=rng, memory=held.memory)
         centres = tuple(frame.to_map(f.x, f.y) for f in ranked)
     except Exception as exc:  # a model or map problem must come back as an answer, not end the worker
         error = f"ranking failed: {type(exc).__name__}: {exc}"
@@ -141,13 +145,13 @@ READY = "ready"
 def _warm_up(policy: Any, top_k: int, min_cells: int) -> None:
     """Rank a small room, then the same room with a wall more, so that the first real requests do
     not pay for loading the kernels (the second map's inflation is worked out where it changed)."""
-    memory = InflationMemory()
+    memory, rng = InflationMemory(), np.random.default_rng(0)
     cells = np.full((120, 120), UNKNOWN_I8)  # large enough that a wall is inflated on a window of it
     cells[5:115, 5:60] = FREE_I8
     for wall in (False, True):
         cells[60, 5:10] = OCCUPIED_I8 if wall else FREE_I8
         ranked = grid_from_message(120, 120, 0.05, cells.reshape(-1))
-        rank_frontiers(ranked, Pose(0.6, 1.0, 0.0), policy, top_k, min_cells, memory=memory)
+        rank_frontiers(ranked, Pose(0.6, 1.0, 0.0), policy, top_k, min_cells, rng=rng, memory=memory)
 
 
 class _Outbox:
@@ -192,13 +196,16 @@ class _Outbox:
 class RobotWorker:
     """The node's handle on one robot's worker process.
 
-    ``on_result`` is called on a reader thread with every :class:`RankResult`; if the process dies
+    ``on_result`` is called on a reader thread with every :class:`RankResult`; a random policy draws
+    from one generator seeded with ``seed`` (a restarted worker's seeded again); if the process dies
     (killed, out of memory), the jobs it held are answered with an error and a new process starts
     with the last map.
     """
 
-    def __init__(self, policy_spec: str, top_k: int, min_cells: int, on_result: Callable[[RankResult], None]) -> None:
-        self._args = (policy_spec, top_k, min_cells)
+    def __init__(
+        self, policy_spec: str, top_k: int, min_cells: int, on_result: Callable[[RankResult], None], seed: int = 0
+    ) -> None:
+        self._args = (policy_spec, top_k, min_cells, seed)
         self._on_result = on_result
         self._lock = threading.RLock()  # close() may run again, from a shutdown hook, on a thread inside it
         self._pending: set[int] = set()

@@ -85,7 +85,7 @@ def _ranked_here(cells: MapCells, x: float, y: float) -> tuple[tuple[float, floa
     info = cells.info
     grid = grid_from_message(info.width, info.height, info.resolution, cells.data)
     gx, gy = info.frame.to_grid(x, y)
-    ranked, _ = rank_frontiers(grid, Pose(gx, gy, 0.0), make_policy("fixed:0.75"), 10, 4)
+    ranked, _ = rank_frontiers(grid, Pose(gx, gy, 0.0), make_policy("fixed:0.75"), 10, 4, rng=np.random.default_rng(0))
     return tuple(info.frame.to_map(f.x, f.y) for f in ranked)
 
 
@@ -129,7 +129,7 @@ def test_a_worker_keeps_its_inflation_for_maps_on_the_same_cells() -> None:
     """A map in the same frame keeps the last one's inflation memory, which the ranking uses; a map
     whose origin moved starts a new one (its cells lie elsewhere in the grid)."""
     first = _HeldMap.of(_hall(200))
-    assert _rank([RankJob(1, 2.0, 2.0)], first, make_policy("fixed:0.75"), 10, 4)[0].centres
+    assert _rank([RankJob(1, 2.0, 2.0)], first, make_policy("fixed:0.75"), 10, 4, np.random.default_rng(0))[0].centres
     assert first.memory._state is not None  # the ranking inflated through it
     again = _HeldMap.of(_hall(200, stamp_ns=2 * 10**9), first)
     moved = _HeldMap.of(_hall(200, MapFrame("map", -3.0, 2.0, 0.0), stamp_ns=3 * 10**9), again)
@@ -226,7 +226,7 @@ def test_maps_and_jobs_are_handed_over_at_once_while_the_worker_is_busy(worker: 
 def test_a_pose_off_the_map_the_worker_holds_is_answered_with_a_reason() -> None:
     """The node checks a pose on its newest map; the worker may rank another (a map moved since)."""
     held = _HeldMap.of(_hall(200))  # 10 m × 10 m from the origin
-    answer = _rank([RankJob(1, 25.0, 2.0)], held, make_policy("fixed:0.75"), 10, 4)[0]
+    answer = _rank([RankJob(1, 25.0, 2.0)], held, make_policy("fixed:0.75"), 10, 4, np.random.default_rng(0))[0]
     assert answer.centres == () and "off the map" in answer.error and answer.info == held.info
 
 
@@ -260,3 +260,15 @@ def test_a_worker_outlives_a_sigint_to_its_process_group(worker: tuple[RobotWork
     handle.send_map(_room())
     handle.submit(RankJob(1, 1.0, 1.5))
     assert results.wait(1).centres and handle._process.pid == pid and handle._process.is_alive()
+
+
+def test_a_random_policy_draws_afresh_at_every_request_of_a_robot() -> None:
+    """The worker ranked with a generator seeded alike at every request: ``random`` gave one order."""
+    cells = np.full((80, 80), -1, np.int8)
+    cells[10:70, 10:70] = 0
+    for k in range(10, 70, 10):  # walls cut the room's edge into many frontiers
+        cells[10, k] = cells[69, k] = cells[k, 10] = cells[k, 69] = 100
+    held = _HeldMap.of(MapCells(MapInfo(AT_ORIGIN, 80, 80, 0.05, 10**9), cells.reshape(-1)), None)
+    policy, rng = make_policy("random"), np.random.default_rng(0)
+    orders = [_rank([RankJob(job, 2.0, 2.0)], held, policy, 10, 4, rng)[0].centres for job in range(5)]
+    assert len(orders[0]) == 10 and len(set(orders)) == 5

@@ -190,7 +190,7 @@ def test_learned_models_rank_a_map_message(model: str, real_maps: Path, tmp_path
     grid = grid_from_message(int(arrays["width"]), int(arrays["height"]), float(arrays["resolution"]), arrays["data"])
     origin = arrays["origin"]
     pose = Pose(float(arrays["pose"][0] - origin[0]), float(arrays["pose"][1] - origin[1]), 0.0)
-    ranked, weight = rank_frontiers(grid, pose, make_policy(f"learned:{model}"), top_k=10)
+    ranked, weight = rank_frontiers(grid, pose, make_policy(f"learned:{model}"), top_k=10, rng=np.random.default_rng(0))
     assert 1 <= len(ranked) <= 10
     assert (weight is not None) == model.endswith("model4.zip")  # model 5 picks a frontier, not a weight
 
