@@ -19,6 +19,7 @@ from dataclasses import dataclass
 
 from frontier_rl.errors import FrontierRLError, MapError
 from frontier_rl.policies import make_policy
+from frontier_rl.policies.baselines import FixedWeight
 from frontier_rl.robot.answers import (
     MapCells,
     MapInfo,
@@ -114,8 +115,8 @@ class RankingService:
         check_node_policy(policy, settings.policy)
         self.settings = settings
         self.policy_name = policy.name
-        fixed = getattr(policy, "weight", None)
-        self.fixed_weight = float(fixed) if isinstance(fixed, float) else None
+        # a user policy may have a weight of its own that changes: only a fixed weight is announced
+        self.fixed_weight = policy.weight if isinstance(policy, FixedWeight) else None
         self._publish, self._warn_line, self._clock = publish, warn, clock
         self.maps: dict[str, MapInfo | None] = dict.fromkeys(settings.robots)
         self.poses: dict[str, RobotPose] = {}

@@ -6,6 +6,7 @@ from __future__ import annotations
 import math
 import threading
 from collections.abc import Iterator
+from pathlib import Path
 
 import numpy as np
 import pytest
@@ -154,3 +155,18 @@ def test_warnings_are_throttled_by_kind_however_their_texts_differ(team: tuple[R
         "request off-0 of 'tb3_0' answered empty",
         "request g-0 of 'ghost0' answered empty",
     ]
+
+
+def test_only_a_fixed_weight_is_announced_not_a_user_policys_own(tmp_path: Path) -> None:
+    """Any policy with a float ``weight`` attribute was announced on /frontier_weight as fixed."""
+    path = tmp_path / "adaptive.py"
+    path.write_text(
+        "from frontier_rl import Ranking\n"
+        "class Adaptive:\n"
+        "    name = 'adaptive'\n"
+        "    weight = 0.5  # where it starts; it changes as the robot explores\n"
+        "    def rank(self, context, rng):\n"
+        "        return Ranking(list(range(len(context.frontiers))), self.weight)\n"
+    )
+    assert _service(policy=f"{path}:Adaptive")[0].fixed_weight is None
+    assert _service(policy="fixed:0.6")[0].fixed_weight == 0.6
