@@ -222,6 +222,23 @@ def test_rows_of_a_folder_without_checksums_can_be_adopted(complete: Path, tmp_p
         adopt_rows(out)
 
 
+@pytest.mark.parametrize(
+    ("text", "needle"),
+    [
+        ("{", r"experiment\.json is not valid JSON"),
+        ('{"seed": ' + "[" * 40 + "]" * 40 + "}", r"experiment\.json is not an experiment description \(nested"),
+        ("[]", r"experiment\.json is not an experiment description \("),
+    ],
+)
+def test_adopting_reads_experiment_json_as_a_run_does(text: str, needle: str, complete: Path, tmp_path: Path) -> None:
+    """adopt_rows read experiment.json with checks of its own, short of a run's (no depth bound)."""
+    out = _copy(complete, tmp_path / "exp", ("experiment.json", "episodes.csv", "traces.jsonl"))
+    (out / "experiment.json").write_text(text)
+    with pytest.raises(ConfigError, match=needle):
+        adopt_rows(out)
+    assert not (out / "checksums.jsonl").exists()
+
+
 def test_adopting_still_refuses_rows_that_cannot_belong(complete: Path, tmp_path: Path) -> None:
     out = _copy(complete, tmp_path / "exp", ("experiment.json", "episodes.csv", "traces.jsonl"))
     lines = _lines(out / "episodes.csv")

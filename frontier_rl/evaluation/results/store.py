@@ -133,17 +133,10 @@ class ResultStore:
     # ------------------------------------------------------------------ identity
     def _check_identity(self, identity: ExperimentIdentity) -> None:
         if self.identity_path.exists():
-            text = decode_utf8(self.identity_path, read_result_file(self.identity_path, _MAX_IDENTITY_BYTES))
             try:
-                stored = json.loads(text)
-            except json.JSONDecodeError as exc:
-                raise ConfigError(
-                    f"{self.identity_path} is not valid JSON ({exc.msg} at line {exc.lineno}); choose another --out"
-                ) from None
-            except (RecursionError, ValueError):  # nested too deeply; an integer of more than 4300 digits
-                stored = None
-            if _depth(stored) > _MAX_DEPTH or _identity_problem(stored) is not None:
-                raise ConfigError(f"{self.identity_path} is not an experiment description; choose another --out")
+                stored = read_identity_json(self.identity_path)
+            except ConfigError as problem:
+                raise ConfigError(f"{problem}; choose another --out") from None
             identity = merged_identity(self.out, stored, identity)
         elif any(not _ours(path.name) for path in self.out.iterdir()):
             raise ConfigError(f"--out {str(self.out)!r} holds other files and no experiment.json: choose another --out")
@@ -311,15 +304,7 @@ def adopt_rows(out: Path) -> int:
     path = out / "experiment.json"
     if not path.is_file():
         raise ConfigError(f"{str(out)!r} has no experiment.json: it is not a results folder")
-    text = decode_utf8(path, read_result_file(path, _MAX_IDENTITY_BYTES))  # their errors say what is wrong
-    try:
-        stored = json.loads(text)
-    except (ValueError, RecursionError):  # not JSON, an integer of more than 4300 digits, too deep
-        stored = None
-    problem = _identity_problem(stored)
-    if problem is not None:
-        raise ConfigError(f"{path} is not an experiment description ({problem})")
-    store = ResultStore(out, ExperimentIdentity.from_json(stored), adopt_unchecked=True)
+    store = ResultStore(out, ExperimentIdentity.from_json(read_identity_json(path)), adopt_unchecked=True)
     store.close()
     return len(store.rows)
 
@@ -353,13 +338,28 @@ def _as_read(key: Key, entry: Mapping[str, object]) -> Mapping[str, object]:
     return entry
 
 
-def _identity_problem(stored: object) -> str | None:
-    """What keeps ``stored`` from being an ``experiment.json`` object, or None."""
+def read_identity_json(path: Path) -> Mapping[str, object]:
+    """The object of the ``experiment.json`` at ``path``, checked to describe an experiment
+    (:meth:`ExperimentIdentity.from_json` reads it).
+
+    Raises:
+        ConfigError: unreadable, not UTF-8 or too large, not valid JSON, nested too deeply, or not
+            an experiment description: named, with the path.
+    """
+    text = decode_utf8(path, read_result_file(path, _MAX_IDENTITY_BYTES))  # their errors say what is wrong
+    try:
+        stored = json.loads(text)
+    except json.JSONDecodeError as exc:
+        raise ConfigError(f"{path} is not valid JSON ({exc.msg} at line {exc.lineno})") from None
+    except (RecursionError, ValueError):  # nested too deeply; an integer of more than 4300 digits
+        raise ConfigError(f"{path} is not an experiment description (too deeply nested or too long a number)") from None
+    if _depth(stored) > _MAX_DEPTH:
+        raise ConfigError(f"{path} is not an experiment description (nested more than {_MAX_DEPTH} levels)")
     try:
         ExperimentIdentity.from_json(stored)
     except ValueError as problem:
-        return str(problem)
-    return None
+        raise ConfigError(f"{path} is not an experiment description ({problem})") from None
+    return stored  # type: ignore[no-any-return]  # from_json read it: an object
 
 
 def _ours(name: str) -> bool:
