@@ -9,6 +9,7 @@ from numpy.typing import NDArray
 
 from frontier_rl.core.sim.metrics import EpisodeResult, EpisodeSummary
 from frontier_rl.core.world.grid import OccupancyGrid
+from frontier_rl.swarm.config import Strategy
 
 
 @dataclass(frozen=True)
@@ -20,7 +21,7 @@ class TeamResult(EpisodeResult):
 
     Attributes:
         robots: team size.
-        strategy: the coordination strategy's name.
+        strategy: how the robots shared the work.
         overlap: share of the explorable cells the robots' own sensors reached that more than one
             robot's did (0 = no double work).
         robot_path_lengths_m: distance each robot drove (m).
@@ -31,7 +32,7 @@ class TeamResult(EpisodeResult):
     """
 
     robots: int = 1
-    strategy: str = "uncoordinated"
+    strategy: Strategy = Strategy.UNCOORDINATED
     overlap: float = 0.0
     robot_path_lengths_m: tuple[float, ...] = ()
     robot_coverage: tuple[float, ...] = ()
@@ -58,7 +59,7 @@ class TeamSummary(EpisodeSummary):
     each of the team's fields is the :class:`TeamResult` attribute of the same name."""
 
     robots: int
-    strategy: str
+    strategy: Strategy
     overlap: float
     robot_path_lengths_m: tuple[float, ...]
     robot_coverage: tuple[float, ...]

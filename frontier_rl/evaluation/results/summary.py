@@ -19,6 +19,7 @@ from frontier_rl.checked_values import enum_member
 from frontier_rl.core.sim.metrics import EndReason
 from frontier_rl.errors import ConfigError, short_path, short_repr
 from frontier_rl.evaluation.statistics.paired import PairedStats
+from frontier_rl.swarm.config import Strategy
 
 SUMMARY_FILE = "summary.json"
 """The summary's file name in a results folder."""
@@ -147,7 +148,7 @@ class TeamPoint:
 
     Attributes:
         policy: the policy every robot runs (a method without its team part).
-        strategy: ``uncoordinated``, ``coordinated`` or ``rendezvous``.
+        strategy: how the robots shared the work.
         robots: team size.
         method: the method that ran (``nearest@2:coordinated``; the policy alone for one robot).
         n: episodes.
@@ -156,7 +157,7 @@ class TeamPoint:
     """
 
     policy: str
-    strategy: str
+    strategy: Strategy
     robots: int
     method: str
     n: int
@@ -345,7 +346,8 @@ def _team_point(policy: str, strategy: str, robots: str, entry: Mapping[str, Any
     if mean is None or not robots.isdigit():
         raise ConfigError(f"team entry {policy} {strategy} {short_repr(robots)} is incomplete")
     method, n = _value(entry, "method", str), _value(entry, "n", int)
-    return TeamPoint(policy, strategy, int(robots), method, n, mean, _number(entry.get("ci95_half_s"), "ci95_half_s"))
+    kind = enum_member(Strategy, strategy, f"team entry {policy} strategy")
+    return TeamPoint(policy, kind, int(robots), method, n, mean, _number(entry.get("ci95_half_s"), "ci95_half_s"))
 
 
 def _object(value: object, what: str) -> Mapping[str, Any]:

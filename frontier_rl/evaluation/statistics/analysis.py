@@ -24,7 +24,7 @@ from frontier_rl.evaluation.results.summary import (
 from frontier_rl.evaluation.running.experiment import ExperimentConfig
 from frontier_rl.evaluation.running.methods import ORACLE
 from frontier_rl.evaluation.statistics.paired import compare_methods, holm_adjust
-from frontier_rl.swarm.config import TeamMethod
+from frontier_rl.swarm.config import Strategy, TeamMethod
 
 Rows = Mapping[Key, EpisodeRow]
 
@@ -73,11 +73,11 @@ def team_scaling(times: dict[str, list[float]], methods: tuple[str, ...]) -> tup
     half-width (Student's t) of each mean; a policy's one-robot method, if run, starts every line.
     The points come by policy, then strategy (each in the order of the methods), then team size."""
     parsed = {m: TeamMethod.parse(m) for m in methods}
-    policies: dict[str, dict[str, dict[int, TeamPoint]]] = {}
+    policies: dict[str, dict[Strategy, dict[int, TeamPoint]]] = {}
     for method, team in parsed.items():
         if team.robots is None:
             continue
-        alone, strategy = str(team.policy), team.strategy.value
+        alone, strategy = str(team.policy), team.strategy
         line = policies.setdefault(alone, {}).setdefault(strategy, {})
         line[team.robots] = _team_point(alone, strategy, team.robots, method, times[method])
         if alone in parsed and 1 not in line:
@@ -85,7 +85,7 @@ def team_scaling(times: dict[str, list[float]], methods: tuple[str, ...]) -> tup
     return tuple(point for lines in policies.values() for line in lines.values() for _, point in sorted(line.items()))
 
 
-def _team_point(policy: str, strategy: str, robots: int, method: str, values: list[float]) -> TeamPoint:
+def _team_point(policy: str, strategy: Strategy, robots: int, method: str, values: list[float]) -> TeamPoint:
     t = np.asarray(values, dtype=np.float64)
     half = float(scipy_stats.t.ppf(0.975, len(t) - 1) * t.std(ddof=1) / math.sqrt(len(t))) if len(t) > 1 else None
     return TeamPoint(policy, strategy, robots, method, len(t), float(t.mean()), half)
