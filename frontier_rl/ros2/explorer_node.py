@@ -33,6 +33,7 @@ from rclpy.task import Future
 from std_msgs.msg import Float32, String
 from visualization_msgs.msg import MarkerArray
 
+from frontier_rl.core.sim.metrics import EndReason
 from frontier_rl.core.world.grid import OccupancyGrid
 from frontier_rl.core.world.robot import Pose
 from frontier_rl.errors import ConfigError, MapError
@@ -66,7 +67,7 @@ class ExplorerStatus:
 
     Attributes:
         state: what it is doing (:class:`ExplorerState`).
-        reason: the end reason once finished (``explored``, ``unreachable``, ``time_cap``), else "".
+        reason: the end reason once finished (``explored``, ``unreachable``, ``time_cap``), else None.
         time_s: time since the first tick (s, on the node's clock: simulated with ``use_sim_time``).
         goals: goals sent; given_up: of them blacklisted (rejected, aborted, no progress, or
             reached without seeing their frontier).
@@ -75,12 +76,12 @@ class ExplorerStatus:
             unrevealable: those reached twice without their frontier going away, or with no more
                 than a speck of their unknown in sight of anywhere the robot can reach.
         coverage: the simulator's share of the explorable space mapped, when a simulator
-            publishes it (``coverage``); -1 otherwise.
+            publishes it (``coverage``); None otherwise.
         detail: a sentence on what happened last.
     """
 
     state: ExplorerState
-    reason: str
+    reason: EndReason | None
     time_s: float
     goals: int
     given_up: int
@@ -88,11 +89,11 @@ class ExplorerStatus:
     unknown_m2: float
     with_a_path: int
     unrevealable: int
-    coverage: float
+    coverage: float | None
     detail: str
 
     def to_json(self) -> str:
-        """The status as one line of JSON."""
+        """The status as one line of JSON (None as null)."""
         return json.dumps(asdict(self))
 
 
@@ -140,7 +141,7 @@ class ExplorerNode(Node):
         self.add_on_set_parameters_callback(self._on_parameters)
         self.goal_silence_timeout = goal_silence_timeout
         self._grid: OccupancyGrid | None = None
-        self._coverage = -1.0
+        self._coverage: float | None = None  # until a simulator publishes it
         self._warnings = ThrottledLog(_WARN_PERIOD_S)  # bad messages, per topic
         self.create_subscription(GridMessage, "map", self._on_map, MAP_QOS)
         self._teammate_grids: dict[str, OccupancyGrid] = {}
@@ -356,8 +357,9 @@ class ExplorerNode(Node):
     def summary(self) -> str:
         """One line: the end reason, the time, the goals and what was left."""
         status = self.status(ExplorerState.FINISHED, "")
-        line = f"{status.reason} after {status.time_s:.1f} s, {status.goals} goals ({status.given_up} given up)"
-        if status.coverage >= 0:
+        ended = status.state.value if status.reason is None else status.reason.value
+        line = f"{ended} after {status.time_s:.1f} s, {status.goals} goals ({status.given_up} given up)"
+        if status.coverage is not None:
             line += f", {100 * status.coverage:.1f} % of the explorable space (the simulator's)"
         if status.frontiers_left:
             line += (
@@ -371,7 +373,7 @@ class ExplorerNode(Node):
         end = self.finished
         return ExplorerStatus(
             state=state,
-            reason="" if end is None else end.reason.value,
+            reason=None if end is None else end.reason,
             time_s=round(self._elapsed_s if self._finished_s is None else self._finished_s, 3),
             goals=self.explorer.decisions,
             given_up=self.explorer.goals_given_up,
@@ -379,7 +381,7 @@ class ExplorerNode(Node):
             unknown_m2=0.0 if end is None else round(end.unknown_beside_m2, 3),
             with_a_path=0 if end is None else end.with_a_path,
             unrevealable=0 if end is None else end.unrevealable,
-            coverage=round(self._coverage, 5),
+            coverage=None if self._coverage is None else round(self._coverage, 5),
             detail=detail,
         )
 
