@@ -5,6 +5,7 @@ extra; rclpy loads only here, once the arguments are checked."""
 from __future__ import annotations
 
 import math
+from collections.abc import Sequence
 from pathlib import Path
 from typing import TYPE_CHECKING, Annotated, Any
 
@@ -75,6 +76,29 @@ def _with_parameter_file(ctx: typer.Context, path: Path | None, options: dict[st
     return options
 
 
+def _check_ros_names(namespaces: dict[str, Sequence[str]], pose_source: PoseSource | None = None) -> None:
+    """A one-line error naming the option whose namespace (``namespaces`` maps options to them) or
+    pose topic ROS 2 does not allow, by rclpy's own rules (call after :func:`_need_ros2`)."""
+    from rclpy.exceptions import NameValidationException
+    from rclpy.validate_namespace import validate_namespace
+    from rclpy.validate_topic_name import validate_topic_name
+
+    from frontier_rl.robot.pose_source import PoseKind
+
+    checks = [(option, name, True) for option, names in namespaces.items() for name in names]
+    if pose_source is not None and pose_source.kind is not PoseKind.TF:
+        checks.append(("--pose-topic", pose_source.topic, False))
+    for option, name, is_namespace in checks:
+        try:
+            if not is_namespace:
+                validate_topic_name(name)
+            elif name.strip("/"):  # none: the root
+                validate_namespace("/" + name.strip("/"))
+        except NameValidationException as error:
+            problem = str(error).splitlines()[0].rstrip(":").split(": ", 1)[-1]
+            fail(f"{option} {name!r} is not a name ROS 2 allows: {problem}")
+
+
 def _checked_rate(rate: float) -> float | None:
     if not (math.isfinite(rate) and rate >= 0):
         fail(f"--rate must be a number >= 0 (0: as fast as it can), got {rate!r}")
@@ -100,6 +124,7 @@ def sim(
     if robots > 1 and namespace:
         fail("give --namespace for one robot, or --robots for a team (namespaces tb3_0, tb3_1, ...), not both")
     _need_ros2()
+    _check_ros_names({"--namespace": [namespace]})
     from frontier_rl import api
     from frontier_rl.ros2.run import run_sim, simulated_team
 
@@ -150,6 +175,7 @@ def rank(
         count_parameter("max_pending", max_pending, 1),
     )
     _need_ros2()
+    _check_ros_names({"--robots": names}, pose_source)
     from frontier_rl.core.sim.config import MAX_FRONTIER_DROP_CELLS  # the engine, once the arguments are checked
     from frontier_rl.robot.ranking_service import ServiceSettings
     from frontier_rl.ros2.run import run_ranking
@@ -215,6 +241,7 @@ def explore(
     params, visualize, pose_source = _explorer_settings(ctx, params_file, options, time_cap, (pose_type, pose_topic))
     node = _node_options(namespace, teammates, goal_silence_timeout)
     _need_ros2()
+    _check_ros_names({"--namespace": [namespace], "--teammates": node["teammates"]}, pose_source)
     _explore_with(
         policy,
         params,

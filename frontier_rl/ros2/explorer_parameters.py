@@ -70,7 +70,7 @@ def declare_explorer_parameters(node: Node, settings: ExplorerSettings, policy: 
     the overrides of the node's ``--ros-args``, checked.
 
     Raises:
-        ConfigError: an override of the wrong type or out of range, named.
+        ConfigError: an override of the wrong type or out of range, or of the read-only policy, named.
     """
     values = settings.values()
     try:
@@ -84,4 +84,10 @@ def declare_explorer_parameters(node: Node, settings: ExplorerSettings, policy: 
     node.declare_parameter(
         POLICY_PARAMETER, policy, ParameterDescriptor(description="The policy ranking the frontiers.", read_only=True)
     )
+    overridden = node.get_parameter(POLICY_PARAMETER).value
+    if overridden != policy:  # an override names a policy the explorer would not rank with
+        raise ConfigError(
+            f"--ros-args: parameter {POLICY_PARAMETER} is read-only, got {overridden!r}: "
+            "choose the policy with --policy"
+        )
     return settings.updated({name: node.get_parameter(name).value for name in values})

@@ -3,18 +3,22 @@ SIGTERM ending it with a summary, not a traceback."""
 
 from __future__ import annotations
 
-from collections.abc import Callable, Sequence
+import contextlib
+from collections.abc import Callable, Iterator, Sequence
 from dataclasses import replace
 
 import numpy as np
 import rclpy
+from rclpy.exceptions import NameValidationException
 from rclpy.executors import Executor, ExternalShutdownException, SingleThreadedExecutor
+from rclpy.impl.implementation_singleton import rclpy_implementation
 from rclpy.node import Node
 from rclpy.parameter import Parameter
 
 from frontier_rl.core.sim.config import SimConfig
 from frontier_rl.core.sim.episode import ExplorationPolicy
 from frontier_rl.core.world.worlds import World
+from frontier_rl.errors import ConfigError
 from frontier_rl.robot.explorer import FrontierExplorer
 from frontier_rl.robot.explorer_params import ExplorerParams
 from frontier_rl.robot.pose_source import PoseSource
@@ -25,6 +29,24 @@ from frontier_rl.ros2.ranking_node import RankingNode
 from frontier_rl.ros2.sim_node import SimNode
 from frontier_rl.swarm.config import TeamConfig
 from frontier_rl.swarm.starts import team_starts
+
+
+@contextlib.contextmanager
+def _ros_setup_errors() -> Iterator[None]:
+    """rclpy's refusals while a node is set up as one-line errors: a name ROS does not allow (a
+    namespace or topic, also one remapped with ``--ros-args -r``), ``--ros-args`` rcl cannot parse.
+    rclpy is shut down again (as it is on any error there)."""
+    try:
+        yield
+    except NameValidationException as error:
+        rclpy.try_shutdown()
+        raise ConfigError(str(error).splitlines()[0].rstrip(":")) from None
+    except rclpy_implementation.RCLError as error:
+        rclpy.try_shutdown()
+        raise ConfigError(f"--ros-args: {str(error).split(', at /')[0]}") from None
+    except BaseException:
+        rclpy.try_shutdown()
+        raise
 
 
 def _spin(spin: Callable[[], None]) -> None:
@@ -84,8 +106,9 @@ def simulated_team(
 def run_sim(robots: Sequence[tuple[str, SimulatedRobot]], rate: float | None = 1.0) -> list[str]:
     """Serve the robots as ROS 2 robots (:class:`SimNode`) until Ctrl-C or SIGTERM; a line per
     robot on what it did."""
-    rclpy.init()
-    node = SimNode(robots, rate)
+    with _ros_setup_errors():
+        rclpy.init()
+        node = SimNode(robots, rate)
     try:
         _serve(node)
     finally:
@@ -109,8 +132,9 @@ def run_ranking(settings: ServiceSettings, pose_source: PoseSource | None = None
     try:
         if not service.start(lambda: False):  # a Ctrl-C meanwhile is a KeyboardInterrupt
             return 0
-        rclpy.init()
-        node = RankingNode(service, pose_source)
+        with _ros_setup_errors():
+            rclpy.init()
+            node = RankingNode(service, pose_source)
         node.set_parameters([Parameter("use_sim_time", Parameter.Type.BOOL, use_sim_time)])
         node.get_logger().info(f"ranking for robots {list(settings.robots)} with {service.policy_name}")
         _serve(node)
@@ -146,14 +170,11 @@ def run_explorer(
     Raises:
         ConfigError: ``ros_args`` override a parameter with a bad value.
     """
-    rclpy.init(args=["frontier-rl", *ros_args])
     _, policy_rng = np.random.default_rng(seed).spawn(2)
     explorer = FrontierExplorer(policy, params, rng=policy_rng)
-    try:
+    with _ros_setup_errors():
+        rclpy.init(args=["frontier-rl", *ros_args])
         node = ExplorerNode(explorer, pose_source, visualize, namespace, goal_silence_timeout, policy_name, teammates)
-    except BaseException:
-        rclpy.try_shutdown()
-        raise
     node.set_parameters([Parameter("use_sim_time", Parameter.Type.BOOL, use_sim_time)])
     executor = SingleThreadedExecutor()
     executor.add_node(node)

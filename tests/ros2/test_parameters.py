@@ -57,6 +57,10 @@ def test_the_settings_are_parameters_overridden_by_ros_args_and_set_at_run_time(
         ("--ros-args -p planner_frequency:=-1", "parameter planner_frequency must be a positive number, got -1.0"),
         ("--ros-args -p return_to_init:=3", "parameter return_to_init must be true or false, got 3"),
         ("--planer-frequency 2", "no such option or argument: '--planer-frequency'"),
+        ("--ros-args -p policy:=tour", "parameter policy is read-only, got 'tour'"),  # was taken, not ranked with
+        ("--namespace 1abc", "--namespace '1abc' is not a name ROS 2 allows"),  # was a traceback
+        ("--pose-topic 'bad topic'", "--pose-topic 'bad topic' is not a name ROS 2 allows"),
+        ("--teammates a,1b", "--teammates '1b' is not a name ROS 2 allows"),
     ],
 )
 def test_a_bad_override_is_one_line_naming_it(arguments: str, needle: str, tmp_path: Path) -> None:
@@ -64,3 +68,17 @@ def test_a_bad_override_is_one_line_naming_it(arguments: str, needle: str, tmp_p
     err = (tmp_path / "explore.err").read_text()
     assert done.returncode not in (0, 130) and needle in err, err
     assert "Traceback" not in err and len(err.strip().splitlines()) == 1, err
+
+
+@pytest.mark.parametrize(
+    ("arguments", "needle"),
+    [
+        ("--ros-args -p", "error: --ros-args: failed to initialize rcl: Couldn't parse trailing -p flag"),
+        ("--ros-args -r __ns:=/1x", "error: --ros-args: failed to initialize rcl: Couldn't parse remap rule"),
+    ],
+)
+def test_ros_arguments_rcl_cannot_parse_end_in_an_error_line(arguments: str, needle: str, tmp_path: Path) -> None:
+    """They ended in a traceback; rcl's own log lines still come before the error."""
+    done = run_in_loopback(f"{_EXPLORE} {arguments} > explore.log 2> explore.err", tmp_path, 60)
+    err = (tmp_path / "explore.err").read_text()
+    assert done.returncode == 2 and needle in err and "Traceback" not in err, err
