@@ -9,6 +9,7 @@ import pytest
 from typer.testing import CliRunner
 
 from frontier_rl.cli import app
+from frontier_rl.cli.output import print_line
 from frontier_rl.errors import ConfigError
 from frontier_rl.evaluation.running.experiment import ExperimentConfig
 from tests.evaluation.maps import write_slit_map
@@ -327,3 +328,10 @@ def test_the_program_says_its_version_and_takes_h_for_help() -> None:
     for args in (["-h"], ["explore", "-h"], ["benchmark", "ariadne", "-h"]):
         shown = runner.invoke(app, args)
         assert shown.exit_code == 0 and shown.output.startswith("Usage: "), (args, shown.output)
+
+
+def test_a_result_line_is_one_line_in_a_pipe(capsys: pytest.CaptureFixture[str]) -> None:
+    """A ROS 2 run's summary and a report's path were wrapped at 80 columns, a space left at the break."""
+    line = "explored after 385.6 s, 142 goals (1 given up), 100.0 % of the explorable space (the simulator's)"
+    print_line(line)
+    assert capsys.readouterr().out == line + "\n"

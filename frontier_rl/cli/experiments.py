@@ -26,6 +26,7 @@ from frontier_rl.cli.output import (
     friendly_errors,
     int_list,
     policy_list,
+    print_line,
     print_note,
     stdout_console,
 )
@@ -104,9 +105,7 @@ def demo(
     )
     title = f"{episodes} episode(s) per world on {', '.join(DEMO_WORLDS)}"
     _print_summary(ExperimentSummary.load(report.parent), title, experiment.baseline)
-    stdout_console().print(
-        f"report: {report.with_suffix('.html')} (and .md); pictures of seed {seed} in {results}/pictures/"
-    )
+    print_line(f"report: {report.with_suffix('.html')} (and .md); pictures of seed {seed} in {results}/pictures/")
 
 
 def _note_missing_models() -> None:
@@ -206,7 +205,7 @@ def evaluate(
         )
     _print_summary(summary, f"{episodes} episode(s) per world on {', '.join(summary.worlds)}", baseline)
     report = out / "report.md"
-    stdout_console().print(f"report: {report} and {report.with_suffix('.html')}")
+    print_line(f"report: {report} and {report.with_suffix('.html')}")
 
 
 @contextmanager

@@ -48,6 +48,12 @@ def stdout_console() -> Console:
     return Console(markup=False, emoji=False)
 
 
+def print_line(text: str) -> None:
+    """``text`` on standard output as it is, never wrapped: a pipe or a file gets one line (Rich
+    wrapped at 80 columns where no terminal gave a width), a terminal wraps it itself."""
+    stdout_console().print(text, soft_wrap=True)
+
+
 def one_line(text: str, limit: int = MESSAGE_LIMIT) -> str:
     """``text`` as one line of at most ``limit`` characters: line breaks become spaces, other
     control characters escapes (``\\x1b``), and a longer text is cut (an ellipsis marks the cut)."""

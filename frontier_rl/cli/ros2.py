@@ -12,7 +12,7 @@ from typing import TYPE_CHECKING, Annotated, Any
 import typer
 
 from frontier_rl.cli.options import MAX_SEED, WORLD_HELP, fail
-from frontier_rl.cli.output import OneLineGroup, friendly_errors, print_note, stdout_console
+from frontier_rl.cli.output import OneLineGroup, friendly_errors, print_line, print_note
 from frontier_rl.errors import SettingError
 from frontier_rl.robot.explorer_params import ExplorerParams, setting_help
 from frontier_rl.seeds import checked_seed
@@ -131,9 +131,9 @@ def sim(
     the_world = api.load_world(world, seed)
     namespaces = [namespace] if robots == 1 else [f"tb3_{i}" for i in range(robots)]
     team = simulated_team(the_world, namespaces, seed)
-    stdout_console().print(f"simulating {the_world.name} with {robots} ROS 2 robot(s); Ctrl-C ends it")
+    print_line(f"simulating {the_world.name} with {robots} ROS 2 robot(s); Ctrl-C ends it")
     for line in run_sim(team, paced):
-        stdout_console().print(line)
+        print_line(line)
 
 
 @ros2_app.command()
@@ -183,7 +183,7 @@ def rank(
     count_parameter("min_cluster_size", min_cluster_size, 0, MAX_FRONTIER_DROP_CELLS)
     settings = ServiceSettings(names, policy.strip(), *limits, age, stale, keep_last_map, pending)
     answered = run_ranking(settings, pose_source, use_sim_time)
-    stdout_console().print(f"{answered} requests answered")
+    print_line(f"{answered} requests answered")
 
 
 @ros2_app.command(context_settings={"allow_extra_args": True, "ignore_unknown_options": True})
@@ -328,6 +328,6 @@ def _explore_with(policy: str, params: ExplorerParams, json_out: bool, **node: A
     if json_out:
         print(status.to_json())
     else:
-        stdout_console().print(summary)
+        print_line(summary)
     if status.state is not ExplorerState.FINISHED:
         raise typer.Exit(130)

@@ -10,7 +10,7 @@ from typing import Annotated
 import typer
 
 from frontier_rl.cli.options import ResolutionOption, SimConfigOption, checked_run_arguments, sim_config
-from frontier_rl.cli.output import friendly_errors, print_note, stdout_console
+from frontier_rl.cli.output import friendly_errors, print_line, print_note
 from frontier_rl.errors import ConfigError
 from frontier_rl.registration import Algorithm
 
@@ -97,4 +97,4 @@ def train(
     except KeyboardInterrupt:
         print_note(interruption_note(settings, out))
         raise typer.Exit(130) from None
-    stdout_console().print(f"model: {final}   learning curve: {out / 'learning_curve.png'}")
+    print_line(f"model: {final}   learning curve: {out / 'learning_curve.png'}")
