@@ -6,6 +6,7 @@ from __future__ import annotations
 
 import math
 from collections.abc import Sequence
+from dataclasses import fields
 from pathlib import Path
 from typing import TYPE_CHECKING, Annotated, Any
 
@@ -14,7 +15,7 @@ import typer
 from frontier_rl.cli.options import MAX_SEED, WORLD_HELP, fail
 from frontier_rl.cli.output import OneLineGroup, friendly_errors, print_line, print_note
 from frontier_rl.errors import SettingError
-from frontier_rl.robot.explorer_params import ExplorerParams, setting_help
+from frontier_rl.robot.explorer_params import ExplorerParams, setting_help, time_cap_of_parameter
 from frontier_rl.seeds import checked_seed
 from frontier_rl.swarm.config import MAX_ROBOTS  # ros2 sim runs as many robots as a team of explore
 
@@ -42,37 +43,32 @@ def _need_ros2() -> None:
         fail(f"{_NO_ROS2} ({error})")
 
 
-def _explorer_params(
-    planner_frequency: float, progress_timeout: float, min_frontier_size: float, return_to_init: bool, time_cap: float
-) -> ExplorerParams:
-    """The explorer's settings from its options (a time cap of 0: none); a one-line error naming
-    the option that is out of range."""
+def _explorer_params(options: dict[str, Any]) -> ExplorerParams:
+    """The explorer's settings among ``options`` (setting name -> value; a time cap of 0: none);
+    a one-line error naming the option that is out of range (a file's values are checked as it is read)."""
+    if not options["time_cap"] >= 0:
+        fail(f"--time-cap must be a number of seconds (0: never), got {options['time_cap']!r}")
+    settings = {setting.name: options[setting.name] for setting in fields(ExplorerParams) if setting.name in options}
     try:
-        return ExplorerParams(
-            planner_frequency=planner_frequency,
-            progress_timeout=progress_timeout,
-            min_frontier_size=min_frontier_size,
-            return_to_init=return_to_init,
-            time_cap=math.inf if time_cap == 0 else time_cap,
-        )
+        return ExplorerParams(**settings | {"time_cap": time_cap_of_parameter(options["time_cap"])})
     except SettingError as error:
         fail(f"{_option(error.setting)} {error.problem}")
 
 
-def _with_parameter_file(ctx: typer.Context, path: Path | None, options: dict[str, Any]) -> dict[str, Any]:
-    """``options`` with the values of explore_lite's parameter file ``path`` for those not given on
-    the command line; the file's parameters that mean nothing here are named on standard error."""
-    if path is None:
-        return options
+def _with_parameter_files(ctx: typer.Context, paths: Sequence[Path], options: dict[str, Any]) -> dict[str, Any]:
+    """``options`` with the values of the parameter files ``paths`` (in order: a later file's win)
+    for those not given on the command line; what a file sets that means nothing here is named on
+    standard error."""
     from frontier_rl.robot.explore_lite_file import explore_lite_parameters
 
-    known, ignored = explore_lite_parameters(path)
-    for name, value in known.items():
-        source = ctx.get_parameter_source(name)
-        if source is None or source.name in ("DEFAULT", "DEFAULT_MAP"):
-            options[name] = value
-    if ignored:
-        print_note(f"{path}: not used here: {', '.join(ignored)}")
+    for path in paths:
+        known, ignored = explore_lite_parameters(path)
+        for name, value in known.items():
+            source = ctx.get_parameter_source(name) if name in options else None  # None: no such option
+            if source is None or source in (type(source).DEFAULT, type(source).DEFAULT_MAP):  # typer's own click
+                options[name] = value
+        if ignored:
+            print_note(f"{path}: not used here: {', '.join(ignored)}")
     return options
 
 
@@ -221,7 +217,8 @@ def explore(
     seed: Annotated[int, typer.Option(help=f"Seeds the policy's randomness (0 to {MAX_SEED}).")] = 0,
     json_out: Annotated[bool, typer.Option("--json", help="Print the final status as JSON, not a sentence.")] = False,
     params_file: Annotated[
-        Path | None, typer.Option(help="explore_lite's parameter file (explore.yaml), for the options not given here.")
+        list[Path] | None,
+        typer.Option(help="A parameter file (explore_lite's explore.yaml), for what is not given here; repeatable."),
     ] = None,
 ) -> None:
     """Explore with Nav2, a policy choosing among the map's frontiers.
@@ -235,10 +232,11 @@ def explore(
         progress_timeout=progress_timeout,
         min_frontier_size=min_frontier_size,
         return_to_init=return_to_init,
+        time_cap=time_cap,
         visualize=visualize,
         robot_base_frame=robot_base_frame,
     )
-    params, visualize, pose_source = _explorer_settings(ctx, params_file, options, time_cap, (pose_type, pose_topic))
+    params, visualize, pose_source = _explorer_settings(ctx, params_file or [], options, (pose_type, pose_topic))
     node = _node_options(namespace, teammates, goal_silence_timeout)
     _need_ros2()
     _check_ros_names({"--namespace": [namespace], "--teammates": node["teammates"]}, pose_source)
@@ -267,14 +265,14 @@ def _node_options(namespace: str, teammates: str, goal_silence_timeout: float) -
 
 
 def _explorer_settings(
-    ctx: typer.Context, params_file: Path | None, options: dict[str, Any], time_cap: float, pose: tuple[str, str]
+    ctx: typer.Context, params_files: Sequence[Path], options: dict[str, Any], pose: tuple[str, str]
 ) -> tuple[ExplorerParams, bool, PoseSource]:
     """The explorer's settings, whether it draws markers and where its pose comes from (``pose``:
     the pose type and topic; the base frame is among the ``options``), from its ``options`` and,
-    for those not given on the command line, explore_lite's parameter file; one line naming a bad one."""
-    options = _with_parameter_file(ctx, params_file, options)
+    for those not given on the command line, the parameter files; one line naming a bad one."""
+    options = _with_parameter_files(ctx, params_files, options)
     visualize, robot_base_frame = bool(options.pop("visualize")), str(options.pop("robot_base_frame"))
-    return _explorer_params(**options, time_cap=time_cap), visualize, _pose_source(*pose, robot_base_frame)
+    return _explorer_params(options), visualize, _pose_source(*pose, robot_base_frame)
 
 
 def _pose_source(pose_type: str, pose_topic: str, robot_base_frame: str) -> PoseSource:

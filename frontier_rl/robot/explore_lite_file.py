@@ -1,49 +1,84 @@
-"""explore_lite's parameter file (m-explore-ros2's ``explore.yaml``) read into the explorer's
-settings (:func:`explore_lite_parameters`)."""
+"""An explorer's parameter file read into its settings (:func:`explore_lite_parameters`):
+explore_lite's own (m-explore-ros2's ``explore.yaml``), a ROS 2 parameter file with this
+explorer's node in it, or a plain mapping of parameter names to values."""
 
 from __future__ import annotations
 
+import typing
 from collections.abc import Mapping
+from dataclasses import fields, replace
 from pathlib import Path
 from typing import Any
 
 from frontier_rl.checked_values import coerce
-from frontier_rl.errors import ConfigError
+from frontier_rl.errors import ConfigError, SettingError
+from frontier_rl.robot.explorer_params import ExplorerParams, time_cap_of_parameter
 from frontier_rl.safe_yaml import load_yaml_file
 
-EXPLORE_LITE_NAMES = {
-    "planner_frequency": float,
-    "progress_timeout": float,
-    "min_frontier_size": float,
-    "return_to_init": bool,
+FILE_PARAMETERS: dict[str, type] = {
+    **{setting.name: typing.get_type_hints(ExplorerParams)[setting.name] for setting in fields(ExplorerParams)},
     "visualize": bool,
     "robot_base_frame": str,
 }
-"""explore_lite's parameters that mean the same here, and their types (``robot_base_frame``: with
-the pose from ``tf``)."""
+"""The parameters a file may set here, and their types: the explorer's settings (explore_lite's
+names where they mean the same, and the node's own ``time_cap`` and ``progress_distance``), its
+markers and, with the pose from ``tf``, the robot's base frame."""
+
+EXPLORER_NODES = ("explore_node", "frontier_rl_explorer", "/**")
+"""The nodes of a ROS 2 parameter file whose parameters are the explorer's: explore_lite's node,
+this explorer's node (in any namespace) and every node."""
 
 
 def explore_lite_parameters(path: str | Path) -> tuple[dict[str, Any], list[str]]:
-    """The parameters of an explore_lite (m-explore-ros2) parameter file that mean the same here
-    (:data:`EXPLORE_LITE_NAMES`), checked, and the names of those it sets that have no meaning
-    here (``potential_scale``, ``transform_tolerance``, ...). The file is ROS 2's
-    (``NODE: {ros__parameters: {...}}``, the first node's) or a plain mapping of names to values.
+    """The parameters of the file at ``path`` that mean something here (:data:`FILE_PARAMETERS`),
+    each checked, and the names of those it sets that do not (``potential_scale``, ...). In ROS 2's
+    layout (``NODE: {ros__parameters: {...}}``) a file of one node is read whole; in one of several
+    nodes (a Nav2 ``params.yaml``), those of :data:`EXPLORER_NODES`, in the file's order (a later
+    one wins).
 
     Raises:
-        ConfigError: an unreadable or malformed file, or a value of the wrong type, naming it.
+        ConfigError: an unreadable or malformed file, several nodes none of them the explorer's, or
+            a value of the wrong type or out of range, naming it and the file.
     """
-    data = load_yaml_file(path, ConfigError, "parameter file")
+    data = _explorer_section(load_yaml_file(path, ConfigError, "parameter file"), path)
+    known = {
+        str(name): coerce(FILE_PARAMETERS[name], value, f"{path}: {name}")
+        for name, value in data.items()
+        if name in FILE_PARAMETERS
+    }
+    settings = {name: value for name, value in known.items() if name in typing.get_type_hints(ExplorerParams)}
+    if "time_cap" in settings:
+        settings["time_cap"] = time_cap_of_parameter(settings["time_cap"])
+    try:
+        replace(ExplorerParams(), **settings)
+    except SettingError as error:
+        raise ConfigError(f"{path}: {error.setting} {error.problem}") from None
+    return known, sorted(str(name) for name in data if name not in FILE_PARAMETERS)
+
+
+def _explorer_section(data: object, path: str | Path) -> Mapping[object, object]:
+    """The parameters of a file's explorer (see :func:`explore_lite_parameters`)."""
     if (
         isinstance(data, Mapping)
         and data
         and all(isinstance(v, Mapping) and "ros__parameters" in v for v in data.values())
     ):
-        data = next(iter(data.values()))["ros__parameters"]
+        nodes = {str(name): section["ros__parameters"] for name, section in data.items()}
+        chosen = (
+            list(nodes.values())
+            if len(nodes) == 1
+            else [
+                params for name, params in nodes.items() if name == "/**" or name.rsplit("/", 1)[-1] in EXPLORER_NODES
+            ]
+        )
+        if not chosen:
+            raise ConfigError(
+                f"parameter file {path} sets the parameters of {', '.join(nodes)}, none of them the explorer "
+                f"({', '.join(EXPLORER_NODES)})"
+            )
+        if not all(isinstance(params, Mapping) for params in chosen):
+            raise ConfigError(f"parameter file {path}: ros__parameters must map parameter names to values")
+        data = {name: value for params in chosen for name, value in params.items()}
     if not isinstance(data, Mapping):
         raise ConfigError(f"parameter file {path} must map parameter names to values")
-    known = {
-        str(name): coerce(EXPLORE_LITE_NAMES[name], value, f"{path}: {name}")
-        for name, value in data.items()
-        if name in EXPLORE_LITE_NAMES
-    }
-    return known, sorted(str(name) for name in data if name not in EXPLORE_LITE_NAMES)
+    return data

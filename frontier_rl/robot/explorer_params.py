@@ -60,3 +60,13 @@ def setting_help(name: str) -> str:
         if setting.name == name:
             return str(setting.metadata["help"])
     raise KeyError(name)
+
+
+def time_cap_of_parameter(value: float) -> float:
+    """A time cap (s) as the command line and the node's parameter write it: 0 means none (``inf``)."""
+    return math.inf if value == 0 else value
+
+
+def time_cap_parameter(time_cap: float) -> float:
+    """A time cap (s) as the command line and the node's parameter write it: 0 for none."""
+    return 0.0 if math.isinf(time_cap) else float(time_cap)

@@ -9,7 +9,6 @@ refused with the reason, at start as a one-line error, at run time as the set's 
 
 from __future__ import annotations
 
-import math
 from collections.abc import Mapping
 from dataclasses import dataclass, fields, replace
 from typing import Any
@@ -20,7 +19,12 @@ from rclpy.node import Node
 
 from frontier_rl.checked_values import coerce
 from frontier_rl.errors import ConfigError, SettingError
-from frontier_rl.robot.explorer_params import ExplorerParams, setting_help
+from frontier_rl.robot.explorer_params import (
+    ExplorerParams,
+    setting_help,
+    time_cap_of_parameter,
+    time_cap_parameter,
+)
 
 PARAMETERS = (*(setting.name for setting in fields(ExplorerParams)), "visualize")
 """The node's parameters that set the explorer (what each means: :func:`setting_help`)."""
@@ -40,7 +44,7 @@ class ExplorerSettings:
     def values(self) -> dict[str, Any]:
         """Each parameter's value (a time cap of 0: none)."""
         values: dict[str, Any] = {name: getattr(self.params, name) for name in PARAMETERS if name != "visualize"}
-        values["time_cap"] = 0.0 if math.isinf(self.params.time_cap) else float(self.params.time_cap)
+        values["time_cap"] = time_cap_parameter(self.params.time_cap)
         return values | {"visualize": self.visualize}
 
     def updated(self, changes: Mapping[str, Any]) -> ExplorerSettings:
@@ -56,8 +60,8 @@ class ExplorerSettings:
             if name in PARAMETERS
         }
         visualize = bool(known.pop("visualize", self.visualize))
-        if known.get("time_cap") == 0.0:
-            known["time_cap"] = math.inf
+        if "time_cap" in known:
+            known["time_cap"] = time_cap_of_parameter(known["time_cap"])
         try:
             params = replace(self.params, **known)
         except SettingError as error:

@@ -93,3 +93,31 @@ def test_the_command_line_describes_each_setting_as_the_node_does_with_its_defau
     assert "(s)" in setting_help("progress_timeout") and "(Hz)" in setting_help("planner_frequency")
     with pytest.raises(KeyError):
         setting_help("potential_scale")  # explore_lite's, meaning nothing here
+
+
+@pytest.mark.parametrize(
+    ("text", "needle"),
+    [
+        ("amcl:\n  ros__parameters: {alpha1: 0.2}\nbt:\n  ros__parameters: {x: 1}\n", "amcl, bt, none of them"),
+        ("planner_frequency: -1.0\n", r"bad\.yaml: planner_frequency must be a positive number, got -1\.0"),
+        ("/**:\n  ros__parameters: [1]\nexplore_node:\n  ros__parameters: {}\n", "must map parameter names"),
+    ],
+)
+def test_a_file_of_other_nodes_or_with_a_value_out_of_range_is_refused_naming_it(
+    text: str, needle: str, tmp_path: Path
+) -> None:
+    """An out-of-range value was named as the command line's option, which the user never gave."""
+    path = tmp_path / "bad.yaml"
+    path.write_text(text)
+    with pytest.raises(ConfigError, match=needle):
+        explore_lite_parameters(path)
+
+
+def test_the_explorers_nodes_of_a_ros2_file_are_read_in_order_and_time_cap_0_is_none(tmp_path: Path) -> None:
+    path = tmp_path / "params.yaml"
+    path.write_text(
+        "amcl:\n  ros__parameters: {alpha1: 0.2}\n"
+        "/**:\n  ros__parameters: {planner_frequency: 2.0, use_sim_time: true}\n"
+        "/tb3_0/frontier_rl_explorer:\n  ros__parameters: {planner_frequency: 0.5, time_cap: 0.0}\n"
+    )
+    assert explore_lite_parameters(path) == ({"planner_frequency": 0.5, "time_cap": 0.0}, ["use_sim_time"])

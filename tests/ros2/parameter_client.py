@@ -1,5 +1,5 @@
 """Sets and reads the explorer node's parameters over ROS 2, as ``ros2 param`` does: prints one
-JSON object with what it read and what each set answered."""
+JSON object with what it read and what each set answered (with ``--get``, what it read, no set)."""
 
 from __future__ import annotations
 
@@ -11,7 +11,15 @@ from rclpy.node import Node
 from rclpy.parameter import Parameter, parameter_value_to_python
 from rclpy.parameter_client import AsyncParameterClient
 
-NAMES = ["planner_frequency", "progress_timeout", "min_frontier_size", "time_cap", "visualize", "policy"]
+NAMES = [
+    "planner_frequency",
+    "progress_timeout",
+    "min_frontier_size",
+    "time_cap",
+    "progress_distance",
+    "visualize",
+    "policy",
+]
 SETS = [
     [Parameter("progress_timeout", Parameter.Type.INTEGER, 5)],
     [Parameter("planner_frequency", Parameter.Type.DOUBLE, -1.0)],
@@ -36,7 +44,7 @@ def main() -> None:
         sys.exit("the explorer's parameter services never came")
     before = _wait(node, client.get_parameters(NAMES))
     answers = []
-    for change in SETS:
+    for change in [] if "--get" in sys.argv else SETS:
         result = _wait(node, client.set_parameters(change)).results[0]  # type: ignore[attr-defined]
         answers.append({"successful": result.successful, "reason": result.reason})
     after = _wait(node, client.get_parameters(NAMES))

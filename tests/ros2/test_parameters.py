@@ -38,6 +38,7 @@ def test_the_settings_are_parameters_overridden_by_ros_args_and_set_at_run_time(
         "progress_timeout": 30.0,
         "min_frontier_size": 0.2,
         "time_cap": 0.0,
+        "progress_distance": 0.1,
         "visualize": False,
         "policy": "nearest",
     }
@@ -82,3 +83,28 @@ def test_ros_arguments_rcl_cannot_parse_end_in_an_error_line(arguments: str, nee
     done = run_in_loopback(f"{_EXPLORE} {arguments} > explore.log 2> explore.err", tmp_path, 60)
     err = (tmp_path / "explore.err").read_text()
     assert done.returncode == 2 and needle in err and "Traceback" not in err, err
+
+
+def test_parameter_files_before_and_after_ros_args_are_read_in_order(tmp_path: Path) -> None:
+    """Of a Nav2 params.yaml only its first node (amcl) was read; the node's own time_cap and
+    progress_distance in a file were named "not used"; of two files, the first was dropped."""
+    (tmp_path / "nav2.yaml").write_text(
+        "amcl:\n  ros__parameters: {alpha1: 0.2}\n"
+        "explore_node:\n  ros__parameters: {planner_frequency: 0.5, progress_timeout: 20.0, potential_scale: 3.0}\n"
+    )
+    (tmp_path / "ours.yaml").write_text(
+        "frontier_rl_explorer:\n  ros__parameters: {time_cap: 100.0, progress_distance: 0.3, planner_frequency: 0.75}\n"
+    )
+    script = (
+        f"timeout --preserve-status -s INT 60 {_EXPLORE} --min-frontier-size 0.4 --params-file nav2.yaml "
+        "--ros-args --params-file ours.yaml > explore.log 2> explore.err & explore=$!; "
+        f"{_CLIENT} --get > client.log 2> client.err; stop $explore"
+    )
+    done = run_in_loopback(script, tmp_path, 90)
+    log = "".join((tmp_path / name).read_text() for name in ("client.err", "explore.log", "explore.err"))
+    assert (tmp_path / "client.log").read_text(), log + done.stderr
+    read = json.loads((tmp_path / "client.log").read_text())["before"]
+    assert read["planner_frequency"] == 0.75  # the later file wins
+    assert read["time_cap"] == 100.0 and read["progress_distance"] == 0.3
+    assert read["min_frontier_size"] == 0.4 and read["progress_timeout"] == 30.0  # the command line wins
+    assert "nav2.yaml: not used here: potential_scale" in log and "alpha1" not in log, log
