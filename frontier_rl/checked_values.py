@@ -34,7 +34,8 @@ def coerce(hint: Any, value: Any, where: str) -> Any:
     """
     if hint is bool:
         if not isinstance(value, bool):
-            raise ConfigError(f"{where} must be true or false, got {short_repr(value)}")
+            given = f"the text {short_repr(value)}" if isinstance(value, str) else short_repr(value)
+            raise ConfigError(f"{where} must be true or false (a boolean), got {given}")
         return value
     if hint is int:
         if isinstance(value, bool) or not isinstance(value, int):

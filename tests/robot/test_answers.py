@@ -113,7 +113,7 @@ def test_a_point_model_is_a_config_error() -> None:
      ("min_cluster_size", 2.5, "2.5"),
      ("min_cluster_size", 2**63, "0 to 1,000,000"), ("max_map_age", -1.0, ">= 0"), ("max_map_age", math.nan, "nan"),
      ("max_map_age", math.inf, "inf"), ("master_check_period", 0.0, "> 0"), ("master_check_period", 1e12, "<= 3600"),
-     ("keep_last_map", "false", "true or false, got 'false'")],
+     ("keep_last_map", "false", "true or false (a boolean), got the text 'false'")],
 )  # fmt: skip
 def test_a_bad_node_parameter_is_named(name: str, value: object, needle: str) -> None:
     """What the node refuses at start (then exits 2 with the message): a master check period of 0

@@ -45,7 +45,9 @@ def test_the_settings_are_parameters_overridden_by_ros_args_and_set_at_run_time(
     taken, negative, text, policy, cap = report["sets"]
     assert taken["successful"] and cap["successful"]
     assert not negative["successful"] and "planner_frequency must be a positive number" in negative["reason"]
-    assert not text["successful"] and "visualize must be true or false" in text["reason"]
+    assert (
+        not text["successful"] and "visualize must be true or false (a boolean), got the text 'yes'" in text["reason"]
+    )
     assert not policy["successful"]  # read-only
     assert report["after"] | {"progress_timeout": 5} == report["after"]
     assert report["after"]["time_cap"] == 600.0 and report["after"]["planner_frequency"] == 2.0
@@ -56,7 +58,7 @@ def test_the_settings_are_parameters_overridden_by_ros_args_and_set_at_run_time(
     ("arguments", "needle"),
     [
         ("--ros-args -p planner_frequency:=-1", "parameter planner_frequency must be a positive number, got -1.0"),
-        ("--ros-args -p return_to_init:=3", "parameter return_to_init must be true or false, got 3"),
+        ("--ros-args -p return_to_init:=3", "parameter return_to_init must be true or false (a boolean), got 3"),
         ("--planer-frequency 2", "no such option or argument: '--planer-frequency'"),
         ("--ros-args -p policy:=tour", "parameter policy is read-only, got 'tour'"),  # was taken, not ranked with
         ("--namespace 1abc", "--namespace '1abc' is not a name ROS 2 allows"),  # was a traceback
