@@ -317,7 +317,7 @@ def _explore_with(policy: str, params: ExplorerParams, json_out: bool, **node: A
     status 130 if it was interrupted)."""
     from frontier_rl.policies.registry import make_policy
     from frontier_rl.robot.explorer import check_robot_policy
-    from frontier_rl.ros2.explorer_node import ExplorerState
+    from frontier_rl.ros2.explorer_status import ExplorerState
     from frontier_rl.ros2.run import run_explorer
 
     the_policy = make_policy(policy)

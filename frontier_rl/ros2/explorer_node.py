@@ -12,12 +12,9 @@ since seen is replaced. It stops when the map is explored, with its end reason o
 
 from __future__ import annotations
 
-import json
 import math
 import time
 from collections.abc import Sequence
-from dataclasses import asdict, dataclass
-from enum import StrEnum
 from typing import Any
 
 from action_msgs.msg import GoalStatus as ActionStatus
@@ -33,15 +30,15 @@ from rclpy.task import Future
 from std_msgs.msg import Float32, String
 from visualization_msgs.msg import MarkerArray
 
-from frontier_rl.core.sim.metrics import EndReason
 from frontier_rl.core.world.grid import OccupancyGrid
 from frontier_rl.core.world.robot import Pose
 from frontier_rl.errors import ConfigError, MapError
 from frontier_rl.robot.explorer import Finished, FrontierExplorer, Goal
 from frontier_rl.robot.map_merge import merged_map, misfit
-from frontier_rl.robot.pose_source import PoseSource
+from frontier_rl.robot.pose_source import PoseKind, PoseSource
 from frontier_rl.robot.throttled_log import ThrottledLog
 from frontier_rl.ros2.explorer_parameters import ExplorerSettings, declare_explorer_parameters
+from frontier_rl.ros2.explorer_status import ExplorerState, ExplorerStatus
 from frontier_rl.ros2.messages import MAP_QOS, frontier_markers, grid_message, grid_of, pose_stamped
 from frontier_rl.ros2.pose_listener import PoseListener
 
@@ -50,51 +47,8 @@ _POLL_PERIOD_S = 0.02
 _WARN_PERIOD_S = 5.0
 """Bad messages on one topic are logged at most this often (wall s)."""
 
-
-class ExplorerState(StrEnum):
-    """What the explorer is doing; its value is what ``explore/status`` says."""
-
-    WAITING = "waiting"  # for a map, a pose or Nav2
-    EXPLORING = "exploring"
-    RETURNING = "returning"  # to where it started (return_to_init)
-    FINISHED = "finished"
-    INTERRUPTED = "interrupted"  # stopped before it finished (Ctrl-C, a shutdown)
-
-
-@dataclass(frozen=True)
-class ExplorerStatus:
-    """The explorer's state, published as JSON on ``explore/status`` after every change.
-
-    Attributes:
-        state: what it is doing (:class:`ExplorerState`).
-        reason: the end reason once finished (``explored``, ``unreachable``, ``time_cap``), else None.
-        time_s: time since the first tick (s, on the node's clock: simulated with ``use_sim_time``).
-        goals: goals sent; given_up: of them blacklisted (rejected, aborted, no progress, or
-            reached without seeing their frontier).
-        frontiers_left: frontiers larger than a speck left at the end; unknown_m2: the unknown
-            area beside them (m²); with_a_path: of them, those the map still has a path to;
-            unrevealable: those reached twice without their frontier going away, or with no more
-                than a speck of their unknown in sight of anywhere the robot can reach.
-        coverage: the simulator's share of the explorable space mapped, when a simulator
-            publishes it (``coverage``); None otherwise.
-        detail: a sentence on what happened last.
-    """
-
-    state: ExplorerState
-    reason: EndReason | None
-    time_s: float
-    goals: int
-    given_up: int
-    frontiers_left: int
-    unknown_m2: float
-    with_a_path: int
-    unrevealable: int
-    coverage: float | None
-    detail: str
-
-    def to_json(self) -> str:
-        """The status as one line of JSON (None as null)."""
-        return json.dumps(asdict(self))
+_WAIT_NOTICE_S = 5.0
+"""A start waits this long (wall s) for its inputs before it says on the log what it waits for."""
 
 
 class ExplorerNode(Node):
@@ -154,7 +108,14 @@ class ExplorerNode(Node):
                 lambda message, name=teammate: self._on_teammate_map(name, message),
                 MAP_QOS,
             )
-        self._poses = PoseListener(self, pose_source or PoseSource(), self._warn)
+        source = pose_source or PoseSource()
+        self._poses = PoseListener(self, source, self._warn)
+        self._pose_from = (
+            f"tf from the map to {source.base_frame}"
+            if source.kind is PoseKind.TF
+            else self.resolve_topic_name(source.topic)
+        )
+        self._waiting_since = time.monotonic()
         self.create_subscription(Float32, "coverage", self._on_coverage, MAP_QOS)
         self._status_pub = self.create_publisher(String, "explore/status", MAP_QOS)
         self._marker_pub = self.create_publisher(MarkerArray, "explore/frontiers", 10)
@@ -222,6 +183,15 @@ class ExplorerNode(Node):
         if self._warnings.due("", topic, time.monotonic()):
             self.get_logger().warn(message)
 
+    def _waiting(self, what: str) -> None:
+        """Say on the log what the explorer waits for, once it has waited :data:`_WAIT_NOTICE_S`
+        and then at most every ``_WARN_PERIOD_S`` (a namespace given to one and not the other, a
+        pose on another topic, Nav2 not up: the status topic alone said so)."""
+        if time.monotonic() - self._waiting_since >= _WAIT_NOTICE_S and self._warnings.due(
+            "", "waiting", time.monotonic()
+        ):
+            self.get_logger().info(f"waiting for {what}")
+
     def _on_coverage(self, message: Float32) -> None:
         self._coverage = float(message.data)
 
@@ -241,12 +211,17 @@ class ExplorerNode(Node):
     def _poll(self) -> None:
         """A planner tick when one is due: every ``1 / planner_frequency`` s of the node's clock,
         and at once when no goal is under way."""
-        if (self.finished is not None and not self._returning) or self._grid is None:
+        if self.finished is not None and not self._returning:
+            return
+        if self._grid is None:
+            self._waiting(f"a map on {self.resolve_topic_name('map')}")
             return
         pose = self._poses.pose(self._map_frame)
         if pose is None:
+            self._waiting(f"a pose ({self._pose_from})")
             return
         if not self._nav.server_is_ready():
+            self._waiting(f"Nav2's {self.resolve_topic_name('navigate_to_pose')} action")
             return
         now = self._advance_clock()
         if time.monotonic() - self._heard_at > self.goal_silence_timeout:
@@ -356,17 +331,7 @@ class ExplorerNode(Node):
 
     def summary(self) -> str:
         """One line: the end reason, the time, the goals and what was left."""
-        status = self.status(ExplorerState.FINISHED, "")
-        ended = status.state.value if status.reason is None else status.reason.value
-        line = f"{ended} after {status.time_s:.1f} s, {status.goals} goals ({status.given_up} given up)"
-        if status.coverage is not None:
-            line += f", {100 * status.coverage:.1f} % of the explorable space (the simulator's)"
-        if status.frontiers_left:
-            line += (
-                f"; {status.frontiers_left} frontiers left with {status.unknown_m2:.2f} m² unknown beside them"
-                f" ({status.with_a_path} with a path on the map, {status.unrevealable} unrevealable)"
-            )
-        return line
+        return self.status(ExplorerState.FINISHED, "").summary()
 
     def status(self, state: ExplorerState, detail: str) -> ExplorerStatus:
         """The explorer's state now."""

@@ -24,7 +24,8 @@ from frontier_rl.robot.explorer_params import ExplorerParams
 from frontier_rl.robot.pose_source import PoseSource
 from frontier_rl.robot.ranking_service import RankingService, ServiceSettings
 from frontier_rl.robot.sim_robot import SimulatedRobot
-from frontier_rl.ros2.explorer_node import ExplorerNode, ExplorerState, ExplorerStatus
+from frontier_rl.ros2.explorer_node import ExplorerNode
+from frontier_rl.ros2.explorer_status import ExplorerState, ExplorerStatus
 from frontier_rl.ros2.ranking_node import RankingNode
 from frontier_rl.ros2.sim_node import SimNode
 from frontier_rl.swarm.config import TeamConfig

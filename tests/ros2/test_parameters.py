@@ -110,3 +110,11 @@ def test_parameter_files_before_and_after_ros_args_are_read_in_order(tmp_path: P
     assert read["time_cap"] == 100.0 and read["progress_distance"] == 0.3
     assert read["min_frontier_size"] == 0.4 and read["progress_timeout"] == 30.0  # the command line wins
     assert "nav2.yaml: not used here: potential_scale" in log and "alpha1" not in log, log
+
+
+def test_an_explorer_without_its_inputs_says_on_the_log_what_it_waits_for(tmp_path: Path) -> None:
+    """With no map (a namespace given to the explorer and not to the robot) it said nothing."""
+    script = f"timeout --preserve-status -s INT 9 {_EXPLORE} --namespace tb3_0 > explore.log 2> explore.err"
+    done = run_in_loopback(script, tmp_path, 60)
+    err = (tmp_path / "explore.err").read_text()
+    assert done.returncode == 130 and "waiting for a map on /tb3_0/map" in err and "Traceback" not in err, err
