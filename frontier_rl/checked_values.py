@@ -25,6 +25,13 @@ def enum_member(kind: type[_E], value: object, where: str) -> _E:
         raise ConfigError(f"{where} must be one of {names}, got {short_repr(value)}") from None
 
 
+def not_a_boolean(value: object) -> str:
+    """What is wrong with ``value`` where a boolean must be: "must be true or false (a boolean), got ..."
+    (text such as "false" named as text: it would be true)."""
+    given = f"the text {short_repr(value)}" if isinstance(value, str) else short_repr(value)
+    return f"must be true or false (a boolean), got {given}"
+
+
 def coerce(hint: Any, value: Any, where: str) -> Any:
     """``value`` checked against type ``hint`` (bool, int, float, float | None, str, an Enum: the member
     of that value); others pass as they are.
@@ -34,8 +41,7 @@ def coerce(hint: Any, value: Any, where: str) -> Any:
     """
     if hint is bool:
         if not isinstance(value, bool):
-            given = f"the text {short_repr(value)}" if isinstance(value, str) else short_repr(value)
-            raise ConfigError(f"{where} must be true or false (a boolean), got {given}")
+            raise ConfigError(f"{where} {not_a_boolean(value)}")
         return value
     if hint is int:
         if isinstance(value, bool) or not isinstance(value, int):

@@ -157,28 +157,32 @@ def rank(
     """The thesis's ranking service, for one or more robots.
 
     Each /frontier_request is answered on /frontier_list."""
-    from frontier_rl.robot.node_settings import StaleMapAnswer, count_parameter, robot_namespaces, seconds_parameter
+    from frontier_rl.robot.node_settings import (
+        count_parameter,
+        robot_namespaces,
+        seconds_parameter,
+        settings_named,
+        stale_map_parameter,
+    )
 
     pose_source = _pose_source(pose_type, pose_topic, robot_base_frame)
-    try:
-        stale = StaleMapAnswer(stale_map)
-    except ValueError:
-        fail(f"--stale-map must be stale or empty, got {stale_map!r}")
-    names = tuple(robot_namespaces(robots or [""]))
-    limits = (count_parameter("top_k", top_k, 1), count_parameter("min_cluster_size", min_cluster_size, 0))
-    age, pending = (
-        seconds_parameter("max_map_age", max_map_age, zero=True),
-        count_parameter("max_pending", max_pending, 1),
-    )
-    _need_ros2()
-    _check_ros_names({"--robots": names}, pose_source)
-    from frontier_rl.core.sim.config import MAX_FRONTIER_DROP_CELLS  # the engine, once the arguments are checked
-    from frontier_rl.robot.ranking_service import ServiceSettings
-    from frontier_rl.ros2.run import run_ranking
+    with settings_named(_option):  # each bad one named as its option, the ROS 1 node's ~parameter
+        stale = stale_map_parameter(stale_map)
+        names = tuple(robot_namespaces(robots or [""]))
+        limits = (count_parameter("top_k", top_k, 1), count_parameter("min_cluster_size", min_cluster_size, 0))
+        age, pending = (
+            seconds_parameter("max_map_age", max_map_age, zero=True),
+            count_parameter("max_pending", max_pending, 1),
+        )
+        _need_ros2()
+        _check_ros_names({"--robots": names}, pose_source)
+        from frontier_rl.core.sim.config import MAX_FRONTIER_DROP_CELLS  # the engine, once the arguments are checked
+        from frontier_rl.robot.ranking_service import ServiceSettings
+        from frontier_rl.ros2.run import run_ranking
 
-    count_parameter("min_cluster_size", min_cluster_size, 0, MAX_FRONTIER_DROP_CELLS)
-    settings = ServiceSettings(names, policy.strip(), *limits, age, stale, keep_last_map, pending)
-    answered = run_ranking(settings, pose_source, use_sim_time)
+        count_parameter("min_cluster_size", min_cluster_size, 0, MAX_FRONTIER_DROP_CELLS)
+        settings = ServiceSettings(names, policy.strip(), *limits, age, stale, keep_last_map, pending)
+        answered = run_ranking(settings, pose_source, use_sim_time)
     print_line(f"{answered} requests answered")
 
 

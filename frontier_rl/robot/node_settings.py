@@ -1,15 +1,18 @@
 """The ranking node's settings, without ROS: the policy its parameters name, the robots it serves,
-and every other parameter checked with a one-line error naming it (ROS 1's ``~name`` parameters
-and ``frontier-rl ros2 rank``'s options alike)."""
+and every other parameter checked. A bad one is a :class:`~frontier_rl.errors.SettingError` naming
+the parameter (``top_k``), which each front end names as its user writes it
+(:func:`settings_named`: ROS 1's ``~top_k``, ``frontier-rl ros2 rank``'s ``--top-k``)."""
 
 from __future__ import annotations
 
 import math
 from collections import Counter
+from collections.abc import Callable, Iterator
+from contextlib import contextmanager
 from enum import StrEnum
 
-from frontier_rl.checked_values import coerce
-from frontier_rl.errors import ConfigError, short_repr
+from frontier_rl.checked_values import not_a_boolean
+from frontier_rl.errors import ConfigError, SettingError, short_repr
 
 
 class StaleMapAnswer(StrEnum):
@@ -19,6 +22,23 @@ class StaleMapAnswer(StrEnum):
     """Rank the old map anyway, saying so in the status (the answer's stamp shows its age)."""
     EMPTY = "empty"
     """Answer with an empty list."""
+
+
+@contextmanager
+def settings_named(name: Callable[[str], str]) -> Iterator[None]:
+    """A bad setting's error (a :class:`SettingError`) as a one-line :class:`ConfigError` naming the
+    setting as ``name`` writes it (``lambda s: "~" + s`` for ROS 1's private parameters)."""
+    try:
+        yield
+    except SettingError as error:
+        raise ConfigError(f"{name(error.setting)} {error.problem}") from None
+
+
+def stale_map_parameter(value: object) -> StaleMapAnswer:
+    """``stale_map`` as a :class:`StaleMapAnswer`; a :class:`SettingError` naming it otherwise."""
+    if not isinstance(value, str) or value not in tuple(StaleMapAnswer):
+        raise SettingError("stale_map", f"must be stale or empty, got {short_repr(value)}")
+    return StaleMapAnswer(value)
 
 
 def node_policy_spec(policy: str, model: str, weight: float) -> str:
@@ -41,22 +61,24 @@ MAX_NODE_ROBOTS = 64
 
 
 def robot_namespaces(value: object) -> list[str]:
-    """``~robots`` (a list or a comma string of namespaces) as names without slashes; a
-    :class:`ConfigError` for anything else, an empty name beside others, a name given twice or
+    """``robots`` (a list or a comma string of namespaces) as names without slashes; a
+    :class:`SettingError` for anything else, an empty name beside others, a name given twice or
     more than :data:`MAX_NODE_ROBOTS` (each robot gets a worker and subscriptions of its own)."""
     if not isinstance(value, str | list) or not all(isinstance(r, str) for r in value):
-        raise ConfigError(f"~robots must be namespaces such as tb3_0,tb3_1, got {short_repr(value)}")
+        raise SettingError("robots", f"must be namespaces such as tb3_0,tb3_1, got {short_repr(value)}")
     names = [r.strip().strip("/") for r in (value.split(",") if isinstance(value, str) else value)]
     if not names:
-        raise ConfigError("~robots names no robot: give [''] (or leave it out) for one robot without a namespace")
+        raise SettingError("robots", "names no robot: give [''] (or leave it out) for one robot without a namespace")
     if len(names) > MAX_NODE_ROBOTS:
-        many = f"{len(names):,} robots"
-        raise ConfigError(f"~robots names {many}; a node serves {MAX_NODE_ROBOTS} at most (a process each)")
+        raise SettingError(
+            "robots", f"names {len(names):,} robots; a node serves {MAX_NODE_ROBOTS} at most (a process each)"
+        )
     if len(names) > 1 and "" in names:
-        raise ConfigError(f"~robots names an empty namespace beside others: {short_repr(value)}")
+        what = "only empty namespaces" if not any(names) else "an empty namespace beside others"
+        raise SettingError("robots", f"names {what}: {short_repr(value)}")
     twice = sorted(n for n, count in Counter(names).items() if count > 1)
     if twice:
-        raise ConfigError(f"~robots names {short_repr(twice[0])} twice: {short_repr(value)}")
+        raise SettingError("robots", f"names {short_repr(twice[0])} twice: {short_repr(value)}")
     return names
 
 
@@ -65,34 +87,35 @@ MAX_CHECK_PERIOD_S = 3600.0
 
 
 def count_parameter(name: str, value: object, least: int, most: int | None = None) -> int:
-    """``~name`` as an integer of at least ``least`` (and at most ``most``); a :class:`ConfigError`
-    naming it otherwise."""
-    count: int = coerce(int, value, f"~{name}")
-    if count < least or (most is not None and count > most):
+    """Setting ``name`` as an integer of at least ``least`` (and at most ``most``); a
+    :class:`SettingError` naming it otherwise."""
+    if isinstance(value, bool) or not isinstance(value, int) or value < least or (most is not None and value > most):
         rule = f">= {least}" if most is None else f"{least} to {most:,}"
-        raise ConfigError(f"~{name} must be an integer {rule}, got {short_repr(value)}")
-    return count
+        raise SettingError(name, f"must be an integer {rule}, got {short_repr(value)}")
+    return value
 
 
 def seconds_parameter(name: str, value: object, *, zero: bool, most: float = math.inf) -> float:
-    """``~name`` as a finite number of seconds, at most ``most``, above zero (or zero too, when
-    ``zero``); a :class:`ConfigError` naming it otherwise."""
-    seconds: float = coerce(float, value, f"~{name}")
+    """Setting ``name`` as a finite number of seconds, at most ``most``, above zero (or zero too,
+    when ``zero``); a :class:`SettingError` naming it otherwise."""
+    number = not isinstance(value, bool) and isinstance(value, int | float)
+    seconds = float(value) if number else math.nan  # type: ignore[arg-type]  # a number: checked
     if not (math.isfinite(seconds) and 0 <= seconds <= most) or (seconds == 0 and not zero):
         rule = (">= 0" if zero else "> 0") + (f" and <= {most:g}" if math.isfinite(most) else "")
-        raise ConfigError(f"~{name} must be a number of seconds {rule}, got {short_repr(value)}")
+        raise SettingError(name, f"must be a number of seconds {rule}, got {short_repr(value)}")
     return seconds
 
 
 def flag_parameter(name: str, value: object) -> bool:
-    """``~name`` as true or false; a :class:`ConfigError` naming it otherwise ("false" as a string
-    would be true)."""
-    flag: bool = coerce(bool, value, f"~{name}")
-    return flag
+    """Setting ``name`` as true or false; a :class:`SettingError` naming it otherwise ("false" as a
+    string would be true)."""
+    if not isinstance(value, bool):
+        raise SettingError(name, not_a_boolean(value))
+    return value
 
 
 def check_node_policy(policy: object, spec: str) -> None:
-    """Raise :class:`ConfigError` if ``policy`` (made from ``spec``) plans on the true world (an
+    """Raise a :class:`SettingError` of ``policy`` if the policy (made from ``spec``) plans on the true world (an
     :class:`~frontier_rl.core.sim.episode.EpisodeAwarePolicy`, the oracle), which a node does not
     have, or chooses a goal cell instead of ranking frontiers (the point models 1 and 2), which
     would leave every answer empty."""
@@ -100,9 +123,10 @@ def check_node_policy(policy: object, spec: str) -> None:
     from frontier_rl.policies.learned import ModelKind
 
     if isinstance(policy, EpisodeAwarePolicy):
-        raise ConfigError(f"~policy {short_repr(spec)} plans on the true map, which the node does not have")
+        raise SettingError("policy", f"{short_repr(spec)} plans on the true map, which the node does not have")
     if getattr(policy, "kind", None) == ModelKind.POINT:
-        raise ConfigError(
+        raise SettingError(
+            "policy",
             f"{short_repr(spec)} is a point model (it chooses a goal cell, as models 1 and 2 do), not a ranking "
-            "of frontiers, which is what the node answers with"
+            "of frontiers, which is what the node answers with",
         )

@@ -44,12 +44,13 @@ from frontier_rl.robot.answers import MapInfo
 from frontier_rl.robot.map_message import yaw_of
 from frontier_rl.robot.node_settings import (
     MAX_CHECK_PERIOD_S,
-    StaleMapAnswer,
     count_parameter,
     flag_parameter,
     node_policy_spec,
     robot_namespaces,
     seconds_parameter,
+    settings_named,
+    stale_map_parameter,
 )
 from frontier_rl.robot.ranking_service import Answer, RankingService, RobotPose, ServiceSettings
 from frontier_rl.ros.master_watch import EXIT_MASTER_RESTARTED, MasterWatch
@@ -70,10 +71,7 @@ class FrontierNode:
         )
         self.base_frame = str(rospy.get_param("~base_frame", "base_footprint"))
         max_map_age = seconds_parameter("max_map_age", rospy.get_param("~max_map_age", 30.0), zero=True)
-        try:
-            stale = StaleMapAnswer(str(rospy.get_param("~stale_map", "stale")))
-        except ValueError:
-            raise FrontierRLError("~stale_map must be 'stale' or 'empty'") from None
+        stale = stale_map_parameter(rospy.get_param("~stale_map", "stale"))
         keep_last_map = flag_parameter("keep_last_map", rospy.get_param("~keep_last_map", True))
         max_pending = count_parameter("max_pending", rospy.get_param("~max_pending", 8), 1)
         period = rospy.get_param("~master_check_period", 1.0)
@@ -202,7 +200,8 @@ def main() -> None:
     except rospy.exceptions.ROSInitException as exc:  # Ctrl-C while it registered: one line, not a traceback
         raise SystemExit(f"frontier_rl: {exc}") from None
     try:
-        node = FrontierNode()
+        with settings_named(lambda setting: f"~{setting}"):
+            node = FrontierNode()
     except (FrontierRLError, ValueError) as exc:  # a bad parameter: one line, not a traceback
         rospy.logfatal("frontier_rl: %s", exc)
         raise SystemExit(2) from None

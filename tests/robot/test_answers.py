@@ -11,7 +11,7 @@ from types import SimpleNamespace
 import pytest
 
 from frontier_rl.core.sim.config import MAX_FRONTIER_DROP_CELLS
-from frontier_rl.errors import ConfigError
+from frontier_rl.errors import ConfigError, SettingError
 from frontier_rl.policies import make_policy
 from frontier_rl.robot.answers import MapFrame, MapInfo, Status, check_request, parse_request
 from frontier_rl.robot.node_settings import (
@@ -23,6 +23,8 @@ from frontier_rl.robot.node_settings import (
     node_policy_spec,
     robot_namespaces,
     seconds_parameter,
+    settings_named,
+    stale_map_parameter,
 )
 from frontier_rl.robot.throttled_log import ThrottledLog
 
@@ -126,9 +128,9 @@ def test_a_bad_node_parameter_is_named(name: str, value: object, needle: str) ->
         "master_check_period": lambda n, v: seconds_parameter(n, v, zero=False, most=MAX_CHECK_PERIOD_S),
         "keep_last_map": flag_parameter,
     }
-    with pytest.raises(ConfigError, match=f"~{name} must be") as error:
+    with pytest.raises(SettingError, match=f"^{name} must be") as error:
         checks[name](name, value)
-    assert needle in str(error.value)
+    assert needle in str(error.value) and error.value.setting == name  # each front end names it its way
 
 
 def test_good_node_parameters_pass_as_they_are() -> None:
@@ -145,7 +147,17 @@ def test_robot_namespaces() -> None:
     assert robot_namespaces("tb3_0, /tb3_1/") == ["tb3_0", "tb3_1"]
     assert robot_namespaces(["tb3_0"]) == ["tb3_0"] and robot_namespaces([""]) == [""] and robot_namespaces("") == [""]
     for bad, needle in (("tb3_0,,tb3_1", "empty namespace"), ("tb3_0,/tb3_0", "'tb3_0' twice"), (5, "got 5"),
-                        ([], "no robot"), (["tb3_0", 3], "namespaces such as"),
+                        ([], "no robot"), (["tb3_0", 3], "namespaces such as"), (",,", "only empty namespaces"),
                         (",".join(f"r{i}" for i in range(65)), "64 at most")):  # fmt: skip
         with pytest.raises(ConfigError, match=needle):
             robot_namespaces(bad)
+
+
+def test_a_bad_setting_is_named_as_each_front_end_writes_it() -> None:
+    """``ros2 rank`` said ``~top_k must be ...``, a ROS 1 parameter its user never wrote."""
+    for name, expected in ((lambda s: f"~{s}", "~top_k must be"), (lambda s: "--" + s.replace("_", "-"), "--top-k")):
+        with pytest.raises(ConfigError, match=f"^{expected}"), settings_named(name):
+            count_parameter("top_k", 0, 1)
+    assert stale_map_parameter("empty") is StaleMapAnswer.EMPTY
+    with pytest.raises(SettingError, match="stale_map must be stale or empty, got 'maybe'"):
+        stale_map_parameter("maybe")
