@@ -312,6 +312,14 @@ class ExplorerNode(Node):
         self._publish(ExplorerState.EXPLORING, why)
 
     # ---------------------------------------------------------------- the end
+    def cancel_goal(self) -> Future[Any] | None:
+        """Ask Nav2 to cancel the goal under way (the explorer is being stopped: the robot should
+        not drive on to it); the cancel request's future, or None when no goal is under way."""
+        if self._handle is None:
+            return None
+        self.get_logger().info(f"cancelling goal {self._sent}: the explorer is stopping")
+        return self._handle.cancel_goal_async()
+
     def _finish(self, finished: Finished) -> None:
         self.finished, self._finished_s = finished, self._elapsed_s
         if self._handle is not None:

@@ -4,6 +4,9 @@ SIGTERM ending it with a summary, not a traceback."""
 from __future__ import annotations
 
 import contextlib
+import signal
+import threading
+import time
 from collections.abc import Callable, Iterator, Sequence
 from dataclasses import replace
 
@@ -14,6 +17,7 @@ from rclpy.executors import Executor, ExternalShutdownException, SingleThreadedE
 from rclpy.impl.implementation_singleton import rclpy_implementation
 from rclpy.node import Node
 from rclpy.parameter import Parameter
+from rclpy.signals import SignalHandlerOptions
 
 from frontier_rl.core.sim.config import SimConfig
 from frontier_rl.core.sim.episode import ExplorationPolicy
@@ -104,6 +108,39 @@ def simulated_team(
     ]
 
 
+CANCEL_WAIT_S = 2.0
+"""How long a stopped explorer waits for Nav2 to answer the cancel of its goal (s)."""
+
+
+@contextlib.contextmanager
+def _stop_requests(stop: threading.Event) -> Iterator[None]:
+    """Ctrl-C and SIGTERM set ``stop`` inside the block (even where Ctrl-C was ignored, a shell's
+    background job, as rclpy's own handlers would), instead of shutting rclpy down at once: the
+    explorer then still has ROS to cancel its goal with. The handlers before are put back after."""
+    if threading.current_thread() is not threading.main_thread():  # only the main thread sets handlers
+        yield
+        return
+    previous = {sig: signal.signal(sig, lambda signum, frame: stop.set()) for sig in (signal.SIGINT, signal.SIGTERM)}
+    try:
+        yield
+    finally:
+        for sig, handler in previous.items():
+            signal.signal(sig, handler)
+
+
+def _cancel_goal(executor: Executor, node: ExplorerNode) -> bool:
+    """Cancel the explorer's goal under way and wait (up to :data:`CANCEL_WAIT_S`) for Nav2's
+    answer; whether Nav2 accepted the cancel."""
+    future = node.cancel_goal()
+    if future is None:
+        return False
+    deadline = time.monotonic() + CANCEL_WAIT_S
+    while not future.done() and time.monotonic() < deadline and rclpy.ok():
+        executor.spin_once(timeout_sec=SPIN_POLL_S)
+    response = future.result() if future.done() else None
+    return response is not None and len(response.goals_canceling) > 0
+
+
 def run_sim(robots: Sequence[tuple[str, SimulatedRobot]], rate: float | None = 1.0) -> list[str]:
     """Serve the robots as ROS 2 robots (:class:`SimNode`) until Ctrl-C or SIGTERM; a line per
     robot on what it did."""
@@ -162,8 +199,8 @@ def run_explorer(
     teammates: Sequence[str] = (),
 ) -> tuple[ExplorerStatus, str]:
     """Explore with ``policy`` through Nav2 (:class:`ExplorerNode`) until the map is explored (or
-    Ctrl-C, SIGTERM): the explorer's last status (``state`` is ``finished`` unless it was
-    interrupted) and its summary line.
+    Ctrl-C, SIGTERM: then the goal under way is cancelled, and the robot stops): the explorer's
+    last status (``state`` is ``finished`` unless it was interrupted) and its summary line.
     ``seed`` seeds the policy's randomness as an in-process episode of that seed does;
     ``ros_args`` (``--ros-args ...``) go to ROS: parameter overrides, remappings; the maps of
     the robots in ``teammates`` (namespaces) are merged into this one's.
@@ -174,17 +211,22 @@ def run_explorer(
     _, policy_rng = np.random.default_rng(seed).spawn(2)
     explorer = FrontierExplorer(policy, params, rng=policy_rng)
     with _ros_setup_errors():
-        rclpy.init(args=["frontier-rl", *ros_args])
+        rclpy.init(args=["frontier-rl", *ros_args], signal_handler_options=SignalHandlerOptions.NO)
         node = ExplorerNode(explorer, pose_source, visualize, namespace, goal_silence_timeout, policy_name, teammates)
     node.set_parameters([Parameter("use_sim_time", Parameter.Type.BOOL, use_sim_time)])
     executor = SingleThreadedExecutor()
     executor.add_node(node)
+    stop, cancelled = threading.Event(), False
     try:
-        _spin(lambda: _spin_until(executor, node.done.done))
+        with _stop_requests(stop):
+            _spin(lambda: _spin_until(executor, lambda: node.done.done() or stop.is_set()))
+            cancelled = stop.is_set() and _cancel_goal(executor, node)
     finally:
         ended = node.finished is not None
         status = node.status(ExplorerState.FINISHED if ended else ExplorerState.INTERRUPTED, "")
         summary = node.summary() if ended else "interrupted before the map was explored"
+        if cancelled:
+            summary += "; Nav2's goal under way cancelled"
         executor.shutdown()
         node.destroy_node()
         rclpy.try_shutdown()

@@ -21,7 +21,7 @@ import rclpy
 from geometry_msgs.msg import PoseWithCovarianceStamped
 from nav2_msgs.action import NavigateToPose
 from nav_msgs.msg import OccupancyGrid
-from rclpy.action.server import ActionServer, GoalResponse, ServerGoalHandle
+from rclpy.action.server import ActionServer, CancelResponse, GoalResponse, ServerGoalHandle
 from rclpy.executors import MultiThreadedExecutor
 from rclpy.node import Node
 
@@ -55,7 +55,14 @@ class FakeNav2(Node):
         self.map_pub = self.create_publisher(OccupancyGrid, "map", MAP_QOS)
         self.pose_pub = self.create_publisher(PoseWithCovarianceStamped, "pose", 10)
         self.pose_x = 0.5
-        ActionServer(self, NavigateToPose, "navigate_to_pose", self._execute, goal_callback=self._goal)
+        ActionServer(
+            self,
+            NavigateToPose,
+            "navigate_to_pose",
+            self._execute,
+            goal_callback=self._goal,
+            cancel_callback=lambda _: CancelResponse.ACCEPT,  # as Nav2's bt_navigator does
+        )
 
     def _goal(self, _: object) -> GoalResponse:
         if self.mode == "reject":
@@ -72,6 +79,7 @@ class FakeNav2(Node):
                 time.sleep(0.1)
             if handle.is_cancel_requested:
                 handle.canceled()
+                print("goal canceled", flush=True)
             return NavigateToPose.Result()
         if self.mode == "succeed":
             handle.succeed()

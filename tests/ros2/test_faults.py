@@ -69,3 +69,11 @@ def test_without_nav2_the_explorer_waits_and_ctrl_c_ends_it_with_one_line(tmp_pa
     assert code == 130, log
     assert status is not None and status["state"] == "interrupted" and status["goals"] == 0
     assert "Traceback" not in log
+
+
+def test_ctrl_c_cancels_the_goal_under_way(tmp_path: Path) -> None:
+    """The explorer ended on Ctrl-C and Nav2 drove on to its last goal."""
+    code, status, log = _run(tmp_path, f"{_FAKE} --mode stall", explore_for=8, progress_timeout=30.0)
+    assert code == 130 and status is not None and status["state"] == "interrupted", log
+    assert "cancelling goal 1: the explorer is stopping" in log and "goal canceled" in log, log
+    assert "Traceback" not in log
