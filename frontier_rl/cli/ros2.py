@@ -5,8 +5,9 @@ extra; rclpy loads only here, once the arguments are checked."""
 from __future__ import annotations
 
 import math
-from collections.abc import Sequence
+from collections.abc import Callable, Sequence
 from dataclasses import fields
+from functools import partial
 from pathlib import Path
 from typing import TYPE_CHECKING, Annotated, Any
 
@@ -81,15 +82,17 @@ def _check_ros_names(namespaces: dict[str, Sequence[str]], pose_source: PoseSour
 
     from frontier_rl.robot.pose_source import PoseKind
 
-    checks = [(option, name, True) for option, names in namespaces.items() for name in names]
+    checks: list[tuple[str, str, Callable[[], object]]] = [
+        (option, name, partial(validate_namespace, "/" + name.strip("/")))
+        for option, names in namespaces.items()
+        for name in names
+        if name.strip("/")  # none: the root
+    ]
     if pose_source is not None and pose_source.kind is not PoseKind.TF:
-        checks.append(("--pose-topic", pose_source.topic, False))
-    for option, name, is_namespace in checks:
+        checks.append(("--pose-topic", pose_source.topic, partial(validate_topic_name, pose_source.topic)))
+    for option, name, validate in checks:
         try:
-            if not is_namespace:
-                validate_topic_name(name)
-            elif name.strip("/"):  # none: the root
-                validate_namespace("/" + name.strip("/"))
+            validate()
         except NameValidationException as error:
             problem = str(error).splitlines()[0].rstrip(":").split(": ", 1)[-1]
             fail(f"{option} {name!r} is not a name ROS 2 allows: {problem}")
