@@ -98,8 +98,7 @@ def count_parameter(name: str, value: object, least: int, most: int | None = Non
 def seconds_parameter(name: str, value: object, *, zero: bool, most: float = math.inf) -> float:
     """Setting ``name`` as a finite number of seconds, at most ``most``, above zero (or zero too,
     when ``zero``); a :class:`SettingError` naming it otherwise."""
-    number = not isinstance(value, bool) and isinstance(value, int | float)
-    seconds = float(value) if number else math.nan  # type: ignore[arg-type]  # a number: checked
+    seconds = float(value) if isinstance(value, int | float) and not isinstance(value, bool) else math.nan
     if not (math.isfinite(seconds) and 0 <= seconds <= most) or (seconds == 0 and not zero):
         rule = (">= 0" if zero else "> 0") + (f" and <= {most:g}" if math.isfinite(most) else "")
         raise SettingError(name, f"must be a number of seconds {rule}, got {short_repr(value)}")
