@@ -44,6 +44,17 @@ def _need_ros2() -> None:
         fail(f"{_NO_ROS2} ({error})")
 
 
+ParamsFileOption = Annotated[
+    list[Path] | None,
+    typer.Option(help="A parameter file (explore_lite's explore.yaml), for what is not given here; repeatable."),
+]
+
+
+def _setting(name: str) -> Any:
+    """The option of the explorer's setting ``name``, its help the setting's own."""
+    return typer.Option(help=setting_help(name))
+
+
 def _explorer_params(options: dict[str, Any]) -> ExplorerParams:
     """The explorer's settings among ``options`` (setting name -> value; a time cap of 0: none);
     a one-line error naming the option that is out of range (a file's values are checked as it is read)."""
@@ -196,18 +207,12 @@ def explore(
     policy: Annotated[
         str, typer.Option(help="Any policy spec: nearest, fixed:0.75, tour, learned:PATH, ...")
     ] = "nearest",
-    planner_frequency: Annotated[
-        float, typer.Option(help=setting_help("planner_frequency"))
-    ] = ExplorerParams.planner_frequency,
-    progress_timeout: Annotated[
-        float, typer.Option(help=setting_help("progress_timeout"))
-    ] = ExplorerParams.progress_timeout,
-    min_frontier_size: Annotated[
-        float, typer.Option(help=setting_help("min_frontier_size"))
-    ] = ExplorerParams.min_frontier_size,
-    return_to_init: Annotated[bool, typer.Option(help=setting_help("return_to_init"))] = ExplorerParams.return_to_init,
-    visualize: Annotated[bool, typer.Option(help=setting_help("visualize"))] = True,
-    time_cap: Annotated[float, typer.Option(help=setting_help("time_cap"))] = 0.0,
+    planner_frequency: Annotated[float, _setting("planner_frequency")] = ExplorerParams.planner_frequency,
+    progress_timeout: Annotated[float, _setting("progress_timeout")] = ExplorerParams.progress_timeout,
+    min_frontier_size: Annotated[float, _setting("min_frontier_size")] = ExplorerParams.min_frontier_size,
+    return_to_init: Annotated[bool, _setting("return_to_init")] = ExplorerParams.return_to_init,
+    visualize: Annotated[bool, _setting("visualize")] = True,
+    time_cap: Annotated[float, _setting("time_cap")] = 0.0,
     namespace: Annotated[str, typer.Option(help="The robot's namespace.")] = "",
     teammates: Annotated[
         str, typer.Option(help="Teammates' namespaces (tb3_1,tb3_2): their maps are merged into this robot's.")
@@ -223,10 +228,7 @@ def explore(
     ] = 10.0,
     seed: Annotated[int, typer.Option(help=f"Seeds the policy's randomness (0 to {MAX_SEED}).")] = 0,
     json_out: Annotated[bool, typer.Option("--json", help="Print the final status as JSON, not a sentence.")] = False,
-    params_file: Annotated[
-        list[Path] | None,
-        typer.Option(help="A parameter file (explore_lite's explore.yaml), for what is not given here; repeatable."),
-    ] = None,
+    params_file: ParamsFileOption = None,
 ) -> None:
     """Explore with Nav2, a policy choosing among the map's frontiers.
 
