@@ -13,15 +13,25 @@ from frontier_rl.errors import ConfigError, short_repr
 NAMESPACE = "FrontierRL"
 
 
+class ModelKind(StrEnum):
+    """What a model's network chooses."""
+
+    WEIGHT = "weight"  # a ranking weight from the map image (models 3 and 4)
+    POINT = "point"  # a goal cell of the map image (models 1 and 2)
+    WEIGHT_TABLE = "weight table"  # a ranking weight from the frontier table (model 6)
+    FRONTIER = "frontier"  # a frontier of the table (models 5 and 7)
+
+
 @dataclass(frozen=True)
 class ModelSpec:
-    """A thesis model: which env it runs in and with which channels."""
+    """A thesis model: which env it runs in and with which channels, and what it chooses."""
 
     number: int
     name: str
     entry_point: str
     kwargs: dict[str, Any]
     description: str
+    kind: ModelKind
 
 
 MODELS: dict[int, ModelSpec] = {
@@ -31,6 +41,7 @@ MODELS: dict[int, ModelSpec] = {
         "frontier_rl.envs.point_env:PointEnv",
         {"with_frontiers_and_pose": True},
         "map + frontiers + pose in, a map cell out",
+        ModelKind.POINT,
     ),
     2: ModelSpec(
         2,
@@ -38,6 +49,7 @@ MODELS: dict[int, ModelSpec] = {
         "frontier_rl.envs.point_env:PointEnv",
         {"with_frontiers_and_pose": False},
         "map in, a map cell out",
+        ModelKind.POINT,
     ),
     3: ModelSpec(
         3,
@@ -45,6 +57,7 @@ MODELS: dict[int, ModelSpec] = {
         "frontier_rl.envs.weight_env:WeightEnv",
         {"with_frontiers_and_pose": True},
         "map + frontiers + pose in, ranking weight out",
+        ModelKind.WEIGHT,
     ),
     4: ModelSpec(
         4,
@@ -52,6 +65,7 @@ MODELS: dict[int, ModelSpec] = {
         "frontier_rl.envs.weight_env:WeightEnv",
         {"with_frontiers_and_pose": False},
         "map in, ranking weight out",
+        ModelKind.WEIGHT,
     ),
     5: ModelSpec(
         5,
@@ -59,6 +73,7 @@ MODELS: dict[int, ModelSpec] = {
         "frontier_rl.envs.frontier_env:FrontierChoiceEnv",
         {},
         "map + per-frontier features in, one of the top-K frontiers out",
+        ModelKind.FRONTIER,
     ),
     6: ModelSpec(
         6,
@@ -66,6 +81,7 @@ MODELS: dict[int, ModelSpec] = {
         "frontier_rl.envs.weight_env:WeightTableEnv",
         {},
         "map + per-frontier features in, ranking weight out",
+        ModelKind.WEIGHT_TABLE,
     ),
     7: ModelSpec(
         7,
@@ -73,6 +89,7 @@ MODELS: dict[int, ModelSpec] = {
         "frontier_rl.envs.frontier_env:FrontierChoiceEnv",
         {"tour": True},
         "map + per-frontier features and tour costs in, one of the top-K frontiers out",
+        ModelKind.FRONTIER,
     ),
 }
 """Models 1-4 are the thesis's, 5 its future work (a frontier chosen directly), 6 model 3 with
@@ -80,18 +97,16 @@ model 5's frontier table beside the image (a per-decision weight needs what the 
 7 model 5 with a column that says how much a tour over the nearest frontiers loses by going to each
 first (what ``tour`` ranks by)."""
 
-FRONTIER_CHOICE_MODELS: tuple[int, ...] = tuple(
-    m for m, spec in MODELS.items() if spec.entry_point.endswith(":FrontierChoiceEnv")
-)
+FRONTIER_CHOICE_MODELS: tuple[int, ...] = tuple(m for m, spec in MODELS.items() if spec.kind is ModelKind.FRONTIER)
 """The models whose action is one of the candidate frontiers (5 and 7): the pointer policy's, and
 the ones a lookahead teacher can label (``--algo dagger``)."""
 
 TABLE_MODELS: tuple[int, ...] = tuple(
-    m for m, spec in MODELS.items() if spec.entry_point.endswith((":FrontierChoiceEnv", ":WeightTableEnv"))
+    m for m, spec in MODELS.items() if spec.kind in (ModelKind.FRONTIER, ModelKind.WEIGHT_TABLE)
 )
 """The models that read a table of the cheapest frontiers beside the map image (5, 6 and 7)."""
 
-POINT_MODELS: tuple[int, ...] = tuple(m for m, spec in MODELS.items() if spec.entry_point.endswith(":PointEnv"))
+POINT_MODELS: tuple[int, ...] = tuple(m for m, spec in MODELS.items() if spec.kind is ModelKind.POINT)
 """The models whose action is a pixel of the map image (1 and 2)."""
 
 

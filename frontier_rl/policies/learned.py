@@ -11,7 +11,6 @@ to.
 from __future__ import annotations
 
 from dataclasses import dataclass, field, replace
-from enum import StrEnum
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
@@ -25,18 +24,10 @@ from frontier_rl.errors import ConfigError, model_file_label, short_repr
 from frontier_rl.observation.frontier_table import frontier_observation, slot_order
 from frontier_rl.observation.map_image import FRONTIER_FEATURES, MapEncoder
 from frontier_rl.observation.weight_bins import WEIGHT_BINS, bin_to_weight
+from frontier_rl.registration import MODELS, ModelKind
 
 if TYPE_CHECKING:
     from frontier_rl.inference.interface import Actor
-
-
-class ModelKind(StrEnum):
-    """What a model file's network chooses."""
-
-    WEIGHT = "weight"  # a ranking weight from the map image (models 3 and 4)
-    POINT = "point"  # a goal cell of the map image (models 1 and 2)
-    WEIGHT_TABLE = "weight table"  # a ranking weight from the frontier table (model 6)
-    FRONTIER = "frontier"  # a frontier of the table (models 5 and 7)
 
 
 @dataclass
@@ -51,7 +42,7 @@ class LearnedPolicy:
             the context's).
 
     Attributes:
-        kind: what the file's network chooses (:class:`ModelKind`), read from its shape.
+        kind: what the file's network chooses (:class:`~frontier_rl.registration.ModelKind`), read from its shape.
     """
 
     path: Path
@@ -81,7 +72,9 @@ class LearnedPolicy:
         else:
             if n_actions not in (rows, WEIGHT_BINS):
                 raise ConfigError(f"{where} has {n_actions} actions for a frontier table of {rows} rows")
-            table_weight = n_actions == WEIGHT_BINS if info is None else info.model == 6  # 100 rows: ask the file
+            table_weight = (
+                n_actions == WEIGHT_BINS if info is None else MODELS[info.model].kind is ModelKind.WEIGHT_TABLE
+            )
             self.kind = ModelKind.WEIGHT_TABLE if table_weight else ModelKind.FRONTIER
             n_actions = rows
             columns = (len(FRONTIER_FEATURES), len(FRONTIER_FEATURES) + 1)  # model 7's table: the tour column

@@ -34,7 +34,7 @@ from frontier_rl.inference.model_file import (
     read_model,
 )
 from frontier_rl.inference.sb3_zip import load_trusted_policy
-from frontier_rl.registration import ENV_IDS, FRONTIER_CHOICE_MODELS, Algorithm
+from frontier_rl.registration import ENV_IDS, FRONTIER_CHOICE_MODELS, MODELS, Algorithm, ModelKind
 from frontier_rl.rl.networks import PRIVILEGED_HEAD, FrontierPooling, FrontierScorer, GridCNN, PointerPolicy
 
 SB3_ALGORITHMS: dict[Algorithm, type[BaseAlgorithm]] = {Algorithm.A2C: A2C, Algorithm.PPO: PPO, Algorithm.DAGGER: A2C}
@@ -50,7 +50,7 @@ def policy_setup(model: int, features_dim: int) -> tuple[type[ActorCriticPolicy]
             "features_extractor_kwargs": {"context_dim": features_dim},
             "net_arch": {"pi": [], "vf": [64]},
         }
-    if model == 6:
+    if MODELS[model].kind is ModelKind.WEIGHT_TABLE:
         return ActorCriticPolicy, {
             "features_extractor_class": FrontierPooling,
             "features_extractor_kwargs": {"context_dim": features_dim},

@@ -119,7 +119,7 @@ def check_node_policy(policy: object, spec: str) -> None:
     have, or chooses a goal cell instead of ranking frontiers (the point models 1 and 2), which
     would leave every answer empty."""
     from frontier_rl.core.sim.episode import EpisodeAwarePolicy  # the engine, once a policy is made
-    from frontier_rl.policies.learned import ModelKind
+    from frontier_rl.registration import ModelKind
 
     if isinstance(policy, EpisodeAwarePolicy):
         raise SettingError("policy", f"{short_repr(spec)} plans on the true map, which the node does not have")

@@ -17,7 +17,7 @@ from frontier_rl.errors import ConfigError, UnknownNameError
 from frontier_rl.observation.frontier_table import FEATURE_BOUND, TOUR_STOPS
 from frontier_rl.observation.map_image import MAP_FREE, MAP_UNKNOWN, MARK
 from frontier_rl.observation.weight_bins import WEIGHT_BINS, bin_to_weight
-from frontier_rl.registration import ENV_IDS, env_id
+from frontier_rl.registration import ENV_IDS, MODELS, ModelKind, env_id
 
 
 def _obs_equal(a: Any, b: Any) -> bool:
@@ -37,6 +37,19 @@ def test_every_model_and_size_is_registered() -> None:
         env_id(8)
     with pytest.raises(ConfigError, match="100"):
         env_id(4, 100)
+
+
+def test_each_models_kind_is_what_its_env_chooses() -> None:
+    """The kind is typed on the model, where it was read from the env's class name."""
+    envs = {
+        ModelKind.POINT: "PointEnv",
+        ModelKind.WEIGHT: "WeightEnv",
+        ModelKind.WEIGHT_TABLE: "WeightTableEnv",
+        ModelKind.FRONTIER: "FrontierChoiceEnv",
+    }
+    assert {m: spec.entry_point.rsplit(":", 1)[1] for m, spec in MODELS.items()} == {
+        m: envs[spec.kind] for m, spec in MODELS.items()
+    }
 
 
 @pytest.mark.parametrize("env_name", ENV_IDS)
