@@ -14,7 +14,8 @@ import pytest
 
 from frontier_rl.errors import MapError
 from frontier_rl.io import MAX_MAP_PIXELS, load_map
-from frontier_rl.io._image import read_image, read_netpbm_header
+from frontier_rl.io._image import read_image
+from frontier_rl.io.netpbm import read_netpbm_header
 
 FREE = 254
 
