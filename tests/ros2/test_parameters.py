@@ -8,6 +8,7 @@ import json
 import shlex
 import sys
 from pathlib import Path
+from typing import Any
 
 import pytest
 
@@ -23,16 +24,21 @@ _CLIENT = f"{shlex.quote(sys.executable)} {shlex.quote(str(Path(__file__).with_n
 _EXPLORE = f"{shlex.quote(cli())} ros2 explore --json --progress-timeout 30"
 
 
-def test_the_settings_are_parameters_overridden_by_ros_args_and_set_at_run_time(tmp_path: Path) -> None:
+def _with_client(home: Path, explore_arguments: str, client_arguments: str = "") -> tuple[dict[str, Any], str]:
+    """Run the explorer with ``explore_arguments`` beside the parameter client: the client's
+    report and the logs of both."""
     script = (
-        f"timeout --preserve-status -s INT 60 {_EXPLORE} --ros-args -p planner_frequency:=2 -p visualize:=false "
-        "> explore.log 2> explore.err & explore=$!; "
-        f"{_CLIENT} > client.log 2> client.err; stop $explore"
+        f"timeout --preserve-status -s INT 60 {_EXPLORE} {explore_arguments} > explore.log 2> explore.err & "
+        f"explore=$!; {_CLIENT} {client_arguments} > client.log 2> client.err; stop $explore"
     )
-    done = run_in_loopback(script, tmp_path, 90)
-    log = "".join((tmp_path / name).read_text() for name in ("client.err", "explore.log", "explore.err"))
-    assert (tmp_path / "client.log").read_text(), log + done.stderr
-    report = json.loads((tmp_path / "client.log").read_text())
+    done = run_in_loopback(script, home, 90)
+    log = "".join((home / name).read_text() for name in ("client.err", "explore.log", "explore.err"))
+    assert (home / "client.log").read_text(), log + done.stderr
+    return json.loads((home / "client.log").read_text()), log
+
+
+def test_the_settings_are_parameters_overridden_by_ros_args_and_set_at_run_time(tmp_path: Path) -> None:
+    report, log = _with_client(tmp_path, "--ros-args -p planner_frequency:=2 -p visualize:=false")
     assert report["before"] == {
         "planner_frequency": 2.0,  # an integer override taken as the number it is
         "progress_timeout": 30.0,
@@ -97,15 +103,9 @@ def test_parameter_files_before_and_after_ros_args_are_read_in_order(tmp_path: P
     (tmp_path / "ours.yaml").write_text(
         "frontier_rl_explorer:\n  ros__parameters: {time_cap: 100.0, progress_distance: 0.3, planner_frequency: 0.75}\n"
     )
-    script = (
-        f"timeout --preserve-status -s INT 60 {_EXPLORE} --min-frontier-size 0.4 --params-file nav2.yaml "
-        "--ros-args --params-file ours.yaml > explore.log 2> explore.err & explore=$!; "
-        f"{_CLIENT} --get > client.log 2> client.err; stop $explore"
-    )
-    done = run_in_loopback(script, tmp_path, 90)
-    log = "".join((tmp_path / name).read_text() for name in ("client.err", "explore.log", "explore.err"))
-    assert (tmp_path / "client.log").read_text(), log + done.stderr
-    read = json.loads((tmp_path / "client.log").read_text())["before"]
+    arguments = "--min-frontier-size 0.4 --params-file nav2.yaml --ros-args --params-file ours.yaml"
+    report, log = _with_client(tmp_path, arguments, "--get")
+    read = report["before"]
     assert read["planner_frequency"] == 0.75  # the later file wins
     assert read["time_cap"] == 100.0 and read["progress_distance"] == 0.3
     assert read["min_frontier_size"] == 0.4 and read["progress_timeout"] == 30.0  # the command line wins
