@@ -106,3 +106,16 @@ def _cut_middle(text: str, limit: int) -> str:
     head = repr(text[:limit])[:head_chars]
     tail_chars = limit - head_chars - 1
     return head + "…" + (repr(text[-limit:])[-tail_chars:] if tail_chars > 0 else "")
+
+
+def caused_by_interrupt(error: BaseException) -> bool:
+    """Whether ``error`` is a Ctrl-C (``KeyboardInterrupt``) or was raised while handling one (numba
+    turns an interrupt raised in a compiled kernel's callback into a ``SystemError``)."""
+    seen: set[int] = set()
+    current: BaseException | None = error
+    while current is not None and id(current) not in seen:
+        if isinstance(current, KeyboardInterrupt):
+            return True
+        seen.add(id(current))
+        current = current.__cause__ or current.__context__
+    return False

@@ -7,7 +7,10 @@ A Ctrl-C is never raised inside an import: NumPy, SciPy, torch and typer load fo
 (more again when a command loads what it needs), and an interrupt raised there was seen to print
 Python's traceback, to fail a compiled module's initialisation with a traceback and exit code 1, or
 to be swallowed in importlib's weakref callback, the command then running to its end. It is
-delivered again once the import is over (a SIGALRM timer: no thread is started in a handler).
+delivered again once the import is over (a SIGALRM timer: no thread is started in a handler). The
+same holds inside numba's own Python code, which compiled kernels call back into (to unpickle a
+constant): an interrupt raised there comes out of the kernel as a ``SystemError``, a traceback where
+``tour`` was interrupted; one that still comes out so, caused by a Ctrl-C, ends the command as one.
 
 The first Ctrl-C ends the command; more while it ends (its workers get up to 5 s) are ignored,
 which would otherwise print tracebacks from wherever they landed, unless the end takes longer than
@@ -22,6 +25,8 @@ import signal
 import sys
 import time
 from types import FrameType
+
+from frontier_rl.errors import caused_by_interrupt
 
 REDELIVER_S = 0.05
 """How soon a Ctrl-C that came during an import is delivered again (s)."""
@@ -41,7 +46,9 @@ def main() -> None:
         from frontier_rl.cli import app
 
         app()
-    except KeyboardInterrupt:
+    except (KeyboardInterrupt, SystemError) as error:
+        if not caused_by_interrupt(error):
+            raise
         print("interrupted", file=sys.stderr)
         raise SystemExit(130) from None
     finally:  # the command is over: a late Ctrl-C, or one deferred, must not land in Python's exit
@@ -67,7 +74,7 @@ class CommandInterrupts:
                 os.write(2, b"interrupted again: ended at once\n")
                 os._exit(130)
             return
-        if _in_import(frame):
+        if _in_import(frame) or _in_numba(frame):
             if not self.deferred:
                 self.deferred = True
                 signal.setitimer(signal.ITIMER_REAL, REDELIVER_S)
@@ -81,6 +88,17 @@ class CommandInterrupts:
         if self.deferred:  # else not ours: no Ctrl-C waits
             self.deferred = False
             signal.raise_signal(signal.SIGINT)
+
+
+def _in_numba(frame: FrameType | None) -> bool:
+    """Whether ``frame`` or a caller of it is numba's own Python code (a compiled kernel's callback,
+    the compiler)."""
+    marker = f"{os.sep}numba{os.sep}"
+    while frame is not None:
+        if marker in frame.f_code.co_filename:
+            return True
+        frame = frame.f_back
+    return False
 
 
 def _in_import(frame: FrameType | None) -> bool:

@@ -15,7 +15,7 @@ from typing import TYPE_CHECKING, Any, TypeVar
 import typer
 from typer.core import TyperGroup
 
-from frontier_rl.errors import ConfigError, FrontierRLError, short_repr
+from frontier_rl.errors import ConfigError, FrontierRLError, caused_by_interrupt, short_repr
 
 if TYPE_CHECKING:  # rich loads when a command prints: help and argument checks need none of it
     from rich.console import Console
@@ -134,7 +134,9 @@ def _interrupt_ends_command() -> Iterator[None]:
     """A Ctrl-C ends the command with the line ``interrupted`` and exit code 130."""
     try:
         yield
-    except KeyboardInterrupt:
+    except (KeyboardInterrupt, SystemError) as error:  # a SystemError: numba's, of a Ctrl-C in a kernel's callback
+        if not caused_by_interrupt(error):
+            raise
         print_note("interrupted")
         raise typer.Exit(130) from None
 

@@ -32,7 +32,7 @@ from frontier_rl.core.sim.config import SimConfig
 from frontier_rl.core.sim.episode import run_episode
 from frontier_rl.core.world.robot import Pose
 from frontier_rl.core.world.worlds import World, make_world
-from frontier_rl.errors import ConfigError, MapError, short_path
+from frontier_rl.errors import ConfigError, MapError, caused_by_interrupt, short_path
 from frontier_rl.evaluation.running.backends import check_workers, default_workers
 from frontier_rl.evaluation.running.methods import episode_policy
 from frontier_rl.evaluation.running.worker_pool import WorkerPool
@@ -122,6 +122,8 @@ class _Catching(Generic[R]):
         try:
             return self.run(*job)
         except Exception as exc:  # reported with the map's name; the other runs go on
+            if caused_by_interrupt(exc):  # a Ctrl-C numba turned into an error: not the run's failure
+                raise KeyboardInterrupt from None
             return _failure_line(job, exc)
 
 

@@ -17,7 +17,7 @@ from enum import StrEnum
 from typing import Any
 
 from frontier_rl.checked_values import enum_member
-from frontier_rl.errors import ConfigError, FrontierRLError, MapWarning
+from frontier_rl.errors import ConfigError, FrontierRLError, MapWarning, caused_by_interrupt
 from frontier_rl.evaluation.results.episode_record import EpisodeOutcome
 from frontier_rl.evaluation.running.experiment import EpisodeJob, EpisodeSettings, run_job
 from frontier_rl.evaluation.running.worker_pool import WorkerPool
@@ -138,6 +138,8 @@ def _serial(jobs: list[EpisodeJob], settings: EpisodeSettings) -> Outcomes:
         try:
             yield job, run_job(job, settings)
         except Exception as exc:  # handed on: the other episodes still run
+            if caused_by_interrupt(exc):  # a Ctrl-C numba turned into an error: not the episode's failure
+                raise KeyboardInterrupt from None
             yield job, exc
 
 
