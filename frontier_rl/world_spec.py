@@ -298,8 +298,17 @@ def _folder_maps(folder: Path) -> tuple[str, ...]:
     images = set()
     for yaml_file in yamls:
         with contextlib.suppress(MapError):  # a broken YAML is refused where its map is loaded, named
-            images.add(ros_map_image(yaml_file).resolve())
-    return tuple(str(p) for p in files if p in yamls or not (p.with_suffix("") in stems or p.resolve() in images))
+            images.add(_resolved(ros_map_image(yaml_file)))
+    return tuple(str(p) for p in files if p in yamls or not (p.with_suffix("") in stems or _resolved(p) in images))
+
+
+def _resolved(path: Path) -> Path:
+    """``path`` resolved; a symbolic link that loops is refused, naming it (Python 3.11 raises a
+    RuntimeError, a traceback at the command line)."""
+    try:
+        return path.resolve()
+    except (RuntimeError, OSError) as error:
+        raise MapError(f"{path}: cannot be resolved ({error})") from None
 
 
 def parse_world_mix(text: str) -> tuple[WorldFamily, ...]:

@@ -137,3 +137,13 @@ def test_resampling_a_real_map_keeps_its_rooms(real_maps: Path, path: str, shape
     assert world.grid.resolution == 0.05 and world.grid.shape == shape
     area = [w.explorable.sum() * w.grid.resolution**2 for w in (drawn, world)]
     assert 0.98 * area[0] <= area[1] <= area[0]
+
+
+def test_a_folder_with_a_symlink_loop_is_refused_naming_it(tmp_path: Path) -> None:
+    """Python 3.11's resolve raised a RuntimeError: a traceback at the command line."""
+    folder = tmp_path / "maps"
+    folder.mkdir()
+    (folder / "l1.png").symlink_to("l2.png")
+    (folder / "l2.png").symlink_to("l1.png")
+    with pytest.raises(MapError, match=r"l1\.png: cannot be resolved"):
+        world_spec.parse_world_list(str(folder))
