@@ -153,7 +153,10 @@ def resolve_world(
     loaded = read_map(str(path), resolution)
     start = start or (loaded.start if stored_start else None)
     name = _map_name(spec, path, entry)
-    return make_world(loaded.grid, name, start=start, rng=np.random.default_rng(seed))
+    try:
+        return make_world(loaded.grid, name, start=start, rng=np.random.default_rng(seed))
+    except MapError as error:  # the map read, but no robot fits on it: name the file
+        raise MapError(f"{spec}: {error}") from None
 
 
 def read_map(path: str, resolution: float | None = None) -> LoadedMap:

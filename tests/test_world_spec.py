@@ -147,3 +147,12 @@ def test_a_folder_with_a_symlink_loop_is_refused_naming_it(tmp_path: Path) -> No
     (folder / "l2.png").symlink_to("l1.png")
     with pytest.raises(MapError, match=r"l1\.png: cannot be resolved"):
         world_spec.parse_world_list(str(folder))
+
+
+def test_a_map_no_robot_fits_on_is_refused_naming_its_file(tmp_path: Path) -> None:
+    from PIL import Image
+
+    path = tmp_path / "closet.png"
+    Image.new("L", (3, 3), 254).save(path)  # free, but 15 cm across: no room for the robot
+    with pytest.raises(MapError, match=r"closet\.png: map has no free cell with clearance for the robot"):
+        world_spec.resolve_world(str(path), seed=0)
