@@ -54,6 +54,8 @@ def _located(spec: str, base_dir: str | Path | None) -> tuple[Path | None, Catal
     or an existing path): the catalogue is looked up once."""
     if spec in WORLD_GENERATORS:
         return None, None
+    if not spec.strip():  # else the current folder
+        raise _unknown_world(spec)
     entry = _catalogued(spec, base_dir)
     if entry is None:
         return (Path(spec) if base_dir is None else Path(base_dir, spec)), None

@@ -156,3 +156,9 @@ def test_a_map_no_robot_fits_on_is_refused_naming_its_file(tmp_path: Path) -> No
     Image.new("L", (3, 3), 254).save(path)  # free, but 15 cm across: no room for the robot
     with pytest.raises(MapError, match=r"closet\.png: map has no free cell with clearance for the robot"):
         world_spec.resolve_world(str(path), seed=0)
+
+
+def test_an_empty_world_is_unknown_not_the_current_folder() -> None:
+    """``--world ''`` said ". is a folder, not a map file"."""
+    with pytest.raises(UnknownNameError, match="unknown world ''"):
+        world_spec.resolve_world("", seed=0)
