@@ -28,10 +28,11 @@ from frontier_rl.cli.output import (
     policy_list,
     print_line,
     print_note,
+    print_warning,
     stdout_console,
 )
 from frontier_rl.core.frontiers.thesis import THESIS_BASELINE
-from frontier_rl.swarm import Failure, parse_strategy
+from frontier_rl.swarm import Failure, Strategy, parse_strategy
 
 if TYPE_CHECKING:
     from frontier_rl.evaluation.results.summary import ExperimentSummary
@@ -180,7 +181,10 @@ def evaluate(
     from frontier_rl.evaluation.running.methods import team_methods
 
     strategies = [parse_strategy(s) for s in comma_list(strategy)]
-    names = team_methods(policy_list(methods), int_list("--robots", robots), strategies)
+    sizes = int_list("--robots", robots)
+    names = team_methods(policy_list(methods), sizes, strategies)
+    if all(n == 1 for n in sizes) and strategies != [Strategy.UNCOORDINATED]:
+        print_warning("--strategy acts between robots: with --robots 1 it is ignored (POLICY@N:STRATEGY names its own)")
     with _resumable(out):
         summary = api.evaluate(
             names,

@@ -77,6 +77,7 @@ def explore(
     pose = parse_pose(start) if start is not None else None
     spec = PolicySpec.parse(policy)  # a malformed name, before the engine loads
     from frontier_rl import api  # the engine: after every check of the arguments
+    from frontier_rl.core.world.catalog import WORLD_GENERATORS
     from frontier_rl.policies.registry import make_policy
     from frontier_rl.recording import EpisodeRecorder
     from frontier_rl.render import check_output_file
@@ -88,6 +89,8 @@ def explore(
         check_output_file(gif, ".gif", "--gif")
     chosen = make_policy(spec, trust_model=trust_model)
     the_world = api.load_world(world, seed, start=pose, resolution=resolution)
+    if resolution is not None and world in WORLD_GENERATORS:
+        print_warning(f"--resolution is for map files: the generated world {world!r} is drawn on cells of its own")
     recorder = EpisodeRecorder(the_world, frames=gif is not None) if team is None and (png or gif) else None
     result = _episode(the_world, spec, chosen, seed, settings, team, recorder)
     _print_episode(the_world.name, seed, chosen.name, result, as_json)
