@@ -9,7 +9,7 @@ from __future__ import annotations
 
 import re
 import time
-from collections.abc import Sequence
+from collections.abc import Callable, Sequence
 from dataclasses import replace
 from functools import partial
 from pathlib import Path
@@ -42,6 +42,7 @@ from frontier_rl.rl.model_file import (
 )
 from frontier_rl.rl.networks import PRIVILEGED_HEAD
 from frontier_rl.rl.teacher import TeacherLabels
+from frontier_rl.worker_signals import ignore_interrupts, spawning_workers
 from frontier_rl.world_spec import world_entries
 
 _CHECKPOINT = re.compile(r"model_(\d+)_steps\.zip$")
@@ -111,11 +112,45 @@ def build_model(config: TrainConfig, env: object, out: Path) -> BaseAlgorithm:
     return SB3_ALGORITHMS[config.algo](policy_cls, env, **common)  # type: ignore[arg-type]
 
 
+WORKER_END_S = 5.0
+"""How long an ended training worker is waited for (s)."""
+
+
+def _worker_env(factory: Callable[..., gym.Env[Any, Any]], env_id: str, **kwargs: Any) -> gym.Env[Any, Any]:
+    """A training env in a worker process, which leaves Ctrl-C to the run (a terminal sends it to
+    every process of the group: a worker interrupted in a kernel printed a traceback, and the run
+    ended with "aborted" on the broken pipe, not with its checkpoint's line)."""
+    ignore_interrupts()
+    return factory(env_id, **kwargs)
+
+
+def _end_workers(venv: VecEnv) -> None:
+    """End the training envs' worker processes at once, after an interrupt or an error: a Ctrl-C
+    that cut a step's answer mid-message leaves the pipe out of step, and SB3's close waited on it
+    for good (a run interrupted at the wrong moment hung)."""
+    envs = venv.unwrapped
+    if not isinstance(envs, SubprocVecEnv) or envs.closed:
+        return
+    for process in envs.processes:
+        process.terminate()
+    for process in envs.processes:
+        process.join(WORKER_END_S)
+    for remote in envs.remotes:
+        remote.close()
+    envs.closed = True
+
+
 def _training_envs(config: TrainConfig, out: Path, start: int, env_kwargs: dict[str, Any]) -> VecMonitor:
-    """``config.n_envs`` training envs (subprocesses when more than one), logged to ``out``."""
-    vec_cls = SubprocVecEnv if config.n_envs > 1 else DummyVecEnv
+    """``config.n_envs`` training envs (spawned worker processes when more than one), logged to ``out``."""
     factory = make_labelled_env if config.algo is Algorithm.DAGGER else make_env
-    envs = vec_cls([partial(factory, config.env_id, **env_kwargs) for _ in range(config.n_envs)])
+    if config.n_envs == 1:
+        envs: VecEnv = DummyVecEnv([partial(factory, config.env_id, **env_kwargs)])
+    else:
+        with spawning_workers():  # started with Ctrl-C held, which each ignores once it runs
+            envs = SubprocVecEnv(
+                [partial(_worker_env, factory, config.env_id, **env_kwargs) for _ in range(config.n_envs)],
+                start_method="spawn",
+            )
     # a resumed run must not replay the episodes it already saw: offset the env seeds by the start step
     envs.seed(config.seed + start)
     return VecMonitor(envs, str(out / f"monitor_{start}"), info_keywords=("sim_time_s", "coverage"))
@@ -280,6 +315,9 @@ def train(
     started = time.perf_counter()
     try:
         _learn(model, venv, config, out, start, callbacks, progress)
+    except BaseException:
+        _end_workers(venv)
+        raise
     finally:
         venv.close()
         if eval_env is not None:

@@ -306,3 +306,29 @@ def test_sb3_stock_cnn_policy_takes_the_map_image() -> None:
     obs, _ = env.reset(seed=0)
     action, _ = model.predict(obs, deterministic=True)
     assert 0 <= int(action) < 100
+
+
+def test_ctrl_c_ends_a_run_of_worker_envs_with_its_checkpoints_line(tmp_path: Path) -> None:
+    """With --n-envs 2 the workers, interrupted too, printed tracebacks and the run ended "aborted"
+    (exit 1); a Ctrl-C that cut a step's answer mid-message left SB3's close waiting for good."""
+    import os
+    import signal
+    import subprocess
+    import sys
+    import time
+
+    from tests.processes import sigint_as_in_a_terminal
+
+    out = tmp_path / "run"
+    command = [sys.executable, "-c", "import sys; from frontier_rl.launch import main; sys.exit(main())", "train",
+               "--model", "7", "--worlds", "rooms", "--timesteps", "4000", "--n-envs", "2", "--eval-every", "0",
+               "--checkpoint-every", "32", "--out", str(out), "--no-progress"]  # fmt: skip
+    process = subprocess.Popen(command, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True,
+                               start_new_session=True, preexec_fn=sigint_as_in_a_terminal)  # fmt: skip
+    deadline = time.monotonic() + 120
+    while time.monotonic() < deadline and len(list((out / "checkpoints").glob("*.zip"))) < 2:
+        time.sleep(0.05)
+    os.killpg(process.pid, signal.SIGINT)
+    stdout, stderr = process.communicate(timeout=60)
+    assert process.returncode == 130, stdout + stderr
+    assert stderr.startswith("interrupted: the last checkpoint") and stderr.count("\n") == 1, stderr
