@@ -289,6 +289,10 @@ def train(
     if resume and config.algo is Algorithm.DAGGER:
         raise ConfigError("a dagger run cannot be resumed: its labelled decisions are not checkpointed")
     start, initial = _start(config, out, resume)
+    final = out / "model.zip"
+    finished = read_metadata(final) if resume and final.is_file() else None
+    if finished is not None and finished.timesteps >= config.timesteps:
+        return final  # nothing left to train: the model file, and the evaluations that hash it, stay as they are
     frontier_rl.envs.register_envs()
     env_kwargs = _env_kwargs(config)
     venv = _training_envs(config, out, start, env_kwargs)
@@ -322,7 +326,6 @@ def train(
         venv.close()
         if eval_env is not None:
             eval_env.close()
-    final = out / "model.zip"
     save_model(model, final, replace(info, timesteps=int(model.num_timesteps)))
     elapsed = time.perf_counter() - started
     with (out / "training_time.txt").open("a") as sink:

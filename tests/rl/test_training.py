@@ -99,6 +99,9 @@ def test_interrupted_run_resumes_from_its_last_checkpoint(tmp_path: Path) -> Non
     info = read_metadata(final)
     assert info is not None and info.timesteps == 96
     assert (run / "monitor_0.monitor.csv").exists() and (run / "monitor_64.monitor.csv").exists()
+    before = final.read_bytes(), sorted(p.name for p in run.iterdir())
+    assert train(config, run, resume=True, progress=False) == final  # a finished run: nothing left to do
+    assert (final.read_bytes(), sorted(p.name for p in run.iterdir())) == before  # its file's hash unchanged
 
 
 def test_an_interrupted_runs_best_model_is_a_model_file(tmp_path: Path) -> None:
