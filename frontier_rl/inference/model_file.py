@@ -23,6 +23,7 @@ from __future__ import annotations
 import io
 import json
 import pickle
+import re
 import warnings
 import zipfile
 from collections.abc import Iterator, Mapping
@@ -245,6 +246,11 @@ def check_fit(
             raise ConfigError(f"{where}: weight {key!r} holds values that are not finite")
 
 
+CHECKPOINT_NAME = re.compile(r"model_(\d+)_steps\.zip$")
+"""The name of a training checkpoint ``frontier-rl train`` writes (``model_<steps>_steps.zip``):
+the whole training state, for ``--resume``, not a model file."""
+
+
 def read_model(path: Path, trust: bool = False) -> tuple[ModelInfo | None, dict[str, torch.Tensor]]:
     """The checked metadata and weights of the model file at ``path``. An SB3 zip without this
     project's metadata is refused unless ``trust`` (SB3's format pickles its contents, and loading
@@ -254,6 +260,11 @@ def read_model(path: Path, trust: bool = False) -> tuple[ModelInfo | None, dict[
         info = _metadata(archive, where)
         if info is not None:
             return info, read_weights(archive, where)
+    if not trust and CHECKPOINT_NAME.fullmatch(path.name):
+        raise ConfigError(
+            f"{where} is a checkpoint of 'frontier-rl train' (its state for --resume), not a model file: "
+            "use the run's model.zip or best_model.zip (or pass --trust-model to load it all the same)"
+        )
     if not trust:
         raise ConfigError(
             f"{where} was not written by 'frontier-rl train'; loading it would unpickle "

@@ -7,7 +7,6 @@ the validation worlds), ``checkpoints/``, ``monitor_<start>.monitor.csv`` (one p
 
 from __future__ import annotations
 
-import re
 import time
 from collections.abc import Callable, Sequence
 from dataclasses import replace
@@ -26,7 +25,7 @@ from stable_baselines3.common.vec_env import DummyVecEnv, SubprocVecEnv, VecEnv,
 import frontier_rl.envs
 from frontier_rl.envs.world_source import check_world_files
 from frontier_rl.errors import ConfigError, short_path
-from frontier_rl.inference.model_file import ModelInfo, read_metadata
+from frontier_rl.inference.model_file import CHECKPOINT_NAME, ModelInfo, read_metadata
 from frontier_rl.registration import Algorithm
 from frontier_rl.rl.callbacks import AtomicCheckpoint, ValidationCallback
 from frontier_rl.rl.config import TrainConfig
@@ -45,8 +44,6 @@ from frontier_rl.rl.teacher import TeacherLabels
 from frontier_rl.worker_signals import ignore_interrupts, spawning_workers
 from frontier_rl.world_spec import world_entries
 
-_CHECKPOINT = re.compile(r"model_(\d+)_steps\.zip$")
-
 
 def make_env(env_id: str, **kwargs: Any) -> gym.Env[Any, Any]:
     """``gymnasium.make`` after registering the frontier_rl ids: picklable by reference, so that
@@ -64,7 +61,7 @@ def latest_checkpoint(run: Path) -> tuple[Path, int] | None:
     """The newest checkpoint of ``run`` and its step count, if any."""
     found = []
     for path in (run / "checkpoints").glob("model_*_steps.zip"):
-        match = _CHECKPOINT.search(path.name)
+        match = CHECKPOINT_NAME.search(path.name)
         if match:
             found.append((int(match.group(1)), path))
     if not found:

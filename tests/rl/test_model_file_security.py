@@ -617,3 +617,17 @@ def test_attributes_the_pickle_sets_on_the_weights_are_dropped(
     path = _model(tmp_path / "attrs.zip", model4, policy_pth=_torch_bytes(state))
     policy, info = load_policy(path)
     assert info is not None and all(torch.equal(policy.state_dict()[k], v) for k, v in state4.items())
+
+
+def test_a_training_checkpoint_is_named_as_one_not_as_a_strangers_file(
+    tmp_path: Path, model4: dict[str, bytes]
+) -> None:
+    """A checkpoint of ``frontier-rl train`` (no metadata: it keeps the whole training state) was
+    said not to be written by ``frontier-rl train``."""
+    members = {name: data for name, data in model4.items() if name != METADATA_ENTRY}
+    folder = tmp_path / "checkpoints"
+    folder.mkdir()
+    with pytest.raises(ConfigError, match=r"is a checkpoint of 'frontier-rl train'.*model\.zip or best_model\.zip"):
+        make_policy(f"learned:{_zip(folder / 'model_240_steps.zip', members)}")
+    with pytest.raises(ConfigError, match="was not written by 'frontier-rl train'"):
+        make_policy(f"learned:{_zip(tmp_path / 'downloaded.zip', members)}")
