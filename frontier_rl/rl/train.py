@@ -323,9 +323,8 @@ def train(
         venv.close()
         if eval_env is not None:
             eval_env.close()
+        with (out / "training_time.txt").open("a") as sink:  # every segment, an interrupted one too
+            sink.write(f"steps {start}..{model.num_timesteps}: {time.perf_counter() - started:.1f} s wall\n")
     save_model(model, final, replace(info, timesteps=int(model.num_timesteps)))
-    elapsed = time.perf_counter() - started
-    with (out / "training_time.txt").open("a") as sink:
-        sink.write(f"steps {start}..{model.num_timesteps}: {elapsed:.1f} s wall\n")
     plot_learning_curve(out, title=f"model {config.model} ({config.algo.value}, {config.worlds})")
     return final

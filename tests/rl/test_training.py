@@ -98,6 +98,8 @@ def test_interrupted_run_resumes_from_its_last_checkpoint(tmp_path: Path) -> Non
     final = train(config, run, resume=True, progress=False)
     info = read_metadata(final)
     assert info is not None and info.timesteps == 96
+    segments = (run / "training_time.txt").read_text().splitlines()  # the interrupted one too
+    assert [line.split(":")[0] for line in segments] == ["steps 0..70", "steps 64..96"], segments
     assert (run / "monitor_0.monitor.csv").exists() and (run / "monitor_64.monitor.csv").exists()
     before = final.read_bytes(), sorted(p.name for p in run.iterdir())
     assert train(config, run, resume=True, progress=False) == final  # a finished run: nothing left to do
