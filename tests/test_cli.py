@@ -335,3 +335,12 @@ def test_a_result_line_is_one_line_in_a_pipe(capsys: pytest.CaptureFixture[str])
     line = "explored after 385.6 s, 142 goals (1 given up), 100.0 % of the explorable space (the simulator's)"
     print_line(line)
     assert capsys.readouterr().out == line + "\n"
+
+
+def test_the_summary_table_has_no_oracle_column_without_the_oracle(tmp_path: Path) -> None:
+    """With --no-oracle the column was printed empty."""
+    args = ["evaluate", "--methods", "nearest", "--worlds", "office", "--episodes", "1", "--no-oracle",
+            "--backend", "serial", "--pictures", "0", "--no-progress", "--out", str(tmp_path / "run")]  # fmt: skip
+    result = CliRunner().invoke(app, args)
+    assert result.exit_code == 0, result.output
+    assert "p Holm" in result.stdout and "time / oracle" not in result.stdout

@@ -130,19 +130,16 @@ def _print_summary(summary: ExperimentSummary, title: str, baseline: str) -> Non
     labels = short_labels(methods)
     ends = unfinished({name: e.end_reasons or {} for name, e in methods.items()}, labels)
     table = Table(title=title, caption="not explored: " + "; ".join(ends) if ends else None, caption_justify="left")
-    for column in ("method", "mean time (s)", "time vs baseline", "p Holm", "time / oracle", "done"):
+    with_oracle = any(e.oracle_ratio is not None for e in methods.values())  # none without the oracle's run
+    columns = ("method", "mean time (s)", "time vs baseline", "p Holm", *(("time / oracle",) if with_oracle else ()))
+    for column in (*columns, "done"):
         table.add_column(column, justify="left" if column == "method" else "right", no_wrap=column == "method")
     for name, e in methods.items():
         compared = name != baseline and e.reduction_pct is not None
         change = f"{0.0 - (e.reduction_pct or 0.0) + 0.0:+.1f} %" if compared else "baseline"  # + 0.0: no "-0.0"
-        table.add_row(
-            labels[name],
-            f"{e.mean_time_s:.1f}",
-            change,
-            f"{e.p_holm:.2g}" if e.p_holm is not None else "",  # none for the baseline and the oracle
-            f"{e.oracle_ratio:.2f}" if e.oracle_ratio is not None else "",
-            f"{e.episodes_done}/{e.n}",
-        )
+        ratio = (f"{e.oracle_ratio:.2f}" if e.oracle_ratio is not None else "",) if with_oracle else ()
+        p_holm = f"{e.p_holm:.2g}" if e.p_holm is not None else ""  # none for the baseline and the oracle
+        table.add_row(labels[name], f"{e.mean_time_s:.1f}", change, p_holm, *ratio, f"{e.episodes_done}/{e.n}")
     stdout_console().print(table)
 
 
