@@ -273,6 +273,32 @@ def test_a_failing_episode_keeps_every_other_one(tmp_path: Path, monkeypatch: py
     assert len(_rows(out)) == 4
 
 
+def test_a_policy_file_that_failed_every_episode_may_be_fixed_and_run_again(tmp_path: Path) -> None:
+    """Its file's hash was kept with no row of it, and the rerun after the fix was refused as
+    results of another version of its code."""
+    policy = tmp_path / "mine.py"
+    broken = (
+        "import numpy as np\n"
+        "from frontier_rl import Ranking\n"
+        "class Mine:\n"
+        "    name = 'mine'\n"
+        "    def rank(self, context, rng):\n"
+        "        raise RuntimeError('boom inside rank')\n"
+    )
+    policy.write_text(broken)
+    config, out = _config(("fixed:0.75", f"{policy}:Mine"), episodes=1), tmp_path / "exp"
+    with pytest.raises(EpisodeFailedError, match="boom inside rank"):
+        evaluate(config, out, backend="serial", progress=False)
+    policy.write_text(
+        broken.replace("raise RuntimeError('boom inside rank')", "return Ranking(np.arange(len(context.frontiers)))")
+    )
+    evaluate(config, out, backend="serial", progress=False)
+    assert sorted(row["method"] for row in _rows(out)) == sorted(["fixed:0.75", f"{policy}:Mine"])
+    policy.write_text(policy.read_text() + "# changed again\n")  # now it has a row: refused
+    with pytest.raises(ConfigError, match="from another version of its model file or policy code"):
+        evaluate(config, out, backend="serial", progress=False)
+
+
 def test_a_folder_of_other_files_is_refused(tmp_path: Path) -> None:
     out = tmp_path / "mine"
     out.mkdir()

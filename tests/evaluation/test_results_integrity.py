@@ -476,6 +476,8 @@ def test_many_differences_are_counted_not_all_listed(tmp_path: Path) -> None:
 def test_a_changed_model_file_shows_both_fingerprints(tmp_path: Path) -> None:
     method = "learned:" + "models/" * 10 + "m.zip"
     ResultStore(tmp_path, _identity(methods={method: f"{method}#sha256:aaaaaaaaaaaaaaaa"})).close()
+    row = [method if column == "method" else "" for column in ROW_COLUMNS]  # a row of it: then a change counts
+    (tmp_path / "episodes.csv").write_text(",".join(ROW_COLUMNS) + "\n" + ",".join(row) + "\n")
     with pytest.raises(ConfigError, match="from another version of its model file or policy code") as caught:
         ResultStore(tmp_path, _identity(methods={method: f"{method}#sha256:bbbbbbbbbbbbbbbb"}))
     assert "aaaaaaaa" in str(caught.value) and "bbbbbbbb" in str(caught.value)

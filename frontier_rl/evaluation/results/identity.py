@@ -10,7 +10,7 @@ from __future__ import annotations
 
 import hashlib
 import json
-from collections.abc import Mapping
+from collections.abc import Collection, Mapping
 from dataclasses import dataclass, replace
 from pathlib import Path
 from typing import TypeVar
@@ -93,13 +93,17 @@ class ExperimentIdentity:
         return hashlib.sha256(text.encode("utf-8")).hexdigest()
 
 
-def merged_identity(out: Path, stored: Mapping[str, object], identity: ExperimentIdentity) -> ExperimentIdentity:
+def merged_identity(
+    out: Path, stored: Mapping[str, object], identity: ExperimentIdentity, with_rows: Collection[str]
+) -> ExperimentIdentity:
     """``identity`` with the methods of the identity ``stored`` in folder ``out`` added, where the two
     agree (``stored``: an ``experiment.json`` object that :meth:`ExperimentIdentity.from_json` reads).
+    A method of no row there (``with_rows``: those of some) may have changed: every episode of one
+    that failed is still to run, with the policy file fixed.
 
     Raises:
         ConfigError: a setting differs (each named with its value there and now, up to a few), or
-            a method's fingerprint does (its model file changed).
+            the fingerprint of a method with rows does (its model file or policy code changed).
     """
     now = identity.to_json()
     parts = [*now, *(part for part in stored if part not in now)]
@@ -117,7 +121,7 @@ def merged_identity(out: Path, stored: Mapping[str, object], identity: Experimen
     old_methods = _methods(stored)
     for method, fingerprint in identity.methods.items():
         old = old_methods.get(method)
-        if old is not None and old != fingerprint:
+        if old is not None and old != fingerprint and method in with_rows:
             there, here = contrast(old, fingerprint)
             raise ConfigError(
                 f"--out {str(out)!r} holds results of {short_repr(method)} from another version of its model "

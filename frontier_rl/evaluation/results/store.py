@@ -33,6 +33,7 @@ previous end of the file, and rewrites go through a temporary file renamed into 
 
 from __future__ import annotations
 
+import csv
 import json
 from collections.abc import Mapping
 from pathlib import Path
@@ -106,6 +107,12 @@ class ResultStore:
             self.close()
             raise
 
+    def _methods_with_rows(self) -> set[str]:
+        """The methods ``episodes.csv`` has rows of (each row read and checked by :meth:`_load`)."""
+        column = ROW_COLUMNS.index("method")
+        rows = csv.reader(line for _, line in complete_lines(self.csv_path)[1:])  # the first: the header
+        return {row[column] for row in rows if len(row) > column}
+
     def _acquire_lock(self) -> IO[bytes] | None:
         """An exclusive lock on the folder for this store's lifetime: two runs appending to the
         same files would interleave their rows."""
@@ -137,7 +144,7 @@ class ResultStore:
                 stored = read_identity_json(self.identity_path)
             except ConfigError as problem:
                 raise ConfigError(f"{problem}; choose another --out") from None
-            identity = merged_identity(self.out, stored, identity)
+            identity = merged_identity(self.out, stored, identity, self._methods_with_rows())
         elif any(not _ours(path.name) for path in self.out.iterdir()):
             raise ConfigError(f"--out {str(self.out)!r} holds other files and no experiment.json: choose another --out")
         self.identity = identity
