@@ -143,6 +143,19 @@ def _print_summary(summary: ExperimentSummary, title: str, baseline: str) -> Non
     stdout_console().print(table)
 
 
+def _method_names(methods: str, robots: str, strategy: str) -> list[str]:
+    """``evaluate``'s methods, each run by every team size of ``robots`` under every strategy; a
+    warning where ``--strategy`` is given but no team runs."""
+    from frontier_rl.evaluation.running.methods import team_methods
+
+    strategies = [parse_strategy(s) for s in comma_list(strategy)]
+    sizes = int_list("--robots", robots)
+    names = team_methods(policy_list(methods), sizes, strategies)
+    if all(n == 1 for n in sizes) and strategies != [Strategy.UNCOORDINATED]:
+        print_warning("--strategy acts between robots: with --robots 1 it is ignored (POLICY@N:STRATEGY names its own)")
+    return names
+
+
 @friendly_errors
 def evaluate(
     methods: Annotated[str, typer.Option(help="Comma-separated policies, e.g. fixed:0.75,learned:models/model5.zip")],
@@ -175,13 +188,8 @@ def evaluate(
     resolution = checked_run_arguments(seed, out, resolution)
     from frontier_rl import api
     from frontier_rl.evaluation.running.evaluate import parse_thresholds
-    from frontier_rl.evaluation.running.methods import team_methods
 
-    strategies = [parse_strategy(s) for s in comma_list(strategy)]
-    sizes = int_list("--robots", robots)
-    names = team_methods(policy_list(methods), sizes, strategies)
-    if all(n == 1 for n in sizes) and strategies != [Strategy.UNCOORDINATED]:
-        print_warning("--strategy acts between robots: with --robots 1 it is ignored (POLICY@N:STRATEGY names its own)")
+    names = _method_names(methods, robots, strategy)
     with _resumable(out):
         summary = api.evaluate(
             names,
