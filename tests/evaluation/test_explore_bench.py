@@ -18,6 +18,7 @@ from frontier_rl.evaluation.protocols.explore_bench import (
     explore_bench_maps,
     explore_bench_rows,
     run_explore_bench,
+    run_explore_bench_all,
 )
 from frontier_rl.io import save_ros_map
 from frontier_rl.policies import make_policy
@@ -121,3 +122,6 @@ def test_the_oracle_runs_alone_but_not_in_a_team(tmp_path: Path) -> None:
     assert run_explore_bench("oracle", room, 0, 1).t_total_s is not None
     with pytest.raises(ConfigError, match="cannot run in a team"):
         run_explore_bench("oracle", room, 0, 2)
+    # the whole protocol refuses it before any run (it ran every run, then counted the teams' failed)
+    with pytest.raises(ConfigError, match="cannot run in a team"):
+        run_explore_bench_all(["nearest", "oracle"], [room], 1, [1, 2], workers=1)

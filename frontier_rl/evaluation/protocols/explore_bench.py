@@ -24,6 +24,7 @@ from __future__ import annotations
 import math
 from collections.abc import Sequence
 from dataclasses import dataclass
+from functools import partial
 from pathlib import Path
 
 import numpy as np
@@ -179,7 +180,8 @@ def run_explore_bench_all(
     """Every method with every team size on every map from starts 0..seeds-1, in ``workers``
     processes: the runs, and a line for each run that failed (the others are kept)."""
     jobs = [(m, p, s, n) for m in methods for n in robots for p in maps for s in range(seeds)]
-    return run_jobs(run_explore_bench, jobs, workers)
+    # a policy of one robot's tour of the true map (the oracle) is refused before any run, not after
+    return run_jobs(run_explore_bench, jobs, workers, partial(check_team_policy, robots=max(robots)))
 
 
 @dataclass(frozen=True)

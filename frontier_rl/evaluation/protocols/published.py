@@ -29,7 +29,7 @@ from typing import Any, Generic, TypeVar
 import numpy as np
 
 from frontier_rl.core.sim.config import SimConfig
-from frontier_rl.core.sim.episode import run_episode
+from frontier_rl.core.sim.episode import ExplorationPolicy, run_episode
 from frontier_rl.core.world.robot import Pose
 from frontier_rl.core.world.worlds import World, make_world
 from frontier_rl.errors import ConfigError, MapError, caused_by_interrupt, short_path
@@ -133,15 +133,19 @@ def _failure_line(job: tuple[Any, ...], exc: BaseException) -> str:
 
 
 def run_jobs(
-    run: Callable[..., R], jobs: Sequence[tuple[Any, ...]], workers: int | None = None
+    run: Callable[..., R],
+    jobs: Sequence[tuple[Any, ...]],
+    workers: int | None = None,
+    check_policy: Callable[[ExplorationPolicy], object] = lambda policy: None,
 ) -> tuple[list[R], list[str]]:
     """``run(*job)`` for every job, in ``workers`` spawned processes (default: every core; ``run``
     must be a module-level function): the results in job order, and a line for each job that
     failed (the others are kept). A job's first argument is its method: every method is built
-    once first, so that an unknown one or a bad model file fails before any work."""
+    once first and passed to ``check_policy``, so that an unknown one, a bad model file or a policy
+    the protocol cannot run fails before any work."""
     check_workers(workers)
     for method in dict.fromkeys(job[0] for job in jobs):
-        make_policy(method)
+        check_policy(make_policy(method))
     workers = max(1, min(workers or default_workers(), len(jobs)))
     catching = _Catching(run)
     if workers == 1:
