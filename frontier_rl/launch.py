@@ -74,7 +74,7 @@ class CommandInterrupts:
                 os.write(2, b"interrupted again: ended at once\n")
                 os._exit(130)
             return
-        if _in_import(frame) or _in_numba(frame):
+        if _in_fragile_code(frame):
             if not self.deferred:
                 self.deferred = True
                 signal.setitimer(signal.ITIMER_REAL, REDELIVER_S)
@@ -90,21 +90,13 @@ class CommandInterrupts:
             signal.raise_signal(signal.SIGINT)
 
 
-def _in_numba(frame: FrameType | None) -> bool:
-    """Whether ``frame`` or a caller of it is numba's own Python code (a compiled kernel's callback,
-    the compiler)."""
-    marker = f"{os.sep}numba{os.sep}"
+def _in_fragile_code(frame: FrameType | None) -> bool:
+    """Whether ``frame`` or a caller of it is importlib's machinery or numba's own Python code (a
+    compiled kernel's callback, the compiler): where an interrupt must wait."""
+    numba = f"{os.sep}numba{os.sep}"
     while frame is not None:
-        if marker in frame.f_code.co_filename:
-            return True
-        frame = frame.f_back
-    return False
-
-
-def _in_import(frame: FrameType | None) -> bool:
-    """Whether ``frame`` or a caller of it is importlib's machinery."""
-    while frame is not None:
-        if frame.f_code.co_filename.startswith("<frozen importlib._bootstrap"):
+        name = frame.f_code.co_filename
+        if name.startswith("<frozen importlib._bootstrap") or numba in name:
             return True
         frame = frame.f_back
     return False

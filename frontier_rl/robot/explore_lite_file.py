@@ -15,8 +15,13 @@ from frontier_rl.errors import ConfigError, SettingError
 from frontier_rl.robot.explorer_params import ExplorerParams, time_cap_of_parameter
 from frontier_rl.safe_yaml import load_yaml_file
 
+_SETTING_TYPES: dict[str, type] = {
+    setting.name: typing.get_type_hints(ExplorerParams)[setting.name] for setting in fields(ExplorerParams)
+}
+"""Each setting of :class:`ExplorerParams` and its type."""
+
 FILE_PARAMETERS: dict[str, type] = {
-    **{setting.name: typing.get_type_hints(ExplorerParams)[setting.name] for setting in fields(ExplorerParams)},
+    **_SETTING_TYPES,
     "visualize": bool,
     "robot_base_frame": str,
 }
@@ -46,7 +51,7 @@ def explore_lite_parameters(path: str | Path) -> tuple[dict[str, Any], list[str]
         for name, value in data.items()
         if name in FILE_PARAMETERS
     }
-    settings = {name: value for name, value in known.items() if name in typing.get_type_hints(ExplorerParams)}
+    settings = {name: value for name, value in known.items() if name in _SETTING_TYPES}
     if "time_cap" in settings:
         settings["time_cap"] = time_cap_of_parameter(settings["time_cap"])
     try:
