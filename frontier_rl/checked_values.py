@@ -25,6 +25,14 @@ def enum_member(kind: type[_E], value: object, where: str) -> _E:
         raise ConfigError(f"{where} must be one of {names}, got {short_repr(value)}") from None
 
 
+def check_weight(weight: float) -> float:
+    """``weight`` (eq. 3.1's w) as a float, or a :class:`ConfigError` if it is not in [0, 1]."""
+    w = float(weight)
+    if not (0.0 <= w <= 1.0):  # also rejects NaN
+        raise ConfigError(f"weight must be in [0, 1], got {weight!r}")
+    return w
+
+
 def not_a_boolean(value: object) -> str:
     """What is wrong with ``value`` where a boolean must be: "must be true or false (a boolean), got ..."
     (text such as "false" named as text: it would be true)."""

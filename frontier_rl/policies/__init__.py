@@ -17,7 +17,9 @@ _NAMES = {
     ),
     "OracleTour": "frontier_rl.policies.oracle",
     "make_policy": "frontier_rl.policies.registry",
-    **dict.fromkeys(("POLICY_NAMES", "PolicyKind", "PolicySpec", "ENTRY_POINT_GROUP"), "frontier_rl.policies.spec"),
+    **dict.fromkeys(
+        ("POLICY_NAMES", "BuiltinPolicy", "PolicyKind", "PolicySpec", "ENTRY_POINT_GROUP"), "frontier_rl.policies.spec"
+    ),
     "FrontierTour": "frontier_rl.policies.tour",
     "installed_policies": "frontier_rl.policies.user_policies",
 }
@@ -26,6 +28,7 @@ _NAMES = {
 __all__ = [
     "ENTRY_POINT_GROUP",
     "POLICY_NAMES",
+    "BuiltinPolicy",
     "ExploreLite",
     "FixedWeight",
     "FrontierTour",
@@ -52,6 +55,6 @@ if TYPE_CHECKING:
     )
     from frontier_rl.policies.oracle import OracleTour
     from frontier_rl.policies.registry import make_policy
-    from frontier_rl.policies.spec import ENTRY_POINT_GROUP, POLICY_NAMES, PolicyKind, PolicySpec
+    from frontier_rl.policies.spec import ENTRY_POINT_GROUP, POLICY_NAMES, BuiltinPolicy, PolicyKind, PolicySpec
     from frontier_rl.policies.tour import FrontierTour
     from frontier_rl.policies.user_policies import installed_policies

@@ -6,9 +6,9 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from frontier_rl.checked_values import check_weight
 from frontier_rl.core.frontiers.ranking import (
     ExploreLiteParams,
-    check_weight,
     explore_lite_cost,
     information_gain_cost,
     largest_cost,

@@ -6,7 +6,6 @@ from collections.abc import Callable
 from pathlib import Path
 
 from frontier_rl.core.sim.episode import ExplorationPolicy
-from frontier_rl.errors import ConfigError, short_repr
 from frontier_rl.policies.baselines import (
     ExploreLite,
     FixedWeight,
@@ -16,18 +15,17 @@ from frontier_rl.policies.baselines import (
     RandomFrontier,
 )
 from frontier_rl.policies.oracle import OracleTour
-from frontier_rl.policies.spec import PolicyKind, PolicySpec, unknown_policy
+from frontier_rl.policies.spec import BuiltinPolicy, PolicySpec
 from frontier_rl.policies.tour import FrontierTour
 from frontier_rl.policies.user_policies import build_user_policy
 
-_SIMPLE: dict[str, Callable[[], ExplorationPolicy]] = {
-    "nearest": NearestFrontier,
-    "largest": LargestFrontier,
-    "explore-lite": ExploreLite,
-    "info-gain": InformationGain,
-    "random": RandomFrontier,
-    "oracle": OracleTour,
-    "tour": FrontierTour,
+_SIMPLE: dict[BuiltinPolicy, Callable[[], ExplorationPolicy]] = {
+    BuiltinPolicy.NEAREST: NearestFrontier,
+    BuiltinPolicy.LARGEST: LargestFrontier,
+    BuiltinPolicy.EXPLORE_LITE: ExploreLite,
+    BuiltinPolicy.INFO_GAIN: InformationGain,
+    BuiltinPolicy.RANDOM: RandomFrontier,
+    BuiltinPolicy.ORACLE: OracleTour,
 }
 
 __all__ = ["make_policy"]
@@ -44,31 +42,18 @@ def make_policy(spec: str | PolicySpec, trust_model: bool = False) -> Exploratio
         FrontierRLError: a bad spec, weight, model file or user policy, in one line naming it.
     """
     parsed = spec if isinstance(spec, PolicySpec) else PolicySpec.parse(spec)
-    if parsed.kind is not PolicyKind.BUILTIN:
-        return build_user_policy(parsed)
-    text = str(parsed)
-    if parsed.name == "learned":
-        if not parsed.argument:
-            raise ConfigError(f"learned:PATH needs a model file, got {short_repr(text)}")
-        from frontier_rl.policies.learned import LearnedPolicy  # torch only when asked for
+    match parsed.builtin:
+        case None:
+            return build_user_policy(parsed)
+        case BuiltinPolicy.LEARNED:
+            from frontier_rl.policies.learned import LearnedPolicy  # torch only when asked for
 
-        return LearnedPolicy(Path(parsed.argument), trust=trust_model)
-    if parsed.name == "fixed":
-        try:
-            weight = float(parsed.argument)
-        except ValueError:
-            raise ConfigError(f"fixed:W needs a weight in [0, 1], got {short_repr(text)}") from None
-        try:
-            return FixedWeight(weight)
-        except ConfigError as exc:
-            raise ConfigError(f"{short_repr(text)}: {exc}") from None
-    if parsed.name == "tour" and parsed.argument:
-        if not (parsed.argument.isascii() and parsed.argument.isdigit()):
-            raise ConfigError(f"tour:N needs a whole number of stops, got {short_repr(text)}")
-        try:
-            return FrontierTour(max_frontiers=int(parsed.argument), name=text)
-        except ConfigError as exc:
-            raise ConfigError(f"{short_repr(text)}: {exc}") from None
-    if parsed.name in _SIMPLE:
-        return _SIMPLE[parsed.name]()
-    raise unknown_policy(text)
+            return LearnedPolicy(Path(parsed.argument), trust=trust_model)
+        case BuiltinPolicy.FIXED:
+            assert parsed.weight is not None
+            return FixedWeight(parsed.weight)
+        case BuiltinPolicy.TOUR:
+            assert parsed.stops is not None
+            return FrontierTour(max_frontiers=parsed.stops, name=str(parsed))
+        case builtin:
+            return _SIMPLE[builtin]()

@@ -14,21 +14,47 @@ Parsing only reads the text; :func:`~frontier_rl.policies.make_policy` loads and
 from __future__ import annotations
 
 import re
-from dataclasses import dataclass, replace
+from dataclasses import dataclass, field, replace
 from enum import StrEnum
 from pathlib import Path
 
+from frontier_rl.checked_values import check_weight
+from frontier_rl.core.navigation.config import MAX_STOPS
 from frontier_rl.errors import ConfigError, UnknownNameError, short_repr
 
-SIMPLE_POLICIES: tuple[str, ...] = ("nearest", "largest", "explore-lite", "info-gain", "random", "oracle", "tour")
+
+class BuiltinPolicy(StrEnum):
+    """The policies this project ships, as the command line names them (``fixed``, ``tour`` and
+    ``learned`` with their argument: ``fixed:0.75``, ``tour:4``, ``learned:models/model7.zip``)."""
+
+    NEAREST = "nearest"
+    LARGEST = "largest"
+    EXPLORE_LITE = "explore-lite"
+    INFO_GAIN = "info-gain"
+    RANDOM = "random"
+    ORACLE = "oracle"
+    TOUR = "tour"
+    FIXED = "fixed"
+    LEARNED = "learned"
+
+
+_NEEDS_ARGUMENT = {
+    BuiltinPolicy.FIXED: "fixed:W needs a weight in [0, 1]",
+    BuiltinPolicy.LEARNED: "learned:PATH needs a model file",
+}
+"""Built-in policies that must be written ``NAME:ARGUMENT``, and what each needs."""
+
+_TAKES_ARGUMENT = {**_NEEDS_ARGUMENT, BuiltinPolicy.TOUR: "tour:N needs a whole number of stops"}
+"""Built-in policies that may be written ``NAME:ARGUMENT`` (``tour`` alone is ``tour:10``)."""
+
+SIMPLE_POLICIES: tuple[str, ...] = tuple(p.value for p in BuiltinPolicy if p not in _NEEDS_ARGUMENT)
 """The built-in policies named without an argument."""
 
-_PARAMETERISED = {
-    "fixed": "fixed:W needs a weight in [0, 1]",
-    "tour": "tour:N needs a whole number of stops",
-    "learned": "learned:PATH needs a model file",
-}
-"""Built-in policies written ``NAME:ARGUMENT`` (a weight, a number of stops, a model file), and what each needs."""
+BUILTIN_NAMES: frozenset[str] = frozenset(p.value for p in BuiltinPolicy)
+"""Every built-in policy's name (``fixed`` and ``learned`` without their argument)."""
+
+TOUR_STOPS = 10
+"""The stops of the tour ``tour`` plans without an argument (``tour`` is ``tour:10``)."""
 
 POLICY_NAMES: tuple[str, ...] = (*SIMPLE_POLICIES, "fixed:W", "tour:N", "learned:PATH.zip")
 """The built-in policies as the command line's help lists them."""
@@ -62,34 +88,54 @@ class PolicyKind(StrEnum):
 
 @dataclass(frozen=True)
 class PolicySpec:
-    """A parsed policy spec (see the module docstring for the four kinds).
+    """A parsed policy spec (see the module docstring for the four kinds). A built-in policy's argument
+    is checked and typed when the spec is made: :attr:`builtin`, :attr:`weight`, :attr:`stops`.
 
     Attributes:
         kind: where the policy comes from.
         name: a built-in policy's name (``fixed``, ``learned``, ``nearest``, ...); a policy file's path as
             given; a module's dotted name; an entry point's name.
-        argument: a built-in policy's argument (``0.75``, ``4``, a model file; "" for none); for a file or
-            a module, the name of the class or factory in it (dotted for a nested one); "" for an entry point.
+        argument: a built-in policy's argument as written (``0.75``, ``4``, a model file; "" for none); for
+            a file or a module, the name of the class or factory in it (dotted for a nested one); "" for an
+            entry point.
+        builtin: the built-in policy; None for the user's own.
+        weight: ``fixed:W``'s weight W, in [0, 1]; None for any other policy.
+        stops: ``tour:N``'s number of stops N (:data:`TOUR_STOPS` for ``tour``); None for any other policy.
+
+    Raises:
+        ConfigError: a built-in policy whose argument is missing or bad (naming the spec).
+        UnknownNameError: a built-in kind whose name is no built-in policy, or that takes no argument
+            and has one.
     """
 
     kind: PolicyKind
     name: str
     argument: str = ""
+    builtin: BuiltinPolicy | None = field(init=False, repr=False)
+    weight: float | None = field(init=False, repr=False)
+    stops: int | None = field(init=False, repr=False)
+
+    def __post_init__(self) -> None:
+        builtin = _builtin(self) if self.kind is PolicyKind.BUILTIN else None
+        object.__setattr__(self, "builtin", builtin)
+        object.__setattr__(self, "weight", _weight(str(self)) if builtin is BuiltinPolicy.FIXED else None)
+        object.__setattr__(self, "stops", _stops(str(self)) if builtin is BuiltinPolicy.TOUR else None)
 
     @classmethod
     def parse(cls, text: str) -> PolicySpec:
         """The spec ``text`` names (surrounding blanks ignored).
 
         Raises:
-            ConfigError: ``fixed:``, ``tour:`` or ``learned:`` without its argument, a file without its
-                class, or a file or module without a valid class name after its last colon.
+            ConfigError: ``fixed:``, ``tour:`` or ``learned:`` without its argument or with a bad one (a
+                weight out of [0, 1], stops out of 1 to :data:`MAX_STOPS`), a file without its class, or a
+                file or module without a valid class name after its last colon.
             UnknownNameError: text that is none of the four kinds (an empty one, ``nearest:3``, ...).
         """
         spec = text.strip()
         head, colon, tail = spec.partition(":")
-        if head in _PARAMETERISED and colon and not tail.strip():
-            raise ConfigError(f"{_PARAMETERISED[head]}, got {short_repr(spec)}")
-        if (head in _PARAMETERISED and colon) or spec in (*SIMPLE_POLICIES, *_PARAMETERISED):
+        if head in _TAKES_ARGUMENT and colon and not tail.strip():
+            raise ConfigError(f"{_TAKES_ARGUMENT[BuiltinPolicy(head)]}, got {short_repr(spec)}")
+        if (head in _TAKES_ARGUMENT and colon) or spec in BUILTIN_NAMES:
             return cls(PolicyKind.BUILTIN, head, tail)
         if not spec:
             raise unknown_policy(spec)
@@ -117,7 +163,7 @@ class PolicySpec:
         """The file the policy is read from: a policy file or a ``learned:`` model file; None otherwise."""
         if self.kind is PolicyKind.FILE:
             return Path(self.name)
-        if self.kind is PolicyKind.BUILTIN and self.name == "learned" and self.argument:
+        if self.builtin is BuiltinPolicy.LEARNED:
             return Path(self.argument)
         return None
 
@@ -133,3 +179,44 @@ class PolicySpec:
             return self
         resolved = str(base_dir / path)
         return replace(self, name=resolved) if self.kind is PolicyKind.FILE else replace(self, argument=resolved)
+
+
+def _builtin(spec: PolicySpec) -> BuiltinPolicy:
+    """The built-in policy ``spec`` names, its argument present where it needs one and absent where it
+    takes none (its value is checked by :func:`_weight` and :func:`_stops`)."""
+    text = str(spec)
+    try:
+        builtin = BuiltinPolicy(spec.name)
+    except ValueError:
+        raise unknown_policy(text) from None
+    if spec.argument and builtin not in _TAKES_ARGUMENT:
+        raise unknown_policy(text)
+    if not spec.argument.strip() and (builtin in _NEEDS_ARGUMENT or spec.argument):
+        raise ConfigError(f"{_TAKES_ARGUMENT[builtin]}, got {short_repr(text)}")
+    return builtin
+
+
+def _weight(text: str) -> float:
+    """The weight of ``fixed:W`` (``text``), a number in [0, 1]."""
+    try:
+        weight = float(text.partition(":")[2])
+    except ValueError:
+        raise ConfigError(f"{_TAKES_ARGUMENT[BuiltinPolicy.FIXED]}, got {short_repr(text)}") from None
+    try:
+        return check_weight(weight)
+    except ConfigError as exc:
+        raise ConfigError(f"{short_repr(text)}: {exc}") from None
+
+
+def _stops(text: str) -> int:
+    """The stops of ``tour:N`` (``text``), a whole number from 1 to :data:`MAX_STOPS`; ``tour``'s
+    :data:`TOUR_STOPS`."""
+    _, colon, argument = text.partition(":")
+    if not colon:
+        return TOUR_STOPS
+    if not (argument.isascii() and argument.isdigit()):
+        raise ConfigError(f"{_TAKES_ARGUMENT[BuiltinPolicy.TOUR]}, got {short_repr(text)}")
+    stops = int(argument)
+    if not 1 <= stops <= MAX_STOPS:
+        raise ConfigError(f"{short_repr(text)}: max_frontiers must be 1 to {MAX_STOPS}, got {stops}")
+    return stops

@@ -18,6 +18,7 @@ from frontier_rl.core.navigation.config import MAX_STOPS
 from frontier_rl.core.navigation.tours import costs_to_stops, open_tour, stop_costs
 from frontier_rl.core.sim.episode import DecisionContext, Ranking
 from frontier_rl.errors import ConfigError
+from frontier_rl.policies.spec import TOUR_STOPS
 
 
 @dataclass(frozen=True)
@@ -27,7 +28,7 @@ class FrontierTour:
     distance where a large map's search stopped before them). The context's robot radius sets the
     blocks a large map is searched on (:func:`~frontier_rl.core.navigation.tours.costs_to_stops`)."""
 
-    max_frontiers: int = 10
+    max_frontiers: int = TOUR_STOPS
     name: str = "tour"
 
     def __post_init__(self) -> None:

@@ -32,7 +32,13 @@ from typing import cast
 from frontier_rl.core.sim.episode import ExplorationPolicy
 from frontier_rl.errors import ConfigError, FrontierRLError, UnknownNameError, short_path, short_repr, short_text
 from frontier_rl.file_digest import file_sha256
-from frontier_rl.policies.spec import ENTRY_POINT_GROUP, SIMPLE_POLICIES, PolicyKind, PolicySpec, unknown_policy
+from frontier_rl.policies.spec import (
+    BUILTIN_NAMES,
+    ENTRY_POINT_GROUP,
+    PolicyKind,
+    PolicySpec,
+    unknown_policy,
+)
 
 _FILE_MODULE_PREFIX = "frontier_rl_user_policy_"
 """Prefix of the ``sys.modules`` names policy files are loaded as (with a hash of their path)."""
@@ -140,7 +146,7 @@ def installed_policies() -> tuple[str, ...]:
     """The names installed packages register under :data:`ENTRY_POINT_GROUP`, sorted; a name of a
     built-in policy is left out (built-in names win)."""
     names = {point.name for point in entry_points(group=ENTRY_POINT_GROUP)}
-    return tuple(sorted(names - set(SIMPLE_POLICIES) - {"fixed", "learned"}))
+    return tuple(sorted(names - BUILTIN_NAMES))
 
 
 def user_policy_fingerprint(spec: PolicySpec) -> str:

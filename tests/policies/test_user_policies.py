@@ -6,6 +6,7 @@ from __future__ import annotations
 
 import json
 import os
+import re
 import subprocess
 import sys
 from pathlib import Path
@@ -21,6 +22,7 @@ from frontier_rl.evaluation.report.method_notes import describe_method
 from frontier_rl.evaluation.running.fingerprints import method_fingerprint
 from frontier_rl.evaluation.running.methods import episode_policy
 from frontier_rl.policies import (
+    BuiltinPolicy,
     NearestFrontier,
     PolicyKind,
     PolicySpec,
@@ -51,6 +53,47 @@ def test_a_spec_is_parsed_once_into_its_kind_and_parts(text: str, kind: PolicyKi
     assert (spec.kind, spec.name, spec.argument) == (kind, name, argument)
     assert PolicySpec.parse(str(spec)) == spec
     assert spec.is_user_code == (kind is not PolicyKind.BUILTIN)
+
+
+@pytest.mark.parametrize(
+    ("text", "builtin", "weight", "stops"),
+    [
+        ("nearest", BuiltinPolicy.NEAREST, None, None),
+        ("explore-lite", BuiltinPolicy.EXPLORE_LITE, None, None),
+        ("fixed:0.75", BuiltinPolicy.FIXED, 0.75, None),
+        ("fixed:1e-1", BuiltinPolicy.FIXED, 0.1, None),
+        ("tour", BuiltinPolicy.TOUR, None, 10),
+        ("tour:4", BuiltinPolicy.TOUR, None, 4),
+        ("learned:m.zip", BuiltinPolicy.LEARNED, None, None),
+        ("my.py:Greedy", None, None, None),
+        ("my-policy", None, None, None),
+    ],
+)
+def test_a_built_in_policy_is_typed_when_parsed(
+    text: str, builtin: BuiltinPolicy | None, weight: float | None, stops: int | None
+) -> None:
+    spec = PolicySpec.parse(text)
+    assert (spec.builtin, spec.weight, spec.stops) == (builtin, weight, stops)
+    assert str(spec) == text  # the method's name as written, whatever the typed values
+
+
+@pytest.mark.parametrize(
+    ("name", "argument", "error", "needle"),
+    [
+        ("fixed", "1.5", ConfigError, "weight must be in [0, 1], got 1.5"),
+        ("fixed", "", ConfigError, "fixed:W needs a weight"),
+        ("tour", "x", ConfigError, "whole number of stops"),
+        ("tour", "0", ConfigError, "1 to 16, got 0"),
+        ("learned", "", ConfigError, "needs a model file"),
+        ("nearest", "3", UnknownNameError, "unknown policy 'nearest:3'"),
+        ("greedy", "", UnknownNameError, "unknown policy 'greedy'"),
+    ],
+)
+def test_a_built_in_spec_made_directly_is_checked_as_a_parsed_one(
+    name: str, argument: str, error: type[Exception], needle: str
+) -> None:
+    with pytest.raises(error, match=re.escape(needle)):
+        PolicySpec(PolicyKind.BUILTIN, name, argument)
 
 
 def test_relative_files_resolve_against_a_base_folder(tmp_path: Path) -> None:

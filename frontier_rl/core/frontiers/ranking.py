@@ -12,6 +12,7 @@ from dataclasses import dataclass
 import numpy as np
 from numpy.typing import NDArray
 
+from frontier_rl.checked_values import check_weight
 from frontier_rl.core.frontiers.detection import Frontiers
 from frontier_rl.errors import ConfigError
 
@@ -25,14 +26,6 @@ def normalise(values: NDArray[np.float64]) -> NDArray[np.float64]:
     if high - low <= 1e-12:
         return np.zeros_like(values)
     return (values - low) / (high - low)
-
-
-def check_weight(weight: float) -> float:
-    """``weight`` as a float, or a :class:`ConfigError` if it is not in [0, 1]."""
-    w = float(weight)
-    if not (0.0 <= w <= 1.0):  # also rejects NaN
-        raise ConfigError(f"weight must be in [0, 1], got {weight!r}")
-    return w
 
 
 def weighted_cost(frontiers: Frontiers, weight: float) -> NDArray[np.float64]:

@@ -8,27 +8,24 @@ from pathlib import Path
 
 from frontier_rl.core.frontiers.thesis import THESIS_WEIGHT
 from frontier_rl.errors import FrontierRLError, short_repr, short_text
-from frontier_rl.evaluation.running.methods import ORACLE
 from frontier_rl.file_digest import file_sha256
-from frontier_rl.policies import PolicySpec
-from frontier_rl.policies.tour import FrontierTour
+from frontier_rl.policies import BuiltinPolicy, PolicySpec
 from frontier_rl.policies.user_policies import describe_user_policy, user_policy_fingerprint
 from frontier_rl.registration import MODELS
 from frontier_rl.swarm.config import Strategy, TeamMethod
 
-_POLICIES = {
-    "nearest": "Drives to the nearest frontier, by straight-line distance (Yamauchi 1997; eq. 3.1 with w = 1).",
-    "largest": "Drives to the largest frontier (eq. 3.1 with w = 0).",
-    "explore-lite": "explore_lite's rule (m-explore): cost = potential_scale · distance − gain_scale · size, "
-    "small frontiers skipped.",
-    "info-gain": "Most unknown cells revealed per scan, discounted by distance: gain · exp(−λ·d) "
+_POLICIES: dict[BuiltinPolicy | None, str] = {
+    BuiltinPolicy.NEAREST: "Drives to the nearest frontier, by straight-line distance "
+    "(Yamauchi 1997; eq. 3.1 with w = 1).",
+    BuiltinPolicy.LARGEST: "Drives to the largest frontier (eq. 3.1 with w = 0).",
+    BuiltinPolicy.EXPLORE_LITE: "explore_lite's rule (m-explore): cost = potential_scale · distance "
+    "− gain_scale · size, small frontiers skipped.",
+    BuiltinPolicy.INFO_GAIN: "Most unknown cells revealed per scan, discounted by distance: gain · exp(−λ·d) "
     "(González-Baños and Latombe).",
-    "random": "A uniformly random frontier at every decision.",
-    ORACLE: "Knows the true map: plans a tour of viewpoints that sees all of it and drives it with the same "
-    "robot, sensor and navigation. A reference, not a method a robot could run.",
+    BuiltinPolicy.RANDOM: "A uniformly random frontier at every decision.",
+    BuiltinPolicy.ORACLE: "Knows the true map: plans a tour of viewpoints that sees all of it and drives it "
+    "with the same robot, sensor and navigation. A reference, not a method a robot could run.",
 }
-TOUR_STOPS = FrontierTour().max_frontiers
-"""The stops of ``tour`` without a number."""
 _STRATEGIES = {
     Strategy.UNCOORDINATED: "each robot ranks the frontiers of its own merged map",
     Strategy.COORDINATED: "teammates' goals lower a frontier's utility (Burgard et al. 2000)",
@@ -63,22 +60,22 @@ def describe_method(method: str, base_dir: Path | None = None) -> MethodNote:
 def _policy(spec: PolicySpec, base_dir: Path) -> tuple[str, str]:
     if spec.is_user_code:
         return _user(spec.against(base_dir))
-    if spec.name == "fixed":
-        weight = float(spec.argument)
+    if spec.builtin is BuiltinPolicy.FIXED:
+        weight = spec.weight
         baseline = " (the thesis's baseline)" if weight == THESIS_WEIGHT else ""
         return (
             "Ranks frontiers by eq. 3.1, cost = w·d + (1−w)·(1−g), with a constant weight.",
             f"w = {weight:g}{baseline}",
         )
-    if spec.name == "learned":
+    if spec.builtin is BuiltinPolicy.LEARNED:
         return _learned(base_dir / spec.argument)
-    if spec.name == "tour":
+    if spec.builtin is BuiltinPolicy.TOUR:
         return (
             "Drives to the first stop of the shortest open tour (Held-Karp, on planner path costs) through the "
             "frontiers cheapest to reach, as FUEL (Zhou et al. 2021) and TARE (Cao et al. 2021) order theirs.",
-            f"{spec.argument or TOUR_STOPS} stops",
+            f"{spec.stops} stops",
         )
-    return _POLICIES.get(str(spec), "A policy of this project."), ""
+    return _POLICIES.get(spec.builtin, "A policy of this project."), ""
 
 
 def _user(spec: PolicySpec) -> tuple[str, str]:

@@ -12,6 +12,7 @@ from pathlib import Path
 from frontier_rl.errors import ConfigError, UnknownNameError
 from frontier_rl.evaluation.results.summary import MethodSummary, PairedSummary
 from frontier_rl.evaluation.statistics.paired import PairedStats
+from frontier_rl.policies.spec import BuiltinPolicy
 from frontier_rl.swarm.config import TeamMethod
 
 
@@ -70,7 +71,7 @@ def _short(name: str) -> str:
     except (ConfigError, UnknownNameError):  # not a method (a world's file name)
         return _short_text(name)
     policy = method.policy
-    learned = policy.name == "learned" and policy.argument
+    learned = policy.builtin is BuiltinPolicy.LEARNED
     short = f"learned:{Path(policy.argument).stem}" if learned else _short_text(str(policy))
     return short if method.robots is None else method.label(short)
 

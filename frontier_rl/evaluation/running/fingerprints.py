@@ -13,7 +13,7 @@ from frontier_rl.core.world.catalog import WORLD_GENERATORS
 from frontier_rl.errors import ConfigError, model_file_label, short_repr
 from frontier_rl.evaluation.results.identity import ExperimentIdentity, TeamIdentity
 from frontier_rl.file_digest import file_sha256
-from frontier_rl.policies.spec import PolicySpec
+from frontier_rl.policies.spec import BuiltinPolicy, PolicySpec
 from frontier_rl.policies.user_policies import user_policy_fingerprint
 from frontier_rl.swarm import TeamMethod
 from frontier_rl.world_spec import read_map
@@ -33,7 +33,7 @@ def _policy_fingerprint(method: str, spec: PolicySpec) -> str:
     if spec.is_user_code:
         extra = user_policy_fingerprint(spec)
         return f"{method}#{extra}" if extra else method
-    if spec.name != "learned":
+    if spec.builtin is not BuiltinPolicy.LEARNED:
         return method
     path = Path(spec.argument)
     if not path.is_file():

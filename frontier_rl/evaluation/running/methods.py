@@ -9,13 +9,13 @@ from typing import TYPE_CHECKING
 
 from frontier_rl.core.sim.episode import ExplorationPolicy
 from frontier_rl.errors import ConfigError
-from frontier_rl.policies import PolicySpec, make_policy
+from frontier_rl.policies import BuiltinPolicy, PolicySpec, make_policy
 from frontier_rl.swarm import Failure, Strategy, TeamConfig, TeamMethod
 
 if TYPE_CHECKING:
     from frontier_rl.evaluation.running.experiment import ExperimentConfig
 
-ORACLE = "oracle"
+ORACLE: str = BuiltinPolicy.ORACLE.value
 """The full-knowledge reference every report measures methods against."""
 
 
@@ -77,7 +77,7 @@ def episode_policy(method: str | PolicySpec, trust_model: bool) -> ExplorationPo
 
 @lru_cache(maxsize=32)
 def _policy_version(spec: PolicySpec, trust_model: bool, version: tuple[int, int] | None) -> ExplorationPolicy:
-    if spec.name == "learned":
+    if spec.builtin is BuiltinPolicy.LEARNED:
         import torch
 
         torch.set_num_threads(1)  # one episode per core; a tiny network gains nothing from threads

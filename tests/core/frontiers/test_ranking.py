@@ -8,10 +8,10 @@ from collections.abc import Callable
 import numpy as np
 import pytest
 
+from frontier_rl.checked_values import check_weight
 from frontier_rl.core.frontiers.detection import Frontiers
 from frontier_rl.core.frontiers.ranking import (
     ExploreLiteParams,
-    check_weight,
     explore_lite_cost,
     information_gain_cost,
     largest_cost,
