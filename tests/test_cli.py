@@ -9,7 +9,7 @@ import pytest
 from typer.testing import CliRunner
 
 from frontier_rl.cli import app
-from frontier_rl.cli.output import print_line
+from frontier_rl.cli.output import print_line, print_table
 from frontier_rl.errors import ConfigError
 from frontier_rl.evaluation.running.experiment import ExperimentConfig
 from tests.evaluation.maps import write_slit_map
@@ -335,6 +335,20 @@ def test_a_result_line_is_one_line_in_a_pipe(capsys: pytest.CaptureFixture[str])
     line = "explored after 385.6 s, 142 goals (1 given up), 100.0 % of the explorable space (the simulator's)"
     print_line(line)
     assert capsys.readouterr().out == line + "\n"
+
+
+def test_a_table_is_whole_in_a_pipe(capsys: pytest.CaptureFixture[str]) -> None:
+    """A long method name was cut to fit 80 columns ("sub/folder/my_poli…") where no terminal gave a width."""
+    from rich.table import Table
+
+    method = "policies/of/a/study/my_policy_with_a_long_name.py:NearestCellWithALongName@3:coordinated"
+    table = Table(title="methods")
+    for column in ("method", "mean time (s)", "time vs baseline", "p Holm", "time / oracle", "done"):
+        table.add_column(column, no_wrap=column == "method")
+    table.add_row(method, "1,234.5", "+12.3 %", "0.0012", "1.23", "30/30")
+    print_table(table)
+    out = capsys.readouterr().out
+    assert method in out and "30/30" in out and "…" not in out
 
 
 def test_the_summary_table_has_no_oracle_column_without_the_oracle(tmp_path: Path) -> None:

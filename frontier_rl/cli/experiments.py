@@ -28,8 +28,8 @@ from frontier_rl.cli.output import (
     policy_list,
     print_line,
     print_note,
+    print_table,
     print_warning,
-    stdout_console,
 )
 from frontier_rl.core.frontiers.thesis import THESIS_BASELINE
 from frontier_rl.swarm import Failure, Strategy, parse_strategy
@@ -140,7 +140,7 @@ def _print_summary(summary: ExperimentSummary, title: str, baseline: str) -> Non
         ratio = (f"{e.oracle_ratio:.2f}" if e.oracle_ratio is not None else "",) if with_oracle else ()
         p_holm = f"{e.p_holm:.2g}" if e.p_holm is not None else ""  # none for the baseline and the oracle
         table.add_row(labels[name], f"{e.mean_time_s:.1f}", change, p_holm, *ratio, f"{e.episodes_done}/{e.n}")
-    stdout_console().print(table)
+    print_table(table)
 
 
 def _method_names(methods: str, robots: str, strategy: str) -> list[str]:

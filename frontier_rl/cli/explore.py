@@ -19,7 +19,7 @@ from frontier_rl.cli.options import (
     checked_comm_range,
     sim_config,
 )
-from frontier_rl.cli.output import friendly_errors, print_warning, stdout_console
+from frontier_rl.cli.output import friendly_errors, print_table, print_warning
 from frontier_rl.core.frontiers.thesis import THESIS_BASELINE
 from frontier_rl.core.world.robot import parse_pose
 from frontier_rl.core.world.scale import checked_resolution
@@ -166,7 +166,7 @@ def _print_episode(world: str, seed: int, policy: str, result: EpisodeResult, as
     table.add_column("value", justify="right")
     for key, value in summary.items():
         table.add_row(key, _table_value(value))
-    stdout_console().print(table)
+    print_table(table)
 
 
 def _table_value(value: object) -> str:

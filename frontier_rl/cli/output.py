@@ -19,6 +19,7 @@ from frontier_rl.errors import ConfigError, FrontierRLError, caused_by_interrupt
 
 if TYPE_CHECKING:  # rich loads when a command prints: help and argument checks need none of it
     from rich.console import Console
+    from rich.table import Table
 
 #: Longest message the error printer writes (characters); the rest is cut.
 MESSAGE_LIMIT = 600
@@ -52,6 +53,16 @@ def print_line(text: str) -> None:
     """``text`` on standard output as it is, never wrapped: a pipe or a file gets one line (Rich
     wrapped at 80 columns where no terminal gave a width), a terminal wraps it itself."""
     stdout_console().print(text, soft_wrap=True)
+
+
+def print_table(table: Table) -> None:
+    """``table`` on standard output: at a terminal's width; whole to a pipe or a file (Rich cut its
+    columns, a long method name among them, to 80 columns where no terminal gave a width)."""
+    console = stdout_console()
+    if not console.is_terminal:
+        whole = console.measure(table, options=console.options.update_width(10_000)).maximum
+        console.width = max(console.width, whole)
+    console.print(table)
 
 
 def one_line(text: str, limit: int = MESSAGE_LIMIT) -> str:

@@ -14,7 +14,7 @@ import typer
 
 from frontier_rl.atomic_write import write_text_atomic
 from frontier_rl.cli.options import WorkersOption
-from frontier_rl.cli.output import OneLineGroup, friendly_errors, int_list, policy_list, stdout_console
+from frontier_rl.cli.output import OneLineGroup, friendly_errors, int_list, policy_list, print_table, stdout_console
 from frontier_rl.errors import ConfigError, short_repr
 from frontier_rl.swarm.config import MAX_ROBOTS
 
@@ -57,8 +57,8 @@ def ariadne(
     runs, failures = run_protocol(names, files, workers)
     _some_finished(runs, failures)
     rows = summary_rows(runs, names)
+    print_table(_ariadne_table(rows, f"ARiADNE protocol on {maps} ({len(files)} maps)"))
     console = stdout_console()
-    console.print(_ariadne_table(rows, f"ARiADNE protocol on {maps} ({len(files)} maps)"))
     for row in rows:  # as ARiADNE's test driver prints them
         console.print(
             f"{row.method}: |#Total test: {row.tests} |#Average length: {row.average_length_px:.2f} "
@@ -102,7 +102,7 @@ def explore_bench(
     runs, failures = bench.run_explore_bench_all(names, blueprints, seeds, sizes, workers)
     _some_finished(runs, failures)
     rows = bench.explore_bench_rows(runs)
-    stdout_console().print(_explore_bench_table(rows, seeds))
+    print_table(_explore_bench_table(rows, seeds))
     _finish(json_out, {"protocol": "explore-bench", "maps": maps}, rows, runs, failures)
 
 
