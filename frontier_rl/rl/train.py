@@ -41,6 +41,7 @@ from frontier_rl.rl.model_file import (
 )
 from frontier_rl.rl.networks import PRIVILEGED_HEAD
 from frontier_rl.rl.teacher import TeacherLabels
+from frontier_rl.run_folders import RunKind, refuse_other_runs
 from frontier_rl.worker_signals import ignore_interrupts, spawning_workers
 from frontier_rl.world_spec import world_entries
 
@@ -72,6 +73,7 @@ def latest_checkpoint(run: Path) -> tuple[Path, int] | None:
 
 def _check_run_dir(config: TrainConfig, out: Path, resume: bool) -> int:
     """Prepare ``out``; returns the step count to start from (0, or the last checkpoint's)."""
+    refuse_other_runs(out, RunKind.TRAINING)
     saved_path = out / "config.yaml"
     if saved_path.exists():
         if not resume:

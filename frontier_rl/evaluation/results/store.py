@@ -58,6 +58,7 @@ from frontier_rl.evaluation.results.files import (
 from frontier_rl.evaluation.results.identity import ExperimentIdentity, merged_identity
 from frontier_rl.evaluation.results.row_checksums import RowChecksum, row_checksum, sha256_hex
 from frontier_rl.evaluation.running.experiment import EpisodeJob
+from frontier_rl.run_folders import RunKind, refuse_other_runs
 
 _QUOTE_CHARS = 60
 """Values from files are quoted in messages up to this many characters."""
@@ -85,6 +86,7 @@ class ResultStore:
         self.out = Path(out)
         if self.out.exists() and not self.out.is_dir():
             raise ConfigError(f"--out {str(self.out)!r} is a file, not a folder")
+        refuse_other_runs(self.out, RunKind.EVALUATION)
         self.out.mkdir(parents=True, exist_ok=True)
         self.csv_path = self.out / "episodes.csv"
         self.trace_path = self.out / "traces.jsonl"

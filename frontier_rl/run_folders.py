@@ -1,0 +1,47 @@
+"""The kinds of folder the commands write their runs into (``--out``), told apart by the files each
+writes first, so that a command refuses a folder another kind of run holds rather than mixing its
+files with that run's (a training run's ``config.yaml`` and checkpoints among an evaluation's rows).
+"""
+
+from __future__ import annotations
+
+from enum import StrEnum
+from pathlib import Path
+
+from frontier_rl.errors import ConfigError, short_path
+
+
+class RunKind(StrEnum):
+    """What a run folder holds, as a message names it."""
+
+    EVALUATION = "an evaluation's results"
+    TRAINING = "a training run"
+
+
+_EVALUATION_FILES = ("experiment.json", "episodes.csv")
+"""An evaluation writes ``experiment.json`` before its first row, and ``episodes.csv`` with it."""
+
+_TRAINING_CONFIG = "config.yaml"
+_TRAINING_FILES = ("checkpoints", "tb", "model.zip", "training_time.txt")
+"""A training run writes ``config.yaml`` first, then one of these (a ``config.yaml`` alone may be
+anyone's)."""
+
+
+def run_kind(folder: Path) -> RunKind | None:
+    """The kind of run ``folder`` holds, or None (no folder, an empty one, or other files)."""
+    if any((folder / name).exists() for name in _EVALUATION_FILES):
+        return RunKind.EVALUATION
+    if (folder / _TRAINING_CONFIG).is_file() and any((folder / name).exists() for name in _TRAINING_FILES):
+        return RunKind.TRAINING
+    return None
+
+
+def refuse_other_runs(folder: Path, kind: RunKind, option: str = "--out") -> None:
+    """Nothing, unless ``folder`` holds a run of a kind other than ``kind``.
+
+    Raises:
+        ConfigError: naming the folder and what it holds.
+    """
+    held = run_kind(folder)
+    if held is not None and held is not kind:
+        raise ConfigError(f"{option} {short_path(folder)} holds {held}; choose another folder for {kind}")
