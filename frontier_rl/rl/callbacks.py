@@ -57,12 +57,16 @@ class ValidationCallback(BaseCallback):
         self._next = 0
 
     def _on_training_start(self) -> None:
-        self._next = (self.num_timesteps // self.every + 1) * self.every
+        last = 0  # the decisions of the last validation written
         if self.csv_path.exists():  # a resumed run: keep the best so far
             with self.csv_path.open() as source:
                 rows = list(csv.DictReader(source))
             if rows:
                 self.best = min(float(r["mean_time_s"]) for r in rows)
+                last = max(int(r["timesteps"]) for r in rows)
+        # The next validation due; a resumed run's first step makes up for one that an interrupt cut
+        # short after the checkpoint it resumes from was written.
+        self._next = min(self.num_timesteps // self.every + 1, last // self.every + 1) * self.every
 
     def _on_step(self) -> bool:
         if self.num_timesteps < self._next:

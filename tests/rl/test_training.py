@@ -18,6 +18,7 @@ from frontier_rl.core.world.catalog import generate_world
 from frontier_rl.errors import ConfigError, TrainingDivergedError
 from frontier_rl.inference.model_file import METADATA_ENTRY, read_metadata
 from frontier_rl.policies import make_policy
+from frontier_rl.rl.callbacks import ValidationCallback
 from frontier_rl.rl.config import TrainConfig
 from frontier_rl.rl.model_file import load_policy, save_model
 from frontier_rl.rl.train import interruption_note, latest_checkpoint, train
@@ -77,6 +78,14 @@ class _Interrupt(BaseCallback):
         return True
 
 
+def test_a_training_run_is_not_written_into_an_evaluation_folder(tmp_path: Path) -> None:
+    """Its config.yaml, checkpoints and model went in among the evaluation's rows."""
+    (tmp_path / "episodes.csv").write_text("method,world,seed\n")
+    with pytest.raises(ConfigError, match="holds an evaluation's results"):
+        train(_config(4), tmp_path, progress=False)
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["episodes.csv"]
+
+
 def test_interrupted_run_resumes_from_its_last_checkpoint(tmp_path: Path) -> None:
     run = tmp_path / "run"
     config = _config(4, timesteps=96, eval_every=0, checkpoint_every=32)
@@ -116,6 +125,24 @@ def test_an_interrupted_runs_best_model_is_a_model_file(tmp_path: Path) -> None:
     best = read_metadata(run / "best_model.zip")
     assert best is not None and best.model == 5 and best.timesteps in (32, 64)
     assert make_policy(f"learned:{run / 'best_model.zip'}").name
+
+
+@pytest.mark.parametrize(
+    ("rows", "resumed_at", "due"),
+    [((), 0, 32), ((32,), 64, 64), ((33, 64), 64, 96), ((), 64, 32), ((32, 64), 80, 96)],
+)
+def test_a_resumed_run_makes_up_for_a_validation_an_interrupt_cut_short(
+    tmp_path: Path, rows: tuple[int, ...], resumed_at: int, due: int
+) -> None:
+    """A Ctrl-C during the validation at 64 decisions, after that step's checkpoint, lost the point:
+    the run resumed at 64 validated next at 96."""
+    csv_path = tmp_path / "validation.csv"
+    if rows:
+        csv_path.write_text("timesteps,mean_time_s,times\n" + "".join(f"{r},300.0,300.0\n" for r in rows))
+    callback = ValidationCallback(None, 32, 1, csv_path, tmp_path / "best_model.zip", None)  # type: ignore[arg-type]
+    callback.num_timesteps = resumed_at
+    callback._on_training_start()
+    assert callback._next == due
 
 
 class _RecordSim(BaseCallback):
