@@ -185,9 +185,12 @@ class Status:
 
 
 def parse_request(text: str, count: int) -> tuple[str, str]:
-    """(namespace, request id) from a request's text: ``tb3_0`` or ``tb3_0 17``; the id defaults to
-    the node's running ``count``."""
+    """(namespace, request id) from a request's text: ``tb3_0`` or ``tb3_0 17``; for one robot without
+    a namespace, ``17`` (no ROS name starts with a digit) or ``/ 17``. The id defaults to the node's
+    running ``count``."""
     words = text.strip().split()
+    if words and words[0][0].isdigit():
+        words.insert(0, "")
     robot = words[0].strip("/") if words else ""
     return robot, (words[1] if len(words) > 1 else str(count))
 
