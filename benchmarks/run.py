@@ -369,6 +369,18 @@ def machine_info() -> dict[str, str]:
     }
 
 
+def rounded(value: object, digits: int = 6) -> object:
+    """``value`` with every float in it cut to ``digits`` significant digits: a timer's last digits
+    are noise, and a JSON file of them reads as if they were not."""
+    if isinstance(value, float):
+        return float(f"{value:.{digits}g}")
+    if isinstance(value, dict):
+        return {key: rounded(item, digits) for key, item in value.items()}
+    if isinstance(value, list):
+        return [rounded(item, digits) for item in value]
+    return value
+
+
 def table(rows: list[Row]) -> str:
     """The results as a Markdown table."""
     lines = ["| metric | value | target | ok? |", "|---|---|---|---|"]
@@ -415,7 +427,7 @@ def main(argv: list[str] | None = None) -> int:
     if args.json:
         payload = {"machine": info, "quick": args.quick, "runtime_s": total,
                    "results": [asdict(row) | {"ok": row.ok} for row in rows]}  # fmt: skip
-        write_text_atomic(args.json, json.dumps(payload, indent=2) + "\n")
+        write_text_atomic(args.json, json.dumps(rounded(payload), indent=2, ensure_ascii=False) + "\n")
     return 0
 
 

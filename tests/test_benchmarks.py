@@ -35,6 +35,11 @@ def test_the_frontier_benchmark_runs_and_tabulates(bench: ModuleType) -> None:
     assert bench.table(rows).count("\n") == len(rows) + 1
 
 
+def test_the_json_report_keeps_six_significant_digits(bench: ModuleType) -> None:
+    payload = {"runtime_s": 107.84208977900562, "results": [{"value": 0.08563399751437828, "target": 10, "ok": True}]}
+    assert bench.rounded(payload) == {"runtime_s": 107.842, "results": [{"value": 0.085634, "target": 10, "ok": True}]}
+
+
 def test_the_large_map_rows_are_skipped_without_the_real_maps(bench: ModuleType, tmp_path: Path) -> None:
     assert bench.bench_large_map(1, tmp_path) == []
 
