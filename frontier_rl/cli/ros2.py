@@ -17,6 +17,7 @@ from frontier_rl.cli.options import MAX_SEED, WORLD_HELP, fail
 from frontier_rl.cli.output import OneLineGroup, friendly_errors, print_line, print_note
 from frontier_rl.errors import SettingError
 from frontier_rl.robot.explorer_params import ExplorerParams, setting_help, time_cap_of_parameter
+from frontier_rl.ros2.explorer_options import ExplorerNodeOptions
 from frontier_rl.seeds import checked_seed
 from frontier_rl.swarm.config import MAX_ROBOTS  # ros2 sim runs as many robots as a team of explore
 
@@ -246,31 +247,23 @@ def explore(
         robot_base_frame=robot_base_frame,
     )
     params, visualize, pose_source = _explorer_settings(ctx, params_file or [], options, (pose_type, pose_topic))
-    node = _node_options(namespace, teammates, goal_silence_timeout)
+    try:
+        node = ExplorerNodeOptions(
+            namespace=namespace,
+            teammates=tuple(teammates.split(",")) if teammates.strip() else (),
+            pose_source=pose_source,
+            visualize=visualize,
+            use_sim_time=use_sim_time,
+            seed=seed,
+            goal_silence_timeout=goal_silence_timeout,
+            policy_name=policy,
+            ros_args=ros_args,
+        )
+    except SettingError as error:
+        fail(f"{_option(error.setting)} {error.problem}")
     _need_ros2()
-    _check_ros_names({"--namespace": [namespace], "--teammates": node["teammates"]}, pose_source)
-    _explore_with(
-        policy,
-        params,
-        json_out,
-        **node,
-        pose_source=pose_source,
-        visualize=visualize,
-        use_sim_time=use_sim_time,
-        seed=seed,
-        ros_args=ros_args,
-    )
-
-
-def _node_options(namespace: str, teammates: str, goal_silence_timeout: float) -> dict[str, Any]:
-    """The explorer node's options that need a check: one line naming a bad one."""
-    if not (math.isfinite(goal_silence_timeout) and goal_silence_timeout > 0):
-        fail(f"--goal-silence-timeout must be a positive number of seconds, got {goal_silence_timeout!r}")
-    return {
-        "namespace": namespace,
-        "teammates": _teammates(teammates, namespace),
-        "goal_silence_timeout": goal_silence_timeout,
-    }
+    _check_ros_names({"--namespace": [namespace], "--teammates": node.teammates}, pose_source)
+    _explore_with(policy, params, node, json_out)
 
 
 def _explorer_settings(
@@ -303,16 +296,6 @@ def _option(setting: str) -> str:
     return "--" + setting.replace("_", "-")
 
 
-def _teammates(value: str, namespace: str) -> tuple[str, ...]:
-    """``--teammates`` as namespaces (``tb3_1,tb3_2``): each once, none empty, not this robot's."""
-    if not value.strip():
-        return ()
-    names = [name.strip().strip("/") for name in value.split(",")]
-    if "" in names or namespace.strip("/") in names or len(set(names)) < len(names):
-        fail(f"--teammates must name other robots' namespaces, each once, got {value!r}")
-    return tuple(names)
-
-
 def _ros_args(extra: list[str]) -> tuple[str, ...]:
     """The arguments after the options: ROS's (``--ros-args ...``) or none; anything else is an
     option this command does not know."""
@@ -321,9 +304,9 @@ def _ros_args(extra: list[str]) -> tuple[str, ...]:
     return tuple(extra)
 
 
-def _explore_with(policy: str, params: ExplorerParams, json_out: bool, **node: Any) -> None:
-    """Run the explorer with ``policy`` and the ``node``'s options; print how it ended (exit
-    status 130 if it was interrupted)."""
+def _explore_with(policy: str, params: ExplorerParams, node: ExplorerNodeOptions, json_out: bool) -> None:
+    """Run the explorer with ``policy``, its settings ``params`` and the ``node``'s options; print how
+    it ended (exit status 130 if it was interrupted)."""
     from frontier_rl.policies.registry import make_policy
     from frontier_rl.robot.explorer import check_robot_policy
     from frontier_rl.ros2.explorer_status import ExplorerState
@@ -331,7 +314,7 @@ def _explore_with(policy: str, params: ExplorerParams, json_out: bool, **node: A
 
     the_policy = make_policy(policy)
     check_robot_policy(the_policy, policy)
-    status, summary = run_explorer(the_policy, params, policy_name=policy, **node)
+    status, summary = run_explorer(the_policy, params, node)
     if json_out:
         print(status.to_json())
     else:

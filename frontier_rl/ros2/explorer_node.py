@@ -14,7 +14,6 @@ from __future__ import annotations
 
 import math
 import time
-from collections.abc import Sequence
 from typing import Any
 
 from action_msgs.msg import GoalStatus as ActionStatus
@@ -37,6 +36,7 @@ from frontier_rl.robot.explorer import Finished, FrontierExplorer, Goal
 from frontier_rl.robot.map_merge import merged_map, misfit
 from frontier_rl.robot.pose_source import PoseKind, PoseSource
 from frontier_rl.robot.throttled_log import ThrottledLog
+from frontier_rl.ros2.explorer_options import ExplorerNodeOptions
 from frontier_rl.ros2.explorer_parameters import ExplorerSettings, declare_explorer_parameters
 from frontier_rl.ros2.explorer_status import ExplorerState, ExplorerStatus
 from frontier_rl.ros2.messages import MAP_QOS, frontier_markers, grid_message, grid_of, pose_stamped
@@ -56,18 +56,9 @@ class ExplorerNode(Node):
 
     Args:
         explorer: the decisions (its policy and settings).
-        pose_source: where the robot's pose in the map comes from: a pose or odometry topic, or ``tf``
-            (:class:`~frontier_rl.robot.pose_source.PoseSource`).
-        visualize: publish the frontiers and the goal as RViz markers on ``explore/frontiers``.
-        namespace: the robot's namespace.
-        goal_silence_timeout: a goal that Nav2 says nothing of (no response, feedback or result) for
-            this long (wall s) is dropped, not blacklisted: its action server went away.
-        policy_name: the policy as given, shown as the read-only parameter ``policy``.
-        teammates: the namespaces of robots whose maps (``/NAMESPACE/map``, in this robot's map
-            frame) are merged into this one's (:func:`~frontier_rl.robot.map_merge.merged_map`):
-            the explorer does not send the robot where a teammate has been. The merged map is
-            published on ``explore/merged_map`` (latched, as map_server's) at each planner tick:
-            a robot's Nav2 plans on it with its global costmap's static layer reading that topic.
+        options: its names, pose source, markers and goal timeout
+            (:class:`~frontier_rl.ros2.explorer_options.ExplorerNodeOptions`; ``use_sim_time``,
+            ``seed`` and ``ros_args`` are :func:`~frontier_rl.ros2.run.run_explorer`'s to apply).
 
     The explorer's settings and ``visualize`` are the node's parameters
     (:mod:`frontier_rl.ros2.explorer_parameters`): ``--ros-args`` overrides them, ``ros2 param set``
@@ -77,23 +68,16 @@ class ExplorerNode(Node):
         ConfigError: a parameter overridden with a bad value.
     """
 
-    def __init__(
-        self,
-        explorer: FrontierExplorer,
-        pose_source: PoseSource | None = None,
-        visualize: bool = True,
-        namespace: str = "",
-        goal_silence_timeout: float = 10.0,
-        policy_name: str = "",
-        teammates: Sequence[str] = (),
-    ) -> None:
-        super().__init__("frontier_rl_explorer", namespace=namespace)
+    def __init__(self, explorer: FrontierExplorer, options: ExplorerNodeOptions | None = None) -> None:
+        options = options or ExplorerNodeOptions()
+        teammates = options.teammates
+        super().__init__("frontier_rl_explorer", namespace=options.namespace)
         self.explorer = explorer
-        given = ExplorerSettings(explorer.params, visualize)
-        self._settings = declare_explorer_parameters(self, given, policy_name or explorer.policy.name)
+        given = ExplorerSettings(explorer.params, options.visualize)
+        self._settings = declare_explorer_parameters(self, given, options.policy_name or explorer.policy.name)
         explorer.params, self.visualize = self._settings.params, self._settings.visualize
         self.add_on_set_parameters_callback(self._on_parameters)
-        self.goal_silence_timeout = goal_silence_timeout
+        self.goal_silence_timeout = options.goal_silence_timeout
         self._grid: OccupancyGrid | None = None
         self._coverage: float | None = None  # until a simulator publishes it
         self._warnings = ThrottledLog(_WARN_PERIOD_S)  # bad messages, per topic
@@ -108,7 +92,7 @@ class ExplorerNode(Node):
                 lambda message, name=teammate: self._on_teammate_map(name, message),
                 MAP_QOS,
             )
-        source = pose_source or PoseSource()
+        source = options.pose_source or PoseSource()
         self._poses = PoseListener(self, source, self._warn)
         self._pose_from = (
             f"tf from the map to {source.base_frame}"

@@ -29,6 +29,7 @@ from frontier_rl.robot.pose_source import PoseSource
 from frontier_rl.robot.ranking_service import RankingService, ServiceSettings
 from frontier_rl.robot.sim_robot import SimulatedRobot
 from frontier_rl.ros2.explorer_node import ExplorerNode
+from frontier_rl.ros2.explorer_options import ExplorerNodeOptions
 from frontier_rl.ros2.explorer_status import ExplorerState, ExplorerStatus
 from frontier_rl.ros2.ranking_node import RankingNode
 from frontier_rl.ros2.sim_node import SimNode
@@ -185,35 +186,24 @@ def run_ranking(settings: ServiceSettings, pose_source: PoseSource | None = None
 
 
 def run_explorer(
-    policy: ExplorationPolicy,
-    params: ExplorerParams,
-    *,
-    namespace: str = "",
-    pose_source: PoseSource | None = None,
-    visualize: bool = True,
-    use_sim_time: bool = False,
-    seed: int = 0,
-    goal_silence_timeout: float = 10.0,
-    policy_name: str = "",
-    ros_args: Sequence[str] = (),
-    teammates: Sequence[str] = (),
+    policy: ExplorationPolicy, params: ExplorerParams, options: ExplorerNodeOptions | None = None
 ) -> tuple[ExplorerStatus, str]:
-    """Explore with ``policy`` through Nav2 (:class:`ExplorerNode`) until the map is explored (or
-    Ctrl-C, SIGTERM: then the goal under way is cancelled, and the robot stops): the explorer's
-    last status (``state`` is ``finished`` unless it was interrupted) and its summary line.
-    ``seed`` seeds the policy's randomness as an in-process episode of that seed does;
-    ``ros_args`` (``--ros-args ...``) go to ROS: parameter overrides, remappings; the maps of
-    the robots in ``teammates`` (namespaces) are merged into this one's.
+    """Explore with ``policy`` and its settings ``params`` through Nav2 (:class:`ExplorerNode`, run as
+    ``options`` say) until the map is explored (or Ctrl-C, SIGTERM: then the goal under way is
+    cancelled, and the robot stops): the explorer's last status (``state`` is ``finished`` unless it
+    was interrupted) and its summary line.
 
     Raises:
-        ConfigError: ``ros_args`` override a parameter with a bad value.
+        ConfigError: the options' ``ros_args`` override a parameter with a bad value, or name what
+            ROS does not allow.
     """
-    _, policy_rng = np.random.default_rng(seed).spawn(2)
+    options = options or ExplorerNodeOptions()
+    _, policy_rng = np.random.default_rng(options.seed).spawn(2)
     explorer = FrontierExplorer(policy, params, rng=policy_rng)
     with _ros_setup_errors():
-        rclpy.init(args=["frontier-rl", *ros_args], signal_handler_options=SignalHandlerOptions.NO)
-        node = ExplorerNode(explorer, pose_source, visualize, namespace, goal_silence_timeout, policy_name, teammates)
-    node.set_parameters([Parameter("use_sim_time", Parameter.Type.BOOL, use_sim_time)])
+        rclpy.init(args=["frontier-rl", *options.ros_args], signal_handler_options=SignalHandlerOptions.NO)
+        node = ExplorerNode(explorer, options)
+    node.set_parameters([Parameter("use_sim_time", Parameter.Type.BOOL, options.use_sim_time)])
     executor = SingleThreadedExecutor()
     executor.add_node(node)
     stop, cancelled = threading.Event(), False
