@@ -449,6 +449,20 @@ DIFFS: dict[str, tuple[ExperimentIdentity, str]] = {
 }  # fmt: skip
 
 
+def test_a_refused_folder_keeps_a_last_line_without_its_newline(tmp_path: Path) -> None:
+    """A run refused for another configuration cut the folder's last row off (its newline dropped by
+    an editor), as a torn line is cut once a run takes the folder."""
+    ResultStore(tmp_path, _identity()).close()
+    csv_path = tmp_path / "episodes.csv"
+    csv_path.write_text(",".join(ROW_COLUMNS) + "\n" + "a row an editor left without its newline")
+    before = _snapshot(tmp_path)
+    with pytest.raises(ConfigError, match="different configuration"):
+        ResultStore(tmp_path, _identity(seed=1))
+    assert _snapshot(tmp_path) == before
+    ResultStore(tmp_path, _identity()).close()  # taken: the torn line is cut, so the next row starts a line
+    assert csv_path.read_bytes().endswith(b"\n") and b"editor" not in csv_path.read_bytes()
+
+
 @pytest.mark.parametrize("case", list(DIFFS))
 def test_a_refused_configuration_shows_both_sides_differently(tmp_path: Path, case: str) -> None:
     changed, path = DIFFS[case]

@@ -84,17 +84,26 @@ def keyed_lines(
 
 def complete_lines(path: Path) -> list[tuple[int, str]]:
     """The file's complete, non-blank lines with their numbers (from 1; a Windows line end is
-    dropped); a torn last line (no newline: the writer was killed) is cut off the file, so that
-    the next append starts on a fresh line."""
+    dropped), without a torn last line (no newline: the writer was killed); the file is left as it
+    is (:func:`cut_torn_line` cuts that line once the folder is taken)."""
     if not path.exists():
         return []
+    data = read_result_file(path)
+    end = data.rfind(b"\n") + 1
+    text = decode_utf8(path, data[:end])
+    return [(i, line.removesuffix("\r")) for i, line in enumerate(text.split("\n"), start=1) if line.strip()]
+
+
+def cut_torn_line(path: Path) -> None:
+    """Cut a torn last line (no newline: the writer was killed, its episode runs again) off the file,
+    so that the next append starts on a fresh line."""
+    if not path.exists():
+        return
     data = read_result_file(path)
     end = data.rfind(b"\n") + 1
     if end < len(data):
         with path.open("r+b") as handle:
             handle.truncate(end)
-    text = decode_utf8(path, data[:end])
-    return [(i, line.removesuffix("\r")) for i, line in enumerate(text.split("\n"), start=1) if line.strip()]
 
 
 def append_synced(path: Path, text: str) -> None:

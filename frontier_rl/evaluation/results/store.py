@@ -51,6 +51,7 @@ from frontier_rl.evaluation.results.files import (
     KeyedLine,
     append_synced,
     complete_lines,
+    cut_torn_line,
     decode_utf8,
     keyed_lines,
     read_result_file,
@@ -103,6 +104,8 @@ class ResultStore:
         try:
             self._check_identity(identity)
             self._load(adopt_unchecked)
+            for path in (self.csv_path, self.trace_path, self.checksum_path):
+                cut_torn_line(path)
             # written once the rows are checked: a refused folder keeps its experiment.json as it was
             write_text_atomic(self.identity_path, json.dumps(self.identity.to_json(), indent=1) + "\n")
         except BaseException:
