@@ -16,23 +16,34 @@ class RunKind(StrEnum):
 
     EVALUATION = "an evaluation's results"
     TRAINING = "a training run"
+    DEMO = "the demo's output"
 
 
 _EVALUATION_FILES = ("experiment.json", "episodes.csv")
 """An evaluation writes ``experiment.json`` before its first row, and ``episodes.csv`` with it."""
 
 _TRAINING_CONFIG = "config.yaml"
-_TRAINING_FILES = ("checkpoints", "tb", "model.zip", "training_time.txt")
+_TRAINING_FILES = ("checkpoints", "tb", "training_time.txt")
 """A training run writes ``config.yaml`` first, then one of these (a ``config.yaml`` alone may be
 anyone's)."""
+
+_TRAINED_FILES = ("model.zip", "checkpoints")
+"""What a training run leaves that another run must not overwrite, even without its ``config.yaml``
+(a model file downloaded into a folder)."""
+
+_DEMO_FILES = ("config.yaml", "experiment")
+"""The demo's settings and its evaluation's folder, which it rewrites."""
 
 
 def run_kind(folder: Path) -> RunKind | None:
     """The kind of run ``folder`` holds, or None (no folder, an empty one, or other files)."""
     if any((folder / name).exists() for name in _EVALUATION_FILES):
         return RunKind.EVALUATION
-    if (folder / _TRAINING_CONFIG).is_file() and any((folder / name).exists() for name in _TRAINING_FILES):
+    trained = any((folder / name).exists() for name in _TRAINED_FILES)
+    if trained or ((folder / _TRAINING_CONFIG).is_file() and any((folder / n).exists() for n in _TRAINING_FILES)):
         return RunKind.TRAINING
+    if (folder / _TRAINING_CONFIG).is_file() and run_kind(folder / "experiment") is RunKind.EVALUATION:
+        return RunKind.DEMO
     return None
 
 
@@ -45,3 +56,9 @@ def refuse_other_runs(folder: Path, kind: RunKind, option: str = "--out") -> Non
     held = run_kind(folder)
     if held is not None and held is not kind:
         raise ConfigError(f"{option} {short_path(folder)} holds {held}; choose another folder for {kind}")
+    if kind is RunKind.DEMO and held is None and any((folder / name).exists() for name in _DEMO_FILES):
+        names = " and ".join(name for name in _DEMO_FILES if (folder / name).exists())
+        raise ConfigError(
+            f"{option} {short_path(folder)} holds {names}, not written by the demo (which rewrites them); "
+            "choose another folder for the demo"
+        )

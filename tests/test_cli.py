@@ -12,6 +12,7 @@ from frontier_rl.cli import app
 from frontier_rl.cli.output import print_line, print_table
 from frontier_rl.errors import ConfigError
 from frontier_rl.evaluation.running.experiment import ExperimentConfig
+from frontier_rl.run_folders import RunKind, run_kind
 from tests.evaluation.maps import write_slit_map
 
 runner = CliRunner()
@@ -215,6 +216,7 @@ def test_demo_runs_the_compact_experiment_and_draws_every_method(tmp_path: Path)
     charts = len(list((out / "experiment").glob("*.png")))  # box plot, scatter, coverage (and weights)
     assert charts >= 3 and page.count("data:image/png;base64,") == charts + 3 * len(methods)
     assert page.count("data:image/gif;base64,") == 1
+    assert run_kind(out) is RunKind.DEMO  # what a second demo into the folder takes as its own to rewrite
 
 
 def test_demo_outside_the_checkout_says_which_models_it_leaves_out(

@@ -32,6 +32,27 @@ def test_a_folder_is_told_by_the_files_its_run_writes_first(tmp_path: Path) -> N
     assert run_kind(tmp_path) is None
     assert run_kind(_training_run(tmp_path / "train")) is RunKind.TRAINING
     assert run_kind(_evaluation(tmp_path / "eval")) is RunKind.EVALUATION
+    (tmp_path / "downloaded").mkdir()
+    (tmp_path / "downloaded" / "model.zip").write_bytes(b"PK")  # a model file alone is a run's to keep
+    assert run_kind(tmp_path / "downloaded") is RunKind.TRAINING
+    demo = _evaluation(tmp_path / "demo" / "experiment").parent
+    (demo / "config.yaml").write_text("robot: {}\n")
+    assert run_kind(demo) is RunKind.DEMO
+
+
+def test_the_demo_rewrites_only_its_own_folder(tmp_path: Path) -> None:
+    """It deleted OUT/experiment whatever it held and wrote its config.yaml over a training run's."""
+    refuse_other_runs(tmp_path / "new", RunKind.DEMO)
+    with pytest.raises(ConfigError, match="holds a training run; choose another folder for the demo"):
+        refuse_other_runs(_training_run(tmp_path / "train"), RunKind.DEMO)
+    notes = tmp_path / "notes"
+    (notes / "experiment").mkdir(parents=True)
+    (notes / "experiment" / "precious.txt").write_text("mine")
+    with pytest.raises(ConfigError, match="holds experiment, not written by the demo"):
+        refuse_other_runs(notes, RunKind.DEMO)
+    (notes / "config.yaml").write_text("x: 1\n")
+    with pytest.raises(ConfigError, match=r"holds config\.yaml and experiment, not written by the demo"):
+        refuse_other_runs(notes, RunKind.DEMO)
 
 
 def test_another_kind_of_run_is_refused_naming_the_folder(tmp_path: Path) -> None:

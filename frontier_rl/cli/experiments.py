@@ -80,11 +80,13 @@ def demo(
     from frontier_rl.evaluation.running.evaluate import evaluate as run_evaluation
     from frontier_rl.evaluation.running.experiment import ExperimentConfig
     from frontier_rl.evaluation.running.methods import ORACLE
+    from frontier_rl.run_folders import RunKind, refuse_other_runs
 
     learned = [f"learned:{path}" for path in SHIPPED_MODELS if path.is_file()]
     methods = (THESIS_BASELINE, "nearest", "tour", *learned, ORACLE)
     sim = sim_config(None, max_time)
     experiment = ExperimentConfig(methods=methods, worlds=DEMO_WORLDS, episodes=episodes, seed=seed, sim=sim)
+    refuse_other_runs(out, RunKind.DEMO)
     _note_missing_models()
     out.mkdir(parents=True, exist_ok=True)
     results = out / "experiment"

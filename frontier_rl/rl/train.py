@@ -41,7 +41,7 @@ from frontier_rl.rl.model_file import (
 )
 from frontier_rl.rl.networks import PRIVILEGED_HEAD
 from frontier_rl.rl.teacher import TeacherLabels
-from frontier_rl.run_folders import RunKind, refuse_other_runs
+from frontier_rl.run_folders import RunKind, refuse_other_runs, run_kind
 from frontier_rl.worker_signals import ignore_interrupts, spawning_workers
 from frontier_rl.world_spec import world_entries
 
@@ -86,6 +86,8 @@ def _check_run_dir(config: TrainConfig, out: Path, resume: bool) -> int:
         return 0 if checkpoint is None else checkpoint[1]
     if resume:
         raise ConfigError(f"nothing to resume: {str(out)!r} holds no training run")
+    if run_kind(out) is RunKind.TRAINING:  # a model file or checkpoints without their run's config.yaml
+        raise ConfigError(f"{str(out)!r} holds a model.zip or checkpoints of another run; choose another --out")
     out.mkdir(parents=True, exist_ok=True)
     config.dump(saved_path)
     return 0

@@ -86,6 +86,14 @@ def test_a_training_run_is_not_written_into_an_evaluation_folder(tmp_path: Path)
     assert sorted(p.name for p in tmp_path.iterdir()) == ["episodes.csv"]
 
 
+def test_a_model_file_without_its_run_is_not_overwritten(tmp_path: Path) -> None:
+    """A model downloaded into a folder (or a run whose config.yaml was deleted) was overwritten."""
+    (tmp_path / "model.zip").write_bytes(b"a model")
+    with pytest.raises(ConfigError, match=r"holds a model\.zip or checkpoints of another run"):
+        train(_config(4), tmp_path, progress=False)
+    assert (tmp_path / "model.zip").read_bytes() == b"a model"
+
+
 def test_interrupted_run_resumes_from_its_last_checkpoint(tmp_path: Path) -> None:
     run = tmp_path / "run"
     config = _config(4, timesteps=96, eval_every=0, checkpoint_every=32)
