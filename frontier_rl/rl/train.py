@@ -83,6 +83,11 @@ def _check_run_dir(config: TrainConfig, out: Path, resume: bool) -> int:
             differs = [k for k, v in config.to_dict().items() if saved.to_dict()[k] != v]
             raise ConfigError(f"{str(out)!r} holds a run with a different configuration ({', '.join(differs)})")
         checkpoint = latest_checkpoint(out)
+        if checkpoint is not None and checkpoint[1] > config.timesteps:  # a name the run did not write
+            raise ConfigError(
+                f"checkpoint {short_path(checkpoint[0])} claims {checkpoint[1]} decisions, more than the run's "
+                f"{config.timesteps}; remove it to resume from the one before"
+            )
         return 0 if checkpoint is None else checkpoint[1]
     if resume:
         raise ConfigError(f"nothing to resume: {str(out)!r} holds no training run")

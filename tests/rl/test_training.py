@@ -121,6 +121,10 @@ def test_interrupted_run_resumes_from_its_last_checkpoint(tmp_path: Path) -> Non
     before = final.read_bytes(), sorted(p.name for p in run.iterdir())
     assert train(config, run, resume=True, progress=False) == final  # a finished run: nothing left to do
     assert (final.read_bytes(), sorted(p.name for p in run.iterdir())) == before  # its file's hash unchanged
+    forged = run / "checkpoints" / "model_99999999999999_steps.zip"  # its model file's metadata was refused
+    forged.write_bytes((run / "checkpoints" / "model_64_steps.zip").read_bytes())
+    with pytest.raises(ConfigError, match="claims 99999999999999 decisions, more than the run's 96"):
+        train(config, run, resume=True, progress=False)
 
 
 def test_an_interrupted_runs_best_model_is_a_model_file(tmp_path: Path) -> None:
