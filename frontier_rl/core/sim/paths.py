@@ -116,7 +116,8 @@ def point_goal_cell(cand: Candidates, x: float, y: float) -> tuple[int, int] | N
     """The reachable cell of ``cand.grid`` nearest to world point (x, y) (m), a point outside the
     grid taken at its edge; None if no cell is reachable."""
     g = cand.grid
-    row, col = g.world_to_cell(x, y)
+    (x0, y0), (width, height) = g.origin, g.size_m
+    row, col = g.world_to_cell(min(max(x, x0), x0 + width), min(max(y, y0), y0 + height))  # no 1e308 cell
     row, col = min(max(row, 0), g.height - 1), min(max(col, 0), g.width - 1)
     return nearest_cell(cand.reachable, (row, col), max_radius=int(math.ceil(math.hypot(*g.shape))))
 

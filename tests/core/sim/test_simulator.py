@@ -269,6 +269,7 @@ def test_go_to_always_takes_time() -> None:
     assert here.outcome is LegOutcome.REACHED and here.duration_s > 2.0 and here.distance_m == 0.0
     far = sim.go_to(500.0, -500.0)
     assert far.duration_s > 0
+    assert sim.go_to(1e308, -1e308).duration_s > 0  # taken at the map's edge too (it overflowed a cell index)
     before = sim.sim_time
     sim.go_to(sim.pose.x + 1.0, sim.pose.y)
     assert sim.sim_time > before
