@@ -27,7 +27,7 @@ def until_next_scan(
         return min(period, left), np.array([period, pose.x, pose.y, pose.theta, 0.0, 0.0])
     last_pose, last_time = last
     if mapper_cfg.temporal_update > 0:
-        wait = mapper_cfg.temporal_update - 1e-9 - (sim_time - last_time)
+        wait = min(mapper_cfg.temporal_update - 1e-9 - (sim_time - last_time), left)  # no tick count of 1e308 s
         ticks = max(1, math.ceil(wait / period))
         duration = min(ticks * period, left)
     else:

@@ -11,6 +11,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
+from frontier_rl.core.mapping.mapper import MapperConfig
 from frontier_rl.core.sim.config import SimConfig
 from frontier_rl.core.sim.episode import run_episode
 from frontier_rl.core.sim.leg import run_leg
@@ -273,6 +274,14 @@ def test_go_to_always_takes_time() -> None:
     before = sim.sim_time
     sim.go_to(sim.pose.x + 1.0, sim.pose.y)
     assert sim.sim_time > before
+
+
+@pytest.mark.parametrize("every", [1e308, math.inf])
+def test_a_map_update_never_due_by_time_still_runs_to_the_cap(every: float) -> None:
+    """A temporal_update of 1e308 s overflowed the count of LiDAR ticks to wait (a traceback)."""
+    config = SimConfig(mapper=MapperConfig(temporal_update=every), max_sim_time=30.0)
+    result = run_episode(generate_world("office", 0), make_policy("nearest"), config)
+    assert 0 < result.sim_time_s <= 30.0
 
 
 def test_a_leg_run_step_by_step_is_the_same_leg() -> None:
