@@ -341,6 +341,24 @@ def test_bad_input_is_one_line_and_writes_nothing(tmp_path: Path, args: list[str
     assert not out.exists()
 
 
+def test_a_ray_node_that_does_not_start_is_one_line(tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> None:
+    """Ray raises a bare Exception when its local node does not start within 30 s (a loaded machine):
+    it was a traceback."""
+    ray = pytest.importorskip("ray")
+
+    def slow_node(*args: object, **kwargs: object) -> None:
+        raise Exception("The current node timed out during startup. This could happen because ...")
+
+    monkeypatch.setattr(ray, "init", slow_node)
+    args = ["--methods", "nearest", "--backend", "ray", "--episodes", "1", "--workers", "1", "--no-oracle"]
+    result = runner.invoke(app, ["evaluate", "--out", str(tmp_path / "out"), "--no-progress", *args])
+    assert result.exit_code == 2, result.output
+    assert result.output.strip() == (
+        "error: Ray could not start or reach a local instance: The current node timed out during startup. "
+        "This could happen because ..."
+    )
+
+
 def test_outlier_thresholds_parse() -> None:
     assert parse_thresholds("1000, 2000") == (1000.0, 2000.0)
     assert parse_thresholds("") == ()

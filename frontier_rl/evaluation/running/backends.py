@@ -185,7 +185,9 @@ def _ray_tasks(jobs: list[EpisodeJob], settings: EpisodeSettings, workers: int, 
                 ray.init(num_cpus=workers, include_dashboard=False, log_to_driver=False, configure_logging=False)
             else:
                 ray.init(address=address, log_to_driver=False, configure_logging=False)
-        except (ConnectionError, RuntimeError) as exc:
+        except Exception as exc:  # Ray's own: a bare Exception when its node does not start within 30 s
+            with contextlib.suppress(Exception):
+                ray.shutdown()
             where = address or "a local instance"
             raise ConfigError(f"Ray could not start or reach {where}: {str(exc).splitlines()[0]}") from None
     try:
