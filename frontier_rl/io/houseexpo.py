@@ -10,7 +10,8 @@ Files are untrusted input: a file over :data:`MAX_FILE_BYTES`, a polygon of more
 :data:`MAX_VERTICES` vertices or with a coordinate beyond +-:data:`MAX_COORDINATE_M`, a polygon
 whose outline crosses itself (a bow tie, or a figure of eight through one vertex: inside and
 outside are then undefined), one of zero area,
-or a grid of more than :data:`MAX_CELLS` cells is refused with a :class:`MapError` naming the
+a grid of more than :data:`MAX_CELLS` cells, or one whose cells times the polygon's vertices exceed
+:data:`MAX_RASTER_WORK` (minutes of sampling) is refused with a :class:`MapError` naming the
 file. Repeated consecutive vertices are dropped (they add no edge); edges that only touch (a slit
 of zero width) are kept.
 """
@@ -42,6 +43,9 @@ MIN_AREA = 1e-9
 MAX_FILE_BYTES = 16 * 1024 * 1024
 #: Most polygon vertices accepted; the dataset's outlines have hundreds.
 MAX_VERTICES = 10_000
+#: Most vertex-cells (the polygon's vertices times the grid's cells) rasterised: sampling every cell
+#: against every edge takes about a second per 3e8 (the dataset's plans: up to about 3e7).
+MAX_RASTER_WORK = 2_000_000_000
 #: Two edges cross only where each passes more than this (m) to either side of the other's line.
 CROSSING_TOLERANCE_M = 1e-6
 _PAIRS_AT_ONCE = 1_000_000  # edge pairs compared at once (bounded memory)
@@ -315,6 +319,11 @@ def read_houseexpo_plan(
     cols, rows = (max(math.ceil(e / res - 1e-9), 1) for e in extent)
     if rows * cols > MAX_CELLS:
         raise MapError(f"{path}: a {rows} x {cols} grid at resolution {res!r} m is too large")
+    if rows * cols * len(verts) > MAX_RASTER_WORK:
+        raise MapError(
+            f"{path}: a polygon of {len(verts)} vertices on a {rows} x {cols} grid is too much to rasterise "
+            f"(at most {MAX_RASTER_WORK:.0e} vertex-cells); give a coarser resolution or a simpler polygon"
+        )
     return HouseExpoPlan(verts, (float(origin[0]), float(origin[1])), cols, rows, res)
 
 

@@ -203,6 +203,13 @@ def test_too_many_vertices(tmp_path: Path) -> None:
     refused(path, f"{houseexpo.MAX_VERTICES + 1} vertices, more than the {houseexpo.MAX_VERTICES}")
 
 
+def test_too_many_vertices_for_its_grid(tmp_path: Path) -> None:
+    """A 99 m circle of 10,000 vertices (within both limits) was sampled for minutes."""
+    angles = np.linspace(0, 2 * np.pi, houseexpo.MAX_VERTICES, endpoint=False)
+    path = write(tmp_path / "round.json", (99 * np.column_stack((np.cos(angles), np.sin(angles)))).tolist())
+    refused(path, "a polygon of 10000 vertices on a 3980 x 3980 grid is too much to rasterise")
+
+
 def test_too_large_a_file(tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> None:
     monkeypatch.setattr(houseexpo, "MAX_FILE_BYTES", 100)
     path = write(tmp_path / "big.json", [[0, 0], [1, 0], [1, 1], [0, 1]] * 5)
