@@ -57,10 +57,17 @@ class UnseenPlace:
         return f"{where}, the path within {self.path_within_m:.1f} m"
 
 
+MAX_GIF_FRAMES = 300
+"""Most frames an animation keeps (office frames are about 0.5 MB each as a GIF holds them): beyond
+it every other one is dropped and the decisions between frames double, so that an episode of
+thousands of decisions (a policy that stands still until the time cap) animates in bounded memory."""
+
+
 @dataclass
 class EpisodeRecorder:
     """An ``on_decision`` hook for :func:`~frontier_rl.core.sim.episode.run_episode` that keeps the
-    last ranking (for the PNG) and, if ``frames`` is on, a GIF frame per decision.
+    last ranking (for the PNG) and, if ``frames`` is on, a GIF frame per decision (every second,
+    fourth, ... decision once more than :data:`MAX_GIF_FRAMES` would be kept).
 
     Attributes:
         world: the episode's world.
@@ -72,6 +79,8 @@ class EpisodeRecorder:
     frames: bool = False
     scale: int = 2
     _frames: list[Image.Image] = field(default_factory=list, init=False)
+    _decisions: int = field(default=0, init=False)
+    _stride: int = field(default=1, init=False)  # decisions per frame
     _last_centers: NDArray[np.float64] = field(default_factory=lambda: np.zeros((0, 2)), init=False)
     _explorable: NDArray[np.bool_] | None = field(default=None, init=False)
 
@@ -82,11 +91,16 @@ class EpisodeRecorder:
         """Store the ranked frontiers (best first) and, if asked, a frame."""
         self._last_centers = context.frontiers.centers[ranking.order]
         self._explorable = sim.world.explorable  # fitted to the simulated robot: what coverage counts
-        if self.frames:
+        self._decisions += 1
+        if self.frames and (self._decisions - 1) % self._stride == 0:
             caption = f"t = {sim.sim_time:6.1f} s   coverage {100 * sim.coverage:5.1f} %"
             if ranking.weight is not None:
                 caption += f"   w = {ranking.weight:.2f}"
-            self._frames.append(self._picture(context.grid, sim.trajectory(), self._last_centers, caption))
+            picture = self._picture(context.grid, sim.trajectory(), self._last_centers, caption)
+            # as a GIF stores it (Pillow's own conversion on saving): a third of the memory
+            self._frames.append(picture.convert("P", palette=Image.Palette.ADAPTIVE))
+            if len(self._frames) > MAX_GIF_FRAMES:
+                self._frames, self._stride = self._frames[::2], 2 * self._stride
 
     def _picture(
         self,

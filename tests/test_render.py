@@ -8,6 +8,7 @@ import numpy as np
 import pytest
 from PIL import Image
 
+from frontier_rl import recording
 from frontier_rl.core.sim.config import SimConfig
 from frontier_rl.core.sim.episode import run_episode
 from frontier_rl.core.world.catalog import generate_world
@@ -71,6 +72,24 @@ def test_the_final_picture_shows_the_explorable_space_left_unseen_in_amber() -> 
         assert world.grid.in_bounds(*world.grid.world_to_cell(place.x, place.y))
     assert np.hypot(*(path - [places[0].x, places[0].y]).T).min() >= places[0].path_within_m
     assert UnseenPlace(5.26, 7.64, -2.58, 0.33).describe() == "5.3 m² around (7.6, -2.6) m, the path within 0.3 m"
+
+
+def test_an_animation_of_many_decisions_keeps_a_bounded_number_of_frames(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    """A policy that stood still until the time cap made 1,487 frames: 4.5 GB, then a MemoryError."""
+    monkeypatch.setattr(recording, "MAX_GIF_FRAMES", 10)
+    world = generate_world("office", 0)
+    recorder = EpisodeRecorder(world, frames=True)
+    config = SimConfig(max_sim_time=120.0)
+    result = run_episode(world, make_policy("nearest"), config, seed=0, on_decision=recorder)
+    assert result.decisions > 40
+    stride = 1  # thinned to every 2nd, 4th, ... decision, until the frames fit
+    while result.decisions > 10 * stride:
+        stride *= 2
+    assert len(recorder._frames) == len(range(0, result.decisions, stride)) <= 10
+    with Image.open(recorder.save_gif(tmp_path / "a.gif", result, "office")) as gif:
+        assert gif.n_frames == len(recorder._frames) + 1  # and the final picture
 
 
 def test_an_episode_that_leaves_nothing_unseen_names_no_place() -> None:
