@@ -228,9 +228,10 @@ IMAGE_FORMATS = {".png": "PNG", ".gif": "GIF"}
 
 
 def check_output_file(path: str | Path, suffix: str, what: str = "output") -> Path:
-    """``path`` if a picture can be written there, checked before any work is done: it ends in
-    ``suffix`` (".png" or ".gif", any case), is not a folder, and its folder exists and is
-    writable.
+    """``path`` if a file can be written there, checked before any work is done: it ends in
+    ``suffix`` (".png", ".gif", ".json", any case), is not a folder, and its folder is writable (a
+    missing one is made, as ``evaluate --out`` makes its folder, where its nearest existing folder
+    is writable).
 
     Raises:
         ConfigError: otherwise, naming ``what`` and the path (cut to 80 characters).
@@ -241,9 +242,16 @@ def check_output_file(path: str | Path, suffix: str, what: str = "output") -> Pa
     if path.suffix.lower() != suffix:
         raise ConfigError(f"{what} {short_path(path)} must be a {suffix} file name, got suffix {path.suffix!r}")
     folder = path.parent
-    if not folder.is_dir():
-        state = "is a file, not a folder" if folder.exists() else "does not exist"
-        raise ConfigError(f"{what} folder {short_path(folder)} {state}")
+    ancestor = folder
+    while not ancestor.exists() and ancestor != ancestor.parent:
+        ancestor = ancestor.parent
+    if not ancestor.is_dir():
+        raise ConfigError(f"{what} {short_path(path)}: {short_path(ancestor)} is a file, not a folder")
+    if ancestor != folder and os.access(ancestor, os.W_OK | os.X_OK):
+        try:
+            folder.mkdir(parents=True, exist_ok=True)
+        except OSError as error:
+            raise ConfigError(f"{what} folder {short_path(folder)} cannot be made: {error.strerror}") from None
     if not os.access(folder, os.W_OK | os.X_OK):
         raise ConfigError(f"{what} folder {short_path(folder)} is not writable")
     return path

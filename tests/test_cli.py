@@ -66,7 +66,7 @@ def test_a_team_explore_writes_its_picture_and_refuses_an_animation(tmp_path: Pa
         (["--policy", "bogus"], "bogus"),
         (["--start", "1,abc"], "1,abc"),
         (["--max-time", "-3"], "-3"),
-        (["--png", "/no/such/folder/x.png"], "/no/such/folder"),
+        (["--png", "/dev/null/such/folder/x.png"], "'/dev/null' is a file, not a folder"),
     ],
 )
 def test_bad_input_is_one_line_and_exit_2(args: list[str], needle: str) -> None:

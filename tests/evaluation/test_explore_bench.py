@@ -106,11 +106,12 @@ def test_the_command_prints_the_table_and_writes_every_run(tmp_path: Path) -> No
     once = CliRunner().invoke(app, ["benchmark", "explore-bench", "--maps", str(room), "--seeds", "1", *twice,
                                     "--workers", "1", "--json", str(out)])  # fmt: skip
     assert once.exit_code == 0 and len(json.loads(out.read_text())["runs"]) == 1, once.output  # each given once
+    (tmp_path / "a_file").write_text("x")
     bad_options: list[tuple[list[str], str]] = [
         (["--robots", "0"], "team sizes"),
         (["--seeds", "0"], "--seeds"),
         (["--maps", "office"], "ROS"),
-        (["--json", str(tmp_path / "nowhere" / "eb.json")], "does not exist"),  # refused before the runs
+        (["--json", str(tmp_path / "a_file" / "eb.json")], "is a file, not a folder"),  # refused before the runs
     ]
     for args, needle in bad_options:
         bad = CliRunner().invoke(app, ["benchmark", "explore-bench", "--maps", str(room), *args])
