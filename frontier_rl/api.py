@@ -201,12 +201,36 @@ def evaluate(
         names, places, episodes, seed, baseline, sim, resolution, trust_model, comm_range, tuple(failures)
     )
     if command is None:
-        command = f"frontier_rl.evaluate({list(names)}, {list(places)}, {episodes}, seed={seed})"
+        given = {"baseline": baseline, "oracle": oracle, "seed": seed, "resolution": resolution}
+        given |= {"trust_model": trust_model, "comm_range": comm_range}
+        command = _call_text(list(methods), [str(w) for w in worlds], episodes, str(out), given, sim, bool(failures))
     cuts, shown = _report_settings(outliers, pictures)
     report = run_evaluation(
         experiment, Path(out), backend, workers, ray_address, cuts, progress, command, pictures=shown
     )
     return ExperimentSummary.load(report.parent)
+
+
+def _call_text(
+    methods: list[str],
+    worlds: list[str],
+    episodes: int,
+    out: str,
+    given: dict[str, object],
+    sim: SimConfig,
+    with_failures: bool,
+) -> str:
+    """How the report says to run the experiment again: this call, its arguments as given, the keyword
+    arguments that differ from their defaults (failures and the simulation settings are named as in
+    ``experiment.json``, which holds them whole)."""
+    defaults = {"baseline": THESIS_BASELINE, "oracle": True, "seed": 0, "resolution": None}
+    defaults |= {"trust_model": False, "comm_range": None}
+    keywords = [f"out={out!r}"] + [f"{key}={value!r}" for key, value in given.items() if value != defaults[key]]
+    if with_failures:
+        keywords.append("failures=<the failures in experiment.json>")
+    if sim != SimConfig():
+        keywords.append("config=<the sim settings in experiment.json>")
+    return f"frontier_rl.evaluate({methods!r}, {worlds!r}, {episodes}, {', '.join(keywords)})"
 
 
 def _names(

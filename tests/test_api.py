@@ -106,6 +106,23 @@ def test_a_bad_seed_is_one_line_naming_it(tmp_path: Path, seed: object) -> None:
     assert not (tmp_path / "run").exists()
 
 
+def test_the_report_says_how_to_run_the_call_again() -> None:
+    """It listed the baseline and the oracle among the methods and left out out= and baseline=: run as
+    written, it added fixed:0.75 and failed for want of out."""
+    from frontier_rl.api import _call_text
+
+    given = {"baseline": "nearest", "oracle": True, "seed": 0, "resolution": None}
+    given |= {"trust_model": False, "comm_range": None}
+    text = _call_text(["my.py:P"], ["office", "rooms"], 10, "results/x", given, SimConfig(), False)
+    assert text == "frontier_rl.evaluate(['my.py:P'], ['office', 'rooms'], 10, out='results/x', baseline='nearest')"
+    short = SimConfig(max_sim_time=60.0)
+    text = _call_text(["nearest"], ["office"], 1, "r", given | {"oracle": False, "seed": 3}, short, True)
+    assert text.endswith(
+        "out='r', baseline='nearest', oracle=False, seed=3, failures=<the failures in experiment.json>, "
+        "config=<the sim settings in experiment.json>)"
+    )
+
+
 def test_a_numpy_seed_is_a_seed() -> None:
     assert frontier_rl.load_world("office", np.int64(3)).start == frontier_rl.load_world("office", 3).start  # type: ignore[arg-type]
 
