@@ -14,7 +14,7 @@ import typer
 
 from frontier_rl.atomic_write import write_text_atomic
 from frontier_rl.cli.options import WorkersOption
-from frontier_rl.cli.output import OneLineGroup, friendly_errors, int_list, policy_list, print_table, stdout_console
+from frontier_rl.cli.output import OneLineGroup, friendly_errors, int_list, policy_list, print_line, print_table
 from frontier_rl.errors import ConfigError, short_repr
 from frontier_rl.swarm.config import MAX_ROBOTS
 
@@ -58,9 +58,8 @@ def ariadne(
     _some_finished(runs, failures)
     rows = summary_rows(runs, names)
     print_table(_ariadne_table(rows, f"ARiADNE protocol on {maps} ({len(files)} maps)"))
-    console = stdout_console()
-    for row in rows:  # as ARiADNE's test driver prints them
-        console.print(
+    for row in rows:  # as ARiADNE's test driver prints them, one line each (a log is grepped for them)
+        print_line(
             f"{row.method}: |#Total test: {row.tests} |#Average length: {row.average_length_px:.2f} "
             f"|#Length std: {row.length_std_px:.2f}"
         )
