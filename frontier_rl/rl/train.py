@@ -23,6 +23,7 @@ from stable_baselines3.common.policies import ActorCriticPolicy
 from stable_baselines3.common.vec_env import DummyVecEnv, SubprocVecEnv, VecEnv, VecMonitor
 
 import frontier_rl.envs
+from frontier_rl.config_diff import ABSENT, describe_differences, differences_between
 from frontier_rl.envs.world_source import check_world_files
 from frontier_rl.errors import ConfigError, short_path
 from frontier_rl.inference.model_file import CHECKPOINT_NAME, ModelInfo, read_metadata
@@ -80,8 +81,11 @@ def _check_run_dir(config: TrainConfig, out: Path, resume: bool) -> int:
             raise ConfigError(f"{str(out)!r} already holds a training run; pass --resume to continue it")
         saved = TrainConfig.load(saved_path)
         if saved != config:
-            differs = [k for k, v in config.to_dict().items() if saved.to_dict()[k] != v]
-            raise ConfigError(f"{str(out)!r} holds a run with a different configuration ({', '.join(differs)})")
+            there, now = saved.to_dict(), config.to_dict()
+            differs = [d for key in now for d in differences_between(there.get(key, ABSENT), now[key], key)]
+            raise ConfigError(
+                f"{str(out)!r} holds a run with a different configuration ({describe_differences(differs)})"
+            )
         checkpoint = latest_checkpoint(out)
         if checkpoint is not None and checkpoint[1] > config.timesteps:  # a name the run did not write
             raise ConfigError(

@@ -23,9 +23,9 @@ from typer.testing import CliRunner
 from frontier_rl import atomic_write
 from frontier_rl.atomic_write import OutputWriteError, write_text_atomic
 from frontier_rl.cli import app
+from frontier_rl.config_diff import contrast, differences_between
 from frontier_rl.core.sim.config import SimConfig
 from frontier_rl.errors import ConfigError
-from frontier_rl.evaluation.results.config_diff import contrast, differences_between
 from frontier_rl.evaluation.results.episode_record import ROW_COLUMNS
 from frontier_rl.evaluation.results.identity import ExperimentIdentity
 from frontier_rl.evaluation.results.store import ResultStore, adopt_rows

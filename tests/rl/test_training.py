@@ -110,7 +110,7 @@ def test_interrupted_run_resumes_from_its_last_checkpoint(tmp_path: Path) -> Non
     assert interruption_note(config, tmp_path) == f"interrupted: no checkpoint was written in {tmp_path}/ yet"
     with pytest.raises(ConfigError, match="--resume"):
         train(config, run, progress=False)
-    with pytest.raises(ConfigError, match="timesteps"):
+    with pytest.raises(ConfigError, match="different configuration \\(timesteps: 96 there, 200 now\\)"):
         train(_config(4, timesteps=200, eval_every=0, checkpoint_every=32), run, resume=True, progress=False)
     final = train(config, run, resume=True, progress=False)
     info = read_metadata(final)

@@ -15,8 +15,8 @@ from dataclasses import dataclass, replace
 from pathlib import Path
 from typing import TypeVar
 
+from frontier_rl.config_diff import ABSENT, contrast, describe_differences, differences_between
 from frontier_rl.errors import ConfigError, short_repr
-from frontier_rl.evaluation.results.config_diff import ABSENT, contrast, describe_differences, differences_between
 
 _T = TypeVar("_T")
 

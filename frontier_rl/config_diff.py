@@ -1,6 +1,6 @@
 """What differs between two configurations, shown so that the two sides never read the same: a
-results folder refuses a run whose settings differ from those its rows were made with, and says
-which settings differ and how."""
+results folder refuses a run whose settings differ from those its rows were made with, and a training
+run one whose configuration differs from its own, and each says which settings differ and how."""
 
 from __future__ import annotations
 
