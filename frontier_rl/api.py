@@ -16,6 +16,7 @@ Only :func:`train` loads torch (and Gymnasium); the other three need neither.
 
 from __future__ import annotations
 
+import sys
 from collections.abc import Callable, Sequence
 from functools import cache
 from pathlib import Path
@@ -191,8 +192,10 @@ def evaluate(
         FrontierRLError: a bad method, world or setting, or ``out`` holding another experiment.
     """
     from frontier_rl.evaluation.results.summary import ExperimentSummary
+    from frontier_rl.evaluation.running.backends import EpisodeFailedError
     from frontier_rl.evaluation.running.evaluate import evaluate as run_evaluation
     from frontier_rl.evaluation.running.experiment import ExperimentConfig
+    from frontier_rl.evaluation.running.worker_pool import WorkerDiedError
 
     checked_seed(seed)
     names, places = _names(methods, worlds, baseline, oracle)
@@ -205,10 +208,28 @@ def evaluate(
         given |= {"trust_model": trust_model, "comm_range": comm_range}
         command = _call_text(list(methods), [str(w) for w in worlds], episodes, str(out), given, sim, bool(failures))
     cuts, shown = _report_settings(outliers, pictures)
-    report = run_evaluation(
-        experiment, Path(out), backend, workers, ray_address, cuts, progress, command, pictures=shown
-    )
+    try:
+        report = run_evaluation(
+            experiment, Path(out), backend, workers, ray_address, cuts, progress, command, pictures=shown
+        )
+    except EpisodeFailedError as failed:
+        if isinstance(failed.first_error, WorkerDiedError) and _run_as_a_script():
+            raise EpisodeFailedError(f"{failed}; {_GUARD_HINT}", failed.first_error) from None
+        raise
     return ExperimentSummary.load(report.parent)
+
+
+_GUARD_HINT = (
+    'if a script calls frontier_rl.evaluate(), call it under `if __name__ == "__main__":` (each worker '
+    "process imports the script again, and would run the experiment again there)"
+)
+
+
+def _run_as_a_script() -> bool:
+    """Whether this process runs a Python file as ``__main__`` (``python my_script.py``), which the
+    process pool's workers import again."""
+    main = sys.modules.get("__main__")
+    return getattr(main, "__spec__", None) is None and isinstance(getattr(main, "__file__", None), str)
 
 
 def _call_text(

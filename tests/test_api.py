@@ -123,6 +123,25 @@ def test_the_report_says_how_to_run_the_call_again() -> None:
     )
 
 
+def test_a_script_without_the_main_guard_is_told_why_its_workers_died(tmp_path: Path) -> None:
+    """Each worker imported the script again and died starting a pool of its own: the error said only
+    that the workers had died."""
+    script = tmp_path / "no_guard.py"
+    script.write_text('import frontier_rl\n\nfrontier_rl.evaluate(["nearest"], ["office"], 1, out="run", workers=2)\n')
+    done = subprocess.run(
+        [sys.executable, str(script)], cwd=tmp_path, capture_output=True, text=True, timeout=300, check=False
+    )
+    assert done.returncode == 1
+    assert (
+        done.stderr.strip()
+        .splitlines()[-1]
+        .endswith(
+            'if a script calls frontier_rl.evaluate(), call it under `if __name__ == "__main__":` (each worker '
+            "process imports the script again, and would run the experiment again there)"
+        )
+    )
+
+
 def test_a_numpy_seed_is_a_seed() -> None:
     assert frontier_rl.load_world("office", np.int64(3)).start == frontier_rl.load_world("office", 3).start  # type: ignore[arg-type]
 

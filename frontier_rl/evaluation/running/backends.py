@@ -95,7 +95,15 @@ def check_ray_address(address: str, timeout_s: float = 5.0) -> None:
 
 
 class EpisodeFailedError(FrontierRLError):
-    """Episodes raised; every other episode ran and was handed on, and a rerun retries these."""
+    """Episodes raised; every other episode ran and was handed on, and a rerun retries these.
+
+    Attributes:
+        first_error: what the first failed episode raised (None where not known).
+    """
+
+    def __init__(self, message: str, first_error: BaseException | None = None) -> None:
+        super().__init__(message)
+        self.first_error = first_error
 
 
 def run_jobs(
@@ -129,7 +137,8 @@ def run_jobs(
         lines = [line for line in str(exc).splitlines() if line.strip()]
         raise EpisodeFailedError(
             f"{len(failures)} of {len(jobs)} episodes failed, the first {job.method} on {job.world} episode "
-            f"{job.episode} ({type(exc).__name__}: {lines[-1] if lines else ''})"
+            f"{job.episode} ({type(exc).__name__}: {lines[-1] if lines else ''})",
+            exc,
         )
 
 

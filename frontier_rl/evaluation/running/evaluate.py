@@ -130,7 +130,8 @@ def _run_missing(
         except EpisodeFailedError as exc:
             raise EpisodeFailedError(
                 f"{exc}; the {len(store.rows)} finished episodes are saved in {store.csv_path}; "
-                "rerun the command to retry the failed ones"
+                "rerun the command to retry the failed ones",
+                exc.first_error,
             ) from None
 
 
