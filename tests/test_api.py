@@ -5,6 +5,7 @@ from __future__ import annotations
 
 import json
 import math
+import re
 import subprocess
 import sys
 import textwrap
@@ -140,6 +141,12 @@ def test_a_script_without_the_main_guard_is_told_why_its_workers_died(tmp_path: 
             "process imports the script again, and would run the experiment again there)"
         )
     )
+
+
+def test_a_start_that_is_no_pose_is_one_line_naming_it() -> None:
+    needle = "start pose must be a Pose (x, y, theta) in m, m and rad, got (2.0, 2.0)"
+    with pytest.raises(ConfigError, match=re.escape(needle)):
+        frontier_rl.load_world("office", start=(2.0, 2.0))  # type: ignore[arg-type]
 
 
 def test_a_numpy_seed_is_a_seed() -> None:

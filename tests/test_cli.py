@@ -66,6 +66,7 @@ def test_a_team_explore_writes_its_picture_and_refuses_an_animation(tmp_path: Pa
         (["--policy", "bogus"], "bogus"),
         (["--start", "1,abc"], "1,abc"),
         (["--max-time", "-3"], "-3"),
+        (["--max-time", "inf"], "--max-time must be a positive number of seconds, got inf"),
         (["--png", "/dev/null/such/folder/x.png"], "'/dev/null' is a file, not a folder"),
     ],
 )

@@ -5,6 +5,7 @@ and the argument errors of every command need none): what the options quote are 
 from __future__ import annotations
 
 import dataclasses
+import math
 import os
 from pathlib import Path
 from typing import TYPE_CHECKING, Annotated, NoReturn
@@ -94,7 +95,7 @@ def sim_config(config: Path | None, max_time: float | None) -> SimConfig:
 
     cfg = load_sim_config(config) if config is not None else SimConfig()
     if max_time is not None:
-        if not max_time > 0:
+        if not (max_time > 0 and math.isfinite(max_time)):
             raise ConfigError(f"--max-time must be a positive number of seconds, got {max_time!r}")
         cfg = dataclasses.replace(cfg, max_sim_time=max_time)
     return cfg

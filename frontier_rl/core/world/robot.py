@@ -60,7 +60,10 @@ def checked_pose(pose: Pose, what: str = "pose") -> Pose:
         ConfigError: a non-finite coordinate, or a heading beyond +-:data:`MAX_HEADING_RAD`;
             the message starts with ``what``.
     """
-    x, y, theta = (float(v) for v in pose)
+    try:
+        x, y, theta = (float(v) for v in pose)
+    except (TypeError, ValueError):
+        raise ConfigError(f"{what} must be a Pose (x, y, theta) in m, m and rad, got {short_repr(pose)}") from None
     if not (math.isfinite(x) and math.isfinite(y)):
         raise ConfigError(f"{what} ({x}, {y}) must have finite coordinates in metres")
     if not (math.isfinite(theta) and abs(theta) <= MAX_HEADING_RAD):
