@@ -101,8 +101,9 @@ def evaluate(
         return write_report(store, config, outliers, command, drawn)
     except OutputWriteError as exc:  # a full disk: say what could not be written and what is kept
         raise exc.with_note(
-            f"the {len(store.rows)} finished episodes are kept in {str(store.csv_path)!r}; free some space and "
-            "rerun the same command: it resumes and writes the report"
+            f"the {len(store.rows)} finished episodes are kept in {str(store.csv_path)!r}; mend that (free some "
+            "space, or move what stands in the file's place) and rerun the same command: it resumes and writes "
+            "the report"
         ) from None
     finally:
         store.close()
