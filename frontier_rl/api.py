@@ -20,7 +20,7 @@ import sys
 from collections.abc import Callable, Sequence
 from functools import cache
 from pathlib import Path
-from types import UnionType
+from types import FrameType, UnionType
 from typing import TYPE_CHECKING, overload
 
 from frontier_rl.core.frontiers.thesis import THESIS_BASELINE
@@ -40,6 +40,7 @@ from frontier_rl.world_spec import resolve_world
 
 if TYPE_CHECKING:  # loaded by the functions that need them: the command line's help loads this module
     from frontier_rl.evaluation.results.summary import ExperimentSummary
+    from frontier_rl.evaluation.running.experiment import ExperimentConfig
     from frontier_rl.rl.config import TrainConfig
     from frontier_rl.swarm.result import TeamResult
 
@@ -192,61 +193,86 @@ def evaluate(
         FrontierRLError: a bad method, world or setting, or ``out`` holding another experiment.
     """
     from frontier_rl.evaluation.results.summary import ExperimentSummary
-    from frontier_rl.evaluation.running.backends import EpisodeFailedError
-    from frontier_rl.evaluation.running.evaluate import evaluate as run_evaluation
     from frontier_rl.evaluation.running.experiment import ExperimentConfig
-    from frontier_rl.evaluation.running.worker_pool import WorkerDiedError
 
+    if _importing_the_script_in_a_worker():
+        raise SystemExit(NO_MAIN_GUARD_EXIT)
     checked_seed(seed)
     names, places = _names(methods, worlds, baseline, oracle)
     sim = config or SimConfig()
     experiment = ExperimentConfig(
         names, places, episodes, seed, baseline, sim, resolution, trust_model, comm_range, tuple(failures)
     )
-    if command is None:
-        given = {"baseline": baseline, "oracle": oracle, "seed": seed, "resolution": resolution}
-        given |= {"trust_model": trust_model, "comm_range": comm_range}
-        command = _call_text(list(methods), [str(w) for w in worlds], episodes, str(out), given, sim, bool(failures))
+    given = {"out": str(out), "baseline": baseline, "oracle": oracle, "seed": seed, "resolution": resolution}
+    given |= {"trust_model": trust_model, "comm_range": comm_range, "outliers": outliers, "pictures": pictures}
+    text = command or _call_text(list(methods), [str(w) for w in worlds], episodes, given, sim, bool(failures))
     cuts, shown = _report_settings(outliers, pictures)
-    try:
-        report = run_evaluation(
-            experiment, Path(out), backend, workers, ray_address, cuts, progress, command, pictures=shown
-        )
-    except EpisodeFailedError as failed:
-        if isinstance(failed.first_error, WorkerDiedError) and _run_as_a_script():
-            raise EpisodeFailedError(f"{failed}; {_GUARD_HINT}", failed.first_error) from None
-        raise
+    report = _run(experiment, Path(out), (backend, workers, ray_address), cuts, progress, text, shown)
     return ExperimentSummary.load(report.parent)
 
 
+NO_MAIN_GUARD_EXIT = 3
+"""The exit code of a worker process that, importing the user's script as Python's process pools do,
+found it calling :func:`evaluate` again (the script has no ``if __name__ == "__main__":``)."""
+
 _GUARD_HINT = (
-    'if a script calls frontier_rl.evaluate(), call it under `if __name__ == "__main__":` (each worker '
-    "process imports the script again, and would run the experiment again there)"
+    "the script calls frontier_rl.evaluate() where its worker processes import it again: call it under `if "
+    '__name__ == "__main__":`'
 )
 
 
-def _run_as_a_script() -> bool:
-    """Whether this process runs a Python file as ``__main__`` (``python my_script.py``), which the
-    process pool's workers import again."""
-    main = sys.modules.get("__main__")
-    return getattr(main, "__spec__", None) is None and isinstance(getattr(main, "__file__", None), str)
+def _importing_the_script_in_a_worker() -> bool:
+    """Whether this is a worker process importing the user's script as it starts (multiprocessing's
+    ``spawn`` runs the parent's main script again, as ``__mp_main__``, before its first task)."""
+    frame: FrameType | None = sys._getframe()
+    while frame is not None:
+        if (
+            frame.f_code.co_name == "_fixup_main_from_path"
+            and frame.f_globals.get("__name__") == "multiprocessing.spawn"
+        ):
+            return True
+        frame = frame.f_back
+    return False
+
+
+def _run(
+    experiment: ExperimentConfig,
+    out: Path,
+    where: tuple[str, int | None, str | None],
+    cuts: tuple[float, ...],
+    progress: bool,
+    command: str,
+    pictures: int,
+) -> Path:
+    """The evaluation's run (``where``: backend, workers, Ray address), the report's path; a worker that
+    died importing a script without the ``__main__`` guard named as such."""
+    from frontier_rl.evaluation.running.backends import EpisodeFailedError
+    from frontier_rl.evaluation.running.evaluate import evaluate as run_evaluation
+    from frontier_rl.evaluation.running.worker_pool import WorkerDiedError
+
+    try:
+        return run_evaluation(experiment, out, *where, cuts, progress, command, pictures=pictures)
+    except EpisodeFailedError as failed:
+        first = failed.first_error
+        if isinstance(first, WorkerDiedError) and first.exit_code == NO_MAIN_GUARD_EXIT:
+            raise EpisodeFailedError(f"{failed}; {_GUARD_HINT}", first) from None
+        raise
 
 
 def _call_text(
     methods: list[str],
     worlds: list[str],
     episodes: int,
-    out: str,
     given: dict[str, object],
     sim: SimConfig,
     with_failures: bool,
 ) -> str:
-    """How the report says to run the experiment again: this call, its arguments as given, the keyword
-    arguments that differ from their defaults (failures and the simulation settings are named as in
-    ``experiment.json``, which holds them whole)."""
-    defaults = {"baseline": THESIS_BASELINE, "oracle": True, "seed": 0, "resolution": None}
-    defaults |= {"trust_model": False, "comm_range": None}
-    keywords = [f"out={out!r}"] + [f"{key}={value!r}" for key, value in given.items() if value != defaults[key]]
+    """How the report says to run the experiment again: this call, its arguments as given, ``out`` and
+    the other keyword arguments ``given`` that differ from their defaults (failures and the simulation
+    settings are named as in ``experiment.json``, which holds them whole)."""
+    defaults = {"baseline": THESIS_BASELINE, "oracle": True, "seed": 0, "resolution": None, "trust_model": False}
+    defaults |= {"comm_range": None, "outliers": None, "pictures": None}
+    keywords = [f"{key}={value!r}" for key, value in given.items() if key not in defaults or value != defaults[key]]
     if with_failures:
         keywords.append("failures=<the failures in experiment.json>")
     if sim != SimConfig():

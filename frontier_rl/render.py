@@ -8,7 +8,6 @@ millisecond and an episode's GIF a fraction of a second.
 from __future__ import annotations
 
 import io
-import os
 from collections.abc import Sequence
 from pathlib import Path
 from typing import Any
@@ -223,38 +222,8 @@ def side_by_side(left: Image.Image, right: Image.Image, gap: int = 8) -> Image.I
     return out
 
 
-#: Picture formats by file suffix (lower case): what :func:`check_output_file` accepts.
+#: Picture formats by file suffix (lower case): what :func:`save_image` writes.
 IMAGE_FORMATS = {".png": "PNG", ".gif": "GIF"}
-
-
-def check_output_file(path: str | Path, suffix: str, what: str = "output") -> Path:
-    """``path`` if a file can be written there, checked before any work is done: it ends in
-    ``suffix`` (".png", ".gif", ".json", any case), is not a folder, and its folder is writable (a
-    missing one is made, as ``evaluate --out`` makes its folder, where its nearest existing folder
-    is writable).
-
-    Raises:
-        ConfigError: otherwise, naming ``what`` and the path (cut to 80 characters).
-    """
-    path = Path(path)
-    if path.is_dir():
-        raise ConfigError(f"{what} {short_path(path)} is a folder; name a {suffix} file inside it")
-    if path.suffix.lower() != suffix:
-        raise ConfigError(f"{what} {short_path(path)} must be a {suffix} file name, got suffix {path.suffix!r}")
-    folder = path.parent
-    ancestor = folder
-    while not ancestor.exists() and ancestor != ancestor.parent:
-        ancestor = ancestor.parent
-    if not ancestor.is_dir():
-        raise ConfigError(f"{what} {short_path(path)}: {short_path(ancestor)} is a file, not a folder")
-    if ancestor != folder and os.access(ancestor, os.W_OK | os.X_OK):
-        try:
-            folder.mkdir(parents=True, exist_ok=True)
-        except OSError as error:
-            raise ConfigError(f"{what} folder {short_path(folder)} cannot be made: {error.strerror}") from None
-    if not os.access(folder, os.W_OK | os.X_OK):
-        raise ConfigError(f"{what} folder {short_path(folder)} is not writable")
-    return path
 
 
 def save_image(image: Image.Image, path: str | Path, **params: Any) -> Path:
@@ -274,6 +243,7 @@ def save_image(image: Image.Image, path: str | Path, **params: Any) -> Path:
         raise ConfigError(f"picture {short_path(path)}: unknown suffix {path.suffix!r} (use .png or .gif)")
     buffer = io.BytesIO()
     image.save(buffer, format=fmt, **params)
+    path.parent.mkdir(parents=True, exist_ok=True)  # a folder the command line's check let it make
     write_bytes_atomic(path, buffer.getvalue())
     return path
 

@@ -37,14 +37,18 @@ _DEMO_FILES = ("config.yaml", "experiment")
 
 def run_kind(folder: Path) -> RunKind | None:
     """The kind of run ``folder`` holds, or None (no folder, an empty one, or other files)."""
-    if any((folder / name).exists() for name in _EVALUATION_FILES):
+    if _holds_evaluation(folder):
         return RunKind.EVALUATION
     trained = any((folder / name).exists() for name in _TRAINED_FILES)
     if trained or ((folder / _TRAINING_CONFIG).is_file() and any((folder / n).exists() for n in _TRAINING_FILES)):
         return RunKind.TRAINING
-    if (folder / _TRAINING_CONFIG).is_file() and run_kind(folder / "experiment") is RunKind.EVALUATION:
+    if _holds_evaluation(folder / "experiment"):  # its config.yaml is written last
         return RunKind.DEMO
     return None
+
+
+def _holds_evaluation(folder: Path) -> bool:
+    return any((folder / name).exists() for name in _EVALUATION_FILES)
 
 
 def refuse_other_runs(folder: Path, kind: RunKind, option: str = "--out") -> None:

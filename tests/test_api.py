@@ -112,15 +112,16 @@ def test_the_report_says_how_to_run_the_call_again() -> None:
     written, it added fixed:0.75 and failed for want of out."""
     from frontier_rl.api import _call_text
 
-    given = {"baseline": "nearest", "oracle": True, "seed": 0, "resolution": None}
-    given |= {"trust_model": False, "comm_range": None}
-    text = _call_text(["my.py:P"], ["office", "rooms"], 10, "results/x", given, SimConfig(), False)
+    given = {"out": "results/x", "baseline": "nearest", "oracle": True, "seed": 0, "resolution": None}
+    given |= {"trust_model": False, "comm_range": None, "outliers": None, "pictures": None}
+    text = _call_text(["my.py:P"], ["office", "rooms"], 10, given, SimConfig(), False)
     assert text == "frontier_rl.evaluate(['my.py:P'], ['office', 'rooms'], 10, out='results/x', baseline='nearest')"
     short = SimConfig(max_sim_time=60.0)
-    text = _call_text(["nearest"], ["office"], 1, "r", given | {"oracle": False, "seed": 3}, short, True)
+    changed = given | {"out": "r", "oracle": False, "seed": 3, "outliers": [500.0], "pictures": 0}
+    text = _call_text(["nearest"], ["office"], 1, changed, short, True)
     assert text.endswith(
-        "out='r', baseline='nearest', oracle=False, seed=3, failures=<the failures in experiment.json>, "
-        "config=<the sim settings in experiment.json>)"
+        "out='r', baseline='nearest', oracle=False, seed=3, outliers=[500.0], pictures=0, "
+        "failures=<the failures in experiment.json>, config=<the sim settings in experiment.json>)"
     )
 
 
@@ -133,14 +134,26 @@ def test_a_script_without_the_main_guard_is_told_why_its_workers_died(tmp_path: 
         [sys.executable, str(script)], cwd=tmp_path, capture_output=True, text=True, timeout=300, check=False
     )
     assert done.returncode == 1
-    assert (
-        done.stderr.strip()
-        .splitlines()[-1]
-        .endswith(
-            'if a script calls frontier_rl.evaluate(), call it under `if __name__ == "__main__":` (each worker '
-            "process imports the script again, and would run the experiment again there)"
-        )
+    last = done.stderr.strip().splitlines()[-1]
+    assert "(exit code 3)" in last and last.endswith(
+        "the script calls frontier_rl.evaluate() where its worker processes import it again: call it under "
+        '`if __name__ == "__main__":`'
     )
+    assert done.stderr.count("Traceback") == 1  # the script's own: no worker's
+
+
+def test_a_worker_killed_in_a_command_gets_no_hint_about_scripts(tmp_path: Path) -> None:
+    """Every worker death of `frontier-rl evaluate` (a console script) ended with the hint."""
+    (tmp_path / "killer.py").write_text(
+        "import os, signal\n\n\nclass Killer:\n    name = 'killer'\n\n"
+        "    def rank(self, context, rng):\n        os.kill(os.getpid(), signal.SIGKILL)\n"
+    )
+    args = ["evaluate", "--methods", "killer.py:Killer", "--worlds", "office", "--episodes", "1", "--no-oracle",
+            "--workers", "2", "--no-progress", "--out", "run"]  # fmt: skip
+    command = str(Path(sys.executable).with_name("frontier-rl"))
+    done = subprocess.run([command, *args], cwd=tmp_path, capture_output=True, text=True, timeout=300, check=False)
+    assert done.returncode != 0 and "(exit code -9)" in done.stderr, done.stderr
+    assert "__main__" not in done.stderr
 
 
 def test_a_start_that_is_no_pose_is_one_line_naming_it() -> None:

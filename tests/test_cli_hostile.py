@@ -259,6 +259,8 @@ def test_a_picture_in_a_folder_not_made_yet_makes_it(tmp_path: Path, box: Path) 
     result = runner.invoke(app, ["explore", "--world", str(box), "--png", str(tmp_path / "missing/deeper/x.png")])
     assert result.exit_code == 0, result.output
     assert (tmp_path / "missing/deeper/x.png").stat().st_size > 0
+    refused = runner.invoke(app, ["explore", "--world", "atlantis", "--png", str(tmp_path / "made/a/x.png")])
+    assert refused.exit_code == 2 and not (tmp_path / "made").exists()  # made only once there is a picture
 
 
 @pytest.mark.parametrize("command", ["evaluate", "demo", "train"])

@@ -5,7 +5,9 @@ from __future__ import annotations
 from pathlib import Path
 
 import pytest
+from typer.testing import CliRunner
 
+from frontier_rl.cli import app
 from frontier_rl.errors import ConfigError
 from frontier_rl.evaluation.results.identity import ExperimentIdentity
 from frontier_rl.evaluation.results.store import ResultStore
@@ -36,8 +38,19 @@ def test_a_folder_is_told_by_the_files_its_run_writes_first(tmp_path: Path) -> N
     (tmp_path / "downloaded" / "model.zip").write_bytes(b"PK")  # a model file alone is a run's to keep
     assert run_kind(tmp_path / "downloaded") is RunKind.TRAINING
     demo = _evaluation(tmp_path / "demo" / "experiment").parent
+    assert run_kind(demo) is RunKind.DEMO  # interrupted before its config.yaml, written last
     (demo / "config.yaml").write_text("robot: {}\n")
     assert run_kind(demo) is RunKind.DEMO
+
+
+def test_a_demo_refused_for_its_options_keeps_the_last_demos_results(tmp_path: Path) -> None:
+    """It deleted OUT/experiment, then refused --workers 0, and then its own folder ("config.yaml,
+    not written by the demo")."""
+    demo = _evaluation(tmp_path / "demo" / "experiment").parent
+    (demo / "config.yaml").write_text("robot: {}\n")
+    result = CliRunner().invoke(app, ["demo", "--out", str(demo), "--workers", "0", "--no-progress"])
+    assert result.exit_code == 2 and "--workers" in result.output
+    assert (demo / "experiment" / "experiment.json").exists() and run_kind(demo) is RunKind.DEMO
 
 
 def test_the_demo_rewrites_only_its_own_folder(tmp_path: Path) -> None:

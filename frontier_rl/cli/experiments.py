@@ -76,7 +76,7 @@ def demo(
     checked_run_arguments(seed, out)
     from frontier_rl.config_files import dump_config
     from frontier_rl.evaluation.results.summary import ExperimentSummary
-    from frontier_rl.evaluation.running.evaluate import DEFAULT_OUTLIERS_S
+    from frontier_rl.evaluation.running.evaluate import DEFAULT_OUTLIERS_S, checked_run
     from frontier_rl.evaluation.running.evaluate import evaluate as run_evaluation
     from frontier_rl.evaluation.running.experiment import ExperimentConfig
     from frontier_rl.evaluation.running.methods import ORACLE
@@ -88,11 +88,10 @@ def demo(
     experiment = ExperimentConfig(methods=methods, worlds=DEMO_WORLDS, episodes=episodes, seed=seed, sim=sim)
     refuse_other_runs(out, RunKind.DEMO)
     _note_missing_models()
-    out.mkdir(parents=True, exist_ok=True)
+    checked_run(experiment, "process", workers, None)  # before the last demo's results are deleted
     results = out / "experiment"
     if results.exists():  # the demo starts afresh: a retrained model must not meet its old rows
         shutil.rmtree(results)
-    dump_config(experiment.sim, out / "config.yaml")
     command = _command_line("demo")
     report = run_evaluation(
         experiment,
@@ -106,6 +105,7 @@ def demo(
         pictures=len(DEMO_WORLDS),
         animate=("office", THESIS_BASELINE),
     )
+    dump_config(experiment.sim, out / "config.yaml")  # once the folder is the demo's (its experiment/)
     title = f"{episodes} episode(s) per world on {', '.join(DEMO_WORLDS)}"
     _print_summary(ExperimentSummary.load(report.parent), title, experiment.baseline)
     print_line(f"report: {report.with_suffix('.html')} (and .md); pictures of seed {seed} in {results}/pictures/")

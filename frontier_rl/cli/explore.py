@@ -17,6 +17,7 @@ from frontier_rl.cli.options import (
     SimConfigOption,
     TrustModelOption,
     checked_comm_range,
+    output_file,
     sim_config,
 )
 from frontier_rl.cli.output import friendly_errors, print_table, print_warning
@@ -80,13 +81,12 @@ def explore(
     from frontier_rl.core.world.catalog import WORLD_GENERATORS
     from frontier_rl.policies.registry import make_policy
     from frontier_rl.recording import EpisodeRecorder
-    from frontier_rl.render import check_output_file
 
     settings = sim_config(config, max_time)
     if png is not None:
-        check_output_file(png, ".png", "--png")
+        output_file(png, ".png", "--png")
     if gif is not None:
-        check_output_file(gif, ".gif", "--gif")
+        output_file(gif, ".gif", "--gif")
     chosen = make_policy(spec, trust_model=trust_model)
     the_world = api.load_world(world, seed, start=pose, resolution=resolution)
     if resolution is not None and world in WORLD_GENERATORS:

@@ -63,14 +63,33 @@ def output_folder(path: Path, option: str = "--out") -> Path:
     nearest existing ancestor is a writable folder (the command creates the rest)."""
     if path.exists() and not path.is_dir():
         fail(f"{option} {short_path(path)} is a file, not a folder")
-    ancestor = path
+    _writable_ancestor(path, option)
+    return path
+
+
+def output_file(path: Path, suffix: str, option: str) -> Path:
+    """An output file option (``--png``, ``--json``), checked before any work: it ends in ``suffix``
+    (".png", ".gif", ".json", any case), is not a folder, and its folder exists and is writable or can
+    be made (its nearest existing ancestor is a writable folder; the writer makes the rest)."""
+    if path.is_dir():
+        fail(f"{option} {short_path(path)} is a folder; name a {suffix} file inside it")
+    if path.suffix.lower() != suffix:
+        fail(f"{option} {short_path(path)} must be a {suffix} file name, got suffix {path.suffix!r}")
+    _writable_ancestor(path.parent, option, path)
+    return path
+
+
+def _writable_ancestor(folder: Path, option: str, named: Path | None = None) -> None:
+    """Nothing if ``folder`` or, where it does not exist yet, its nearest existing ancestor is a
+    writable folder; else one line naming the option and ``named`` (default ``folder``)."""
+    named = folder if named is None else named
+    ancestor = folder
     while not ancestor.exists() and ancestor != ancestor.parent:
         ancestor = ancestor.parent
     if not ancestor.is_dir():
-        fail(f"{option} {short_path(path)}: {short_path(ancestor)} is a file, not a folder")
+        fail(f"{option} {short_path(named)}: {short_path(ancestor)} is a file, not a folder")
     if not os.access(ancestor, os.W_OK | os.X_OK):
-        fail(f"{option} {short_path(path)}: folder {short_path(ancestor)} is not writable")
-    return path
+        fail(f"{option} {short_path(named)}: folder {short_path(ancestor)} is not writable")
 
 
 def checked_run_arguments(seed: int, out: Path, resolution: float | None = None) -> float | None:

@@ -13,7 +13,7 @@ from typing import TYPE_CHECKING, Annotated, Any
 import typer
 
 from frontier_rl.atomic_write import write_text_atomic
-from frontier_rl.cli.options import WorkersOption
+from frontier_rl.cli.options import WorkersOption, output_file
 from frontier_rl.cli.output import OneLineGroup, friendly_errors, int_list, policy_list, print_line, print_table
 from frontier_rl.errors import ConfigError, short_repr
 from frontier_rl.swarm.config import MAX_ROBOTS
@@ -187,9 +187,7 @@ def _folder(entry: str) -> Path:
 def _check_json(json_out: Path | None) -> None:
     """Refuse a ``--json`` path no file can be written to before the runs, not after them."""
     if json_out is not None:
-        from frontier_rl.render import check_output_file
-
-        check_output_file(json_out, ".json", "--json")
+        output_file(json_out, ".json", "--json")
 
 
 def _no_nan(value: Any) -> Any:
@@ -227,6 +225,7 @@ def _finish(
     if json_out is not None:
         payload = head | {"summary": [asdict(s) for s in summary], "runs": [asdict(r) for r in runs]}
         text = json.dumps(_no_nan(payload | {"failures": failures}), indent=2, allow_nan=False)
+        json_out.parent.mkdir(parents=True, exist_ok=True)  # a folder the check let it make
         write_text_atomic(json_out, text + "\n")
     if failures:
         raise EpisodeFailedError(

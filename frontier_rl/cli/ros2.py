@@ -247,23 +247,29 @@ def explore(
         robot_base_frame=robot_base_frame,
     )
     params, visualize, pose_source = _explorer_settings(ctx, params_file or [], options, (pose_type, pose_topic))
-    try:
-        node = ExplorerNodeOptions(
-            namespace=namespace,
-            teammates=tuple(teammates.split(",")) if teammates.strip() else (),
-            pose_source=pose_source,
-            visualize=visualize,
-            use_sim_time=use_sim_time,
-            seed=seed,
-            goal_silence_timeout=goal_silence_timeout,
-            policy_name=policy,
-            ros_args=ros_args,
-        )
-    except SettingError as error:
-        fail(f"{_option(error.setting)} {error.problem}")
+    node = _node_options(
+        namespace=namespace,
+        teammates=tuple(teammates.split(",")) if teammates.strip() else (),
+        pose_source=pose_source,
+        visualize=visualize,
+        use_sim_time=use_sim_time,
+        seed=seed,
+        goal_silence_timeout=goal_silence_timeout,
+        policy_name=policy,
+        ros_args=ros_args,
+    )
     _need_ros2()
     _check_ros_names({"--namespace": [namespace], "--teammates": node.teammates}, pose_source)
     _explore_with(policy, params, node, json_out)
+
+
+def _node_options(**fields: Any) -> ExplorerNodeOptions:
+    """The explorer node's options of ``fields`` (:class:`ExplorerNodeOptions`' own); one line naming a
+    bad one as its option (``goal_silence_timeout``: ``--goal-silence-timeout``)."""
+    try:
+        return ExplorerNodeOptions(**fields)
+    except SettingError as error:
+        fail(f"{_option(error.setting)} {error.problem}")
 
 
 def _explorer_settings(

@@ -8,7 +8,8 @@ A spec is one of four kinds:
 * ``MODULE:CLASS``: a class in a dotted module on the Python path (``my_pkg.policies:Greedy``);
 * a bare name registered by an installed package under the entry-point group ``frontier_rl.policies``.
 
-Parsing only reads the text; :func:`~frontier_rl.policies.make_policy` loads and checks what it names.
+Parsing reads the text and checks a built-in policy's argument (a weight in [0, 1], a number of stops);
+:func:`~frontier_rl.policies.make_policy` loads and checks what the other kinds name.
 """
 
 from __future__ import annotations
@@ -216,7 +217,7 @@ def _stops(text: str) -> int:
         return TOUR_STOPS
     if not (argument.isascii() and argument.isdigit()):
         raise ConfigError(f"{_TAKES_ARGUMENT[BuiltinPolicy.TOUR]}, got {short_repr(text)}")
-    stops = int(argument)
+    stops = int(argument) if len(argument.lstrip("0")) <= len(str(MAX_STOPS)) else MAX_STOPS + 1  # no 5000-digit int
     if not 1 <= stops <= MAX_STOPS:
-        raise ConfigError(f"{short_repr(text)}: max_frontiers must be 1 to {MAX_STOPS}, got {stops}")
+        raise ConfigError(f"tour:N takes 1 to {MAX_STOPS} stops, got {short_repr(text)}")
     return stops

@@ -71,7 +71,7 @@ class ValidationCallback(BaseCallback):
     def _on_step(self) -> bool:
         if self.num_timesteps < self._next:
             return True
-        self._next += self.every
+        self._next = (self.num_timesteps // self.every + 1) * self.every  # one make-up validation, not a burst
         times = run_validation(self.env, lambda obs: self.model.predict(obs, deterministic=True)[0], self.episodes)
         mean = float(np.mean(times))
         self.logger.record("eval/mean_time_s", mean)

@@ -87,10 +87,12 @@ def _check_run_dir(config: TrainConfig, out: Path, resume: bool) -> int:
                 f"{str(out)!r} holds a run with a different configuration ({describe_differences(differs)})"
             )
         checkpoint = latest_checkpoint(out)
-        if checkpoint is not None and checkpoint[1] > config.timesteps:  # a name the run did not write
+        # SB3 ends a run with a whole rollout, so its last checkpoints may pass the timesteps by less than one
+        most = config.timesteps + config.n_steps * config.n_envs - 1
+        if checkpoint is not None and checkpoint[1] > most:  # a name the run did not write
             raise ConfigError(
-                f"checkpoint {short_path(checkpoint[0])} claims {checkpoint[1]} decisions, more than the run's "
-                f"{config.timesteps}; remove it to resume from the one before"
+                f"checkpoint {short_path(checkpoint[0])} claims {checkpoint[1]} decisions, more than the run "
+                f"takes ({most}); remove it to resume from the one before"
             )
         return 0 if checkpoint is None else checkpoint[1]
     if resume:

@@ -7,8 +7,9 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass
 
-from frontier_rl.errors import SettingError
+from frontier_rl.errors import ConfigError, SettingError
 from frontier_rl.robot.pose_source import PoseSource
+from frontier_rl.seeds import MAX_SEED, checked_seed
 
 
 @dataclass(frozen=True)
@@ -35,9 +36,9 @@ class ExplorerNodeOptions:
         ros_args: ROS's own arguments (``--ros-args ...``): parameter overrides, remappings.
 
     Raises:
-        SettingError: a goal silence timeout that is not a positive number of seconds, or teammates that
-            are not other robots' namespaces, each once (naming the field, which a command line names
-            as its option).
+        SettingError: a goal silence timeout that is not a positive number of seconds, teammates that
+            are not other robots' namespaces, each once, or a seed that is none (naming the field, which
+            a command line names as its option).
     """
 
     namespace: str = ""
@@ -56,5 +57,10 @@ class ExplorerNodeOptions:
             raise SettingError("goal_silence_timeout", f"must be a positive number of seconds, got {timeout!r}")
         names = tuple(name.strip().strip("/") for name in self.teammates)
         if "" in names or self.namespace.strip("/") in names or len(set(names)) < len(names):
-            raise SettingError("teammates", f"must name other robots' namespaces, each once, got {','.join(names)!r}")
+            given = ",".join(self.teammates)
+            raise SettingError("teammates", f"must name other robots' namespaces, each once, got {given!r}")
+        try:
+            checked_seed(self.seed)
+        except ConfigError:
+            raise SettingError("seed", f"must be a whole number from 0 to {MAX_SEED}, got {self.seed!r}") from None
         object.__setattr__(self, "teammates", names)

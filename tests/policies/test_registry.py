@@ -66,12 +66,19 @@ def test_make_policy_tour_with_its_number_of_stops(stops: int) -> None:
 
 @pytest.mark.parametrize(("spec", "needle"), [("tour:", "whole number"), ("tour:x", "whole number"),
                                               ("tour:1.5", "whole number"), ("tour:-3", "whole number"),
-                                              ("tour:0", "1 to 16, got 0"), ("tour:17", "1 to 16, got 17"),
-                                              ("tour:99999999999999999999", "1 to 16")])  # fmt: skip
+                                              ("tour:0", "1 to 16 stops, got 'tour:0'"),
+                                              ("tour:17", "1 to 16 stops, got 'tour:17'"),
+                                              ("tour:99999999999999999999", "1 to 16 stops")])  # fmt: skip
 def test_bad_tour_stops_raise_config_error_naming_the_spec(spec: str, needle: str) -> None:
     with pytest.raises(ConfigError, match=needle) as info:
         make_policy(spec)
     assert spec in str(info.value)
+
+
+def test_a_number_of_stops_longer_than_python_converts_is_refused_in_one_line() -> None:
+    """A 5,000-digit number was a ValueError (Python converts at most 4,300 digits)."""
+    with pytest.raises(ConfigError, match="tour:N takes 1 to 16 stops"):
+        make_policy("tour:" + "1" * 5000)
 
 
 def test_every_policy_ranks_a_real_frontier_set() -> None:

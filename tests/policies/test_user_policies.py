@@ -83,7 +83,7 @@ def test_a_built_in_policy_is_typed_when_parsed(
         ("fixed", "1.5", ConfigError, "weight must be in [0, 1], got 1.5"),
         ("fixed", "", ConfigError, "fixed:W needs a weight"),
         ("tour", "x", ConfigError, "whole number of stops"),
-        ("tour", "0", ConfigError, "1 to 16, got 0"),
+        ("tour", "0", ConfigError, "tour:N takes 1 to 16 stops, got 'tour:0'"),
         ("learned", "", ConfigError, "needs a model file"),
         ("nearest", "3", UnknownNameError, "unknown policy 'nearest:3'"),
         ("greedy", "", UnknownNameError, "unknown policy 'greedy'"),

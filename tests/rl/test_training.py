@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import zipfile
 from pathlib import Path
+from types import SimpleNamespace
 
 import numpy as np
 import pytest
@@ -123,8 +124,18 @@ def test_interrupted_run_resumes_from_its_last_checkpoint(tmp_path: Path) -> Non
     assert (final.read_bytes(), sorted(p.name for p in run.iterdir())) == before  # its file's hash unchanged
     forged = run / "checkpoints" / "model_99999999999999_steps.zip"  # its model file's metadata was refused
     forged.write_bytes((run / "checkpoints" / "model_64_steps.zip").read_bytes())
-    with pytest.raises(ConfigError, match="claims 99999999999999 decisions, more than the run's 96"):
+    with pytest.raises(ConfigError, match=r"claims 99999999999999 decisions, more than the run takes \(103\)"):
         train(config, run, resume=True, progress=False)
+
+
+def test_a_run_whose_last_rollout_passed_its_timesteps_resumes_from_that_checkpoint(tmp_path: Path) -> None:
+    """SB3 ends with a whole rollout: a checkpoint at 104 decisions of a 100-decision run was refused."""
+    run = tmp_path / "run"
+    config = _config(4, timesteps=100, n_steps=8, eval_every=0, checkpoint_every=52)
+    final = train(config, run, progress=False)
+    checkpoint = latest_checkpoint(run)
+    assert checkpoint is not None and checkpoint[1] == 104
+    assert train(config, run, resume=True, progress=False) == final
 
 
 def test_an_interrupted_runs_best_model_is_a_model_file(tmp_path: Path) -> None:
@@ -155,6 +166,29 @@ def test_a_resumed_run_makes_up_for_a_validation_an_interrupt_cut_short(
     callback.num_timesteps = resumed_at
     callback._on_training_start()
     assert callback._next == due
+
+
+def test_a_resumed_run_missing_validations_makes_up_for_one_not_for_each(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    """Resumed at 320 with no validation.csv, it validated at each of the next ten decisions."""
+    import frontier_rl.rl.callbacks as callbacks
+
+    ran: list[int] = []
+    callback = ValidationCallback(None, 32, 1, tmp_path / "validation.csv", tmp_path / "best.zip", None)  # type: ignore[arg-type]
+    monkeypatch.setattr(callbacks, "run_validation", lambda env, predict, episodes: ran.append(0) or [300.0])
+    callback.model = SimpleNamespace(logger=SimpleNamespace(record=lambda *args: None))  # type: ignore[assignment]
+    callback.num_timesteps = 320
+    callback._on_training_start()
+    callback.best = 0.0  # no model is better: none to save
+    validated_at = []
+    for step in range(321, 400):
+        callback.num_timesteps = step
+        before = len(ran)
+        callback._on_step()
+        if len(ran) > before:
+            validated_at.append(step)
+    assert validated_at == [321, 352, 384]
 
 
 class _RecordSim(BaseCallback):

@@ -14,7 +14,7 @@ from frontier_rl.policies.user_policies import describe_user_policy, user_policy
 from frontier_rl.registration import MODELS
 from frontier_rl.swarm.config import Strategy, TeamMethod
 
-_POLICIES: dict[BuiltinPolicy | None, str] = {
+_POLICIES: dict[BuiltinPolicy, str] = {
     BuiltinPolicy.NEAREST: "Drives to the nearest frontier, by straight-line distance "
     "(Yamauchi 1997; eq. 3.1 with w = 1).",
     BuiltinPolicy.LARGEST: "Drives to the largest frontier (eq. 3.1 with w = 0).",
@@ -75,7 +75,8 @@ def _policy(spec: PolicySpec, base_dir: Path) -> tuple[str, str]:
             "frontiers cheapest to reach, as FUEL (Zhou et al. 2021) and TARE (Cao et al. 2021) order theirs.",
             f"{spec.stops} stops",
         )
-    return _POLICIES.get(spec.builtin, "A policy of this project."), ""
+    builtin = spec.builtin
+    return (_POLICIES.get(builtin, "A policy of this project.") if builtin else "A policy of this project."), ""
 
 
 def _user(spec: PolicySpec) -> tuple[str, str]:

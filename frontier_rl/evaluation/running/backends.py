@@ -198,7 +198,10 @@ def _ray_tasks(jobs: list[EpisodeJob], settings: EpisodeSettings, workers: int, 
             with contextlib.suppress(Exception):
                 ray.shutdown()
             where = address or "a local instance"
-            raise ConfigError(f"Ray could not start or reach {where}: {str(exc).splitlines()[0]}") from None
+            lines = str(exc).strip().splitlines()
+            raise ConfigError(
+                f"Ray could not start or reach {where}: {lines[0] if lines else type(exc).__name__}"
+            ) from None
     try:
         remote_job = ray.remote(num_cpus=1, max_retries=2)(run_job_catching_warnings)
         settings_ref = ray.put(settings)

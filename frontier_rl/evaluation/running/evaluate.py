@@ -87,9 +87,7 @@ def evaluate(
         OutputWriteError: a file could not be written (a full disk); the message names it and
             says that the finished episodes are kept.
     """
-    workers = default_workers() if workers is None else workers
-    chosen = check_backend(backend, workers, ray_address)
-    check_methods(config)  # a bad method or model file fails before anything is written
+    chosen, workers = checked_run(config, backend, workers, ray_address)
     try:
         store = ResultStore(out, identity(config))
     except OutputWriteError as exc:
@@ -107,6 +105,21 @@ def evaluate(
         ) from None
     finally:
         store.close()
+
+
+def checked_run(
+    config: ExperimentConfig, backend: Backend | str, workers: int | None, ray_address: str | None
+) -> tuple[Backend, int]:
+    """The backend and the number of workers (None: one per core) of a run of ``config``, checked with
+    its methods (a bad method or model file fails before anything is written).
+
+    Raises:
+        ConfigError: an unknown backend, a bad worker count, Ray options without Ray, a bad method.
+    """
+    workers = default_workers() if workers is None else workers
+    chosen = check_backend(backend, workers, ray_address)
+    check_methods(config)
+    return chosen, workers
 
 
 def _run_missing(

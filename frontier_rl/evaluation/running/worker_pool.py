@@ -36,7 +36,15 @@ _STOP_WAIT_S = 5.0
 
 
 class WorkerDiedError(FrontierRLError):
-    """A worker process ended while it ran a task (killed, or out of memory)."""
+    """A worker process ended while it ran a task (killed, or out of memory).
+
+    Attributes:
+        exit_code: the process's exit code (negative: the signal that ended it); None where not known.
+    """
+
+    def __init__(self, message: str, exit_code: int | None = None) -> None:
+        super().__init__(message)
+        self.exit_code = exit_code
 
 
 def exit_with_parent(parent: int) -> None:
@@ -194,7 +202,9 @@ class WorkerPool:
             data = worker.conn.recv_bytes()
         except (EOFError, OSError):  # it ended before sending the outcome, or while sending it
             code = self._replace(worker)
-            return index, WorkerDiedError(f"its worker process ended (exit code {code}) before sending its outcome")
+            return index, WorkerDiedError(
+                f"its worker process ended (exit code {code}) before sending its outcome", code
+            )
         try:
             outcome = pickle.loads(data)
         except Exception as exc:  # cannot be unpickled here
