@@ -69,7 +69,8 @@ def main() -> None:
     nearest = summary.methods["nearest"]
     print(f"nearest: {_number(nearest.mean_time_s)} s; model {args.model}: {_number(result.mean_time_s)} s")
     print(
-        f"saving: {_number(result.reduction_pct)} % (95 % CI {_number(low)} to {_number(high)} s), "
+        f"saving: {_number(result.mean_diff_s)} s, {_number(result.reduction_pct)} % "
+        f"(95 % CI of the saving {_number(low)} to {_number(high)} s), "
         f"p one-tailed {_number(result.p_one_tailed, '.2g')}"
     )
     print(f"report: {args.out / 'evaluation' / 'report.md'}")

@@ -91,12 +91,13 @@ class CommandInterrupts:
 
 
 def _in_fragile_code(frame: FrameType | None) -> bool:
-    """Whether ``frame`` or a caller of it is importlib's machinery or numba's own Python code (a
-    compiled kernel's callback, the compiler): where an interrupt must wait."""
-    numba = f"{os.sep}numba{os.sep}"
+    """Whether ``frame`` or a caller of it is importlib's machinery, numba's own Python code (a
+    compiled kernel's callback, the compiler) or torch's serialization (an interrupt inside its C++
+    zip writer becomes a RuntimeError): where an interrupt must wait."""
+    numba, torch_save = f"{os.sep}numba{os.sep}", f"{os.sep}torch{os.sep}serialization.py"
     while frame is not None:
         name = frame.f_code.co_filename
-        if name.startswith("<frozen importlib._bootstrap") or numba in name:
+        if name.startswith("<frozen importlib._bootstrap") or numba in name or name.endswith(torch_save):
             return True
         frame = frame.f_back
     return False

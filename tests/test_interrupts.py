@@ -30,10 +30,17 @@ def test_an_error_raised_while_handling_a_ctrl_c_counts_as_one() -> None:
     assert caused_by_interrupt(KeyboardInterrupt())
 
 
-def test_a_ctrl_c_inside_numbas_own_code_waits_until_it_is_left(monkeypatch: pytest.MonkeyPatch) -> None:
+@pytest.mark.parametrize(
+    "fragile",
+    [
+        f"{os.sep}numba{os.sep}core{os.sep}serialize.py",
+        f"{os.sep}site-packages{os.sep}torch{os.sep}serialization.py",  # a checkpoint's save: its writer tore
+    ],
+)
+def test_a_ctrl_c_inside_numbas_own_code_waits_until_it_is_left(monkeypatch: pytest.MonkeyPatch, fragile: str) -> None:
     timers: list[float] = []
     monkeypatch.setattr(signal, "setitimer", lambda which, seconds: timers.append(seconds))
-    in_numba = SimpleNamespace(f_code=SimpleNamespace(co_filename=f"{os.sep}numba{os.sep}core{os.sep}serialize.py"))
+    in_numba = SimpleNamespace(f_code=SimpleNamespace(co_filename=fragile))
     ours = SimpleNamespace(f_code=SimpleNamespace(co_filename="frontier_rl/core/sim/leg.py"), f_back=None)
     in_numba.f_back = ours
     interrupts = launch.CommandInterrupts()

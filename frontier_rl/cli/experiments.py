@@ -50,7 +50,8 @@ CommRangeOption = Annotated[
     float | None, typer.Option(help="Teams' communication range (m); default unlimited, rendezvous 2 m.")
 ]
 FailOption = Annotated[
-    list[str] | None, typer.Option(help="ROBOT@SECONDS: a failure in every team episode (repeatable).")
+    list[str] | None,
+    typer.Option(help="ROBOT@SECONDS: a failure in every team episode that lasts until then (repeatable)."),
 ]
 DEMO_WORLDS = ("office", "rooms", "cluttered")
 SHIPPED_MODELS = (Path("models/model4.zip"), Path("models/model5.zip"), Path("models/model7.zip"))
