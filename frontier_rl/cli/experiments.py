@@ -140,9 +140,12 @@ def _print_summary(summary: ExperimentSummary, title: str, baseline: str) -> Non
     for name, e in methods.items():
         compared = name != baseline and e.reduction_pct is not None
         change = f"{0.0 - (e.reduction_pct or 0.0) + 0.0:+.1f} %" if compared else "baseline"  # + 0.0: no "-0.0"
+        change = change if compared or name == baseline else "n/a"  # no episode to compare (failed teams)
         ratio = (f"{e.oracle_ratio:.2f}" if e.oracle_ratio is not None else "",) if with_oracle else ()
         p_holm = f"{e.p_holm:.2g}" if e.p_holm is not None else ""  # none for the baseline and the oracle
-        table.add_row(labels[name], f"{e.mean_time_s:.1f}", change, p_holm, *ratio, f"{e.episodes_done}/{e.n}")
+        mean = f"{e.mean_time_s:.1f}" if e.mean_time_s is not None else "n/a"  # every episode a failed team's
+        episodes = sum((e.end_reasons or {}).values()) or e.n  # n: the episodes compared, a failed team's left out
+        table.add_row(labels[name], mean, change, p_holm, *ratio, f"{e.episodes_done}/{episodes}")
     print_table(table)
 
 

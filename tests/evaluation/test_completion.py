@@ -14,6 +14,7 @@ import pytest
 from frontier_rl.core.sim.config import SimConfig
 from frontier_rl.core.sim.metrics import EndReason
 from frontier_rl.errors import ConfigError
+from frontier_rl.evaluation.report.conclusion import conclude
 from frontier_rl.evaluation.report.table import completion_table
 from frontier_rl.evaluation.report.tables import report_tables
 from frontier_rl.evaluation.results.episode_record import ROW_COLUMNS, EpisodeRow, EpisodeTrace
@@ -140,6 +141,32 @@ def test_summary_counts_end_reasons_and_coverage_per_method() -> None:
     assert tables["Completion"].rows[1][:5] == ["nearest", "3", "2", "1", "0"]
     # only the episode cut at the cap is named as such, not the unreachable one
     assert tables["Exploration time, all episodes"].note.endswith("(their time counts as the cap): fixed:0.75 1.")
+
+
+def test_a_team_whose_robots_all_failed_has_no_time_to_compare() -> None:
+    """Its time (when the last robot stopped, 60 s) counted as its time to explore: the report named a
+    team whose robots all failed the fastest method, "86 % less time, significant"."""
+    methods = ("nearest", "nearest@2:coordinated", "nearest@3:coordinated")
+    config = ExperimentConfig(methods=methods, worlds=("office",), episodes=3, baseline="nearest", sim=SHORT)
+    rows = {}
+    for episode in range(3):
+        rows[("nearest", "office", episode)] = _row("nearest", episode, "explored", 1.0, sim_time_s=400.0 + episode)
+        for method in methods[1:]:
+            failed = method.endswith("@2:coordinated") or episode == 0
+            end, time = ("failed", 60.0) if failed else ("explored", 300.0 + 7 * episode)
+            rows[(method, "office", episode)] = _row(method, episode, end, 0.5 if failed else 1.0, sim_time_s=time)
+    summary = summarise(rows, config)
+    all_failed, one_failed = summary.methods["nearest@2:coordinated"], summary.methods["nearest@3:coordinated"]
+    assert all_failed.n == 0 and all_failed.mean_time_s is None and all_failed.end_reasons["failed"] == 3
+    assert one_failed.n == 2 and one_failed.mean_time_s == pytest.approx((307.0 + 314.0) / 2)
+    assert one_failed.mean_diff_s == pytest.approx((401.0 - 307.0 + 402.0 - 314.0) / 2)  # the pairs it has
+    assert one_failed.median_time_s == pytest.approx(310.5)
+    assert [p.robots for p in summary.teams] == [1, 3]  # no point for a team size with no time
+    labels = {m: m for m in methods}
+    assert conclude(summary, labels).best == "nearest@3:coordinated"
+    only_failed = ExperimentConfig(methods=methods[:2], worlds=("office",), episodes=3, baseline="nearest", sim=SHORT)
+    alone = summarise({k: v for k, v in rows.items() if k[0] in methods[:2]}, only_failed)
+    assert conclude(alone, labels).headline.startswith("No method has an exploration time to compare")
 
 
 def test_the_completion_table_lays_out_the_counts() -> None:

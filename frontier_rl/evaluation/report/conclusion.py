@@ -4,7 +4,7 @@ the baseline, by how much and how surely, how far from the oracle, and how the e
 from __future__ import annotations
 
 import math
-from collections.abc import Callable, Mapping
+from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass
 
 from frontier_rl.core.sim.metrics import EndReason
@@ -47,7 +47,8 @@ def conclude(summary: ExperimentSummary, labels: dict[str, str]) -> Conclusion:
     times = {m: e.mean_time_s for m, e in methods.items() if m not in (baseline, ORACLE) and _finite(e.mean_time_s)}
     tested = list(times)
     best = min(tested, key=lambda m: _or_inf(times[m])) if tested else None
-    headline = _headline(methods, baseline, best, labels, len(tested))
+    timeless = [m for m in methods if m not in (baseline, ORACLE, *tested)]  # every episode a failed team's
+    headline = _headline(methods, baseline, best, labels, len(tested), timeless)
     details = []
     if len(tested) > 1:
         details.append(
@@ -70,10 +71,21 @@ def conclude(summary: ExperimentSummary, labels: dict[str, str]) -> Conclusion:
 
 
 def _headline(
-    methods: Mapping[str, MethodSummary], baseline: str, best: str | None, labels: dict[str, str], family: int
+    methods: Mapping[str, MethodSummary],
+    baseline: str,
+    best: str | None,
+    labels: dict[str, str],
+    family: int,
+    timeless: Sequence[str] = (),
 ) -> str:
     base = methods[baseline]
     oracle = methods.get(ORACLE)
+    if best is None and timeless:
+        names = ", ".join(labels[m] for m in timeless)
+        return (
+            f"No method has an exploration time to compare with the baseline {labels[baseline]} "
+            f"({number(base.mean_time_s)} s on average): every episode of {names} ended with its team failed."
+        )
     if best is None:
         if oracle is None:
             return f"Only the baseline {labels[baseline]} ran: {number(base.mean_time_s)} s on average."

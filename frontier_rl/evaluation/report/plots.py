@@ -13,6 +13,7 @@ from pathlib import Path
 
 import numpy as np
 from matplotlib.figure import Figure
+from numpy.typing import NDArray
 
 from frontier_rl.atomic_write import save_figure_atomic
 from frontier_rl.core.frontiers.thesis import THESIS_WEIGHT
@@ -25,11 +26,12 @@ _DPI = 110
 
 def box_plot(times: Mapping[str, Sequence[float]], path: Path, title: str) -> Path:
     """Box-and-whisker plot of exploration time (s) per method, one row per method (the first on
-    top, so that any number of methods stays legible); the triangle marks the mean."""
+    top, so that any number of methods stays legible); the triangle marks the mean. A time that is
+    NaN (a team whose robots all failed) is left out."""
     names = list(times)[::-1]
     fig = Figure(figsize=(6.4, 1.3 + 0.42 * len(names)), dpi=_DPI)
     ax = fig.subplots()
-    ax.boxplot([times[n] for n in names], orientation="horizontal", showmeans=True, widths=0.55)
+    ax.boxplot([_finite(times[n]) for n in names], orientation="horizontal", showmeans=True, widths=0.55)
     ax.set_yticks(range(1, len(names) + 1), names)
     ax.set_xlabel("exploration time (s)")
     ax.set_title(title)
@@ -38,15 +40,21 @@ def box_plot(times: Mapping[str, Sequence[float]], path: Path, title: str) -> Pa
     return save_figure_atomic(fig, path)
 
 
+def _finite(values: Sequence[float]) -> NDArray[np.float64]:
+    array = np.asarray(values, dtype=np.float64)
+    return array[np.isfinite(array)]
+
+
 def paired_scatter(times: Mapping[str, Sequence[float]], baseline: str, path: Path) -> Path:
     """Each episode's time with a method (y) against the baseline's time in it (x); points under
     the diagonal are episodes the method explored faster. Both axes span the times measured (with
-    a margin), the same on both so that the diagonal is the line of equal time."""
+    a margin), the same on both so that the diagonal is the line of equal time. An episode whose
+    time is NaN on either side (a team whose robots all failed) has no point."""
     fig = Figure(figsize=(5.6, 5.2), dpi=_DPI)
     ax = fig.subplots()
     base = np.asarray(times[baseline])
-    values = np.concatenate([np.asarray(v, dtype=np.float64) for v in times.values()])
-    low, high = float(np.min(values)), float(np.max(values))
+    values = np.concatenate([_finite(v) for v in times.values()])
+    low, high = (float(np.min(values)), float(np.max(values))) if len(values) else (0.0, 1.0)
     margin = max(0.05 * (high - low), 1.0)
     low, high = max(0.0, low - margin), high + margin
     ax.plot([low, high], [low, high], color="0.6", lw=1, ls="--", label="equal time")

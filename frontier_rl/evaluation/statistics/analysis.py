@@ -32,8 +32,14 @@ Rows = Mapping[Key, EpisodeRow]
 def paired_times(
     rows: Rows, methods: tuple[str, ...], worlds: tuple[str, ...], episodes: int
 ) -> dict[str, list[float]]:
-    """Each method's exploration times (s), aligned by (world, episode)."""
-    return {m: [rows[(m, w, e)].sim_time_s for e in range(episodes) for w in worlds] for m in methods}
+    """Each method's exploration times (s), aligned by (world, episode): NaN for a team whose robots all
+    failed, which has no time to explore (its time is when the last one stopped); such episodes are
+    left out of the method's comparisons, as their pairs (:func:`compare_methods`)."""
+    return {m: [_exploration_time(rows[(m, w, e)]) for e in range(episodes) for w in worlds] for m in methods}
+
+
+def _exploration_time(row: EpisodeRow) -> float:
+    return math.nan if row.end_reason is EndReason.FAILED else row.sim_time_s
 
 
 def summarise(rows: Rows, config: ExperimentConfig, outlier_thresholds: tuple[float, ...] = ()) -> ExperimentSummary:
@@ -73,7 +79,7 @@ def team_scaling(times: dict[str, list[float]], methods: tuple[str, ...]) -> tup
     half-width (Student's t) of each mean; a policy's one-robot method, if run, starts every line.
     The points come by policy, then strategy (each in the order of the methods), then team size."""
     parsed = {m: TeamMethod.parse(m) for m in methods}
-    policies: dict[str, dict[Strategy, dict[int, TeamPoint]]] = {}
+    policies: dict[str, dict[Strategy, dict[int, TeamPoint | None]]] = {}
     for method, team in parsed.items():
         if team.robots is None:
             continue
@@ -82,11 +88,21 @@ def team_scaling(times: dict[str, list[float]], methods: tuple[str, ...]) -> tup
         line[team.robots] = _team_point(alone, strategy, team.robots, method, times[method])
         if alone in parsed and 1 not in line:
             line[1] = _team_point(alone, strategy, 1, alone, times[alone])
-    return tuple(point for lines in policies.values() for line in lines.values() for _, point in sorted(line.items()))
+    return tuple(
+        point
+        for lines in policies.values()
+        for line in lines.values()
+        for _, point in sorted(line.items())
+        if point is not None
+    )
 
 
-def _team_point(policy: str, strategy: Strategy, robots: int, method: str, values: list[float]) -> TeamPoint:
+def _team_point(policy: str, strategy: Strategy, robots: int, method: str, values: list[float]) -> TeamPoint | None:
+    """The point of a team size; None where every episode of it failed (no time to plot)."""
     t = np.asarray(values, dtype=np.float64)
+    t = t[np.isfinite(t)]
+    if not len(t):
+        return None
     half = float(scipy_stats.t.ppf(0.975, len(t) - 1) * t.std(ddof=1) / math.sqrt(len(t))) if len(t) > 1 else None
     return TeamPoint(policy, strategy, robots, method, len(t), float(t.mean()), half)
 
@@ -94,7 +110,7 @@ def _team_point(policy: str, strategy: Strategy, robots: int, method: str, value
 def _method_table(rows: Rows, config: ExperimentConfig, worlds: tuple[str, ...]) -> dict[str, MethodSummary]:
     times = paired_times(rows, config.methods, worlds, config.episodes)
     stats = compare_methods(times, config.baseline)
-    oracle_mean = float(np.mean(times[ORACLE])) if ORACLE in times else math.nan
+    oracle_mean = _finite_mean(times[ORACLE]) if ORACLE in times else math.nan
     tested = {m: defined(stats[m].p_one_tailed) for m in config.methods if m not in (config.baseline, ORACLE)}
     # a method tested on two or more pairs counts in the family even where its p is undefined
     holm = holm_adjust(tested, family_size=sum(stats[m].n >= 2 for m in tested))
@@ -106,8 +122,8 @@ def _method_table(rows: Rows, config: ExperimentConfig, worlds: tuple[str, ...])
             **MethodSummary.values_of(stats[method]),
             std_time_s=defined(math.sqrt(variance)) if variance is not None else None,
             p_holm=holm.get(method),
-            median_time_s=float(np.median(times[method])),
-            oracle_ratio=_ratio(float(np.mean(times[method])), oracle_mean),
+            median_time_s=defined(_finite_median(times[method])),
+            oracle_ratio=_ratio(_finite_mean(times[method]), oracle_mean),
             episodes_done=sum(bool(r.done) for r in own),
             end_reasons=end_reasons(own),
             mean_coverage=float(np.mean([r.coverage for r in own])),
@@ -139,7 +155,18 @@ def end_reasons(rows: Sequence[EpisodeRow]) -> dict[EndReason, int]:
 
 
 def _ratio(value: float, reference: float) -> float | None:
-    return value / reference if math.isfinite(reference) and reference > 0 else None
+    return value / reference if math.isfinite(value) and math.isfinite(reference) and reference > 0 else None
+
+
+def _finite_mean(values: Sequence[float]) -> float:
+    """The mean of the values that are times (NaN: a failed team's, :func:`paired_times`); NaN if none."""
+    finite = [v for v in values if math.isfinite(v)]
+    return float(np.mean(finite)) if finite else math.nan
+
+
+def _finite_median(values: Sequence[float]) -> float:
+    finite = [v for v in values if math.isfinite(v)]
+    return float(np.median(finite)) if finite else math.nan
 
 
 def _mean_of_present(values: Iterable[float | None]) -> float | None:

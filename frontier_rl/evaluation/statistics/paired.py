@@ -94,7 +94,8 @@ def compare_methods(
 
     With ``outlier_above_s``, an episode is left out of a method's comparison when the method's or
     the baseline's time in it is above the threshold (s), as the thesis did at 1000 s and 2000 s;
-    the baseline's own row thus drops only its own outliers.
+    the baseline's own row thus drops only its own outliers. An episode whose time is NaN (a team
+    whose robots all failed: no time to explore) is left out so too, always.
     """
     if baseline not in times:
         raise ConfigError(f"baseline {baseline!r} is not among the methods {sorted(times)}")
@@ -106,9 +107,9 @@ def compare_methods(
         t = np.asarray(values, dtype=np.float64)
         if t.shape != base.shape:
             raise ConfigError(f"method {name!r} has {t.size} episodes, the baseline {base.size}")
-        keep = np.ones(t.shape, np.bool_)
+        keep = np.isfinite(t) & np.isfinite(base)
         if outlier_above_s is not None:
-            keep = (t <= outlier_above_s) & (base <= outlier_above_s)
+            keep &= (t <= outlier_above_s) & (base <= outlier_above_s)
         out[name] = paired_stats(t[keep], base[keep])
     return out
 
