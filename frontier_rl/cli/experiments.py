@@ -138,9 +138,12 @@ def _print_summary(summary: ExperimentSummary, title: str, baseline: str) -> Non
     for column in (*columns, "done"):
         table.add_column(column, justify="left" if column == "method" else "right", no_wrap=column == "method")
     for name, e in methods.items():
-        compared = name != baseline and e.reduction_pct is not None
-        change = f"{0.0 - (e.reduction_pct or 0.0) + 0.0:+.1f} %" if compared else "baseline"  # + 0.0: no "-0.0"
-        change = change if compared or name == baseline else "n/a"  # no episode to compare (failed teams)
+        if name == baseline:
+            change = "baseline"
+        elif e.reduction_pct is None:  # no episode to compare (every one a failed team's)
+            change = "n/a"
+        else:
+            change = f"{0.0 - e.reduction_pct + 0.0:+.1f} %"  # + 0.0: no "-0.0"
         ratio = (f"{e.oracle_ratio:.2f}" if e.oracle_ratio is not None else "",) if with_oracle else ()
         p_holm = f"{e.p_holm:.2g}" if e.p_holm is not None else ""  # none for the baseline and the oracle
         mean = f"{e.mean_time_s:.1f}" if e.mean_time_s is not None else "n/a"  # every episode a failed team's

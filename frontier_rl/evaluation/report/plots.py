@@ -13,13 +13,13 @@ from pathlib import Path
 
 import numpy as np
 from matplotlib.figure import Figure
-from numpy.typing import NDArray
 
 from frontier_rl.atomic_write import save_figure_atomic
 from frontier_rl.core.frontiers.thesis import THESIS_WEIGHT
 from frontier_rl.core.sim.metrics import sample_step
 from frontier_rl.evaluation.results.episode_record import EpisodeTrace
 from frontier_rl.evaluation.results.summary import TeamPoint
+from frontier_rl.evaluation.statistics.analysis import finite_times
 
 _DPI = 110
 
@@ -31,18 +31,13 @@ def box_plot(times: Mapping[str, Sequence[float]], path: Path, title: str) -> Pa
     names = list(times)[::-1]
     fig = Figure(figsize=(6.4, 1.3 + 0.42 * len(names)), dpi=_DPI)
     ax = fig.subplots()
-    ax.boxplot([_finite(times[n]) for n in names], orientation="horizontal", showmeans=True, widths=0.55)
+    ax.boxplot([finite_times(times[n]) for n in names], orientation="horizontal", showmeans=True, widths=0.55)
     ax.set_yticks(range(1, len(names) + 1), names)
     ax.set_xlabel("exploration time (s)")
     ax.set_title(title)
     ax.grid(axis="x", alpha=0.3)
     fig.tight_layout()
     return save_figure_atomic(fig, path)
-
-
-def _finite(values: Sequence[float]) -> NDArray[np.float64]:
-    array = np.asarray(values, dtype=np.float64)
-    return array[np.isfinite(array)]
 
 
 def paired_scatter(times: Mapping[str, Sequence[float]], baseline: str, path: Path) -> Path:
@@ -53,7 +48,7 @@ def paired_scatter(times: Mapping[str, Sequence[float]], baseline: str, path: Pa
     fig = Figure(figsize=(5.6, 5.2), dpi=_DPI)
     ax = fig.subplots()
     base = np.asarray(times[baseline])
-    values = np.concatenate([_finite(v) for v in times.values()])
+    values = np.concatenate([finite_times(v) for v in times.values()])
     low, high = (float(np.min(values)), float(np.max(values))) if len(values) else (0.0, 1.0)
     margin = max(0.05 * (high - low), 1.0)
     low, high = max(0.0, low - margin), high + margin

@@ -9,6 +9,7 @@ from collections import Counter
 from collections.abc import Iterable, Mapping, Sequence
 
 import numpy as np
+from numpy.typing import NDArray
 from scipy import stats as scipy_stats
 
 from frontier_rl.core.sim.metrics import EndReason
@@ -99,8 +100,7 @@ def team_scaling(times: dict[str, list[float]], methods: tuple[str, ...]) -> tup
 
 def _team_point(policy: str, strategy: Strategy, robots: int, method: str, values: list[float]) -> TeamPoint | None:
     """The point of a team size; None where every episode of it failed (no time to plot)."""
-    t = np.asarray(values, dtype=np.float64)
-    t = t[np.isfinite(t)]
+    t = finite_times(values)
     if not len(t):
         return None
     half = float(scipy_stats.t.ppf(0.975, len(t) - 1) * t.std(ddof=1) / math.sqrt(len(t))) if len(t) > 1 else None
@@ -158,15 +158,20 @@ def _ratio(value: float, reference: float) -> float | None:
     return value / reference if math.isfinite(value) and math.isfinite(reference) and reference > 0 else None
 
 
+def finite_times(values: Sequence[float]) -> NDArray[np.float64]:
+    """The values of :func:`paired_times` that are times (NaN: a team whose robots all failed)."""
+    array = np.asarray(values, dtype=np.float64)
+    return array[np.isfinite(array)]
+
+
 def _finite_mean(values: Sequence[float]) -> float:
-    """The mean of the values that are times (NaN: a failed team's, :func:`paired_times`); NaN if none."""
-    finite = [v for v in values if math.isfinite(v)]
-    return float(np.mean(finite)) if finite else math.nan
+    finite = finite_times(values)
+    return float(np.mean(finite)) if len(finite) else math.nan
 
 
 def _finite_median(values: Sequence[float]) -> float:
-    finite = [v for v in values if math.isfinite(v)]
-    return float(np.median(finite)) if finite else math.nan
+    finite = finite_times(values)
+    return float(np.median(finite)) if len(finite) else math.nan
 
 
 def _mean_of_present(values: Iterable[float | None]) -> float | None:
