@@ -367,6 +367,8 @@ def test_outlier_thresholds_parse() -> None:
 
 
 def test_unknown_baseline_duplicates_and_negative_seeds_are_refused() -> None:
+    with pytest.raises(ConfigError, match=r"written two ways\): nearest@2, nearest@2:uncoordinated$"):
+        ExperimentConfig(methods=("fixed:0.75", "nearest@2", "nearest@2:uncoordinated"), worlds=("office",), episodes=1)
     with pytest.raises(ConfigError, match="worlds are listed twice"):
         ExperimentConfig(methods=("fixed:0.75",), worlds=("office", "office"), episodes=1)
     with pytest.raises(ConfigError, match="seed must be a non-negative integer"):

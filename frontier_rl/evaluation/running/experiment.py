@@ -73,8 +73,9 @@ class ExperimentConfig:
         order = sorted(self.failures, key=lambda f: (f.robot is None, f.robot or 0, f.time_s is None, f.time_s or 0.0))
         object.__setattr__(self, "failures", tuple(order))  # frozen: set once, here
         canonical = [str(self.parsed_methods[m]) for m in self.methods]
-        if len(set(canonical)) != len(canonical):
-            raise ConfigError(f"methods are listed twice: {', '.join(self.methods)}")
+        twice = [m for m, c in zip(self.methods, canonical, strict=True) if canonical.count(c) > 1]
+        if twice:
+            raise ConfigError(f"methods are listed twice (the same method written two ways): {', '.join(twice)}")
         teams = [self.team_for(m) for m in self.methods]  # a bad team size, strategy or failure fails here
         if (self.comm_range is not None or self.failures) and not any(teams):
             raise ConfigError("a communication range or failures need team methods (POLICY@N[:STRATEGY])")
