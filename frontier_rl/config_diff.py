@@ -32,7 +32,9 @@ ABSENT: Any = _Absent()
 def differences_between(there: Any, now: Any, path: str) -> list[tuple[str, Any, Any]]:
     """The settings that differ between two JSON values, as (dotted path, value there, value
     now), down to the leaves of dicts and of lists of the same length; absent keys are
-    ``(absent)``. Values whose JSON texts agree count as equal."""
+    ``(absent)``. Of two lists of texts of different lengths (the worlds of a folder whose maps
+    changed), the items only one side has, each against ``(absent)``. Values whose JSON texts agree
+    count as equal."""
     if isinstance(there, dict) and isinstance(now, dict):
         keys = [*there, *(k for k in now if k not in there)]
         return [d for k in keys for d in differences_between(there.get(k, ABSENT), now.get(k, ABSENT), f"{path}.{k}")]
@@ -42,6 +44,10 @@ def differences_between(there: Any, now: Any, path: str) -> list[tuple[str, Any,
             for i, (a, b) in enumerate(zip(there, now, strict=True))
             for d in differences_between(a, b, f"{path}[{i}]")
         ]
+    if isinstance(there, list) and isinstance(now, list) and all(isinstance(x, str) for x in [*there, *now]):
+        gone, added = [x for x in there if x not in now], [x for x in now if x not in there]
+        if gone or added:
+            return [(path, x, ABSENT) for x in gone] + [(path, ABSENT, x) for x in added]
     if there == now or _show(there) == _show(now):
         return []
     return [(path, there, now)]

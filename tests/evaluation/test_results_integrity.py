@@ -23,7 +23,7 @@ from typer.testing import CliRunner
 from frontier_rl import atomic_write
 from frontier_rl.atomic_write import OutputWriteError, write_text_atomic
 from frontier_rl.cli import app
-from frontier_rl.config_diff import contrast, differences_between
+from frontier_rl.config_diff import contrast, describe_differences, differences_between
 from frontier_rl.core.sim.config import SimConfig
 from frontier_rl.errors import ConfigError
 from frontier_rl.evaluation.results.episode_record import ROW_COLUMNS
@@ -447,6 +447,18 @@ DIFFS: dict[str, tuple[ExperimentIdentity, str]] = {
     "seed": (_identity(seed=1), "seed"),
     "an int for a float": (_with_sim(max_sim_time=601), "sim.max_sim_time"),
 }  # fmt: skip
+
+
+def test_a_world_list_of_another_length_names_the_maps_each_side_has_alone() -> None:
+    """A folder of maps with one map edited and one added was shown as two lists cut mid-hash."""
+    there = ["office", "maps/room_1.png#sha256:aaa", "maps/room_2.png#sha256:bbb"]
+    now = ["office", "maps/room_1.png#sha256:ccc", "maps/room_2.png#sha256:bbb", "maps/room_9.png#sha256:ddd"]
+    differences = differences_between(there, now, "worlds")
+    assert describe_differences(differences) == (
+        'worlds: "maps/room_1.png#sha256:aaa" there, (absent) now; '
+        'worlds: (absent) there, "maps/room_1.png#sha256:ccc" now; '
+        'worlds: (absent) there, "maps/room_9.png#sha256:ddd" now'
+    )
 
 
 def test_a_refused_folder_keeps_a_last_line_without_its_newline(tmp_path: Path) -> None:
