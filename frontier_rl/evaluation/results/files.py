@@ -96,9 +96,16 @@ def complete_lines(path: Path) -> list[tuple[int, str]]:
 
 def cut_torn_line(path: Path) -> None:
     """Cut a torn last line (no newline: the writer was killed, its episode runs again) off the file,
-    so that the next append starts on a fresh line."""
+    so that the next append starts on a fresh line. Only the last byte is read unless it is torn
+    (the file was read whole, and checked, by :func:`complete_lines` just before)."""
     if not path.exists():
         return
+    with path.open("rb") as handle:
+        if handle.seek(0, os.SEEK_END) == 0:
+            return
+        handle.seek(-1, os.SEEK_END)
+        if handle.read(1) == b"\n":
+            return
     data = read_result_file(path)
     end = data.rfind(b"\n") + 1
     if end < len(data):
