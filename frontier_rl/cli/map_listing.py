@@ -14,7 +14,7 @@ from rich import box
 from rich.console import Console
 from rich.table import Table
 
-from frontier_rl.cli.output import stdout_console
+from frontier_rl.cli.output import stdout_console, whole_width
 from frontier_rl.io.catalogue import CatalogueEntry, CatalogueMap, MapCollection, catalogue
 
 JsonValue = str | int | float | bool | None
@@ -141,7 +141,7 @@ def _fitted_table(
     for column in (None, *LEFT_OUT_FIRST):
         shown = [c for c in shown if c is not column]
         table = _table(shown, entries, title)
-        if console.measure(table, options=console.options.update_width(10_000)).maximum <= console.width:
+        if whole_width(console, table) <= console.width:
             return table
     return table
 

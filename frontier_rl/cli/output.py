@@ -60,9 +60,13 @@ def print_table(table: Table) -> None:
     columns, a long method name among them, to 80 columns where no terminal gave a width)."""
     console = stdout_console()
     if not console.is_terminal:
-        whole = console.measure(table, options=console.options.update_width(10_000)).maximum
-        console.width = max(console.width, whole)
+        console.width = max(console.width, whole_width(console, table))
     console.print(table)
+
+
+def whole_width(console: Console, table: Table) -> int:
+    """The columns ``table`` takes on ``console`` with no column cut or folded."""
+    return console.measure(table, options=console.options.update_width(10_000)).maximum
 
 
 def one_line(text: str, limit: int = MESSAGE_LIMIT) -> str:
