@@ -15,10 +15,14 @@ from frontier_rl.core.sim.leg_result import LegResult
 from frontier_rl.core.sim.simulator import ExplorationSimulator
 from frontier_rl.envs.rewards import RewardConfig, reward_preset
 from frontier_rl.envs.world_source import WorldSource, reset_world_seed
-from frontier_rl.errors import ConfigError
+from frontier_rl.errors import ConfigError, short_repr
 from frontier_rl.observation.map_image import THESIS_INPUT_CELLS, MapEncoder
 from frontier_rl.render import FrameCanvas, rgb_array
 from frontier_rl.world_spec import world_entries
+
+MAX_WORLD_DRAWS = 100
+"""How many worlds a reset draws at most for one that is not explored from its start: an episode
+that ends before its first decision has nothing to learn, and a step after it raised."""
 
 ObsT = TypeVar("ObsT")
 
@@ -105,9 +109,18 @@ class ExplorationEnv(gym.Env[ObsT, np.int64], Generic[ObsT]):
         """
         world_seed = reset_world_seed(options)  # checked before anything changes
         super().reset(seed=seed)
-        world = self.source.sample(self.np_random, world_seed)
-        sim_rng = np.random.default_rng(int(self.np_random.integers(2**63 - 1)))
-        self._sim = ExplorationSimulator(world, self.config.sim, sim_rng)
+        for _ in range(MAX_WORLD_DRAWS):
+            world = self.source.sample(self.np_random, world_seed)
+            sim_rng = np.random.default_rng(int(self.np_random.integers(2**63 - 1)))
+            self._sim = ExplorationSimulator(world, self.config.sim, sim_rng)
+            if not self._sim.finished:
+                break
+            world_seed = None  # explored from its start (a room the sensor sees whole): another is drawn
+        else:
+            raise ConfigError(
+                f"each of {MAX_WORLD_DRAWS} worlds drawn from {short_repr(','.join(self.config.worlds))} had no "
+                "frontier left at its start (maps the sensor sees whole from where the robot starts?)"
+            )
         self._decisions = 0
         return self._observe(), self._info(None)
 

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+from pathlib import Path
 from typing import Any
 
 import gymnasium as gym
@@ -18,6 +19,7 @@ from frontier_rl.observation.frontier_table import FEATURE_BOUND, TOUR_STOPS
 from frontier_rl.observation.map_image import MAP_FREE, MAP_UNKNOWN, MARK
 from frontier_rl.observation.weight_bins import WEIGHT_BINS, bin_to_weight
 from frontier_rl.registration import ENV_IDS, MODELS, ModelKind, env_id
+from tests.envs.test_world_source import make_folder
 
 
 def _obs_equal(a: Any, b: Any) -> bool:
@@ -164,6 +166,19 @@ def test_step_after_the_end_asks_for_reset() -> None:
     assert truncated and not terminated
     with pytest.raises(RuntimeError, match="reset"):
         env.step(80)
+
+
+def test_a_world_explored_from_its_start_is_drawn_again(tmp_path: Path) -> None:
+    """A room the sensor sees whole ended its episode at reset, and the first step raised (a
+    training run on a folder with such a map crashed)."""
+    rooms = make_folder(tmp_path / "rooms", 2)
+    with pytest.raises(ConfigError, match=r"each of 100 worlds drawn from .*rooms' had no frontier left at its start"):
+        WeightEnv(worlds=str(rooms), observation_size=64).reset(seed=0)
+    env = WeightEnv(worlds=f"{rooms}=10,office", observation_size=64)
+    for seed in range(3):
+        _, info = env.reset(seed=seed)
+        assert info["world"] == "office" and info["frontiers"] > 0
+        assert env.step(80)[4]["decisions"] == 1
 
 
 def test_step_before_reset_is_an_error() -> None:
