@@ -176,6 +176,21 @@ def read_map(path: str, resolution: float | None = None) -> LoadedMap:
     return _read_map_version(_MapVersion(str(resolved), resolution, stat.st_size, stat.st_mtime_ns, given))
 
 
+def world_fingerprint(world: str, resolution: float | None) -> str:
+    """A generator's name, or a map file's path or catalogue name as given with a hash of the grid
+    it loads as (the same for a catalogue map wherever the package is installed)."""
+    if world in WORLD_GENERATORS:
+        return world
+    return f"{world}#sha256:{map_digest(read_map(world, resolution))}"
+
+
+def map_digest(loaded: LoadedMap) -> str:
+    """A hash of a loaded map's grid, cells, origin and start (16 hex digits)."""
+    digest = hashlib.sha256(loaded.grid.data.tobytes())
+    digest.update(repr((loaded.grid.shape, loaded.grid.resolution, loaded.grid.origin, loaded.start)).encode())
+    return digest.hexdigest()[:16]
+
+
 @dataclass(frozen=True)
 class _MapVersion:
     """A map file's cache key; ``given`` (the path as the caller wrote it) is not part of it."""

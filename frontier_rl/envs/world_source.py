@@ -18,6 +18,7 @@ from frontier_rl.errors import ConfigError
 from frontier_rl.io import load_map
 from frontier_rl.world_spec import (
     WorldFamily,
+    map_digest,
     map_file,
     parse_world_list,
     read_map,
@@ -161,10 +162,9 @@ class WorldSource:
         return resolve_world(spec, seed, resolution=self.resolution, stored_start=False)
 
 
-def check_world_files(worlds: tuple[str, ...], resolution: float | None = None) -> int:
+def check_world_files(worlds: tuple[str, ...], resolution: float | None = None) -> tuple[str, ...]:
     """Read every map file of ``worlds`` once (a bad one raises
-    :class:`~frontier_rl.errors.MapError` naming it); returns how many there are."""
+    :class:`~frontier_rl.errors.MapError` naming it); returns each as ``spec#sha256:HASH``
+    (:func:`~frontier_rl.world_spec.map_digest` of the map as loaded), in the list's order."""
     files = [m for entry in worlds for m in world_family(entry).members if m not in WORLD_GENERATORS]
-    for spec in files:
-        load_map(map_file(spec), resolution=resolution)
-    return len(files)
+    return tuple(f"{spec}#sha256:{map_digest(load_map(map_file(spec), resolution=resolution))}" for spec in files)

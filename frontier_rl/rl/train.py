@@ -23,6 +23,8 @@ from stable_baselines3.common.policies import ActorCriticPolicy
 from stable_baselines3.common.vec_env import DummyVecEnv, SubprocVecEnv, VecEnv, VecMonitor
 
 import frontier_rl.envs
+from frontier_rl.atomic_write import describe_os_error, write_text_atomic
+from frontier_rl.bounded_read import UnreadableFileError, read_bounded
 from frontier_rl.config_diff import ABSENT, describe_differences, differences_between
 from frontier_rl.envs.world_source import check_world_files
 from frontier_rl.errors import ConfigError, short_path
@@ -72,8 +74,19 @@ def latest_checkpoint(run: Path) -> tuple[Path, int] | None:
     return path, steps
 
 
-def _check_run_dir(config: TrainConfig, out: Path, resume: bool) -> int:
-    """Prepare ``out``; returns the step count to start from (0, or the last checkpoint's)."""
+MAP_FILES_NAME = "map_files.txt"
+"""The file of a run folder that lists the run's map files, each with a hash of its map."""
+
+_MAP_CHANGES_SHOWN = 4
+"""A run refused for its map files names at most this many that changed."""
+
+MAX_MAP_FILES_BYTES = 64 * 2**20
+"""The most of :data:`MAP_FILES_NAME` read (a line per map: about 200,000 maps)."""
+
+
+def _check_run_dir(config: TrainConfig, out: Path, resume: bool, maps: tuple[str, ...]) -> int:
+    """Prepare ``out`` for a run on map files ``maps`` (``spec#sha256:HASH``); returns the step
+    count to start from (0, or the last checkpoint's)."""
     refuse_other_runs(out, RunKind.TRAINING)
     saved_path = out / "config.yaml"
     if saved_path.exists():
@@ -86,6 +99,7 @@ def _check_run_dir(config: TrainConfig, out: Path, resume: bool) -> int:
             raise ConfigError(
                 f"{str(out)!r} holds a run with a different configuration ({describe_differences(differs)})"
             )
+        _check_map_files(out, maps)
         checkpoint = latest_checkpoint(out)
         # SB3 ends a run with a whole rollout, so its last checkpoints may pass the timesteps by less than one
         most = config.timesteps + config.n_steps * config.n_envs - 1
@@ -100,8 +114,42 @@ def _check_run_dir(config: TrainConfig, out: Path, resume: bool) -> int:
     if run_kind(out) is RunKind.TRAINING:  # a model file or checkpoints without their run's config.yaml
         raise ConfigError(f"{str(out)!r} holds a model.zip or checkpoints of another run; choose another --out")
     out.mkdir(parents=True, exist_ok=True)
+    if maps:
+        write_text_atomic(out / MAP_FILES_NAME, "".join(f"{m}\n" for m in maps))
     config.dump(saved_path)
     return 0
+
+
+def _check_map_files(out: Path, maps: tuple[str, ...]) -> None:
+    """Refuse to resume the run in ``out`` on map files other than those it was trained on (a
+    folder of maps with a map edited, added or removed); a run written before the list was kept
+    is not checked."""
+    listed = out / MAP_FILES_NAME
+    if not listed.exists():
+        return
+    try:
+        there = read_bounded(listed, MAX_MAP_FILES_BYTES).decode("utf-8", "replace").splitlines()
+    except UnreadableFileError as exc:
+        raise ConfigError(str(exc)) from None
+    except OSError as exc:
+        raise ConfigError(f"{listed}: cannot be read ({describe_os_error(exc)})") from None
+    if there != list(maps):
+        raise ConfigError(
+            f"{str(out)!r} holds a run trained on other map files ({_map_changes(there, maps)}); "
+            "resume it on the maps it was trained on"
+        )
+
+
+def _map_changes(there: list[str], now: tuple[str, ...]) -> str:
+    """The map files that differ between two lists of ``spec#sha256:HASH``: changed, added, removed."""
+    before = dict(line.rpartition("#sha256:")[::2] for line in there)
+    after = dict(line.rpartition("#sha256:")[::2] for line in now)
+    changes = [f"{short_path(m)} changed" for m in after if m in before and before[m] != after[m]]
+    changes += [f"{short_path(m)} added" for m in after if m not in before]
+    changes += [f"{short_path(m)} removed" for m in before if m not in after]
+    shown = ", ".join(changes[:_MAP_CHANGES_SHOWN]) or "the same maps in another order"
+    more = len(changes) - _MAP_CHANGES_SHOWN
+    return shown + (f" and {more} more" if more > 0 else "")
 
 
 def build_model(config: TrainConfig, env: object, out: Path) -> BaseAlgorithm:
@@ -163,19 +211,22 @@ def _training_envs(config: TrainConfig, out: Path, start: int, env_kwargs: dict[
                 [partial(_worker_env, factory, config.env_id, **env_kwargs) for _ in range(config.n_envs)],
                 start_method="spawn",
             )
-    # a resumed run must not replay the episodes it already saw: offset the env seeds by the start step
-    envs.seed(config.seed + start)
     return VecMonitor(envs, str(out / f"monitor_{start}"), info_keywords=("sim_time_s", "coverage"))
 
 
-def _restore_checkpoint(model: BaseAlgorithm, out: Path, start: int) -> None:
+def _restore_checkpoint(model: BaseAlgorithm, config: TrainConfig, out: Path, start: int) -> None:
     """Load the last checkpoint of ``out`` (``start`` steps) into ``model``: weights and optimizer,
-    no unpickling, the file's size bounded before SB3 reads it."""
+    no unpickling, the file's size bounded before SB3 reads it.
+
+    The random generators (the envs', torch's, numpy's) are seeded with ``config.seed + start``: the
+    model, built with ``config.seed``, seeds the envs as the run's start did, and a resumed run
+    replayed the worlds and starts of its opening episodes."""
     checkpoint = latest_checkpoint(out)
     assert checkpoint is not None
     check_model_zip(checkpoint[0])
     model.set_parameters(str(checkpoint[0]), device="cpu")
     model.num_timesteps = start
+    model.set_random_seed(config.seed + start)
 
 
 def _initial_policy(config: TrainConfig) -> ActorCriticPolicy:
@@ -209,9 +260,9 @@ def _start(config: TrainConfig, out: Path, resume: bool) -> tuple[int, ActorCrit
     """The step to start from and the ``--init`` policy to start with, if any; a bad map file or
     ``--init`` fails before the run directory is written or a subprocess started, and a resumed
     run that has a checkpoint never reads ``--init``."""
-    check_world_files(world_entries(config.worlds), config.resolution)
+    maps = check_world_files(world_entries(config.worlds), config.resolution)
     initial = _initial_policy(config) if config.init and not resume else None
-    start = _check_run_dir(config, out, resume)
+    start = _check_run_dir(config, out, resume, maps)
     if config.init and resume and not start:
         initial = _initial_policy(config)
     return start, initial
@@ -310,7 +361,7 @@ def train(
     venv = _training_envs(config, out, start, env_kwargs)
     model = build_model(config, venv, out)
     if start:
-        _restore_checkpoint(model, out, start)
+        _restore_checkpoint(model, config, out, start)
     elif initial is not None:
         _load_initial(model.policy, initial)
     callbacks: list[BaseCallback] = []

@@ -92,6 +92,7 @@ def test_the_files_of_a_training_run_are_those_the_page_lists(tmp_path: Path) ->
     out = tmp_path / "run"
     config = TrainConfig(
         model=4,
+        worlds="office,lse_arena",  # a map file among them: map_files.txt
         timesteps=16,
         n_envs=1,
         n_steps=8,

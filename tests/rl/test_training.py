@@ -9,6 +9,7 @@ from types import SimpleNamespace
 import numpy as np
 import pytest
 import torch
+from PIL import Image
 from stable_baselines3 import A2C
 from stable_baselines3.common.callbacks import BaseCallback
 
@@ -79,6 +80,20 @@ class _Interrupt(BaseCallback):
         return True
 
 
+class _FirstObservation(BaseCallback):
+    """Keeps the observations a run segment starts from (its envs' first reset)."""
+
+    def __init__(self) -> None:
+        super().__init__()
+        self.first: object = None
+
+    def _on_training_start(self) -> None:
+        self.first = self.model._last_obs.copy()  # type: ignore[union-attr]
+
+    def _on_step(self) -> bool:
+        return True
+
+
 def test_a_training_run_is_not_written_into_an_evaluation_folder(tmp_path: Path) -> None:
     """Its config.yaml, checkpoints and model went in among the evaluation's rows."""
     (tmp_path / "episodes.csv").write_text("method,world,seed\n")
@@ -98,8 +113,9 @@ def test_a_model_file_without_its_run_is_not_overwritten(tmp_path: Path) -> None
 def test_interrupted_run_resumes_from_its_last_checkpoint(tmp_path: Path) -> None:
     run = tmp_path / "run"
     config = _config(4, timesteps=96, eval_every=0, checkpoint_every=32)
+    opening = _FirstObservation()
     with pytest.raises(KeyboardInterrupt):
-        train(config, run, progress=False, extra_callbacks=[_Interrupt(70)])
+        train(config, run, progress=False, extra_callbacks=[opening, _Interrupt(70)])
     assert not (run / "model.zip").exists()
     checkpoint = latest_checkpoint(run)
     assert checkpoint is not None and checkpoint[1] == 64
@@ -113,9 +129,12 @@ def test_interrupted_run_resumes_from_its_last_checkpoint(tmp_path: Path) -> Non
         train(config, run, progress=False)
     with pytest.raises(ConfigError, match="different configuration \\(timesteps: 96 there, 200 now\\)"):
         train(_config(4, timesteps=200, eval_every=0, checkpoint_every=32), run, resume=True, progress=False)
-    final = train(config, run, resume=True, progress=False)
+    resumed = _FirstObservation()
+    final = train(config, run, resume=True, progress=False, extra_callbacks=[resumed])
     info = read_metadata(final)
     assert info is not None and info.timesteps == 96
+    # the envs were seeded as at the run's start: it replayed the world and start it opened with
+    assert not np.array_equal(resumed.first, opening.first)  # type: ignore[arg-type]
     segments = (run / "training_time.txt").read_text().splitlines()  # the interrupted one too
     assert [line.split(":")[0] for line in segments] == ["steps 0..70", "steps 64..96"], segments
     assert (run / "monitor_0.monitor.csv").exists() and (run / "monitor_64.monitor.csv").exists()
@@ -126,6 +145,44 @@ def test_interrupted_run_resumes_from_its_last_checkpoint(tmp_path: Path) -> Non
     forged.write_bytes((run / "checkpoints" / "model_64_steps.zip").read_bytes())
     with pytest.raises(ConfigError, match=r"claims 99999999999999 decisions, more than the run takes \(103\)"):
         train(config, run, resume=True, progress=False)
+
+
+def _two_room_maps(folder: Path, n: int) -> Path:
+    """``n`` bitmap maps of two rooms (2.5 m each, 0.05 m cells) joined by a 0.6 m door."""
+    folder.mkdir()
+    image = np.zeros((60, 110), np.uint8)
+    image[3:-3, 3:-3] = 255
+    image[3:-3, 55] = 0
+    image[24:36, 55] = 255
+    for k in range(n):
+        Image.fromarray(image).save(folder / f"room_{k:03d}.png")
+    return folder
+
+
+def test_a_run_is_resumed_only_on_the_map_files_it_was_trained_on(tmp_path: Path) -> None:
+    """A folder of maps with a map edited or added was trained on as if nothing had changed."""
+    folder = _two_room_maps(tmp_path / "maps", 2)
+    run = tmp_path / "run"
+    config = _config(4, worlds=str(folder), timesteps=48, eval_every=0, checkpoint_every=16)
+    with pytest.raises(KeyboardInterrupt):
+        train(config, run, progress=False, extra_callbacks=[_Interrupt(20)])
+    listed = (run / "map_files.txt").read_text().splitlines()
+    assert [line.split("#sha256:")[0] for line in listed] == [
+        str(folder / "room_000.png"),
+        str(folder / "room_001.png"),
+    ]
+    image = np.array(Image.open(folder / "room_001.png"))
+    image[10:12, 10:30] = 0  # a wall drawn into the second room
+    Image.fromarray(image).save(folder / "room_001.png")
+    with pytest.raises(ConfigError, match=r"other map files \('.*/room_001\.png' changed\); resume it"):
+        train(config, run, resume=True, progress=False)
+    Image.fromarray(np.array(Image.open(folder / "room_000.png"))).save(folder / "room_001.png")  # as it was
+    (folder / "room_002.png").write_bytes((folder / "room_000.png").read_bytes())
+    with pytest.raises(ConfigError, match=r"\('.*/room_002\.png' added\)"):
+        train(config, run, resume=True, progress=False)
+    (folder / "room_002.png").unlink()
+    info = read_metadata(train(config, run, resume=True, progress=False))
+    assert info is not None and info.timesteps == 48
 
 
 def test_a_run_whose_last_rollout_passed_its_timesteps_resumes_from_that_checkpoint(tmp_path: Path) -> None:

@@ -4,19 +4,17 @@ rows of two experiments are mixed only where they would be the same."""
 
 from __future__ import annotations
 
-import hashlib
 from pathlib import Path
 from typing import TYPE_CHECKING
 
 from frontier_rl.config_files import to_dict
-from frontier_rl.core.world.catalog import WORLD_GENERATORS
 from frontier_rl.errors import ConfigError, model_file_label, short_repr
 from frontier_rl.evaluation.results.identity import ExperimentIdentity, TeamIdentity
 from frontier_rl.file_digest import file_sha256
 from frontier_rl.policies.spec import BuiltinPolicy, PolicySpec
 from frontier_rl.policies.user_policies import user_policy_fingerprint
 from frontier_rl.swarm import TeamMethod
-from frontier_rl.world_spec import read_map
+from frontier_rl.world_spec import world_fingerprint
 
 if TYPE_CHECKING:
     from frontier_rl.evaluation.running.experiment import ExperimentConfig
@@ -39,17 +37,6 @@ def _policy_fingerprint(method: str, spec: PolicySpec) -> str:
     if not path.is_file():
         raise ConfigError(f"{model_file_label(spec.argument)} of method {short_repr(method)} does not exist")
     return f"{method}#sha256:{file_sha256(path)}"
-
-
-def world_fingerprint(world: str, resolution: float | None) -> str:
-    """A generator's name, or a map file's path or catalogue name as given with a hash of the grid
-    it loads as (the same for a catalogue map wherever the package is installed)."""
-    if world in WORLD_GENERATORS:
-        return world
-    loaded = read_map(world, resolution)
-    digest = hashlib.sha256(loaded.grid.data.tobytes())
-    digest.update(repr((loaded.grid.shape, loaded.grid.resolution, loaded.grid.origin, loaded.start)).encode())
-    return f"{world}#sha256:{digest.hexdigest()[:16]}"
 
 
 def identity(config: ExperimentConfig) -> ExperimentIdentity:
