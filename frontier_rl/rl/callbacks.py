@@ -39,8 +39,8 @@ class ValidationCallback(BaseCallback):
         episodes: validation worlds per validation.
         csv_path: where rows ``timesteps, mean_time_s, times`` are appended.
         best_path: where the model with the lowest mean time is saved.
-        info: the run's model-file metadata, saved with it (its ``timesteps`` those of the best), so
-            that the best model is a model file even if the run never finishes.
+        info: the run's model-file metadata, saved with it (its ``timesteps`` the decisions the best
+            weights learnt from), so that the best model is a model file even if the run never finishes.
     """
 
     def __init__(
@@ -83,8 +83,19 @@ class ValidationCallback(BaseCallback):
             writer.writerow([self.num_timesteps, f"{mean:.3f}", " ".join(f"{t:.1f}" for t in times)])
         if mean < self.best:
             self.best = mean
-            save_model(self.model, self.best_path, replace(self.info, timesteps=self.num_timesteps))
+            save_model(self.model, self.best_path, replace(self.info, timesteps=self._trained_decisions()))
         return True
+
+    def _trained_decisions(self) -> int:
+        """The decisions the policy's weights have learnt from: a validation inside an A2C or PPO
+        rollout runs the weights of the last update, before the rollout's own decisions (the final
+        model, saved after that update, has learnt from them; both said the same count); DAgger
+        says how many it has fitted (``trained_decisions``)."""
+        if "trained_decisions" in self.locals:
+            return int(self.locals["trained_decisions"])
+        if "n_steps" in self.locals and "rollout_buffer" in self.locals:  # SB3's collect_rollouts
+            return self.num_timesteps - (int(self.locals["n_steps"]) + 1) * self.training_env.num_envs
+        return self.num_timesteps
 
 
 class AtomicCheckpoint(BaseCallback):

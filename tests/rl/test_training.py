@@ -51,7 +51,9 @@ def test_smoke_training_saves_reloads_and_acts(model: int, tmp_path: Path) -> No
     info = read_metadata(final)
     assert info is not None and info.model == model and info.timesteps >= 200
     best = read_metadata(run / "best_model.zip")
-    assert best is not None and best.timesteps in (100, 200)
+    # validated at 100 and 200 decisions, inside rollouts of 8: the weights had learnt from 96 and 192
+    # (the final model from all 200: both files said 200 when the last validation was the best)
+    assert best is not None and best.timesteps in (96, 192)
     policy = make_policy(f"learned:{final}")
     result = run_episode(generate_world("office", 0), policy, SHORT, seed=0)
     assert result.sim_time_s > 0 and result.decisions > 0
@@ -203,7 +205,7 @@ def test_an_interrupted_runs_best_model_is_a_model_file(tmp_path: Path) -> None:
         train(_config(5, timesteps=96, eval_every=32, checkpoint_every=0), run, progress=False,
               extra_callbacks=[_Interrupt(70)])  # fmt: skip
     best = read_metadata(run / "best_model.zip")
-    assert best is not None and best.model == 5 and best.timesteps in (32, 64)
+    assert best is not None and best.model == 5 and best.timesteps in (24, 56)
     assert make_policy(f"learned:{run / 'best_model.zip'}").name
 
 
