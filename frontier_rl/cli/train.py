@@ -69,7 +69,7 @@ def train(
     with _needs_rl_extra():
         from frontier_rl.api import train as run_training
         from frontier_rl.rl.config import TrainConfig
-        from frontier_rl.rl.train import interruption_note
+        from frontier_rl.rl.run_folder import interruption_note
 
     settings = TrainConfig(
         model=model,

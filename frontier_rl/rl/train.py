@@ -23,12 +23,9 @@ from stable_baselines3.common.policies import ActorCriticPolicy
 from stable_baselines3.common.vec_env import DummyVecEnv, SubprocVecEnv, VecEnv, VecMonitor
 
 import frontier_rl.envs
-from frontier_rl.atomic_write import describe_os_error, write_text_atomic
-from frontier_rl.bounded_read import UnreadableFileError, read_bounded
-from frontier_rl.config_diff import ABSENT, describe_differences, differences_between
 from frontier_rl.envs.world_source import check_world_files
 from frontier_rl.errors import ConfigError, short_path
-from frontier_rl.inference.model_file import CHECKPOINT_NAME, ModelInfo, read_metadata
+from frontier_rl.inference.model_file import ModelInfo, read_metadata
 from frontier_rl.registration import Algorithm
 from frontier_rl.rl.callbacks import AtomicCheckpoint, ValidationCallback
 from frontier_rl.rl.config import TrainConfig
@@ -43,8 +40,8 @@ from frontier_rl.rl.model_file import (
     save_model,
 )
 from frontier_rl.rl.networks import PRIVILEGED_HEAD
+from frontier_rl.rl.run_folder import FINAL_MODEL_NAME, keep_final_checkpoint, latest_checkpoint, prepare_run_folder
 from frontier_rl.rl.teacher import TeacherLabels
-from frontier_rl.run_folders import RunKind, refuse_other_runs, run_kind
 from frontier_rl.worker_signals import ignore_interrupts, spawning_workers
 from frontier_rl.world_spec import world_entries
 
@@ -59,97 +56,6 @@ def make_env(env_id: str, **kwargs: Any) -> gym.Env[Any, Any]:
 def make_labelled_env(env_id: str, **kwargs: Any) -> gym.Env[Any, Any]:
     """:func:`make_env` with its teacher's labels (:class:`~frontier_rl.rl.teacher.TeacherLabels`), for DAgger."""
     return TeacherLabels(make_env(env_id, **kwargs))
-
-
-def latest_checkpoint(run: Path) -> tuple[Path, int] | None:
-    """The newest checkpoint of ``run`` and its step count, if any."""
-    found = []
-    for path in (run / "checkpoints").glob("model_*_steps.zip"):
-        match = CHECKPOINT_NAME.search(path.name)
-        if match:
-            found.append((int(match.group(1)), path))
-    if not found:
-        return None
-    steps, path = max(found)
-    return path, steps
-
-
-MAP_FILES_NAME = "map_files.txt"
-"""The file of a run folder that lists the run's map files, each with a hash of its map."""
-
-_MAP_CHANGES_SHOWN = 4
-"""A run refused for its map files names at most this many that changed."""
-
-MAX_MAP_FILES_BYTES = 64 * 2**20
-"""The most of :data:`MAP_FILES_NAME` read (a line per map: about 200,000 maps)."""
-
-
-def _check_run_dir(config: TrainConfig, out: Path, resume: bool, maps: tuple[str, ...]) -> int:
-    """Prepare ``out`` for a run on map files ``maps`` (``spec#sha256:HASH``); returns the step
-    count to start from (0, or the last checkpoint's)."""
-    refuse_other_runs(out, RunKind.TRAINING)
-    saved_path = out / "config.yaml"
-    if saved_path.exists():
-        if not resume:
-            raise ConfigError(f"{str(out)!r} already holds a training run; pass --resume to continue it")
-        saved = TrainConfig.load(saved_path)
-        if saved != config:
-            there, now = saved.to_dict(), config.to_dict()
-            differs = [d for key in now for d in differences_between(there.get(key, ABSENT), now[key], key)]
-            raise ConfigError(
-                f"{str(out)!r} holds a run with a different configuration ({describe_differences(differs)})"
-            )
-        _check_map_files(out, maps)
-        checkpoint = latest_checkpoint(out)
-        # SB3 ends a run with a whole rollout, so its last checkpoints may pass the timesteps by less than one
-        most = config.timesteps + config.n_steps * config.n_envs - 1
-        if checkpoint is not None and checkpoint[1] > most:  # a name the run did not write
-            raise ConfigError(
-                f"checkpoint {short_path(checkpoint[0])} claims {checkpoint[1]} decisions, more than the run "
-                f"takes ({most}); remove it to resume from the one before"
-            )
-        return 0 if checkpoint is None else checkpoint[1]
-    if resume:
-        raise ConfigError(f"nothing to resume: {str(out)!r} holds no training run")
-    if run_kind(out) is RunKind.TRAINING:  # a model file or checkpoints without their run's config.yaml
-        raise ConfigError(f"{str(out)!r} holds a model.zip or checkpoints of another run; choose another --out")
-    out.mkdir(parents=True, exist_ok=True)
-    if maps:
-        write_text_atomic(out / MAP_FILES_NAME, "".join(f"{m}\n" for m in maps))
-    config.dump(saved_path)
-    return 0
-
-
-def _check_map_files(out: Path, maps: tuple[str, ...]) -> None:
-    """Refuse to resume the run in ``out`` on map files other than those it was trained on (a
-    folder of maps with a map edited, added or removed); a run written before the list was kept
-    is not checked."""
-    listed = out / MAP_FILES_NAME
-    if not listed.exists():
-        return
-    try:
-        there = read_bounded(listed, MAX_MAP_FILES_BYTES).decode("utf-8", "replace").splitlines()
-    except UnreadableFileError as exc:
-        raise ConfigError(str(exc)) from None
-    except OSError as exc:
-        raise ConfigError(f"{listed}: cannot be read ({describe_os_error(exc)})") from None
-    if there != list(maps):
-        raise ConfigError(
-            f"{str(out)!r} holds a run trained on other map files ({_map_changes(there, maps)}); "
-            "resume it on the maps it was trained on"
-        )
-
-
-def _map_changes(there: list[str], now: tuple[str, ...]) -> str:
-    """The map files that differ between two lists of ``spec#sha256:HASH``: changed, added, removed."""
-    before = dict(line.rpartition("#sha256:")[::2] for line in there)
-    after = dict(line.rpartition("#sha256:")[::2] for line in now)
-    changes = [f"{short_path(m)} changed" for m in after if m in before and before[m] != after[m]]
-    changes += [f"{short_path(m)} added" for m in after if m not in before]
-    changes += [f"{short_path(m)} removed" for m in before if m not in after]
-    shown = ", ".join(changes[:_MAP_CHANGES_SHOWN]) or "the same maps in another order"
-    more = len(changes) - _MAP_CHANGES_SHOWN
-    return shown + (f" and {more} more" if more > 0 else "")
 
 
 def build_model(config: TrainConfig, env: object, out: Path) -> BaseAlgorithm:
@@ -262,7 +168,7 @@ def _start(config: TrainConfig, out: Path, resume: bool) -> tuple[int, ActorCrit
     run that has a checkpoint never reads ``--init``."""
     maps = check_world_files(world_entries(config.worlds), config.resolution)
     initial = _initial_policy(config) if config.init and not resume else None
-    start = _check_run_dir(config, out, resume, maps)
+    start = prepare_run_folder(config, out, resume, maps)
     if config.init and resume and not start:
         initial = _initial_policy(config)
     return start, initial
@@ -325,17 +231,6 @@ def _env_kwargs(config: TrainConfig) -> dict[str, Any]:
     return env_kwargs
 
 
-def interruption_note(config: TrainConfig, out: Path) -> str:
-    """The line that ends a run in ``out`` stopped by Ctrl-C: what it kept, and how to go on."""
-    checkpoint = latest_checkpoint(out)
-    if checkpoint is None:
-        return f"interrupted: no checkpoint was written in {out}/ yet"
-    kept = f"interrupted: the last checkpoint ({checkpoint[1]} decisions) is {checkpoint[0]}"
-    if config.algo is Algorithm.DAGGER:
-        return f"{kept}; a dagger run cannot be resumed"
-    return f"{kept}; add --resume to the same command to continue"
-
-
 def train(
     config: TrainConfig,
     out: Path,
@@ -352,7 +247,7 @@ def train(
     if resume and config.algo is Algorithm.DAGGER:
         raise ConfigError("a dagger run cannot be resumed: its labelled decisions are not checkpointed")
     start, initial = _start(config, out, resume)
-    final = out / "model.zip"
+    final = out / FINAL_MODEL_NAME
     finished = read_metadata(final) if resume and final.is_file() else None
     if finished is not None and finished.timesteps >= config.timesteps:
         return final  # nothing left to train: the model file, and the evaluations that hash it, stay as they are
@@ -392,5 +287,7 @@ def train(
         with (out / "training_time.txt").open("a") as sink:  # every segment, an interrupted one too
             sink.write(f"steps {start}..{model.num_timesteps}: {time.perf_counter() - started:.1f} s wall\n")
     save_model(model, final, replace(info, timesteps=int(model.num_timesteps)))
+    if config.checkpoint_every and config.algo is not Algorithm.DAGGER:
+        keep_final_checkpoint(model, out)
     plot_learning_curve(out, title=f"model {config.model} ({config.algo.value}, {config.worlds})")
     return final

@@ -23,7 +23,8 @@ from frontier_rl.registration import env_id
 from frontier_rl.rl.config import TrainConfig
 from frontier_rl.rl.model_file import load_policy, policy_setup
 from frontier_rl.rl.networks import PRIVILEGED_HEAD
-from frontier_rl.rl.train import latest_checkpoint, train
+from frontier_rl.rl.run_folder import latest_checkpoint
+from frontier_rl.rl.train import train
 
 
 def _config(**changes: object) -> TrainConfig:

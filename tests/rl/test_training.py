@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import zipfile
+from dataclasses import replace
 from pathlib import Path
 from types import SimpleNamespace
 
@@ -23,7 +24,8 @@ from frontier_rl.policies import make_policy
 from frontier_rl.rl.callbacks import ValidationCallback
 from frontier_rl.rl.config import TrainConfig
 from frontier_rl.rl.model_file import load_policy, save_model
-from frontier_rl.rl.train import interruption_note, latest_checkpoint, train
+from frontier_rl.rl.run_folder import interruption_note, latest_checkpoint
+from frontier_rl.rl.train import train
 
 pytestmark = pytest.mark.slow  # training runs
 
@@ -129,8 +131,8 @@ def test_interrupted_run_resumes_from_its_last_checkpoint(tmp_path: Path) -> Non
     assert interruption_note(config, tmp_path) == f"interrupted: no checkpoint was written in {tmp_path}/ yet"
     with pytest.raises(ConfigError, match="--resume"):
         train(config, run, progress=False)
-    with pytest.raises(ConfigError, match="different configuration \\(timesteps: 96 there, 200 now\\)"):
-        train(_config(4, timesteps=200, eval_every=0, checkpoint_every=32), run, resume=True, progress=False)
+    with pytest.raises(ConfigError, match=r"different configuration \(gamma: 0\.99 there, 0\.9 now\)"):
+        train(_config(4, timesteps=96, eval_every=0, checkpoint_every=32, gamma=0.9), run, resume=True, progress=False)
     resumed = _FirstObservation()
     final = train(config, run, resume=True, progress=False, extra_callbacks=[resumed])
     info = read_metadata(final)
@@ -185,6 +187,26 @@ def test_a_run_is_resumed_only_on_the_map_files_it_was_trained_on(tmp_path: Path
     (folder / "room_002.png").unlink()
     info = read_metadata(train(config, run, resume=True, progress=False))
     assert info is not None and info.timesteps == 48
+
+
+def test_a_run_goes_on_for_longer_with_more_timesteps(tmp_path: Path) -> None:
+    """A finished run could not be extended: more --timesteps was "a different configuration"."""
+    run = tmp_path / "run"
+    config = _config(4, timesteps=40, eval_every=0, checkpoint_every=16)
+    train(config, run, progress=False)
+    assert latest_checkpoint(run) == (run / "checkpoints" / "model_40_steps.zip", 40)  # at its end, not at 32
+    with pytest.raises(ConfigError, match=r"has made 40 decisions; --timesteps 24 would take some of them back"):
+        train(replace(config, timesteps=24), run, resume=True, progress=False)
+    longer = replace(config, timesteps=64)
+    info = read_metadata(train(longer, run, resume=True, progress=False))
+    assert info is not None and info.timesteps == 64
+    assert TrainConfig.load(run / "config.yaml") == longer
+    segments = (run / "training_time.txt").read_text().splitlines()
+    assert [line.split(":")[0] for line in segments] == ["steps 0..40", "steps 40..64"], segments
+    without = tmp_path / "without"  # no checkpoint at its end: it would go on from an earlier one
+    train(replace(config, checkpoint_every=0), without, progress=False)
+    with pytest.raises(ConfigError, match=r"finished run of 40 decisions without a checkpoint at its end \(last: 0\)"):
+        train(replace(config, checkpoint_every=0, timesteps=64), without, resume=True, progress=False)
 
 
 def test_a_run_whose_last_rollout_passed_its_timesteps_resumes_from_that_checkpoint(tmp_path: Path) -> None:
