@@ -139,7 +139,7 @@ def _episode(
         if team is not None:
             return api.explore(world, policy, seed=seed, config=settings, team=team)
         return api.explore(world, policy, seed=seed, config=settings, on_decision=recorder)
-    except Exception as exc:
+    except (Exception, SystemExit) as exc:  # sys.exit() in a policy's rank() too
         failure = user_code_failure(spec, policy, exc)
         if failure is None:
             raise

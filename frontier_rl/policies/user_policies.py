@@ -73,7 +73,7 @@ def build_user_policy(spec: PolicySpec) -> ExplorationPolicy:
     shown = getattr(factory, "__name__", None) or spec.argument or spec.name
     try:
         policy = factory()
-    except Exception as exc:  # the user's code may raise anything: one line, never a traceback
+    except (Exception, SystemExit) as exc:  # the user's code may raise anything (sys.exit() too): one line
         raise ConfigError(f"{label}: calling {shown}() with no arguments raised {exception_line(exc)}") from None
     return checked_policy(policy, f"{label}: {shown}() gave")
 
@@ -94,13 +94,29 @@ def checked_policy(value: object, given: str = "got") -> ExplorationPolicy:
         raise ConfigError(f"{given} {_kind(value)}, not a policy object: pass an instance, {value.__qualname__}()")
     try:
         name = getattr(value, "name", None)
-    except Exception as exc:  # a property of the user's that raises
+    except (Exception, SystemExit) as exc:  # a property of the user's that raises
         raise ConfigError(f"{given} {_kind(value)}, whose name raised {exception_line(exc)}") from None
     if not isinstance(name, str) or not name.strip():
         raise ConfigError(f"{given} {_kind(value)}, not a policy: it needs a 'name' string")
-    if not callable(getattr(value, "rank", None)):
+    rank = getattr(value, "rank", None)
+    if not callable(rank):
         raise ConfigError(f"{given} {_kind(value)}, not a policy: it needs a rank(context, rng) method")
+    try:
+        signature: inspect.Signature | None = inspect.signature(rank)
+    except (TypeError, ValueError):  # a callable without a signature to read (a C function's)
+        signature = None
+    if signature is not None and not _takes_two_arguments(signature):
+        raise ConfigError(f"{given} {_kind(value)}, whose rank{signature} cannot be called as rank(context, rng)")
     return cast(ExplorationPolicy, value)
+
+
+def _takes_two_arguments(signature: inspect.Signature) -> bool:
+    """Whether a callable of ``signature`` can be called with two positional arguments."""
+    try:
+        signature.bind(None, None)
+    except TypeError:
+        return False
+    return True
 
 
 def load_factory(spec: PolicySpec) -> PolicyFactory:
@@ -198,9 +214,9 @@ def _load_file(path: str, size: int, mtime_ns: int, shown: str) -> ModuleType:
     except SyntaxError as exc:
         del sys.modules[name]
         raise ConfigError(f"policy file {short_path(shown)}: {_syntax_line(exc)}") from None
-    except Exception as exc:
+    except (Exception, SystemExit) as exc:  # a script that parses its command line on import exits
         del sys.modules[name]
-        raise ConfigError(f"policy file {short_path(shown)} raised on import: {exception_line(exc)}") from None
+        raise ConfigError(f"policy file {short_path(shown)} {_import_failure(exc)}") from None
     return module
 
 
@@ -222,8 +238,8 @@ def _import_module(spec: PolicySpec) -> ModuleType:
         raise ConfigError(f"module {spec.name!r} raised on import: {exception_line(exc)}") from None
     except SyntaxError as exc:
         raise ConfigError(f"module {spec.name!r}: {_syntax_line(exc)}") from None
-    except Exception as exc:
-        raise ConfigError(f"module {spec.name!r} raised on import: {exception_line(exc)}") from None
+    except (Exception, SystemExit) as exc:
+        raise ConfigError(f"module {spec.name!r} {_import_failure(exc)}") from None
 
 
 def _entry_point(spec: PolicySpec) -> EntryPoint:
@@ -240,7 +256,7 @@ def _entry_point_factory(spec: PolicySpec) -> PolicyFactory:
         loaded = point.load()
     except FrontierRLError:
         raise
-    except Exception as exc:
+    except (Exception, SystemExit) as exc:
         raise ConfigError(
             f"installed policy {spec.name!r} ({point.value}) raised on load: {exception_line(exc)}"
         ) from None
@@ -265,6 +281,16 @@ def _policy_classes(module: ModuleType) -> list[str]:
 def _syntax_line(exc: SyntaxError) -> str:
     where = f"{exc.filename}:{exc.lineno}" if exc.filename else f"line {exc.lineno}"
     return f"syntax error at {where}: {exc.msg}"
+
+
+def _import_failure(exc: BaseException) -> str:
+    """What importing a policy's module raised, for a message that starts with the module's name."""
+    if isinstance(exc, SystemExit):
+        return (
+            f"exited on import ({exception_line(exc)}): a script's command-line code belongs under "
+            "if __name__ == '__main__'"
+        )
+    return f"raised on import: {exception_line(exc)}"
 
 
 def exception_line(exc: BaseException) -> str:

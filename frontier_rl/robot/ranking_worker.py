@@ -129,7 +129,7 @@ def _rank(
         pose = Pose(gx, gy, 0.0)
         ranked, weight = rank_frontiers(held.grid, pose, policy, top_k, min_cells, rng=rng, memory=held.memory)
         centres = tuple(frame.to_map(f.x, f.y) for f in ranked)
-    except Exception as exc:  # a model or map problem must come back as an answer, not end the worker
+    except (Exception, SystemExit) as exc:  # a model, map or policy problem comes back as an answer, not the end
         error = f"ranking failed: {type(exc).__name__}: {exc}"
         return [RankResult(job.job, error=error, info=held.info, shared=shared) for job in jobs]
     return [RankResult(job.job, centres, weight, info=held.info, shared=shared) for job in jobs]

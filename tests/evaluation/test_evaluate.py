@@ -299,6 +299,22 @@ def test_a_policy_file_that_failed_every_episode_may_be_fixed_and_run_again(tmp_
         evaluate(config, out, backend="serial", progress=False)
 
 
+@pytest.mark.parametrize("backend", ["serial", "process"])
+def test_a_policy_that_calls_sys_exit_fails_its_episodes(tmp_path: Path, backend: str) -> None:
+    """sys.exit(0) in rank() ended a serial run with exit code 0 and no results, and a worker with
+    "worker process ended (exit code 0)"."""
+    policy = tmp_path / "quits.py"
+    policy.write_text(
+        "import sys\nclass Quits:\n    name = 'q'\n    def rank(self, context, rng):\n        sys.exit(0)\n"
+    )
+    config = _config(("fixed:0.75", f"{policy}:Quits"), episodes=1)
+    with pytest.raises(
+        EpisodeFailedError, match=r"1 of 2 episodes failed.*RuntimeError: the policy called sys\.exit\(0"
+    ):
+        evaluate(config, tmp_path / "exp", backend=backend, workers=1, progress=False)
+    assert [row["method"] for row in _rows(tmp_path / "exp")] == ["fixed:0.75"]  # the other episode's row kept
+
+
 def test_a_folder_of_other_files_is_refused(tmp_path: Path) -> None:
     out = tmp_path / "mine"
     out.mkdir()

@@ -254,3 +254,23 @@ def test_a_coverage_plot_of_episodes_that_ended_at_once_draws_without_a_warning(
     """``--max-time 1e-9``: every trace ends at t = 0 (matplotlib warned of a singular x range)."""
     traces = {"nearest": [EpisodeTrace("nearest", "office", 0, coverage_t=(0.0,), coverage=(0.07,))]}
     assert coverage_plot(traces, tmp_path / "coverage.png").exists()  # warnings are errors here
+
+
+def test_a_policy_of_yours_that_reports_its_weight_has_a_weight_plot(tmp_path: Path) -> None:
+    """Only learned models had one, though the guide says ``weight`` is for the reports' weight plots."""
+    policy = tmp_path / "mine.py"
+    policy.write_text(
+        "from frontier_rl import Ranking\n"
+        "from frontier_rl.core.frontiers.ranking import rank, weighted_cost\n"
+        "class Adaptive:\n"
+        "    name = 'adaptive'\n"
+        "    def rank(self, context, rng):\n"
+        "        weight = 0.9 if len(context.frontiers) > 3 else 0.5\n"
+        "        return Ranking(rank(weighted_cost(context.frontiers, weight)), weight)\n"
+    )
+    out = tmp_path / "exp"
+    config = ExperimentConfig(methods=(f"{policy}:Adaptive", "fixed:0.75"), worlds=("office",), episodes=1,
+                              baseline="fixed:0.75", sim=SimConfig(max_sim_time=60.0))  # fmt: skip
+    evaluate(config, out, backend="serial", progress=False, command="test")
+    assert (out / "weights.png").is_file()
+    assert "Weight chosen over time" in (out / "report.md").read_text()

@@ -224,6 +224,10 @@ BAD_MODULES = {
     "constant.py": "GREEDY = 3\n",
     "imports_missing.py": "import no_such_dependency_xyz\n",
     "run.png": "not python",
+    # a script that parses its command line on import, and a constructor that gives up: the command ended
+    # with the script's usage line, or with exit code 0 and nothing
+    "parses_argv.py": "import sys\nif len(sys.argv) < 9:\n    sys.exit(2)  # as argparse does, after its usage line\n",
+    "exits.py": "import sys\nclass Quits:\n    name = 'q'\n    def __init__(self):\n        sys.exit(0)\n",
 }
 
 
@@ -244,6 +248,8 @@ BAD_MODULES = {
         ("run.png:Greedy", ConfigError, "'run.png' is a file but not Python: a policy file's name ends in .py"),
         ("imports_missing.py:X", ConfigError, "ModuleNotFoundError: No module named 'no_such_dependency_xyz'"),
         ("no-such-policy", UnknownNameError, "unknown policy 'no-such-policy'; choose one of nearest"),
+        ("parses_argv.py:X", ConfigError, "'parses_argv.py' exited on import (SystemExit: 2): a script's command-line"),
+        ("exits.py:Quits", ConfigError, "calling Quits() with no arguments raised SystemExit: 0"),
     ],
 )
 def test_every_bad_user_policy_is_one_line_with_exit_code_2(

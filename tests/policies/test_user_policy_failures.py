@@ -22,6 +22,8 @@ runner = CliRunner()
 
 
 FAILING = """
+import sys
+
 import numpy as np
 from frontier_rl import Ranking
 
@@ -80,16 +82,33 @@ class Floats:
 
     def rank(self, context, rng):
         return Ranking(np.array([0.5]))
+
+
+class Exits:
+    name = "exits"
+
+    def rank(self, context, rng):
+        sys.exit("giving up")
+
+
+class WeightTooLarge:
+    name = "weight-too-large"
+
+    def rank(self, context, rng):
+        return Ranking(np.argsort(context.frontiers.distances), weight=1.7)
 """
 
 
 FAILURES = [
-    ("Raises", "policy 'failing.py:Raises' failed in rank(): RuntimeError: boom [/x] (failing.py:7)"),
+    ("Raises", "policy 'failing.py:Raises' failed in rank(): RuntimeError: boom [/x] (failing.py:9)"),
     ("NumpyRaises", "policy 'failing.py:NumpyRaises' failed in rank(): ValueError: cannot reshape array of size"),
     ("ReturnsList", "policy 'returns-list': rank() returned [0] (type list), not a Ranking"),
     ("OutOfRange", "policy 'out-of-range': its Ranking's order holds"),
     ("Empty", "policy 'empty': its Ranking's order is empty and it sets no goal"),
     ("Floats", "policy 'floats': its Ranking's order is an array of float64 with shape (1,), not a 1-D integer"),
+    # sys.exit() ended the command with the message alone, or with exit code 0 and nothing at all
+    ("Exits", "policy 'failing.py:Exits' failed in rank(): SystemExit: giving up (failing.py:"),
+    ("WeightTooLarge", "policy 'weight-too-large': its Ranking's weight is 1.7 (type float), not a number in [0, 1]"),
 ]
 """A policy of FAILING and the line its episode ends with, alone or in a team."""
 
@@ -136,7 +155,7 @@ def test_a_module_policy_that_raises_names_its_file(policy_dir: Path, monkeypatc
     result = runner.invoke(app, ["explore", "--policy", "failing_module_xyz:Raises", "--max-time", "30"])
     assert result.exit_code == 2, result.output
     assert "error: policy 'failing_module_xyz:Raises' failed in rank(): RuntimeError: boom [/x]" in result.stderr
-    assert result.stderr.rstrip().endswith("(failing_module_xyz.py:7)"), result.stderr
+    assert result.stderr.rstrip().endswith("(failing_module_xyz.py:9)"), result.stderr
 
 
 def test_an_installed_policy_that_raises_names_its_file_in_site_packages(
@@ -153,7 +172,7 @@ def test_an_installed_policy_that_raises_names_its_file_in_site_packages(
     result = runner.invoke(app, ["explore", "--policy", "fake-raises", "--max-time", "30"])
     assert result.exit_code == 2, result.output
     # the class's own file counts as the user's; the helper it calls, in another file there, would not
-    assert "policy 'fake-raises' failed in rank(): RuntimeError: boom [/x] (site/fake_policies.py:7)" in result.stderr
+    assert "policy 'fake-raises' failed in rank(): RuntimeError: boom [/x] (site/fake_policies.py:9)" in result.stderr
 
 
 def test_an_error_of_frontier_rl_itself_is_not_blamed_on_the_policy(
@@ -175,6 +194,9 @@ def test_an_error_of_frontier_rl_itself_is_not_blamed_on_the_policy(
         (NearestFrontier().rank, "not a policy: it needs a 'name' string"),
         (type("Blank", (), {"name": " ", "rank": lambda s, c, r: None})(), "an object of type Blank, not a policy"),
         (type("NoRank", (), {"name": "x", "rank": 3})(), "it needs a rank(context, rng) method"),
+        # a rank of another signature was a TypeError from inside the episode, a traceback at the command line
+        (type("OneArg", (), {"name": "x", "rank": lambda s, c: None})(), "whose rank(c) cannot be called as rank("),
+        (type("Three", (), {"name": "x", "rank": lambda s, c, r, k: None})(), "whose rank(c, r, k) cannot be"),
         (type("Bad", (), {"name": property(lambda s: 1 / 0)})(), "whose name raised ZeroDivisionError: division by"),
     ],
 )

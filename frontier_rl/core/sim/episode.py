@@ -53,7 +53,8 @@ class DecisionContext:
 
 @dataclass(frozen=True)
 class Ranking:
-    """A policy's answer: frontier indices best first, and the weight it used (if any); or, for
+    """A policy's answer: frontier indices best first, and the weight w in [0, 1] of the cost it
+    ranked by (if any: ``w·d + (1−w)·(1−g)``, for the reports' weight plots); or, for
     point-goal policies, a ``goal`` (x, y) in m to drive to instead (``order`` is then ignored).
 
     ``order`` is a 1-D NumPy array of distinct candidate indices (any integer type), at least one
@@ -185,8 +186,8 @@ def checked_ranking(ranking: object, candidates: int, policy: ExplorationPolicy)
         _refuse(policy, f"its Ranking's order is empty and it sets no goal: rank the {candidates} candidate(s)")
     if ranking.goal is not None and not _is_point(ranking.goal):
         _refuse(policy, f"its Ranking's goal is {_described(ranking.goal)}, not a point (x, y) of finite metres")
-    if ranking.weight is not None and not _is_finite_number(ranking.weight):
-        _refuse(policy, f"its Ranking's weight is {_described(ranking.weight)}, not a finite number")
+    if ranking.weight is not None and not (_is_finite_number(ranking.weight) and 0 <= ranking.weight <= 1):
+        _refuse(policy, f"its Ranking's weight is {_described(ranking.weight)}, not a number in [0, 1]")
     return ranking
 
 

@@ -25,6 +25,8 @@ from frontier_rl.evaluation.results.store import ResultStore
 from frontier_rl.evaluation.results.summary import SUMMARY_FILE, ExperimentSummary
 from frontier_rl.evaluation.running.experiment import ExperimentConfig
 from frontier_rl.evaluation.statistics.analysis import paired_times, summarise
+from frontier_rl.policies.spec import BuiltinPolicy
+from frontier_rl.swarm import TeamMethod
 
 _FILES_NOTE = (
     "Files: episodes.csv (one row per episode), traces.jsonl (coverage curves, weights), checksums.jsonl (each "
@@ -121,13 +123,14 @@ def _figures(store: ResultStore, config: ExperimentConfig, summary: ExperimentSu
             "spans the 25th to the 75th percentile; an episode that has ended keeps its final coverage.",
         ),
     ]
-    learned = {labels[m]: t for m, t in traces.items() if m.startswith("learned:") and any(tr.weight for tr in t)}
-    if learned:
+    chosen = {labels[m]: t for m, t in traces.items() if _chooses_weights(m) and any(tr.weight for tr in t)}
+    if chosen:
         caption = (
-            "The weight w of eq. 3.1 each learned-weight method chose at each decision (dots) and its mean per time "
-            f"bin (line); the dashed line is the thesis's w = {THESIS_WEIGHT}."
+            "The weight w of eq. 3.1 each method that chooses it (a learned weight model, a policy of yours that "
+            "reports it) chose at each decision (dots) and its mean per time bin (line); the dashed line is the "
+            f"thesis's w = {THESIS_WEIGHT}."
         )
-        figures.append(Figure(weight_plot(learned, out / "weights.png"), "Weight chosen over time", caption))
+        figures.append(Figure(weight_plot(chosen, out / "weights.png"), "Weight chosen over time", caption))
     if summary.teams:
         figures.append(
             Figure(
@@ -148,3 +151,9 @@ def _run_blocks(pictures: Sequence[RunPicture], config: ExperimentConfig) -> lis
         blocks.append(Heading(f"World {world_labels[world]}", level=3))
         blocks += [Figure(p.path, p.title, p.caption, chart=False) for p in pictures if p.world == world]
     return blocks
+
+
+def _chooses_weights(method: str) -> bool:
+    """Whether ``method`` may choose a weight at each decision: any but ``fixed:W``, whose weight is
+    its name (a user's policy that reports weights in its rankings has a weight plot too)."""
+    return TeamMethod.parse(method).policy.builtin is not BuiltinPolicy.FIXED

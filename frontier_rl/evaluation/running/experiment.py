@@ -191,10 +191,13 @@ def run_job(job: EpisodeJob, settings: EpisodeSettings) -> EpisodeOutcome:
     """Run one episode; its result row (scalars) and trace (coverage curve and weights)."""
     _warm()
     world, policy, team = job_parts(job, settings)
-    if team is None:
-        result = run_episode(world, policy, settings.sim, seed=job.seed)
-    else:
-        result = run_team_episode(world, policy, settings.sim, team, seed=job.seed)
+    try:
+        if team is None:
+            result = run_episode(world, policy, settings.sim, seed=job.seed)
+        else:
+            result = run_team_episode(world, policy, settings.sim, team, seed=job.seed)
+    except SystemExit as exc:  # a policy's sys.exit() fails its episode: it ended a worker, or the command silently
+        raise RuntimeError(f"the policy called sys.exit({exc.code!r})").with_traceback(exc.__traceback__) from None
     summary = result.summary()
     weights = [(d.time_s, d.weight) for d in result.decision_log if d.weight is not None]
     times, curve = _thin_curve(result.coverage_times_s, result.coverage_curve, result.sim_time_s)

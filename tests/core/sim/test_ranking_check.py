@@ -46,8 +46,14 @@ BAD_ANSWERS: list[tuple[str, Callable[[DecisionContext], object], str]] = [
     ("twice", lambda c: Ranking(np.array([0, 0])), r"order lists candidate 0 more than once"),
     ("NaN goal", lambda c: Ranking(np.zeros(0, np.int64), goal=(np.nan, 1.0)), r"goal is \(nan, 1\.0\).*not a point"),
     ("goal of 3", lambda c: Ranking(np.zeros(0, np.int64), goal=(1.0, 2.0, 3.0)), r"goal .* not a point"),  # type: ignore[arg-type]
-    ("string weight", lambda c: Ranking(_all(c), weight="0.5"), r"weight is '0\.5' \(type str\), not a finite number"),  # type: ignore[arg-type]
-    ("infinite weight", lambda c: Ranking(_all(c), weight=np.inf), r"weight is inf .*not a finite number"),
+    (
+        "string weight",
+        lambda c: Ranking(_all(c), weight="0.5"),
+        r"weight is '0\.5' \(type str\), not a number in \[0, 1\]",
+    ),  # type: ignore[arg-type]
+    ("infinite weight", lambda c: Ranking(_all(c), weight=np.inf), r"weight is inf .*not a number in \[0, 1\]"),
+    ("weight above 1", lambda c: Ranking(_all(c), weight=1.7), r"weight is 1\.7 .*not a number in \[0, 1\]"),
+    ("negative weight", lambda c: Ranking(_all(c), weight=-0.1), r"weight is -0\.1 .*not a number in \[0, 1\]"),
 ]
 
 
