@@ -106,8 +106,9 @@ def print_summary(summary: ExperimentSummary, labels: dict[str, str]) -> None:
         if name == summary.baseline:
             line += "  (baseline)"
         elif name != summary.reference:
-            low, high = method.ci95_s  # of the mean saving (s)
-            line += f"  saves {_number(method.reduction_pct)} % (95 % CI {_number(low)} to {_number(high)} s)"
+            low, high = method.ci95_s  # of the mean saving (s); a negative saving is a loss
+            line += f"  saves {_number(method.mean_diff_s)} s, {_number(method.reduction_pct)} %"
+            line += f" (95 % CI {_number(low)} to {_number(high)} s)"
             line += f", p = {_number(method.p_one_tailed, '.2g')} (Holm: {_number(method.p_holm, '.2g')})"
         if method.oracle_ratio is not None:
             line += f", {method.oracle_ratio:.2f} × the oracle's time"

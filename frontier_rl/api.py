@@ -16,6 +16,7 @@ Only :func:`train` loads torch (and Gymnasium); the other three need neither.
 
 from __future__ import annotations
 
+import numbers
 import sys
 from collections.abc import Callable, Sequence
 from functools import cache
@@ -197,7 +198,7 @@ def evaluate(
 
     if _importing_the_script_in_a_worker():
         raise SystemExit(NO_MAIN_GUARD_EXIT)
-    checked_seed(seed)
+    seed = checked_seed(seed)
     names, places = _names(methods, worlds, baseline, oracle)
     sim = config or SimConfig()
     experiment = ExperimentConfig(
@@ -302,6 +303,8 @@ def _report_settings(outliers: Sequence[float] | None, pictures: int | None) -> 
     from frontier_rl.evaluation.running.evaluate import DEFAULT_OUTLIERS_S, DEFAULT_PICTURE_WORLDS, checked_thresholds
 
     cuts = DEFAULT_OUTLIERS_S if outliers is None else checked_thresholds(outliers, "outliers")
+    if isinstance(pictures, numbers.Integral) and not isinstance(pictures, bool | int):
+        pictures = int(pictures)  # a NumPy integer
     if pictures is not None and (isinstance(pictures, bool) or not isinstance(pictures, int) or pictures < 0):
         raise ConfigError(f"pictures must be a whole number of worlds, 0 or more, got {short_repr(pictures)}")
     return cuts, DEFAULT_PICTURE_WORLDS if pictures is None else pictures

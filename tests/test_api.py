@@ -166,6 +166,16 @@ def test_a_numpy_seed_is_a_seed() -> None:
     assert frontier_rl.load_world("office", np.int64(3)).start == frontier_rl.load_world("office", 3).start  # type: ignore[arg-type]
 
 
+def test_evaluate_takes_numpy_numbers_as_load_world_and_explore_do(tmp_path: Path) -> None:
+    """episodes=np.int64(1), seed=np.int64(2) and outliers=np.array([10.0]) were refused."""
+    summary = frontier_rl.evaluate(
+        ["nearest"], ["office"], np.int64(1), out=tmp_path / "run", baseline="nearest",  # type: ignore[arg-type]
+        seed=np.int64(2), outliers=np.array([10.0]), pictures=np.int64(0), config=SimConfig(max_sim_time=30.0),  # type: ignore[arg-type]
+        workers=1, backend="serial",
+    )  # fmt: skip
+    assert summary.episodes == 1
+
+
 class _Answers:
     """A policy whose rank() returns ``answer``."""
 

@@ -14,6 +14,7 @@ Parsing reads the text and checks a built-in policy's argument (a weight in [0, 
 
 from __future__ import annotations
 
+import os
 import re
 from dataclasses import dataclass, field, replace
 from enum import StrEnum
@@ -167,6 +168,21 @@ class PolicySpec:
         if self.builtin is BuiltinPolicy.LEARNED:
             return Path(self.argument)
         return None
+
+    @property
+    def canonical(self) -> str:
+        """The spec written one way, to tell a method written two ways: a weight as a number
+        (``fixed:1`` and ``fixed:1.0`` alike), a tour by its stops (``tour`` and ``tour:`` its :data:`TOUR_STOPS`), a
+        policy or model file by its absolute path (a relative one resolved against the working folder)."""
+        if self.weight is not None:
+            return f"{BuiltinPolicy.FIXED.value}:{self.weight!r}"
+        if self.stops is not None:
+            return f"{BuiltinPolicy.TOUR.value}:{self.stops}"
+        path = self.file
+        if path is None:
+            return str(self)
+        resolved = os.path.abspath(path)  # links not followed: a loop of them is refused where the file is read
+        return str(replace(self, name=resolved) if self.kind is PolicyKind.FILE else replace(self, argument=resolved))
 
     @property
     def is_user_code(self) -> bool:

@@ -187,10 +187,19 @@ class TeamMethod:
         return cls(PolicySpec.parse(match["policy"]), robots, strategy)
 
     def __str__(self) -> str:
+        return f"{self.policy}{self._team_suffix()}"
+
+    @property
+    def canonical(self) -> str:
+        """The method written one way (its policy's :attr:`~frontier_rl.policies.spec.PolicySpec.canonical`):
+        two methods with the same canonical text are one method written two ways."""
+        return f"{self.policy.canonical}{self._team_suffix()}"
+
+    def _team_suffix(self) -> str:
+        """``@N`` or ``@N:STRATEGY`` for a team; "" for one robot."""
         if self.robots is None:
-            return str(self.policy)
-        suffix = "" if self.strategy is Strategy.UNCOORDINATED else f":{self.strategy.value}"
-        return f"{self.policy}@{self.robots}{suffix}"
+            return ""
+        return f"@{self.robots}" + ("" if self.strategy is Strategy.UNCOORDINATED else f":{self.strategy.value}")
 
     def label(self, policy_label: str) -> str:
         """A display name from the policy's: ``fixed:0.75 ×4 coordinated``."""

@@ -6,13 +6,16 @@ from __future__ import annotations
 import csv
 import json
 import os
+import re
 import signal
 import subprocess
 import sys
 import time
 from pathlib import Path
 
+import numpy as np
 import pytest
+from PIL import Image
 from typer.testing import CliRunner
 
 from frontier_rl.cli import app
@@ -315,6 +318,37 @@ def test_a_policy_that_calls_sys_exit_fails_its_episodes(tmp_path: Path, backend
     assert [row["method"] for row in _rows(tmp_path / "exp")] == ["fixed:0.75"]  # the other episode's row kept
 
 
+def test_a_map_or_a_method_of_the_folder_written_another_way(tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> None:
+    """./maps/a.yaml was refused as another configuration, an absolute path too (the same map, its
+    hash the same), and a policy file named by another path ran its episodes again as a new method."""
+    (tmp_path / "maps").mkdir()
+    image = np.zeros((60, 110), np.uint8)
+    image[3:-3, 3:-3] = 255
+    image[3:-3, 55] = 0
+    image[24:36, 55] = 255
+    Image.fromarray(image).save(tmp_path / "maps" / "rooms.png")
+    (tmp_path / "mine.py").write_text(
+        "import numpy as np\nfrom frontier_rl import Ranking\nclass Mine:\n    name = 'mine'\n"
+        "    def rank(self, context, rng):\n        return Ranking(np.argsort(context.frontiers.distances))\n"
+    )
+    monkeypatch.chdir(tmp_path)
+    out = tmp_path / "exp"
+
+    def run(world: str, method: str) -> None:
+        config = ExperimentConfig(methods=("nearest", method), worlds=(world,), episodes=1, baseline="nearest",
+                                  resolution=0.05, sim=SHORT)  # fmt: skip
+        evaluate(config, out, backend="serial", progress=False)
+
+    run("maps/rooms.png", "mine.py:Mine")
+    run("./maps//rooms.png", "mine.py:Mine")  # the same, written plainly
+    assert len(_rows(out)) == 2
+    with pytest.raises(ConfigError, match=r"rows of the map '/.*/maps/rooms\.png' under the name 'maps/rooms\.png'"):
+        run(str(tmp_path / "maps" / "rooms.png"), "mine.py:Mine")
+    with pytest.raises(ConfigError, match=r"results of 'mine\.py:Mine', which '\./mine\.py:Mine' writes another way"):
+        run("maps/rooms.png", "./mine.py:Mine")
+    assert len(_rows(out)) == 2
+
+
 def test_a_folder_of_other_files_is_refused(tmp_path: Path) -> None:
     out = tmp_path / "mine"
     out.mkdir()
@@ -331,6 +365,9 @@ def test_short_labels_stay_unique() -> None:
         "learned:runs/b/model.zip": "learned:runs/b/model.zip", "learned:m5.zip": "learned:m5",
     }  # fmt: skip
     assert short_labels(["office", "maps/house.yaml"]) == {"office": "office", "maps/house.yaml": "house"}
+    assert short_labels(["/a/long/folder/mine.py:Greedy@2"]) == {
+        "/a/long/folder/mine.py:Greedy@2": "mine.py:Greedy ×2 uncoordinated"
+    }
 
 
 @pytest.mark.parametrize(
@@ -393,6 +430,13 @@ def test_unknown_baseline_duplicates_and_negative_seeds_are_refused() -> None:
         ExperimentConfig(methods=("nearest",), worlds=("office",), episodes=1)
     with pytest.raises(ConfigError, match="twice"):
         ExperimentConfig(methods=("fixed:0.75", "fixed:0.75"), worlds=("office",), episodes=1)
+    for one, other in (("fixed:1", "fixed:1.0"), ("tour", "tour:10"), ("mine.py:X", "./mine.py:X")):
+        with pytest.raises(ConfigError, match=f"written two ways\\): {re.escape(one)}, {re.escape(other)}$"):
+            ExperimentConfig(methods=(one, other), worlds=("office",), episodes=1, baseline=one)
+    config = ExperimentConfig(
+        methods=("nearest",), worlds=("office",), episodes=np.int64(2), seed=np.int64(3), baseline="nearest"
+    )
+    assert (config.episodes, config.seed) == (2, 3) and type(config.episodes) is int and type(config.seed) is int
     with pytest.raises(UnknownNameError):
         expand_worlds("office,nowhere/")
 

@@ -12,7 +12,7 @@ from pathlib import Path
 from frontier_rl.errors import ConfigError, UnknownNameError
 from frontier_rl.evaluation.results.summary import MethodSummary, PairedSummary
 from frontier_rl.evaluation.statistics.paired import PairedStats
-from frontier_rl.policies.spec import BuiltinPolicy
+from frontier_rl.policies.spec import BuiltinPolicy, PolicyKind
 from frontier_rl.swarm.config import TeamMethod
 
 
@@ -57,7 +57,8 @@ class Table:
 
 
 def short_labels(names: Iterable[str]) -> dict[str, str]:
-    """Display names: ``learned:models/model4.zip`` → ``learned:model4``, a map file → its stem;
+    """Display names: ``learned:models/model4.zip`` → ``learned:model4``, a policy file's class by
+    the file's name (``runs/mine.py:Greedy`` → ``mine.py:Greedy``), a map file → its stem;
     names whose short forms would coincide keep their full form."""
     names = list(names)
     short = {n: _short(n) for n in names}
@@ -71,8 +72,12 @@ def _short(name: str) -> str:
     except (ConfigError, UnknownNameError):  # not a method (a world's file name)
         return _short_text(name)
     policy = method.policy
-    learned = policy.builtin is BuiltinPolicy.LEARNED
-    short = f"learned:{Path(policy.argument).stem}" if learned else _short_text(str(policy))
+    if policy.builtin is BuiltinPolicy.LEARNED:
+        short = f"learned:{Path(policy.argument).stem}"
+    elif policy.kind is PolicyKind.FILE:  # a long folder pushed the figures' axes off their canvas
+        short = f"{Path(policy.name).name}:{policy.argument}"
+    else:
+        short = _short_text(str(policy))
     return short if method.robots is None else method.label(short)
 
 

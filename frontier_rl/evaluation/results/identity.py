@@ -16,7 +16,8 @@ from pathlib import Path
 from typing import TypeVar
 
 from frontier_rl.config_diff import ABSENT, contrast, describe_differences, differences_between
-from frontier_rl.errors import ConfigError, short_repr
+from frontier_rl.errors import ConfigError, FrontierRLError, short_path, short_repr
+from frontier_rl.swarm import TeamMethod
 
 _T = TypeVar("_T")
 
@@ -105,6 +106,7 @@ def merged_identity(
         ConfigError: a setting differs (each named with its value there and now, up to a few), or
             the fingerprint of a method with rows does (its model file or policy code changed).
     """
+    _refuse_renamed_worlds(out, stored, identity.worlds)
     now = identity.to_json()
     parts = [*now, *(part for part in stored if part not in now)]
     differences = [
@@ -119,6 +121,7 @@ def merged_identity(
             f"({describe_differences(differences)}); choose another --out"
         )
     old_methods = _methods(stored)
+    _refuse_methods_written_otherwise(out, old_methods, identity.methods)
     for method, fingerprint in identity.methods.items():
         old = old_methods.get(method)
         if old is not None and old != fingerprint and method in with_rows:
@@ -129,6 +132,46 @@ def merged_identity(
                 "another file name"
             )
     return replace(identity, methods={**old_methods, **identity.methods})
+
+
+_HASH_MARK = "#sha256:"
+
+
+def _refuse_renamed_worlds(out: Path, stored: Mapping[str, object], worlds: tuple[str, ...]) -> None:
+    """Refuse a run that names a map of the folder's another way (``./maps/a.yaml``, an absolute
+    path): the same map, by its hash, where the folder has its rows under the name it was given."""
+    try:
+        there = _strings(stored, "worlds")
+    except ValueError:
+        return  # said by the comparison of the parts that follows
+    for old, new in zip(there, worlds, strict=False):
+        old_name, _, old_hash = old.partition(_HASH_MARK)
+        new_name, _, new_hash = new.partition(_HASH_MARK)
+        if old_hash and old_hash == new_hash and old_name != new_name:
+            raise ConfigError(
+                f"--out {str(out)!r} has its rows of the map {short_path(new_name)} under the name "
+                f"{short_path(old_name)}: name the map as there (or choose another --out)"
+            )
+
+
+def _refuse_methods_written_otherwise(out: Path, there: Mapping[str, str], now: Mapping[str, str]) -> None:
+    """Refuse a method the folder holds written another way (``fixed:1`` for ``fixed:1.0``, a policy
+    file by another path): its rows would be run again as a method of their own."""
+
+    def canonical(method: str) -> str:
+        try:
+            return TeamMethod.parse(method).canonical
+        except FrontierRLError:  # a name an older version wrote: compared as it is
+            return method
+
+    held = {canonical(method): method for method in there}
+    for method in now:
+        twin = held.get(canonical(method))
+        if method not in there and twin is not None:
+            raise ConfigError(
+                f"--out {str(out)!r} holds the results of {short_repr(twin)}, which {short_repr(method)} writes "
+                "another way: name it as there (or choose another --out)"
+            )
 
 
 def _part(data: Mapping[str, object], name: str, kind: type[_T]) -> _T:

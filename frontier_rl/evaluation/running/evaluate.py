@@ -3,11 +3,13 @@
 from __future__ import annotations
 
 import math
+import numbers
 from collections.abc import Iterator, Sequence
 from contextlib import contextmanager
 from pathlib import Path
 from typing import Any
 
+import numpy as np
 from rich.console import Console
 from rich.progress import BarColumn, MofNCompleteColumn, Progress, TextColumn, TimeElapsedColumn, TimeRemainingColumn
 
@@ -55,10 +57,13 @@ def checked_thresholds(values: object, what: str = "outliers") -> tuple[float, .
     Raises:
         ConfigError: anything else, named with ``what``.
     """
+    if isinstance(values, np.ndarray) and values.ndim == 1:
+        values = values.tolist()  # NumPy's numbers as Python's
     if isinstance(values, str) or not isinstance(values, Sequence):
         raise ConfigError(f"{what} must be a list of seconds, got {short_repr(values)}")
     for value in values:
-        if isinstance(value, bool) or not isinstance(value, int | float) or not 0 < value < math.inf:
+        real = isinstance(value, numbers.Real) and not isinstance(value, bool | np.bool_)
+        if not real or not 0 < value < math.inf:
             raise ConfigError(f"{what} must be positive numbers of seconds, got {short_repr(value)}")
     return tuple(float(value) for value in values)
 

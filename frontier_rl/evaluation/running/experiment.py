@@ -8,6 +8,8 @@ backend (a loop, a process pool, Ray tasks) runs the same episode and returns th
 
 from __future__ import annotations
 
+import numbers
+import os
 from dataclasses import dataclass, field
 from functools import cached_property, lru_cache
 from pathlib import Path
@@ -68,11 +70,19 @@ class ExperimentConfig:
     failures: tuple[Failure, ...] = ()
 
     def __post_init__(self) -> None:
-        if not self.methods:
-            raise ConfigError("an experiment needs at least one method")
         order = sorted(self.failures, key=lambda f: (f.robot is None, f.robot or 0, f.time_s is None, f.time_s or 0.0))
         object.__setattr__(self, "failures", tuple(order))  # frozen: set once, here
-        canonical = [str(self.parsed_methods[m]) for m in self.methods]
+        self._check_methods()
+        self._check_worlds()
+        self._check_counts()
+        if self.resolution is not None and not self.resolution > 0:
+            raise ConfigError(f"resolution must be a positive number of metres, got {self.resolution!r}")
+
+    def _check_methods(self) -> None:
+        """The methods: some, each once, their teams and failures possible, the baseline among them."""
+        if not self.methods:
+            raise ConfigError("an experiment needs at least one method")
+        canonical = [self.parsed_methods[m].canonical for m in self.methods]
         twice = [m for m, c in zip(self.methods, canonical, strict=True) if canonical.count(c) > 1]
         if twice:
             raise ConfigError(f"methods are listed twice (the same method written two ways): {', '.join(twice)}")
@@ -84,12 +94,25 @@ class ExperimentConfig:
             raise ConfigError(f"the {ORACLE} plans one robot's tour of the true map; it cannot run in a team")
         if self.baseline not in self.methods:
             raise ConfigError(f"baseline {self.baseline!r} is not among the methods {', '.join(self.methods)}")
+
+    def _check_worlds(self) -> None:
+        """The worlds: some, each once; a map file's path written plainly (``./maps//a.yaml`` as
+        ``maps/a.yaml``), so that a folder's rows are found under the name however it is written."""
         if not self.worlds:
             raise ConfigError("an experiment needs at least one world")
+        plain = tuple(w if w in WORLD_GENERATORS or not Path(w).exists() else os.path.normpath(w) for w in self.worlds)
+        object.__setattr__(self, "worlds", plain)
         resolved = [w if w in WORLD_GENERATORS else str(Path(w).resolve()) for w in self.worlds]
         twice = sorted({w for w, r in zip(self.worlds, resolved, strict=True) if resolved.count(r) > 1})
         if twice:
             raise ConfigError(f"worlds are listed twice (their episodes would count double): {', '.join(twice)}")
+
+    def _check_counts(self) -> None:
+        """The seed and the episodes per world (a NumPy integer taken as Python's), and the episodes in all."""
+        for name in ("seed", "episodes"):
+            value = getattr(self, name)
+            if isinstance(value, numbers.Integral) and not isinstance(value, bool | int):
+                object.__setattr__(self, name, int(value))
         if isinstance(self.seed, bool) or not isinstance(self.seed, int) or self.seed < 0:
             raise ConfigError(f"seed must be a non-negative integer, got {self.seed!r}")
         if isinstance(self.episodes, bool) or not isinstance(self.episodes, int) or self.episodes < 1:
@@ -99,8 +122,6 @@ class ExperimentConfig:
                 f"{self.episodes:,} episodes on {len(self.worlds)} world(s) with {len(self.methods)} method(s) "
                 f"are more than the {MAX_JOBS:,} episodes an experiment may hold"
             )
-        if self.resolution is not None and not self.resolution > 0:
-            raise ConfigError(f"resolution must be a positive number of metres, got {self.resolution!r}")
 
     def jobs(self) -> list[EpisodeJob]:
         """Every (method, world, episode), episode-major so that partial results stay paired."""
