@@ -507,6 +507,8 @@ def test_a_changed_model_file_shows_both_fingerprints(tmp_path: Path) -> None:
     with pytest.raises(ConfigError, match="from another version of its model file or policy code") as caught:
         ResultStore(tmp_path, _identity(methods={method: f"{method}#sha256:bbbbbbbbbbbbbbbb"}))
     assert "aaaaaaaa" in str(caught.value) and "bbbbbbbb" in str(caught.value)
+    # the hashes alone, whole: the method's name, cut mid-path, hid them
+    assert '("sha256:aaaaaaaaaaaaaaaa" there, "sha256:bbbbbbbbbbbbbbbb" now: any edit counts' in str(caught.value)
 
 
 @pytest.mark.parametrize(

@@ -125,11 +125,11 @@ def merged_identity(
     for method, fingerprint in identity.methods.items():
         old = old_methods.get(method)
         if old is not None and old != fingerprint and method in with_rows:
-            there, here = contrast(old, fingerprint)
+            there, here = contrast(old.removeprefix(f"{method}#"), fingerprint.removeprefix(f"{method}#"), 24)
             raise ConfigError(
                 f"--out {str(out)!r} holds results of {short_repr(method)} from another version of its model "
-                f"file or policy code ({there} there, {here} now); choose another --out or give the new version "
-                "another file name"
+                f"file or policy code ({there} there, {here} now: any edit counts, a comment too); choose another "
+                "--out or give the new version another file name"
             )
     return replace(identity, methods={**old_methods, **identity.methods})
 
