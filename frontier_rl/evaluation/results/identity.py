@@ -125,7 +125,7 @@ def merged_identity(
     for method, fingerprint in identity.methods.items():
         old = old_methods.get(method)
         if old is not None and old != fingerprint and method in with_rows:
-            there, here = contrast(old.removeprefix(f"{method}#"), fingerprint.removeprefix(f"{method}#"), 24)
+            there, here = contrast(old.removeprefix(f"{method}#"), fingerprint.removeprefix(f"{method}#"))
             raise ConfigError(
                 f"--out {str(out)!r} holds results of {short_repr(method)} from another version of its model "
                 f"file or policy code ({there} there, {here} now: any edit counts, a comment too); choose another "
