@@ -106,6 +106,7 @@ def test_a_trace_reads_back_as_it_was_written_and_refuses_what_the_report_cannot
         ({"episode": 1.0}, "episode must be a whole number"),
         ({"robot_coverage": [0.5, None]}, "robot_coverage must be a list of finite numbers"),
         ({"aborts_by_cause": {"no_path": "2"}}, "aborts_by_cause must map causes to whole numbers"),
+        ({"aborts_by_cause": {"stuck": 2}}, "a cause of aborts_by_cause must be one of not_planned, no_progress"),
     ):
         with pytest.raises(ConfigError, match=needle):
             EpisodeTrace.from_json(trace.to_json() | change)

@@ -139,8 +139,8 @@ class EpisodeLog:
         )
 
 
-def aborts_by_cause(counts: Sequence[Counter[AbortCause]]) -> dict[str, int]:
+def aborts_by_cause(counts: Sequence[Counter[AbortCause]]) -> dict[AbortCause, int]:
     """The goals given up per cause, summed over ``counts`` (a robot's, or a team's robots'), every
     cause named (0 where none), in :class:`~frontier_rl.core.sim.leg_result.AbortCause`'s order."""
     total: Counter[AbortCause] = sum(counts, Counter())
-    return {cause.value: total[cause] for cause in AbortCause}
+    return {cause: total[cause] for cause in AbortCause}

@@ -11,7 +11,7 @@ from typing import Any
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from frontier_rl.core.sim.leg_result import LegOutcome
+from frontier_rl.core.sim.leg_result import AbortCause, LegOutcome
 from frontier_rl.core.world.grid import OccupancyGrid
 
 
@@ -200,7 +200,7 @@ class EpisodeResult:
     final_map: OccupancyGrid | None = field(repr=False, default=None)
     frontiers_left: tuple[FrontierLeft, ...] = field(repr=False, default=())
     coverage_path_m: NDArray[np.float64] | None = field(repr=False, default=None)
-    aborts_by_cause: Mapping[str, int] = field(default_factory=dict)
+    aborts_by_cause: Mapping[AbortCause, int] = field(default_factory=dict)
     explorable_m2: float = 0.0
 
     @property
@@ -287,7 +287,7 @@ class EpisodeSummary:
     t99_s: float | None
     decisions: int
     aborts: int
-    aborts_by_cause: dict[str, int]
+    aborts_by_cause: dict[AbortCause, int]
     done: bool
     truncated: bool
     end_reason: EndReason | None

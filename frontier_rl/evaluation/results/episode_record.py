@@ -19,6 +19,7 @@ from enum import Enum
 from typing import Any, get_args, get_type_hints
 
 from frontier_rl.checked_values import enum_member
+from frontier_rl.core.sim.leg_result import AbortCause
 from frontier_rl.core.sim.metrics import EndReason
 from frontier_rl.errors import ConfigError, short_repr
 
@@ -180,7 +181,7 @@ class EpisodeTrace:
     coverage: tuple[float, ...]
     weight_t: tuple[float, ...] = ()
     weight: tuple[float, ...] = ()
-    aborts_by_cause: Mapping[str, int] = field(default_factory=dict)
+    aborts_by_cause: Mapping[AbortCause, int] = field(default_factory=dict)
     explorable_left_m2: float | None = None
     frontiers_with_path_left: int | None = None
     frontiers_with_path_to_space_left: int | None = None
@@ -196,7 +197,7 @@ class EpisodeTrace:
         fields that are None (a single robot's team lists, an older trace's diagnostics)."""
         values = ((f.name, getattr(self, f.name)) for f in fields(self))
         return {
-            name: list(value) if isinstance(value, tuple) else dict(value) if isinstance(value, Mapping) else value
+            name: list(value) if isinstance(value, tuple) else _plain(value) if isinstance(value, Mapping) else value
             for name, value in values
             if value is not None
         }
@@ -223,6 +224,7 @@ class EpisodeTrace:
         causes = data.get("aborts_by_cause", {})
         if not isinstance(causes, dict) or not all(type(n) is int for n in causes.values()):
             raise ConfigError(f"aborts_by_cause must map causes to whole numbers, got {short_repr(causes)}")
+        causes = {enum_member(AbortCause, cause, "a cause of aborts_by_cause"): n for cause, n in causes.items()}
         return cls(
             method=_text(data, "method"),
             world=_text(data, "world"),
@@ -231,7 +233,7 @@ class EpisodeTrace:
             coverage=tuple(data["coverage"]),
             weight_t=tuple(data.get("weight_t", [])),
             weight=tuple(data.get("weight", [])),
-            aborts_by_cause={str(cause): n for cause, n in causes.items()},
+            aborts_by_cause=causes,
             explorable_left_m2=_measure(data, "explorable_left_m2"),
             frontiers_with_path_left=_whole(data, "frontiers_with_path_left", optional=True),
             frontiers_with_path_to_space_left=_whole(data, "frontiers_with_path_to_space_left", optional=True),
@@ -280,3 +282,8 @@ class EpisodeOutcome:
 
     row: EpisodeRow
     trace: EpisodeTrace
+
+
+def _plain(counts: Mapping[AbortCause, int]) -> dict[str, int]:
+    """Counts by cause, keyed by the causes' names (JSON's keys)."""
+    return {str(cause): n for cause, n in counts.items()}
