@@ -16,10 +16,11 @@ Only :func:`train` loads torch (and Gymnasium); the other three need neither.
 
 from __future__ import annotations
 
+import inspect
 import numbers
 import sys
-from collections.abc import Callable, Sequence
-from functools import cache
+from collections.abc import Callable, Mapping, Sequence
+from functools import cache, partial
 from pathlib import Path
 from types import FrameType, UnionType
 from typing import TYPE_CHECKING, overload
@@ -41,7 +42,6 @@ from frontier_rl.world_spec import resolve_world
 
 if TYPE_CHECKING:  # loaded by the functions that need them: the command line's help loads this module
     from frontier_rl.evaluation.results.summary import ExperimentSummary
-    from frontier_rl.evaluation.running.experiment import ExperimentConfig
     from frontier_rl.rl.config import TrainConfig
     from frontier_rl.swarm.result import TeamResult
 
@@ -186,14 +186,14 @@ def evaluate(
         outliers: also compare without the episodes above these times (s); None: 1000 and 2000 s.
         pictures: draw each method's first episode on this many worlds (None: 3).
         command: how the report says to run the experiment again (None: this call).
-        ray_address: the Ray head (host:port) of ``backend="ray"``; None: a local Ray.
-        baseline, oracle, seed, workers, backend, resolution, trust_model, comm_range, failures, progress: as
-            the options of ``frontier-rl evaluate`` of the same names.
+        baseline, oracle, seed, workers, backend, ray_address, resolution, trust_model, comm_range, failures,
+            progress: as the options of ``frontier-rl evaluate`` of the same names.
 
     Raises:
         FrontierRLError: a bad method, world or setting, or ``out`` holding another experiment.
     """
     from frontier_rl.evaluation.results.summary import ExperimentSummary
+    from frontier_rl.evaluation.running.evaluate import evaluate as run_evaluation
     from frontier_rl.evaluation.running.experiment import ExperimentConfig
 
     if _importing_the_script_in_a_worker():
@@ -204,11 +204,11 @@ def evaluate(
     experiment = ExperimentConfig(
         names, places, episodes, seed, baseline, sim, resolution, trust_model, comm_range, tuple(failures)
     )
-    given = {"out": str(out), "baseline": baseline, "oracle": oracle, "seed": seed, "resolution": resolution}
-    given |= {"trust_model": trust_model, "comm_range": comm_range, "outliers": outliers, "pictures": pictures}
+    given = {"out": str(out)} | {key: value for key, value in locals().items() if key in _REPRODUCED_KEYWORDS}
     text = command or _call_text(list(methods), [str(w) for w in worlds], episodes, given, sim, bool(failures))
     cuts, shown = _report_settings(outliers, pictures)
-    report = _run(experiment, Path(out), (backend, workers, ray_address), cuts, progress, text, shown)
+    run = partial(run_evaluation, experiment, Path(out), backend=backend, workers=workers, ray_address=ray_address)
+    report = _naming_a_missing_guard(partial(run, outliers=cuts, progress=progress, command=text, pictures=shown))
     return ExperimentSummary.load(report.parent)
 
 
@@ -236,23 +236,14 @@ def _importing_the_script_in_a_worker() -> bool:
     return False
 
 
-def _run(
-    experiment: ExperimentConfig,
-    out: Path,
-    where: tuple[str, int | None, str | None],
-    cuts: tuple[float, ...],
-    progress: bool,
-    command: str,
-    pictures: int,
-) -> Path:
-    """The evaluation's run (``where``: backend, workers, Ray address), the report's path; a worker that
-    died importing a script without the ``__main__`` guard named as such."""
+def _naming_a_missing_guard(run: Callable[[], Path]) -> Path:
+    """``run()``, the evaluation's run (it returns the report's path); a worker that died importing
+    a script without the ``__main__`` guard is named as such."""
     from frontier_rl.evaluation.running.backends import EpisodeFailedError
-    from frontier_rl.evaluation.running.evaluate import evaluate as run_evaluation
     from frontier_rl.evaluation.running.worker_pool import WorkerDiedError
 
     try:
-        return run_evaluation(experiment, out, *where, cuts, progress, command, pictures=pictures)
+        return run()
     except EpisodeFailedError as failed:
         first = failed.first_error
         if isinstance(first, WorkerDiedError) and first.exit_code == NO_MAIN_GUARD_EXIT:
@@ -260,20 +251,24 @@ def _run(
         raise
 
 
+_REPRODUCED_KEYWORDS = ("baseline", "oracle", "seed", "resolution", "trust_model", "comm_range", "outliers", "pictures")
+"""The keyword arguments of :func:`evaluate` that a report's line to run it again names where they
+differ from their defaults (read from its signature); the others do not change the results."""
+
+
 def _call_text(
     methods: list[str],
     worlds: list[str],
     episodes: int,
-    given: dict[str, object],
+    given: Mapping[str, object],
     sim: SimConfig,
     with_failures: bool,
 ) -> str:
     """How the report says to run the experiment again: this call, its arguments as given, ``out`` and
     the other keyword arguments ``given`` that differ from their defaults (failures and the simulation
     settings are named as in ``experiment.json``, which holds them whole)."""
-    defaults = {"baseline": THESIS_BASELINE, "oracle": True, "seed": 0, "resolution": None, "trust_model": False}
-    defaults |= {"comm_range": None, "outliers": None, "pictures": None}
-    keywords = [f"{key}={value!r}" for key, value in given.items() if key not in defaults or value != defaults[key]]
+    defaults = {name: parameter.default for name, parameter in inspect.signature(evaluate).parameters.items()}
+    keywords = [f"{key}={value!r}" for key, value in given.items() if key == "out" or value != defaults[key]]
     if with_failures:
         keywords.append("failures=<the failures in experiment.json>")
     if sim != SimConfig():

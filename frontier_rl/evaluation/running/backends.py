@@ -13,6 +13,7 @@ import socket
 import sys
 import warnings
 from collections.abc import Callable, Generator
+from dataclasses import dataclass
 from enum import StrEnum
 from typing import Any
 
@@ -78,6 +79,28 @@ def check_backend(backend: Backend | str, workers: int, ray_address: str | None)
     return chosen
 
 
+@dataclass(frozen=True)
+class RunTarget:
+    """Where an experiment's episodes run, checked (:meth:`checked`).
+
+    Attributes:
+        backend: in this process, a process pool or Ray tasks.
+        workers: parallel episodes (processes or Ray tasks).
+        ray_address: the Ray head (host:port) of :attr:`Backend.RAY`; None: a local Ray.
+    """
+
+    backend: Backend
+    workers: int
+    ray_address: str | None = None
+
+    @classmethod
+    def checked(cls, backend: Backend | str, workers: int | None, ray_address: str | None = None) -> RunTarget:
+        """The target the options name (``workers`` None: one per core); a clear error for an unknown
+        backend, a bad worker count, Ray options without Ray, or a Ray head that does not answer."""
+        workers = default_workers() if workers is None else workers
+        return cls(check_backend(backend, workers, ray_address), workers, ray_address)
+
+
 def check_ray_address(address: str, timeout_s: float = 5.0) -> None:
     """Fail fast when a Ray head does not answer at ``address`` ("host:port" or "ray://host:port";
     "auto" and "local" are left to Ray): Ray itself retries for minutes."""
@@ -106,26 +129,19 @@ class EpisodeFailedError(FrontierRLError):
         self.first_error = first_error
 
 
-def run_jobs(
-    jobs: list[EpisodeJob],
-    settings: EpisodeSettings,
-    on_result: ResultHandler,
-    backend: Backend,
-    workers: int,
-    ray_address: str | None = None,
-) -> None:
-    """Run ``jobs`` on ``backend`` with ``workers`` parallel episodes, both as :func:`check_backend`
-    passed them (it probes a Ray address: once, by the caller). An episode that raises does not
-    stop the others: once all have run, :class:`EpisodeFailedError` names the failures."""
+def run_jobs(jobs: list[EpisodeJob], settings: EpisodeSettings, on_result: ResultHandler, target: RunTarget) -> None:
+    """Run ``jobs`` where ``target`` says (checked by :meth:`RunTarget.checked`, which probes a Ray
+    address: once, by the caller). An episode that raises does not stop the others: once all have
+    run, :class:`EpisodeFailedError` names the failures."""
     if not jobs:
         return
     failures: list[tuple[EpisodeJob, BaseException]] = []
-    if backend is Backend.SERIAL:
+    if target.backend is Backend.SERIAL:
         outcomes: Outcomes = _serial(jobs, settings)
-    elif backend is Backend.PROCESS:
-        outcomes = _process_pool(jobs, settings, workers)
+    elif target.backend is Backend.PROCESS:
+        outcomes = _process_pool(jobs, settings, target.workers)
     else:
-        outcomes = _ray_tasks(jobs, settings, workers, ray_address)
+        outcomes = _ray_tasks(jobs, settings, target.workers, target.ray_address)
     with contextlib.closing(outcomes):  # an error or Ctrl-C in on_result ends the workers at once
         for job, outcome in outcomes:
             if isinstance(outcome, BaseException):

@@ -19,13 +19,7 @@ from frontier_rl.evaluation.report.run_pictures import draw_runs
 from frontier_rl.evaluation.report.writer import write_report
 from frontier_rl.evaluation.results.episode_record import EpisodeOutcome
 from frontier_rl.evaluation.results.store import ResultStore
-from frontier_rl.evaluation.running.backends import (
-    Backend,
-    EpisodeFailedError,
-    check_backend,
-    default_workers,
-    run_jobs,
-)
+from frontier_rl.evaluation.running.backends import Backend, EpisodeFailedError, RunTarget, run_jobs
 from frontier_rl.evaluation.running.experiment import ExperimentConfig
 from frontier_rl.evaluation.running.fingerprints import identity
 from frontier_rl.evaluation.running.methods import check_methods
@@ -92,13 +86,13 @@ def evaluate(
         OutputWriteError: a file could not be written (a full disk); the message names it and
             says that the finished episodes are kept.
     """
-    chosen, workers = checked_run(config, backend, workers, ray_address)
+    target = checked_run(config, backend, workers, ray_address)
     try:
         store = ResultStore(out, identity(config))
     except OutputWriteError as exc:
         raise exc.with_note(f"the results already in {str(out)!r} are unchanged") from None
     try:
-        _run_missing(store, config, chosen, workers, ray_address, progress)
+        _run_missing(store, config, target, progress)
         store.finalise(config.jobs())
         drawn = draw_runs(config, out, pictures, animate)
         return write_report(store, config, outliers, command, drawn)
@@ -114,27 +108,19 @@ def evaluate(
 
 def checked_run(
     config: ExperimentConfig, backend: Backend | str, workers: int | None, ray_address: str | None
-) -> tuple[Backend, int]:
-    """The backend and the number of workers (None: one per core) of a run of ``config``, checked with
-    its methods (a bad method or model file fails before anything is written).
+) -> RunTarget:
+    """Where a run of ``config`` goes (``workers`` None: one per core), checked with its methods (a
+    bad method or model file fails before anything is written).
 
     Raises:
         ConfigError: an unknown backend, a bad worker count, Ray options without Ray, a bad method.
     """
-    workers = default_workers() if workers is None else workers
-    chosen = check_backend(backend, workers, ray_address)
+    target = RunTarget.checked(backend, workers, ray_address)
     check_methods(config)
-    return chosen, workers
+    return target
 
 
-def _run_missing(
-    store: ResultStore,
-    config: ExperimentConfig,
-    backend: Backend,
-    workers: int,
-    ray_address: str | None,
-    progress: bool,
-) -> None:
+def _run_missing(store: ResultStore, config: ExperimentConfig, target: RunTarget, progress: bool) -> None:
     """Run the jobs of ``config`` that ``store`` does not hold yet, recording each as it finishes."""
     jobs = config.jobs()
     todo = [job for job in jobs if not store.done(job)]
@@ -145,7 +131,7 @@ def _run_missing(
             advance()
 
         try:
-            run_jobs(todo, config.settings(), record, backend, workers, ray_address)
+            run_jobs(todo, config.settings(), record, target)
         except EpisodeFailedError as exc:
             raise EpisodeFailedError(
                 f"{exc}; the {len(store.rows)} finished episodes are saved in {store.csv_path}; "
