@@ -69,6 +69,8 @@ def _feed(digest: hashlib._Hash, value: object, skip: frozenset[str]) -> None:
             _feed(digest, item, skip)
     elif isinstance(value, Enum):  # by its value, as when such fields were strings
         digest.update(repr(value.value).encode())
+    elif isinstance(value, dict):  # enum keys by their values, as when they were strings
+        digest.update(repr({key.value if isinstance(key, Enum) else key: item for key, item in value.items()}).encode())
     elif hasattr(value, "__dataclass_fields__"):
         for f in fields(value):  # type: ignore[arg-type]
             if f.name not in skip:

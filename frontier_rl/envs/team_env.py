@@ -25,14 +25,15 @@ from frontier_rl.core.sim.episode import Ranking
 from frontier_rl.envs.base import EnvConfig
 from frontier_rl.envs.rewards import RewardConfig, reward_preset
 from frontier_rl.envs.world_source import WorldSource, reset_world_seed
-from frontier_rl.errors import ConfigError
+from frontier_rl.errors import ConfigError, short_repr
 from frontier_rl.observation.frontier_table import FEATURE_BOUND, simulator_observation, slot_order
 from frontier_rl.observation.map_image import FRONTIER_FEATURES, MapEncoder
 from frontier_rl.observation.weight_bins import WEIGHT_BINS, bin_to_weight
+from frontier_rl.registration import ModelKind
 from frontier_rl.render import FrameCanvas, rgb_array
 from frontier_rl.swarm import TeamConfig, TeamSimulator
 
-ACTIONS = ("weight", "frontier")
+ACTIONS = (ModelKind.WEIGHT, ModelKind.FRONTIER)
 """The agents' action kinds: a weight bin of eq. 3.1 (models 3 and 4), or a candidate frontier (model 5)."""
 
 Observation = NDArray[np.uint8] | dict[str, NDArray[Any]]
@@ -58,20 +59,20 @@ class TeamExplorationEnv(ParallelEnv):  # type: ignore[misc]  # pettingzoo ships
         self,
         config: EnvConfig | None = None,
         team: TeamConfig | None = None,
-        action: str = "weight",
+        action: ModelKind | str = ModelKind.WEIGHT,
         top_k: int = 16,
         render_mode: str | None = None,
         **overrides: Any,
     ) -> None:
         if action not in ACTIONS:
-            raise ConfigError(f"action must be one of {', '.join(ACTIONS)}, got {action!r}")
+            raise ConfigError(f"action must be one of {', '.join(ACTIONS)}, got {short_repr(action)}")
         if render_mode is not None and render_mode not in self.metadata["render_modes"]:
             raise ConfigError(f"render_mode must be one of {self.metadata['render_modes']}, got {render_mode!r}")
         if not 1 <= top_k <= 256:
             raise ConfigError(f"top_k must be between 1 and 256, got {top_k!r}")
         self.config = EnvConfig.from_kwargs(config, **overrides)
         self.team_config = team or TeamConfig(robots=2)
-        self.action_kind = action
+        self.action_kind = ModelKind(action)
         self.top_k = top_k
         self.render_mode = render_mode
         self.rewards: RewardConfig = reward_preset(self.config.reward)
@@ -90,7 +91,7 @@ class TeamExplorationEnv(ParallelEnv):  # type: ignore[misc]  # pettingzoo ships
     def observation_space(self, agent: str) -> gym.spaces.Space[Any]:
         """The map image (weight), or the map, frontier table and mask (frontier)."""
         image = gym.spaces.Box(0, 255, self.encoder.shape, np.uint8)
-        if self.action_kind == "weight":
+        if self.action_kind is ModelKind.WEIGHT:
             return image
         table = gym.spaces.Box(-FEATURE_BOUND, FEATURE_BOUND, (self.top_k * len(FRONTIER_FEATURES),), np.float32)
         return gym.spaces.Dict(
@@ -100,7 +101,7 @@ class TeamExplorationEnv(ParallelEnv):  # type: ignore[misc]  # pettingzoo ships
     @functools.cache  # noqa: B019
     def action_space(self, agent: str) -> gym.spaces.Space[Any]:
         """A weight bin (w = a / 100) or a frontier slot."""
-        return gym.spaces.Discrete(WEIGHT_BINS if self.action_kind == "weight" else self.top_k)
+        return gym.spaces.Discrete(WEIGHT_BINS if self.action_kind is ModelKind.WEIGHT else self.top_k)
 
     @property
     def team(self) -> TeamSimulator:
@@ -183,7 +184,7 @@ class TeamExplorationEnv(ParallelEnv):  # type: ignore[misc]  # pettingzoo ships
             raise ValueError(f"action {action!r} of robot_{index} is outside {space}")
         choice = int(value.reshape(()).item())
         sim = self.team.robots[index].sim
-        if self.action_kind == "weight":
+        if self.action_kind is ModelKind.WEIGHT:
             weight = bin_to_weight(choice)
             return Ranking(rank(weighted_cost(sim.frontiers(), weight)), weight)
         return Ranking(slot_order(self._slots[index], choice))
@@ -193,7 +194,7 @@ class TeamExplorationEnv(ParallelEnv):  # type: ignore[misc]  # pettingzoo ships
         for agent in agents if agents is not None else self.agents:
             index = int(agent.removeprefix("robot_"))
             sim = self.team.robots[index].sim
-            if self.action_kind == "weight":
+            if self.action_kind is ModelKind.WEIGHT:
                 cand = sim.candidates()
                 out[agent] = self.encoder.encode(cand.grid, sim.pose, cand.frontiers)
             else:
