@@ -42,6 +42,7 @@ from frontier_rl.world_spec import resolve_world
 
 if TYPE_CHECKING:  # loaded by the functions that need them: the command line's help loads this module
     from frontier_rl.evaluation.results.summary import ExperimentSummary
+    from frontier_rl.evaluation.running.experiment import ExperimentConfig
     from frontier_rl.rl.config import TrainConfig
     from frontier_rl.swarm.result import TeamResult
 
@@ -204,9 +205,9 @@ def evaluate(
     experiment = ExperimentConfig(
         names, places, episodes, seed, baseline, sim, resolution, trust_model, comm_range, tuple(failures)
     )
-    given = {"out": str(out)} | {key: value for key, value in locals().items() if key in _REPRODUCED_KEYWORDS}
-    text = command or _call_text(list(methods), [str(w) for w in worlds], episodes, given, sim, bool(failures))
-    cuts, shown = _report_settings(outliers, pictures)
+    cuts, shown, as_given = _report_settings(outliers, pictures)
+    given = {"out": str(out), "oracle": oracle, **as_given}
+    text = command or _call_text(list(methods), [str(w) for w in worlds], experiment, given)
     run = partial(run_evaluation, experiment, Path(out), backend=backend, workers=workers, ray_address=ray_address)
     report = _naming_a_missing_guard(partial(run, outliers=cuts, progress=progress, command=text, pictures=shown))
     return ExperimentSummary.load(report.parent)
@@ -251,29 +252,22 @@ def _naming_a_missing_guard(run: Callable[[], Path]) -> Path:
         raise
 
 
-_REPRODUCED_KEYWORDS = ("baseline", "oracle", "seed", "resolution", "trust_model", "comm_range", "outliers", "pictures")
-"""The keyword arguments of :func:`evaluate` that a report's line to run it again names where they
-differ from their defaults (read from its signature); the others do not change the results."""
-
-
-def _call_text(
-    methods: list[str],
-    worlds: list[str],
-    episodes: int,
-    given: Mapping[str, object],
-    sim: SimConfig,
-    with_failures: bool,
-) -> str:
-    """How the report says to run the experiment again: this call, its arguments as given, ``out`` and
-    the other keyword arguments ``given`` that differ from their defaults (failures and the simulation
-    settings are named as in ``experiment.json``, which holds them whole)."""
+def _call_text(methods: list[str], worlds: list[str], experiment: ExperimentConfig, given: Mapping[str, object]) -> str:
+    """How the report says to run the experiment again: this call with its methods and worlds as
+    given, ``out``, and the keyword arguments that differ from :func:`evaluate`'s defaults (read from
+    its signature): the experiment's settings and the report's options ``given`` (checked values;
+    failures and the simulation settings named as in ``experiment.json``, which holds them whole)."""
     defaults = {name: parameter.default for name, parameter in inspect.signature(evaluate).parameters.items()}
-    keywords = [f"{key}={value!r}" for key, value in given.items() if key == "out" or value != defaults[key]]
-    if with_failures:
+    values = {"baseline": experiment.baseline, "seed": experiment.seed, "resolution": experiment.resolution}
+    values |= {"trust_model": experiment.trust_model, "comm_range": experiment.comm_range, **given}
+    keywords = [  # in the signature's order
+        f"{key}={values[key]!r}" for key in defaults if key in values and (key == "out" or values[key] != defaults[key])
+    ]
+    if experiment.failures:
         keywords.append("failures=<the failures in experiment.json>")
-    if sim != SimConfig():
+    if experiment.sim != SimConfig():
         keywords.append("config=<the sim settings in experiment.json>")
-    return f"frontier_rl.evaluate({methods!r}, {worlds!r}, {episodes}, {', '.join(keywords)})"
+    return f"frontier_rl.evaluate({methods!r}, {worlds!r}, {experiment.episodes}, {', '.join(keywords)})"
 
 
 def _names(
@@ -293,8 +287,12 @@ def _list_of(value: object, kind: type | UnionType) -> bool:
     return isinstance(value, Sequence) and not isinstance(value, str) and all(isinstance(v, kind) for v in value)
 
 
-def _report_settings(outliers: Sequence[float] | None, pictures: int | None) -> tuple[tuple[float, ...], int]:
-    """The outlier thresholds (s) and pictured worlds of :func:`evaluate`, checked; None: the command's defaults."""
+def _report_settings(
+    outliers: Sequence[float] | None, pictures: int | None
+) -> tuple[tuple[float, ...], int, dict[str, object]]:
+    """The outlier thresholds (s) and pictured worlds of :func:`evaluate`, checked (None: the
+    command's defaults), and the two as the report's line to run it again names them (checked
+    values: a NumPy array's text would not run; None where not given)."""
     from frontier_rl.evaluation.running.evaluate import DEFAULT_OUTLIERS_S, DEFAULT_PICTURE_WORLDS, checked_thresholds
 
     cuts = DEFAULT_OUTLIERS_S if outliers is None else checked_thresholds(outliers, "outliers")
@@ -302,7 +300,8 @@ def _report_settings(outliers: Sequence[float] | None, pictures: int | None) -> 
         pictures = int(pictures)  # a NumPy integer
     if pictures is not None and (isinstance(pictures, bool) or not isinstance(pictures, int) or pictures < 0):
         raise ConfigError(f"pictures must be a whole number of worlds, 0 or more, got {short_repr(pictures)}")
-    return cuts, DEFAULT_PICTURE_WORLDS if pictures is None else pictures
+    as_given: dict[str, object] = {"outliers": None if outliers is None else list(cuts), "pictures": pictures}
+    return cuts, DEFAULT_PICTURE_WORLDS if pictures is None else pictures, as_given
 
 
 def train(config: TrainConfig, out: str | Path, *, resume: bool = False, progress: bool = False) -> Path:
@@ -314,7 +313,8 @@ def train(config: TrainConfig, out: str | Path, *, resume: bool = False, progres
         config: the run's settings (:class:`~frontier_rl.rl.config.TrainConfig`: model, worlds,
             timesteps, algorithm, ...).
         out: the run folder.
-        resume: continue the run in ``out`` from its last checkpoint (same settings).
+        resume: continue the run in ``out`` from its last checkpoint (the same settings and map files,
+            but for ``timesteps``, which may grow).
         progress: show a progress bar.
     """
     from frontier_rl.rl.train import train as run_training

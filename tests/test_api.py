@@ -111,16 +111,19 @@ def test_the_report_says_how_to_run_the_call_again() -> None:
     """It listed the baseline and the oracle among the methods and left out out= and baseline=: run as
     written, it added fixed:0.75 and failed for want of out."""
     from frontier_rl.api import _call_text
+    from frontier_rl.evaluation.running.experiment import ExperimentConfig
+    from frontier_rl.swarm import Failure
 
-    given = {"out": "results/x", "baseline": "nearest", "oracle": True, "seed": 0, "resolution": None}
-    given |= {"trust_model": False, "comm_range": None, "outliers": None, "pictures": None}
-    text = _call_text(["my.py:P"], ["office", "rooms"], 10, given, SimConfig(), False)
+    plain = ExperimentConfig(("nearest", "my.py:P"), ("office", "rooms"), 10, baseline="nearest")
+    given = {"out": "results/x", "oracle": True, "outliers": None, "pictures": None}
+    text = _call_text(["my.py:P"], ["office", "rooms"], plain, given)
     assert text == "frontier_rl.evaluate(['my.py:P'], ['office', 'rooms'], 10, out='results/x', baseline='nearest')"
-    short = SimConfig(max_sim_time=60.0)
-    changed = given | {"out": "r", "oracle": False, "seed": 3, "outliers": [500.0], "pictures": 0}
-    text = _call_text(["nearest"], ["office"], 1, changed, short, True)
+    changed = ExperimentConfig(("nearest@2",), ("office",), 1, seed=3, baseline="nearest@2",
+                               sim=SimConfig(max_sim_time=60.0), failures=(Failure(0, 5.0),))  # fmt: skip
+    given = {"out": "r", "oracle": False, "outliers": [500.0], "pictures": 0}
+    text = _call_text(["nearest@2"], ["office"], changed, given)
     assert text.endswith(
-        "out='r', baseline='nearest', oracle=False, seed=3, outliers=[500.0], pictures=0, "
+        "out='r', baseline='nearest@2', oracle=False, seed=3, outliers=[500.0], pictures=0, "
         "failures=<the failures in experiment.json>, config=<the sim settings in experiment.json>)"
     )
 
@@ -170,10 +173,12 @@ def test_evaluate_takes_numpy_numbers_as_load_world_and_explore_do(tmp_path: Pat
     """episodes=np.int64(1), seed=np.int64(2) and outliers=np.array([10.0]) were refused."""
     summary = frontier_rl.evaluate(
         ["nearest"], ["office"], np.int64(1), out=tmp_path / "run", baseline="nearest",  # type: ignore[arg-type]
-        seed=np.int64(2), outliers=np.array([10.0]), pictures=np.int64(0), config=SimConfig(max_sim_time=30.0),  # type: ignore[arg-type]
-        workers=1, backend="serial",
+        seed=np.int64(2), outliers=np.array([10.0, 20.0]), pictures=np.int64(0),  # type: ignore[arg-type]
+        config=SimConfig(max_sim_time=30.0), workers=1, backend="serial",
     )  # fmt: skip
     assert summary.episodes == 1
+    # the line to run it again holds Python's numbers (a NumPy array's text would not run)
+    assert "seed=2, outliers=[10.0, 20.0], pictures=0," in (tmp_path / "run" / "report.md").read_text()
 
 
 class _Answers:

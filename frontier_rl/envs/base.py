@@ -115,7 +115,9 @@ class ExplorationEnv(gym.Env[ObsT, np.int64], Generic[ObsT]):
             self._sim = ExplorationSimulator(world, self.config.sim, sim_rng)
             if not self._sim.finished:
                 break
-            world_seed = None  # explored from its start (a room the sensor sees whole): another is drawn
+            # explored from its start (a room the sensor sees whole): another start, or world, is drawn; a
+            # world_seed given moves by the number of families, keeping a validation episode's family
+            world_seed = None if world_seed is None else world_seed + len(self.source.families)
         else:
             raise ConfigError(
                 f"each of {MAX_WORLD_DRAWS} worlds drawn from {short_repr(','.join(self.config.worlds))} had no "

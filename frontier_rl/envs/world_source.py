@@ -5,7 +5,7 @@ from __future__ import annotations
 
 import difflib
 from collections.abc import Mapping
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from typing import Any
 
 import numpy as np
@@ -165,6 +165,8 @@ class WorldSource:
 def check_world_files(worlds: tuple[str, ...], resolution: float | None = None) -> tuple[str, ...]:
     """Read every map file of ``worlds`` once (a bad one raises
     :class:`~frontier_rl.errors.MapError` naming it); returns each as ``spec#sha256:HASH``
-    (:func:`~frontier_rl.world_spec.map_digest` of the map as loaded), in the list's order."""
+    (:func:`~frontier_rl.world_spec.map_digest` of the map as loaded, without the start it may store:
+    training draws its own), in the list's order."""
     files = [m for entry in worlds for m in world_family(entry).members if m not in WORLD_GENERATORS]
-    return tuple(f"{spec}#sha256:{map_digest(load_map(map_file(spec), resolution=resolution))}" for spec in files)
+    loaded = (replace(load_map(map_file(spec), resolution=resolution), start=None) for spec in files)
+    return tuple(f"{spec}#sha256:{map_digest(grid)}" for spec, grid in zip(files, loaded, strict=True))

@@ -175,7 +175,7 @@ class PolicySpec:
         (``fixed:1`` and ``fixed:1.0`` alike), a tour by its stops (``tour`` and ``tour:`` its :data:`TOUR_STOPS`), a
         policy or model file by its absolute path (a relative one resolved against the working folder)."""
         if self.weight is not None:
-            return f"{BuiltinPolicy.FIXED.value}:{self.weight!r}"
+            return f"{BuiltinPolicy.FIXED.value}:{self.weight + 0.0!r}"  # -0.0 as 0.0
         if self.stops is not None:
             return f"{BuiltinPolicy.TOUR.value}:{self.stops}"
         path = self.file

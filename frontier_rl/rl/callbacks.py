@@ -55,8 +55,10 @@ class ValidationCallback(BaseCallback):
         self.best_path = best_path
         self.best = float("inf")
         self._next = 0
+        self._trained = 0  # the decisions the weights have learnt from
 
     def _on_training_start(self) -> None:
+        self._trained = self.num_timesteps  # a resumed run's checkpoint
         last = 0  # the decisions of the last validation written
         if self.csv_path.exists():  # a resumed run: keep the best so far
             with self.csv_path.open() as source:
@@ -86,16 +88,16 @@ class ValidationCallback(BaseCallback):
             save_model(self.model, self.best_path, replace(self.info, timesteps=self._trained_decisions()))
         return True
 
+    def _on_rollout_start(self) -> None:
+        """The weights were just updated (SB3 starts a rollout after each update; DAgger calls this
+        after each fit) on the decisions made so far."""
+        self._trained = self.num_timesteps
+
     def _trained_decisions(self) -> int:
         """The decisions the policy's weights have learnt from: a validation inside an A2C or PPO
         rollout runs the weights of the last update, before the rollout's own decisions (the final
-        model, saved after that update, has learnt from them; both said the same count); DAgger
-        says how many it has fitted (``trained_decisions``)."""
-        if "trained_decisions" in self.locals:
-            return int(self.locals["trained_decisions"])
-        if "n_steps" in self.locals and "rollout_buffer" in self.locals:  # SB3's collect_rollouts
-            return self.num_timesteps - (int(self.locals["n_steps"]) + 1) * self.training_env.num_envs
-        return self.num_timesteps
+        model, saved after that update, has learnt from them; both said the same count)."""
+        return self._trained
 
 
 class AtomicCheckpoint(BaseCallback):

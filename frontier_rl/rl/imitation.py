@@ -149,7 +149,6 @@ def dagger(
     callback.on_training_start(locals(), globals())
     obs = venv.reset()
     losses: list[float] = []
-    fitted = 0  # the decisions the network has been fitted to
     with Progress(console=Console(stderr=True), disable=not progress) as bar:
         task = bar.add_task("DAgger decisions", total=timesteps)
         while model.num_timesteps < timesteps:
@@ -163,10 +162,9 @@ def dagger(
             model.num_timesteps += venv.num_envs
             if model.num_timesteps // ROUND_DECISIONS > before // ROUND_DECISIONS or model.num_timesteps >= timesteps:
                 losses.append(_fit_round(model, data, rng, optimizer))
-                fitted = model.num_timesteps
+                callback.on_rollout_start()  # as SB3 after an update: the weights learnt from every decision so far
                 if labels_path is not None:
                     data.save(labels_path)
-            callback.update_locals({"trained_decisions": fitted})
             go_on = callback.on_step()
             if model.logger.name_to_value:  # the round's records, the callbacks' (validation)
                 model.logger.dump(model.num_timesteps)

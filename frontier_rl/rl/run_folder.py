@@ -50,8 +50,8 @@ def prepare_run_folder(config: TrainConfig, out: Path, resume: bool, maps: tuple
     returns the step count to start from (0, or the last checkpoint's).
 
     With ``resume``, the run in ``out`` must have the same configuration and maps, but for
-    ``timesteps``: a run may be given more decisions (or fewer, not below those it has made), and
-    its ``config.yaml`` then says the new count."""
+    ``timesteps``: a run may be given more decisions (or fewer, not below those it has made); its
+    ``config.yaml`` says the new count once the run's model is saved (:func:`record_timesteps`)."""
     refuse_other_runs(out, RunKind.TRAINING)
     saved_path = out / "config.yaml"
     if saved_path.exists():
@@ -60,10 +60,7 @@ def prepare_run_folder(config: TrainConfig, out: Path, resume: bool, maps: tuple
         saved = TrainConfig.load(saved_path)
         _check_same_run(saved, config, out)
         _check_map_files(out, maps)
-        start = _resumed_from(saved, config, out)
-        if config.timesteps != saved.timesteps:
-            config.dump(saved_path)
-        return start
+        return _resumed_from(saved, config, out)
     if resume:
         raise ConfigError(f"nothing to resume: {str(out)!r} holds no training run")
     if run_kind(out) is RunKind.TRAINING:  # a model file or checkpoints without their run's config.yaml
@@ -81,7 +78,9 @@ def _check_same_run(saved: TrainConfig, config: TrainConfig, out: Path) -> None:
     if replace(saved, timesteps=config.timesteps) == config:
         return
     there, now = saved.to_dict(), config.to_dict()
-    differs = [d for key in now for d in differences_between(there.get(key, ABSENT), now[key], key)]
+    differs = [
+        d for key in now if key != "timesteps" for d in differences_between(there.get(key, ABSENT), now[key], key)
+    ]
     raise ConfigError(f"{str(out)!r} holds a run with a different configuration ({describe_differences(differs)})")
 
 
@@ -90,7 +89,7 @@ def _resumed_from(saved: TrainConfig, config: TrainConfig, out: Path) -> int:
     checked against what the run wrote and against ``config.timesteps``."""
     checkpoint = latest_checkpoint(out)
     # SB3 ends a run with a whole rollout, so its last checkpoints may pass the timesteps by less than one
-    most = saved.timesteps + saved.n_steps * saved.n_envs - 1
+    most = max(saved.timesteps, config.timesteps) + saved.n_steps * saved.n_envs - 1  # a grown run's too
     if checkpoint is not None and checkpoint[1] > most:  # a name the run did not write
         raise ConfigError(
             f"checkpoint {short_path(checkpoint[0])} claims {checkpoint[1]} decisions, more than the run "
@@ -109,8 +108,8 @@ def _resumed_from(saved: TrainConfig, config: TrainConfig, out: Path) -> int:
     if finished is not None and start < finished.timesteps:
         raise ConfigError(
             f"{str(out)!r} holds a finished run of {finished.timesteps} decisions without a checkpoint at its end "
-            f"(last: {start}); it cannot go on for longer (train into another --out, with --init, to start from its "
-            "model)"
+            f"({f'the last at {start}' if start else 'none'}); it cannot go on for longer (train into another --out, "
+            "with --init, to start from its model)"
         )
     return start
 
@@ -120,7 +119,9 @@ def _check_map_files(out: Path, maps: tuple[str, ...]) -> None:
     folder of maps with a map edited, added or removed); a run written before the list was kept
     is not checked."""
     listed = out / MAP_FILES_NAME
-    if not listed.exists():
+    if not listed.exists():  # a run an older version wrote: its maps from now on
+        if maps:
+            write_text_atomic(listed, "".join(f"{m}\n" for m in maps))
         return
     try:
         there = read_bounded(listed, MAX_MAP_FILES_BYTES).decode("utf-8", "replace").splitlines()
@@ -145,6 +146,15 @@ def _map_changes(there: list[str], now: tuple[str, ...]) -> str:
     shown = ", ".join(changes[:_MAP_CHANGES_SHOWN]) or "the same maps in another order"
     more = len(changes) - _MAP_CHANGES_SHOWN
     return shown + (f" and {more} more" if more > 0 else "")
+
+
+def record_timesteps(config: TrainConfig, out: Path) -> None:
+    """Say in ``out``'s ``config.yaml`` the decisions ``config`` trained the run for, once its model is
+    saved: a run given more (or fewer) on ``--resume`` keeps the old count until then, so that the
+    file always describes the run's ``model.zip``."""
+    saved_path = out / "config.yaml"
+    if TrainConfig.load(saved_path).timesteps != config.timesteps:
+        config.dump(saved_path)
 
 
 def keep_final_checkpoint(model: BaseAlgorithm, out: Path) -> None:

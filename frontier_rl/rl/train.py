@@ -1,12 +1,14 @@
 """``frontier-rl train``: Stable-Baselines3 A2C (or PPO, or DAgger for model 5) on a frontier_rl env, resumable.
 
-A run directory holds ``config.yaml``, ``model.zip`` (the final model), ``best_model.zip`` (best on
-the validation worlds), ``checkpoints/``, ``monitor_<start>.monitor.csv`` (one per started segment),
-``validation.csv``, ``tb/`` (TensorBoard) and ``learning_curve.png``.
+A run directory holds ``model.zip`` (the final model), ``best_model.zip`` (best on the validation
+worlds), ``monitor_<start>.monitor.csv`` (one per started segment), ``validation.csv``, ``tb/``
+(TensorBoard) and ``learning_curve.png``, beside what :mod:`frontier_rl.rl.run_folder` keeps (the
+configuration, the map files, the checkpoints).
 """
 
 from __future__ import annotations
 
+import contextlib
 import time
 from collections.abc import Callable, Sequence
 from dataclasses import replace
@@ -40,7 +42,13 @@ from frontier_rl.rl.model_file import (
     save_model,
 )
 from frontier_rl.rl.networks import PRIVILEGED_HEAD
-from frontier_rl.rl.run_folder import FINAL_MODEL_NAME, keep_final_checkpoint, latest_checkpoint, prepare_run_folder
+from frontier_rl.rl.run_folder import (
+    FINAL_MODEL_NAME,
+    keep_final_checkpoint,
+    latest_checkpoint,
+    prepare_run_folder,
+    record_timesteps,
+)
 from frontier_rl.rl.teacher import TeacherLabels
 from frontier_rl.worker_signals import ignore_interrupts, spawning_workers
 from frontier_rl.world_spec import world_entries
@@ -112,6 +120,10 @@ def _training_envs(config: TrainConfig, out: Path, start: int, env_kwargs: dict[
     if config.n_envs == 1:
         envs: VecEnv = DummyVecEnv([partial(factory, config.env_id, **env_kwargs)])
     else:
+        with contextlib.closing(make_env(config.env_id, **env_kwargs)) as probe:
+            probe.reset(
+                seed=config.seed
+            )  # here, a world none of whose draws can start is one line, not a worker's traceback
         with spawning_workers():  # started with Ctrl-C held, which each ignores once it runs
             envs = SubprocVecEnv(
                 [partial(_worker_env, factory, config.env_id, **env_kwargs) for _ in range(config.n_envs)],
@@ -124,15 +136,15 @@ def _restore_checkpoint(model: BaseAlgorithm, config: TrainConfig, out: Path, st
     """Load the last checkpoint of ``out`` (``start`` steps) into ``model``: weights and optimizer,
     no unpickling, the file's size bounded before SB3 reads it.
 
-    The random generators (the envs', torch's, numpy's) are seeded with ``config.seed + start``: the
-    model, built with ``config.seed``, seeds the envs as the run's start did, and a resumed run
-    replayed the worlds and starts of its opening episodes."""
+    The random generators (the envs', torch's, numpy's) are seeded with ``config.seed + start``
+    (modulo 2³²): the model, built with ``config.seed``, seeds the envs as the run's start did, and a
+    resumed run replayed the worlds and starts of its opening episodes."""
     checkpoint = latest_checkpoint(out)
     assert checkpoint is not None
     check_model_zip(checkpoint[0])
     model.set_parameters(str(checkpoint[0]), device="cpu")
     model.num_timesteps = start
-    model.set_random_seed(config.seed + start)
+    model.set_random_seed((config.seed + start) % 2**32)  # NumPy's seeds stop at 2**32 - 1
 
 
 def _initial_policy(config: TrainConfig) -> ActorCriticPolicy:
@@ -231,6 +243,23 @@ def _env_kwargs(config: TrainConfig) -> dict[str, Any]:
     return env_kwargs
 
 
+def _callbacks(
+    config: TrainConfig, out: Path, env_kwargs: dict[str, Any], info: ModelInfo
+) -> tuple[list[BaseCallback], gym.Env[Any, Any] | None]:
+    """The run's checkpoints and validations (with ``info``, the metadata of its best model), and the
+    validation env to close at the end (None without validations)."""
+    callbacks: list[BaseCallback] = []
+    if config.checkpoint_every:
+        every = max(config.checkpoint_every // config.n_envs, 1)
+        callbacks.append(AtomicCheckpoint(every, out / "checkpoints"))
+    if not config.eval_every:
+        return callbacks, None
+    eval_env = gym.make(config.env_id, **env_kwargs, world_split="validation")
+    csv_path, best_path = out / "validation.csv", out / "best_model.zip"
+    callbacks.append(ValidationCallback(eval_env, config.eval_every, config.eval_episodes, csv_path, best_path, info))
+    return callbacks, eval_env
+
+
 def train(
     config: TrainConfig,
     out: Path,
@@ -241,7 +270,8 @@ def train(
     """Train as ``config`` says into run directory ``out``; returns the final model's path.
 
     With ``resume``, a run in ``out`` continues from its last checkpoint (weights, optimizer state
-    and step count); its configuration must be the same. ``extra_callbacks`` run after the
+    and step count); its configuration and map files must be the same, but for ``timesteps``
+    (:func:`~frontier_rl.rl.run_folder.prepare_run_folder`). ``extra_callbacks`` run after the
     checkpoint and validation callbacks.
     """
     if resume and config.algo is Algorithm.DAGGER:
@@ -259,19 +289,8 @@ def train(
         _restore_checkpoint(model, config, out, start)
     elif initial is not None:
         _load_initial(model.policy, initial)
-    callbacks: list[BaseCallback] = []
-    if config.checkpoint_every:
-        every = max(config.checkpoint_every // config.n_envs, 1)
-        callbacks.append(AtomicCheckpoint(every, out / "checkpoints"))
-    eval_env = None
     info = ModelInfo(config.model, config.env_id, config.observation_size, config.algo, config.features_dim, 0)
-    if config.eval_every:
-        eval_env = gym.make(config.env_id, **env_kwargs, world_split="validation")
-        callbacks.append(
-            ValidationCallback(
-                eval_env, config.eval_every, config.eval_episodes, out / "validation.csv", out / "best_model.zip", info
-            )
-        )
+    callbacks, eval_env = _callbacks(config, out, env_kwargs, info)
     callbacks.extend(extra_callbacks)
     torch.set_num_threads(1 if config.n_envs > 1 else torch.get_num_threads())
     started = time.perf_counter()
@@ -287,6 +306,7 @@ def train(
         with (out / "training_time.txt").open("a") as sink:  # every segment, an interrupted one too
             sink.write(f"steps {start}..{model.num_timesteps}: {time.perf_counter() - started:.1f} s wall\n")
     save_model(model, final, replace(info, timesteps=int(model.num_timesteps)))
+    record_timesteps(config, out)
     if config.checkpoint_every and config.algo is not Algorithm.DAGGER:
         keep_final_checkpoint(model, out)
     plot_learning_curve(out, title=f"model {config.model} ({config.algo.value}, {config.worlds})")

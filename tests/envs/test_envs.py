@@ -9,17 +9,18 @@ import gymnasium as gym
 import numpy as np
 import pytest
 from gymnasium.utils.env_checker import check_env as gym_check_env
+from PIL import Image
 from stable_baselines3.common.env_checker import check_env as sb3_check_env
 
 import frontier_rl
 from frontier_rl.core.world.catalog import generate_world
 from frontier_rl.envs import FrontierChoiceEnv, WeightEnv
+from frontier_rl.envs.world_source import VALIDATION_SEED_LOW
 from frontier_rl.errors import ConfigError, UnknownNameError
 from frontier_rl.observation.frontier_table import FEATURE_BOUND, TOUR_STOPS
 from frontier_rl.observation.map_image import MAP_FREE, MAP_UNKNOWN, MARK
 from frontier_rl.observation.weight_bins import WEIGHT_BINS, bin_to_weight
 from frontier_rl.registration import ENV_IDS, MODELS, ModelKind, env_id
-from tests.envs.test_world_source import make_folder
 
 
 def _obs_equal(a: Any, b: Any) -> bool:
@@ -171,7 +172,12 @@ def test_step_after_the_end_asks_for_reset() -> None:
 def test_a_world_explored_from_its_start_is_drawn_again(tmp_path: Path) -> None:
     """A room the sensor sees whole ended its episode at reset, and the first step raised (a
     training run on a folder with such a map crashed)."""
-    rooms = make_folder(tmp_path / "rooms", 2)
+    rooms = tmp_path / "rooms"
+    rooms.mkdir()
+    image = np.zeros((24, 24), np.uint8)  # 1.2 m across: seen whole from every start
+    image[3:-3, 3:-3] = 255
+    for name in ("a.png", "b.png"):
+        Image.fromarray(image).save(rooms / name)
     with pytest.raises(ConfigError, match=r"each of 100 worlds drawn from .*rooms' had no frontier left at its start"):
         WeightEnv(worlds=str(rooms), observation_size=64).reset(seed=0)
     env = WeightEnv(worlds=f"{rooms}=10,office", observation_size=64)
@@ -179,6 +185,11 @@ def test_a_world_explored_from_its_start_is_drawn_again(tmp_path: Path) -> None:
         _, info = env.reset(seed=seed)
         assert info["world"] == "office" and info["frontiers"] > 0
         assert env.step(80)[4]["decisions"] == 1
+    # a validation episode's family is kept: the rooms' world_seed never became a training world's
+    validation = WeightEnv(worlds=f"{rooms},office", observation_size=64, world_split="validation")
+    with pytest.raises(ConfigError, match="had no frontier left at its start"):
+        validation.reset(seed=0, options={"world_seed": VALIDATION_SEED_LOW})
+    assert validation.reset(seed=0, options={"world_seed": VALIDATION_SEED_LOW + 1})[1]["world"] == "office"
 
 
 def test_step_before_reset_is_an_error() -> None:

@@ -167,7 +167,8 @@ def test_a_run_is_resumed_only_on_the_map_files_it_was_trained_on(tmp_path: Path
     """A folder of maps with a map edited or added was trained on as if nothing had changed."""
     folder = _two_room_maps(tmp_path / "maps", 2)
     run = tmp_path / "run"
-    config = _config(4, worlds=str(folder), timesteps=48, eval_every=0, checkpoint_every=16)
+    # the largest seed: a resume seeds with it plus the checkpoint's step, past what NumPy takes
+    config = _config(4, worlds=str(folder), timesteps=48, eval_every=0, checkpoint_every=16, seed=2**32 - 1)
     with pytest.raises(KeyboardInterrupt):
         train(config, run, progress=False, extra_callbacks=[_Interrupt(20)])
     listed = (run / "map_files.txt").read_text().splitlines()
@@ -197,16 +198,31 @@ def test_a_run_goes_on_for_longer_with_more_timesteps(tmp_path: Path) -> None:
     assert latest_checkpoint(run) == (run / "checkpoints" / "model_40_steps.zip", 40)  # at its end, not at 32
     with pytest.raises(ConfigError, match=r"has made 40 decisions; --timesteps 24 would take some of them back"):
         train(replace(config, timesteps=24), run, resume=True, progress=False)
+    with pytest.raises(KeyboardInterrupt):  # a longer run cut short: config.yaml still says the model's count
+        train(replace(config, timesteps=64), run, resume=True, progress=False, extra_callbacks=[_Interrupt(58)])
+    past = (run / "checkpoints" / "model_56_steps.zip", 56)  # past the 40 config.yaml says: not refused as forged
+    assert TrainConfig.load(run / "config.yaml") == config and latest_checkpoint(run) == past
     longer = replace(config, timesteps=64)
     info = read_metadata(train(longer, run, resume=True, progress=False))
     assert info is not None and info.timesteps == 64
     assert TrainConfig.load(run / "config.yaml") == longer
     segments = (run / "training_time.txt").read_text().splitlines()
-    assert [line.split(":")[0] for line in segments] == ["steps 0..40", "steps 40..64"], segments
+    assert [line.split(":")[0] for line in segments] == ["steps 0..40", "steps 40..58", "steps 56..64"], segments
     without = tmp_path / "without"  # no checkpoint at its end: it would go on from an earlier one
     train(replace(config, checkpoint_every=0), without, progress=False)
-    with pytest.raises(ConfigError, match=r"finished run of 40 decisions without a checkpoint at its end \(last: 0\)"):
+    with pytest.raises(ConfigError, match=r"finished run of 40 decisions without a checkpoint at its end \(none\)"):
         train(replace(config, checkpoint_every=0, timesteps=64), without, resume=True, progress=False)
+
+
+def test_worlds_that_cannot_start_are_one_line_with_worker_envs(tmp_path: Path) -> None:
+    """Rooms the sensor sees whole: with two worker envs, a worker's traceback and a broken pipe."""
+    rooms = tmp_path / "rooms"
+    rooms.mkdir()
+    image = np.zeros((24, 24), np.uint8)  # 1.2 m across: seen whole from every start
+    image[3:-3, 3:-3] = 255
+    Image.fromarray(image).save(rooms / "room.png")
+    with pytest.raises(ConfigError, match="had no frontier left at its start"):
+        train(_config(4, worlds=str(rooms), n_envs=2, eval_every=0), tmp_path / "run", progress=False)
 
 
 def test_a_run_whose_last_rollout_passed_its_timesteps_resumes_from_that_checkpoint(tmp_path: Path) -> None:

@@ -197,7 +197,7 @@ class EpisodeTrace:
         fields that are None (a single robot's team lists, an older trace's diagnostics)."""
         values = ((f.name, getattr(self, f.name)) for f in fields(self))
         return {
-            name: list(value) if isinstance(value, tuple) else _plain(value) if isinstance(value, Mapping) else value
+            name: list(value) if isinstance(value, tuple) else _by_name(value) if isinstance(value, Mapping) else value
             for name, value in values
             if value is not None
         }
@@ -284,6 +284,6 @@ class EpisodeOutcome:
     trace: EpisodeTrace
 
 
-def _plain(counts: Mapping[AbortCause, int]) -> dict[str, int]:
-    """Counts by cause, keyed by the causes' names (JSON's keys)."""
+def _by_name(counts: Mapping[AbortCause, int]) -> dict[str, int]:
+    """Counts by cause (the trace's one mapping), keyed by the causes' names: JSON's keys."""
     return {str(cause): n for cause, n in counts.items()}

@@ -165,9 +165,11 @@ def _refuse_methods_written_otherwise(out: Path, there: Mapping[str, str], now: 
             return method
 
     held = {canonical(method): method for method in there}
-    for method in now:
+    for method, fingerprint in now.items():
         twin = held.get(canonical(method))
-        if method not in there and twin is not None:
+        # the same content too: a relative path there was resolved against the folder it was run from
+        same_content = twin is not None and there[twin].removeprefix(twin) == fingerprint.removeprefix(method)
+        if method not in there and same_content:
             raise ConfigError(
                 f"--out {str(out)!r} holds the results of {short_repr(twin)}, which {short_repr(method)} writes "
                 "another way: name it as there (or choose another --out)"

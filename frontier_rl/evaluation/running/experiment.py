@@ -9,7 +9,6 @@ backend (a loop, a process pool, Ray tasks) runs the same episode and returns th
 from __future__ import annotations
 
 import numbers
-import os
 from dataclasses import dataclass, field
 from functools import cached_property, lru_cache
 from pathlib import Path
@@ -96,12 +95,9 @@ class ExperimentConfig:
             raise ConfigError(f"baseline {self.baseline!r} is not among the methods {', '.join(self.methods)}")
 
     def _check_worlds(self) -> None:
-        """The worlds: some, each once; a map file's path written plainly (``./maps//a.yaml`` as
-        ``maps/a.yaml``), so that a folder's rows are found under the name however it is written."""
+        """The worlds: some, each once (however a map file's path is written)."""
         if not self.worlds:
             raise ConfigError("an experiment needs at least one world")
-        plain = tuple(w if w in WORLD_GENERATORS or not Path(w).exists() else os.path.normpath(w) for w in self.worlds)
-        object.__setattr__(self, "worlds", plain)
         resolved = [w if w in WORLD_GENERATORS else str(Path(w).resolve()) for w in self.worlds]
         twice = sorted({w for w, r in zip(self.worlds, resolved, strict=True) if resolved.count(r) > 1})
         if twice:
