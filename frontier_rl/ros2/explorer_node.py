@@ -301,15 +301,18 @@ class ExplorerNode(Node):
         not drive on to it); the cancel request's future, or None when no goal is under way."""
         if self._handle is None:
             return None
-        self.get_logger().info(f"cancelling goal {self._sent}: the explorer is stopping")
+        self.get_logger().info(f"cancelling goal {self._sent}: the explorer is stopping")  # ended or stopped
         return self._handle.cancel_goal_async()
 
     def _finish(self, finished: Finished) -> None:
+        """The run is over: home, or done (a goal still under way is cancelled by the runner, which
+        waits for Nav2's answer before the node goes: a request sent as it went was lost, and the
+        robot drove on)."""
         self.finished, self._finished_s = finished, self._elapsed_s
-        if self._handle is not None:
-            self._handle.cancel_goal_async()
         home = self.explorer.home() if self.explorer.params.return_to_init else None
         if home is not None:
+            if self._handle is not None:
+                self._handle.cancel_goal_async()
             self._returning = True
             self._send(home)
             return

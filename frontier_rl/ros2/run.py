@@ -36,6 +36,9 @@ from frontier_rl.ros2.sim_node import SimNode
 from frontier_rl.swarm.config import TeamConfig
 from frontier_rl.swarm.starts import team_starts
 
+_INVALID_CONTEXT = "context is invalid"
+"""What rclpy says of a node, publisher or action server made after a Ctrl-C shut its context down."""
+
 
 @contextlib.contextmanager
 def _ros_setup_errors() -> Iterator[None]:
@@ -47,9 +50,16 @@ def _ros_setup_errors() -> Iterator[None]:
     except NameValidationException as error:
         rclpy.try_shutdown()
         raise ConfigError(str(error).splitlines()[0].rstrip(":")) from None
-    except rclpy_implementation.RCLError as error:
+    except (rclpy_implementation.RCLError, ValueError) as error:
         rclpy.try_shutdown()
+        if _INVALID_CONTEXT in str(error):  # rclpy's own Ctrl-C handler shut the context as the node was made
+            raise KeyboardInterrupt from None
+        if isinstance(error, ValueError):
+            raise
         raise ConfigError(f"--ros-args: {str(error).split(', at /')[0]}") from None
+    except rclpy_implementation.UnknownROSArgsError as error:
+        rclpy.try_shutdown()
+        raise ConfigError(f"--ros-args: arguments ROS does not know: {error}") from None
     except BaseException:
         rclpy.try_shutdown()
         raise
@@ -203,14 +213,15 @@ def run_explorer(
     with _ros_setup_errors():
         rclpy.init(args=["frontier-rl", *options.ros_args], signal_handler_options=SignalHandlerOptions.NO)
         node = ExplorerNode(explorer, options)
-    node.set_parameters([Parameter("use_sim_time", Parameter.Type.BOOL, options.use_sim_time)])
+    if options.use_sim_time:  # else as --ros-args say (-p use_sim_time:=true, a params file)
+        node.set_parameters([Parameter("use_sim_time", Parameter.Type.BOOL, True)])
     executor = SingleThreadedExecutor()
     executor.add_node(node)
     stop, cancelled = threading.Event(), False
     try:
         with _stop_requests(stop):
             _spin(lambda: _spin_until(executor, lambda: node.done.done() or stop.is_set()))
-            cancelled = stop.is_set() and _cancel_goal(executor, node)
+            cancelled = _cancel_goal(executor, node)  # on any end: the robot must not drive on to it
     finally:
         ended = node.finished is not None
         status = node.status(ExplorerState.FINISHED if ended else ExplorerState.INTERRUPTED, "")

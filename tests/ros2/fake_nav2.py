@@ -55,6 +55,7 @@ class FakeNav2(Node):
         self.map_pub = self.create_publisher(OccupancyGrid, "map", MAP_QOS)
         self.pose_pub = self.create_publisher(PoseWithCovarianceStamped, "pose", 10)
         self.pose_x = 0.5
+        self.current: ServerGoalHandle | None = None
         ActionServer(
             self,
             NavigateToPose,
@@ -74,12 +75,15 @@ class FakeNav2(Node):
 
     def _execute(self, handle: ServerGoalHandle) -> NavigateToPose.Result:
         if self.mode == "stall":
-            while rclpy.ok() and not handle.is_cancel_requested and handle.is_active:
+            self.current = handle  # a newer goal preempts this one, as Nav2's does
+            while rclpy.ok() and not handle.is_cancel_requested and handle.is_active and self.current is handle:
                 handle.publish_feedback(NavigateToPose.Feedback(distance_remaining=1.0))
                 time.sleep(0.1)
             if handle.is_cancel_requested:
                 handle.canceled()
                 print("goal canceled", flush=True)
+            elif handle.is_active:
+                handle.abort()
             return NavigateToPose.Result()
         if self.mode == "succeed":
             handle.succeed()

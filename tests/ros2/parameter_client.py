@@ -19,6 +19,7 @@ NAMES = [
     "progress_distance",
     "visualize",
     "policy",
+    "use_sim_time",
 ]
 SETS = [
     [Parameter("progress_timeout", Parameter.Type.INTEGER, 5)],

@@ -47,6 +47,7 @@ def test_the_settings_are_parameters_overridden_by_ros_args_and_set_at_run_time(
         "progress_distance": 0.1,
         "visualize": False,
         "policy": "nearest",
+        "use_sim_time": False,
     }
     taken, negative, text, policy, cap = report["sets"]
     assert taken["successful"] and cap["successful"]
@@ -58,6 +59,12 @@ def test_the_settings_are_parameters_overridden_by_ros_args_and_set_at_run_time(
     assert report["after"] | {"progress_timeout": 5} == report["after"]
     assert report["after"]["time_cap"] == 600.0 and report["after"]["planner_frequency"] == 2.0
     assert "settings now" in log and "Traceback" not in log
+
+
+def test_use_sim_time_from_ros_args_is_kept(tmp_path: Path) -> None:
+    """-p use_sim_time:=true was set back to false (the command's --use-sim-time, not given)."""
+    report, log = _with_client(tmp_path, "--ros-args -p use_sim_time:=true", "--get")
+    assert report["before"]["use_sim_time"] is True, log
 
 
 @pytest.mark.parametrize(
@@ -84,6 +91,7 @@ def test_a_bad_override_is_one_line_naming_it(arguments: str, needle: str, tmp_p
     [
         ("--ros-args -p", "error: --ros-args: failed to initialize rcl: Couldn't parse trailing -p flag"),
         ("--ros-args -r __ns:=/1x", "error: --ros-args: failed to initialize rcl: Couldn't parse remap rule"),
+        ("--ros-args --garbage", "error: --ros-args: arguments ROS does not know: ['--garbage']"),  # a traceback
     ],
 )
 def test_ros_arguments_rcl_cannot_parse_end_in_an_error_line(arguments: str, needle: str, tmp_path: Path) -> None:
