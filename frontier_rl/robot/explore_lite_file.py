@@ -61,14 +61,27 @@ def explore_lite_parameters(path: str | Path) -> tuple[dict[str, Any], list[str]
     return known, sorted(str(name) for name in data if name not in FILE_PARAMETERS)
 
 
+def _node_sections(data: Mapping[object, object], namespace: str = "") -> dict[str, object] | None:
+    """The ``ros__parameters`` of each node of a file in ROS 2's layout, by the node's name with its
+    namespace (``tb3_0: {frontier_rl_explorer: {ros__parameters: ...}}`` is
+    ``tb3_0/frontier_rl_explorer``, as ``/tb3_0/frontier_rl_explorer:`` would be); None for a file of
+    another layout (a plain mapping of parameters)."""
+    nodes: dict[str, object] = {}
+    for name, value in data.items():
+        key = f"{namespace}/{name}" if namespace else str(name)
+        if isinstance(value, Mapping) and "ros__parameters" in value:
+            nodes[key] = value["ros__parameters"]
+        elif isinstance(value, Mapping) and value and (inner := _node_sections(value, key)) is not None:
+            nodes |= inner
+        else:
+            return None
+    return nodes or None
+
+
 def _explorer_section(data: object, path: str | Path) -> Mapping[object, object]:
     """The parameters of a file's explorer (see :func:`explore_lite_parameters`)."""
-    if (
-        isinstance(data, Mapping)
-        and data
-        and all(isinstance(v, Mapping) and "ros__parameters" in v for v in data.values())
-    ):
-        nodes = {str(name): section["ros__parameters"] for name, section in data.items()}
+    nodes = _node_sections(data) if isinstance(data, Mapping) else None
+    if nodes is not None:
         chosen = (
             list(nodes.values())
             if len(nodes) == 1
@@ -81,9 +94,10 @@ def _explorer_section(data: object, path: str | Path) -> Mapping[object, object]
                 f"parameter file {path} sets the parameters of {', '.join(nodes)}, none of them the explorer "
                 f"({', '.join(EXPLORER_NODES)})"
             )
-        if not all(isinstance(params, Mapping) for params in chosen):
+        sections = [params for params in chosen if isinstance(params, Mapping)]
+        if len(sections) < len(chosen):
             raise ConfigError(f"parameter file {path}: ros__parameters must map parameter names to values")
-        data = {name: value for params in chosen for name, value in params.items()}
+        data = {name: value for params in sections for name, value in params.items()}
     if not isinstance(data, Mapping):
         raise ConfigError(f"parameter file {path} must map parameter names to values")
     return data
