@@ -187,8 +187,8 @@ def evaluate(
         outliers: also compare without the episodes above these times (s); None: 1000 and 2000 s.
         pictures: draw each method's first episode on this many worlds (None: 3).
         command: how the report says to run the experiment again (None: this call).
-        baseline, oracle, seed, workers, backend, ray_address, resolution, trust_model, comm_range, failures,
-            progress: as the options of ``frontier-rl evaluate`` of the same names.
+        baseline, oracle, seed, workers, backend, ray_address, resolution, trust_model, comm_range, failures, progress:
+            as the options of ``frontier-rl evaluate`` of the same names.
 
     Raises:
         FrontierRLError: a bad method, world or setting, or ``out`` holding another experiment.
