@@ -117,7 +117,7 @@ def _resumed_from(saved: TrainConfig, config: TrainConfig, out: Path) -> int:
 def _check_map_files(out: Path, maps: tuple[str, ...]) -> None:
     """Refuse to resume the run in ``out`` on map files other than those it was trained on (a
     folder of maps with a map edited, added or removed); a run written before the list was kept
-    is not checked."""
+    is not checked, and gets its list now."""
     listed = out / MAP_FILES_NAME
     if not listed.exists():  # a run an older version wrote: its maps from now on
         if maps:
