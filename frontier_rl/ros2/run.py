@@ -21,6 +21,7 @@ from rclpy.signals import SignalHandlerOptions
 
 from frontier_rl.core.sim.config import SimConfig
 from frontier_rl.core.sim.episode import ExplorationPolicy
+from frontier_rl.core.sim.metrics import time_to_coverage
 from frontier_rl.core.world.worlds import World
 from frontier_rl.errors import ConfigError
 from frontier_rl.robot.explorer import FrontierExplorer
@@ -165,9 +166,12 @@ def run_sim(robots: Sequence[tuple[str, SimulatedRobot]], rate: float | None = 1
     lines = []
     for port in node.ports:
         result = port.robot.result()
+        # when its map last grew: the shared clock runs on after a robot's explorer has finished
+        mapped_s = time_to_coverage(result.coverage_times_s, result.coverage_curve, result.coverage) or 0.0
         lines.append(
             f"{port.namespace or 'robot'}: {port.goals} goals, {100 * result.coverage:.1f} % of the explorable space "
-            f"mapped in {result.sim_time_s:.1f} s of simulated time, {result.path_length_m:.1f} m driven"
+            f"mapped in {mapped_s:.1f} s of simulated time (of {result.sim_time_s:.1f} s served), "
+            f"{result.path_length_m:.1f} m driven"
         )
     return lines
 

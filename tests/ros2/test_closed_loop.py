@@ -5,6 +5,7 @@ with the same episode run in-process."""
 from __future__ import annotations
 
 import json
+import re
 import shlex
 import sys
 from pathlib import Path
@@ -34,7 +35,11 @@ def _closed_loop(home: Path, sim_args: str, explore_args: str, timeout: float = 
     logs = "\n".join((home / name).read_text() for name in ("sim.log", "explore.log", "explore.err"))
     assert done.returncode == 0, f"exit {done.returncode}\n{done.stderr}\n{logs}"
     status: dict[str, object] = json.loads((home / "explore.log").read_text().strip().splitlines()[-1])
-    assert "goals" in (home / "sim.log").read_text(), logs  # the simulator's own summary line
+    summary = re.search(
+        r"mapped in ([\d.]+) s of simulated time \(of ([\d.]+) s served\)", (home / "sim.log").read_text()
+    )
+    assert summary is not None, logs  # the simulator's own summary line: when the map last grew, of how long it ran
+    assert 0 < float(summary[1]) <= float(summary[2]), logs
     return status
 
 
