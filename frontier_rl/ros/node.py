@@ -65,15 +65,22 @@ class FrontierNode:
         """Read and check the parameters and load the policy (a bad one raises, naming it)."""
         self.rospy = rospy = import_rospy()
         robots = robot_namespaces(rospy.get_param("~robots", [""]))
-        top_k = count_parameter("top_k", rospy.get_param("~top_k", 10), 1)
+        top_k = count_parameter("top_k", rospy.get_param("~top_k", ServiceSettings.top_k), 1)
         min_cells = count_parameter(
-            "min_cluster_size", rospy.get_param("~min_cluster_size", 4), 0, MAX_FRONTIER_DROP_CELLS
+            "min_cluster_size",
+            rospy.get_param("~min_cluster_size", ServiceSettings.min_cells),
+            0,
+            MAX_FRONTIER_DROP_CELLS,
         )
         self.base_frame = str(rospy.get_param("~base_frame", "base_footprint"))
-        max_map_age = seconds_parameter("max_map_age", rospy.get_param("~max_map_age", 30.0), zero=True)
-        stale = stale_map_parameter(rospy.get_param("~stale_map", "stale"))
-        keep_last_map = flag_parameter("keep_last_map", rospy.get_param("~keep_last_map", True))
-        max_pending = count_parameter("max_pending", rospy.get_param("~max_pending", 8), 1)
+        max_map_age = seconds_parameter(
+            "max_map_age", rospy.get_param("~max_map_age", ServiceSettings.max_map_age), zero=True
+        )
+        stale = stale_map_parameter(rospy.get_param("~stale_map", ServiceSettings.stale.value))
+        keep_last_map = flag_parameter(
+            "keep_last_map", rospy.get_param("~keep_last_map", ServiceSettings.keep_last_map)
+        )
+        max_pending = count_parameter("max_pending", rospy.get_param("~max_pending", ServiceSettings.max_pending), 1)
         period = rospy.get_param("~master_check_period", 1.0)
         self.master_check_period = seconds_parameter("master_check_period", period, zero=False, most=MAX_CHECK_PERIOD_S)
         spec = node_policy_spec(

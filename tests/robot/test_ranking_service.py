@@ -170,3 +170,17 @@ def test_only_a_fixed_weight_is_announced_not_a_user_policys_own(tmp_path: Path)
     )
     assert _service(policy=f"{path}:Adaptive")[0].fixed_weight is None
     assert _service(policy="fixed:0.6")[0].fixed_weight == 0.6
+
+
+def test_the_ros2_commands_defaults_are_the_services() -> None:
+    """The defaults stood in three places (the settings, the ROS 2 command, the ROS 1 node, which
+    now reads the settings'): the command's must say the same."""
+    import inspect
+
+    from frontier_rl.cli.ros2 import rank
+
+    defaults = {name: p.default for name, p in inspect.signature(rank).parameters.items()}
+    service = {"top_k": "top_k", "min_cluster_size": "min_cells", "max_map_age": "max_map_age"}
+    service |= {"stale_map": "stale", "keep_last_map": "keep_last_map", "max_pending": "max_pending"}
+    for option, field in service.items():
+        assert defaults[option] == getattr(ServiceSettings, field), option
