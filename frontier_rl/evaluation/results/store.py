@@ -102,8 +102,9 @@ class ResultStore:
         self.identity = identity
         self.experiment_id = identity.experiment_id
         try:
-            self._check_identity(identity)
-            self._load(adopt_unchecked)
+            csv_lines = complete_lines(self.csv_path)  # read once: the identity's check and the rows need it
+            self._check_identity(identity, csv_lines)
+            self._load(csv_lines, adopt_unchecked)
             for path in (self.csv_path, self.trace_path, self.checksum_path):
                 cut_torn_line(path)
             # written once the rows are checked: a refused folder keeps its experiment.json as it was
@@ -112,10 +113,12 @@ class ResultStore:
             self.close()
             raise
 
-    def _methods_with_rows(self) -> set[str]:
-        """The methods ``episodes.csv`` has rows of (each row read and checked by :meth:`_load`)."""
+    @staticmethod
+    def _methods_with_rows(csv_lines: list[tuple[int, str]]) -> set[str]:
+        """The methods of the rows of ``episodes.csv`` (its numbered lines; each row read and
+        checked by :meth:`_load`)."""
         column = ROW_COLUMNS.index("method")
-        rows = csv.reader(line for _, line in complete_lines(self.csv_path)[1:])  # the first: the header
+        rows = csv.reader(line for _, line in csv_lines[1:])  # the first: the header
         return {row[column] for row in rows if len(row) > column}
 
     def _acquire_lock(self) -> IO[bytes] | None:
@@ -143,21 +146,20 @@ class ResultStore:
             self._lock = None
 
     # ------------------------------------------------------------------ identity
-    def _check_identity(self, identity: ExperimentIdentity) -> None:
+    def _check_identity(self, identity: ExperimentIdentity, csv_lines: list[tuple[int, str]]) -> None:
         if self.identity_path.exists():
             try:
                 stored = read_identity_json(self.identity_path)
             except ConfigError as problem:
                 raise ConfigError(f"{problem}; choose another --out") from None
-            identity = merged_identity(self.out, stored, identity, self._methods_with_rows())
+            identity = merged_identity(self.out, stored, identity, self._methods_with_rows(csv_lines))
         elif any(not _ours(path.name) for path in self.out.iterdir()):
             raise ConfigError(f"--out {str(self.out)!r} holds other files and no experiment.json: choose another --out")
         self.identity = identity
         self.experiment_id = identity.experiment_id
 
     # ------------------------------------------------------------------ reading
-    def _load(self, adopt_unchecked: bool = False) -> None:
-        lines = complete_lines(self.csv_path)
+    def _load(self, lines: list[tuple[int, str]], adopt_unchecked: bool = False) -> None:
         if lines and lines[0][1] != ",".join(ROW_COLUMNS):
             raise ConfigError(
                 f"{self.csv_path} has the columns of another version of frontier_rl; choose another --out"
