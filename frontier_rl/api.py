@@ -17,7 +17,6 @@ Only :func:`train` loads torch (and Gymnasium); the other three need neither.
 from __future__ import annotations
 
 import inspect
-import numbers
 import sys
 from collections.abc import Callable, Mapping, Sequence
 from functools import cache, partial
@@ -25,6 +24,7 @@ from pathlib import Path
 from types import FrameType, UnionType
 from typing import TYPE_CHECKING, overload
 
+from frontier_rl.checked_values import python_integer
 from frontier_rl.core.frontiers.thesis import THESIS_BASELINE
 from frontier_rl.core.sim.config import SimConfig
 from frontier_rl.core.sim.episode import DecisionContext, ExplorationPolicy, Ranking, run_episode, warm_up
@@ -296,8 +296,7 @@ def _report_settings(
     from frontier_rl.evaluation.running.evaluate import DEFAULT_OUTLIERS_S, DEFAULT_PICTURE_WORLDS, checked_thresholds
 
     cuts = DEFAULT_OUTLIERS_S if outliers is None else checked_thresholds(outliers, "outliers")
-    if isinstance(pictures, numbers.Integral) and not isinstance(pictures, bool | int):
-        pictures = int(pictures)  # a NumPy integer
+    pictures = python_integer(pictures)  # type: ignore[assignment]  # a NumPy integer
     if pictures is not None and (isinstance(pictures, bool) or not isinstance(pictures, int) or pictures < 0):
         raise ConfigError(f"pictures must be a whole number of worlds, 0 or more, got {short_repr(pictures)}")
     as_given: dict[str, object] = {"outliers": None if outliers is None else list(cuts), "pictures": pictures}

@@ -4,6 +4,7 @@ type they must have, with a one-line error that names where they came from."""
 from __future__ import annotations
 
 import math
+import numbers
 from enum import Enum
 from typing import Any, TypeVar
 
@@ -23,6 +24,14 @@ def enum_member(kind: type[_E], value: object, where: str) -> _E:
     except ValueError:
         names = ", ".join(str(member.value) for member in kind)
         raise ConfigError(f"{where} must be one of {names}, got {short_repr(value)}") from None
+
+
+def python_integer(value: object) -> object:
+    """``value`` as Python's ``int`` where it is another kind of integer (a NumPy one), else as it
+    is: a check that asks for an ``int`` then takes it, and refuses a ``bool`` as before."""
+    if isinstance(value, numbers.Integral) and not isinstance(value, bool | int):
+        return int(value)
+    return value
 
 
 def check_weight(weight: float) -> float:

@@ -2,8 +2,7 @@
 
 from __future__ import annotations
 
-import numbers
-
+from frontier_rl.checked_values import python_integer
 from frontier_rl.errors import ConfigError, short_repr
 
 MAX_SEED = 2**32 - 1
@@ -16,8 +15,7 @@ def checked_seed(value: object, what: str = "seed") -> int:
     Raises:
         ConfigError: any other value, named with ``what``.
     """
-    if isinstance(value, numbers.Integral) and not isinstance(value, bool | int):  # a NumPy integer
-        value = int(value)
+    value = python_integer(value)  # a NumPy integer
     if isinstance(value, bool) or not isinstance(value, int) or not 0 <= value <= MAX_SEED:
         raise ConfigError(f"{what} must be a whole number from 0 to {MAX_SEED}, got {short_repr(value)}")
     return value

@@ -251,6 +251,11 @@ CHECKPOINT_NAME = re.compile(r"model_(\d+)_steps\.zip$")
 the whole training state, for ``--resume``, not a model file."""
 
 
+def checkpoint_name(steps: int) -> str:
+    """The file name of the checkpoint at ``steps`` decisions (:data:`CHECKPOINT_NAME` reads it)."""
+    return f"model_{steps}_steps.zip"
+
+
 def read_model(path: Path, trust: bool = False) -> tuple[ModelInfo | None, dict[str, torch.Tensor]]:
     """The checked metadata and weights of the model file at ``path``. An SB3 zip without this
     project's metadata is refused unless ``trust`` (SB3's format pickles its contents, and loading

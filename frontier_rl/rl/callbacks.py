@@ -12,7 +12,7 @@ import numpy as np
 from stable_baselines3.common.callbacks import BaseCallback
 
 from frontier_rl.envs.world_source import VALIDATION_SEED_LOW
-from frontier_rl.inference.model_file import ModelInfo
+from frontier_rl.inference.model_file import ModelInfo, checkpoint_name
 from frontier_rl.rl.model_file import save_model
 
 
@@ -115,5 +115,5 @@ class AtomicCheckpoint(BaseCallback):
 
     def _on_step(self) -> bool:
         if self.n_calls % self.every == 0:
-            save_model(self.model, self.folder / f"model_{self.num_timesteps}_steps.zip")
+            save_model(self.model, self.folder / checkpoint_name(self.num_timesteps))
         return True

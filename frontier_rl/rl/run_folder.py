@@ -12,7 +12,7 @@ from frontier_rl.atomic_write import describe_os_error, write_text_atomic
 from frontier_rl.bounded_read import UnreadableFileError, read_bounded
 from frontier_rl.config_diff import ABSENT, describe_differences, differences_between
 from frontier_rl.errors import ConfigError, short_path
-from frontier_rl.inference.model_file import CHECKPOINT_NAME, read_metadata
+from frontier_rl.inference.model_file import CHECKPOINT_NAME, checkpoint_name, read_metadata
 from frontier_rl.registration import Algorithm
 from frontier_rl.rl.config import TrainConfig
 from frontier_rl.rl.model_file import save_model
@@ -163,7 +163,7 @@ def keep_final_checkpoint(model: BaseAlgorithm, out: Path) -> None:
     from the last periodic checkpoint."""
     last = latest_checkpoint(out)
     if last is None or last[1] != model.num_timesteps:
-        save_model(model, out / "checkpoints" / f"model_{model.num_timesteps}_steps.zip")
+        save_model(model, out / "checkpoints" / checkpoint_name(model.num_timesteps))
 
 
 def interruption_note(config: TrainConfig, out: Path) -> str:

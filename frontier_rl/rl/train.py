@@ -120,10 +120,9 @@ def _training_envs(config: TrainConfig, out: Path, start: int, env_kwargs: dict[
     if config.n_envs == 1:
         envs: VecEnv = DummyVecEnv([partial(factory, config.env_id, **env_kwargs)])
     else:
+        # worlds none of whose draws can start: one line from here, not a worker's traceback and a broken pipe
         with contextlib.closing(make_env(config.env_id, **env_kwargs)) as probe:
-            probe.reset(
-                seed=config.seed
-            )  # here, a world none of whose draws can start is one line, not a worker's traceback
+            probe.reset(seed=config.seed)
         with spawning_workers():  # started with Ctrl-C held, which each ignores once it runs
             envs = SubprocVecEnv(
                 [partial(_worker_env, factory, config.env_id, **env_kwargs) for _ in range(config.n_envs)],

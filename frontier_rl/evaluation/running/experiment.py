@@ -8,13 +8,13 @@ backend (a loop, a process pool, Ray tasks) runs the same episode and returns th
 
 from __future__ import annotations
 
-import numbers
 from dataclasses import dataclass, field
 from functools import cached_property, lru_cache
 from pathlib import Path
 
 import numpy as np
 
+from frontier_rl.checked_values import python_integer
 from frontier_rl.core.frontiers.thesis import THESIS_BASELINE
 from frontier_rl.core.sim.config import SimConfig
 from frontier_rl.core.sim.episode import ExplorationPolicy, run_episode, warm_up
@@ -106,9 +106,7 @@ class ExperimentConfig:
     def _check_counts(self) -> None:
         """The seed and the episodes per world (a NumPy integer taken as Python's), and the episodes in all."""
         for name in ("seed", "episodes"):
-            value = getattr(self, name)
-            if isinstance(value, numbers.Integral) and not isinstance(value, bool | int):
-                object.__setattr__(self, name, int(value))
+            object.__setattr__(self, name, python_integer(getattr(self, name)))
         if isinstance(self.seed, bool) or not isinstance(self.seed, int) or self.seed < 0:
             raise ConfigError(f"seed must be a non-negative integer, got {self.seed!r}")
         if isinstance(self.episodes, bool) or not isinstance(self.episodes, int) or self.episodes < 1:
