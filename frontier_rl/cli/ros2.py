@@ -51,6 +51,10 @@ ParamsFileOption = Annotated[
 ]
 
 
+_WITH_ROS_ARGS = {"allow_extra_args": True, "ignore_unknown_options": True}
+"""A command that takes ROS's arguments after its own (``--ros-args ...``: :func:`_ros_args`)."""
+
+
 def _setting(name: str) -> Any:
     """The option of the explorer's setting ``name``, its help the setting's own."""
     return typer.Option(help=setting_help(name))
@@ -116,9 +120,10 @@ def _checked_rate(rate: float) -> float | None:
     return None if rate == 0 else rate
 
 
-@ros2_app.command()
+@ros2_app.command(context_settings=_WITH_ROS_ARGS)
 @friendly_errors
 def sim(
+    ctx: typer.Context,
     world: Annotated[str, typer.Option(help=WORLD_HELP)] = "office",
     seed: Annotated[int, typer.Option(help=f"Seeds the world, the start and the sensor noise (0 to {MAX_SEED}).")] = 0,
     rate: Annotated[float, typer.Option(help="Simulated seconds per wall second (0: as fast as it can).")] = 1.0,
@@ -127,7 +132,9 @@ def sim(
 ) -> None:
     """Run a world as ROS 2 robots, for an explorer to drive.
 
-    Each robot publishes map, pose, odom, scan and /clock, and serves Nav2's navigate_to_pose."""
+    Each robot publishes map, pose, odom, scan and /clock, and serves Nav2's navigate_to_pose;
+    ROS's arguments (remappings, a log level) go after --ros-args."""
+    ros_args = _ros_args(ctx.args)
     checked_seed(seed)
     paced = _checked_rate(rate)
     if not 1 <= robots <= MAX_ROBOTS:
@@ -143,13 +150,14 @@ def sim(
     namespaces = [namespace] if robots == 1 else [f"tb3_{i}" for i in range(robots)]
     team = simulated_team(the_world, namespaces, seed)
     print_line(f"simulating {the_world.name} with {robots} ROS 2 robot(s); Ctrl-C ends it")
-    for line in run_sim(team, paced):
+    for line in run_sim(team, paced, ros_args):
         print_line(line)
 
 
-@ros2_app.command()
+@ros2_app.command(context_settings=_WITH_ROS_ARGS)
 @friendly_errors
 def rank(
+    ctx: typer.Context,
     robots: Annotated[str, typer.Option(help="The robots' namespaces, comma-separated (none: one robot).")] = "",
     policy: Annotated[str, typer.Option(help="Any policy spec but the oracle and the point models.")] = "fixed:0.75",
     top_k: Annotated[int, typer.Option(help="Frontiers per answer.")] = 10,
@@ -171,7 +179,8 @@ def rank(
 ) -> None:
     """The thesis's ranking service, for one or more robots.
 
-    Each /frontier_request is answered on /frontier_list."""
+    Each /frontier_request is answered on /frontier_list; ROS's arguments (remappings, -p
+    use_sim_time:=true, a log level) go after --ros-args."""
     from frontier_rl.robot.node_settings import (
         count_parameter,
         robot_namespaces,
@@ -184,24 +193,33 @@ def rank(
     with settings_named(_option):  # each bad one named as its option, the ROS 1 node's ~parameter
         stale = stale_map_parameter(stale_map)
         names = tuple(robot_namespaces(robots or [""]))
-        limits = (count_parameter("top_k", top_k, 1), count_parameter("min_cluster_size", min_cluster_size, 0))
-        age, pending = (
+        top, age, pending = (
+            count_parameter("top_k", top_k, 1),
             seconds_parameter("max_map_age", max_map_age, zero=True),
             count_parameter("max_pending", max_pending, 1),
         )
+        count_parameter("min_cluster_size", min_cluster_size, 0)  # its upper bound is the engine's, checked below
         _need_ros2()
         _check_ros_names({"--robots": names}, pose_source)
         from frontier_rl.core.sim.config import MAX_FRONTIER_DROP_CELLS  # the engine, once the arguments are checked
         from frontier_rl.robot.ranking_service import ServiceSettings
         from frontier_rl.ros2.run import run_ranking
 
-        count_parameter("min_cluster_size", min_cluster_size, 0, MAX_FRONTIER_DROP_CELLS)
-        settings = ServiceSettings(names, policy.strip(), *limits, age, stale, keep_last_map, pending)
-        answered = run_ranking(settings, pose_source, use_sim_time)
+        settings = ServiceSettings(
+            robots=names,
+            policy=policy.strip(),
+            top_k=top,
+            min_cells=count_parameter("min_cluster_size", min_cluster_size, 0, MAX_FRONTIER_DROP_CELLS),
+            max_map_age=age,
+            stale=stale,
+            keep_last_map=keep_last_map,
+            max_pending=pending,
+        )
+        answered = run_ranking(settings, pose_source, use_sim_time, _ros_args(ctx.args))
     print_line(f"{answered} requests answered")
 
 
-@ros2_app.command(context_settings={"allow_extra_args": True, "ignore_unknown_options": True})
+@ros2_app.command(context_settings=_WITH_ROS_ARGS)
 @friendly_errors
 def explore(
     ctx: typer.Context,

@@ -187,6 +187,11 @@ class FrontierExplorer:
         self.goal = None
         self._arrived = False
 
+    def goal_frontier_open(self, grid: OccupancyGrid) -> bool:
+        """Whether the goal under way is for a frontier that ``grid`` still shows (more than its drop
+        size): reached now, on that map it would be given up as unrevealable from there."""
+        return self.goal is not None and len(self.goal.frontier) > 0 and self._frontier_open(grid)
+
     def goal_reached(self) -> None:
         """The navigation stack reached the goal under way: the next tick decides again, and
         blacklists the goal if its frontier is still not seen on that tick's map (seen edge-on, or

@@ -41,7 +41,7 @@ RobotPose = tuple[float, float, float]
 """A robot's pose in its map frame: x, y (m), yaw (rad)."""
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, kw_only=True)
 class ServiceSettings:
     """What the service answers with.
 

@@ -89,7 +89,14 @@ class FrontierNode:
             coerce(float, rospy.get_param("~weight", THESIS_WEIGHT), "~weight"),
         )
         settings = ServiceSettings(
-            tuple(robots), spec, top_k, min_cells, max_map_age, stale, keep_last_map, max_pending
+            robots=tuple(robots),
+            policy=spec,
+            top_k=top_k,
+            min_cells=min_cells,
+            max_map_age=max_map_age,
+            stale=stale,
+            keep_last_map=keep_last_map,
+            max_pending=max_pending,
         )
         self.service = RankingService(settings, self._publish, self._warn, rospy.get_time)
         self.robots = robots

@@ -5,8 +5,9 @@ robot's pose (``pose``: a ``PoseWithCovarianceStamped`` as slam_toolbox's; an ``
 map frame; or ``tf``: :mod:`frontier_rl.ros2.pose_listener`), decides with a
 :class:`~frontier_rl.robot.explorer.FrontierExplorer` and sends the goal to Nav2's
 ``navigate_to_pose`` action, as explore_lite does. A goal Nav2 rejects or aborts, or that brings
-the robot no nearer within ``progress_timeout``, is blacklisted; a goal whose frontier the map has
-since seen is replaced. It stops when the map is explored, with its end reason on
+the robot no nearer within ``progress_timeout``, is blacklisted, and so is a goal reached whose
+frontier a map from after it still shows (:mod:`frontier_rl.robot.map_watch`); a goal whose frontier
+the map has since seen is replaced. It stops when the map is explored, with its end reason on
 ``explore/status`` and in the log, and optionally drives back to the start.
 """
 
@@ -34,6 +35,7 @@ from frontier_rl.core.world.robot import Pose
 from frontier_rl.errors import ConfigError, MapError
 from frontier_rl.robot.explorer import Finished, FrontierExplorer, Goal
 from frontier_rl.robot.map_merge import merged_map, misfit
+from frontier_rl.robot.map_watch import MapWait, MapWatch
 from frontier_rl.robot.pose_source import PoseKind, PoseSource
 from frontier_rl.robot.throttled_log import ThrottledLog
 from frontier_rl.ros2.explorer_options import ExplorerNodeOptions
@@ -79,6 +81,7 @@ class ExplorerNode(Node):
         self.add_on_set_parameters_callback(self._on_parameters)
         self.goal_silence_timeout = options.goal_silence_timeout
         self._grid: OccupancyGrid | None = None
+        self._maps = MapWatch()  # when the maps came: a goal reached is judged on a map from after it
         self._coverage: float | None = None  # until a simulator publishes it
         self._warnings = ThrottledLog(_WARN_PERIOD_S)  # bad messages, per topic
         self.create_subscription(GridMessage, "map", self._on_map, MAP_QOS)
@@ -137,6 +140,7 @@ class ExplorerNode(Node):
         try:
             self._grid = grid_of(message)
             self._map_frame = message.header.frame_id or self._map_frame
+            self._maps.map_came(time.monotonic(), message.header.stamp.sec + message.header.stamp.nanosec * 1e-9)
         except MapError as error:
             self._warn("map", f"map ignored: {error}")
 
@@ -211,7 +215,7 @@ class ExplorerNode(Node):
         if time.monotonic() - self._heard_at > self.goal_silence_timeout:
             self._lost()
             return
-        if self.finished is not None:
+        if self.finished is not None or not self._map_for_judging():
             return
         period = 1.0 / self.explorer.params.planner_frequency
         if self.explorer.goal is not None and now - self._last_tick_s < period and not self._goal_ended:
@@ -226,6 +230,19 @@ class ExplorerNode(Node):
             self._send(decision)
         elif isinstance(decision, Finished):
             self._finish(decision)
+
+    def _map_for_judging(self) -> bool:
+        """Whether the map at hand may judge the goal just reached (:class:`~frontier_rl.robot.map_watch.MapWatch`):
+        False while a map from after its end may still come; a map that has stopped coming is said so."""
+        wall_s = time.monotonic()
+        wait = self._maps.judgement(wall_s)
+        if wait is MapWait.STALE:
+            self._warn(
+                "map_stale",
+                f"no map on {self.resolve_topic_name('map')} for {self._maps.age_s(wall_s):.1f} s (it came every "
+                f"{self._maps.period_s or 0.0:.2f} s): goal {self._sent} is judged on the last one",
+            )
+        return wait is not MapWait.WAIT
 
     def _send(self, goal: Goal) -> None:
         self._sent += 1
@@ -291,6 +308,9 @@ class ExplorerNode(Node):
         if failed and self._grid is not None:
             self.explorer.goal_failed(self._grid)
         elif not failed:
+            if self._grid is not None and self.explorer.goal_frontier_open(self._map(self._grid)):
+                self.get_logger().debug(f"goal {self._sent} reached with its frontier open: waiting for a newer map")
+                self._maps.goal_ended(time.monotonic(), self.get_clock().now().nanoseconds * 1e-9)
             self.explorer.goal_reached()
         self._goal_ended = True
         self._publish(ExplorerState.EXPLORING, why)

@@ -153,11 +153,13 @@ def _cancel_goal(executor: Executor, node: ExplorerNode) -> bool:
     return response is not None and len(response.goals_canceling) > 0
 
 
-def run_sim(robots: Sequence[tuple[str, SimulatedRobot]], rate: float | None = 1.0) -> list[str]:
+def run_sim(
+    robots: Sequence[tuple[str, SimulatedRobot]], rate: float | None = 1.0, ros_args: Sequence[str] = ()
+) -> list[str]:
     """Serve the robots as ROS 2 robots (:class:`SimNode`) until Ctrl-C or SIGTERM; a line per
-    robot on what it did."""
+    robot on what it did. ``ros_args``: ROS's arguments (``--ros-args -r ...``)."""
     with _ros_setup_errors():
-        rclpy.init()
+        rclpy.init(args=["frontier-rl", *ros_args])
         node = SimNode(robots, rate)
     try:
         _serve(node)
@@ -176,19 +178,26 @@ def run_sim(robots: Sequence[tuple[str, SimulatedRobot]], rate: float | None = 1
     return lines
 
 
-def run_ranking(settings: ServiceSettings, pose_source: PoseSource | None = None, use_sim_time: bool = False) -> int:
+def run_ranking(
+    settings: ServiceSettings,
+    pose_source: PoseSource | None = None,
+    use_sim_time: bool = False,
+    ros_args: Sequence[str] = (),
+) -> int:
     """Serve the ranking service (:class:`RankingNode`), each robot's pose from ``pose_source`` (in
     its namespace; a pose topic by default), until Ctrl-C or SIGTERM; the requests
-    answered. Its workers start before rclpy: starting them holds Ctrl-C with Python's own
-    handlers, which would replace rclpy's."""
+    answered. ``use_sim_time`` sets the parameter (else ``ros_args``, ROS's arguments, may). Its
+    workers start before rclpy: starting them holds Ctrl-C with Python's own handlers, which would
+    replace rclpy's."""
     service = RankingService(settings)
     try:
         if not service.start(lambda: False):  # a Ctrl-C meanwhile is a KeyboardInterrupt
             return 0
         with _ros_setup_errors():
-            rclpy.init()
+            rclpy.init(args=["frontier-rl", *ros_args])
             node = RankingNode(service, pose_source)
-        node.set_parameters([Parameter("use_sim_time", Parameter.Type.BOOL, use_sim_time)])
+        if use_sim_time:
+            node.set_parameters([Parameter("use_sim_time", Parameter.Type.BOOL, True)])
         node.get_logger().info(f"ranking for robots {list(settings.robots)} with {service.policy_name}")
         _serve(node)
     except KeyboardInterrupt:  # while the workers start

@@ -3,8 +3,11 @@
 It publishes a fixed map (a corridor whose east half is unknown: frontiers that no goal will ever
 resolve, since nothing moves) and a pose, and serves ``navigate_to_pose`` in one ``--mode``:
 ``reject`` every goal, ``abort`` it, ``stall`` (accept, send feedback, never move), or ``succeed``
-at once. ``--bad-inputs`` first sends a malformed map and a NaN pose; ``--die-after N`` ends the
-process without a word once it has accepted N goals (a Nav2 that crashed).
+at once (after ``--goal-time`` s of feedback). ``--bad-inputs`` first sends a malformed map and a NaN
+pose; ``--die-after N`` ends the process without a word once it has accepted N goals (a Nav2 that
+crashed). ``--map-period P`` publishes the map every P s, as slam_toolbox does (else once);
+``--reveal`` maps the unknown half as free when a goal succeeds (published with the next map, as a
+SLAM map lags the robot); ``--map-stops-at-goal N`` publishes no map once N goals are accepted.
 """
 
 from __future__ import annotations
@@ -28,10 +31,10 @@ from rclpy.node import Node
 from frontier_rl.ros2.messages import MAP_QOS
 
 
-def _map(bad: bool) -> OccupancyGrid:
+def _map(bad: bool, revealed: bool = False) -> OccupancyGrid:
     data = np.full((20, 80), 100, np.int8)
     data[4:16, 1:40] = 0
-    data[4:16, 40:79] = -1
+    data[4:16, 40:79] = 0 if revealed else -1
     message = OccupancyGrid()
     message.header.frame_id = "map"
     message.info.resolution, message.info.width, message.info.height = 0.05, 80, 20
@@ -49,9 +52,10 @@ def _pose(x: float) -> PoseWithCovarianceStamped:
 
 
 class FakeNav2(Node):
-    def __init__(self, mode: str, die_after: int) -> None:
+    def __init__(self, mode: str, die_after: int, goal_time: float = 0.0, reveal: bool = False) -> None:
         super().__init__("fake_nav2")
         self.mode, self.die_after, self.accepted = mode, die_after, 0
+        self.goal_time, self.reveal, self.revealed = goal_time, reveal, False
         self.map_pub = self.create_publisher(OccupancyGrid, "map", MAP_QOS)
         self.pose_pub = self.create_publisher(PoseWithCovarianceStamped, "pose", 10)
         self.pose_x = 0.5
@@ -86,6 +90,11 @@ class FakeNav2(Node):
                 handle.abort()
             return NavigateToPose.Result()
         if self.mode == "succeed":
+            deadline = time.monotonic() + self.goal_time
+            while time.monotonic() < deadline and not handle.is_cancel_requested:
+                handle.publish_feedback(NavigateToPose.Feedback(distance_remaining=1.0))
+                time.sleep(0.05)
+            self.revealed = self.revealed or self.reveal
             handle.succeed()
         else:
             handle.abort()
@@ -97,9 +106,13 @@ def main() -> None:
     parser.add_argument("--mode", choices=("reject", "abort", "stall", "succeed"), required=True)
     parser.add_argument("--bad-inputs", action="store_true")
     parser.add_argument("--die-after", type=int, default=0)
+    parser.add_argument("--goal-time", type=float, default=0.0)
+    parser.add_argument("--map-period", type=float, default=0.0)
+    parser.add_argument("--reveal", action="store_true")
+    parser.add_argument("--map-stops-at-goal", type=int, default=0)
     args = parser.parse_args()
     rclpy.init()
-    node = FakeNav2(args.mode, args.die_after)
+    node = FakeNav2(args.mode, args.die_after, args.goal_time, args.reveal)
     # bad inputs until 2 s after the explorer has subscribed to the pose: its start (imports, numba)
     # took more than the 4 s fixed here before on a busy machine, and it never saw a NaN pose
     bad_until = None if args.bad_inputs else 0.0
@@ -119,6 +132,14 @@ def main() -> None:
             published_good_map = True
 
     node.create_timer(0.1, tick)
+
+    def map_tick() -> None:
+        stopped = args.map_stops_at_goal and node.accepted >= args.map_stops_at_goal
+        if published_good_map and not stopped:
+            node.map_pub.publish(_map(bad=False, revealed=node.revealed))
+
+    if args.map_period:
+        node.create_timer(args.map_period, map_tick)
     executor = MultiThreadedExecutor(num_threads=4)
     executor.add_node(node)
     with contextlib.suppress(KeyboardInterrupt):

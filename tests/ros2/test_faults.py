@@ -79,3 +79,20 @@ def test_ctrl_c_cancels_the_goal_under_way(tmp_path: Path) -> None:
     assert code == 130 and status is not None and status["state"] == "interrupted", log
     assert "cancelling goal 1: the explorer is stopping" in log and "goal canceled" in log, log
     assert "Traceback" not in log
+
+
+def test_a_goal_reached_is_judged_on_a_map_from_after_it(tmp_path: Path) -> None:
+    """The map comes every 0.3 s and shows the goal's frontier seen only after Nav2 said "reached":
+    judged on the map at hand, the frontier just seen was given up."""
+    nav2 = f"{_FAKE} --mode succeed --goal-time 1.5 --map-period 0.3 --reveal"
+    code, status, log = _run(tmp_path, nav2, progress_timeout=30.0)
+    assert code == 0 and status is not None, log
+    assert status["reason"] == "explored" and status["given_up"] == 0 and status["goals"] == 1, log
+
+
+def test_a_map_that_stops_coming_is_said_so(tmp_path: Path) -> None:
+    """The map comes every 0.3 s until the second goal: that goal is judged on the last map, and the log says why."""
+    nav2 = f"{_FAKE} --mode succeed --goal-time 1.5 --map-period 0.3 --map-stops-at-goal 2"
+    code, status, log = _run(tmp_path, nav2, progress_timeout=30.0)
+    assert code == 0 and status is not None and status["reason"] == "unreachable", log
+    assert "no map on /map for" in log and "(it came every 0.30 s): goal 2 is judged on the last one" in log, log

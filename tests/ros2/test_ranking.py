@@ -19,17 +19,22 @@ if _PROBLEM is not None:
     pytest.skip(_PROBLEM, allow_module_level=True)
 
 
-@pytest.mark.parametrize("pose_type", ["pose", "tf"])
+_SLAM_MAPS = " ".join(f"-r /tb3_{i}/map:=/tb3_{i}/slam_map" for i in range(2))
+"""ROS's remappings of both robots' maps: the simulator publishes them there, the service reads them there."""
+
+
+@pytest.mark.parametrize(("pose_type", "ros_args"), [("pose", ""), ("tf", ""), ("pose", f"--ros-args {_SLAM_MAPS}")])
 def test_every_request_is_answered_for_a_team_and_an_unknown_robot_with_a_reason(
-    pose_type: str, tmp_path: Path
+    pose_type: str, ros_args: str, tmp_path: Path
 ) -> None:
-    """Each robot's pose from its pose topic, or from its namespace's ``tf`` and ``tf_static``."""
+    """Each robot's pose from its pose topic, or from its namespace's ``tf`` and ``tf_static``; the
+    maps remapped by ``--ros-args`` in both commands (either one alone and no map would be ranked)."""
     frontier_rl = shlex.quote(cli())
     script_path = Path(__file__).resolve().parents[2] / "benchmarks" / "ranking_client.py"
     client = f"{shlex.quote(sys.executable)} {shlex.quote(str(script_path))}"
     script = (
-        f"{frontier_rl} ros2 sim --world office --seed 3 --robots 2 > sim.log 2>&1 & sim=$!; "
-        f"{frontier_rl} ros2 rank --robots tb3_0,tb3_1 --policy fixed:0.75 --pose-type {pose_type} "
+        f"{frontier_rl} ros2 sim --world office --seed 3 --robots 2 {ros_args} > sim.log 2>&1 & sim=$!; "
+        f"{frontier_rl} ros2 rank --robots tb3_0,tb3_1 --policy fixed:0.75 --pose-type {pose_type} {ros_args} "
         "> rank.log 2>&1 & rank=$!; "
         f"{client} tb3_0,tb3_1,ghost --count 10 --ready tb3_0,tb3_1 > client.log 2> client.err; status=$?; "
         "stop $rank $sim || status=1; exit $status"
