@@ -16,8 +16,9 @@ from frontier_rl.swarm.config import Strategy
 class TeamResult(EpisodeResult):
     """A team episode. The inherited fields describe the team: ``sim_time_s`` is when the last
     robot stopped, ``coverage`` and its curve count the cells the surviving robots know,
-    ``path_length_m``, ``decisions`` and ``aborts`` are team totals, ``trajectory`` and
-    ``final_map`` are robot 0's (see ``trajectories`` and ``team_map`` for all).
+    ``path_length_m``, ``decisions`` and ``aborts`` are team totals, ``decision_log`` holds every
+    robot's decisions in time order (a tie in robot order), ``trajectory`` and ``final_map`` are
+    robot 0's (see ``trajectories`` and ``team_map`` for all).
 
     Attributes:
         robots: team size.

@@ -46,7 +46,7 @@ def team_result(team: TeamSimulator, wall_time_s: float) -> TeamResult:
         coverage_times_s=times,
         coverage_curve=curve,
         trajectory=first.trajectory,
-        decision_log=first.decision_log,
+        decision_log=tuple(sorted((d for s in sims for d in s.log.decisions), key=lambda d: d.time_s)),
         final_map=first.final_map,
         robots=len(team.robots),
         strategy=team.team.strategy,

@@ -81,6 +81,8 @@ def test_teams_finish_the_map_and_report_every_robot(strategy: str) -> None:
     assert 0.0 <= result.overlap <= 1.0 and all(0 < c <= 1 for c in result.robot_coverage)
     summary = result.summary().to_json()
     assert summary["robots"] == 3 and len(summary["robot_path_lengths_m"]) == 3 and "overlap" in summary
+    times = [d.time_s for d in result.decision_log]  # every robot's decisions (a team's weights were robot 0's)
+    assert len(times) == result.decisions and times == sorted(times)
 
 
 def test_team_episodes_are_deterministic() -> None:
