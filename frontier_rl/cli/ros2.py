@@ -9,7 +9,7 @@ from collections.abc import Callable, Sequence
 from dataclasses import fields
 from functools import partial
 from pathlib import Path
-from typing import TYPE_CHECKING, Annotated, Any
+from typing import TYPE_CHECKING, Annotated, Any, NamedTuple
 
 import typer
 
@@ -263,22 +263,23 @@ def explore(
         time_cap=time_cap,
         visualize=visualize,
         robot_base_frame=robot_base_frame,
+        use_sim_time=use_sim_time,
     )
-    params, visualize, pose_source = _explorer_settings(ctx, params_file or [], options, (pose_type, pose_topic))
+    chosen = _explorer_settings(ctx, params_file or [], options, (pose_type, pose_topic))
     node = _node_options(
         namespace=namespace,
         teammates=tuple(teammates.split(",")) if teammates.strip() else (),
-        pose_source=pose_source,
-        visualize=visualize,
-        use_sim_time=use_sim_time,
+        pose_source=chosen.pose_source,
+        visualize=chosen.visualize,
+        use_sim_time=chosen.use_sim_time,
         seed=seed,
         goal_silence_timeout=goal_silence_timeout,
         policy_name=policy,
         ros_args=ros_args,
     )
     _need_ros2()
-    _check_ros_names({"--namespace": [namespace], "--teammates": node.teammates}, pose_source)
-    _explore_with(policy, params, node, json_out)
+    _check_ros_names({"--namespace": [namespace], "--teammates": node.teammates}, chosen.pose_source)
+    _explore_with(policy, chosen.params, node, json_out)
 
 
 def _node_options(**fields: Any) -> ExplorerNodeOptions:
@@ -290,15 +291,26 @@ def _node_options(**fields: Any) -> ExplorerNodeOptions:
         fail(f"{_option(error.setting)} {error.problem}")
 
 
+class _ChosenSettings(NamedTuple):
+    """What the command line and the parameter files chose for the explorer and its node."""
+
+    params: ExplorerParams
+    visualize: bool
+    pose_source: PoseSource
+    use_sim_time: bool
+
+
 def _explorer_settings(
     ctx: typer.Context, params_files: Sequence[Path], options: dict[str, Any], pose: tuple[str, str]
-) -> tuple[ExplorerParams, bool, PoseSource]:
-    """The explorer's settings, whether it draws markers and where its pose comes from (``pose``:
-    the pose type and topic; the base frame is among the ``options``), from its ``options`` and,
-    for those not given on the command line, the parameter files; one line naming a bad one."""
+) -> _ChosenSettings:
+    """The explorer's settings, whether it draws markers, where its pose comes from (``pose``: the
+    pose type and topic; the base frame is among the ``options``) and whether it takes the time from
+    ``/clock``, from its ``options`` and, for those not given on the command line, the parameter
+    files; one line naming a bad one."""
     options = _with_parameter_files(ctx, params_files, options)
     visualize, robot_base_frame = bool(options.pop("visualize")), str(options.pop("robot_base_frame"))
-    return _explorer_params(options), visualize, _pose_source(*pose, robot_base_frame)
+    use_sim_time = bool(options.pop("use_sim_time"))
+    return _ChosenSettings(_explorer_params(options), visualize, _pose_source(*pose, robot_base_frame), use_sim_time)
 
 
 def _pose_source(pose_type: str, pose_topic: str, robot_base_frame: str) -> PoseSource:

@@ -187,14 +187,13 @@ class Status:
 def parse_request(text: str, count: int) -> tuple[str, str]:
     """(namespace, request id) from a request's text: ``tb3_0`` or ``tb3_0 17``; for one robot without
     a namespace, ``17`` (no ROS name starts with a digit) or ``/ 17``. The id is the rest of the text
-    after the namespace (``tb3_0 run 3 17``: ``run 3 17``), its spaces as given; it defaults to the
-    node's running ``count``."""
-    text = text.strip()
-    if text[:1].isdigit():
-        return "", text
-    words = text.split(maxsplit=1)
+    after the namespace (``tb3_0 run 3 17``: ``run 3 17``), each run of spaces, tabs or line breaks
+    one space; it defaults to the node's running ``count``."""
+    words = text.split()
+    if words and words[0][0].isdigit():
+        words.insert(0, "")
     robot = words[0].strip("/") if words else ""
-    return robot, (words[1] if len(words) > 1 else str(count))
+    return robot, (" ".join(words[1:]) if len(words) > 1 else str(count))
 
 
 def marker_style(rank: int, count: int) -> tuple[float, float, float]:

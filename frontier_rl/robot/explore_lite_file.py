@@ -24,10 +24,12 @@ FILE_PARAMETERS: dict[str, type] = {
     **_SETTING_TYPES,
     "visualize": bool,
     "robot_base_frame": str,
+    "use_sim_time": bool,
 }
 """The parameters a file may set here, and their types: the explorer's settings (explore_lite's
 names where they mean the same, and the node's own ``time_cap`` and ``progress_distance``), its
-markers and, with the pose from ``tf``, the robot's base frame."""
+markers, with the pose from ``tf`` the robot's base frame, and ROS's ``use_sim_time`` (as
+``--use-sim-time``)."""
 
 EXPLORER_NODES = ("explore_node", "frontier_rl_explorer", "/**")
 """The nodes of a ROS 2 parameter file whose parameters are the explorer's: explore_lite's node,

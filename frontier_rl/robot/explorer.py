@@ -5,8 +5,10 @@ What explore_lite's users report (exploration that stops with unknown space left
 oscillate or never progress, a blacklist that leaves parts unexplored) is answered by the engine's
 own pieces: the candidates of :func:`~frontier_rl.core.sim.candidates.find_candidates` (a blacklist
 that forgets, retries and the audit before giving up, goals on cells that see their frontier),
-the narrow-passage recovery's levels when the normal costmap leaves none, any policy's ranking, and
-an end reason that says what was left. The robot's navigation stack plans and drives; the node that
+the narrow-passage recovery's levels when the normal costmap leaves none, then the last looks the
+simulated robot takes (:mod:`frontier_rl.core.sim.looks`: through windows and gaps too small to be
+frontiers, and at frontiers given up, from elsewhere), any policy's ranking, and an end reason that
+says what was left. The robot's navigation stack plans and drives; the node that
 owns a :class:`FrontierExplorer` tells it what happened to each goal.
 """
 
@@ -22,11 +24,12 @@ from frontier_rl.core.frontiers.blacklist import Blacklist
 from frontier_rl.core.frontiers.fringe import count_fringe
 from frontier_rl.core.navigation.inflation import InflationMemory
 from frontier_rl.core.navigation.thin_walls import Recovery
-from frontier_rl.core.sim.candidates import Candidates, find_candidates
+from frontier_rl.core.sim.candidates import Candidates, Look, find_candidates
 from frontier_rl.core.sim.config import DROP_CELL_M, SimConfig
 from frontier_rl.core.sim.episode import DecisionContext, EpisodeAwarePolicy, ExplorationPolicy, checked_ranking
 from frontier_rl.core.sim.episode_log import completion_reason
 from frontier_rl.core.sim.frontiers_left import frontiers_left
+from frontier_rl.core.sim.look_state import LookState
 from frontier_rl.core.sim.metrics import EndReason, FrontierLeft
 from frontier_rl.core.world.grid import FREE_I8, CellState, OccupancyGrid
 from frontier_rl.core.world.robot import Pose
@@ -51,6 +54,8 @@ class Goal:
             goal (a point policy's, or the way back to the start).
         weight: the ranking weight the policy used, if any.
         recovery: the costmap it was found on (the narrow-passage recovery's, where the normal one had none).
+        look: a last look (:mod:`frontier_rl.core.sim.looks`) at ``frontier``'s cluster: it lasts
+            until the navigation stack ends it, and is a visit of the cluster whatever it shows.
     """
 
     x: float
@@ -58,6 +63,7 @@ class Goal:
     frontier: NDArray[np.float64]
     weight: float | None = None
     recovery: Recovery = Recovery.NONE
+    look: Look = Look.NONE
 
 
 @dataclass(frozen=True)
@@ -119,6 +125,8 @@ class FrontierExplorer:
         self._rng = rng if rng is not None else np.random.default_rng(0)
         self._memory = InflationMemory()
         self._blacklist: Blacklist | None = None
+        self._looks = LookState()
+        self._free_when_sent = 0  # the map's free cells when the goal under way was sent
         self.goal: Goal | None = None
         self.candidate_goals: NDArray[np.float64] = np.zeros((0, 2))  # of the last decision (m, map frame)
         self._arrived = False  # the navigation stack reached the goal under way
@@ -166,20 +174,36 @@ class FrontierExplorer:
 
     def time_up(self, grid: OccupancyGrid, pose: Pose) -> Finished:
         """End exploration at the time cap, with what is left of ``grid``."""
-        cand = self._candidates(grid, pose)
+        cand = self._levels(grid, pose)[0]
         none = replace(cand, frontiers=cand.frontiers.subset(np.zeros(0, np.int64)))  # every frontier is left
         return self._finish(EndReason.TIME_CAP, grid, pose, none)
 
     def goal_failed(self, grid: OccupancyGrid, *, reached: bool = False) -> None:
         """The navigation stack rejected or aborted the goal under way (or it made no progress; or,
         ``reached``, got there and its frontier is still not seen): its frontier is blacklisted, to
-        be tried again once the map around it changes (a goal reached twice in vain: never)."""
-        if self.goal is not None and len(self.goal.frontier):
+        be tried again once the map around it changes (a goal reached twice in vain: never). A last
+        look is a visit of its cluster either way, and what it mapped on ``grid`` says whether the
+        looks go on."""
+        goal = self.goal
+        if goal is not None and goal.look is not Look.NONE:
+            self._looked(grid, goal, viewed=reached)
+            if not reached:
+                self.goals_given_up += 1
+        elif goal is not None and len(goal.frontier):
             blacklist = self._blacklist_for(grid)
-            blacklist.fail(self.goal.x, self.goal.y, grid.data, reached=reached, frontier=self.goal.frontier)
+            blacklist.fail(goal.x, goal.y, grid.data, reached=reached, frontier=goal.frontier)
             self.goals_given_up += 1
         self.goal = None
         self._arrived = False
+
+    def _looked(self, grid: OccupancyGrid, goal: Goal, *, viewed: bool) -> None:
+        """The last look ``goal`` ended (``viewed``: the robot got there): a visit of its cluster,
+        and the floor it mapped (the free cells ``grid`` gained since it was sent) for the looks'
+        state, as the simulated robot records one."""
+        self._blacklist_for(grid).fail(goal.x, goal.y, grid.data, reached=True, frontier=goal.frontier, viewed=viewed)
+        if goal.look in (Look.SMALL, Look.BLIND):
+            revealed_m2 = max(_free_cells(grid) - self._free_when_sent, 0) * grid.resolution**2
+            self._looks.looked(revealed_m2, blind=goal.look is Look.BLIND)
 
     def goal_lost(self) -> None:
         """The navigation stack went away with the goal under way (it restarted): the next tick
@@ -187,10 +211,14 @@ class FrontierExplorer:
         self.goal = None
         self._arrived = False
 
-    def goal_frontier_open(self, grid: OccupancyGrid) -> bool:
-        """Whether the goal under way is for a frontier that ``grid`` still shows (more than its drop
-        size): reached now, on that map it would be given up as unrevealable from there."""
-        return self.goal is not None and len(self.goal.frontier) > 0 and self._frontier_open(grid)
+    def judged_on(self, grid: OccupancyGrid) -> bool:
+        """Whether the goal under way, reached now, would be judged on ``grid``: a last look (what it
+        mapped is counted on the map), or a frontier that ``grid`` still shows (more than its drop
+        size: on that map it would be given up as unrevealable from there)."""
+        goal = self.goal
+        if goal is None or len(goal.frontier) == 0:
+            return False
+        return goal.look is not Look.NONE or self._frontier_open(grid)
 
     def goal_reached(self) -> None:
         """The navigation stack reached the goal under way: the next tick decides again, and
@@ -221,22 +249,32 @@ class FrontierExplorer:
             row, col = (int(v) for v in cand.frontiers.goal_cells[index])
             x, y = grid.cell_to_world(row, col)
             cells = grid.cells_to_world(cand.frontiers.cells_of(index))
-            goal = Goal(x, y, cells, ranking.weight, cand.recovery)
+            goal = Goal(x, y, cells, ranking.weight, cand.recovery, cand.looks)
         self.goal, self._arrived = goal, False
+        self._free_when_sent = _free_cells(grid)
         self.decisions += 1
         self._best_distance, self._progress_at = math.hypot(goal.x - pose.x, goal.y - pose.y), now
         return goal
 
     def _candidates(self, grid: OccupancyGrid, pose: Pose) -> Candidates:
         """The frontiers to choose from: on the normal costmap, else on the narrow-passage
-        recovery's levels in turn (as the simulated robot's navigator does)."""
+        recovery's levels in turn, else the last looks (as the simulated robot's navigator does);
+        the normal costmap's, with no frontier, when there is none of these."""
+        levels = self._levels(grid, pose)
+        if len(levels[-1].frontiers):
+            return levels[-1]
+        return self._looks.looks(levels, pose, self.config, self._blacklist_for(grid))
+
+    def _levels(self, grid: OccupancyGrid, pose: Pose) -> list[Candidates]:
+        """The candidates on the normal costmap and then on each narrow-passage recovery level in
+        turn, up to the first that has a frontier."""
         blacklist = self._blacklist_for(grid)
-        cand = find_candidates(grid, pose, self.config, blacklist, grid.data, memory=self._memory)
+        levels = [find_candidates(grid, pose, self.config, blacklist, grid.data, memory=self._memory)]
         for level in (Recovery.HALF_CELL, Recovery.WHOLE_CELL):
-            if len(cand.frontiers):
+            if len(levels[-1].frontiers):
                 break
-            cand = find_candidates(grid, pose, self.config, blacklist, grid.data, recovery=level)
-        return cand
+            levels.append(find_candidates(grid, pose, self.config, blacklist, grid.data, recovery=level))
+        return levels
 
     def _blacklist_for(self, grid: OccupancyGrid) -> Blacklist:
         """The blacklist, in ``grid``'s frame: a SLAM map grows, and its origin moves with it."""
@@ -249,8 +287,8 @@ class FrontierExplorer:
     def _frontier_open(self, grid: OccupancyGrid) -> bool:
         """Whether more than the drop size of the goal's frontier cells are still frontier on ``grid``."""
         assert self.goal is not None
-        if len(self.goal.frontier) == 0:
-            return True  # a point goal lasts until the navigation stack ends it
+        if len(self.goal.frontier) == 0 or self.goal.look is not Look.NONE:
+            return True  # a point goal, and a look, last until the navigation stack ends them
         cells = grid.world_to_cells(self.goal.frontier)
         inside = (cells[:, 0] >= 0) & (cells[:, 0] < grid.height) & (cells[:, 1] >= 0) & (cells[:, 1] < grid.width)
         cells = cells[inside]
@@ -285,3 +323,8 @@ class FrontierExplorer:
         if self.start is None:
             return None
         return Goal(*self.start, np.zeros((0, 2)))
+
+
+def _free_cells(grid: OccupancyGrid) -> int:
+    """How many cells of ``grid`` are known free."""
+    return int(np.count_nonzero(grid.data == CellState.FREE))

@@ -17,7 +17,7 @@ import time
 from collections.abc import Callable
 from dataclasses import dataclass
 
-from frontier_rl.errors import FrontierRLError, MapError
+from frontier_rl.errors import FrontierRLError, MapError, short_text
 from frontier_rl.policies import make_policy
 from frontier_rl.policies.baselines import FixedWeight
 from frontier_rl.robot.answers import (
@@ -239,7 +239,7 @@ class RankingService:
         reason = note.text
         if note.problem is not None:
             answered = " answered empty" if not centres else ""
-            self.warn(ns, note.problem, f"request {request} of {ns!r}{answered}: {reason}")
+            self.warn(ns, note.problem, f"request {short_text(request)} of {ns!r}{answered}: {reason}")
         used = weight if weight is not None else (self.fixed_weight if centres else None)
         status = Status(
             ns,

@@ -140,7 +140,8 @@ class ExplorerNode(Node):
         try:
             self._grid = grid_of(message)
             self._map_frame = message.header.frame_id or self._map_frame
-            self._maps.map_came(time.monotonic(), message.header.stamp.sec + message.header.stamp.nanosec * 1e-9)
+            stamp_s = message.header.stamp.sec + message.header.stamp.nanosec * 1e-9
+            self._maps.map_came(time.monotonic(), stamp_s, self._clock_now_s())
         except MapError as error:
             self._warn("map", f"map ignored: {error}")
 
@@ -186,7 +187,7 @@ class ExplorerNode(Node):
     def _advance_clock(self) -> float:
         """The time explored so far (s): the node's clock (simulated with ``use_sim_time``) as it
         moves on, a jump back (a restarted simulator) counted as no time."""
-        now = self.get_clock().now().nanoseconds * 1e-9
+        now = self._clock_now_s()
         if self._clock_s is not None and now > self._clock_s:
             self._elapsed_s += now - self._clock_s
         self._clock_s = now
@@ -215,7 +216,7 @@ class ExplorerNode(Node):
         if time.monotonic() - self._heard_at > self.goal_silence_timeout:
             self._lost()
             return
-        if self.finished is not None or not self._map_for_judging():
+        if self.finished is not None or not self._map_for_judging(now):
             return
         period = 1.0 / self.explorer.params.planner_frequency
         if self.explorer.goal is not None and now - self._last_tick_s < period and not self._goal_ended:
@@ -231,18 +232,31 @@ class ExplorerNode(Node):
         elif isinstance(decision, Finished):
             self._finish(decision)
 
-    def _map_for_judging(self) -> bool:
+    def _map_for_judging(self, now: float) -> bool:
         """Whether the map at hand may judge the goal just reached (:class:`~frontier_rl.robot.map_watch.MapWatch`):
-        False while a map from after its end may still come; a map that has stopped coming is said so."""
-        wall_s = time.monotonic()
+        False while a map from after its end may still come (and the time cap, ``now`` s explored,
+        is not reached); a map that has stopped coming is said so."""
+        if now >= self.explorer.params.time_cap:
+            self._maps.forget_goal()
+            return True
+        wall_s, topic = time.monotonic(), self.resolve_topic_name("map")
         wait = self._maps.judgement(wall_s)
-        if wait is MapWait.STALE:
+        if wait is MapWait.STOPPED:
             self._warn(
                 "map_stale",
-                f"no map on {self.resolve_topic_name('map')} for {self._maps.age_s(wall_s):.1f} s (it came every "
+                f"no map on {topic} for {self._maps.age_s(wall_s):.1f} s (it came every "
                 f"{self._maps.period_s or 0.0:.2f} s): goal {self._sent} is judged on the last one",
             )
+        elif wait is MapWait.QUIET and not self._maps.waits:
+            self.get_logger().info(
+                f"no map came on {topic} while the robot stood after a goal (a mapper that maps as the robot "
+                "moves): goals reached are judged on the map at hand from now on"
+            )
         return wait is not MapWait.WAIT
+
+    def _clock_now_s(self) -> float:
+        """The node's clock (s; simulated with ``use_sim_time``)."""
+        return self.get_clock().now().nanoseconds * 1e-9
 
     def _send(self, goal: Goal) -> None:
         self._sent += 1
@@ -308,9 +322,10 @@ class ExplorerNode(Node):
         if failed and self._grid is not None:
             self.explorer.goal_failed(self._grid)
         elif not failed:
-            if self._grid is not None and self.explorer.goal_frontier_open(self._map(self._grid)):
-                self.get_logger().debug(f"goal {self._sent} reached with its frontier open: waiting for a newer map")
-                self._maps.goal_ended(time.monotonic(), self.get_clock().now().nanoseconds * 1e-9)
+            judged = self._grid is not None and self.explorer.judged_on(self._map(self._grid))
+            if judged and self._maps.goal_ended(time.monotonic(), self._clock_now_s()):
+                bound = self._maps.wait_bound_s()
+                self.get_logger().debug(f"goal {self._sent} reached: waiting up to {bound:.1f} s for a newer map")
             self.explorer.goal_reached()
         self._goal_ended = True
         self._publish(ExplorerState.EXPLORING, why)

@@ -12,7 +12,7 @@ from dataclasses import replace
 
 import numpy as np
 import rclpy
-from rclpy.exceptions import NameValidationException
+from rclpy.exceptions import NameValidationException, ParameterException
 from rclpy.executors import Executor, ExternalShutdownException, SingleThreadedExecutor
 from rclpy.impl.implementation_singleton import rclpy_implementation
 from rclpy.node import Node
@@ -51,6 +51,9 @@ def _ros_setup_errors() -> Iterator[None]:
     except NameValidationException as error:
         rclpy.try_shutdown()
         raise ConfigError(str(error).splitlines()[0].rstrip(":")) from None
+    except ParameterException as error:  # a ROS parameter of the wrong type (-p use_sim_time:=3)
+        rclpy.try_shutdown()
+        raise ConfigError(f"--ros-args: {error}") from None
     except (rclpy_implementation.RCLError, ValueError) as error:
         rclpy.try_shutdown()
         if _INVALID_CONTEXT in str(error):  # rclpy's own Ctrl-C handler shut the context as the node was made

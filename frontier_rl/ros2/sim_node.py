@@ -16,6 +16,8 @@ import math
 import time
 from collections.abc import Sequence
 
+from rclpy.clock import Clock as TimerClock
+from rclpy.clock_type import ClockType
 from rclpy.node import Node
 from rosgraph_msgs.msg import Clock
 
@@ -46,7 +48,8 @@ class SimNode(Node):
         self._anchor = (time.monotonic(), self.sim_time)  # wall and sim time the drive is paced from
         self._idle_sent_at = -math.inf
         self._publish(with_map=True)
-        self._timer = self.create_timer(_STEP_PERIOD_S, self._drive)
+        # a steady timer: the node's own clock, with use_sim_time, would wait for the /clock it publishes
+        self._timer = self.create_timer(_STEP_PERIOD_S, self._drive, clock=TimerClock(clock_type=ClockType.STEADY_TIME))
 
     @property
     def sim_time(self) -> float:

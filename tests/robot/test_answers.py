@@ -72,7 +72,7 @@ def test_request_ids_and_the_status_line() -> None:
     assert parse_request("", 4) == ("", "4")
     assert parse_request("17", 5) == ("", "17")  # one robot without a namespace: no ROS name starts with a digit
     assert parse_request("/ 17", 5) == ("", "17")
-    assert parse_request("tb3_0 sweep 2\tleg 17 ", 6) == ("tb3_0", "sweep 2\tleg 17")  # the rest, whole
+    assert parse_request("tb3_0 sweep 2\tleg\n17 ", 6) == ("tb3_0", "sweep 2 leg 17")  # the rest, one line
     assert parse_request("17 b", 7) == ("", "17 b")
     line = json.loads(Status("tb3_0", "17", 0, "no pose", "fixed:0.75", math.nan, 1.5, math.inf).to_json())
     assert line == {"robot": "tb3_0", "request": "17", "frontiers": 0, "reason": "no pose", "policy": "fixed:0.75",

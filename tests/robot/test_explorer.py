@@ -9,6 +9,7 @@ import numpy as np
 import pytest
 
 from frontier_rl import api
+from frontier_rl.core.sim.candidates import Look
 from frontier_rl.core.sim.metrics import EndReason
 from frontier_rl.core.world.grid import CellState, OccupancyGrid
 from frontier_rl.core.world.robot import Pose
@@ -17,6 +18,7 @@ from frontier_rl.policies.registry import make_policy
 from frontier_rl.robot.explorer import Finished, FrontierExplorer, Goal, check_robot_policy
 from frontier_rl.robot.explorer_params import DEFAULT_MIN_FRONTIER_SIZE_M, ExplorerParams
 from frontier_rl.robot.sim_robot import GoalStatus, SimulatedRobot, explore_in_process
+from tests.core.sim.test_looks import window_map
 
 
 def _explore(world_name: str, seed: int, policy: str) -> tuple[Finished, SimulatedRobot, FrontierExplorer]:
@@ -165,3 +167,30 @@ def test_the_default_frontier_size_is_the_engines_drop_size() -> None:
 
     assert pytest.approx(SimConfig().min_frontier_cells * DROP_CELL_M) == DEFAULT_MIN_FRONTIER_SIZE_M
     assert FrontierExplorer(make_policy("nearest")).config.min_frontier_cells == SimConfig().min_frontier_cells
+
+
+def test_with_no_frontier_left_the_explorer_takes_the_last_look_through_a_window() -> None:
+    """As the simulated robot does (:mod:`frontier_rl.core.sim.looks`): a gap of three cells in a
+    wall, through which floor was seen, is too small a frontier, but worth a look; the look lasts
+    until the navigation stack ends it, and one that maps nothing is a visit and ends the looks."""
+    explorer = FrontierExplorer(make_policy("nearest"))
+    grid, pose = window_map(), Pose(0.5, 0.5, 0.0)
+    look = explorer.tick(grid, pose, 0.0)
+    assert isinstance(look, Goal) and look.look is Look.SMALL and len(look.frontier) > 0
+    assert explorer.tick(grid, pose, 1.0) is None  # its cluster is below the drop size: still a look
+    assert explorer.judged_on(grid)  # its mapped floor is counted on a map from after it
+    explorer.goal_reached()
+    finished = explorer.tick(grid, Pose(look.x, look.y, 0.0), 2.0)
+    assert isinstance(finished, Finished) and explorer.decisions == 1 and explorer.goals_given_up == 0
+
+
+def test_a_look_that_maps_the_room_behind_the_window_lets_the_exploration_go_on() -> None:
+    explorer = FrontierExplorer(make_policy("nearest"))
+    grid, pose = window_map(), Pose(0.5, 0.5, 0.0)
+    look = explorer.tick(grid, pose, 0.0)
+    assert isinstance(look, Goal) and look.look is Look.SMALL
+    seen = window_map()
+    seen.data[30:50, 62:100] = CellState.FREE  # 760 cells, 1.9 m² of the room behind the gap
+    explorer.goal_reached()
+    after = explorer.tick(seen, Pose(look.x, look.y, 0.0), 2.0)
+    assert isinstance(after, Goal) and after.look is Look.NONE  # the room's frontiers, beyond the gap

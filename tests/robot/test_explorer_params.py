@@ -120,11 +120,11 @@ def test_the_explorers_nodes_of_a_ros2_file_are_read_in_order_and_time_cap_0_is_
         "/**:\n  ros__parameters: {planner_frequency: 2.0, use_sim_time: true}\n"
         "/tb3_0/frontier_rl_explorer:\n  ros__parameters: {planner_frequency: 0.5, time_cap: 0.0}\n"
     )
-    assert explore_lite_parameters(path) == ({"planner_frequency": 0.5, "time_cap": 0.0}, ["use_sim_time"])
+    assert explore_lite_parameters(path) == ({"planner_frequency": 0.5, "time_cap": 0.0, "use_sim_time": True}, [])
     # the same, nested by namespace as ROS 2's files may be (it was read as one plain mapping, and refused nothing)
     path.write_text(
         "amcl:\n  ros__parameters: {alpha1: 0.2}\n"
         "/**:\n  ros__parameters: {planner_frequency: 2.0, use_sim_time: true}\n"
         "tb3_0:\n  frontier_rl_explorer:\n    ros__parameters: {planner_frequency: 0.5, time_cap: 0.0}\n"
     )
-    assert explore_lite_parameters(path) == ({"planner_frequency": 0.5, "time_cap": 0.0}, ["use_sim_time"])
+    assert explore_lite_parameters(path) == ({"planner_frequency": 0.5, "time_cap": 0.0, "use_sim_time": True}, [])

@@ -158,3 +158,15 @@ def test_a_base_frame_tf_does_not_reach_is_named_while_the_explorer_waits(tmp_pa
     assert "no pose from tf yet: no transform from 'map' to 'base_laser': no transform of 'base_laser' yet" in log
     status = json.loads((tmp_path / "explore.log").read_text().strip().splitlines()[-1])
     assert status["state"] == "interrupted" and status["goals"] == 0, log
+
+
+def test_a_simulator_given_use_sim_time_still_runs_its_clock(tmp_path: Path) -> None:
+    """``sim --ros-args -p use_sim_time:=true``: its step timer ran on the node's clock, the /clock
+    it publishes itself, and it never stepped (the robot stood, and the explorer waited for ever)."""
+    status = _closed_loop(
+        tmp_path,
+        "--world office --seed 3 --rate 40 --ros-args -p use_sim_time:=true",
+        "--use-sim-time --time-cap 20",
+        timeout=90,
+    )
+    assert status["reason"] == "time_cap" and status["goals"] >= 1, status

@@ -51,3 +51,15 @@ def test_every_request_is_answered_for_a_team_and_an_unknown_robot_with_a_reason
     ghosts = [statuses[("ghost", f"ghost-{i}")] for i in range(10)]
     assert all(g["frontiers"] == 0 and "ghost" in g["reason"] for g in ghosts), ghosts
     assert f"{30 + report['probes']} requests answered" in (tmp_path / "rank.log").read_text()
+
+
+def test_a_ros_parameter_of_the_wrong_type_is_one_line(tmp_path: Path) -> None:
+    """It was a traceback (``InvalidParameterTypeException``), in rank and sim as in explore."""
+    frontier_rl = shlex.quote(cli())
+    for command in ("rank", "sim"):
+        done = run_in_loopback(
+            f"{frontier_rl} ros2 {command} --ros-args -p use_sim_time:=3 > out.log 2> err.log", tmp_path, 60
+        )
+        err = (tmp_path / "err.log").read_text()
+        assert done.returncode == 2 and "Traceback" not in err, err
+        assert err.strip().splitlines()[-1].startswith("error: --ros-args: Trying to set parameter 'use_sim_time'"), err

@@ -4,8 +4,6 @@ keeps one per episode (it moves the robot; this decides where it may move)."""
 
 from __future__ import annotations
 
-import dataclasses
-
 import numpy as np
 from numpy.typing import NDArray
 
@@ -17,10 +15,10 @@ from frontier_rl.core.navigation.costmap import felt_keep_out
 from frontier_rl.core.navigation.follower import footprint_offsets
 from frontier_rl.core.navigation.inflation import InflationMemory
 from frontier_rl.core.navigation.thin_walls import Recovery, recovery_robot
-from frontier_rl.core.sim.candidates import Candidates, Look, find_candidates
+from frontier_rl.core.sim.candidates import Candidates, find_candidates
 from frontier_rl.core.sim.config import SimConfig
 from frontier_rl.core.sim.episode_log import EpisodeLog
-from frontier_rl.core.sim.looks import LOOK_PAYOFF_M2, blind_looks, last_looks, may_look, spent_looks
+from frontier_rl.core.sim.look_state import LookState
 from frontier_rl.core.sim.paths import map_blocks_path, recovery_blocks_path, replan_path, replan_round_teammates
 from frontier_rl.core.sim.teammates import Teammates
 from frontier_rl.core.sim.trail import mark_path
@@ -68,16 +66,8 @@ class Navigator:
         self._keep_out = felt_keep_out(config.robot.radius, res)
         self._cached: list[Candidates] | None = None  # see _levels
         self._looks: Candidates | None = None  # the last looks of the cached levels, once asked for
-        self.looking = True
-        """Whether the last looks are still taken: until one with floor seen through its clusters
-        reveals less than :data:`~frontier_rl.core.sim.looks.LOOK_PAYOFF_M2` (:meth:`looked`)."""
-        self.confirmed = False
-        """Whether a look has paid, so that the next need no floor seen near their clusters
-        (``confirmed`` of :func:`~frontier_rl.core.sim.looks.last_looks`): until one of those misses."""
-        self._confirmable = True  # no look taken on a paid look's word alone has missed yet
-        # the blind looks (:func:`~frontier_rl.core.sim.looks.blind_looks`): whether one was taken,
-        # and whether none has paid yet
-        self._blind_begun, self._blind_open = False, True
+        self.look_state = LookState()
+        """Which last looks the robot still takes (:meth:`looked` tells it how each went)."""
         self._gave_way_on: tuple[float, float] | None = None  # the goal of a leg that gave way, see give_way
 
     def trail(self) -> NDArray[np.bool_]:
@@ -106,28 +96,8 @@ class Navigator:
         if len(levels[-1].frontiers):
             return levels[-1]
         if self._looks is None:  # computed once per map: a look costs rays from thousands of viewpoints
-            self._looks = self._last_looks(levels, pose)
+            self._looks = self.look_state.looks(levels, pose, self._config, self.blacklist)
         return self._looks
-
-    def _last_looks(self, levels: list[Candidates], pose: Pose) -> Candidates:
-        """The last looks of ``levels`` (which have no frontier left) from the first level that has
-        one: at the small clusters while :attr:`looking`, else at the frontiers given up after their
-        tries (each at most twice, as a visit); ``levels[0]`` when there is none."""
-        home = _standing_on(levels)
-        worth = self.looking and (self.confirmed or may_look(home.grid, home.reachable))
-        for cand in levels if worth else ():
-            looks = last_looks(cand.grid, pose, cand.reachable, self._config, self.blacklist, self.confirmed)
-            if len(looks):
-                return dataclasses.replace(cand, frontiers=looks, looks=Look.SMALL)
-        if self.looking and self._blind_open and (self._blind_begun or not worth):  # no floor seen beyond
-            looks = blind_looks(home.grid, pose, home.reachable, self._config, self.blacklist)
-            if len(looks):
-                return dataclasses.replace(home, frontiers=looks, looks=Look.BLIND)
-        for cand in levels if self.blacklist.gave_up() else ():  # a frontier given up to look at
-            looks = spent_looks(cand.grid, pose, cand.reachable, self._config, self.blacklist)
-            if len(looks):
-                return dataclasses.replace(cand, frontiers=looks, looks=Look.GIVEN_UP)
-        return levels[0]
 
     def _levels(self, pose: Pose) -> list[Candidates]:
         """The candidates of the normal costmap and then of each narrow-passage recovery level in
@@ -149,21 +119,9 @@ class Navigator:
         return self._cached
 
     def looked(self, revealed_m2: float, blind: bool = False) -> None:
-        """A look at the small clusters mapped ``revealed_m2`` of floor (m², cells newly known
-        free). One that paid :data:`~frontier_rl.core.sim.looks.LOOK_PAYOFF_M2` lets the next do
-        without floor seen near their clusters. One that paid less, taken while a paid look's word
-        held, ends that word for the episode (the looks with floor seen through their clusters go
-        on); otherwise it ends every look at them. A ``blind`` look ends no look: once one is taken
-        (where no floor was seen beyond) the blind looks go on whatever they show (each from
-        elsewhere, each cluster looked at twice at most) until one pays, and that one is a paid look."""
-        paid = revealed_m2 >= LOOK_PAYOFF_M2
-        if blind:
-            self._blind_begun, self._blind_open = True, not paid
-        elif self.confirmed and not paid:
-            self._confirmable = False
-        else:
-            self.looking = self.looking and paid
-        self.confirmed = self.looking and paid and self._confirmable
+        """A look at the small clusters mapped ``revealed_m2`` of floor (m², cells newly known free;
+        ``blind``: a blind look): see :meth:`LookState.looked <frontier_rl.core.sim.look_state.LookState.looked>`."""
+        self.look_state.looked(revealed_m2, blind)
         self.forget()
 
     def decision_candidates(self, pose: Pose) -> Candidates:
@@ -248,13 +206,3 @@ class Navigator:
         cells = None if frontier_cells is None else self._world.grid.cells_to_world(frontier_cells)
         self.blacklist.fail(*goal, self._mapper.state, reached=reached, frontier=cells)
         self.forget()
-
-
-def _standing_on(levels: list[Candidates]) -> Candidates:
-    """The first of ``levels`` that reaches at least half the cells the last one reaches: the
-    normal costmap, but where a leg through a gap only a recovery level opens ended on an island of
-    it (on ``brsu_c069`` islands of 2 and 43 cells beside the recovery's 31,500, from which every
-    floor the robot had seen lay "beyond"; standing elsewhere on that map, the normal costmap
-    reached 27,700 of them)."""
-    most = np.count_nonzero(levels[-1].reachable)
-    return next(level for level in levels if 2 * np.count_nonzero(level.reachable) >= most)

@@ -101,25 +101,26 @@ def _navigator() -> Navigator:
 
 def test_a_look_that_maps_little_ends_the_looks_and_one_that_pays_confirms_them() -> None:
     navigator = _navigator()
-    assert navigator.looking and not navigator.confirmed
+    assert navigator.look_state.looking and not navigator.look_state.confirmed
     navigator.looked(LOOK_PAYOFF_M2 / 2)  # a look through floor seen beyond that missed
-    assert not navigator.looking and not navigator.confirmed
+    assert not navigator.look_state.looking and not navigator.look_state.confirmed
     navigator.looked(10.0)
-    assert not navigator.looking  # for the rest of the episode
+    assert not navigator.look_state.looking  # for the rest of the episode
     navigator = _navigator()
     navigator.looked(LOOK_PAYOFF_M2)
-    assert navigator.looking and navigator.confirmed
+    assert navigator.look_state.looking and navigator.look_state.confirmed
 
 
 def test_a_miss_on_a_paid_looks_word_ends_those_looks_and_the_others_go_on() -> None:
     navigator = _navigator()
     navigator.looked(LOOK_PAYOFF_M2)  # paid: the next look needs no floor seen near its clusters
     navigator.looked(0.0)  # and missed
-    assert navigator.looking and not navigator.confirmed  # the looks through floor seen beyond go on
+    # the looks through floor seen beyond go on
+    assert navigator.look_state.looking and not navigator.look_state.confirmed
     navigator.looked(LOOK_PAYOFF_M2)
-    assert navigator.looking and not navigator.confirmed  # none on a paid look's word again
+    assert navigator.look_state.looking and not navigator.look_state.confirmed  # none on a paid look's word again
     navigator.looked(0.0)
-    assert not navigator.looking
+    assert not navigator.look_state.looking
 
 
 def test_a_cluster_looked_at_once_gets_a_second_look_from_elsewhere_and_none_after() -> None:
@@ -182,12 +183,12 @@ def test_blind_looks_go_on_from_elsewhere_until_one_pays_and_that_one_confirms_t
         goals.append(cand.frontiers.goals[0])
         sim.blacklist.fail(*goals[-1], sim.mapper.state, reached=True, frontier=gap, viewed=True)
         sim.navigator.looked(0.0, blind=True)
-        assert sim.navigator.looking and not sim.navigator.confirmed
+        assert sim.navigator.look_state.looking and not sim.navigator.look_state.confirmed
     assert np.hypot(*(goals[1] - goals[0])) > sim.blacklist.radius
     assert sim.navigator.candidates(pose).looks is Look.NONE  # the gap was looked at twice
     navigator = _navigator()
     navigator.looked(LOOK_PAYOFF_M2, blind=True)
-    assert navigator.looking and navigator.confirmed
+    assert navigator.look_state.looking and navigator.look_state.confirmed
 
 
 def _given_up(closet: tuple[slice, slice] | None = None, speck: int = 0) -> tuple[OccupancyGrid, Blacklist, Frontiers]:
