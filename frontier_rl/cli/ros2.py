@@ -189,15 +189,12 @@ def rank(
         stale_map_parameter,
     )
 
-    pose_source = _pose_source(pose_type, pose_topic, robot_base_frame)
+    ros_args, pose_source = _ros_args(ctx.args), _pose_source(pose_type, pose_topic, robot_base_frame)
     with settings_named(_option):  # each bad one named as its option, the ROS 1 node's ~parameter
         stale = stale_map_parameter(stale_map)
         names = tuple(robot_namespaces(robots or [""]))
-        top, age, pending = (
-            count_parameter("top_k", top_k, 1),
-            seconds_parameter("max_map_age", max_map_age, zero=True),
-            count_parameter("max_pending", max_pending, 1),
-        )
+        top, pending = count_parameter("top_k", top_k, 1), count_parameter("max_pending", max_pending, 1)
+        age = seconds_parameter("max_map_age", max_map_age, zero=True)
         count_parameter("min_cluster_size", min_cluster_size, 0)  # its upper bound is the engine's, checked below
         _need_ros2()
         _check_ros_names({"--robots": names}, pose_source)
@@ -215,7 +212,7 @@ def rank(
             keep_last_map=keep_last_map,
             max_pending=pending,
         )
-        answered = run_ranking(settings, pose_source, use_sim_time, _ros_args(ctx.args))
+        answered = run_ranking(settings, pose_source, use_sim_time, ros_args)
     print_line(f"{answered} requests answered")
 
 

@@ -30,6 +30,7 @@ from frontier_rl.core.sim.episode import DecisionContext, EpisodeAwarePolicy, Ex
 from frontier_rl.core.sim.episode_log import completion_reason
 from frontier_rl.core.sim.frontiers_left import frontiers_left
 from frontier_rl.core.sim.look_state import LookState
+from frontier_rl.core.sim.looks import LOOK_PAYOFF_M2
 from frontier_rl.core.sim.metrics import EndReason, FrontierLeft
 from frontier_rl.core.world.grid import FREE_I8, CellState, OccupancyGrid
 from frontier_rl.core.world.robot import Pose
@@ -126,7 +127,7 @@ class FrontierExplorer:
         self._memory = InflationMemory()
         self._blacklist: Blacklist | None = None
         self._looks = LookState()
-        self._free_when_sent = 0  # the map's free cells when the goal under way was sent
+        self._sent_on: OccupancyGrid | None = None  # the map a look under way was sent on
         self.goal: Goal | None = None
         self.candidate_goals: NDArray[np.float64] = np.zeros((0, 2))  # of the last decision (m, map frame)
         self._arrived = False  # the navigation stack reached the goal under way
@@ -198,12 +199,19 @@ class FrontierExplorer:
 
     def _looked(self, grid: OccupancyGrid, goal: Goal, *, viewed: bool) -> None:
         """The last look ``goal`` ended (``viewed``: the robot got there): a visit of its cluster,
-        and the floor it mapped (the free cells ``grid`` gained since it was sent) for the looks'
-        state, as the simulated robot records one."""
+        as the simulated robot records one, and for the looks' state the floor it mapped: the cells
+        within the LiDAR's range of its viewpoint that ``grid`` has free and the map it was sent on
+        did not (a teammate's floor elsewhere on a merged map, or a SLAM map that grew or lost free
+        cells elsewhere, is not the look's). A look the navigation stack gave up (Nav2 plans on its
+        own costmap, where a look found on the narrow-passage recovery's may have no path) counts
+        only if it paid: it ends no look."""
         self._blacklist_for(grid).fail(goal.x, goal.y, grid.data, reached=True, frontier=goal.frontier, viewed=viewed)
-        if goal.look in (Look.SMALL, Look.BLIND):
-            revealed_m2 = max(_free_cells(grid) - self._free_when_sent, 0) * grid.resolution**2
-            self._looks.looked(revealed_m2, blind=goal.look is Look.BLIND)
+        if goal.look in (Look.SMALL, Look.BLIND) and self._sent_on is not None:
+            revealed = _newly_free_near(self._sent_on, grid, goal.x, goal.y, self.config.lidar.max_range)
+            revealed_m2 = revealed * grid.resolution**2
+            if viewed or revealed_m2 >= LOOK_PAYOFF_M2:
+                self._looks.looked(revealed_m2, blind=goal.look is Look.BLIND)
+        self._sent_on = None
 
     def goal_lost(self) -> None:
         """The navigation stack went away with the goal under way (it restarted): the next tick
@@ -216,7 +224,7 @@ class FrontierExplorer:
         mapped is counted on the map), or a frontier that ``grid`` still shows (more than its drop
         size: on that map it would be given up as unrevealable from there)."""
         goal = self.goal
-        if goal is None or len(goal.frontier) == 0:
+        if goal is None or len(goal.frontier) == 0 or goal.look is Look.GIVEN_UP:  # the last: a visit, whatever it maps
             return False
         return goal.look is not Look.NONE or self._frontier_open(grid)
 
@@ -242,16 +250,17 @@ class FrontierExplorer:
         )
         ranking = checked_ranking(self.policy.rank(context, self._rng), len(cand.frontiers), self.policy)
         self.candidate_goals = cand.frontiers.goals
-        if ranking.goal is not None:
+        if ranking.goal is not None and cand.looks is Look.NONE:
             goal = Goal(float(ranking.goal[0]), float(ranking.goal[1]), np.zeros((0, 2)), ranking.weight, cand.recovery)
-        else:
-            index = int(ranking.order[0])
+        else:  # a point policy among looks takes the look nearest its point: a point goal is no look, and
+            # the same looks would come back at every decision
+            index = int(ranking.order[0]) if ranking.goal is None else _nearest(cand.frontiers.goals, ranking.goal)
             row, col = (int(v) for v in cand.frontiers.goal_cells[index])
             x, y = grid.cell_to_world(row, col)
             cells = grid.cells_to_world(cand.frontiers.cells_of(index))
             goal = Goal(x, y, cells, ranking.weight, cand.recovery, cand.looks)
         self.goal, self._arrived = goal, False
-        self._free_when_sent = _free_cells(grid)
+        self._sent_on = grid if goal.look is not Look.NONE else None
         self.decisions += 1
         self._best_distance, self._progress_at = math.hypot(goal.x - pose.x, goal.y - pose.y), now
         return goal
@@ -325,6 +334,22 @@ class FrontierExplorer:
         return Goal(*self.start, np.zeros((0, 2)))
 
 
-def _free_cells(grid: OccupancyGrid) -> int:
-    """How many cells of ``grid`` are known free."""
-    return int(np.count_nonzero(grid.data == CellState.FREE))
+def _newly_free_near(before: OccupancyGrid, now: OccupancyGrid, x: float, y: float, radius: float) -> int:
+    """How many cells within ``radius`` (m) of (x, y) (m) ``now`` has free that ``before`` did not
+    (unknown, occupied, or outside it), the two maps aligned by their world coordinates."""
+    rows, cols, cx, cy = now.centres_near(x, y, radius)
+    near = np.hypot(cx[None, :] - x, cy[:, None] - y) <= radius
+    free = near & (now.data[rows, cols] == CellState.FREE)
+    yy, xx = np.nonzero(free)
+    if len(yy) == 0:
+        return 0
+    was = before.world_to_cells(np.column_stack((cx[xx], cy[yy])))
+    inside = (was[:, 0] >= 0) & (was[:, 0] < before.height) & (was[:, 1] >= 0) & (was[:, 1] < before.width)
+    was_free = np.zeros(len(yy), np.bool_)
+    was_free[inside] = before.data[was[inside, 0], was[inside, 1]] == CellState.FREE
+    return int(np.count_nonzero(~was_free))
+
+
+def _nearest(points: NDArray[np.float64], point: tuple[float, float]) -> int:
+    """The index of the row of ``points`` ((n, 2), m) nearest to ``point`` (m)."""
+    return int(np.argmin(np.hypot(points[:, 0] - point[0], points[:, 1] - point[1])))

@@ -320,12 +320,12 @@ class ExplorerNode(Node):
             self._close(why)
             return
         if failed and self._grid is not None:
-            self.explorer.goal_failed(self._grid)
+            self.explorer.goal_failed(self._map(self._grid))  # the map the goal was chosen on: teammates' merged
         elif not failed:
             judged = self._grid is not None and self.explorer.judged_on(self._map(self._grid))
             if judged and self._maps.goal_ended(time.monotonic(), self._clock_now_s()):
-                bound = self._maps.wait_bound_s()
-                self.get_logger().debug(f"goal {self._sent} reached: waiting up to {bound:.1f} s for a newer map")
+                why += f": waiting up to {self._maps.wait_bound_s():.1f} s for a newer map"  # on the status topic
+                self.get_logger().debug(why)
             self.explorer.goal_reached()
         self._goal_ended = True
         self._publish(ExplorerState.EXPLORING, why)

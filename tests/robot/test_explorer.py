@@ -10,6 +10,7 @@ import pytest
 
 from frontier_rl import api
 from frontier_rl.core.sim.candidates import Look
+from frontier_rl.core.sim.episode import Ranking
 from frontier_rl.core.sim.metrics import EndReason
 from frontier_rl.core.world.grid import CellState, OccupancyGrid
 from frontier_rl.core.world.robot import Pose
@@ -194,3 +195,50 @@ def test_a_look_that_maps_the_room_behind_the_window_lets_the_exploration_go_on(
     explorer.goal_reached()
     after = explorer.tick(seen, Pose(look.x, look.y, 0.0), 2.0)
     assert isinstance(after, Goal) and after.look is Look.NONE  # the room's frontiers, beyond the gap
+
+
+def test_floor_mapped_far_from_a_look_is_not_the_looks() -> None:
+    """On a merged map a teammate's floor elsewhere (or a SLAM map grown elsewhere) made a look
+    that mapped nothing pay, and the looks went on on its word."""
+    explorer = FrontierExplorer(make_policy("nearest"))
+    grid = window_map()
+    look = explorer.tick(grid, Pose(0.5, 0.5, 0.0), 0.0)
+    assert isinstance(look, Goal) and look.look is Look.SMALL
+    elsewhere = OccupancyGrid(np.pad(window_map().data, ((0, 0), (0, 200)), constant_values=CellState.UNKNOWN), 0.05)
+    elsewhere.data[10:70, 250:320] = CellState.FREE  # 10.5 m², more than 3.5 m from the look
+    explorer.goal_reached()
+    finished = explorer.tick(elsewhere, Pose(look.x, look.y, 0.0), 2.0)
+    assert isinstance(finished, Finished) or (isinstance(finished, Goal) and finished.look is Look.NONE)
+    assert not explorer._looks.looking
+
+
+def test_a_look_the_navigation_stack_gave_up_ends_no_look() -> None:
+    """Nav2 plans on its own costmap, where a look found on the recovery's may have no path: the
+    first such abort ended every look at the small clusters."""
+    explorer = FrontierExplorer(make_policy("nearest"))
+    grid, pose = window_map(), Pose(0.5, 0.5, 0.0)
+    first = explorer.tick(grid, pose, 0.0)
+    assert isinstance(first, Goal) and first.look is Look.SMALL
+    explorer.goal_failed(grid)
+    second = explorer.tick(grid, pose, 1.0)
+    assert isinstance(second, Goal) and second.look is Look.SMALL  # the same cluster, from elsewhere
+    assert math.hypot(second.x - first.x, second.y - first.y) > 0.2 and explorer.goals_given_up == 1
+
+
+class _PointPolicy:
+    """Drives to a point of its own, as the point models 1 and 2 do."""
+
+    name = "point"
+
+    def rank(self, context: object, rng: np.random.Generator) -> Ranking:
+        return Ranking(np.zeros(0, np.int64), goal=(0.5, 0.5))
+
+
+def test_a_point_policy_among_looks_takes_the_look_nearest_its_point() -> None:
+    """Its point goal was no look: no visit was recorded, and the same looks came back for ever."""
+    explorer = FrontierExplorer(_PointPolicy())
+    grid, pose = window_map(), Pose(0.5, 0.5, 0.0)
+    look = explorer.tick(grid, pose, 0.0)
+    assert isinstance(look, Goal) and look.look is Look.SMALL and len(look.frontier) > 0
+    explorer.goal_reached()
+    assert isinstance(explorer.tick(grid, Pose(look.x, look.y, 0.0), 2.0), Finished)

@@ -10,7 +10,7 @@ import pytest
 
 from frontier_rl.core.frontiers.blacklist import AUDIT_BUDGET
 from frontier_rl.core.navigation.follower import FollowerParams, FollowStatus, careful_flags, follow_path
-from frontier_rl.core.sim import navigator
+from frontier_rl.core.sim import look_state
 from frontier_rl.core.sim.candidates import reachable_frontiers
 from frontier_rl.core.sim.config import SimConfig
 from frontier_rl.core.sim.leg_result import LegOutcome
@@ -102,8 +102,8 @@ def test_a_teammate_standing_for_good_in_a_corridor_ends_the_episode(monkeypatch
     way of robot 0, whose only frontier lies behind it: robot 0 gives way, finds nothing else, and
     counts the goal as failed each time, so the episode ends (`unreachable`) instead of giving way
     until the time cap."""
-    offered = navigator.spent_looks
-    monkeypatch.setattr(navigator, "spent_looks", lambda *args: offered(*args).subset(np.zeros(0, np.int64)))
+    offered = look_state.spent_looks
+    monkeypatch.setattr(look_state, "spent_looks", lambda *args: offered(*args).subset(np.zeros(0, np.int64)))
     world = room(8, 200)  # 0.4 m x 9.9 m
     team = TeamSimulator(world, SimConfig(max_sim_time=400.0), TeamConfig(robots=2), np.random.default_rng(0))
     second = team.robots[1]

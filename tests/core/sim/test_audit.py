@@ -8,7 +8,7 @@ import pytest
 
 from frontier_rl.core.frontiers.blacklist import AUDIT_BUDGET, Blacklist
 from frontier_rl.core.navigation.thin_walls import Recovery
-from frontier_rl.core.sim import navigator
+from frontier_rl.core.sim import look_state
 from frontier_rl.core.sim.candidates import Look, find_candidates
 from frontier_rl.core.sim.config import UNSEEN_ROOM_M2, SimConfig
 from frontier_rl.core.sim.episode import run_episode
@@ -86,8 +86,8 @@ def no_blind_look(monkeypatch: pytest.MonkeyPatch) -> None:
     """No blind look (:func:`~frontier_rl.core.sim.looks.blind_looks`): as where no small cluster
     promises a fortieth of the map. Here one at the door's jamb would look into the far room,
     which the robot has not seen, before the looks at the frontiers given up."""
-    offered = navigator.blind_looks
-    monkeypatch.setattr(navigator, "blind_looks", lambda *args: offered(*args).subset(np.zeros(0, np.int64)))
+    offered = look_state.blind_looks
+    monkeypatch.setattr(look_state, "blind_looks", lambda *args: offered(*args).subset(np.zeros(0, np.int64)))
 
 
 @pytest.fixture
@@ -95,8 +95,8 @@ def no_look_from_elsewhere(monkeypatch: pytest.MonkeyPatch, no_blind_look: None)
     """Frontiers given up after their tries get no look from elsewhere: as where no viewpoint away
     from the goals tried sees enough of their unknown (:func:`~frontier_rl.core.sim.looks.spent_looks`),
     and no blind look."""
-    offered = navigator.spent_looks
-    monkeypatch.setattr(navigator, "spent_looks", lambda *args: offered(*args).subset(np.zeros(0, np.int64)))
+    offered = look_state.spent_looks
+    monkeypatch.setattr(look_state, "spent_looks", lambda *args: offered(*args).subset(np.zeros(0, np.int64)))
 
 
 def _fail_every_candidate(sim: ExplorationSimulator, times: int) -> None:
