@@ -6,9 +6,10 @@ But a SLAM map comes in its own time (slam_toolbox every 5 s by default, the sim
 the goal's frontier is still open, and a frontier the robot has just seen is given up (twice, and
 it is never tried again), and a last look's mapped floor is not yet on it. A :class:`MapWatch` holds
 the judgement of such a goal (reached, its frontier open on the map at hand, or a look) back until a
-map from after the goal's end has come, for at most
-two of the map's periods; a map that has stopped coming (SLAM crashed, a topic remapped) is then
-said so, and the goal is judged on the last map, as before.
+map from after the goal's end has come, for at most two of the map's periods (0.5-15 s); a map that
+has stopped coming (SLAM crashed, a topic remapped) is then said so, and the goal is judged on the
+last map, as before. A mapper that maps only as the robot moves sends no map while it stands: after
+two such stands in a row, no judgement waits.
 """
 
 from __future__ import annotations

@@ -239,18 +239,18 @@ class ExplorerNode(Node):
         if now >= self.explorer.params.time_cap:
             self._maps.forget_goal()
             return True
-        wall_s, topic = time.monotonic(), self.resolve_topic_name("map")
+        wall_s = time.monotonic()  # every poll: the map's topic is named only when something is said
         wait = self._maps.judgement(wall_s)
         if wait is MapWait.STOPPED:
             self._warn(
                 "map_stale",
-                f"no map on {topic} for {self._maps.age_s(wall_s):.1f} s (it came every "
+                f"no map on {self.resolve_topic_name('map')} for {self._maps.age_s(wall_s):.1f} s (it came every "
                 f"{self._maps.period_s or 0.0:.2f} s): goal {self._sent} is judged on the last one",
             )
         elif wait is MapWait.QUIET and not self._maps.waits:
             self.get_logger().info(
-                f"no map came on {topic} while the robot stood after a goal (a mapper that maps as the robot "
-                "moves): goals reached are judged on the map at hand from now on"
+                f"no map came on {self.resolve_topic_name('map')} while the robot stood after two goals (a mapper "
+                "that maps as the robot moves): goals reached are judged on the map at hand from now on"
             )
         return wait is not MapWait.WAIT
 
