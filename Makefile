@@ -31,6 +31,7 @@ ROS2_WHEELS := ros-kilted-ament-cmake ros-kilted-ament-cmake-core ros-kilted-ame
                ros-kilted-rosidl-typesupport-fastrtps-cpp ros-kilted-rosidl-typesupport-interface \
                ros-kilted-rosidl-typesupport-introspection-c ros-kilted-rosidl-typesupport-introspection-cpp \
                ros-kilted-action-msgs ros-kilted-builtin-interfaces ros-kilted-std-msgs ros-kilted-geometry-msgs \
+               ros-kilted-nav-msgs \
                catkin_pkg numpy
 ROS2_INTERFACES := $(VENV)/.ros2-interfaces
 ROS2_SOURCES := tools/build_ros2_interfaces.py \
@@ -44,7 +45,7 @@ $(STAMP): pyproject.toml
 	$(BIN)/python -m pip install --quiet -e ".[rl,ray,dev,docs,ros2]"
 	touch $(STAMP)
 
-# NavigateToPose (nav2_msgs has no wheel) generated from its vendored .action file and built into the venv
+# NavigateToPose and FollowPath (nav2_msgs has no wheel) generated from their vendored .action files and built into the venv
 $(ROS2_INTERFACES): $(STAMP) $(ROS2_SOURCES)
 	$(BIN)/python -m pip install --quiet $(ROS2_WHEELS)
 	$(BIN)/python tools/build_ros2_interfaces.py

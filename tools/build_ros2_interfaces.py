@@ -1,10 +1,10 @@
-"""Build the vendored ROS 2 interface packages ``nav2_msgs`` (NavigateToPose only) and ``tf2_msgs`` (TFMessage
-only) into this virtual environment.
+"""Build the vendored ROS 2 interface packages ``nav2_msgs`` (NavigateToPose and FollowPath only) and ``tf2_msgs``
+(TFMessage only) into this virtual environment.
 
-Neither Nav2's ``nav2_msgs`` nor geometry2's ``tf2_msgs`` has a wheel on PyPI, so the ``NavigateToPose`` action and
-the ``TFMessage`` of ``/tf`` are generated here from their vendored interface files (``frontier_rl/ros2/interfaces``,
-copied unchanged from navigation2 and geometry2 so that the DDS type hashes match ROS 2's) with the rosidl and
-ament_cmake wheels that ``make`` installs into the venv.
+Neither Nav2's ``nav2_msgs`` nor geometry2's ``tf2_msgs`` has a wheel on PyPI, so the ``NavigateToPose`` and
+``FollowPath`` actions and the ``TFMessage`` of ``/tf`` are generated here from their vendored interface files
+(``frontier_rl/ros2/interfaces``, copied unchanged from navigation2 and geometry2 so that the DDS type hashes match
+ROS 2's) with the rosidl and ament_cmake wheels that ``make`` installs into the venv.
 
 Run it with the venv's interpreter (the venv is ``sys.prefix``)::
 
@@ -60,12 +60,13 @@ class InterfacePackage:
 PACKAGES = (
     InterfacePackage(
         "nav2_msgs",
-        "NavigateToPose",
-        "action/_navigate_to_pose.py",
-        "from nav2_msgs.action import NavigateToPose\n"
-        "NavigateToPose.Goal(); NavigateToPose.Result(); NavigateToPose.Feedback()\n"
-        "type(NavigateToPose).__import_type_support__()\n"
-        "assert NavigateToPose._TYPE_SUPPORT is not None\n",
+        "NavigateToPose, FollowPath",
+        "action/_follow_path.py",
+        "from nav2_msgs.action import FollowPath, NavigateToPose\n"
+        "for action in (NavigateToPose, FollowPath):\n"
+        "    action.Goal(); action.Result(); action.Feedback()\n"
+        "    type(action).__import_type_support__()\n"
+        "    assert action._TYPE_SUPPORT is not None\n",
     ),
     InterfacePackage(
         "tf2_msgs",

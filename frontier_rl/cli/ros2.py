@@ -132,7 +132,8 @@ def sim(
 ) -> None:
     """Run a world as ROS 2 robots, for an explorer to drive.
 
-    Each robot publishes map, pose, odom, scan and /clock, and serves Nav2's navigate_to_pose;
+    Each robot publishes map, pose, odom, scan and /clock, and serves Nav2's navigate_to_pose
+    and follow_path;
     ROS's arguments (remappings, a log level) go after --ros-args."""
     ros_args = _ros_args(ctx.args)
     checked_seed(seed)

@@ -27,7 +27,7 @@ FILE_PARAMETERS: dict[str, type] = {
     "use_sim_time": bool,
 }
 """The parameters a file may set here, and their types: the explorer's settings (explore_lite's
-names where they mean the same, and the node's own ``time_cap`` and ``progress_distance``), its
+names where they mean the same, and the node's own ``time_cap``, ``progress_distance`` and ``recovery_paths``), its
 markers, with the pose from ``tf`` the robot's base frame, and ROS's ``use_sim_time`` (as
 ``--use-sim-time``)."""
 

@@ -32,6 +32,7 @@ from frontier_rl.core.sim.frontiers_left import frontiers_left
 from frontier_rl.core.sim.look_state import LookState
 from frontier_rl.core.sim.looks import LOOK_PAYOFF_M2
 from frontier_rl.core.sim.metrics import EndReason, FrontierLeft
+from frontier_rl.core.sim.paths import point_goal_cell
 from frontier_rl.core.world.grid import FREE_I8, CellState, OccupancyGrid
 from frontier_rl.core.world.robot import Pose
 from frontier_rl.errors import ConfigError, short_repr
@@ -57,6 +58,10 @@ class Goal:
         recovery: the costmap it was found on (the narrow-passage recovery's, where the normal one had none).
         look: a last look (:mod:`frontier_rl.core.sim.looks`) at ``frontier``'s cluster: it lasts
             until the navigation stack ends it, and is a visit of the cluster whatever it shows.
+        path: for a goal found on a ``recovery`` level (with ``recovery_paths``), the way there
+            ((n, 2), m, map frame, from the robot to the goal) planned on that level's costmap: a
+            navigation stack that plans on its own costmap, where the map's doorway is too narrow,
+            finds none, and is given this path to follow instead.
     """
 
     x: float
@@ -65,6 +70,7 @@ class Goal:
     weight: float | None = None
     recovery: Recovery = Recovery.NONE
     look: Look = Look.NONE
+    path: NDArray[np.float64] | None = None
 
 
 @dataclass(frozen=True)
@@ -259,6 +265,8 @@ class FrontierExplorer:
             x, y = grid.cell_to_world(row, col)
             cells = grid.cells_to_world(cand.frontiers.cells_of(index))
             goal = Goal(x, y, cells, ranking.weight, cand.recovery, cand.looks)
+        if cand.recovery is not Recovery.NONE and self.params.recovery_paths:
+            goal = replace(goal, path=_path_on(cand, pose, goal.x, goal.y))
         self.goal, self._arrived = goal, False
         self._sent_on = grid if goal.look is not Look.NONE else None
         self.decisions += 1
@@ -348,6 +356,20 @@ def _newly_free_near(before: OccupancyGrid, now: OccupancyGrid, x: float, y: flo
     was_free = np.zeros(len(yy), np.bool_)
     was_free[inside] = before.data[was[inside, 0], was[inside, 1]] == CellState.FREE
     return int(np.count_nonzero(~was_free))
+
+
+def _path_on(cand: Candidates, pose: Pose, x: float, y: float) -> NDArray[np.float64] | None:
+    """The way ((n, 2), m) from ``pose`` to the reachable cell of ``cand.grid`` nearest to (x, y)
+    (m), planned on ``cand``'s costmap, ending at that cell's centre; None if there is none."""
+    goal_cell = point_goal_cell(cand, x, y)
+    if goal_cell is None:
+        return None
+    cells = cand.costmap.plan(cand.grid.world_to_cell(pose.x, pose.y), goal_cell)
+    if len(cells) == 0:
+        return None
+    path = cand.grid.cells_to_world(cells)
+    path[-1] = cand.grid.cell_to_world(*goal_cell)
+    return path
 
 
 def _nearest(points: NDArray[np.float64], point: tuple[float, float]) -> int:

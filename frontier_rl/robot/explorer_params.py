@@ -38,6 +38,11 @@ class ExplorerParams:
     return_to_init: bool = _setting(False, "Drive back to the start once explored.")
     time_cap: float = _setting(math.inf, "Stop exploring after this long (s; 0: never).")
     progress_distance: float = _setting(0.1, "The distance (m) nearer to the goal that counts as progress.")
+    recovery_paths: bool = _setting(
+        True,
+        "Send a goal found with the map's walls thinned (where SLAM drew a doorway too narrow for the costmap) "
+        "to Nav2's controller (follow_path) with the path planned on that map, not to navigate_to_pose.",
+    )
 
     def __post_init__(self) -> None:
         for name in ("planner_frequency", "progress_timeout", "time_cap", "progress_distance"):

@@ -15,6 +15,7 @@ from dataclasses import dataclass
 from enum import Enum
 
 import numpy as np
+from numpy.typing import NDArray
 
 from frontier_rl.core.sensing.lidar import Lidar, Scan
 from frontier_rl.core.sim.config import SimConfig
@@ -91,6 +92,18 @@ class SimulatedRobot:
         self._leg = self.sim.go_to_steps(x, y)
         self.goal = (x, y)
 
+    def follow_path(self, path: NDArray[np.float64]) -> None:
+        """Drive along ``path`` ((n, 2), m, map frame, ending at the goal), replacing any goal under
+        way, as Nav2's controller follows a path (:meth:`ExplorationSimulator.follow_steps
+        <frontier_rl.core.sim.simulator.ExplorationSimulator.follow_steps>`); its end is judged as
+        :meth:`send_goal`'s, at the path's last point."""
+        path = np.asarray(path, np.float64)
+        if path.ndim != 2 or path.shape[1] != 2 or len(path) == 0 or not np.isfinite(path).all():
+            raise ValueError(f"path of shape {path.shape} is not a list of points")
+        self.cancel()
+        self._leg = self.sim.follow_steps(path)
+        self.goal = (float(path[-1, 0]), float(path[-1, 1]))
+
     def cancel(self) -> None:
         """Stop the goal under way where the robot is."""
         if self._leg is not None:
@@ -142,7 +155,9 @@ def explore_in_process(robot: SimulatedRobot, explorer: FrontierExplorer, max_ti
         if isinstance(decision, Finished):
             robot.cancel()
             return decision
-        if isinstance(decision, Goal):
+        if isinstance(decision, Goal) and decision.path is not None:
+            robot.follow_path(decision.path)  # Nav2's controller: follow_path
+        elif isinstance(decision, Goal):
             robot.send_goal(decision.x, decision.y)
         until = robot.sim_time + period
         while robot.busy and robot.sim_time < until:

@@ -4,10 +4,11 @@ It reads the map (``map``, transient local, as slam_toolbox and map_server publi
 robot's pose (``pose``: a ``PoseWithCovarianceStamped`` as slam_toolbox's; an ``Odometry`` in the
 map frame; or ``tf``: :mod:`frontier_rl.ros2.pose_listener`), decides with a
 :class:`~frontier_rl.robot.explorer.FrontierExplorer` and sends the goal to Nav2's
-``navigate_to_pose`` action, as explore_lite does. A goal Nav2 rejects or aborts, or that brings
-the robot no nearer within ``progress_timeout``, is blacklisted, and so is a goal reached whose
-frontier a map from after it still shows (:mod:`frontier_rl.robot.map_watch`); a goal whose frontier
-the map has since seen is replaced. It stops when the map is explored, with its end reason on
+``navigate_to_pose`` action, as explore_lite does (a goal found with the map's walls thinned, with
+the path planned there, to ``follow_path``: :mod:`frontier_rl.ros2.nav2_goals`). A goal Nav2 rejects
+or aborts, or that brings the robot no nearer within ``progress_timeout``, is blacklisted, and so is
+a goal reached whose frontier a map from after it still shows (:mod:`frontier_rl.robot.map_watch`);
+a goal whose frontier the map has since seen is replaced. It stops when the map is explored, with its end reason on
 ``explore/status`` and in the log, and optionally drives back to the start.
 """
 
@@ -18,10 +19,9 @@ import time
 from typing import Any
 
 from action_msgs.msg import GoalStatus as ActionStatus
-from nav2_msgs.action import NavigateToPose
 from nav_msgs.msg import OccupancyGrid as GridMessage
 from rcl_interfaces.msg import SetParametersResult
-from rclpy.action.client import ActionClient, ClientGoalHandle
+from rclpy.action.client import ClientGoalHandle
 from rclpy.clock import Clock
 from rclpy.clock_type import ClockType
 from rclpy.node import Node
@@ -31,7 +31,6 @@ from std_msgs.msg import Float32, String
 from visualization_msgs.msg import MarkerArray
 
 from frontier_rl.core.world.grid import OccupancyGrid
-from frontier_rl.core.world.robot import Pose
 from frontier_rl.errors import ConfigError, MapError
 from frontier_rl.robot.explorer import Finished, FrontierExplorer, Goal
 from frontier_rl.robot.map_merge import merged_map, misfit
@@ -41,7 +40,8 @@ from frontier_rl.robot.throttled_log import ThrottledLog
 from frontier_rl.ros2.explorer_options import ExplorerNodeOptions
 from frontier_rl.ros2.explorer_parameters import ExplorerSettings, declare_explorer_parameters
 from frontier_rl.ros2.explorer_status import ExplorerState, ExplorerStatus
-from frontier_rl.ros2.messages import MAP_QOS, frontier_markers, grid_message, grid_of, pose_stamped
+from frontier_rl.ros2.messages import MAP_QOS, frontier_markers, grid_message, grid_of
+from frontier_rl.ros2.nav2_goals import FOLLOW, NAVIGATE, Nav2Goals
 from frontier_rl.ros2.pose_listener import PoseListener
 
 _POLL_PERIOD_S = 0.02
@@ -106,7 +106,8 @@ class ExplorerNode(Node):
         self.create_subscription(Float32, "coverage", self._on_coverage, MAP_QOS)
         self._status_pub = self.create_publisher(String, "explore/status", MAP_QOS)
         self._marker_pub = self.create_publisher(MarkerArray, "explore/frontiers", 10)
-        self._nav: ActionClient[Any, Any, Any] = ActionClient(self, NavigateToPose, "navigate_to_pose")
+        self._nav = Nav2Goals(self)
+        self._action = NAVIGATE  # the action of the goal in flight
         self._sent = 0  # goals sent; a result or response of an older one is ignored
         self._handle: ClientGoalHandle[Any, Any, Any] | None = None
         self._clock_s: float | None = None  # the node's clock at the last poll (s)
@@ -209,8 +210,8 @@ class ExplorerNode(Node):
         if pose is None:
             self._waiting(f"a pose ({self._pose_from})")
             return
-        if not self._nav.server_is_ready():
-            self._waiting(f"Nav2's {self.resolve_topic_name('navigate_to_pose')} action")
+        if not self._nav.ready():
+            self._waiting(f"Nav2's {self.resolve_topic_name(NAVIGATE)} action")
             return
         now = self._advance_clock()
         if time.monotonic() - self._heard_at > self.goal_silence_timeout:
@@ -261,14 +262,20 @@ class ExplorerNode(Node):
     def _send(self, goal: Goal) -> None:
         self._sent += 1
         number = self._sent
-        request = NavigateToPose.Goal(pose=pose_stamped(Pose(goal.x, goal.y, 0.0), self.get_clock().now().to_msg()))
+        stamp = self.get_clock().now().to_msg()
         self._heard()
-        future = self._nav.send_goal_async(request, feedback_callback=lambda _: self._feedback(number))
+        self._action, future = self._nav.send(goal, self._map_frame, stamp, lambda _: self._feedback(number))
         future.add_done_callback(lambda f: self._on_response(number, f))
+        if goal.path is not None and self._action != FOLLOW:
+            self._warn(
+                FOLLOW,
+                f"Nav2's {self.resolve_topic_name(FOLLOW)} action is not up: goal {number}, found with the map's "
+                "walls thinned, goes to navigate_to_pose, whose planner may find no way there",
+            )
         if self.visualize and self._grid is not None:
             candidates = [(float(x), float(y)) for x, y in self.explorer.candidate_goals]
             self._marker_pub.publish(frontier_markers(candidates, (goal.x, goal.y), self.get_clock().now().to_msg()))
-        detail = f"goal {number} at ({goal.x:.2f}, {goal.y:.2f})"
+        detail = f"goal {number} at ({goal.x:.2f}, {goal.y:.2f})" + (" along a path" if self._action == FOLLOW else "")
         self.get_logger().debug(f"sent {detail}")  # --ros-args --log-level frontier_rl_explorer:=debug shows it
         self._publish(ExplorerState.RETURNING if self._returning else ExplorerState.EXPLORING, detail)
 
@@ -302,7 +309,7 @@ class ExplorerNode(Node):
     def _lost(self) -> None:
         """Nav2 fell silent on the goal in flight: drop it (its server went away) and decide again
         once the server is back."""
-        why = f"no word from navigate_to_pose on goal {self._sent} for {self.goal_silence_timeout:g} s: dropped"
+        why = f"no word from {self._action} on goal {self._sent} for {self.goal_silence_timeout:g} s: dropped"
         self.get_logger().warn(why)
         self._sent += 1  # whatever the old server says later is ignored
         self._handle, self._heard_at = None, math.inf

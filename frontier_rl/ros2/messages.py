@@ -15,6 +15,8 @@ from builtin_interfaces.msg import Time
 from geometry_msgs.msg import Point, Pose, PoseStamped, PoseWithCovarianceStamped, Quaternion, TransformStamped
 from nav_msgs.msg import OccupancyGrid as GridMessage
 from nav_msgs.msg import Odometry
+from nav_msgs.msg import Path as PathMessage
+from numpy.typing import NDArray
 from rclpy.qos import DurabilityPolicy, QoSProfile, ReliabilityPolicy
 from sensor_msgs.msg import LaserScan
 from std_msgs.msg import ColorRGBA
@@ -84,6 +86,33 @@ def pose_stamped(pose: RobotPose, stamp: Time, frame: str = MAP_FRAME) -> PoseSt
     message = PoseStamped(pose=pose_message(pose))
     message.header.stamp, message.header.frame_id = stamp, frame
     return message
+
+
+def path_message(points: NDArray[np.float64], stamp: Time, frame: str = MAP_FRAME) -> PathMessage:
+    """A ``nav_msgs/Path`` through ``points`` ((n, 2), m), each pose facing the next point (the
+    last the one before it), as a planner's path is handed to Nav2's controller."""
+    steps = np.diff(points, axis=0)
+    yaws = np.arctan2(steps[:, 1], steps[:, 0]) if len(steps) else np.zeros(0)
+    yaws = np.append(yaws, yaws[-1] if len(yaws) else 0.0)[: len(points)]
+    message = PathMessage(
+        poses=[
+            pose_stamped(RobotPose(float(x), float(y), float(yaw)), stamp, frame)
+            for (x, y), yaw in zip(points, yaws, strict=True)
+        ]
+    )
+    message.header.stamp, message.header.frame_id = stamp, frame
+    return message
+
+
+def path_points(message: PathMessage) -> NDArray[np.float64]:
+    """The points ((n, 2), m) of a ``nav_msgs/Path``; a ``ValueError`` for an empty path or a
+    point that is not finite."""
+    points = np.array([(p.pose.position.x, p.pose.position.y) for p in message.poses], np.float64).reshape(-1, 2)
+    if len(points) == 0:
+        raise ValueError("path has no poses")
+    if not np.isfinite(points).all():
+        raise ValueError("path has a point that is not finite")
+    return points
 
 
 def pose_with_covariance(pose: RobotPose, stamp: Time, frame: str = MAP_FRAME) -> PoseWithCovarianceStamped:

@@ -2,12 +2,12 @@
 
 Each robot publishes what a robot with slam_toolbox publishes (the map it builds on ``map``,
 transient local; its pose on ``pose`` and ``odom``; a ``scan``), the share of the world's explorable
-space it has mapped on ``coverage``, and serves Nav2's ``navigate_to_pose`` action, driving with the
-engine's navigation; a team's robots do so in their namespaces and see each other as obstacles. The
-simulated clock is published on ``/clock`` (for nodes with ``use_sim_time``). It runs while a robot
-drives for a goal, at ``rate`` times the wall clock (as fast as it can with no rate), every robot on
-it (one without a goal stands still); with no goal under way it stops, so that a decision costs no
-simulated time, as in an in-process episode.
+space it has mapped on ``coverage``, and serves Nav2's ``navigate_to_pose`` and ``follow_path``
+actions, driving with the engine's navigation; a team's robots do so in their namespaces and see
+each other as obstacles. The simulated clock is published on ``/clock`` (for nodes with
+``use_sim_time``). It runs while a robot drives for a goal, at ``rate`` times the wall clock (as
+fast as it can with no rate), every robot on it (one without a goal stands still); with no goal
+under way it stops, so that a decision costs no simulated time, as in an in-process episode.
 """
 
 from __future__ import annotations

@@ -1,15 +1,17 @@
-"""One simulated robot's side of ROS 2: its topics and its ``navigate_to_pose`` action server."""
+"""One simulated robot's side of ROS 2: its topics and its ``navigate_to_pose`` and ``follow_path``
+action servers (Nav2's: planning and driving to a pose, and following a path it is given)."""
 
 from __future__ import annotations
 
 import math
 import time
+from collections.abc import Callable
 from dataclasses import dataclass
 from typing import Any
 
 from builtin_interfaces.msg import Duration, Time
 from geometry_msgs.msg import PoseWithCovarianceStamped
-from nav2_msgs.action import NavigateToPose
+from nav2_msgs.action import FollowPath, NavigateToPose
 from nav_msgs.msg import OccupancyGrid as GridMessage
 from nav_msgs.msg import Odometry
 from rclpy.action.server import ActionServer, CancelResponse, GoalResponse, ServerGoalHandle
@@ -26,6 +28,7 @@ from frontier_rl.ros2.messages import (
     grid_message,
     laser_scan,
     odometry,
+    path_points,
     pose_stamped,
     pose_with_covariance,
     robot_pose,
@@ -55,11 +58,13 @@ def duration_of(seconds: float) -> Duration:
 
 @dataclass
 class _ActiveGoal:
-    """The goal under way: its handle, the future its end is set on, and when it began (sim s)."""
+    """The goal under way: its handle, the future its end is set on, when it began (sim s), and
+    whether it is a path to follow (``follow_path``) rather than a pose (``navigate_to_pose``)."""
 
     handle: ServerGoalHandle[Any, Any, Any]
     done: Future[GoalStatus | str]
     started_s: float
+    follows_path: bool
 
 
 class RobotPort:
@@ -81,14 +86,20 @@ class RobotPort:
         static = [transform_stamped(parent, child, IDENTITY, stamp_of(0.0)) for parent, child in _STATIC_FRAMES]
         self._tf_static_pub = node.create_publisher(TFMessage, f"{prefix}tf_static", TF_STATIC_QOS)
         self._tf_static_pub.publish(TFMessage(transforms=static))
-        self._server = ActionServer(
-            node,
-            NavigateToPose,
-            f"{prefix}navigate_to_pose",
-            execute_callback=self._execute,
-            goal_callback=self._check_goal,
-            cancel_callback=lambda _: CancelResponse.ACCEPT,
-        )
+        self._servers = [
+            ActionServer(
+                node,
+                action,
+                f"{prefix}{name}",
+                execute_callback=execute,
+                goal_callback=check,
+                cancel_callback=lambda _: CancelResponse.ACCEPT,
+            )
+            for action, name, execute, check in (
+                (NavigateToPose, "navigate_to_pose", self._navigate, self._check_goal),
+                (FollowPath, "follow_path", self._follow, self._check_path),
+            )
+        ]
         self._active: _ActiveGoal | None = None
         self._map_sent_at = -math.inf
         self._scan_at = (-math.inf, -math.inf)  # simulated and wall time of the last scan published (s)
@@ -99,22 +110,43 @@ class RobotPort:
         """Whether a goal is under way."""
         return self._active is not None
 
-    # --------------------------------------------------------------- the action
+    # -------------------------------------------------------------- the actions
     def _check_goal(self, request: Any) -> GoalResponse:
+        return self._check(lambda: robot_pose(request.pose.pose))
+
+    def _check_path(self, request: Any) -> GoalResponse:
+        return self._check(lambda: path_points(request.path))
+
+    def _check(self, read: Callable[[], object]) -> GoalResponse:
+        """Accept a goal that ``read`` reads without a ``ValueError``; reject it with a warning."""
         try:
-            robot_pose(request.pose.pose)
+            read()
         except ValueError as error:
             self._node.get_logger().warn(f"{self.namespace or 'robot'}: goal rejected: {error}")
             return GoalResponse.REJECT
         return GoalResponse.ACCEPT
 
-    async def _execute(self, handle: ServerGoalHandle[Any, Any, Any]) -> Any:
-        """Drive to the goal until it ends (the node's timer steps it); a newer goal preempts it."""
+    async def _navigate(self, handle: ServerGoalHandle[Any, Any, Any]) -> Any:
+        """Drive to the goal's pose until it ends."""
         goal = robot_pose(handle.request.pose.pose)
+        await self._run(handle, lambda: self.robot.send_goal(goal.x, goal.y), follows_path=False)
+        return NavigateToPose.Result()
+
+    async def _follow(self, handle: ServerGoalHandle[Any, Any, Any]) -> Any:
+        """Follow the goal's path until it ends."""
+        points = path_points(handle.request.path)
+        await self._run(handle, lambda: self.robot.follow_path(points), follows_path=True)
+        return FollowPath.Result()
+
+    async def _run(
+        self, handle: ServerGoalHandle[Any, Any, Any], start: Callable[[], None], follows_path: bool
+    ) -> None:
+        """Run a goal ``start`` sets the robot off on until it ends (the node's timer steps it),
+        and end its handle as it ended; a newer goal, of either action, preempts it."""
         self._end(GoalStatus.ABORTED)  # preempted
         done: Future[GoalStatus | str] = Future()
-        self.robot.send_goal(goal.x, goal.y)
-        self._active = _ActiveGoal(handle, done, self.robot.sim_time)
+        start()
+        self._active = _ActiveGoal(handle, done, self.robot.sim_time, follows_path)
         self.goals += 1
         status = await done
         if status == _CANCELED:
@@ -123,7 +155,6 @@ class RobotPort:
             handle.succeed()
         else:
             handle.abort()
-        return NavigateToPose.Result()
 
     def _end(self, status: GoalStatus | str) -> None:
         if self._active is not None:
@@ -148,12 +179,15 @@ class RobotPort:
         if end is not None:
             self._end(end.status)
             return
-        feedback = NavigateToPose.Feedback()
         pose, goal = self.robot.pose, self.robot.goal
+        distance = 0.0 if goal is None else math.hypot(goal[0] - pose.x, goal[1] - pose.y)
+        if active.follows_path:
+            active.handle.publish_feedback(FollowPath.Feedback(distance_to_goal=distance))
+            return
+        feedback = NavigateToPose.Feedback()
         feedback.current_pose = pose_stamped(pose, stamp_of(self.robot.sim_time))
         feedback.navigation_time = duration_of(self.robot.sim_time - active.started_s)
-        if goal is not None:
-            feedback.distance_remaining = math.hypot(goal[0] - pose.x, goal[1] - pose.y)
+        feedback.distance_remaining = distance
         active.handle.publish_feedback(feedback)
 
     def publish_state(self, with_map: bool) -> None:

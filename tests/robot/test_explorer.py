@@ -9,6 +9,7 @@ import numpy as np
 import pytest
 
 from frontier_rl import api
+from frontier_rl.core.navigation.thin_walls import Recovery
 from frontier_rl.core.sim.candidates import Look
 from frontier_rl.core.sim.episode import Ranking
 from frontier_rl.core.sim.metrics import EndReason
@@ -161,6 +162,63 @@ def test_the_simulated_robot_aborts_a_goal_it_cannot_reach_and_cancels_on_reques
     assert not robot.busy and robot.step() is None
     with pytest.raises(ValueError, match="not a point"):
         robot.send_goal(math.nan, 0.0)
+
+
+def _paths_followed(robot: SimulatedRobot, explorer: FrontierExplorer) -> list[tuple[Goal, Pose]]:
+    """Record each goal ``robot`` is sent along a path, with where the robot stood."""
+    followed: list[tuple[Goal, Pose]] = []
+    follow = robot.follow_path
+
+    def record(path: np.ndarray) -> None:
+        assert explorer.goal is not None
+        followed.append((explorer.goal, robot.pose))
+        follow(path)
+
+    robot.follow_path = record  # type: ignore[method-assign]
+    return followed
+
+
+@pytest.mark.parametrize("recovery_paths", [True, False])
+def test_a_goal_found_with_the_walls_thinned_goes_with_the_path_planned_there(recovery_paths: bool) -> None:
+    """``elsabot_home`` seed 1 starts where the normal costmap reaches only the cell the robot stands
+    on: its goals are found on the narrow-passage recovery's levels. A navigation stack planning on
+    its normal costmap finds no way to them, and the robot never left its start (7 % mapped); sent
+    with the path planned on the level they were found on, followed as Nav2's controller follows
+    one, the robot explores the home."""
+    world = api.load_world("elsabot_home", 1)
+    robot = SimulatedRobot(world, seed=1)
+    params = ExplorerParams(time_cap=robot.sim.max_sim_time, recovery_paths=recovery_paths)
+    explorer = FrontierExplorer(make_policy("nearest"), params, rng=np.random.default_rng(1))
+    followed = _paths_followed(robot, explorer)
+    explore_in_process(robot, explorer)
+    if not recovery_paths:
+        assert not followed and robot.result().coverage < 0.1
+        return
+    assert robot.result().coverage > 0.99
+    goal, pose = followed[0]
+    assert goal.recovery is not Recovery.NONE and goal.path is not None
+    assert math.hypot(goal.path[0, 0] - pose.x, goal.path[0, 1] - pose.y) < 0.05  # from the robot
+    assert tuple(goal.path[-1]) == pytest.approx((goal.x, goal.y))  # to the goal
+    assert np.hypot(*np.diff(goal.path, axis=0).T).max() < 0.08  # cell by cell
+
+
+def test_the_simulated_robot_follows_a_path_its_costmaps_allow_and_aborts_one_they_do_not() -> None:
+    robot = SimulatedRobot(api.load_world("office", 3), seed=3)
+    cand = robot.sim.navigator.candidates(robot.pose)
+    goal_cell = (int(cand.frontiers.goal_cells[0][0]), int(cand.frontiers.goal_cells[0][1]))
+    path = cand.grid.cells_to_world(cand.costmap.plan(cand.grid.world_to_cell(robot.pose.x, robot.pose.y), goal_cell))
+    robot.follow_path(path)
+    end = next(e for e in (robot.step() for _ in range(2000)) if e is not None)
+    assert end.status is GoalStatus.SUCCEEDED
+    assert math.hypot(robot.pose.x - path[-1, 0], robot.pose.y - path[-1, 1]) < 0.2
+    there = (robot.pose.x, robot.pose.y)
+    robot.follow_path(np.linspace(there, (there[0] + 30.0, there[1] + 30.0), 600))  # off the map: no costmap has it
+    end = next(e for e in (robot.step() for _ in range(200)) if e is not None)
+    assert end.status is GoalStatus.ABORTED
+    assert (robot.pose.x, robot.pose.y) == pytest.approx(there)  # a turn on the spot, as for a goal not planned
+    for bad in (np.zeros((0, 2)), np.array([[0.0, math.nan]]), np.zeros((3, 3))):
+        with pytest.raises(ValueError, match="not a list of points"):
+            robot.follow_path(bad)
 
 
 def test_the_default_frontier_size_is_the_engines_drop_size() -> None:

@@ -21,6 +21,8 @@ from frontier_rl.ros2.messages import (
     grid_message,
     grid_of,
     laser_scan,
+    path_message,
+    path_points,
     pose_message,
     quaternion_of,
     robot_pose,
@@ -81,3 +83,17 @@ def test_a_scan_is_laid_out_counter_clockwise_from_the_heading() -> None:
     assert math.isclose(math.remainder(message.angle_min - first, 2 * math.pi), 0.0, abs_tol=1e-6)
     finite = np.isfinite(scan.ranges)
     assert np.allclose(np.array(message.ranges)[finite], scan.ranges[finite], atol=1e-5)
+
+
+def test_a_path_message_faces_each_pose_to_the_next_and_reads_back() -> None:
+    points = np.array([(0.0, 0.0), (1.0, 0.0), (1.0, 2.0)])
+    message = path_message(points, Time(sec=3), "tb3_0/map")
+    assert message.header.frame_id == "tb3_0/map" and [p.header.stamp.sec for p in message.poses] == [3, 3, 3]
+    assert [yaw_of(p.pose.orientation) for p in message.poses] == pytest.approx([0.0, math.pi / 2, math.pi / 2])
+    np.testing.assert_array_equal(path_points(message), points)
+    assert yaw_of(path_message(points[:1], Time()).poses[0].pose.orientation) == 0.0
+    message.poses[1].pose.position.y = math.inf
+    with pytest.raises(ValueError, match="not finite"):
+        path_points(message)
+    with pytest.raises(ValueError, match="no poses"):
+        path_points(path_message(np.zeros((0, 2)), Time()))

@@ -8,7 +8,7 @@ import math
 import numpy as np
 from numpy.typing import NDArray
 
-from frontier_rl.core.navigation.costmap import nearest_cell
+from frontier_rl.core.navigation.costmap import ESCAPE_RADIUS_M, nearest_cell
 from frontier_rl.core.navigation.follower import path_blocked
 from frontier_rl.core.navigation.thin_walls import thin_walls
 from frontier_rl.core.sim.candidates import Candidates
@@ -120,6 +120,18 @@ def point_goal_cell(cand: Candidates, x: float, y: float) -> tuple[int, int] | N
     row, col = g.world_to_cell(min(max(x, x0), x0 + width), min(max(y, y0), y0 + height))  # no 1e308 cell
     row, col = min(max(row, 0), g.height - 1), min(max(col, 0), g.width - 1)
     return nearest_cell(cand.reachable, (row, col), max_radius=int(math.ceil(math.hypot(*g.shape))))
+
+
+def path_fits(cand: Candidates, path: NDArray[np.float64], pose: Pose) -> bool:
+    """Whether ``cand``'s costmap lets the robot at ``pose`` along ``path`` ((n, 2), m): every
+    point within its grid, and every cell beyond the costmap's escape radius of the robot one the
+    robot may stand on (within it, as the planner lets a robot too close to a wall leave)."""
+    g = cand.grid
+    cells = g.world_to_cells(path)
+    if len(cells) == 0 or not all(g.in_bounds(int(r), int(c)) for r, c in cells):
+        return False
+    beyond = np.hypot(path[:, 0] - pose.x, path[:, 1] - pose.y) > ESCAPE_RADIUS_M
+    return bool(cand.costmap.traversable[cells[beyond, 0], cells[beyond, 1]].all())
 
 
 def passable_goal_cell(cand: Candidates, goal: tuple[float, float]) -> tuple[int, int] | None:
