@@ -161,7 +161,8 @@ class FrontierExplorer:
         """A planner tick at time ``now`` (s) with the robot's map and pose (map frame): a new goal
         to send (cancelling the one under way), the end of exploration, or None to carry on. The
         goal under way is kept while its frontier is not yet seen and the robot gets nearer to it
-        within ``progress_timeout``; otherwise it is dropped (seen) or given up (blacklisted)."""
+        within ``progress_timeout`` (a goal with a path comes back with its path planned afresh, to
+        be sent again); otherwise it is dropped (seen) or given up (blacklisted)."""
         if self.start is None:
             self.start = (pose.x, pose.y)
         if self.finished is not None:
@@ -176,8 +177,25 @@ class FrontierExplorer:
             elif self._stalled(pose, now):
                 self.goal_failed(grid)
             else:
-                return None
+                return self._path_renewed(grid, pose)
         return self._decide(grid, pose, now)
+
+    def _path_renewed(self, grid: OccupancyGrid, pose: Pose) -> Goal | None:
+        """The goal under way with its path planned afresh from ``pose`` on ``grid`` (at its level),
+        as Nav2's behaviour tree replans a ``navigate_to_pose`` goal every second: the map under a
+        path goes on changing while the robot follows it; None for a goal without a path, or when
+        no path is left (the navigation stack ends the goal)."""
+        goal = self.goal
+        if goal is None or goal.path is None:
+            return None
+        nav = self.config.navigation
+        none = Blacklist(nav.blacklist_radius, nav.max_goal_failures, grid.resolution, grid.origin)  # costmap only
+        cand = find_candidates(grid, pose, self.config, none, grid.data, recovery=goal.recovery)
+        path = _path_on(cand, pose, goal.x, goal.y)
+        if path is None:
+            return None
+        self.goal = replace(goal, path=path)
+        return self.goal
 
     def time_up(self, grid: OccupancyGrid, pose: Pose) -> Finished:
         """End exploration at the time cap, with what is left of ``grid``."""

@@ -33,16 +33,16 @@ from visualization_msgs.msg import MarkerArray
 from frontier_rl.core.world.grid import OccupancyGrid
 from frontier_rl.errors import ConfigError, MapError
 from frontier_rl.robot.explorer import Finished, FrontierExplorer, Goal
-from frontier_rl.robot.map_merge import merged_map, misfit
 from frontier_rl.robot.map_watch import MapWait, MapWatch
 from frontier_rl.robot.pose_source import PoseKind, PoseSource
 from frontier_rl.robot.throttled_log import ThrottledLog
 from frontier_rl.ros2.explorer_options import ExplorerNodeOptions
 from frontier_rl.ros2.explorer_parameters import ExplorerSettings, declare_explorer_parameters
 from frontier_rl.ros2.explorer_status import ExplorerState, ExplorerStatus
-from frontier_rl.ros2.messages import MAP_QOS, frontier_markers, grid_message, grid_of
-from frontier_rl.ros2.nav2_goals import FOLLOW, NAVIGATE, Nav2Goals
+from frontier_rl.ros2.messages import MAP_QOS, frontier_markers, grid_of
+from frontier_rl.ros2.nav2_goals import FOLLOW, NAVIGATE, Nav2Goals, error_text
 from frontier_rl.ros2.pose_listener import PoseListener
+from frontier_rl.ros2.team_maps import TeamMaps
 
 _POLL_PERIOD_S = 0.02
 """How often (wall s) the node looks whether a planner tick is due."""
@@ -72,7 +72,6 @@ class ExplorerNode(Node):
 
     def __init__(self, explorer: FrontierExplorer, options: ExplorerNodeOptions | None = None) -> None:
         options = options or ExplorerNodeOptions()
-        teammates = options.teammates
         super().__init__("frontier_rl_explorer", namespace=options.namespace)
         self.explorer = explorer
         given = ExplorerSettings(explorer.params, options.visualize)
@@ -85,16 +84,8 @@ class ExplorerNode(Node):
         self._coverage: float | None = None  # until a simulator publishes it
         self._warnings = ThrottledLog(_WARN_PERIOD_S)  # bad messages, per topic
         self.create_subscription(GridMessage, "map", self._on_map, MAP_QOS)
-        self._teammate_grids: dict[str, OccupancyGrid] = {}
-        self._map_frame = "map"  # the robot's map's frame, which the merged map is published in
-        self._merged_pub = self.create_publisher(GridMessage, "explore/merged_map", MAP_QOS) if teammates else None
-        for teammate in teammates:
-            self.create_subscription(
-                GridMessage,
-                f"/{teammate}/map",
-                lambda message, name=teammate: self._on_teammate_map(name, message),
-                MAP_QOS,
-            )
+        self._map_frame = "map"  # the robot's map's frame, which goals and the merged map are in
+        self._team = TeamMaps(self, options.teammates, self._warn)
         source = options.pose_source or PoseSource()
         self._poses = PoseListener(self, source, self._warn)
         self._pose_from = (
@@ -146,27 +137,6 @@ class ExplorerNode(Node):
         except MapError as error:
             self._warn("map", f"map ignored: {error}")
 
-    def _on_teammate_map(self, teammate: str, message: GridMessage) -> None:
-        try:
-            grid = grid_of(message)
-            if teammate not in self._teammate_grids:
-                self.get_logger().info(f"merging the map of {teammate}")
-            self._teammate_grids[teammate] = grid
-        except MapError as error:
-            self._warn(f"/{teammate}/map", f"map of {teammate} ignored: {error}")
-
-    def _map(self, own: OccupancyGrid) -> OccupancyGrid:
-        """The map to explore: this robot's, merged with its teammates' (a teammate's map that does
-        not fit is left out, with a warning)."""
-        fitting = []
-        for teammate, grid in self._teammate_grids.items():
-            problem = misfit(own, grid)
-            if problem:
-                self._warn(f"/{teammate}/map", f"map of {teammate} not merged: {problem}")
-            else:
-                fitting.append(grid)
-        return merged_map(own, fitting)
-
     def _warn(self, topic: str, message: str) -> None:
         """Log ``message`` about ``topic`` at most every ``_WARN_PERIOD_S`` (rclpy's throttle
         shares one budget between the warnings of a node)."""
@@ -210,8 +180,8 @@ class ExplorerNode(Node):
         if pose is None:
             self._waiting(f"a pose ({self._pose_from})")
             return
-        if not self._nav.ready():
-            self._waiting(f"Nav2's {self.resolve_topic_name(NAVIGATE)} action")
+        if not self._nav.ready(self.explorer.params.recovery_paths, time.monotonic()):
+            self._waiting(f"Nav2's {self.resolve_topic_name(NAVIGATE)} and {self.resolve_topic_name(FOLLOW)} actions")
             return
         now = self._advance_clock()
         if time.monotonic() - self._heard_at > self.goal_silence_timeout:
@@ -224,9 +194,8 @@ class ExplorerNode(Node):
             return
         self._last_tick_s = now
         self._goal_ended = False
-        explored = self._map(self._grid)
-        if self._merged_pub is not None:
-            self._merged_pub.publish(grid_message(explored, self.get_clock().now().to_msg(), self._map_frame))
+        explored = self._team.merged(self._grid)
+        self._team.publish(explored, self.get_clock().now().to_msg(), self._map_frame)
         decision = self.explorer.tick(explored, pose, now)
         if isinstance(decision, Goal):
             self._send(decision)
@@ -264,8 +233,13 @@ class ExplorerNode(Node):
         number = self._sent
         stamp = self.get_clock().now().to_msg()
         self._heard()
-        self._action, future = self._nav.send(goal, self._map_frame, stamp, lambda _: self._feedback(number))
-        future.add_done_callback(lambda f: self._on_response(number, f))
+        action = self._nav.action_for(goal)
+        if self._handle is not None and action != self._action:  # two servers: the other's goal would drive on
+            self._handle.cancel_goal_async()
+            self._handle = None
+        self._action = action
+        future = self._nav.send(action, goal, self._map_frame, stamp, lambda _: self._feedback(number))
+        future.add_done_callback(lambda f: self._on_response(number, action, f))
         if goal.path is not None and self._action != FOLLOW:
             self._warn(
                 FOLLOW,
@@ -279,9 +253,13 @@ class ExplorerNode(Node):
         self.get_logger().debug(f"sent {detail}")  # --ros-args --log-level frontier_rl_explorer:=debug shows it
         self._publish(ExplorerState.RETURNING if self._returning else ExplorerState.EXPLORING, detail)
 
-    def _on_response(self, number: int, future: Future[ClientGoalHandle[Any, Any, Any]]) -> None:
+    def _on_response(self, number: int, action: str, future: Future[ClientGoalHandle[Any, Any, Any]]) -> None:
         handle = future.result()
-        if number != self._sent or handle is None:
+        if handle is None:
+            return
+        if number != self._sent:  # a newer goal went to the other action: this one would drive on
+            if handle.accepted and action != self._action:
+                handle.cancel_goal_async()
             return
         self._heard()
         if not handle.accepted:
@@ -300,7 +278,10 @@ class ExplorerNode(Node):
         if status == ActionStatus.STATUS_SUCCEEDED:
             self._goal_end(failed=False, why=f"goal {number} reached")
         elif status != ActionStatus.STATUS_CANCELED:
-            self._goal_end(failed=True, why=f"goal {number} aborted by Nav2 (status {status})")
+            error = error_text(result.result)
+            if error:  # a reason of Nav2's own (a controller id it wants, a transform it lacks): on the log
+                self._warn(f"{self._action} error", f"goal {number} aborted by {self._action}{error}")
+            self._goal_end(failed=True, why=f"goal {number} aborted by Nav2 (status {status}{error})")
 
     def _feedback(self, number: int) -> None:
         if number == self._sent:
@@ -326,10 +307,10 @@ class ExplorerNode(Node):
             self._returning = False
             self._close(why)
             return
-        if failed and self._grid is not None:
-            self.explorer.goal_failed(self._map(self._grid))  # the map the goal was chosen on: teammates' merged
+        if failed and self._grid is not None:  # judged on the map the goal was chosen on: teammates' merged
+            self.explorer.goal_failed(self._team.merged(self._grid))
         elif not failed:
-            judged = self._grid is not None and self.explorer.judged_on(self._map(self._grid))
+            judged = self._grid is not None and self.explorer.judged_on(self._team.merged(self._grid))
             if judged and self._maps.goal_ended(time.monotonic(), self._clock_now_s()):
                 why += f": waiting up to {self._maps.wait_bound_s():.1f} s for a newer map"  # on the status topic
                 self.get_logger().debug(why)

@@ -3,6 +3,7 @@ drives the simulated robot, and what it does with failed, stalled and reached go
 
 from __future__ import annotations
 
+import itertools
 import math
 
 import numpy as np
@@ -200,6 +201,9 @@ def test_a_goal_found_with_the_walls_thinned_goes_with_the_path_planned_there(re
     assert math.hypot(goal.path[0, 0] - pose.x, goal.path[0, 1] - pose.y) < 0.05  # from the robot
     assert tuple(goal.path[-1]) == pytest.approx((goal.x, goal.y))  # to the goal
     assert np.hypot(*np.diff(goal.path, axis=0).T).max() < 0.08  # cell by cell
+    renewed = [(g, p) for (f, _), (g, p) in itertools.pairwise(followed) if (g.x, g.y) == (f.x, f.y)]
+    assert renewed  # a goal under way is sent again every planner tick, its path planned from where the robot is
+    assert all(g.path is not None and math.hypot(g.path[0, 0] - p.x, g.path[0, 1] - p.y) < 0.05 for g, p in renewed)
 
 
 def test_the_simulated_robot_follows_a_path_its_costmaps_allow_and_aborts_one_they_do_not() -> None:
@@ -212,10 +216,21 @@ def test_the_simulated_robot_follows_a_path_its_costmaps_allow_and_aborts_one_th
     assert end.status is GoalStatus.SUCCEEDED
     assert math.hypot(robot.pose.x - path[-1, 0], robot.pose.y - path[-1, 1]) < 0.2
     there = (robot.pose.x, robot.pose.y)
-    robot.follow_path(np.linspace(there, (there[0] + 30.0, there[1] + 30.0), 600))  # off the map: no costmap has it
-    end = next(e for e in (robot.step() for _ in range(200)) if e is not None)
-    assert end.status is GoalStatus.ABORTED
-    assert (robot.pose.x, robot.pose.y) == pytest.approx(there)  # a turn on the spot, as for a goal not planned
+    cand = robot.sim.navigator.candidates(robot.pose)
+    beyond_a_wall = next(  # a reachable cell whose straight way from the robot crosses a wall of its map
+        cand.grid.cell_to_world(int(r), int(c))
+        for r, c in np.argwhere(cand.reachable)
+        if (
+            cand.grid.data[tuple(cand.grid.world_to_cells(np.linspace(there, cand.grid.cell_to_world(r, c), 200)).T)]
+            == CellState.OCCUPIED
+        ).any()
+    )
+    off_the_map = (there[0] + 30.0, there[1] + 30.0)
+    for goal in (beyond_a_wall, off_the_map):  # two points: the controller would drive the line between them
+        robot.follow_path(np.array([there, goal]))
+        end = next(e for e in (robot.step() for _ in range(200)) if e is not None)
+        assert end.status is GoalStatus.ABORTED
+        assert (robot.pose.x, robot.pose.y) == pytest.approx(there)  # a turn on the spot, as for a goal not planned
     for bad in (np.zeros((0, 2)), np.array([[0.0, math.nan]]), np.zeros((3, 3))):
         with pytest.raises(ValueError, match="not a list of points"):
             robot.follow_path(bad)

@@ -1,13 +1,14 @@
 """A stand-in for slam_toolbox and Nav2 that misbehaves on purpose, for the explorer's fault tests.
 
 It publishes a fixed map (a corridor whose east half is unknown: frontiers that no goal will ever
-resolve, since nothing moves) and a pose, and serves ``navigate_to_pose`` in one ``--mode``:
-``reject`` every goal, ``abort`` it, ``stall`` (accept, send feedback, never move), or ``succeed``
-at once (after ``--goal-time`` s of feedback). ``--bad-inputs`` first sends a malformed map and a NaN
-pose; ``--die-after N`` ends the process without a word once it has accepted N goals (a Nav2 that
-crashed). ``--map-period P`` publishes the map every P s, as slam_toolbox does (else once);
-``--reveal`` maps the unknown half as free when a goal succeeds (published with the next map, as a
-SLAM map lags the robot); ``--map-stops-at-goal N`` publishes no map once N goals are accepted.
+resolve, since nothing moves) and a pose, and serves ``navigate_to_pose`` (and ``follow_path``
+alike) in one ``--mode``: ``reject`` every goal, ``abort`` it, ``stall`` (accept, send feedback,
+never move), or ``succeed`` at once (after ``--goal-time`` s of feedback). ``--bad-inputs`` first
+sends a malformed map and a NaN pose; ``--die-after N`` ends the process without a word once it has
+accepted N goals (a Nav2 that crashed). ``--map-period P`` publishes the map every P s, as
+slam_toolbox does (else once); ``--reveal`` maps the unknown half as free when a goal succeeds
+(published with the next map, as a SLAM map lags the robot); ``--map-stops-at-goal N`` publishes no
+map once N goals are accepted.
 """
 
 from __future__ import annotations
@@ -22,7 +23,7 @@ import time
 import numpy as np
 import rclpy
 from geometry_msgs.msg import PoseWithCovarianceStamped
-from nav2_msgs.action import NavigateToPose
+from nav2_msgs.action import FollowPath, NavigateToPose
 from nav_msgs.msg import OccupancyGrid
 from rclpy.action.server import ActionServer, CancelResponse, GoalResponse, ServerGoalHandle
 from rclpy.executors import MultiThreadedExecutor
@@ -60,14 +61,15 @@ class FakeNav2(Node):
         self.pose_pub = self.create_publisher(PoseWithCovarianceStamped, "pose", 10)
         self.pose_x = 0.5
         self.current: ServerGoalHandle | None = None
-        ActionServer(
-            self,
-            NavigateToPose,
-            "navigate_to_pose",
-            self._execute,
-            goal_callback=self._goal,
-            cancel_callback=lambda _: CancelResponse.ACCEPT,  # as Nav2's bt_navigator does
-        )
+        for action, name in ((NavigateToPose, "navigate_to_pose"), (FollowPath, "follow_path")):
+            ActionServer(
+                self,
+                action,
+                name,
+                lambda handle, action=action: self._execute(handle, action),
+                goal_callback=self._goal,
+                cancel_callback=lambda _: CancelResponse.ACCEPT,  # as Nav2's bt_navigator does
+            )
 
     def _goal(self, _: object) -> GoalResponse:
         if self.mode == "reject":
@@ -77,28 +79,33 @@ class FakeNav2(Node):
             threading.Timer(0.2, os._exit, (1,)).start()  # a crash: no result, no goodbye
         return GoalResponse.ACCEPT
 
-    def _execute(self, handle: ServerGoalHandle) -> NavigateToPose.Result:
+    def _execute(self, handle: ServerGoalHandle, action: type) -> object:
+        feedback = (
+            NavigateToPose.Feedback(distance_remaining=1.0)
+            if action is NavigateToPose
+            else FollowPath.Feedback(distance_to_goal=1.0)
+        )
         if self.mode == "stall":
             self.current = handle  # a newer goal preempts this one, as Nav2's does
             while rclpy.ok() and not handle.is_cancel_requested and handle.is_active and self.current is handle:
-                handle.publish_feedback(NavigateToPose.Feedback(distance_remaining=1.0))
+                handle.publish_feedback(feedback)
                 time.sleep(0.1)
             if handle.is_cancel_requested:
                 handle.canceled()
                 print("goal canceled", flush=True)
             elif handle.is_active:
                 handle.abort()
-            return NavigateToPose.Result()
+            return action.Result()
         if self.mode == "succeed":
             deadline = time.monotonic() + self.goal_time
             while time.monotonic() < deadline and not handle.is_cancel_requested:
-                handle.publish_feedback(NavigateToPose.Feedback(distance_remaining=1.0))
+                handle.publish_feedback(feedback)
                 time.sleep(0.05)
             self.revealed = self.revealed or self.reveal
             handle.succeed()
         else:
             handle.abort()
-        return NavigateToPose.Result()
+        return action.Result()
 
 
 def main() -> None:

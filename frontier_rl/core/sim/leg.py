@@ -125,6 +125,8 @@ class Leg:
         frontier_cells: the world cells of the goal's frontier, None for a point goal.
         recovery: the costmap the path was planned on (the normal one, or a level of the
             narrow-passage recovery's), which replanning keeps to.
+        replans: False for a path given to follow (as Nav2's controller follows one): where the map
+            comes to block it the leg is given up (``no_path``), not replanned.
     """
 
     def __init__(
@@ -134,8 +136,11 @@ class Leg:
         goal: tuple[float, float],
         frontier_cells: NDArray[np.int64] | None,
         recovery: Recovery,
+        *,
+        replans: bool = True,
     ) -> None:
         self._port = port
+        self._replans = replans
         self.goal = goal
         self._frontier_cells = frontier_cells
         self._recovery = recovery
@@ -199,7 +204,7 @@ class Leg:
             if status == FollowStatus.BLOCKED or (
                 seen is not None and port.navigator.path_blocked(self._path_cells, self._index, self._recovery)
             ):
-                path = yield from self._replan_or_recover()
+                path = (yield from self._replan_or_recover()) if self._replans else None
                 if path is None:
                     return self._lost_way()
                 self._set_path(path)

@@ -122,10 +122,23 @@ def point_goal_cell(cand: Candidates, x: float, y: float) -> tuple[int, int] | N
     return nearest_cell(cand.reachable, (row, col), max_radius=int(math.ceil(math.hypot(*g.shape))))
 
 
+def path_to_follow(path: NDArray[np.float64], pose: Pose, resolution: float) -> NDArray[np.float64]:
+    """``path`` ((n, 2), m) from its point nearest the robot at ``pose`` on, as Nav2's controllers
+    prune a path they are given, with points at most half a cell (``resolution``, m) apart along
+    its segments: a path of a few points crosses the cells between them."""
+    path = path[int(np.argmin(np.hypot(path[:, 0] - pose.x, path[:, 1] - pose.y))) :]
+    pieces = np.maximum(np.ceil(np.hypot(*np.diff(path, axis=0).T) / (resolution / 2)), 1).astype(np.int64)
+    steps = [
+        a + np.arange(1, k + 1)[:, None] / k * (b - a) for a, b, k in zip(path[:-1], path[1:], pieces, strict=True)
+    ]
+    return np.concatenate([path[:1], *steps])
+
+
 def path_fits(cand: Candidates, path: NDArray[np.float64], pose: Pose) -> bool:
-    """Whether ``cand``'s costmap lets the robot at ``pose`` along ``path`` ((n, 2), m): every
-    point within its grid, and every cell beyond the costmap's escape radius of the robot one the
-    robot may stand on (within it, as the planner lets a robot too close to a wall leave)."""
+    """Whether ``cand``'s costmap lets the robot at ``pose`` along ``path`` ((n, 2), m, its points
+    no farther apart than a cell: :func:`path_to_follow`): every point within its grid, and every
+    cell beyond the costmap's escape radius of the robot one the robot may stand on (within it, as
+    the planner lets a robot too close to a wall leave)."""
     g = cand.grid
     cells = g.world_to_cells(path)
     if len(cells) == 0 or not all(g.in_bounds(int(r), int(c)) for r, c in cells):

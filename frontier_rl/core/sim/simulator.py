@@ -32,7 +32,7 @@ from frontier_rl.core.sim.leg import Leg, run_leg
 from frontier_rl.core.sim.leg_result import AbortCause, LegOutcome, LegResult
 from frontier_rl.core.sim.metrics import EndReason, EpisodeResult, FrontierLeft
 from frontier_rl.core.sim.navigator import CANDIDATE_MAP_MARGIN, Navigator
-from frontier_rl.core.sim.paths import path_fits, plan_path, point_goal_cell
+from frontier_rl.core.sim.paths import path_fits, path_to_follow, plan_path, point_goal_cell
 from frontier_rl.core.sim.teammates import Teammates
 from frontier_rl.core.world.grid import CellState, OccupancyGrid
 from frontier_rl.core.world.robot import Pose
@@ -309,18 +309,22 @@ class ExplorationSimulator:
         return (yield from self._drive(Leg(self, path, goal, None, cand.recovery), -1, weight))
 
     def follow_steps(self, path: NDArray[np.float64]) -> Generator[None, None, LegResult]:
-        """Drive along ``path`` ((n, 2), m, from the robot to its goal) one map update at a time, as
-        Nav2's controller follows a path it is given: on the first of the normal and the
-        narrow-passage recovery's costmaps that lets the robot along all of it (a controller checks
-        the walls its LiDAR sees now, not the map's walls that range noise thickened), replanning on
-        that costmap where the map comes to block it. A path none lets the robot along is aborted,
-        as a goal that cannot be planned to."""
+        """Drive along ``path`` ((n, 2), m, ending at its goal) one map update at a time, as Nav2's
+        controller follows a path it is given: from its point nearest the robot, on the first of the
+        normal and the narrow-passage recovery's costmaps that lets the robot along all of it (a
+        controller checks the walls its LiDAR sees now, not the map's walls that range noise
+        thickened), given up where the map comes to block it or the robot makes no progress (a
+        controller does not replan). A path none lets the robot along is aborted, as a goal that
+        cannot be planned to."""
         grid = self.mapper.occupancy_grid(margin=CANDIDATE_MAP_MARGIN)
+        path = path_to_follow(path, self.pose, grid.resolution)
         goal = (float(path[-1, 0]), float(path[-1, 1]))
+        nav = self.config.navigation
+        none = Blacklist(nav.blacklist_radius, nav.max_goal_failures, grid.resolution, grid.origin)  # costmaps only
         for level in Recovery:
-            cand = self.navigator.candidates_on(grid, level, self.pose)
+            cand = self.navigator.candidates_on(grid, level, self.pose, none)
             if path_fits(cand, path, self.pose):
-                return (yield from self._drive(Leg(self, path, goal, None, level), -1, None))
+                return (yield from self._drive(Leg(self, path, goal, None, level, replans=False), -1, None))
         self.log.abort(AbortCause.NOT_PLANNED)
         return (yield from self._turn_on_the_spot(LegOutcome.ABORTED, goal, None))
 
