@@ -32,7 +32,8 @@ sys.path.insert(0, str(Path(__file__).resolve().parents[1]))  # bench this check
 from frontier_rl import api
 from frontier_rl.core.sim.episode import warm_up
 from frontier_rl.policies.registry import make_policy
-from frontier_rl.robot.explorer import FrontierExplorer, Goal
+from frontier_rl.robot.explorer import FrontierExplorer
+from frontier_rl.robot.explorer_decision import Goal
 from frontier_rl.robot.explorer_params import ExplorerParams
 from frontier_rl.robot.sim_robot import SimulatedRobot, explore_in_process
 from frontier_rl.ros2.loopback import cli, loopback_problem, run_in_loopback

@@ -15,7 +15,7 @@ owns a :class:`FrontierExplorer` tells it what happened to each goal.
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass, replace
+from dataclasses import replace
 
 import numpy as np
 from numpy.typing import NDArray
@@ -31,11 +31,12 @@ from frontier_rl.core.sim.episode_log import completion_reason
 from frontier_rl.core.sim.frontiers_left import frontiers_left
 from frontier_rl.core.sim.look_state import LookState
 from frontier_rl.core.sim.looks import LOOK_PAYOFF_M2
-from frontier_rl.core.sim.metrics import EndReason, FrontierLeft
+from frontier_rl.core.sim.metrics import EndReason
 from frontier_rl.core.sim.paths import point_goal_cell
 from frontier_rl.core.world.grid import FREE_I8, CellState, OccupancyGrid
 from frontier_rl.core.world.robot import Pose
 from frontier_rl.errors import ConfigError, short_repr
+from frontier_rl.robot.explorer_decision import Finished, Goal
 from frontier_rl.robot.explorer_params import ExplorerParams
 
 
@@ -44,68 +45,6 @@ def check_robot_policy(policy: ExplorationPolicy, spec: str) -> None:
     :class:`~frontier_rl.core.sim.episode.EpisodeAwarePolicy`, the oracle), which a robot does not have."""
     if isinstance(policy, EpisodeAwarePolicy):
         raise ConfigError(f"policy {short_repr(spec)} plans on the true map, which a robot does not have")
-
-
-@dataclass(frozen=True)
-class Goal:
-    """A goal for the navigation stack.
-
-    Attributes:
-        x, y: where to drive (m, map frame).
-        frontier: the cells (m, map frame, (k, 2)) of the frontier it is for; empty for a point
-            goal (a point policy's, or the way back to the start).
-        weight: the ranking weight the policy used, if any.
-        recovery: the costmap it was found on (the narrow-passage recovery's, where the normal one had none).
-        look: a last look (:mod:`frontier_rl.core.sim.looks`) at ``frontier``'s cluster: it lasts
-            until the navigation stack ends it, and is a visit of the cluster whatever it shows.
-        path: for a goal found on a ``recovery`` level (with ``recovery_paths``), the way there
-            ((n, 2), m, map frame, from the robot to the goal) planned on that level's costmap: a
-            navigation stack that plans on its own costmap, where the map's doorway is too narrow,
-            finds none, and is given this path to follow instead.
-    """
-
-    x: float
-    y: float
-    frontier: NDArray[np.float64]
-    weight: float | None = None
-    recovery: Recovery = Recovery.NONE
-    look: Look = Look.NONE
-    path: NDArray[np.float64] | None = None
-
-
-@dataclass(frozen=True)
-class Finished:
-    """Exploration is over.
-
-    Attributes:
-        reason: ``explored``, ``unreachable`` (frontiers left, larger than a speck, with unknown
-            space beside or behind them) or ``time_cap``.
-        left: those frontiers, judged on the map alone: every unknown cell could be free
-            (``unseen_free_cells`` counts the unknown cells beside one, ``unseen_behind_m2`` the
-            unknown region it opens onto, within the map's bounds; ``has_path``, the audit).
-        specks: frontiers left no larger than a speck (scan artefacts, gaps in walls).
-    """
-
-    reason: EndReason
-    left: tuple[FrontierLeft, ...]
-    specks: int
-
-    @property
-    def unknown_beside_m2(self) -> float:
-        """The unknown area (m²) beside the frontiers left."""
-        return float(sum(f.unknown_m2 for f in self.left))
-
-    @property
-    def with_a_path(self) -> int:
-        """How many frontiers left the map still has a path to (the audit), not counting the
-        unrevealable ones (:attr:`unrevealable`)."""
-        return sum(f.has_path and not f.unrevealable for f in self.left)
-
-    @property
-    def unrevealable(self) -> int:
-        """How many frontiers left are unrevealable: reached twice without their frontier going away,
-        or with no more than a speck of their unknown in sight of any cell the robot can reach."""
-        return sum(f.unrevealable for f in self.left)
 
 
 class FrontierExplorer:

@@ -25,7 +25,8 @@ from frontier_rl.core.sim.simulator import ExplorationSimulator
 from frontier_rl.core.world.grid import OccupancyGrid
 from frontier_rl.core.world.robot import Pose
 from frontier_rl.core.world.worlds import World
-from frontier_rl.robot.explorer import Finished, FrontierExplorer, Goal
+from frontier_rl.robot.explorer import FrontierExplorer
+from frontier_rl.robot.explorer_decision import Finished, Goal
 
 
 class GoalStatus(Enum):

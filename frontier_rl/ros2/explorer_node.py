@@ -32,7 +32,8 @@ from visualization_msgs.msg import MarkerArray
 
 from frontier_rl.core.world.grid import OccupancyGrid
 from frontier_rl.errors import ConfigError, MapError
-from frontier_rl.robot.explorer import Finished, FrontierExplorer, Goal
+from frontier_rl.robot.explorer import FrontierExplorer
+from frontier_rl.robot.explorer_decision import Finished, Goal
 from frontier_rl.robot.map_watch import MapWait, MapWatch
 from frontier_rl.robot.pose_source import PoseKind, PoseSource
 from frontier_rl.robot.throttled_log import ThrottledLog

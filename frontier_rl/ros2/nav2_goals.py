@@ -21,7 +21,7 @@ from rclpy.node import Node
 from rclpy.task import Future
 
 from frontier_rl.core.world.robot import Pose
-from frontier_rl.robot.explorer import Goal
+from frontier_rl.robot.explorer_decision import Goal
 from frontier_rl.ros2.messages import path_message, pose_stamped
 
 NAVIGATE = "navigate_to_pose"

@@ -20,6 +20,7 @@ from frontier_rl.core.navigation.follower import FollowerParams, FollowStatus, c
 from frontier_rl.core.navigation.thin_walls import Recovery
 from frontier_rl.core.sim.config import SimConfig
 from frontier_rl.core.sim.leg_result import AbortCause, LegOutcome
+from frontier_rl.core.sim.paths import cells_beyond
 from frontier_rl.core.sim.teammates import Teammates
 from frontier_rl.core.world.robot import Pose
 from frontier_rl.core.world.worlds import World
@@ -115,6 +116,11 @@ class ProgressWatchdog:
         return time_s - self._since
 
 
+LOCAL_COSTMAP_REACH_M = 1.5
+"""How far along a path given to follow (m) a wall on the map ends it: half the side of Nav2's
+default local costmap (3 m), the window its controller checks."""
+
+
 class Leg:
     """One drive along ``path`` (n, 2) (m) to ``goal`` (m): :meth:`run` it to its end.
 
@@ -125,8 +131,10 @@ class Leg:
         frontier_cells: the world cells of the goal's frontier, None for a point goal.
         recovery: the costmap the path was planned on (the normal one, or a level of the
             narrow-passage recovery's), which replanning keeps to.
-        replans: False for a path given to follow (as Nav2's controller follows one): where the map
-            comes to block it the leg is given up (``no_path``), not replanned.
+        given_path: a path given to follow, as Nav2's controller follows one: walls on the map are
+            looked for only within :data:`LOCAL_COSTMAP_REACH_M` along it, and one there (or one
+            the robot touched) is driven round on the same costmap, with no recovery rotations;
+            where there is no way round, the leg is given up (``no_path``).
     """
 
     def __init__(
@@ -137,10 +145,10 @@ class Leg:
         frontier_cells: NDArray[np.int64] | None,
         recovery: Recovery,
         *,
-        replans: bool = True,
+        given_path: bool = False,
     ) -> None:
         self._port = port
-        self._replans = replans
+        self._given_path = given_path
         self.goal = goal
         self._frontier_cells = frontier_cells
         self._recovery = recovery
@@ -175,7 +183,7 @@ class Leg:
         return outcome
 
     def _drive(self) -> Generator[None, None, LegOutcome]:
-        port = self._port
+        port, given_path = self._port, self._given_path
         while not port.truncated:
             status, seen = self._follow()
             yield
@@ -201,14 +209,29 @@ class Leg:
             if status == FollowStatus.BLOCKED:
                 port.bump()
             # only a map update can put a new obstacle on the path
-            if status == FollowStatus.BLOCKED or (
-                seen is not None and port.navigator.path_blocked(self._path_cells, self._index, self._recovery)
-            ):
-                path = (yield from self._replan_or_recover()) if self._replans else None
+            if status == FollowStatus.BLOCKED or (seen is not None and self._path_blocked()):
+                path = (yield from self._replan_or_recover()) if not given_path else self._round_the_wall()
                 if path is None:
                     return self._lost_way()
                 self._set_path(path)
         return LegOutcome.TIMEOUT
+
+    def _path_blocked(self) -> bool:
+        """Whether the map puts a wall on the path from the robot's waypoint on; for a path given
+        to follow, only within :data:`LOCAL_COSTMAP_REACH_M` along it (a controller sees its local
+        costmap only, and whoever gave it the path replans farther on) and beyond the planner's
+        escape radius of the robot (:func:`~frontier_rl.core.sim.paths.cells_beyond`)."""
+        navigator, index = self._port.navigator, self._index
+        if not self._given_path:
+            return navigator.path_blocked(self._path_cells, index, self._recovery)
+        end = index + int(np.count_nonzero(self._tail[index:] >= self._tail[index] - LOCAL_COSTMAP_REACH_M))
+        cells = cells_beyond(self._path[index:end], self._path_cells[index:end], self._port.pose)
+        return len(cells) > 0 and navigator.path_blocked(cells, 0, self._recovery)
+
+    def _round_the_wall(self) -> NDArray[np.float64] | None:
+        """A path given to follow, blocked near the robot: a new way to the goal on its costmap (as a
+        controller steers round what its local costmap shows), without the recovery rotations."""
+        return self._port.navigator.replan(self.goal, self._recovery, self._port.pose)
 
     def _lost_way(self) -> LegOutcome:
         """No path is left after the recovery rotations: the time cap ended the leg, or it gives up."""

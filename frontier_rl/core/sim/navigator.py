@@ -132,12 +132,9 @@ class Navigator:
             self.forget()
         return cand
 
-    def candidates_on(
-        self, grid: OccupancyGrid, recovery: Recovery, pose: Pose, blacklist: Blacklist | None = None
-    ) -> Candidates:
+    def candidates_on(self, grid: OccupancyGrid, recovery: Recovery, pose: Pose) -> Candidates:
         """The candidates on ``grid`` (a crop of the robot's map) with the normal costmap or a
-        narrow-passage ``recovery``'s, the goals ``blacklist`` (the robot's own when None) blocks
-        left out."""
+        narrow-passage ``recovery``'s."""
         top, left = self._world.grid.world_to_cell(*grid.cell_to_world(0, 0))
         crop = (slice(top, top + grid.height), slice(left, left + grid.width))
         felt = self._mapper.felt[crop]
@@ -149,7 +146,7 @@ class Navigator:
             grid,
             pose,
             self._config,
-            self.blacklist if blacklist is None else blacklist,
+            self.blacklist,
             state,
             self._scratch,
             recovery,

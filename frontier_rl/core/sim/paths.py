@@ -134,17 +134,13 @@ def path_to_follow(path: NDArray[np.float64], pose: Pose, resolution: float) -> 
     return np.concatenate([path[:1], *steps])
 
 
-def path_fits(cand: Candidates, path: NDArray[np.float64], pose: Pose) -> bool:
-    """Whether ``cand``'s costmap lets the robot at ``pose`` along ``path`` ((n, 2), m, its points
-    no farther apart than a cell: :func:`path_to_follow`): every point within its grid, and every
-    cell beyond the costmap's escape radius of the robot one the robot may stand on (within it, as
-    the planner lets a robot too close to a wall leave)."""
-    g = cand.grid
-    cells = g.world_to_cells(path)
-    if len(cells) == 0 or not all(g.in_bounds(int(r), int(c)) for r, c in cells):
-        return False
-    beyond = np.hypot(path[:, 0] - pose.x, path[:, 1] - pose.y) > ESCAPE_RADIUS_M
-    return bool(cand.costmap.traversable[cells[beyond, 0], cells[beyond, 1]].all())
+def cells_beyond(
+    path: NDArray[np.float64], cells: NDArray[np.int64], pose: Pose, radius: float = ESCAPE_RADIUS_M
+) -> NDArray[np.int64]:
+    """The ``cells`` ((n, 2)) of ``path``'s points ((n, 2), m) farther than ``radius`` (m; the
+    planner's escape radius) from the robot at ``pose``: a robot too close to a wall may leave it,
+    as the planner lets it."""
+    return cells[np.hypot(path[:, 0] - pose.x, path[:, 1] - pose.y) > radius]
 
 
 def passable_goal_cell(cand: Candidates, goal: tuple[float, float]) -> tuple[int, int] | None:

@@ -32,7 +32,7 @@ from frontier_rl.core.sim.leg import Leg, run_leg
 from frontier_rl.core.sim.leg_result import AbortCause, LegOutcome, LegResult
 from frontier_rl.core.sim.metrics import EndReason, EpisodeResult, FrontierLeft
 from frontier_rl.core.sim.navigator import CANDIDATE_MAP_MARGIN, Navigator
-from frontier_rl.core.sim.paths import path_fits, path_to_follow, plan_path, point_goal_cell
+from frontier_rl.core.sim.paths import cells_beyond, path_to_follow, plan_path, point_goal_cell
 from frontier_rl.core.sim.teammates import Teammates
 from frontier_rl.core.world.grid import CellState, OccupancyGrid
 from frontier_rl.core.world.robot import Pose
@@ -310,21 +310,22 @@ class ExplorationSimulator:
 
     def follow_steps(self, path: NDArray[np.float64]) -> Generator[None, None, LegResult]:
         """Drive along ``path`` ((n, 2), m, ending at its goal) one map update at a time, as Nav2's
-        controller follows a path it is given: from its point nearest the robot, on the first of the
-        normal and the narrow-passage recovery's costmaps that lets the robot along all of it (a
-        controller checks the walls its LiDAR sees now, not the map's walls that range noise
-        thickened), given up where the map comes to block it or the robot makes no progress (a
-        controller does not replan). A path none lets the robot along is aborted, as a goal that
-        cannot be planned to."""
-        grid = self.mapper.occupancy_grid(margin=CANDIDATE_MAP_MARGIN)
-        path = path_to_follow(path, self.pose, grid.resolution)
+        controller follows a path it is given: from its point nearest the robot, for the first of
+        the normal robot and the narrow-passage recovery's (walls half a cell and a cell thinner,
+        a slimmer robot) whose map lets it along the whole path beyond the planner's escape radius
+        (a controller checks the walls its LiDAR sees now, not the map's walls that range noise
+        thickened); driven round a wall the map puts on it near the robot (a controller steers round
+        what its local costmap shows), given up where there is no way round or the robot makes no
+        progress. A path none lets the robot along is aborted, as a
+        goal that cannot be planned to."""
+        path = path_to_follow(path, self.pose, self.world.grid.resolution)
         goal = (float(path[-1, 0]), float(path[-1, 1]))
-        nav = self.config.navigation
-        none = Blacklist(nav.blacklist_radius, nav.max_goal_failures, grid.resolution, grid.origin)  # costmaps only
+        cells = self.world.grid.world_to_cells(path)
+        inside = bool(((cells >= 0) & (cells < np.array(self.world.grid.shape))).all())
+        far = cells_beyond(path, cells, self.pose)
         for level in Recovery:
-            cand = self.navigator.candidates_on(grid, level, self.pose, none)
-            if path_fits(cand, path, self.pose):
-                return (yield from self._drive(Leg(self, path, goal, None, level, replans=False), -1, None))
+            if inside and (len(far) == 0 or not self.navigator.path_blocked(far, 0, level)):
+                return (yield from self._drive(Leg(self, path, goal, None, level, given_path=True), -1, None))
         self.log.abort(AbortCause.NOT_PLANNED)
         return (yield from self._turn_on_the_spot(LegOutcome.ABORTED, goal, None))
 
