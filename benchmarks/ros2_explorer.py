@@ -42,14 +42,15 @@ POLICIES = ("nearest", "fixed:0.75", "learned:models/model7.zip")
 
 
 class _TimedExplorer(FrontierExplorer):
-    """An explorer that times its ticks that chose a goal (s)."""
+    """An explorer that times its ticks that chose a goal (s; a goal sent again with its path
+    renewed is no choice)."""
 
     decision_times: list[float]
 
     def tick(self, *args: Any, **kwargs: Any) -> Any:
-        started = time.perf_counter()
+        started, decisions = time.perf_counter(), self.decisions
         decision = super().tick(*args, **kwargs)
-        if isinstance(decision, Goal):
+        if isinstance(decision, Goal) and self.decisions > decisions:
             self.decision_times.append(time.perf_counter() - started)
         return decision
 

@@ -123,7 +123,7 @@ class FrontierExplorer:
         """The goal under way with its path planned afresh from ``pose`` on ``grid`` (at its level),
         as Nav2's behaviour tree replans a ``navigate_to_pose`` goal every second: the map under a
         path goes on changing while the robot follows it; None for a goal without a path, or when
-        no path is left (the navigation stack ends the goal)."""
+        no path to the same end is left (the navigation stack ends the goal)."""
         goal = self.goal
         if goal is None or goal.path is None:
             return None
@@ -131,7 +131,7 @@ class FrontierExplorer:
         none = Blacklist(nav.blacklist_radius, nav.max_goal_failures, grid.resolution, grid.origin)  # costmap only
         cand = find_candidates(grid, pose, self.config, none, grid.data, recovery=goal.recovery)
         path = _path_on(cand, pose, goal.x, goal.y)
-        if path is None:
+        if path is None or not np.allclose(path[-1], goal.path[-1]):  # a way elsewhere is none
             return None
         self.goal = replace(goal, path=path)
         return self.goal

@@ -21,6 +21,7 @@ from frontier_rl.core.sensing.lidar import Lidar, Scan
 from frontier_rl.core.sim.config import SimConfig
 from frontier_rl.core.sim.leg_result import LegOutcome, LegResult
 from frontier_rl.core.sim.metrics import EpisodeResult
+from frontier_rl.core.sim.paths import path_to_follow
 from frontier_rl.core.sim.simulator import ExplorationSimulator
 from frontier_rl.core.world.grid import OccupancyGrid
 from frontier_rl.core.world.robot import Pose
@@ -97,13 +98,22 @@ class SimulatedRobot:
         """Drive along ``path`` ((n, 2), m, map frame, ending at the goal), replacing any goal under
         way, as Nav2's controller follows a path (:meth:`ExplorationSimulator.follow_steps
         <frontier_rl.core.sim.simulator.ExplorationSimulator.follow_steps>`); its end is judged as
-        :meth:`send_goal`'s, at the path's last point."""
+        :meth:`send_goal`'s, at the path's last point. A path to the goal of the path under way
+        (within a cell) is taken by the leg under way, its progress kept, as Nav2's controller
+        takes a goal's next path."""
         path = np.asarray(path, np.float64)
         if path.ndim != 2 or path.shape[1] != 2 or len(path) == 0 or not np.isfinite(path).all():
             raise ValueError(f"path of shape {path.shape} is not a list of points")
+        goal = (float(path[-1, 0]), float(path[-1, 1]))
+        leg, resolution = self.sim.leg, self.sim.world.grid.resolution
+        under_way = self.goal if self._leg is not None and leg is not None and leg.given_path else None
+        same = under_way is not None and math.hypot(goal[0] - under_way[0], goal[1] - under_way[1]) <= resolution
+        if leg is not None and same:
+            leg.take_path(path_to_follow(path, self.pose, resolution))  # the same goal: the leg goes on
+            return
         self.cancel()
         self._leg = self.sim.follow_steps(path)
-        self.goal = (float(path[-1, 0]), float(path[-1, 1]))
+        self.goal = goal
 
     def cancel(self) -> None:
         """Stop the goal under way where the robot is."""

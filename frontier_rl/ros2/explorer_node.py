@@ -100,7 +100,8 @@ class ExplorerNode(Node):
         self._marker_pub = self.create_publisher(MarkerArray, "explore/frontiers", 10)
         self._nav = Nav2Goals(self)
         self._action = NAVIGATE  # the action of the goal in flight
-        self._sent = 0  # goals sent; a result or response of an older one is ignored
+        self._sent = 0  # goals sent (a path goal again at every tick); a result or response of an older one is ignored
+        self._label = "goal 0"  # the goal in flight, as the log and the status name it: the decision's number
         self._handle: ClientGoalHandle[Any, Any, Any] | None = None
         self._clock_s: float | None = None  # the node's clock at the last poll (s)
         self._elapsed_s = 0.0  # time explored (s): the node's clock, never running backwards
@@ -216,7 +217,7 @@ class ExplorerNode(Node):
             self._warn(
                 "map_stale",
                 f"no map on {self.resolve_topic_name('map')} for {self._maps.age_s(wall_s):.1f} s (it came every "
-                f"{self._maps.period_s or 0.0:.2f} s): goal {self._sent} is judged on the last one",
+                f"{self._maps.period_s or 0.0:.2f} s): {self._label} is judged on the last one",
             )
         elif wait is MapWait.QUIET and not self._maps.waits:
             self.get_logger().info(
@@ -232,40 +233,42 @@ class ExplorerNode(Node):
     def _send(self, goal: Goal) -> None:
         self._sent += 1
         number = self._sent
+        self._label = "the way home" if self._returning else f"goal {self.explorer.decisions}"
         stamp = self.get_clock().now().to_msg()
-        self._heard()
+        if self._heard_at == math.inf:  # a goal sent again (its path renewed) does not reset Nav2's silence
+            self._heard()
         action = self._nav.action_for(goal)
         if self._handle is not None and action != self._action:  # two servers: the other's goal would drive on
             self._handle.cancel_goal_async()
             self._handle = None
         self._action = action
         future = self._nav.send(action, goal, self._map_frame, stamp, lambda _: self._feedback(number))
-        future.add_done_callback(lambda f: self._on_response(number, action, f))
+        future.add_done_callback(lambda f: self._on_response(number, f))
         if goal.path is not None and self._action != FOLLOW:
             self._warn(
                 FOLLOW,
-                f"Nav2's {self.resolve_topic_name(FOLLOW)} action is not up: goal {number}, found with the map's "
+                f"Nav2's {self.resolve_topic_name(FOLLOW)} action is not up: {self._label}, found with the map's "
                 "walls thinned, goes to navigate_to_pose, whose planner may find no way there",
             )
         if self.visualize and self._grid is not None:
             candidates = [(float(x), float(y)) for x, y in self.explorer.candidate_goals]
             self._marker_pub.publish(frontier_markers(candidates, (goal.x, goal.y), self.get_clock().now().to_msg()))
-        detail = f"goal {number} at ({goal.x:.2f}, {goal.y:.2f})" + (" along a path" if self._action == FOLLOW else "")
+        detail = f"{self._label} at ({goal.x:.2f}, {goal.y:.2f})" + (" along a path" if self._action == FOLLOW else "")
         self.get_logger().debug(f"sent {detail}")  # --ros-args --log-level frontier_rl_explorer:=debug shows it
         self._publish(ExplorerState.RETURNING if self._returning else ExplorerState.EXPLORING, detail)
 
-    def _on_response(self, number: int, action: str, future: Future[ClientGoalHandle[Any, Any, Any]]) -> None:
+    def _on_response(self, number: int, future: Future[ClientGoalHandle[Any, Any, Any]]) -> None:
         handle = future.result()
         if handle is None:
             return
-        if number != self._sent:  # a newer goal went to the other action: this one would drive on
-            if handle.accepted and action != self._action:
+        if number != self._sent:  # a newer goal went out (or this one was dropped): this one must not drive on
+            if handle.accepted:  # a server a newer goal went to has preempted it already; the other has not
                 handle.cancel_goal_async()
             return
         self._heard()
         if not handle.accepted:
             self._heard_at = math.inf
-            self._goal_end(failed=True, why=f"goal {number} rejected by Nav2")
+            self._goal_end(failed=True, why=f"{self._label} rejected by Nav2")
             return
         self._handle = handle
         handle.get_result_async().add_done_callback(lambda f: self._on_result(number, f))
@@ -277,12 +280,12 @@ class ExplorerNode(Node):
         status = result.status
         self._handle, self._heard_at = None, math.inf
         if status == ActionStatus.STATUS_SUCCEEDED:
-            self._goal_end(failed=False, why=f"goal {number} reached")
+            self._goal_end(failed=False, why=f"{self._label} reached")
         elif status != ActionStatus.STATUS_CANCELED:
             error = error_text(result.result)
             if error:  # a reason of Nav2's own (a controller id it wants, a transform it lacks): on the log
-                self._warn(f"{self._action} error", f"goal {number} aborted by {self._action}{error}")
-            self._goal_end(failed=True, why=f"goal {number} aborted by Nav2 (status {status}{error})")
+                self._warn(f"{self._action} error", f"{self._label} aborted by {self._action}{error}")
+            self._goal_end(failed=True, why=f"{self._label} aborted by Nav2 (status {status}{error})")
 
     def _feedback(self, number: int) -> None:
         if number == self._sent:
@@ -291,7 +294,7 @@ class ExplorerNode(Node):
     def _lost(self) -> None:
         """Nav2 fell silent on the goal in flight: drop it (its server went away) and decide again
         once the server is back."""
-        why = f"no word from {self._action} on goal {self._sent} for {self.goal_silence_timeout:g} s: dropped"
+        why = f"no word from {self._action} on {self._label} for {self.goal_silence_timeout:g} s: dropped"
         self.get_logger().warn(why)
         self._sent += 1  # whatever the old server says later is ignored
         self._handle, self._heard_at = None, math.inf
@@ -325,7 +328,7 @@ class ExplorerNode(Node):
         not drive on to it); the cancel request's future, or None when no goal is under way."""
         if self._handle is None:
             return None
-        self.get_logger().info(f"cancelling goal {self._sent}: the explorer is stopping")  # ended or stopped
+        self.get_logger().info(f"cancelling {self._label}: the explorer is stopping")  # ended or stopped
         return self._handle.cancel_goal_async()
 
     def _finish(self, finished: Finished) -> None:

@@ -143,7 +143,7 @@ class RobotPort:
     ) -> None:
         """Run a goal ``start`` sets the robot off on until it ends (the node's timer steps it),
         and end its handle as it ended; a newer goal, of either action, preempts it."""
-        self._end(GoalStatus.ABORTED)  # preempted
+        self._end(GoalStatus.ABORTED, stop=not follows_path)  # preempted (a path to follow may go on: start)
         done: Future[GoalStatus | str] = Future()
         start()
         self._active = _ActiveGoal(handle, done, self.robot.sim_time, follows_path)
@@ -156,9 +156,10 @@ class RobotPort:
         else:
             handle.abort()
 
-    def _end(self, status: GoalStatus | str) -> None:
+    def _end(self, status: GoalStatus | str, stop: bool = True) -> None:
         if self._active is not None:
-            self.robot.cancel()
+            if stop:
+                self.robot.cancel()
             self._active.done.set_result(status)
             self._active = None
             self._map_sent_at = -math.inf  # the map as the goal ended, before its result

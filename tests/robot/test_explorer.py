@@ -213,6 +213,10 @@ def test_the_simulated_robot_follows_a_path_its_costmaps_allow_and_aborts_one_th
     goal_cell = (int(cand.frontiers.goal_cells[0][0]), int(cand.frontiers.goal_cells[0][1]))
     path = cand.grid.cells_to_world(cand.costmap.plan(cand.grid.world_to_cell(robot.pose.x, robot.pose.y), goal_cell))
     robot.follow_path(path)
+    assert all(robot.step() is None for _ in range(3))
+    leg = robot.sim.leg
+    robot.follow_path(path[len(path) // 2 :])  # the same goal's next path: the drive under way takes it
+    assert robot.sim.leg is leg and leg is not None and leg.given_path
     end = next(e for e in (robot.step() for _ in range(2000)) if e is not None)
     assert end.status is GoalStatus.SUCCEEDED
     assert math.hypot(robot.pose.x - path[-1, 0], robot.pose.y - path[-1, 1]) < 0.2

@@ -176,6 +176,17 @@ class Leg:
         self._careful = careful_flags()  # the follower's waypoint-by-waypoint modes, per path
         self._index = 0
 
+    @property
+    def given_path(self) -> bool:
+        """Whether the leg follows a path it was given (:meth:`take_path`)."""
+        return self._given_path
+
+    def take_path(self, path: NDArray[np.float64]) -> None:
+        """Follow ``path`` ((n, 2), m, from the robot to the leg's goal) from now on, as a
+        controller takes the next path of the goal it drives to: the leg's progress, detour and
+        costmap are kept."""
+        self._set_path(path)
+
     def run(self) -> Generator[None, None, LegOutcome]:
         """Drive until the leg ends, yielding after every map update (or LiDAR tick of a turn)."""
         outcome = yield from self._drive()

@@ -95,6 +95,7 @@ class ExplorationSimulator:
             self.log,
         )
         self.target: tuple[float, float] | None = None  # the frontier centre or point of the leg under way
+        self.leg: Leg | None = None  # the leg under way
         self.set_teammates(np.zeros((0, 2)) if teammates is None else teammates)
         self._scan()
 
@@ -332,11 +333,11 @@ class ExplorationSimulator:
     def _drive(self, leg: Leg, index: int, weight: float | None) -> Generator[None, None, LegResult]:
         """Run ``leg`` (to frontier ``index``, -1 for a point) and log the decision."""
         start_time, start_len, start_xy = self.sim_time, self.path_length, (self.pose.x, self.pose.y)
-        self.target = leg.goal
+        self.target, self.leg = leg.goal, leg
         try:
             outcome = yield from leg.run()
         finally:
-            self.target = None
+            self.target = self.leg = None
         if outcome is LegOutcome.ABORTED and leg.abort_cause is not None:
             self.log.abort(leg.abort_cause)
         result = LegResult(
