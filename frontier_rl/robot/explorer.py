@@ -22,9 +22,10 @@ from numpy.typing import NDArray
 
 from frontier_rl.core.frontiers.blacklist import Blacklist
 from frontier_rl.core.frontiers.fringe import count_fringe
+from frontier_rl.core.navigation.costmap import Costmap
 from frontier_rl.core.navigation.inflation import InflationMemory
 from frontier_rl.core.navigation.thin_walls import Recovery
-from frontier_rl.core.sim.candidates import Candidates, Look, find_candidates
+from frontier_rl.core.sim.candidates import Candidates, Look, find_candidates, reachable_cells
 from frontier_rl.core.sim.config import DROP_CELL_M, SimConfig
 from frontier_rl.core.sim.episode import DecisionContext, EpisodeAwarePolicy, ExplorationPolicy, checked_ranking
 from frontier_rl.core.sim.episode_log import completion_reason
@@ -127,10 +128,8 @@ class FrontierExplorer:
         goal = self.goal
         if goal is None or goal.path is None:
             return None
-        nav = self.config.navigation
-        none = Blacklist(nav.blacklist_radius, nav.max_goal_failures, grid.resolution, grid.origin)  # costmap only
-        cand = find_candidates(grid, pose, self.config, none, grid.data, recovery=goal.recovery)
-        path = _path_on(cand, pose, goal.x, goal.y)
+        costmap, reachable = reachable_cells(grid, pose, self.config, recovery=goal.recovery)
+        path = _path_on(grid, costmap, reachable, pose, goal.x, goal.y)
         if path is None or not np.allclose(path[-1], goal.path[-1]):  # a way elsewhere is none
             return None
         self.goal = replace(goal, path=path)
@@ -223,7 +222,7 @@ class FrontierExplorer:
             cells = grid.cells_to_world(cand.frontiers.cells_of(index))
             goal = Goal(x, y, cells, ranking.weight, cand.recovery, cand.looks)
         if cand.recovery is not Recovery.NONE and self.params.recovery_paths:
-            goal = replace(goal, path=_path_on(cand, pose, goal.x, goal.y))
+            goal = replace(goal, path=_path_on(cand.grid, cand.costmap, cand.reachable, pose, goal.x, goal.y))
         self.goal, self._arrived = goal, False
         self._sent_on = grid if goal.look is not Look.NONE else None
         self.decisions += 1
@@ -315,17 +314,19 @@ def _newly_free_near(before: OccupancyGrid, now: OccupancyGrid, x: float, y: flo
     return int(np.count_nonzero(~was_free))
 
 
-def _path_on(cand: Candidates, pose: Pose, x: float, y: float) -> NDArray[np.float64] | None:
-    """The way ((n, 2), m) from ``pose`` to the reachable cell of ``cand.grid`` nearest to (x, y)
-    (m), planned on ``cand``'s costmap, ending at that cell's centre; None if there is none."""
-    goal_cell = point_goal_cell(cand, x, y)
+def _path_on(
+    grid: OccupancyGrid, costmap: Costmap, reachable: NDArray[np.bool_], pose: Pose, x: float, y: float
+) -> NDArray[np.float64] | None:
+    """The way ((n, 2), m) from ``pose`` to the ``reachable`` cell of ``grid`` nearest to (x, y)
+    (m), planned on ``costmap``, ending at that cell's centre; None if there is none."""
+    goal_cell = point_goal_cell(grid, reachable, x, y)
     if goal_cell is None:
         return None
-    cells = cand.costmap.plan(cand.grid.world_to_cell(pose.x, pose.y), goal_cell)
+    cells = costmap.plan(grid.world_to_cell(pose.x, pose.y), goal_cell)
     if len(cells) == 0:
         return None
-    path = cand.grid.cells_to_world(cells)
-    path[-1] = cand.grid.cell_to_world(*goal_cell)
+    path = grid.cells_to_world(cells)
+    path[-1] = grid.cell_to_world(*goal_cell)
     return path
 
 

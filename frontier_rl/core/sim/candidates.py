@@ -96,20 +96,34 @@ def reachable_frontiers(
     ``memory`` is then left as it was)."""
     if avoid is not None and len(avoid[0]):
         grid, memory = with_robots_as_walls(grid, avoid), None
-    if recovery is Recovery.NONE:
-        costmap = Costmap.build(grid, config.robot, config.navigation, scratch, memory)
-        if felt is not None:
-            costmap = costmap.with_felt_walls(felt, config.robot.radius)
-        reachable = costmap.reachable_known(grid.world_to_cell(pose.x, pose.y))
-    else:
-        touched = np.zeros(grid.shape, np.bool_) if felt is None else felt
-        costmap = recovery_costmap(grid, touched, config.robot, config.navigation, recovery, scratch, trail)
-        reachable = costmap.reachable_known(grid.world_to_cell(pose.x, pose.y)) & (grid.data == CellState.FREE)
+    costmap, reachable = reachable_cells(grid, pose, config, scratch, recovery, felt, memory, trail)
     cells = drop_cells_at(config.min_frontier_cells if min_cells is None else min_cells, grid.resolution)
     # a goal farther from its frontier than the map update reaches would map none of it
     reach = min(config.frontier_goal_reach, config.mapping_range)
     frontiers = detect_frontiers(grid, pose, reachable, cells, config.frontier_segment_length, reach)
     return costmap, reachable, frontiers
+
+
+def reachable_cells(
+    grid: OccupancyGrid,
+    pose: Pose,
+    config: SimConfig,
+    scratch: SearchScratch | None = None,
+    recovery: Recovery = Recovery.NONE,
+    felt: NDArray[np.bool_] | None = None,
+    memory: InflationMemory | None = None,
+    trail: NDArray[np.bool_] | None = None,
+) -> tuple[Costmap, NDArray[np.bool_]]:
+    """:func:`reachable_frontiers`' costmap of ``grid`` and the known free cells the robot at
+    ``pose`` can reach on it, without the frontiers."""
+    if recovery is Recovery.NONE:
+        costmap = Costmap.build(grid, config.robot, config.navigation, scratch, memory)
+        if felt is not None:
+            costmap = costmap.with_felt_walls(felt, config.robot.radius)
+        return costmap, costmap.reachable_known(grid.world_to_cell(pose.x, pose.y))
+    touched = np.zeros(grid.shape, np.bool_) if felt is None else felt
+    costmap = recovery_costmap(grid, touched, config.robot, config.navigation, recovery, scratch, trail)
+    return costmap, costmap.reachable_known(grid.world_to_cell(pose.x, pose.y)) & (grid.data == CellState.FREE)
 
 
 def find_candidates(

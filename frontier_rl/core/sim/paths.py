@@ -15,6 +15,7 @@ from frontier_rl.core.sim.candidates import Candidates
 from frontier_rl.core.sim.config import SimConfig
 from frontier_rl.core.sim.teammates import Teammates
 from frontier_rl.core.sim.trail import opened_on_trail
+from frontier_rl.core.world.grid import OccupancyGrid
 from frontier_rl.core.world.robot import Pose
 
 
@@ -112,14 +113,13 @@ def replan_round_teammates(
     return None if cell is None else plan_round_teammates(cand, pose, cell, mates)
 
 
-def point_goal_cell(cand: Candidates, x: float, y: float) -> tuple[int, int] | None:
-    """The reachable cell of ``cand.grid`` nearest to world point (x, y) (m), a point outside the
-    grid taken at its edge; None if no cell is reachable."""
-    g = cand.grid
+def point_goal_cell(g: OccupancyGrid, reachable: NDArray[np.bool_], x: float, y: float) -> tuple[int, int] | None:
+    """The ``reachable`` cell of ``g`` nearest to world point (x, y) (m), a point outside the grid
+    taken at its edge; None if no cell is reachable."""
     (x0, y0), (width, height) = g.origin, g.size_m
     row, col = g.world_to_cell(min(max(x, x0), x0 + width), min(max(y, y0), y0 + height))  # no 1e308 cell
     row, col = min(max(row, 0), g.height - 1), min(max(col, 0), g.width - 1)
-    return nearest_cell(cand.reachable, (row, col), max_radius=int(math.ceil(math.hypot(*g.shape))))
+    return nearest_cell(reachable, (row, col), max_radius=int(math.ceil(math.hypot(*g.shape))))
 
 
 def path_to_follow(path: NDArray[np.float64], pose: Pose, resolution: float) -> NDArray[np.float64]:

@@ -296,7 +296,7 @@ class ExplorationSimulator:
     def go_to_steps(self, x: float, y: float, weight: float | None = None) -> Generator[None, None, LegResult]:
         """:meth:`go_to` one map update at a time (see :meth:`execute_steps`)."""
         cand = self.navigator.decision_candidates(self.pose)
-        goal_cell = point_goal_cell(cand, x, y)
+        goal_cell = point_goal_cell(cand.grid, cand.reachable, x, y)
         path = None if goal_cell is None else plan_path(cand, self.pose, goal_cell, self.nearby_robots, self.config)
         if path is None or goal_cell is None:
             # move_base's answer to a goal it cannot plan to: a recovery rotation, then give up.
