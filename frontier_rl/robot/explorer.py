@@ -81,7 +81,9 @@ class FrontierExplorer:
         self.start: tuple[float, float] | None = None
         self.decisions = 0
         self.goals_given_up = 0
-        self._best_distance = math.inf
+        self._best_distance = math.inf  # the goal's straight-line distance (m), at its least
+        self._best_way = math.inf  # the length (m) of the goal's way on the robot's costmap, at its least
+        self._way_end: NDArray[np.float64] | None = None  # where that way ended when the goal was chosen (m)
         self._progress_at = 0.0
 
     @property
@@ -114,7 +116,7 @@ class FrontierExplorer:
                 self.goal = None  # seen: the next one
             elif self._arrived:
                 self.goal_failed(grid, reached=True)  # there, and still not seen: it cannot be seen from there
-            elif self._stalled(pose, now):
+            elif self._stalled(grid, pose, now):
                 self.goal_failed(grid)
             else:
                 return self._path_renewed(grid, pose)
@@ -226,7 +228,14 @@ class FrontierExplorer:
         self.goal, self._arrived = goal, False
         self._sent_on = grid if goal.look is not Look.NONE else None
         self.decisions += 1
-        self._best_distance, self._progress_at = math.hypot(goal.x - pose.x, goal.y - pose.y), now
+        way = (
+            goal.path
+            if goal.path is not None
+            else _path_on(cand.grid, cand.costmap, cand.reachable, pose, goal.x, goal.y)
+        )
+        self._way_end = None if way is None else way[-1]
+        self._best_distance, self._best_way = math.hypot(goal.x - pose.x, goal.y - pose.y), _length(way)
+        self._progress_at = now
         return goal
 
     def _candidates(self, grid: OccupancyGrid, pose: Pose) -> Candidates:
@@ -267,12 +276,24 @@ class FrontierExplorer:
         cells = cells[inside]
         return count_fringe(grid.data, cells[:, 0], cells[:, 1]) > self.config.drop_cells(grid.resolution)
 
-    def _stalled(self, pose: Pose, now: float) -> bool:
-        """Whether the robot has got no nearer to the goal for ``progress_timeout``."""
-        assert self.goal is not None
-        distance = math.hypot(self.goal.x - pose.x, self.goal.y - pose.y)
-        if distance <= self._best_distance - self.params.progress_distance:
+    def _stalled(self, grid: OccupancyGrid, pose: Pose, now: float) -> bool:
+        """Whether the robot has got no nearer to the goal for ``progress_timeout``, neither in a
+        straight line nor along the way its costmap on ``grid`` plans there (the goal's level): a
+        way round a long wall first leads away from the goal (on ``ipa_plant`` a corridor beyond a
+        long wall was given up six times, by distance alone). The way is planned only when
+        the straight line has made no progress for that long, and counts only while it ends where
+        the way planned when the goal was chosen ended (a goal with no way then has none)."""
+        goal, least = self.goal, self.params.progress_distance
+        assert goal is not None
+        distance = math.hypot(goal.x - pose.x, goal.y - pose.y)
+        if distance <= self._best_distance - least:
             self._best_distance, self._progress_at = distance, now
+        elif now - self._progress_at > self.params.progress_timeout and self._way_end is not None:
+            costmap, reachable = reachable_cells(grid, pose, self.config, recovery=goal.recovery)
+            way = _path_on(grid, costmap, reachable, pose, goal.x, goal.y)
+            # a way that ends elsewhere (the goal's cell out of reach now) is no way there
+            if way is not None and np.allclose(way[-1], self._way_end) and _length(way) <= self._best_way - least:
+                self._best_way, self._progress_at = _length(way), now
         return now - self._progress_at > self.params.progress_timeout
 
     def _finish(self, reason: EndReason, grid: OccupancyGrid, pose: Pose, cand: Candidates) -> Finished:
@@ -291,11 +312,22 @@ class FrontierExplorer:
         self.finished = Finished(reason, real, len(left) - len(real))
         return self.finished
 
-    def home(self) -> Goal | None:
-        """The way back to where the robot started (``return_to_init``), once exploration is over."""
+    def home(self, grid: OccupancyGrid, pose: Pose) -> Goal | None:
+        """The way back from ``pose`` to where the robot started (``return_to_init``), once
+        exploration is over: a point goal, or (with ``recovery_paths``) the path planned on the
+        first narrow-passage recovery level with a way there, when the normal costmap of ``grid``
+        has none (the robot explored beyond a doorway its map draws too narrow)."""
         if self.start is None:
             return None
-        return Goal(*self.start, np.zeros((0, 2)))
+        x, y = self.start
+        home = Goal(x, y, np.zeros((0, 2)))
+        levels = (Recovery.NONE, Recovery.HALF_CELL, Recovery.WHOLE_CELL) if self.params.recovery_paths else ()
+        for level in levels:
+            costmap, reachable = reachable_cells(grid, pose, self.config, recovery=level)
+            path = _path_on(grid, costmap, reachable, pose, x, y)
+            if path is not None and math.dist(path[-1], self.start) <= self.config.navigation.goal_tolerance:
+                return home if level is Recovery.NONE else replace(home, recovery=level, path=path)
+        return home
 
 
 def _newly_free_near(before: OccupancyGrid, now: OccupancyGrid, x: float, y: float, radius: float) -> int:
@@ -328,6 +360,11 @@ def _path_on(
     path = grid.cells_to_world(cells)
     path[-1] = grid.cell_to_world(*goal_cell)
     return path
+
+
+def _length(path: NDArray[np.float64] | None) -> float:
+    """The length (m) of ``path`` ((n, 2), m); infinite for none."""
+    return math.inf if path is None else float(np.hypot(*np.diff(path, axis=0).T).sum())
 
 
 def _nearest(points: NDArray[np.float64], point: tuple[float, float]) -> int:

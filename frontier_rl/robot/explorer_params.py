@@ -32,7 +32,9 @@ class ExplorerParams:
 
     planner_frequency: float = _setting(1.0, "Planner ticks per second (Hz).")
     progress_timeout: float = _setting(
-        30.0, "A goal the robot gets no nearer to (by progress_distance) for this long is given up (s)."
+        30.0,
+        "A goal the robot gets no nearer to (by progress_distance) for this long, in a straight line or along "
+        "its costmap's way there, is given up (s).",
     )
     min_frontier_size: float = _setting(DEFAULT_MIN_FRONTIER_SIZE_M, "Frontiers this long or shorter are no goals (m).")
     return_to_init: bool = _setting(False, "Drive back to the start once explored.")

@@ -31,6 +31,7 @@ from std_msgs.msg import Float32, String
 from visualization_msgs.msg import MarkerArray
 
 from frontier_rl.core.world.grid import OccupancyGrid
+from frontier_rl.core.world.robot import Pose
 from frontier_rl.errors import ConfigError, MapError
 from frontier_rl.robot.explorer import FrontierExplorer
 from frontier_rl.robot.explorer_decision import Finished, Goal
@@ -202,7 +203,7 @@ class ExplorerNode(Node):
         if isinstance(decision, Goal):
             self._send(decision)
         elif isinstance(decision, Finished):
-            self._finish(decision)
+            self._finish(decision, explored, pose)
 
     def _map_for_judging(self, now: float) -> bool:
         """Whether the map at hand may judge the goal just reached (:class:`~frontier_rl.robot.map_watch.MapWatch`):
@@ -331,12 +332,12 @@ class ExplorerNode(Node):
         self.get_logger().info(f"cancelling {self._label}: the explorer is stopping")  # ended or stopped
         return self._handle.cancel_goal_async()
 
-    def _finish(self, finished: Finished) -> None:
-        """The run is over: home, or done (a goal still under way is cancelled by the runner, which
-        waits for Nav2's answer before the node goes: a request sent as it went was lost, and the
-        robot drove on)."""
+    def _finish(self, finished: Finished, explored: OccupancyGrid, pose: Pose) -> None:
+        """The run is over: home from ``pose`` on the map ``explored``, or done (a goal still under
+        way is cancelled by the runner, which waits for Nav2's answer before the node goes: a
+        request sent as it went was lost, and the robot drove on)."""
         self.finished, self._finished_s = finished, self._elapsed_s
-        home = self.explorer.home() if self.explorer.params.return_to_init else None
+        home = self.explorer.home(explored, pose) if self.explorer.params.return_to_init else None
         if home is not None:
             if self._handle is not None:
                 self._handle.cancel_goal_async()

@@ -87,6 +87,30 @@ def test_progress_resets_the_timeout() -> None:
     assert explorer.goals_given_up == 0
 
 
+def _wall_to_go_round() -> OccupancyGrid:
+    """A 5 m by 3 m room halved by a wall open at its east end, the west end of its north half unknown."""
+    data = np.full((60, 100), CellState.OCCUPIED, np.int8)
+    data[2:58, 2:98] = CellState.FREE
+    data[28:32, :80] = CellState.OCCUPIED
+    data[45:58, 2:20] = CellState.UNKNOWN
+    return OccupancyGrid(data, 0.05, (0.0, 0.0))
+
+
+def test_progress_along_the_way_round_a_wall_resets_the_timeout() -> None:
+    # driving east to the wall's end takes the robot away from its goal in the north-west
+    explorer = FrontierExplorer(make_policy("nearest"), ExplorerParams(progress_timeout=5.0))
+    grid = _wall_to_go_round()
+    goal = _first_goal(explorer, grid)
+    assert goal.y > 1.6
+    poses = [Pose(0.5 + 0.4 * step, 0.5, 0.0) for step in range(1, 9)]
+    assert math.hypot(goal.x - poses[-1].x, goal.y - poses[-1].y) > math.hypot(goal.x - 0.5, goal.y - 0.5) + 1.5
+    for step, pose in enumerate(poses, start=1):
+        assert explorer.tick(grid, pose, 3.0 * step) is None
+    assert explorer.goals_given_up == 0
+    decisions = [explorer.tick(grid, poses[-1], now) for now in (27.0, 30.0)]  # standing still
+    assert explorer.goals_given_up == 1 and isinstance(decisions[-1], Goal)
+
+
 def test_a_goal_whose_frontier_is_seen_is_replaced() -> None:
     explorer = FrontierExplorer(make_policy("nearest"))
     grid = _corridor()
@@ -132,9 +156,37 @@ def test_the_time_cap_ends_exploration() -> None:
 
 def test_return_to_init_goes_back_to_the_first_pose() -> None:
     explorer = FrontierExplorer(make_policy("nearest"), ExplorerParams(return_to_init=True))
-    _first_goal(explorer, _corridor())
-    home = explorer.home()
-    assert home is not None and (home.x, home.y) == (0.5, 0.5) and len(home.frontier) == 0
+    grid = _corridor()
+    _first_goal(explorer, grid)
+    home = explorer.home(grid, Pose(1.5, 0.5, 0.0))
+    assert home is not None and (home.x, home.y) == (0.5, 0.5) and len(home.frontier) == 0 and home.path is None
+
+
+def _rooms_with_a_narrow_door() -> OccupancyGrid:
+    """Two 2.3 m rooms, mapped, through a wall with a door of 0.2 m: closed on the normal costmap,
+    open on the narrow-passage recovery's half-cell level."""
+    data = np.full((60, 100), CellState.OCCUPIED, np.int8)
+    data[2:58, 2:98] = CellState.FREE
+    data[:, 49:51] = CellState.OCCUPIED
+    data[28:32, 49:51] = CellState.FREE
+    return OccupancyGrid(data, 0.05, (0.0, 0.0))
+
+
+@pytest.mark.parametrize("recovery_paths", [True, False])
+def test_the_way_home_through_a_door_too_narrow_for_the_normal_costmap_is_a_path(recovery_paths: bool) -> None:
+    explorer = FrontierExplorer(make_policy("nearest"), ExplorerParams(recovery_paths=recovery_paths))
+    grid = _rooms_with_a_narrow_door()
+    assert explorer.tick(grid, Pose(1.0, 1.5, 0.0), 0.0) is not None
+    home = explorer.home(grid, Pose(4.0, 1.5, 0.0))
+    assert home is not None and (home.x, home.y) == (1.0, 1.5)
+    if not recovery_paths:
+        assert home.path is None and home.recovery is Recovery.NONE
+        return
+    assert home.path is not None and home.recovery is Recovery.HALF_CELL
+    assert math.dist(home.path[0], (4.0, 1.5)) < 0.1 and math.dist(home.path[-1], (1.0, 1.5)) < 0.05
+    assert np.all(np.abs(home.path[:, 1] - 1.5) < 0.6)  # through the door, at y = 1.4-1.6 m
+    near = explorer.home(grid, Pose(2.0, 1.0, 0.0))  # in the same room: a point goal
+    assert near is not None and (near.x, near.y, near.path, near.recovery) == (1.0, 1.5, None, Recovery.NONE)
 
 
 def test_a_policy_that_plans_on_the_true_map_is_refused() -> None:
