@@ -340,15 +340,22 @@ def _ros_args(extra: list[str]) -> tuple[str, ...]:
 
 def _explore_with(policy: str, params: ExplorerParams, node: ExplorerNodeOptions, json_out: bool) -> None:
     """Run the explorer with ``policy``, its settings ``params`` and the ``node``'s options; print how
-    it ended (exit status 130 if it was interrupted)."""
-    from frontier_rl.policies.registry import make_policy
-    from frontier_rl.robot.explorer import check_robot_policy
-    from frontier_rl.ros2.explorer_status import ExplorerState
-    from frontier_rl.ros2.run import run_explorer
+    it ended (exit status 130 if it was interrupted; with ``json_out`` a status line even when that
+    was before it ran)."""
+    from frontier_rl.ros2.explorer_status import ExplorerState, ExplorerStatus
 
-    the_policy = make_policy(policy)
-    check_robot_policy(the_policy, policy)
-    status, summary = run_explorer(the_policy, params, node)
+    try:
+        from frontier_rl.policies.registry import make_policy
+        from frontier_rl.robot.explorer import check_robot_policy
+        from frontier_rl.ros2.run import run_explorer
+
+        the_policy = make_policy(policy)
+        check_robot_policy(the_policy, policy)
+        status, summary = run_explorer(the_policy, params, node)
+    except KeyboardInterrupt:  # before the node ran: a model loading, ROS starting
+        if json_out:
+            print(ExplorerStatus.not_started().to_json())
+        raise
     if json_out:
         print(status.to_json())
     else:

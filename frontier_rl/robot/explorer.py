@@ -40,6 +40,11 @@ from frontier_rl.errors import ConfigError, short_repr
 from frontier_rl.robot.explorer_decision import Finished, Goal
 from frontier_rl.robot.explorer_params import ExplorerParams
 
+HOME_REACH_M = 0.5
+"""How near the start (m) a way back must end to be the way home: a dock, or a person, drawn on
+the start keeps the normal costmap's way from its very cell (the radius a robot standing on a
+wall cell of its map sets out within)."""
+
 
 def check_robot_policy(policy: ExplorationPolicy, spec: str) -> None:
     """Raise :class:`ConfigError` if ``policy`` (made from ``spec``) plans on the true world (an
@@ -82,9 +87,8 @@ class FrontierExplorer:
         self.decisions = 0
         self.goals_given_up = 0
         self._best_distance = math.inf  # the goal's straight-line distance (m), at its least
-        self._best_way = math.inf  # the length (m) of the goal's way on the robot's costmap, at its least
-        self._way_end: NDArray[np.float64] | None = None  # where that way ended when the goal was chosen (m)
         self._progress_at = 0.0
+        self._progress_pose: Pose | None = None  # where the robot stood at the goal's last progress
 
     @property
     def params(self) -> ExplorerParams:
@@ -132,7 +136,8 @@ class FrontierExplorer:
             return None
         costmap, reachable = reachable_cells(grid, pose, self.config, recovery=goal.recovery)
         path = _path_on(grid, costmap, reachable, pose, goal.x, goal.y)
-        if path is None or not np.allclose(path[-1], goal.path[-1]):  # a way elsewhere is none
+        # a way elsewhere is none (within a cell: a SLAM map's origin moves as it grows)
+        if path is None or math.dist(path[-1], goal.path[-1]) >= grid.resolution:
             return None
         self.goal = replace(goal, path=path)
         return self.goal
@@ -228,14 +233,8 @@ class FrontierExplorer:
         self.goal, self._arrived = goal, False
         self._sent_on = grid if goal.look is not Look.NONE else None
         self.decisions += 1
-        way = (
-            goal.path
-            if goal.path is not None
-            else _path_on(cand.grid, cand.costmap, cand.reachable, pose, goal.x, goal.y)
-        )
-        self._way_end = None if way is None else way[-1]
-        self._best_distance, self._best_way = math.hypot(goal.x - pose.x, goal.y - pose.y), _length(way)
-        self._progress_at = now
+        self._best_distance, self._progress_at = math.hypot(goal.x - pose.x, goal.y - pose.y), now
+        self._progress_pose = pose
         return goal
 
     def _candidates(self, grid: OccupancyGrid, pose: Pose) -> Candidates:
@@ -278,23 +277,31 @@ class FrontierExplorer:
 
     def _stalled(self, grid: OccupancyGrid, pose: Pose, now: float) -> bool:
         """Whether the robot has got no nearer to the goal for ``progress_timeout``, neither in a
-        straight line nor along the way its costmap on ``grid`` plans there (the goal's level): a
-        way round a long wall first leads away from the goal (on ``ipa_plant`` a corridor beyond a
-        long wall was given up six times, by distance alone). The way is planned only when
-        the straight line has made no progress for that long, and counts only while it ends where
-        the way planned when the goal was chosen ended (a goal with no way then has none)."""
-        goal, least = self.goal, self.params.progress_distance
+        straight line nor along the way its costmap on ``grid`` plans there (at the goal's level):
+        a way round a long wall first leads away from the goal (on ``ipa_plant`` a corridor beyond
+        a long wall was given up six times, by distance alone). The way is asked for only when the
+        straight line has made no progress for that long (:meth:`_nearer_along_the_way`)."""
+        goal = self.goal
         assert goal is not None
         distance = math.hypot(goal.x - pose.x, goal.y - pose.y)
-        if distance <= self._best_distance - least:
-            self._best_distance, self._progress_at = distance, now
-        elif now - self._progress_at > self.params.progress_timeout and self._way_end is not None:
-            costmap, reachable = reachable_cells(grid, pose, self.config, recovery=goal.recovery)
-            way = _path_on(grid, costmap, reachable, pose, goal.x, goal.y)
-            # a way that ends elsewhere (the goal's cell out of reach now) is no way there
-            if way is not None and np.allclose(way[-1], self._way_end) and _length(way) <= self._best_way - least:
-                self._best_way, self._progress_at = _length(way), now
+        if distance <= self._best_distance - self.params.progress_distance:
+            self._best_distance, self._progress_at, self._progress_pose = distance, now, pose
+        elif now - self._progress_at > self.params.progress_timeout and self._nearer_along_the_way(grid, pose):
+            self._progress_at, self._progress_pose = now, pose
         return now - self._progress_at > self.params.progress_timeout
+
+    def _nearer_along_the_way(self, grid: OccupancyGrid, pose: Pose) -> bool:
+        """Whether the way to the goal on ``grid`` (planned at its level) is ``progress_distance``
+        shorter from ``pose`` than from where the robot stood at its last progress: both planned on
+        the same map, to the same cell (a SLAM map's origin moves as it grows)."""
+        goal, before = self.goal, self._progress_pose
+        assert goal is not None and before is not None
+        costmap, reachable = reachable_cells(grid, pose, self.config, recovery=goal.recovery, memory=self._memory)
+        now_way = _path_on(grid, costmap, reachable, pose, goal.x, goal.y)
+        then_way = _path_on(grid, costmap, reachable, before, goal.x, goal.y)
+        if now_way is None or then_way is None:
+            return False
+        return _length(now_way) <= _length(then_way) - self.params.progress_distance
 
     def _finish(self, reason: EndReason, grid: OccupancyGrid, pose: Pose, cand: Candidates) -> Finished:
         """The end: what is left of ``grid`` beside ``cand``'s frontiers, every unknown cell taken
@@ -316,7 +323,9 @@ class FrontierExplorer:
         """The way back from ``pose`` to where the robot started (``return_to_init``), once
         exploration is over: a point goal, or (with ``recovery_paths``) the path planned on the
         first narrow-passage recovery level with a way there, when the normal costmap of ``grid``
-        has none (the robot explored beyond a doorway its map draws too narrow)."""
+        has none (the robot explored beyond a doorway its map draws too narrow); a way there ends
+        within :data:`HOME_REACH_M` of the start. The path is sent once: the way home is not
+        planned again as the robot drives it."""
         if self.start is None:
             return None
         x, y = self.start
@@ -325,7 +334,7 @@ class FrontierExplorer:
         for level in levels:
             costmap, reachable = reachable_cells(grid, pose, self.config, recovery=level)
             path = _path_on(grid, costmap, reachable, pose, x, y)
-            if path is not None and math.dist(path[-1], self.start) <= self.config.navigation.goal_tolerance:
+            if path is not None and math.dist(path[-1], self.start) <= HOME_REACH_M:
                 return home if level is Recovery.NONE else replace(home, recovery=level, path=path)
         return home
 
@@ -362,9 +371,9 @@ def _path_on(
     return path
 
 
-def _length(path: NDArray[np.float64] | None) -> float:
-    """The length (m) of ``path`` ((n, 2), m); infinite for none."""
-    return math.inf if path is None else float(np.hypot(*np.diff(path, axis=0).T).sum())
+def _length(path: NDArray[np.float64]) -> float:
+    """The length (m) of ``path`` ((n, 2), m)."""
+    return float(np.hypot(*np.diff(path, axis=0).T).sum())
 
 
 def _nearest(points: NDArray[np.float64], point: tuple[float, float]) -> int:

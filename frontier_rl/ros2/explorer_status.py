@@ -51,6 +51,11 @@ class ExplorerStatus:
     coverage: float | None
     detail: str
 
+    @classmethod
+    def not_started(cls) -> ExplorerStatus:
+        """The status of an explorer interrupted before it ran (a model loading, ROS starting)."""
+        return cls(ExplorerState.INTERRUPTED, None, 0.0, 0, 0, 0, 0.0, 0, 0, None, "interrupted before it started")
+
     def to_json(self) -> str:
         """The status as one line of JSON (None as null)."""
         return json.dumps(asdict(self))

@@ -111,6 +111,17 @@ def test_progress_along_the_way_round_a_wall_resets_the_timeout() -> None:
     assert explorer.goals_given_up == 1 and isinstance(decisions[-1], Goal)
 
 
+def test_progress_made_before_the_robot_stuck_is_not_counted_again_along_the_way() -> None:
+    explorer = FrontierExplorer(make_policy("nearest"), ExplorerParams(progress_timeout=5.0))
+    grid = _corridor()
+    _first_goal(explorer, grid)
+    for now in range(1, 6):  # 0.3 m nearer each second, then stuck
+        assert explorer.tick(grid, Pose(0.5 + 0.3 * now, 0.5, 0.0), float(now)) is None
+    stuck = Pose(2.0, 0.5, 0.0)
+    assert all(explorer.tick(grid, stuck, float(now)) is None for now in range(6, 11))
+    assert isinstance(explorer.tick(grid, stuck, 11.0), Goal) and explorer.goals_given_up == 1
+
+
 def test_a_goal_whose_frontier_is_seen_is_replaced() -> None:
     explorer = FrontierExplorer(make_policy("nearest"))
     grid = _corridor()
@@ -187,6 +198,17 @@ def test_the_way_home_through_a_door_too_narrow_for_the_normal_costmap_is_a_path
     assert np.all(np.abs(home.path[:, 1] - 1.5) < 0.6)  # through the door, at y = 1.4-1.6 m
     near = explorer.home(grid, Pose(2.0, 1.0, 0.0))  # in the same room: a point goal
     assert near is not None and (near.x, near.y, near.path, near.recovery) == (1.0, 1.5, None, Recovery.NONE)
+
+
+def test_the_way_home_to_a_start_drawn_over_takes_the_wide_door() -> None:
+    # a dock drawn on the start: the normal costmap's way ends beside it, not through the narrow door
+    grid = _rooms_with_a_narrow_door()
+    grid.data[8:50, 49:51] = CellState.FREE  # a wide door as well, north of the narrow one
+    explorer = FrontierExplorer(make_policy("nearest"))
+    assert explorer.tick(grid, Pose(1.0, 1.5, 0.0), 0.0) is not None
+    grid.data[28:33, 18:23] = CellState.OCCUPIED
+    home = explorer.home(grid, Pose(4.0, 1.5, 0.0))
+    assert home is not None and home.path is None and home.recovery is Recovery.NONE
 
 
 def test_a_policy_that_plans_on_the_true_map_is_refused() -> None:

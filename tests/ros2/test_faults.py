@@ -67,9 +67,9 @@ def test_a_nav2_that_dies_with_a_goal_is_waited_for_and_the_explorer_resumes(tmp
 
 
 def test_without_nav2_the_explorer_waits_and_ctrl_c_ends_it_with_one_line(tmp_path: Path) -> None:
-    code, status, log = _run(tmp_path, "sleep 30", explore_for=4)
+    code, status, log = _run(tmp_path, "sleep 30", explore_for=4)  # under load, maybe before the node ran
     assert code == 130, log
-    assert status is not None and status["state"] == "interrupted" and status["goals"] == 0
+    assert status is not None and status["state"] == "interrupted" and status["goals"] == 0, log
     assert "Traceback" not in log
 
 
@@ -96,3 +96,21 @@ def test_a_map_that_stops_coming_is_said_so(tmp_path: Path) -> None:
     code, status, log = _run(tmp_path, nav2, progress_timeout=30.0)
     assert code == 0 and status is not None and status["reason"] == "unreachable", log
     assert "no map on /map for" in log and "(it came every 0.30 s): goal 2 is judged on the last one" in log, log
+
+
+def test_a_ctrl_c_before_the_node_ran_still_prints_the_json_status(
+    monkeypatch: pytest.MonkeyPatch, capsys: pytest.CaptureFixture[str]
+) -> None:
+    from frontier_rl.cli.ros2 import _explore_with
+    from frontier_rl.policies import registry
+    from frontier_rl.robot.explorer_params import ExplorerParams
+    from frontier_rl.ros2.explorer_options import ExplorerNodeOptions
+
+    def loading(spec: str) -> None:  # a model still loading when Ctrl-C came
+        raise KeyboardInterrupt
+
+    monkeypatch.setattr(registry, "make_policy", loading)
+    with pytest.raises(KeyboardInterrupt):
+        _explore_with("nearest", ExplorerParams(), ExplorerNodeOptions(), json_out=True)
+    status = json.loads(capsys.readouterr().out)
+    assert status["state"] == "interrupted" and status["goals"] == 0 and status["reason"] is None
