@@ -30,6 +30,7 @@ from frontier_rl.core.sim.config import DROP_CELL_M, SimConfig
 from frontier_rl.core.sim.episode import DecisionContext, EpisodeAwarePolicy, ExplorationPolicy, checked_ranking
 from frontier_rl.core.sim.episode_log import completion_reason
 from frontier_rl.core.sim.frontiers_left import frontiers_left
+from frontier_rl.core.sim.leg import tail_lengths
 from frontier_rl.core.sim.look_state import LookState
 from frontier_rl.core.sim.looks import LOOK_PAYOFF_M2
 from frontier_rl.core.sim.metrics import EndReason
@@ -301,7 +302,7 @@ class FrontierExplorer:
         then_way = _path_on(grid, costmap, reachable, before, goal.x, goal.y)
         if now_way is None or then_way is None:
             return False
-        return _length(now_way) <= _length(then_way) - self.params.progress_distance
+        return bool(tail_lengths(now_way)[0] <= tail_lengths(then_way)[0] - self.params.progress_distance)
 
     def _finish(self, reason: EndReason, grid: OccupancyGrid, pose: Pose, cand: Candidates) -> Finished:
         """The end: what is left of ``grid`` beside ``cand``'s frontiers, every unknown cell taken
@@ -332,7 +333,7 @@ class FrontierExplorer:
         home = Goal(x, y, np.zeros((0, 2)))
         levels = (Recovery.NONE, Recovery.HALF_CELL, Recovery.WHOLE_CELL) if self.params.recovery_paths else ()
         for level in levels:
-            costmap, reachable = reachable_cells(grid, pose, self.config, recovery=level)
+            costmap, reachable = reachable_cells(grid, pose, self.config, recovery=level, memory=self._memory)
             path = _path_on(grid, costmap, reachable, pose, x, y)
             if path is not None and math.dist(path[-1], self.start) <= HOME_REACH_M:
                 return home if level is Recovery.NONE else replace(home, recovery=level, path=path)
@@ -369,11 +370,6 @@ def _path_on(
     path = grid.cells_to_world(cells)
     path[-1] = grid.cell_to_world(*goal_cell)
     return path
-
-
-def _length(path: NDArray[np.float64]) -> float:
-    """The length (m) of ``path`` ((n, 2), m)."""
-    return float(np.hypot(*np.diff(path, axis=0).T).sum())
 
 
 def _nearest(points: NDArray[np.float64], point: tuple[float, float]) -> int:
