@@ -40,6 +40,7 @@ from frontier_rl.core.world.robot import Pose
 from frontier_rl.errors import ConfigError, short_repr
 from frontier_rl.robot.explorer_decision import Finished, Goal
 from frontier_rl.robot.explorer_params import ExplorerParams
+from frontier_rl.robot.trail import Trail
 
 HOME_REACH_M = 0.5
 """How near the start (m) a way back must end to be the way home: a dock, or a person, drawn on
@@ -90,6 +91,7 @@ class FrontierExplorer:
         self._best_distance = math.inf  # the goal's straight-line distance (m), at its least
         self._progress_at = 0.0
         self._progress_pose: Pose | None = None  # where the robot stood at the goal's last progress
+        self._trail = Trail()
 
     @property
     def params(self) -> ExplorerParams:
@@ -112,6 +114,7 @@ class FrontierExplorer:
         be sent again); otherwise it is dropped (seen) or given up (blacklisted)."""
         if self.start is None:
             self.start = (pose.x, pose.y)
+        self.passed(pose)
         if self.finished is not None:
             return None
         if now >= self.params.time_cap:
@@ -127,6 +130,12 @@ class FrontierExplorer:
                 return self._path_renewed(grid, pose)
         return self._decide(grid, pose, now)
 
+    def passed(self, pose: Pose) -> None:
+        """The robot is at ``pose`` (map frame): a point of its trail, the way back that the
+        narrow-passage recovery keeps open (:mod:`~frontier_rl.robot.trail`). Each tick adds its
+        pose; a node that hears the pose more often than it ticks tells it each one."""
+        self._trail.add(pose.x, pose.y)
+
     def _path_renewed(self, grid: OccupancyGrid, pose: Pose) -> Goal | None:
         """The goal under way with its path planned afresh from ``pose`` on ``grid`` (at its level),
         as Nav2's behaviour tree replans a ``navigate_to_pose`` goal every second: the map under a
@@ -135,7 +144,7 @@ class FrontierExplorer:
         goal = self.goal
         if goal is None or goal.path is None:
             return None
-        costmap, reachable = reachable_cells(grid, pose, self.config, recovery=goal.recovery)
+        costmap, reachable = self._reachable(grid, pose, goal.recovery)
         path = _path_on(grid, costmap, reachable, pose, goal.x, goal.y)
         # a way elsewhere is none (within a cell: a SLAM map's origin moves as it grows)
         if path is None or math.dist(path[-1], goal.path[-1]) >= grid.resolution:
@@ -255,8 +264,15 @@ class FrontierExplorer:
         for level in (Recovery.HALF_CELL, Recovery.WHOLE_CELL):
             if len(levels[-1].frontiers):
                 break
-            levels.append(find_candidates(grid, pose, self.config, blacklist, grid.data, recovery=level))
+            trail = self._trail.on(grid)
+            levels.append(find_candidates(grid, pose, self.config, blacklist, grid.data, recovery=level, trail=trail))
         return levels
+
+    def _reachable(self, grid: OccupancyGrid, pose: Pose, level: Recovery) -> tuple[Costmap, NDArray[np.bool_]]:
+        """The costmap of ``grid`` at ``level`` (the normal one with the inflation kept from map to
+        map, a recovery level's open along the robot's trail) and the cells the robot reaches on it."""
+        trail = None if level is Recovery.NONE else self._trail.on(grid)
+        return reachable_cells(grid, pose, self.config, recovery=level, memory=self._memory, trail=trail)
 
     def _blacklist_for(self, grid: OccupancyGrid) -> Blacklist:
         """The blacklist, in ``grid``'s frame: a SLAM map grows, and its origin moves with it."""
@@ -297,7 +313,7 @@ class FrontierExplorer:
         the same map, to the same cell (a SLAM map's origin moves as it grows)."""
         goal, before = self.goal, self._progress_pose
         assert goal is not None and before is not None
-        costmap, reachable = reachable_cells(grid, pose, self.config, recovery=goal.recovery, memory=self._memory)
+        costmap, reachable = self._reachable(grid, pose, goal.recovery)
         now_way = _path_on(grid, costmap, reachable, pose, goal.x, goal.y)
         then_way = _path_on(grid, costmap, reachable, before, goal.x, goal.y)
         if now_way is None or then_way is None:
@@ -311,7 +327,8 @@ class FrontierExplorer:
             np.where(grid.data == CellState.UNKNOWN, FREE_I8, grid.data), grid.resolution, grid.origin
         )
         felt = np.zeros(grid.shape, np.bool_)
-        left = frontiers_left(cand, maybe_free, pose, self.config, self._blacklist_for(grid), grid.data, felt)
+        blacklist, trail = self._blacklist_for(grid), self._trail.on(grid)
+        left = frontiers_left(cand, maybe_free, pose, self.config, blacklist, grid.data, felt, trail)
         speck = self.config.speck_cells(grid.resolution)
         real = tuple(f for f in left if f.cells > speck)  # a speck is a speck, whatever unknown lies behind it
         if reason is EndReason.EXPLORED:
@@ -333,7 +350,7 @@ class FrontierExplorer:
         home = Goal(x, y, np.zeros((0, 2)))
         levels = (Recovery.NONE, Recovery.HALF_CELL, Recovery.WHOLE_CELL) if self.params.recovery_paths else ()
         for level in levels:
-            costmap, reachable = reachable_cells(grid, pose, self.config, recovery=level, memory=self._memory)
+            costmap, reachable = self._reachable(grid, pose, level)
             path = _path_on(grid, costmap, reachable, pose, x, y)
             if path is not None and math.dist(path[-1], self.start) <= HOME_REACH_M:
                 return home if level is Recovery.NONE else replace(home, recovery=level, path=path)

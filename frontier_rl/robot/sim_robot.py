@@ -173,6 +173,7 @@ def explore_in_process(robot: SimulatedRobot, explorer: FrontierExplorer, max_ti
         until = robot.sim_time + period
         while robot.busy and robot.sim_time < until:
             end = robot.step()
+            explorer.passed(robot.pose)
             if end is not None and end.status is GoalStatus.SUCCEEDED:
                 explorer.goal_reached()
             elif end is not None:

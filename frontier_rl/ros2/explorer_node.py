@@ -183,6 +183,7 @@ class ExplorerNode(Node):
         if pose is None:
             self._waiting(f"a pose ({self._pose_from})")
             return
+        self.explorer.passed(pose)
         if not self._nav.ready(self.explorer.params.recovery_paths, time.monotonic()):
             self._waiting(f"Nav2's {self.resolve_topic_name(NAVIGATE)} and {self.resolve_topic_name(FOLLOW)} actions")
             return

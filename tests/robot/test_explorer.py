@@ -12,10 +12,11 @@ import pytest
 from frontier_rl import api
 from frontier_rl.core.navigation.thin_walls import Recovery
 from frontier_rl.core.sim.candidates import Look
+from frontier_rl.core.sim.config import SimConfig
 from frontier_rl.core.sim.episode import Ranking
 from frontier_rl.core.sim.metrics import EndReason
 from frontier_rl.core.world.grid import CellState, OccupancyGrid
-from frontier_rl.core.world.robot import Pose
+from frontier_rl.core.world.robot import Pose, RobotConfig
 from frontier_rl.errors import ConfigError
 from frontier_rl.policies.registry import make_policy
 from frontier_rl.robot.explorer import FrontierExplorer, check_robot_policy
@@ -209,6 +210,35 @@ def test_the_way_home_to_a_start_drawn_over_takes_the_wide_door() -> None:
     grid.data[28:33, 18:23] = CellState.OCCUPIED
     home = explorer.home(grid, Pose(4.0, 1.5, 0.0))
     assert home is not None and home.path is None and home.recovery is Recovery.NONE
+
+
+def _door_drawn_too_narrow() -> tuple[OccupancyGrid, SimConfig]:
+    """Two rooms, the west one mapped, through a wall with a door its map draws 0.2 m wide, for a
+    robot of 0.2 m radius (it came through the door, which is wider): closed on every costmap
+    level; the east room's far end (11-12 m) unknown."""
+    data = np.full((80, 240), CellState.OCCUPIED, np.int8)
+    data[2:78, 2:238] = CellState.FREE
+    data[:, 60:64] = CellState.OCCUPIED
+    data[38:42, 60:64] = CellState.FREE
+    data[2:78, 220:238] = CellState.UNKNOWN
+    return OccupancyGrid(data, 0.05, (0.0, 0.0)), SimConfig(robot=RobotConfig(radius=0.2))
+
+
+@pytest.mark.parametrize("came_through", [True, False])
+def test_the_way_the_robot_came_stays_open_when_its_map_closes_the_door_behind_it(came_through: bool) -> None:
+    grid, config = _door_drawn_too_narrow()
+    explorer = FrontierExplorer(make_policy("nearest"), config=config)
+    if came_through:
+        for x in np.arange(5.0, 1.5, -0.02):  # from the east room through the door
+            explorer.passed(Pose(float(x), 2.0, 0.0))
+    decision = explorer.tick(grid, Pose(1.5, 2.0, 0.0), 0.0)
+    if not came_through:
+        assert isinstance(decision, Finished) and decision.reason is EndReason.UNREACHABLE
+        return
+    assert isinstance(decision, Goal) and decision.recovery is Recovery.HALF_CELL and decision.x > 10.0
+    assert decision.path is not None
+    through = decision.path[(decision.path[:, 0] > 3.0) & (decision.path[:, 0] < 3.2)]
+    assert len(through) and np.all(np.abs(through[:, 1] - 2.0) < 0.1)  # along the way it came
 
 
 def test_a_policy_that_plans_on_the_true_map_is_refused() -> None:
