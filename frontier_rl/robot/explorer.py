@@ -5,7 +5,8 @@ What explore_lite's users report (exploration that stops with unknown space left
 oscillate or never progress, a blacklist that leaves parts unexplored) is answered by the engine's
 own pieces: the candidates of :func:`~frontier_rl.core.sim.candidates.find_candidates` (a blacklist
 that forgets, retries and the audit before giving up, goals on cells that see their frontier),
-the narrow-passage recovery's levels when the normal costmap leaves none, then the last looks the
+the narrow-passage recovery's levels when the normal costmap leaves none (open along the robot's
+trail, :mod:`~frontier_rl.robot.trail`), then the last looks the
 simulated robot takes (:mod:`frontier_rl.core.sim.looks`: through windows and gaps too small to be
 frontiers, and at frontiers given up, from elsewhere), any policy's ranking, and an end reason that
 says what was left. The robot's navigation stack plans and drives; the node that
@@ -34,18 +35,14 @@ from frontier_rl.core.sim.leg import tail_lengths
 from frontier_rl.core.sim.look_state import LookState
 from frontier_rl.core.sim.looks import LOOK_PAYOFF_M2
 from frontier_rl.core.sim.metrics import EndReason
-from frontier_rl.core.sim.paths import point_goal_cell
 from frontier_rl.core.world.grid import FREE_I8, CellState, OccupancyGrid
 from frontier_rl.core.world.robot import Pose
 from frontier_rl.errors import ConfigError, short_repr
 from frontier_rl.robot.explorer_decision import Finished, Goal
 from frontier_rl.robot.explorer_params import ExplorerParams
+from frontier_rl.robot.paths import path_to_point
 from frontier_rl.robot.trail import Trail
-
-HOME_REACH_M = 0.5
-"""How near the start (m) a way back must end to be the way home: a dock, or a person, drawn on
-the start keeps the normal costmap's way from its very cell (the radius a robot standing on a
-wall cell of its map sets out within)."""
+from frontier_rl.robot.way_home import way_home
 
 
 def check_robot_policy(policy: ExplorationPolicy, spec: str) -> None:
@@ -145,7 +142,7 @@ class FrontierExplorer:
         if goal is None or goal.path is None:
             return None
         costmap, reachable = self._reachable(grid, pose, goal.recovery)
-        path = _path_on(grid, costmap, reachable, pose, goal.x, goal.y)
+        path = path_to_point(grid, costmap, reachable, pose, goal.x, goal.y)
         # a way elsewhere is none (within a cell: a SLAM map's origin moves as it grows)
         if path is None or math.dist(path[-1], goal.path[-1]) >= grid.resolution:
             return None
@@ -239,7 +236,7 @@ class FrontierExplorer:
             cells = grid.cells_to_world(cand.frontiers.cells_of(index))
             goal = Goal(x, y, cells, ranking.weight, cand.recovery, cand.looks)
         if cand.recovery is not Recovery.NONE and self.params.recovery_paths:
-            goal = replace(goal, path=_path_on(cand.grid, cand.costmap, cand.reachable, pose, goal.x, goal.y))
+            goal = replace(goal, path=path_to_point(cand.grid, cand.costmap, cand.reachable, pose, goal.x, goal.y))
         self.goal, self._arrived = goal, False
         self._sent_on = grid if goal.look is not Look.NONE else None
         self.decisions += 1
@@ -314,8 +311,8 @@ class FrontierExplorer:
         goal, before = self.goal, self._progress_pose
         assert goal is not None and before is not None
         costmap, reachable = self._reachable(grid, pose, goal.recovery)
-        now_way = _path_on(grid, costmap, reachable, pose, goal.x, goal.y)
-        then_way = _path_on(grid, costmap, reachable, before, goal.x, goal.y)
+        now_way = path_to_point(grid, costmap, reachable, pose, goal.x, goal.y)
+        then_way = path_to_point(grid, costmap, reachable, before, goal.x, goal.y)
         if now_way is None or then_way is None:
             return False
         return bool(tail_lengths(now_way)[0] <= tail_lengths(then_way)[0] - self.params.progress_distance)
@@ -338,23 +335,14 @@ class FrontierExplorer:
         return self.finished
 
     def home(self, grid: OccupancyGrid, pose: Pose) -> Goal | None:
-        """The way back from ``pose`` to where the robot started (``return_to_init``), once
-        exploration is over: a point goal, or (with ``recovery_paths``) the path planned on the
-        first narrow-passage recovery level with a way there, when the normal costmap of ``grid``
-        has none (the robot explored beyond a doorway its map draws too narrow); a way there ends
-        within :data:`HOME_REACH_M` of the start. The path is sent once: the way home is not
-        planned again as the robot drives it."""
+        """The way back from ``pose`` to where the robot started (``return_to_init``) on ``grid``,
+        once exploration is over (:func:`~frontier_rl.robot.way_home.way_home`); None before the
+        first tick."""
         if self.start is None:
             return None
-        x, y = self.start
-        home = Goal(x, y, np.zeros((0, 2)))
-        levels = (Recovery.NONE, Recovery.HALF_CELL, Recovery.WHOLE_CELL) if self.params.recovery_paths else ()
-        for level in levels:
-            costmap, reachable = self._reachable(grid, pose, level)
-            path = _path_on(grid, costmap, reachable, pose, x, y)
-            if path is not None and math.dist(path[-1], self.start) <= HOME_REACH_M:
-                return home if level is Recovery.NONE else replace(home, recovery=level, path=path)
-        return home
+        return way_home(
+            self.start, grid, pose, lambda level: self._reachable(grid, pose, level), self.params.recovery_paths
+        )
 
 
 def _newly_free_near(before: OccupancyGrid, now: OccupancyGrid, x: float, y: float, radius: float) -> int:
@@ -371,22 +359,6 @@ def _newly_free_near(before: OccupancyGrid, now: OccupancyGrid, x: float, y: flo
     was_free = np.zeros(len(yy), np.bool_)
     was_free[inside] = before.data[was[inside, 0], was[inside, 1]] == CellState.FREE
     return int(np.count_nonzero(~was_free))
-
-
-def _path_on(
-    grid: OccupancyGrid, costmap: Costmap, reachable: NDArray[np.bool_], pose: Pose, x: float, y: float
-) -> NDArray[np.float64] | None:
-    """The way ((n, 2), m) from ``pose`` to the ``reachable`` cell of ``grid`` nearest to (x, y)
-    (m), planned on ``costmap``, ending at that cell's centre; None if there is none."""
-    goal_cell = point_goal_cell(grid, reachable, x, y)
-    if goal_cell is None:
-        return None
-    cells = costmap.plan(grid.world_to_cell(pose.x, pose.y), goal_cell)
-    if len(cells) == 0:
-        return None
-    path = grid.cells_to_world(cells)
-    path[-1] = grid.cell_to_world(*goal_cell)
-    return path
 
 
 def _nearest(points: NDArray[np.float64], point: tuple[float, float]) -> int:

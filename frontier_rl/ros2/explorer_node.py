@@ -38,6 +38,7 @@ from frontier_rl.robot.explorer_decision import Finished, Goal
 from frontier_rl.robot.map_watch import MapWait, MapWatch
 from frontier_rl.robot.pose_source import PoseKind, PoseSource
 from frontier_rl.robot.throttled_log import ThrottledLog
+from frontier_rl.robot.way_home import HOME_TRIES
 from frontier_rl.ros2.explorer_options import ExplorerNodeOptions
 from frontier_rl.ros2.explorer_parameters import ExplorerSettings, declare_explorer_parameters
 from frontier_rl.ros2.explorer_status import ExplorerState, ExplorerStatus
@@ -111,6 +112,7 @@ class ExplorerNode(Node):
         self.finished: Finished | None = None
         self.done: Future[Finished | None] = Future()  # set once exploration (and the way home) is over
         self._returning = False
+        self._home_tries = 0  # the ways home sent
         self._finished_s: float | None = None  # the time explored when exploration ended (s)
         self._goal_ended = False  # Nav2 ended the goal under way: the next poll ticks at once
         self._publish(ExplorerState.WAITING, "waiting for a map, a pose and Nav2's navigate_to_pose")
@@ -310,6 +312,14 @@ class ExplorerNode(Node):
 
     def _goal_end(self, failed: bool, why: str) -> None:
         if self._returning:
+            pose = self._poses.pose(self._map_frame)
+            if failed and self._home_tries < HOME_TRIES and pose is not None and self._grid is not None:
+                self.get_logger().warn(
+                    f"{why}: planned again from ({pose.x:.2f}, {pose.y:.2f}), try "
+                    f"{self._home_tries + 1} of {HOME_TRIES}"
+                )
+                if self._go_home(self._team.merged(self._grid), pose):
+                    return
             self._returning = False
             self._close(why)
             return
@@ -338,14 +348,21 @@ class ExplorerNode(Node):
         way is cancelled by the runner, which waits for Nav2's answer before the node goes: a
         request sent as it went was lost, and the robot drove on)."""
         self.finished, self._finished_s = finished, self._elapsed_s
-        home = self.explorer.home(explored, pose) if self.explorer.params.return_to_init else None
-        if home is not None:
-            if self._handle is not None:
-                self._handle.cancel_goal_async()
-            self._returning = True
-            self._send(home)
-            return
-        self._close("exploration over")
+        if not (self.explorer.params.return_to_init and self._go_home(explored, pose)):
+            self._close("exploration over")
+
+    def _go_home(self, explored: OccupancyGrid, pose: Pose) -> bool:
+        """Send the way home from ``pose`` on the map ``explored``; False when there is none (no
+        start: the explorer never ticked)."""
+        home = self.explorer.home(explored, pose)
+        if home is None:
+            return False
+        if self._handle is not None:
+            self._handle.cancel_goal_async()
+        self._returning = True
+        self._home_tries += 1
+        self._send(home)
+        return True
 
     def _close(self, why: str) -> None:
         self._publish(ExplorerState.FINISHED, why)

@@ -10,6 +10,7 @@ from pathlib import Path
 
 import pytest
 
+from frontier_rl.robot.way_home import HOME_TRIES
 from frontier_rl.ros2.loopback import cli, loopback_problem, run_in_loopback
 
 pytestmark = pytest.mark.slow
@@ -23,14 +24,15 @@ _EXPLORE = f"{shlex.quote(cli())} ros2 explore --json --goal-silence-timeout 2"
 
 
 def _run(
-    home: Path, nav2: str, explore_for: int = 60, progress_timeout: float = 1.0
+    home: Path, nav2: str, explore_for: int = 60, progress_timeout: float = 1.0, options: str = ""
 ) -> tuple[int, dict[str, object] | None, str]:
-    """The explorer (for at most ``explore_for`` s, then Ctrl-C) beside the shell command ``nav2``
-    (in a process group of its own, ended after): its exit status, last JSON status and its log."""
+    """The explorer (for at most ``explore_for`` s, then Ctrl-C; with ``options``) beside the shell
+    command ``nav2`` (in a process group of its own, ended after): its exit status, last JSON
+    status and its log."""
     script = (
         f"setsid sh -c {shlex.quote(nav2)} > nav2.log 2>&1 & nav2=$!; "
         f"timeout --preserve-status -s INT {explore_for} {_EXPLORE} --progress-timeout {progress_timeout} "
-        "> explore.log 2> explore.err; status=$?; "
+        f"{options} > explore.log 2> explore.err; status=$?; "
         "kill -9 -$nav2 2>/dev/null; wait; exit $status"
     )
     done = run_in_loopback(script, home, explore_for + 30)
@@ -49,6 +51,17 @@ def test_goals_nav2_will_not_reach_are_given_up_and_exploration_ends(mode: str, 
     assert isinstance(status["frontiers_left"], int) and status["frontiers_left"] >= 1
     if mode == "stall":  # the goal still under way at the end is cancelled (the robot drove on to it)
         assert "cancelling goal" in log and "goal canceled" in log, log
+
+
+def test_the_way_home_nav2_gives_up_is_sent_again_from_where_the_robot_stands_then_the_run_ends(
+    tmp_path: Path,
+) -> None:
+    code, status, log = _run(tmp_path, f"{_FAKE} --mode abort", options="--return-to-init")
+    assert code == 0 and status is not None and status["state"] == "finished", log
+    assert status["reason"] == "unreachable", log
+    # each abort but the last sends the way again; the last ends the run
+    assert log.count("the way home aborted by Nav2 (status 6): planned again from (0.50, 0.50)") == HOME_TRIES - 1, log
+    assert f"try {HOME_TRIES} of {HOME_TRIES}" in log and f"try {HOME_TRIES + 1} " not in log, log
 
 
 def test_a_malformed_map_and_a_nan_pose_are_ignored_with_a_warning(tmp_path: Path) -> None:
