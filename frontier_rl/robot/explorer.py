@@ -130,7 +130,7 @@ class FrontierExplorer:
     def passed(self, pose: Pose) -> None:
         """The robot is at ``pose`` (map frame): a point of its trail, the way back that the
         narrow-passage recovery keeps open (:mod:`~frontier_rl.robot.trail`). Each tick adds its
-        pose; a node that hears the pose more often than it ticks tells it each one."""
+        pose; a node that reads the pose more often than it ticks passes each one it reads."""
         self._trail.add(pose.x, pose.y)
 
     def _path_renewed(self, grid: OccupancyGrid, pose: Pose) -> Goal | None:

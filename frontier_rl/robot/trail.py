@@ -21,9 +21,12 @@ from frontier_rl.core.world.grid import OccupancyGrid
 TRAIL_SPACING_M = 0.01
 """A pose this near (m) the trail's last point adds none."""
 
-TRAIL_JUMP_M = 0.5
-"""A pose this far (m) from the trail's last point starts a new stretch: the pose jumped (a SLAM
-correction, a relocalisation), and a straight line across the jump is no way the robot drove."""
+TRAIL_JUMP_M = 1.0
+"""A pose farther (m) than this from the trail's last point starts a new stretch: the pose jumped
+(a relocalisation), and a straight line across the jump is no way the robot drove. slam_toolbox
+publishes its pose each time it adds a scan, after the robot has moved 0.5 m (its
+``minimum_travel_distance``): such poses are points of one stretch, and a jump shorter than this
+is drawn as a line (only the cells the map has free are opened)."""
 
 
 class Trail:

@@ -43,7 +43,7 @@ from frontier_rl.ros2.explorer_options import ExplorerNodeOptions
 from frontier_rl.ros2.explorer_parameters import ExplorerSettings, declare_explorer_parameters
 from frontier_rl.ros2.explorer_status import ExplorerState, ExplorerStatus
 from frontier_rl.ros2.messages import MAP_QOS, frontier_markers, grid_of
-from frontier_rl.ros2.nav2_goals import FOLLOW, NAVIGATE, Nav2Goals, error_text
+from frontier_rl.ros2.nav2_goals import FOLLOW, NAVIGATE, GoalEnd, Nav2Goals, error_text
 from frontier_rl.ros2.pose_listener import PoseListener
 from frontier_rl.ros2.team_maps import TeamMaps
 
@@ -113,6 +113,7 @@ class ExplorerNode(Node):
         self.done: Future[Finished | None] = Future()  # set once exploration (and the way home) is over
         self._returning = False
         self._home_tries = 0  # the ways home sent
+        self._stopping = False  # the goal under way is being cancelled: nothing more is sent
         self._finished_s: float | None = None  # the time explored when exploration ended (s)
         self._goal_ended = False  # Nav2 ended the goal under way: the next poll ticks at once
         self._publish(ExplorerState.WAITING, "waiting for a map, a pose and Nav2's navigate_to_pose")
@@ -176,7 +177,7 @@ class ExplorerNode(Node):
     def _poll(self) -> None:
         """A planner tick when one is due: every ``1 / planner_frequency`` s of the node's clock,
         and at once when no goal is under way."""
-        if self.finished is not None and not self._returning:
+        if self._stopping or (self.finished is not None and not self._returning):
             return
         if self._grid is None:
             self._waiting(f"a map on {self.resolve_topic_name('map')}")
@@ -185,10 +186,10 @@ class ExplorerNode(Node):
         if pose is None:
             self._waiting(f"a pose ({self._pose_from})")
             return
-        self.explorer.passed(pose)
         if not self._nav.ready(self.explorer.params.recovery_paths, time.monotonic()):
             self._waiting(f"Nav2's {self.resolve_topic_name(NAVIGATE)} and {self.resolve_topic_name(FOLLOW)} actions")
             return
+        self.explorer.passed(pose)  # the trail: every pose the node reads, one per poll
         now = self._advance_clock()
         if time.monotonic() - self._heard_at > self.goal_silence_timeout:
             self._lost()
@@ -272,7 +273,7 @@ class ExplorerNode(Node):
         self._heard()
         if not handle.accepted:
             self._heard_at = math.inf
-            self._goal_end(failed=True, why=f"{self._label} rejected by Nav2")
+            self._goal_end(GoalEnd.REJECTED, f"{self._label} rejected by Nav2")
             return
         self._handle = handle
         handle.get_result_async().add_done_callback(lambda f: self._on_result(number, f))
@@ -284,12 +285,12 @@ class ExplorerNode(Node):
         status = result.status
         self._handle, self._heard_at = None, math.inf
         if status == ActionStatus.STATUS_SUCCEEDED:
-            self._goal_end(failed=False, why=f"{self._label} reached")
+            self._goal_end(GoalEnd.REACHED, f"{self._label} reached")
         elif status != ActionStatus.STATUS_CANCELED:
             error = error_text(result.result)
             if error:  # a reason of Nav2's own (a controller id it wants, a transform it lacks): on the log
                 self._warn(f"{self._action} error", f"{self._label} aborted by {self._action}{error}")
-            self._goal_end(failed=True, why=f"{self._label} aborted by Nav2 (status {status}{error})")
+            self._goal_end(GoalEnd.ABORTED, f"{self._label} aborted by Nav2 (status {status}{error})")
 
     def _feedback(self, number: int) -> None:
         if number == self._sent:
@@ -310,10 +311,12 @@ class ExplorerNode(Node):
         self._goal_ended = True
         self._publish(ExplorerState.EXPLORING, why)
 
-    def _goal_end(self, failed: bool, why: str) -> None:
-        if self._returning:
+    def _goal_end(self, end: GoalEnd, why: str) -> None:
+        failed = end is not GoalEnd.REACHED
+        if self._returning:  # a rejection is not tried again: Nav2 would reject it again at once
             pose = self._poses.pose(self._map_frame)
-            if failed and self._home_tries < HOME_TRIES and pose is not None and self._grid is not None:
+            tries_left = self._home_tries < HOME_TRIES and not self._stopping
+            if end is GoalEnd.ABORTED and tries_left and pose is not None and self._grid is not None:
                 self.get_logger().warn(
                     f"{why}: planned again from ({pose.x:.2f}, {pose.y:.2f}), try "
                     f"{self._home_tries + 1} of {HOME_TRIES}"
@@ -338,6 +341,7 @@ class ExplorerNode(Node):
     def cancel_goal(self) -> Future[Any] | None:
         """Ask Nav2 to cancel the goal under way (the explorer is being stopped: the robot should
         not drive on to it); the cancel request's future, or None when no goal is under way."""
+        self._stopping = True
         if self._handle is None:
             return None
         self.get_logger().info(f"cancelling {self._label}: the explorer is stopping")  # ended or stopped
@@ -359,6 +363,7 @@ class ExplorerNode(Node):
             return False
         if self._handle is not None:
             self._handle.cancel_goal_async()
+            self._handle = None
         self._returning = True
         self._home_tries += 1
         self._send(home)
@@ -376,19 +381,10 @@ class ExplorerNode(Node):
 
     def status(self, state: ExplorerState, detail: str) -> ExplorerStatus:
         """The explorer's state now."""
-        end = self.finished
-        return ExplorerStatus(
-            state=state,
-            reason=None if end is None else end.reason,
-            time_s=round(self._elapsed_s if self._finished_s is None else self._finished_s, 3),
-            goals=self.explorer.decisions,
-            given_up=self.explorer.goals_given_up,
-            frontiers_left=0 if end is None else len(end.left),
-            unknown_m2=0.0 if end is None else round(end.unknown_beside_m2, 3),
-            with_a_path=0 if end is None else end.with_a_path,
-            unrevealable=0 if end is None else end.unrevealable,
-            coverage=None if self._coverage is None else round(self._coverage, 5),
-            detail=detail,
+        time_s = self._elapsed_s if self._finished_s is None else self._finished_s
+        explorer = self.explorer
+        return ExplorerStatus.of(
+            state, detail, time_s, explorer.decisions, explorer.goals_given_up, self.finished, self._coverage
         )
 
     def _publish(self, state: ExplorerState, detail: str) -> None:

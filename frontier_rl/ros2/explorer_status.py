@@ -8,6 +8,7 @@ from dataclasses import asdict, dataclass
 from enum import StrEnum
 
 from frontier_rl.core.sim.metrics import EndReason
+from frontier_rl.robot.explorer_decision import Finished
 
 
 class ExplorerState(StrEnum):
@@ -50,6 +51,33 @@ class ExplorerStatus:
     unrevealable: int
     coverage: float | None
     detail: str
+
+    @classmethod
+    def of(
+        cls,
+        state: ExplorerState,
+        detail: str,
+        time_s: float,
+        goals: int,
+        given_up: int,
+        finished: Finished | None,
+        coverage: float | None,
+    ) -> ExplorerStatus:
+        """The status of an explorer in ``state`` after ``time_s`` (s) and ``goals`` (``given_up``
+        of them given up), ``finished`` once it ended (None before), ``coverage`` the simulator's."""
+        return cls(
+            state=state,
+            reason=None if finished is None else finished.reason,
+            time_s=round(time_s, 3),
+            goals=goals,
+            given_up=given_up,
+            frontiers_left=0 if finished is None else len(finished.left),
+            unknown_m2=0.0 if finished is None else round(finished.unknown_beside_m2, 3),
+            with_a_path=0 if finished is None else finished.with_a_path,
+            unrevealable=0 if finished is None else finished.unrevealable,
+            coverage=None if coverage is None else round(coverage, 5),
+            detail=detail,
+        )
 
     @classmethod
     def not_started(cls) -> ExplorerStatus:

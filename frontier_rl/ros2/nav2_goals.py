@@ -12,6 +12,7 @@ takes when it has one of each (its default parameters)."""
 from __future__ import annotations
 
 from collections.abc import Callable
+from enum import Enum
 from typing import Any
 
 from builtin_interfaces.msg import Time
@@ -29,6 +30,14 @@ FOLLOW = "follow_path"
 FOLLOW_WAIT_S = 5.0
 """How long (wall s) after ``navigate_to_pose`` is up the explorer waits for ``follow_path`` before
 it starts without it (a stand-in for Nav2 that serves only the first)."""
+
+
+class GoalEnd(Enum):
+    """How Nav2 ended a goal the explorer sent."""
+
+    REACHED = "reached"
+    REJECTED = "rejected"
+    ABORTED = "aborted"
 
 
 class Nav2Goals:

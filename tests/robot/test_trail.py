@@ -53,7 +53,26 @@ def test_a_pose_that_jumps_starts_a_new_stretch_not_a_line_across() -> None:
     trail = Trail()
     for x in np.arange(0.1, 0.6, 0.02):
         trail.add(float(x), 0.5)
-    trail.add(0.6 + TRAIL_JUMP_M + 0.2, 0.5)  # a relocalisation: no way the robot drove
-    trail.add(0.6 + TRAIL_JUMP_M + 0.22, 0.5)
+    far = 0.58 + TRAIL_JUMP_M + 0.2  # a relocalisation: no way the robot drove
+    trail.add(far, 0.5)
+    trail.add(far + 0.02, 0.5)
     row = trail.on(_grid())[10]
-    assert row[2:12].all() and not row[12:26].any() and row[26]
+    landed = int(far / 0.05)
+    assert row[2:12].all() and not row[12:landed].any() and row[landed]
+
+
+def test_poses_half_a_metre_apart_as_slam_toolbox_publishes_them_are_one_line() -> None:
+    trail = Trail()
+    for x in (0.1, 0.65, 1.2, 1.75, 2.3, 2.85):
+        trail.add(x, 0.5)
+    assert trail.on(_grid())[10, 2:58].all()
+
+
+def test_a_diagonal_drawn_pose_by_pose_is_the_diagonal_drawn_at_once() -> None:
+    grid, points = _grid(), np.column_stack((0.12 + 0.013 * np.arange(120), 0.11 + 0.011 * np.arange(120)))
+    pose_by_pose, at_once = Trail(), Trail()
+    for x, y in points:
+        pose_by_pose.add(float(x), float(y))
+        pose_by_pose.on(grid)  # drawn as each pose comes: each piece joined to the one before
+        at_once.add(float(x), float(y))
+    assert np.array_equal(pose_by_pose.on(grid), at_once.on(grid))

@@ -64,6 +64,12 @@ def test_the_way_home_nav2_gives_up_is_sent_again_from_where_the_robot_stands_th
     assert f"try {HOME_TRIES} of {HOME_TRIES}" in log and f"try {HOME_TRIES + 1} " not in log, log
 
 
+def test_a_way_home_nav2_rejects_is_not_sent_again(tmp_path: Path) -> None:
+    code, status, log = _run(tmp_path, f"{_FAKE} --mode reject", options="--return-to-init")
+    assert code == 0 and status is not None and status["state"] == "finished", log
+    assert "planned again" not in log, log
+
+
 def test_a_malformed_map_and_a_nan_pose_are_ignored_with_a_warning(tmp_path: Path) -> None:
     code, status, log = _run(tmp_path, f"{_FAKE} --mode abort --bad-inputs")
     assert code == 0 and status is not None and status["state"] == "finished", log

@@ -174,14 +174,30 @@ def explore_bench_maps(text: str) -> list[Path]:
     return maps
 
 
+@dataclass(frozen=True)
+class ExploreBenchJob:
+    """One Explore-Bench run: ``method`` with ``robots`` robots on the ROS map ``map_file`` from
+    start ``seed``."""
+
+    method: str
+    map_file: Path
+    seed: int
+    robots: int = 1
+
+
+def run_explore_bench_job(job: ExploreBenchJob) -> ExploreBenchRun:
+    """:func:`run_explore_bench` of ``job`` (a worker's task)."""
+    return run_explore_bench(job.method, job.map_file, job.seed, job.robots)
+
+
 def run_explore_bench_all(
     methods: Sequence[str], maps: Sequence[Path], seeds: int, robots: Sequence[int], workers: int | None = None
 ) -> tuple[list[ExploreBenchRun], list[str]]:
     """Every method with every team size on every map from starts 0..seeds-1, in ``workers``
     processes: the runs, and a line for each run that failed (the others are kept)."""
-    jobs = [(m, p, s, n) for m in methods for n in robots for p in maps for s in range(seeds)]
+    jobs = [ExploreBenchJob(m, p, s, n) for m in methods for n in robots for p in maps for s in range(seeds)]
     # a policy of one robot's tour of the true map (the oracle) is refused before any run, not after
-    return run_jobs(run_explore_bench, jobs, workers, partial(check_team_policy, robots=max(robots)))
+    return run_jobs(run_explore_bench_job, jobs, workers, partial(check_team_policy, robots=max(robots)))
 
 
 @dataclass(frozen=True)

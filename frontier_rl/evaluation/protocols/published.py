@@ -24,7 +24,7 @@ import math
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass, replace
 from pathlib import Path
-from typing import Any, Generic, TypeVar
+from typing import Generic, Protocol, TypeVar
 
 import numpy as np
 
@@ -40,6 +40,21 @@ from frontier_rl.io.dungeon import DUNGEON_RESOLUTION, load_dungeon_map, marker_
 from frontier_rl.policies import make_policy
 
 R = TypeVar("R")
+
+
+class ProtocolJob(Protocol):
+    """One run a protocol asks for: a method on a map file (and whatever else its runner takes)."""
+
+    @property
+    def method(self) -> str:
+        """The policy, as :func:`~frontier_rl.policies.make_policy` takes it."""
+
+    @property
+    def map_file(self) -> Path:
+        """The map the run explores."""
+
+
+J = TypeVar("J", bound=ProtocolJob)
 
 ARIADNE_SENSOR_PX = 80
 """ARiADNE's sensor range (pixels)."""
@@ -112,39 +127,53 @@ def run_ariadne(method: str, path: Path, resolution: float = DUNGEON_RESOLUTION)
 
 
 @dataclass(frozen=True)
-class _Catching(Generic[R]):
-    """``run`` on a job's arguments, or the one-line reason it failed (one map must not cost the
-    others' results). A job's first two arguments are the method and the map file."""
+class AriadneJob:
+    """One ARiADNE test run: ``method`` on the DungeonMaps map ``map_file`` at ``resolution`` (m/px)."""
 
-    run: Callable[..., R]
+    method: str
+    map_file: Path
+    resolution: float = DUNGEON_RESOLUTION
 
-    def __call__(self, job: tuple[Any, ...]) -> R | str:
+
+def run_ariadne_job(job: AriadneJob) -> ProtocolRun:
+    """:func:`run_ariadne` of ``job`` (a worker's task)."""
+    return run_ariadne(job.method, job.map_file, job.resolution)
+
+
+@dataclass(frozen=True)
+class _Catching(Generic[J, R]):
+    """``run`` on a job, or the one-line reason it failed (one map must not cost the others'
+    results)."""
+
+    run: Callable[[J], R]
+
+    def __call__(self, job: J) -> R | str:
         try:
-            return self.run(*job)
+            return self.run(job)
         except Exception as exc:  # reported with the map's name; the other runs go on
             if caused_by_interrupt(exc):  # a Ctrl-C numba turned into an error: not the run's failure
                 raise KeyboardInterrupt from None
             return _failure_line(job, exc)
 
 
-def _failure_line(job: tuple[Any, ...], exc: BaseException) -> str:
-    """The line that reports ``job`` (method, map file, ...) failing with ``exc``."""
-    return f"{job[0]} on {Path(job[1]).name}: {type(exc).__name__}: {exc}"
+def _failure_line(job: ProtocolJob, exc: BaseException) -> str:
+    """The line that reports ``job`` failing with ``exc``."""
+    return f"{job.method} on {job.map_file.name}: {type(exc).__name__}: {exc}"
 
 
 def run_jobs(
-    run: Callable[..., R],
-    jobs: Sequence[tuple[Any, ...]],
+    run: Callable[[J], R],
+    jobs: Sequence[J],
     workers: int | None = None,
     check_policy: Callable[[ExplorationPolicy], object] = lambda policy: None,
 ) -> tuple[list[R], list[str]]:
-    """``run(*job)`` for every job, in ``workers`` spawned processes (default: every core; ``run``
+    """``run(job)`` for every job, in ``workers`` spawned processes (default: every core; ``run``
     must be a module-level function): the results in job order, and a line for each job that
-    failed (the others are kept). A job's first argument is its method: every method is built
-    once first and passed to ``check_policy``, so that an unknown one, a bad model file or a policy
-    the protocol cannot run fails before any work."""
+    failed (the others are kept). Every job's method is built once first and passed to
+    ``check_policy``, so that an unknown one, a bad model file or a policy the protocol cannot run
+    fails before any work."""
     check_workers(workers)
-    for method in dict.fromkeys(job[0] for job in jobs):
+    for method in dict.fromkeys(job.method for job in jobs):
         check_policy(make_policy(method))
     workers = max(1, min(workers or default_workers(), len(jobs)))
     catching = _Catching(run)
@@ -174,7 +203,7 @@ def run_protocol(
 ) -> tuple[list[ProtocolRun], list[str]]:
     """Every method on every map, in ``workers`` processes (default: every core): the runs, and a
     line for each run that failed (the others are kept)."""
-    return run_jobs(run_ariadne, [(m, p, resolution) for m in methods for p in maps], workers)
+    return run_jobs(run_ariadne_job, [AriadneJob(m, p, resolution) for m in methods for p in maps], workers)
 
 
 @dataclass(frozen=True)
