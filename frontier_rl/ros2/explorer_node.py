@@ -18,10 +18,8 @@ import math
 import time
 from typing import Any
 
-from action_msgs.msg import GoalStatus as ActionStatus
 from nav_msgs.msg import OccupancyGrid as GridMessage
 from rcl_interfaces.msg import SetParametersResult
-from rclpy.action.client import ClientGoalHandle
 from rclpy.clock import Clock
 from rclpy.clock_type import ClockType
 from rclpy.node import Node
@@ -43,7 +41,7 @@ from frontier_rl.ros2.explorer_options import ExplorerNodeOptions
 from frontier_rl.ros2.explorer_parameters import ExplorerSettings, declare_explorer_parameters
 from frontier_rl.ros2.explorer_status import ExplorerState, ExplorerStatus
 from frontier_rl.ros2.messages import MAP_QOS, frontier_markers, grid_of
-from frontier_rl.ros2.nav2_goals import FOLLOW, NAVIGATE, GoalEnd, Nav2Goals, error_text
+from frontier_rl.ros2.nav2_goals import FOLLOW, NAVIGATE, GoalEnd, GoalOutcome, Nav2Goals
 from frontier_rl.ros2.pose_listener import PoseListener
 from frontier_rl.ros2.team_maps import TeamMaps
 
@@ -100,15 +98,11 @@ class ExplorerNode(Node):
         self.create_subscription(Float32, "coverage", self._on_coverage, MAP_QOS)
         self._status_pub = self.create_publisher(String, "explore/status", MAP_QOS)
         self._marker_pub = self.create_publisher(MarkerArray, "explore/frontiers", 10)
-        self._nav = Nav2Goals(self)
-        self._action = NAVIGATE  # the action of the goal in flight
-        self._sent = 0  # goals sent (a path goal again at every tick); a result or response of an older one is ignored
+        self._nav = Nav2Goals(self, self._goal_end)
         self._label = "goal 0"  # the goal in flight, as the log and the status name it: the decision's number
-        self._handle: ClientGoalHandle[Any, Any, Any] | None = None
         self._clock_s: float | None = None  # the node's clock at the last poll (s)
         self._elapsed_s = 0.0  # time explored (s): the node's clock, never running backwards
         self._last_tick_s = -math.inf
-        self._heard_at = math.inf  # when Nav2 last said something of the goal in flight (wall s)
         self.finished: Finished | None = None
         self.done: Future[Finished | None] = Future()  # set once exploration (and the way home) is over
         self._returning = False
@@ -170,9 +164,6 @@ class ExplorerNode(Node):
         self._clock_s = now
         return self._elapsed_s
 
-    def _heard(self) -> None:
-        self._heard_at = time.monotonic()
-
     # --------------------------------------------------------------- ticks
     def _poll(self) -> None:
         """A planner tick when one is due: every ``1 / planner_frequency`` s of the node's clock,
@@ -191,7 +182,7 @@ class ExplorerNode(Node):
             return
         self.explorer.passed(pose)  # the trail: every pose the node reads, one per poll
         now = self._advance_clock()
-        if time.monotonic() - self._heard_at > self.goal_silence_timeout:
+        if self._nav.silent_for(time.monotonic()) > self.goal_silence_timeout:
             self._lost()
             return
         if self.finished is not None or not self._map_for_judging(now):
@@ -236,20 +227,9 @@ class ExplorerNode(Node):
         return self.get_clock().now().nanoseconds * 1e-9
 
     def _send(self, goal: Goal) -> None:
-        self._sent += 1
-        number = self._sent
         self._label = "the way home" if self._returning else f"goal {self.explorer.decisions}"
-        stamp = self.get_clock().now().to_msg()
-        if self._heard_at == math.inf:  # a goal sent again (its path renewed) does not reset Nav2's silence
-            self._heard()
-        action = self._nav.action_for(goal)
-        if self._handle is not None and action != self._action:  # two servers: the other's goal would drive on
-            self._handle.cancel_goal_async()
-            self._handle = None
-        self._action = action
-        future = self._nav.send(action, goal, self._map_frame, stamp, lambda _: self._feedback(number))
-        future.add_done_callback(lambda f: self._on_response(number, f))
-        if goal.path is not None and self._action != FOLLOW:
+        action = self._nav.send(goal, self._map_frame, self.get_clock().now().to_msg())
+        if goal.path is not None and action != FOLLOW:
             self._warn(
                 FOLLOW,
                 f"Nav2's {self.resolve_topic_name(FOLLOW)} action is not up: {self._label}, found with the map's "
@@ -258,51 +238,16 @@ class ExplorerNode(Node):
         if self.visualize and self._grid is not None:
             candidates = [(float(x), float(y)) for x, y in self.explorer.candidate_goals]
             self._marker_pub.publish(frontier_markers(candidates, (goal.x, goal.y), self.get_clock().now().to_msg()))
-        detail = f"{self._label} at ({goal.x:.2f}, {goal.y:.2f})" + (" along a path" if self._action == FOLLOW else "")
+        detail = f"{self._label} at ({goal.x:.2f}, {goal.y:.2f})" + (" along a path" if action == FOLLOW else "")
         self.get_logger().debug(f"sent {detail}")  # --ros-args --log-level frontier_rl_explorer:=debug shows it
         self._publish(ExplorerState.RETURNING if self._returning else ExplorerState.EXPLORING, detail)
-
-    def _on_response(self, number: int, future: Future[ClientGoalHandle[Any, Any, Any]]) -> None:
-        handle = future.result()
-        if handle is None:
-            return
-        if number != self._sent:  # a newer goal went out (or this one was dropped): this one must not drive on
-            if handle.accepted:  # a server a newer goal went to has preempted it already; the other has not
-                handle.cancel_goal_async()
-            return
-        self._heard()
-        if not handle.accepted:
-            self._heard_at = math.inf
-            self._goal_end(GoalEnd.REJECTED, f"{self._label} rejected by Nav2")
-            return
-        self._handle = handle
-        handle.get_result_async().add_done_callback(lambda f: self._on_result(number, f))
-
-    def _on_result(self, number: int, future: Future[Any]) -> None:
-        result = future.result()
-        if number != self._sent or result is None:
-            return
-        status = result.status
-        self._handle, self._heard_at = None, math.inf
-        if status == ActionStatus.STATUS_SUCCEEDED:
-            self._goal_end(GoalEnd.REACHED, f"{self._label} reached")
-        elif status != ActionStatus.STATUS_CANCELED:
-            error = error_text(result.result)
-            if error:  # a reason of Nav2's own (a controller id it wants, a transform it lacks): on the log
-                self._warn(f"{self._action} error", f"{self._label} aborted by {self._action}{error}")
-            self._goal_end(GoalEnd.ABORTED, f"{self._label} aborted by Nav2 (status {status}{error})")
-
-    def _feedback(self, number: int) -> None:
-        if number == self._sent:
-            self._heard()
 
     def _lost(self) -> None:
         """Nav2 fell silent on the goal in flight: drop it (its server went away) and decide again
         once the server is back."""
-        why = f"no word from {self._action} on {self._label} for {self.goal_silence_timeout:g} s: dropped"
+        why = f"no word from {self._nav.action} on {self._label} for {self.goal_silence_timeout:g} s: dropped"
         self.get_logger().warn(why)
-        self._sent += 1  # whatever the old server says later is ignored
-        self._handle, self._heard_at = None, math.inf
+        self._nav.drop()
         if self._returning:
             self._returning = False
             self._close(why)
@@ -311,7 +256,13 @@ class ExplorerNode(Node):
         self._goal_ended = True
         self._publish(ExplorerState.EXPLORING, why)
 
-    def _goal_end(self, end: GoalEnd, why: str) -> None:
+    def _goal_end(self, outcome: GoalOutcome) -> None:
+        end, action = outcome.end, self._nav.action
+        if end is GoalEnd.ABORTED and outcome.error:  # Nav2's own reason (a controller id it wants): on the log
+            self._warn(f"{action} error", f"{self._label} aborted by {action}{outcome.error}")
+        why = f"{self._label} {end.value}" + (" by Nav2" if end is not GoalEnd.REACHED else "")
+        if end is GoalEnd.ABORTED:
+            why += f" (status {outcome.status}{outcome.error})"
         failed = end is not GoalEnd.REACHED
         if self._returning:  # a rejection is not tried again: Nav2 would reject it again at once
             pose = self._poses.pose(self._map_frame)
@@ -342,10 +293,10 @@ class ExplorerNode(Node):
         """Ask Nav2 to cancel the goal under way (the explorer is being stopped: the robot should
         not drive on to it); the cancel request's future, or None when no goal is under way."""
         self._stopping = True
-        if self._handle is None:
+        if not self._nav.under_way:
             return None
         self.get_logger().info(f"cancelling {self._label}: the explorer is stopping")  # ended or stopped
-        return self._handle.cancel_goal_async()
+        return self._nav.cancel()
 
     def _finish(self, finished: Finished, explored: OccupancyGrid, pose: Pose) -> None:
         """The run is over: home from ``pose`` on the map ``explored``, or done (a goal still under
@@ -361,9 +312,7 @@ class ExplorerNode(Node):
         home = self.explorer.home(explored, pose)
         if home is None:
             return False
-        if self._handle is not None:
-            self._handle.cancel_goal_async()
-            self._handle = None
+        self._nav.cancel()
         self._returning = True
         self._home_tries += 1
         self._send(home)

@@ -5,16 +5,25 @@ the robot's costmap, Nav2's planner finds no way, while its controller checks th
 sees now (a local costmap from live scans), as wide as the doorway is.
 
 The two are served by different Nav2 servers (bt_navigator, controller_server): a goal sent to one
-does not preempt the other's, so the node cancels a goal under way when the next goes to the other
+does not preempt the other's, so a goal under way is cancelled when the next goes to the other
 action. ``follow_path`` goes without a controller, goal checker or progress checker id, which Nav2
-takes when it has one of each (its default parameters)."""
+takes when it has one of each (its default parameters).
+
+Goals are numbered as they are sent (a path goal again at every planner tick): the response,
+feedback or result of an older one is ignored, and an older one a server accepted after a newer
+went to the other server is cancelled, so that it does not drive on."""
 
 from __future__ import annotations
 
+import math
+import time
 from collections.abc import Callable
+from dataclasses import dataclass
 from enum import Enum
+from functools import partial
 from typing import Any
 
+from action_msgs.msg import GoalStatus as ActionStatus
 from builtin_interfaces.msg import Time
 from nav2_msgs.action import FollowPath, NavigateToPose
 from rclpy.action.client import ActionClient, ClientGoalHandle
@@ -40,14 +49,38 @@ class GoalEnd(Enum):
     ABORTED = "aborted"
 
 
-class Nav2Goals:
-    """The explorer's clients of Nav2's ``navigate_to_pose`` and ``follow_path`` actions on ``node``
-    (names relative to its namespace)."""
+@dataclass(frozen=True)
+class GoalOutcome:
+    """How Nav2 ended the goal in flight.
 
-    def __init__(self, node: Node) -> None:
+    Attributes:
+        end: reached, rejected or aborted.
+        status: the action's status (``action_msgs/GoalStatus``), 0 for a rejection.
+        error: Nav2's own reason in the result (:func:`error_text`), "" for none.
+    """
+
+    end: GoalEnd
+    status: int = 0
+    error: str = ""
+
+
+class Nav2Goals:
+    """The explorer's goal in flight with Nav2's ``navigate_to_pose`` or ``follow_path`` action on
+    ``node`` (names relative to its namespace), and how it ended (``on_end``).
+
+    Attributes:
+        action: the action of the goal in flight (or of the last one).
+    """
+
+    def __init__(self, node: Node, on_end: Callable[[GoalOutcome], None]) -> None:
         self._navigate: ActionClient[Any, Any, Any] = ActionClient(node, NavigateToPose, NAVIGATE)
         self._follow: ActionClient[Any, Any, Any] = ActionClient(node, FollowPath, FOLLOW)
         self._navigate_up_at: float | None = None  # wall s
+        self._on_end = on_end
+        self.action = NAVIGATE
+        self._sent = 0  # goals sent; a response, feedback or result of an older one is ignored
+        self._handle: ClientGoalHandle[Any, Any, Any] | None = None
+        self._heard_at = math.inf  # when Nav2 last said something of the goal in flight (wall s)
 
     def ready(self, wants_follow: bool, wall_s: float) -> bool:
         """Whether goals may be sent at wall time ``wall_s`` (s): ``navigate_to_pose`` is up and,
@@ -66,17 +99,84 @@ class Nav2Goals:
         controller serves it, else ``navigate_to_pose``."""
         return FOLLOW if goal.path is not None and self._follow.server_is_ready() else NAVIGATE
 
-    def send(
-        self, action: str, goal: Goal, frame: str, stamp: Time, on_feedback: Callable[[Any], None]
-    ) -> Future[ClientGoalHandle[Any, Any, Any]]:
-        """Send ``goal`` (in the map ``frame``, stamped ``stamp``) to ``action``
-        (:meth:`action_for`'s): the future of Nav2's response."""
+    def send(self, goal: Goal, frame: str, stamp: Time) -> str:
+        """Send ``goal`` (in the map ``frame``, stamped ``stamp``) to the action :meth:`action_for`
+        gives, which it returns; a goal under way on the other action is cancelled first."""
+        self._sent += 1
+        number = self._sent
+        if self._heard_at == math.inf:  # a goal sent again (its path renewed) does not reset Nav2's silence
+            self._heard()
+        action = self.action_for(goal)
+        if self._handle is not None and action != self.action:  # two servers: the other's goal would drive on
+            self._handle.cancel_goal_async()
+            self._handle = None
+        self.action = action
+        feedback = partial(self._feedback, number)
         if action == FOLLOW:
             assert goal.path is not None
             request = FollowPath.Goal(path=path_message(goal.path, stamp, frame))
-            return self._follow.send_goal_async(request, feedback_callback=on_feedback)
-        request = NavigateToPose.Goal(pose=pose_stamped(Pose(goal.x, goal.y, 0.0), stamp, frame))
-        return self._navigate.send_goal_async(request, feedback_callback=on_feedback)
+            future = self._follow.send_goal_async(request, feedback_callback=feedback)
+        else:
+            request = NavigateToPose.Goal(pose=pose_stamped(Pose(goal.x, goal.y, 0.0), stamp, frame))
+            future = self._navigate.send_goal_async(request, feedback_callback=feedback)
+        future.add_done_callback(lambda f: self._on_response(number, f))
+        return action
+
+    def silent_for(self, wall_s: float) -> float:
+        """How long (wall s) Nav2 has said nothing of the goal in flight at wall time ``wall_s``;
+        0 with none in flight."""
+        return max(wall_s - self._heard_at, 0.0)
+
+    def drop(self) -> None:
+        """Forget the goal in flight (its server went away): whatever the old server says later is
+        ignored."""
+        self._sent += 1
+        self._handle, self._heard_at = None, math.inf
+
+    def cancel(self) -> Future[Any] | None:
+        """Ask Nav2 to cancel the goal under way, which is then no longer followed; the cancel
+        request's future, or None when no goal is under way."""
+        handle, self._handle = self._handle, None
+        return None if handle is None else handle.cancel_goal_async()
+
+    @property
+    def under_way(self) -> bool:
+        """Whether Nav2 accepted a goal and has not ended it yet."""
+        return self._handle is not None
+
+    def _heard(self) -> None:
+        self._heard_at = time.monotonic()
+
+    def _feedback(self, number: int, _message: Any) -> None:
+        if number == self._sent:
+            self._heard()
+
+    def _on_response(self, number: int, future: Future[ClientGoalHandle[Any, Any, Any]]) -> None:
+        handle = future.result()
+        if handle is None:
+            return
+        if number != self._sent:  # a newer goal went out (or this one was dropped): this one must not drive on
+            if handle.accepted:  # a server a newer goal went to has preempted it already; the other has not
+                handle.cancel_goal_async()
+            return
+        self._heard()
+        if not handle.accepted:
+            self._heard_at = math.inf
+            self._on_end(GoalOutcome(GoalEnd.REJECTED))
+            return
+        self._handle = handle
+        handle.get_result_async().add_done_callback(lambda f: self._on_result(number, f))
+
+    def _on_result(self, number: int, future: Future[Any]) -> None:
+        result = future.result()
+        if number != self._sent or result is None:
+            return
+        status = result.status
+        self._handle, self._heard_at = None, math.inf
+        if status == ActionStatus.STATUS_SUCCEEDED:
+            self._on_end(GoalOutcome(GoalEnd.REACHED, status))
+        elif status != ActionStatus.STATUS_CANCELED:
+            self._on_end(GoalOutcome(GoalEnd.ABORTED, status, error_text(result.result)))
 
 
 def error_text(result: Any) -> str:
