@@ -293,10 +293,10 @@ class ExplorerNode(Node):
         """Ask Nav2 to cancel the goal under way (the explorer is being stopped: the robot should
         not drive on to it); the cancel request's future, or None when no goal is under way."""
         self._stopping = True
-        if not self._nav.under_way:
-            return None
-        self.get_logger().info(f"cancelling {self._label}: the explorer is stopping")  # ended or stopped
-        return self._nav.cancel()
+        future = self._nav.cancel()  # also one whose response is still awaited, once it comes
+        if future is not None:
+            self.get_logger().info(f"cancelling {self._label}: the explorer is stopping")  # ended or stopped
+        return future
 
     def _finish(self, finished: Finished, explored: OccupancyGrid, pose: Pose) -> None:
         """The run is over: home from ``pose`` on the map ``explored``, or done (a goal still under

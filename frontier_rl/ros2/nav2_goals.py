@@ -10,8 +10,8 @@ action. ``follow_path`` goes without a controller, goal checker or progress chec
 takes when it has one of each (its default parameters).
 
 Goals are numbered as they are sent (a path goal again at every planner tick): the response,
-feedback or result of an older one is ignored, and an older one a server accepted after a newer
-went to the other server is cancelled, so that it does not drive on."""
+feedback or result of an older one (or of one dropped or cancelled) is ignored, and such a goal a
+server accepted is cancelled, so that it does not drive on."""
 
 from __future__ import annotations
 
@@ -124,7 +124,7 @@ class Nav2Goals:
 
     def silent_for(self, wall_s: float) -> float:
         """How long (wall s) Nav2 has said nothing of the goal in flight at wall time ``wall_s``;
-        0 with none in flight."""
+        0 while none is awaited (none sent, or it ended, was dropped or cancelled)."""
         return max(wall_s - self._heard_at, 0.0)
 
     def drop(self) -> None:
@@ -134,15 +134,12 @@ class Nav2Goals:
         self._handle, self._heard_at = None, math.inf
 
     def cancel(self) -> Future[Any] | None:
-        """Ask Nav2 to cancel the goal under way, which is then no longer followed; the cancel
-        request's future, or None when no goal is under way."""
-        handle, self._handle = self._handle, None
+        """Ask Nav2 to cancel the goal under way; one whose response is still awaited is cancelled
+        when it comes (accepted), and whatever Nav2 says of either later is ignored. The cancel
+        request's future, or None when no goal was under way."""
+        handle = self._handle
+        self.drop()
         return None if handle is None else handle.cancel_goal_async()
-
-    @property
-    def under_way(self) -> bool:
-        """Whether Nav2 accepted a goal and has not ended it yet."""
-        return self._handle is not None
 
     def _heard(self) -> None:
         self._heard_at = time.monotonic()
