@@ -4,6 +4,7 @@ a goal for the navigation stack, or the end of exploration with what was left.""
 from __future__ import annotations
 
 from dataclasses import dataclass
+from enum import Enum
 
 import numpy as np
 from numpy.typing import NDArray
@@ -11,6 +12,15 @@ from numpy.typing import NDArray
 from frontier_rl.core.navigation.thin_walls import Recovery
 from frontier_rl.core.sim.candidates import Look
 from frontier_rl.core.sim.metrics import EndReason, FrontierLeft
+
+
+class GoalStatus(Enum):
+    """How the navigation stack ended a goal, in the words of ROS 2 actions (the simulated robot
+    rejects none)."""
+
+    SUCCEEDED = "succeeded"
+    ABORTED = "aborted"
+    REJECTED = "rejected"
 
 
 @dataclass(frozen=True)

@@ -12,7 +12,6 @@ from __future__ import annotations
 import math
 from collections.abc import Generator
 from dataclasses import dataclass
-from enum import Enum
 
 import numpy as np
 from numpy.typing import NDArray
@@ -27,14 +26,7 @@ from frontier_rl.core.world.grid import OccupancyGrid
 from frontier_rl.core.world.robot import Pose
 from frontier_rl.core.world.worlds import World
 from frontier_rl.robot.explorer import FrontierExplorer
-from frontier_rl.robot.explorer_decision import Finished, Goal
-
-
-class GoalStatus(Enum):
-    """How a goal ended, in the words of ROS 2 actions."""
-
-    SUCCEEDED = "succeeded"
-    ABORTED = "aborted"
+from frontier_rl.robot.explorer_decision import Finished, Goal, GoalStatus
 
 
 @dataclass(frozen=True)

@@ -32,7 +32,7 @@ from frontier_rl.core.world.grid import OccupancyGrid
 from frontier_rl.core.world.robot import Pose
 from frontier_rl.errors import ConfigError, MapError
 from frontier_rl.robot.explorer import FrontierExplorer
-from frontier_rl.robot.explorer_decision import Finished, Goal
+from frontier_rl.robot.explorer_decision import Finished, Goal, GoalStatus
 from frontier_rl.robot.map_watch import MapWait, MapWatch
 from frontier_rl.robot.pose_source import PoseKind, PoseSource
 from frontier_rl.robot.throttled_log import ThrottledLog
@@ -41,7 +41,7 @@ from frontier_rl.ros2.explorer_options import ExplorerNodeOptions
 from frontier_rl.ros2.explorer_parameters import ExplorerSettings, declare_explorer_parameters
 from frontier_rl.ros2.explorer_status import ExplorerState, ExplorerStatus
 from frontier_rl.ros2.messages import MAP_QOS, frontier_markers, grid_of
-from frontier_rl.ros2.nav2_goals import FOLLOW, NAVIGATE, GoalEnd, GoalOutcome, Nav2Goals
+from frontier_rl.ros2.nav2_goals import FOLLOW, NAVIGATE, GoalOutcome, Nav2Goals
 from frontier_rl.ros2.pose_listener import PoseListener
 from frontier_rl.ros2.team_maps import TeamMaps
 
@@ -257,17 +257,19 @@ class ExplorerNode(Node):
         self._publish(ExplorerState.EXPLORING, why)
 
     def _goal_end(self, outcome: GoalOutcome) -> None:
-        end, action = outcome.end, self._nav.action
-        if end is GoalEnd.ABORTED and outcome.error:  # Nav2's own reason (a controller id it wants): on the log
+        status, action = outcome.status, self._nav.action
+        if status is GoalStatus.ABORTED and outcome.error:  # Nav2's own reason (a controller id it wants): on the log
             self._warn(f"{action} error", f"{self._label} aborted by {action}{outcome.error}")
-        why = f"{self._label} {end.value}" + (" by Nav2" if end is not GoalEnd.REACHED else "")
-        if end is GoalEnd.ABORTED:
-            why += f" (status {outcome.status}{outcome.error})"
-        failed = end is not GoalEnd.REACHED
+        why = {
+            GoalStatus.SUCCEEDED: f"{self._label} reached",
+            GoalStatus.REJECTED: f"{self._label} rejected by Nav2",
+            GoalStatus.ABORTED: f"{self._label} aborted by Nav2 (status {outcome.code}{outcome.error})",
+        }[status]
+        failed = status is not GoalStatus.SUCCEEDED
         if self._returning:  # a rejection is not tried again: Nav2 would reject it again at once
             pose = self._poses.pose(self._map_frame)
             tries_left = self._home_tries < HOME_TRIES and not self._stopping
-            if end is GoalEnd.ABORTED and tries_left and pose is not None and self._grid is not None:
+            if status is GoalStatus.ABORTED and tries_left and pose is not None and self._grid is not None:
                 self.get_logger().warn(
                     f"{why}: planned again from ({pose.x:.2f}, {pose.y:.2f}), try "
                     f"{self._home_tries + 1} of {HOME_TRIES}"

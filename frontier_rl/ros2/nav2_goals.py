@@ -19,7 +19,6 @@ import math
 import time
 from collections.abc import Callable
 from dataclasses import dataclass
-from enum import Enum
 from functools import partial
 from typing import Any
 
@@ -31,7 +30,7 @@ from rclpy.node import Node
 from rclpy.task import Future
 
 from frontier_rl.core.world.robot import Pose
-from frontier_rl.robot.explorer_decision import Goal
+from frontier_rl.robot.explorer_decision import Goal, GoalStatus
 from frontier_rl.ros2.messages import path_message, pose_stamped
 
 NAVIGATE = "navigate_to_pose"
@@ -41,26 +40,18 @@ FOLLOW_WAIT_S = 5.0
 it starts without it (a stand-in for Nav2 that serves only the first)."""
 
 
-class GoalEnd(Enum):
-    """How Nav2 ended a goal the explorer sent."""
-
-    REACHED = "reached"
-    REJECTED = "rejected"
-    ABORTED = "aborted"
-
-
 @dataclass(frozen=True)
 class GoalOutcome:
     """How Nav2 ended the goal in flight.
 
     Attributes:
-        end: reached, rejected or aborted.
-        status: the action's status (``action_msgs/GoalStatus``), 0 for a rejection.
+        status: succeeded, aborted or rejected.
+        code: the action's status number (``action_msgs/GoalStatus``), 0 for a rejection.
         error: Nav2's own reason in the result (:func:`error_text`), "" for none.
     """
 
-    end: GoalEnd
-    status: int = 0
+    status: GoalStatus
+    code: int = 0
     error: str = ""
 
 
@@ -159,7 +150,7 @@ class Nav2Goals:
         self._heard()
         if not handle.accepted:
             self._heard_at = math.inf
-            self._on_end(GoalOutcome(GoalEnd.REJECTED))
+            self._on_end(GoalOutcome(GoalStatus.REJECTED))
             return
         self._handle = handle
         handle.get_result_async().add_done_callback(lambda f: self._on_result(number, f))
@@ -171,9 +162,9 @@ class Nav2Goals:
         status = result.status
         self._handle, self._heard_at = None, math.inf
         if status == ActionStatus.STATUS_SUCCEEDED:
-            self._on_end(GoalOutcome(GoalEnd.REACHED, status))
+            self._on_end(GoalOutcome(GoalStatus.SUCCEEDED, status))
         elif status != ActionStatus.STATUS_CANCELED:
-            self._on_end(GoalOutcome(GoalEnd.ABORTED, status, error_text(result.result)))
+            self._on_end(GoalOutcome(GoalStatus.ABORTED, status, error_text(result.result)))
 
 
 def error_text(result: Any) -> str:

@@ -21,7 +21,8 @@ from sensor_msgs.msg import LaserScan
 from std_msgs.msg import Float32
 from tf2_msgs.msg import TFMessage
 
-from frontier_rl.robot.sim_robot import GoalStatus, SimulatedRobot
+from frontier_rl.robot.explorer_decision import GoalStatus
+from frontier_rl.robot.sim_robot import SimulatedRobot
 from frontier_rl.robot.transforms import IDENTITY, PlanarTransform
 from frontier_rl.ros2.messages import (
     MAP_QOS,

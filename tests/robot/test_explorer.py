@@ -20,9 +20,9 @@ from frontier_rl.core.world.robot import Pose, RobotConfig
 from frontier_rl.errors import ConfigError
 from frontier_rl.policies.registry import make_policy
 from frontier_rl.robot.explorer import FrontierExplorer, check_robot_policy
-from frontier_rl.robot.explorer_decision import Finished, Goal
+from frontier_rl.robot.explorer_decision import Finished, Goal, GoalStatus
 from frontier_rl.robot.explorer_params import DEFAULT_MIN_FRONTIER_SIZE_M, ExplorerParams
-from frontier_rl.robot.sim_robot import GoalStatus, SimulatedRobot, explore_in_process
+from frontier_rl.robot.sim_robot import SimulatedRobot, explore_in_process
 from tests.core.sim.test_looks import window_map
 
 
