@@ -16,7 +16,7 @@ import typer
 from frontier_rl.cli.options import MAX_SEED, WORLD_HELP, fail
 from frontier_rl.cli.output import OneLineGroup, friendly_errors, print_line, print_note
 from frontier_rl.errors import SettingError
-from frontier_rl.robot.explorer_params import ExplorerParams, setting_help, time_cap_of_parameter
+from frontier_rl.robot.explorer_params import ExplorerParams, Nav2Plugins, setting_help, time_cap_of_parameter
 from frontier_rl.ros2.explorer_options import ExplorerNodeOptions
 from frontier_rl.seeds import checked_seed
 from frontier_rl.swarm.config import MAX_ROBOTS  # ros2 sim runs as many robots as a team of explore
@@ -270,6 +270,7 @@ def explore(
         pose_source=chosen.pose_source,
         visualize=chosen.visualize,
         use_sim_time=chosen.use_sim_time,
+        nav2_plugins=chosen.nav2_plugins,
         seed=seed,
         goal_silence_timeout=goal_silence_timeout,
         policy_name=policy,
@@ -296,6 +297,7 @@ class _ChosenSettings(NamedTuple):
     visualize: bool
     pose_source: PoseSource
     use_sim_time: bool
+    nav2_plugins: Nav2Plugins
 
 
 def _explorer_settings(
@@ -308,7 +310,11 @@ def _explorer_settings(
     options = _with_parameter_files(ctx, params_files, options)
     visualize, robot_base_frame = bool(options.pop("visualize")), str(options.pop("robot_base_frame"))
     use_sim_time = bool(options.pop("use_sim_time"))
-    return _ChosenSettings(_explorer_params(options), visualize, _pose_source(*pose, robot_base_frame), use_sim_time)
+    plugins = Nav2Plugins(
+        **{plugin.name: options.pop(plugin.name) for plugin in fields(Nav2Plugins) if plugin.name in options}
+    )
+    source = _pose_source(*pose, robot_base_frame)
+    return _ChosenSettings(_explorer_params(options), visualize, source, use_sim_time, plugins)
 
 
 def _pose_source(pose_type: str, pose_topic: str, robot_base_frame: str) -> PoseSource:

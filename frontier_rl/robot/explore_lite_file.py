@@ -12,7 +12,7 @@ from typing import Any
 
 from frontier_rl.checked_values import coerce
 from frontier_rl.errors import ConfigError, SettingError
-from frontier_rl.robot.explorer_params import ExplorerParams, time_cap_of_parameter
+from frontier_rl.robot.explorer_params import ExplorerParams, Nav2Plugins, time_cap_of_parameter
 from frontier_rl.safe_yaml import load_yaml_file
 
 _SETTING_TYPES: dict[str, type] = {
@@ -22,14 +22,18 @@ _SETTING_TYPES: dict[str, type] = {
 
 FILE_PARAMETERS: dict[str, type] = {
     **_SETTING_TYPES,
+    **{plugin.name: str for plugin in fields(Nav2Plugins)},
     "visualize": bool,
     "robot_base_frame": str,
     "use_sim_time": bool,
 }
 """The parameters a file may set here, and their types: the explorer's settings (explore_lite's
-names where they mean the same, and the node's own ``time_cap``, ``progress_distance`` and ``recovery_paths``), its
-markers, with the pose from ``tf`` the robot's base frame, and ROS's ``use_sim_time`` (as
-``--use-sim-time``)."""
+names where they mean the same, and the node's own ``time_cap``, ``progress_distance`` and
+``recovery_paths``), the Nav2 plugins its goals name
+(:class:`~frontier_rl.robot.explorer_params.Nav2Plugins`), its markers, with the pose from ``tf``
+the robot's base frame, and ROS's ``use_sim_time`` (as ``--use-sim-time``)."""
+
+_PLUGIN_NAMES = frozenset(plugin.name for plugin in fields(Nav2Plugins))
 
 EXPLORER_NODES = ("explore_node", "frontier_rl_explorer", "/**")
 """The nodes of a ROS 2 parameter file whose parameters are the explorer's: explore_lite's node,
@@ -58,6 +62,7 @@ def explore_lite_parameters(path: str | Path) -> tuple[dict[str, Any], list[str]
         settings["time_cap"] = time_cap_of_parameter(settings["time_cap"])
     try:
         replace(ExplorerParams(), **settings)
+        Nav2Plugins(**{name: value for name, value in known.items() if name in _PLUGIN_NAMES})
     except SettingError as error:
         raise ConfigError(f"{path}: {error.setting} {error.problem}") from None
     return known, sorted(str(name) for name in data if name not in FILE_PARAMETERS)

@@ -9,7 +9,7 @@ import math
 from dataclasses import dataclass, field, fields
 from typing import Any
 
-from frontier_rl.errors import SettingError
+from frontier_rl.errors import SettingError, short_repr
 
 DEFAULT_MIN_FRONTIER_SIZE_M = 0.2
 """The engine's frontier drop size (``SimConfig.min_frontier_cells``, 4 cells of 0.05 m)."""
@@ -55,6 +55,27 @@ class ExplorerParams:
             raise SettingError("min_frontier_size", f"must be a number of metres >= 0, got {self.min_frontier_size!r}")
 
 
+@dataclass(frozen=True)
+class Nav2Plugins:
+    """Which of Nav2's plugins the explorer's goals ask for, by the names a Nav2 ``params.yaml``
+    gives them; "" lets Nav2 choose: bt_navigator's default behaviour tree, the only controller,
+    goal checker or progress checker the controller_server has (with several, Nav2 aborts a path
+    goal that names none). What each means is its field's ``help`` (:func:`setting_help`)."""
+
+    behavior_tree: str = _setting(
+        "", "navigate_to_pose's behaviour tree: an XML file on Nav2's machine ('': bt_navigator's default)."
+    )
+    controller_id: str = _setting("", "follow_path's controller plugin ('': the controller_server's only one).")
+    goal_checker_id: str = _setting("", "follow_path's goal checker plugin ('': the only one).")
+    progress_checker_id: str = _setting("", "follow_path's progress checker plugin ('': the only one).")
+
+    def __post_init__(self) -> None:
+        for setting in fields(self):
+            value = getattr(self, setting.name)
+            if not isinstance(value, str) or not value.isprintable():
+                raise SettingError(setting.name, f"must be a plugin's name or '' (Nav2's own), got {short_repr(value)}")
+
+
 def setting_help(name: str) -> str:
     """What the explorer's setting ``name`` means, with its unit (``visualize``: the node's markers).
 
@@ -63,7 +84,7 @@ def setting_help(name: str) -> str:
     """
     if name == "visualize":
         return VISUALIZE_HELP
-    for setting in fields(ExplorerParams):
+    for setting in (*fields(ExplorerParams), *fields(Nav2Plugins)):
         if setting.name == name:
             return str(setting.metadata["help"])
     raise KeyError(name)

@@ -63,7 +63,7 @@ class ExplorerNode(Node):
             (:class:`~frontier_rl.ros2.explorer_options.ExplorerNodeOptions`; ``use_sim_time``,
             ``seed`` and ``ros_args`` are :func:`~frontier_rl.ros2.run.run_explorer`'s to apply).
 
-    The explorer's settings and ``visualize`` are the node's parameters
+    The explorer's settings, ``visualize`` and the Nav2 plugins its goals name are the node's parameters
     (:mod:`frontier_rl.ros2.explorer_parameters`): ``--ros-args`` overrides them, ``ros2 param set``
     changes them while it explores.
 
@@ -75,7 +75,7 @@ class ExplorerNode(Node):
         options = options or ExplorerNodeOptions()
         super().__init__("frontier_rl_explorer", namespace=options.namespace)
         self.explorer = explorer
-        given = ExplorerSettings(explorer.params, options.visualize)
+        given = ExplorerSettings(explorer.params, options.visualize, options.nav2_plugins)
         self._settings = declare_explorer_parameters(self, given, options.policy_name or explorer.policy.name)
         explorer.params, self.visualize = self._settings.params, self._settings.visualize
         self.add_on_set_parameters_callback(self._on_parameters)
@@ -98,7 +98,7 @@ class ExplorerNode(Node):
         self.create_subscription(Float32, "coverage", self._on_coverage, MAP_QOS)
         self._status_pub = self.create_publisher(String, "explore/status", MAP_QOS)
         self._marker_pub = self.create_publisher(MarkerArray, "explore/frontiers", 10)
-        self._nav = Nav2Goals(self, self._goal_end)
+        self._nav = Nav2Goals(self, self._goal_end, self._settings.plugins)
         self._label = "goal 0"  # the goal in flight, as the log and the status name it: the decision's number
         self._clock_s: float | None = None  # the node's clock at the last poll (s)
         self._elapsed_s = 0.0  # time explored (s): the node's clock, never running backwards
@@ -125,6 +125,7 @@ class ExplorerNode(Node):
         if settings != self._settings:
             self._settings = settings
             self.explorer.params, self.visualize = settings.params, settings.visualize
+            self._nav.plugins = settings.plugins
             self.get_logger().info(f"settings now {settings.values()}")
         return SetParametersResult(successful=True)
 

@@ -5,9 +5,10 @@ what it hands to ROS. ROS-free, so that the command line checks them before rclp
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 
 from frontier_rl.errors import ConfigError, SettingError
+from frontier_rl.robot.explorer_params import Nav2Plugins
 from frontier_rl.robot.pose_source import PoseSource
 from frontier_rl.seeds import MAX_SEED, checked_seed
 
@@ -28,6 +29,7 @@ class ExplorerNodeOptions:
             (None: a ``PoseWithCovarianceStamped`` on the namespace's ``pose`` topic).
         visualize: publish the frontiers and the goal as RViz markers on ``explore/frontiers``.
         use_sim_time: take time from ``/clock`` (a simulator's).
+        nav2_plugins: the Nav2 plugins its goals name (the node's parameters of the same names).
         seed: seeds the policy's randomness as an in-process episode of that seed does.
         goal_silence_timeout: a goal that Nav2 says nothing of (no response, feedback or result) for
             this long (wall s) is dropped, not blacklisted: its action server went away.
@@ -46,6 +48,7 @@ class ExplorerNodeOptions:
     pose_source: PoseSource | None = None
     visualize: bool = True
     use_sim_time: bool = False
+    nav2_plugins: Nav2Plugins = field(default_factory=Nav2Plugins)
     seed: int = 0
     goal_silence_timeout: float = 10.0
     policy_name: str = ""

@@ -10,7 +10,7 @@ refused with the reason, at start as a one-line error, at run time as the set's 
 from __future__ import annotations
 
 from collections.abc import Mapping
-from dataclasses import dataclass, fields, replace
+from dataclasses import dataclass, field, fields, replace
 from typing import Any
 
 from rcl_interfaces.msg import ParameterDescriptor
@@ -21,13 +21,17 @@ from frontier_rl.checked_values import coerce
 from frontier_rl.errors import ConfigError, SettingError
 from frontier_rl.robot.explorer_params import (
     ExplorerParams,
+    Nav2Plugins,
     setting_help,
     time_cap_of_parameter,
     time_cap_parameter,
 )
 
-PARAMETERS = (*(setting.name for setting in fields(ExplorerParams)), "visualize")
-"""The node's parameters that set the explorer (what each means: :func:`setting_help`)."""
+_PLUGINS = tuple(plugin.name for plugin in fields(Nav2Plugins))
+
+PARAMETERS = (*(setting.name for setting in fields(ExplorerParams)), *_PLUGINS, "visualize")
+"""The node's parameters that set the explorer, the Nav2 plugins its goals name and its markers
+(what each means: :func:`setting_help`)."""
 
 
 POLICY_PARAMETER = "policy"
@@ -36,16 +40,20 @@ POLICY_PARAMETER = "policy"
 
 @dataclass(frozen=True)
 class ExplorerSettings:
-    """What the node's parameters set: the explorer's settings and whether it draws markers."""
+    """What the node's parameters set: the explorer's settings, whether it draws markers, and the
+    Nav2 plugins its goals name."""
 
     params: ExplorerParams
     visualize: bool
+    plugins: Nav2Plugins = field(default_factory=Nav2Plugins)
 
     def values(self) -> dict[str, Any]:
         """Each parameter's value (a time cap of 0: none)."""
-        values: dict[str, Any] = {name: getattr(self.params, name) for name in PARAMETERS if name != "visualize"}
+        values: dict[str, Any] = {
+            setting.name: getattr(self.params, setting.name) for setting in fields(ExplorerParams)
+        }
         values["time_cap"] = time_cap_parameter(self.params.time_cap)
-        return values | {"visualize": self.visualize}
+        return values | {name: getattr(self.plugins, name) for name in _PLUGINS} | {"visualize": self.visualize}
 
     def updated(self, changes: Mapping[str, Any]) -> ExplorerSettings:
         """These settings with ``changes`` (parameter name -> value; others ignored), checked.
@@ -53,20 +61,20 @@ class ExplorerSettings:
         Raises:
             ConfigError: a value of the wrong type or out of range, named.
         """
-        switches = {name for name, now in self.values().items() if isinstance(now, bool)}  # the others: numbers
+        kinds = {name: type(now) if isinstance(now, bool | str) else float for name, now in self.values().items()}
         known = {
-            name: coerce(bool if name in switches else float, value, f"parameter {name}")
+            name: coerce(kinds[name], value, f"parameter {name}")
             for name, value in changes.items()
             if name in PARAMETERS
         }
         visualize = bool(known.pop("visualize", self.visualize))
+        plugins = {name: known.pop(name) for name in _PLUGINS if name in known}
         if "time_cap" in known:
             known["time_cap"] = time_cap_of_parameter(known["time_cap"])
         try:
-            params = replace(self.params, **known)
+            return ExplorerSettings(replace(self.params, **known), visualize, replace(self.plugins, **plugins))
         except SettingError as error:
             raise ConfigError(f"parameter {error}") from None
-        return ExplorerSettings(params, visualize)
 
 
 def declare_explorer_parameters(node: Node, settings: ExplorerSettings, policy: str) -> ExplorerSettings:

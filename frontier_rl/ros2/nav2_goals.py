@@ -6,8 +6,10 @@ sees now (a local costmap from live scans), as wide as the doorway is.
 
 The two are served by different Nav2 servers (bt_navigator, controller_server): a goal sent to one
 does not preempt the other's, so a goal under way is cancelled when the next goes to the other
-action. ``follow_path`` goes without a controller, goal checker or progress checker id, which Nav2
-takes when it has one of each (its default parameters).
+action. Each goal names the Nav2 plugins the node's parameters give (:class:`Nav2Plugins`): a
+behaviour tree for ``navigate_to_pose``, a controller, goal checker and progress checker for
+``follow_path``; none ("") lets Nav2 choose, which it does when it has one of each (its default
+parameters).
 
 Goals are numbered as they are sent (a path goal again at every planner tick): the response,
 feedback or result of an older one (or of one dropped or cancelled) is ignored, and such a goal a
@@ -31,6 +33,7 @@ from rclpy.task import Future
 
 from frontier_rl.core.world.robot import Pose
 from frontier_rl.robot.explorer_decision import Goal, GoalStatus
+from frontier_rl.robot.explorer_params import Nav2Plugins
 from frontier_rl.ros2.messages import path_message, pose_stamped
 
 NAVIGATE = "navigate_to_pose"
@@ -55,15 +58,32 @@ class GoalOutcome:
     error: str = ""
 
 
+def goal_request(goal: Goal, action: str, frame: str, stamp: Time, plugins: Nav2Plugins) -> Any:
+    """The request that sends ``goal`` to ``action`` (:data:`FOLLOW`: its path, else its point) in
+    the map ``frame``, stamped ``stamp``, naming ``plugins``."""
+    if action == FOLLOW:
+        assert goal.path is not None
+        return FollowPath.Goal(
+            path=path_message(goal.path, stamp, frame),
+            controller_id=plugins.controller_id,
+            goal_checker_id=plugins.goal_checker_id,
+            progress_checker_id=plugins.progress_checker_id,
+        )
+    pose = pose_stamped(Pose(goal.x, goal.y, 0.0), stamp, frame)
+    return NavigateToPose.Goal(pose=pose, behavior_tree=plugins.behavior_tree)
+
+
 class Nav2Goals:
     """The explorer's goal in flight with Nav2's ``navigate_to_pose`` or ``follow_path`` action on
     ``node`` (names relative to its namespace), and how it ended (``on_end``).
 
     Attributes:
         action: the action of the goal in flight (or of the last one).
+        plugins: the Nav2 plugins each goal names from now on.
     """
 
-    def __init__(self, node: Node, on_end: Callable[[GoalOutcome], None]) -> None:
+    def __init__(self, node: Node, on_end: Callable[[GoalOutcome], None], plugins: Nav2Plugins | None = None) -> None:
+        self.plugins = plugins or Nav2Plugins()
         self._navigate: ActionClient[Any, Any, Any] = ActionClient(node, NavigateToPose, NAVIGATE)
         self._follow: ActionClient[Any, Any, Any] = ActionClient(node, FollowPath, FOLLOW)
         self._navigate_up_at: float | None = None  # wall s
@@ -102,14 +122,9 @@ class Nav2Goals:
             self._handle.cancel_goal_async()
             self._handle = None
         self.action = action
-        feedback = partial(self._feedback, number)
-        if action == FOLLOW:
-            assert goal.path is not None
-            request = FollowPath.Goal(path=path_message(goal.path, stamp, frame))
-            future = self._follow.send_goal_async(request, feedback_callback=feedback)
-        else:
-            request = NavigateToPose.Goal(pose=pose_stamped(Pose(goal.x, goal.y, 0.0), stamp, frame))
-            future = self._navigate.send_goal_async(request, feedback_callback=feedback)
+        client = self._follow if action == FOLLOW else self._navigate
+        request = goal_request(goal, action, frame, stamp, self.plugins)
+        future = client.send_goal_async(request, feedback_callback=partial(self._feedback, number))
         future.add_done_callback(lambda f: self._on_response(number, f))
         return action
 

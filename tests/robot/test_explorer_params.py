@@ -9,9 +9,9 @@ import typer.core
 import typer.main
 
 from frontier_rl.cli import app
-from frontier_rl.errors import ConfigError
+from frontier_rl.errors import ConfigError, SettingError
 from frontier_rl.robot.explore_lite_file import explore_lite_parameters
-from frontier_rl.robot.explorer_params import ExplorerParams, setting_help
+from frontier_rl.robot.explorer_params import ExplorerParams, Nav2Plugins, setting_help
 
 M_EXPLORE_ROS2 = """\
 explore_node:
@@ -128,3 +128,25 @@ def test_the_explorers_nodes_of_a_ros2_file_are_read_in_order_and_time_cap_0_is_
         "tb3_0:\n  frontier_rl_explorer:\n    ros__parameters: {planner_frequency: 0.5, time_cap: 0.0}\n"
     )
     assert explore_lite_parameters(path) == ({"planner_frequency": 0.5, "time_cap": 0.0, "use_sim_time": True}, [])
+
+
+def test_the_nav2_plugins_goals_name_are_read_from_a_file_and_checked(tmp_path: Path) -> None:
+    path = tmp_path / "params.yaml"
+    path.write_text(
+        "frontier_rl_explorer:\n  ros__parameters:\n"
+        "    controller_id: FollowPath\n    goal_checker_id: precise_goal_checker\n"
+        "    progress_checker_id: progress_checker\n    behavior_tree: /opt/bt/explore.xml\n"
+    )
+    known, ignored = explore_lite_parameters(path)
+    assert not ignored and Nav2Plugins(**known) == Nav2Plugins(
+        "/opt/bt/explore.xml", "FollowPath", "precise_goal_checker", "progress_checker"
+    )
+    path.write_text("controller_id: 3\n")
+    with pytest.raises(ConfigError, match="controller_id must be a string, got 3"):
+        explore_lite_parameters(path)
+    path.write_text('goal_checker_id: "a\\nb"\n')
+    with pytest.raises(ConfigError, match="goal_checker_id must be a plugin's name or ''"):
+        explore_lite_parameters(path)
+    with pytest.raises(SettingError, match="behavior_tree"):
+        Nav2Plugins(behavior_tree=None)  # type: ignore[arg-type]
+    assert "follow_path's controller" in setting_help("controller_id")

@@ -3,7 +3,8 @@
 It publishes a fixed map (a corridor whose east half is unknown: frontiers that no goal will ever
 resolve, since nothing moves) and a pose, and serves ``navigate_to_pose`` (and ``follow_path``
 alike) in one ``--mode``: ``reject`` every goal, ``abort`` it, ``stall`` (accept, send feedback,
-never move), or ``succeed`` at once (after ``--goal-time`` s of feedback). ``--bad-inputs`` first
+never move), or ``succeed`` at once (after ``--goal-time`` s of feedback); it prints the Nav2 plugins
+each goal names. ``--bad-inputs`` first
 sends a malformed map and a NaN pose; ``--die-after N`` ends the process without a word once it has
 accepted N goals (a Nav2 that crashed). ``--map-period P`` publishes the map every P s, as
 slam_toolbox does (else once); ``--reveal`` maps the unknown half as free when a goal succeeds
@@ -52,6 +53,9 @@ def _pose(x: float) -> PoseWithCovarianceStamped:
     return message
 
 
+_FOLLOW_PLUGINS = ("controller_id", "goal_checker_id", "progress_checker_id")
+
+
 class FakeNav2(Node):
     def __init__(self, mode: str, die_after: int, goal_time: float = 0.0, reveal: bool = False) -> None:
         super().__init__("fake_nav2")
@@ -71,7 +75,9 @@ class FakeNav2(Node):
                 cancel_callback=lambda _: CancelResponse.ACCEPT,  # as Nav2's bt_navigator does
             )
 
-    def _goal(self, _: object) -> GoalResponse:
+    def _goal(self, request: object) -> GoalResponse:
+        names = ("behavior_tree",) if isinstance(request, NavigateToPose.Goal) else _FOLLOW_PLUGINS
+        print("goal naming " + ", ".join(f"{name} {getattr(request, name)!r}" for name in names), flush=True)
         if self.mode == "reject":
             return GoalResponse.REJECT
         self.accepted += 1

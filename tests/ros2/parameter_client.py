@@ -20,6 +20,8 @@ NAMES = [
     "visualize",
     "policy",
     "use_sim_time",
+    "behavior_tree",
+    "controller_id",
 ]
 SETS = [
     [Parameter("progress_timeout", Parameter.Type.INTEGER, 5)],
@@ -27,6 +29,8 @@ SETS = [
     [Parameter("visualize", Parameter.Type.STRING, "yes")],
     [Parameter("policy", Parameter.Type.STRING, "tour")],
     [Parameter("time_cap", Parameter.Type.DOUBLE, 600.0)],
+    [Parameter("controller_id", Parameter.Type.STRING, "FollowPath")],
+    [Parameter("goal_checker_id", Parameter.Type.INTEGER, 3)],
 ]
 
 

@@ -64,6 +64,14 @@ def test_the_way_home_nav2_gives_up_is_sent_again_from_where_the_robot_stands_th
     assert f"try {HOME_TRIES} of {HOME_TRIES}" in log and f"try {HOME_TRIES + 1} " not in log, log
 
 
+def test_each_goal_names_the_nav2_plugins_its_parameters_give(tmp_path: Path) -> None:
+    code, status, log = _run(
+        tmp_path, f"{_FAKE} --mode abort", options="--ros-args -p behavior_tree:=/opt/bt/explore.xml"
+    )
+    assert code == 0 and status is not None and status["state"] == "finished", log
+    assert "goal naming behavior_tree '/opt/bt/explore.xml'" in log and "behavior_tree ''" not in log, log
+
+
 def test_a_way_home_nav2_rejects_is_not_sent_again(tmp_path: Path) -> None:
     code, status, log = _run(tmp_path, f"{_FAKE} --mode reject", options="--return-to-init")
     assert code == 0 and status is not None and status["state"] == "finished", log

@@ -38,7 +38,9 @@ def _with_client(home: Path, explore_arguments: str, client_arguments: str = "")
 
 
 def test_the_settings_are_parameters_overridden_by_ros_args_and_set_at_run_time(tmp_path: Path) -> None:
-    report, log = _with_client(tmp_path, "--ros-args -p planner_frequency:=2 -p visualize:=false")
+    report, log = _with_client(
+        tmp_path, "--ros-args -p planner_frequency:=2 -p visualize:=false -p behavior_tree:=/opt/bt/explore.xml"
+    )
     assert report["before"] == {
         "planner_frequency": 2.0,  # an integer override taken as the number it is
         "progress_timeout": 30.0,
@@ -48,9 +50,13 @@ def test_the_settings_are_parameters_overridden_by_ros_args_and_set_at_run_time(
         "visualize": False,
         "policy": "nearest",
         "use_sim_time": False,
+        "behavior_tree": "/opt/bt/explore.xml",
+        "controller_id": "",
     }
-    taken, negative, text, policy, cap = report["sets"]
-    assert taken["successful"] and cap["successful"]
+    taken, negative, text, policy, cap, controller, checker = report["sets"]
+    assert taken["successful"] and cap["successful"] and controller["successful"]
+    assert not checker["successful"] and "goal_checker_id must be a string, got 3" in checker["reason"]
+    assert report["after"]["controller_id"] == "FollowPath"
     assert not negative["successful"] and "planner_frequency must be a positive number" in negative["reason"]
     assert (
         not text["successful"] and "visualize must be true or false (a boolean), got the text 'yes'" in text["reason"]
