@@ -9,7 +9,10 @@ sends a malformed map and a NaN pose; ``--die-after N`` ends the process without
 accepted N goals (a Nav2 that crashed). ``--map-period P`` publishes the map every P s, as
 slam_toolbox does (else once); ``--reveal`` maps the unknown half as free when a goal succeeds
 (published with the next map, as a SLAM map lags the robot); ``--map-stops-at-goal N`` publishes no
-map once N goals are accepted.
+map once N goals are accepted. ``--door`` adds a room north of the corridor behind a door that only
+the narrow-passage recovery's levels pass (its goals go to ``follow_path``). In ``stall`` mode a
+goal of one action does not preempt the other's (two Nav2 servers), and a goal cancelled is named
+by its action.
 """
 
 from __future__ import annotations
@@ -33,13 +36,17 @@ from rclpy.node import Node
 from frontier_rl.ros2.messages import MAP_QOS
 
 
-def _map(bad: bool, revealed: bool = False) -> OccupancyGrid:
-    data = np.full((20, 80), 100, np.int8)
+def _map(bad: bool, revealed: bool = False, door: bool = False) -> OccupancyGrid:
+    data = np.full((40 if door else 20, 80), 100, np.int8)
     data[4:16, 1:40] = 0
     data[4:16, 40:79] = 0 if revealed else -1
+    if door:  # a room north of the corridor through a door of 0.15 m: only the recovery's levels pass it
+        data[16:20, 12:15] = 0
+        data[20:36, 1:40] = -1
+        data[20:23, 4:30] = 0
     message = OccupancyGrid()
     message.header.frame_id = "map"
-    message.info.resolution, message.info.width, message.info.height = 0.05, 80, 20
+    message.info.resolution, message.info.width, message.info.height = 0.05, 80, data.shape[0]
     message.info.origin.orientation.w = 1.0
     message.data = array.array("b", data.tobytes()[: 100 if bad else None])
     return message
@@ -54,6 +61,7 @@ def _pose(x: float) -> PoseWithCovarianceStamped:
 
 
 _FOLLOW_PLUGINS = ("controller_id", "goal_checker_id", "progress_checker_id")
+_ACTIONS = {NavigateToPose: "navigate_to_pose", FollowPath: "follow_path"}
 
 
 class FakeNav2(Node):
@@ -64,8 +72,8 @@ class FakeNav2(Node):
         self.map_pub = self.create_publisher(OccupancyGrid, "map", MAP_QOS)
         self.pose_pub = self.create_publisher(PoseWithCovarianceStamped, "pose", 10)
         self.pose_x = 0.5
-        self.current: ServerGoalHandle | None = None
-        for action, name in ((NavigateToPose, "navigate_to_pose"), (FollowPath, "follow_path")):
+        self.current: dict[type, ServerGoalHandle] = {}  # each action's goal under way
+        for action, name in _ACTIONS.items():
             ActionServer(
                 self,
                 action,
@@ -92,13 +100,20 @@ class FakeNav2(Node):
             else FollowPath.Feedback(distance_to_goal=1.0)
         )
         if self.mode == "stall":
-            self.current = handle  # a newer goal preempts this one, as Nav2's does
-            while rclpy.ok() and not handle.is_cancel_requested and handle.is_active and self.current is handle:
+            # a newer goal of the same action preempts this one, as Nav2's does; the other action's
+            # goals are another server's, and drive on until cancelled
+            self.current[action] = handle
+            while (
+                rclpy.ok()
+                and not handle.is_cancel_requested
+                and handle.is_active
+                and self.current.get(action) is handle
+            ):
                 handle.publish_feedback(feedback)
                 time.sleep(0.1)
             if handle.is_cancel_requested:
                 handle.canceled()
-                print("goal canceled", flush=True)
+                print(f"{_ACTIONS[action]} goal canceled", flush=True)
             elif handle.is_active:
                 handle.abort()
             return action.Result()
@@ -123,13 +138,14 @@ def main() -> None:
     parser.add_argument("--map-period", type=float, default=0.0)
     parser.add_argument("--reveal", action="store_true")
     parser.add_argument("--map-stops-at-goal", type=int, default=0)
+    parser.add_argument("--door", action="store_true")
     args = parser.parse_args()
     rclpy.init()
     node = FakeNav2(args.mode, args.die_after, args.goal_time, args.reveal)
     # bad inputs until 2 s after the explorer has subscribed to the pose: its start (imports, numba)
     # took more than the 4 s fixed here before on a busy machine, and it never saw a NaN pose
     bad_until = None if args.bad_inputs else 0.0
-    node.map_pub.publish(_map(bad=args.bad_inputs))
+    node.map_pub.publish(_map(bad=args.bad_inputs, door=args.door))
     published_good_map = not args.bad_inputs
 
     def tick() -> None:
@@ -139,9 +155,9 @@ def main() -> None:
         bad = bad_until is None or time.monotonic() < bad_until
         node.pose_pub.publish(_pose(float("nan") if bad else node.pose_x))
         if bad:
-            node.map_pub.publish(_map(bad=True))
+            node.map_pub.publish(_map(bad=True, door=args.door))
         elif not published_good_map:
-            node.map_pub.publish(_map(bad=False))
+            node.map_pub.publish(_map(bad=False, door=args.door))
             published_good_map = True
 
     node.create_timer(0.1, tick)
@@ -149,7 +165,7 @@ def main() -> None:
     def map_tick() -> None:
         stopped = args.map_stops_at_goal and node.accepted >= args.map_stops_at_goal
         if published_good_map and not stopped:
-            node.map_pub.publish(_map(bad=False, revealed=node.revealed))
+            node.map_pub.publish(_map(bad=False, revealed=node.revealed, door=args.door))
 
     if args.map_period:
         node.create_timer(args.map_period, map_tick)

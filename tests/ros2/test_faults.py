@@ -72,6 +72,24 @@ def test_each_goal_names_the_nav2_plugins_its_parameters_give(tmp_path: Path) ->
     assert "goal naming behavior_tree '/opt/bt/explore.xml'" in log and "behavior_tree ''" not in log, log
 
 
+def test_a_goal_under_way_on_one_nav2_action_is_cancelled_when_the_next_goes_to_the_other(tmp_path: Path) -> None:
+    """Nav2's two servers do not preempt each other: a stalled navigate_to_pose goal would drive on
+    beside the path the controller follows, and a path beside the next navigate_to_pose goal."""
+    code, status, log = _run(tmp_path, f"{_FAKE} --mode stall --door", explore_for=45)
+    assert code == 0 and status is not None and status["state"] == "finished", log
+    nav2 = (tmp_path / "nav2.log").read_text().splitlines()
+    sent = [
+        (i, "follow_path" if "controller_id" in line else "navigate_to_pose")
+        for i, line in enumerate(nav2)
+        if line.startswith("goal naming")
+    ]
+    switches = [k for k in range(1, len(sent) - 1) if sent[k][1] != sent[k - 1][1]]
+    assert {sent[k][1] for k in switches} == {"follow_path", "navigate_to_pose"}, log  # both ways
+    for k in switches:  # the other action's goal cancelled before the goal after the switch is sent
+        (before, action), (after, _) = sent[k - 1], sent[k + 1]
+        assert f"{action} goal canceled" in nav2[before:after], (k, log)
+
+
 def test_a_way_home_nav2_rejects_is_not_sent_again(tmp_path: Path) -> None:
     code, status, log = _run(tmp_path, f"{_FAKE} --mode reject", options="--return-to-init")
     assert code == 0 and status is not None and status["state"] == "finished", log
