@@ -20,7 +20,8 @@ draws, not of the explorer."""
 
 
 def _setting(default: Any, help_text: str) -> Any:
-    """A field of :class:`ExplorerParams` with its default and what it means (its ``help``)."""
+    """A setting's field (of :class:`ExplorerParams`, :class:`Nav2Plugins`) with its default and
+    what it means (its ``help``)."""
     return field(default=default, metadata={"help": help_text})
 
 
@@ -63,7 +64,8 @@ class Nav2Plugins:
     goal that names none). What each means is its field's ``help`` (:func:`setting_help`)."""
 
     behavior_tree: str = _setting(
-        "", "navigate_to_pose's behaviour tree: an XML file on Nav2's machine ('': bt_navigator's default)."
+        "",
+        "navigate_to_pose's behaviour tree, as bt_navigator takes it (an XML file on Nav2's machine; '': its default).",
     )
     controller_id: str = _setting("", "follow_path's controller plugin ('': the controller_server's only one).")
     goal_checker_id: str = _setting("", "follow_path's goal checker plugin ('': the only one).")
@@ -72,7 +74,7 @@ class Nav2Plugins:
     def __post_init__(self) -> None:
         for setting in fields(self):
             value = getattr(self, setting.name)
-            if not isinstance(value, str) or not value.isprintable():
+            if not isinstance(value, str) or not value.isprintable() or value != value.strip():
                 raise SettingError(setting.name, f"must be a plugin's name or '' (Nav2's own), got {short_repr(value)}")
 
 

@@ -41,7 +41,7 @@ from frontier_rl.ros2.explorer_options import ExplorerNodeOptions
 from frontier_rl.ros2.explorer_parameters import ExplorerSettings, declare_explorer_parameters
 from frontier_rl.ros2.explorer_status import ExplorerState, ExplorerStatus
 from frontier_rl.ros2.messages import MAP_QOS, frontier_markers, grid_of
-from frontier_rl.ros2.nav2_goals import FOLLOW, NAVIGATE, GoalOutcome, Nav2Goals
+from frontier_rl.ros2.nav2_goals import FOLLOW, NAVIGATE, GoalOutcome, Nav2Goals, plugin_problem
 from frontier_rl.ros2.pose_listener import PoseListener
 from frontier_rl.ros2.team_maps import TeamMaps
 
@@ -108,6 +108,7 @@ class ExplorerNode(Node):
         self._returning = False
         self._home_tries = 0  # the ways home sent
         self._stopping = False  # the goal under way is being cancelled: nothing more is sent
+        self.plugin_error: str | None = None  # Nav2 has not a plugin the goals name: what to set
         self._finished_s: float | None = None  # the time explored when exploration ended (s)
         self._goal_ended = False  # Nav2 ended the goal under way: the next poll ticks at once
         self._publish(ExplorerState.WAITING, "waiting for a map, a pose and Nav2's navigate_to_pose")
@@ -259,6 +260,12 @@ class ExplorerNode(Node):
 
     def _goal_end(self, outcome: GoalOutcome) -> None:
         status, action = outcome.status, self._nav.action
+        problem = plugin_problem(action, outcome, self._nav.plugins)
+        if problem is not None:  # every goal would end so: the run ends, saying what to set
+            self.get_logger().error(f"{self._label} aborted by {action}: {problem}")
+            self.plugin_error, self._stopping, self._returning = problem, True, False
+            self._close(problem, ExplorerState.INTERRUPTED)
+            return
         if status is GoalStatus.ABORTED and outcome.error:  # Nav2's own reason (a controller id it wants): on the log
             self._warn(f"{action} error", f"{self._label} aborted by {action}{outcome.error}")
         why = {
@@ -321,9 +328,10 @@ class ExplorerNode(Node):
         self._send(home)
         return True
 
-    def _close(self, why: str) -> None:
-        self._publish(ExplorerState.FINISHED, why)
-        self.get_logger().info(self.summary())
+    def _close(self, why: str, state: ExplorerState = ExplorerState.FINISHED) -> None:
+        self._publish(state, why)
+        if state is ExplorerState.FINISHED:
+            self.get_logger().info(self.summary())
         if not self.done.done():
             self.done.set_result(self.finished)
 

@@ -51,11 +51,14 @@ class GoalOutcome:
         status: succeeded, aborted or rejected.
         code: the action's status number (``action_msgs/GoalStatus``), 0 for a rejection.
         error: Nav2's own reason in the result (:func:`error_text`), "" for none.
+        error_code: Nav2's error code in the result (``FollowPath.Result.INVALID_CONTROLLER``, ...),
+            0 for none.
     """
 
     status: GoalStatus
     code: int = 0
     error: str = ""
+    error_code: int = 0
 
 
 def goal_request(goal: Goal, action: str, frame: str, stamp: Time, plugins: Nav2Plugins) -> Any:
@@ -179,7 +182,8 @@ class Nav2Goals:
         if status == ActionStatus.STATUS_SUCCEEDED:
             self._on_end(GoalOutcome(GoalStatus.SUCCEEDED, status))
         elif status != ActionStatus.STATUS_CANCELED:
-            self._on_end(GoalOutcome(GoalStatus.ABORTED, status, error_text(result.result)))
+            error_code = int(getattr(result.result, "error_code", 0))
+            self._on_end(GoalOutcome(GoalStatus.ABORTED, status, error_text(result.result), error_code))
 
 
 def error_text(result: Any) -> str:
@@ -189,3 +193,24 @@ def error_text(result: Any) -> str:
     if not code and not message:
         return ""
     return f", error {code}" + (f": {message}" if message else "")
+
+
+def plugin_problem(action: str, outcome: GoalOutcome, plugins: Nav2Plugins) -> str | None:
+    """What to set when Nav2 ended a goal of ``action`` (:data:`FOLLOW` or :data:`NAVIGATE`) for a
+    plugin ``plugins`` name that it has not: ``follow_path``'s ``INVALID_CONTROLLER`` (a controller,
+    or in a path sent again a goal or progress checker, it has not; or none named where it has
+    several), ``navigate_to_pose``'s ``FAILED_TO_LOAD_BEHAVIOR_TREE``. Every goal would end so; None
+    for any other end."""
+    if action == FOLLOW and outcome.error_code == FollowPath.Result.INVALID_CONTROLLER:
+        return (
+            f"Nav2's controller_server has no controller {plugins.controller_id!r} (or goal checker "
+            f"{plugins.goal_checker_id!r}, progress checker {plugins.progress_checker_id!r}){outcome.error}: set the "
+            "explorer's controller_id, goal_checker_id and progress_checker_id to plugins of its controller_plugins, "
+            "goal_checker_plugins and progress_checker_plugins"
+        )
+    if action == NAVIGATE and outcome.error_code == NavigateToPose.Result.FAILED_TO_LOAD_BEHAVIOR_TREE:
+        return (
+            f"Nav2's bt_navigator cannot load the behaviour tree {plugins.behavior_tree!r}{outcome.error}: set the "
+            "explorer's behavior_tree to one it can load ('' for its default)"
+        )
+    return None

@@ -221,7 +221,7 @@ def run_explorer(
 
     Raises:
         ConfigError: the options' ``ros_args`` override a parameter with a bad value, or name what
-            ROS does not allow.
+            ROS does not allow; or Nav2 has not a plugin the goals name (the run ends at once).
     """
     options = options or ExplorerNodeOptions()
     _, policy_rng = np.random.default_rng(options.seed).spawn(2)
@@ -247,4 +247,6 @@ def run_explorer(
         executor.shutdown()
         node.destroy_node()
         rclpy.try_shutdown()
+    if node.plugin_error is not None:
+        raise ConfigError(node.plugin_error)
     return status, summary

@@ -149,4 +149,6 @@ def test_the_nav2_plugins_goals_name_are_read_from_a_file_and_checked(tmp_path: 
         explore_lite_parameters(path)
     with pytest.raises(SettingError, match="behavior_tree"):
         Nav2Plugins(behavior_tree=None)  # type: ignore[arg-type]
+    with pytest.raises(SettingError, match=r"controller_id must be a plugin's name or '' .*' FollowPath'"):
+        Nav2Plugins(controller_id=" FollowPath")  # Nav2 has none of that name
     assert "follow_path's controller" in setting_help("controller_id")

@@ -3,16 +3,16 @@
 It publishes a fixed map (a corridor whose east half is unknown: frontiers that no goal will ever
 resolve, since nothing moves) and a pose, and serves ``navigate_to_pose`` (and ``follow_path``
 alike) in one ``--mode``: ``reject`` every goal, ``abort`` it, ``stall`` (accept, send feedback,
-never move), or ``succeed`` at once (after ``--goal-time`` s of feedback); it prints the Nav2 plugins
-each goal names. ``--bad-inputs`` first
-sends a malformed map and a NaN pose; ``--die-after N`` ends the process without a word once it has
-accepted N goals (a Nav2 that crashed). ``--map-period P`` publishes the map every P s, as
-slam_toolbox does (else once); ``--reveal`` maps the unknown half as free when a goal succeeds
-(published with the next map, as a SLAM map lags the robot); ``--map-stops-at-goal N`` publishes no
-map once N goals are accepted. ``--door`` adds a room north of the corridor behind a door that only
-the narrow-passage recovery's levels pass (its goals go to ``follow_path``). In ``stall`` mode a
-goal of one action does not preempt the other's (two Nav2 servers), and a goal cancelled is named
-by its action.
+never move), or ``succeed`` at once (after ``--goal-time`` s of feedback); it prints the Nav2
+plugins each goal names. ``--bad-inputs`` first sends a malformed map and a NaN pose;
+``--die-after N`` ends the process without a word once it has accepted N goals (a Nav2 that
+crashed). ``--map-period P`` publishes the map every P s, as slam_toolbox does (else once);
+``--reveal`` maps the unknown half as free when a goal succeeds (published with the next map, as a
+SLAM map lags the robot); ``--map-stops-at-goal N`` publishes no map once N goals are accepted;
+``--error-code N`` ends each goal it aborts with Nav2's error code N. ``--door`` adds a room north
+of the corridor behind a door that only the narrow-passage recovery's levels pass (its goals go to
+``follow_path``). In ``stall`` mode a goal of one action does not preempt the other's (two Nav2
+servers), and a goal cancelled is named by its action.
 """
 
 from __future__ import annotations
@@ -65,8 +65,11 @@ _ACTIONS = {NavigateToPose: "navigate_to_pose", FollowPath: "follow_path"}
 
 
 class FakeNav2(Node):
-    def __init__(self, mode: str, die_after: int, goal_time: float = 0.0, reveal: bool = False) -> None:
+    def __init__(
+        self, mode: str, die_after: int, goal_time: float = 0.0, reveal: bool = False, error_code: int = 0
+    ) -> None:
         super().__init__("fake_nav2")
+        self.error_code = error_code
         self.mode, self.die_after, self.accepted = mode, die_after, 0
         self.goal_time, self.reveal, self.revealed = goal_time, reveal, False
         self.map_pub = self.create_publisher(OccupancyGrid, "map", MAP_QOS)
@@ -126,6 +129,9 @@ class FakeNav2(Node):
             handle.succeed()
         else:
             handle.abort()
+            return action.Result(
+                error_code=self.error_code, error_msg="the stand-in's error" if self.error_code else ""
+            )
         return action.Result()
 
 
@@ -139,9 +145,10 @@ def main() -> None:
     parser.add_argument("--reveal", action="store_true")
     parser.add_argument("--map-stops-at-goal", type=int, default=0)
     parser.add_argument("--door", action="store_true")
+    parser.add_argument("--error-code", type=int, default=0)
     args = parser.parse_args()
     rclpy.init()
-    node = FakeNav2(args.mode, args.die_after, args.goal_time, args.reveal)
+    node = FakeNav2(args.mode, args.die_after, args.goal_time, args.reveal, args.error_code)
     # bad inputs until 2 s after the explorer has subscribed to the pose: its start (imports, numba)
     # took more than the 4 s fixed here before on a busy machine, and it never saw a NaN pose
     bad_until = None if args.bad_inputs else 0.0

@@ -64,18 +64,39 @@ def test_the_way_home_nav2_gives_up_is_sent_again_from_where_the_robot_stands_th
     assert f"try {HOME_TRIES} of {HOME_TRIES}" in log and f"try {HOME_TRIES + 1} " not in log, log
 
 
-def test_each_goal_names_the_nav2_plugins_its_parameters_give(tmp_path: Path) -> None:
-    code, status, log = _run(
-        tmp_path, f"{_FAKE} --mode abort", options="--ros-args -p behavior_tree:=/opt/bt/explore.xml"
-    )
-    assert code == 0 and status is not None and status["state"] == "finished", log
-    assert "goal naming behavior_tree '/opt/bt/explore.xml'" in log and "behavior_tree ''" not in log, log
+@pytest.mark.parametrize(
+    ("nav2", "parameter", "named", "error"),
+    [
+        (
+            "--error-code 9001",
+            "behavior_tree:=/opt/bt/explore.xml",
+            "behavior_tree '/opt/bt/explore.xml'",
+            "cannot load the behaviour tree '/opt/bt/explore.xml', error 9001: the stand-in's error: set",
+        ),
+        # navigate_to_pose goals aborted with follow_path's code are given up as any; a path goal so ends the run
+        (
+            "--error-code 101 --door",
+            "controller_id:=Precise",
+            "controller_id 'Precise'",
+            "has no controller 'Precise' (or goal checker '', progress checker ''), error 101",
+        ),
+    ],
+)
+def test_goals_name_the_nav2_plugins_set_and_one_nav2_has_not_ends_the_run_saying_what_to_set(
+    nav2: str, parameter: str, named: str, error: str, tmp_path: Path
+) -> None:
+    code, status, log = _run(tmp_path, f"{_FAKE} --mode abort {nav2}", options=f"--ros-args -p {parameter}")
+    assert code == 2 and status is None, log
+    assert f"goal naming {named}" in log, log
+    err = (tmp_path / "explore.err").read_text()
+    assert error in err and "Traceback" not in log, log
+    assert len([line for line in err.splitlines() if line.startswith("error:")]) == 1, log
 
 
 def test_a_goal_under_way_on_one_nav2_action_is_cancelled_when_the_next_goes_to_the_other(tmp_path: Path) -> None:
     """Nav2's two servers do not preempt each other: a stalled navigate_to_pose goal would drive on
     beside the path the controller follows, and a path beside the next navigate_to_pose goal."""
-    code, status, log = _run(tmp_path, f"{_FAKE} --mode stall --door", explore_for=45)
+    code, status, log = _run(tmp_path, f"{_FAKE} --mode stall --door", options="--goal-silence-timeout 10")
     assert code == 0 and status is not None and status["state"] == "finished", log
     nav2 = (tmp_path / "nav2.log").read_text().splitlines()
     sent = [
@@ -83,10 +104,11 @@ def test_a_goal_under_way_on_one_nav2_action_is_cancelled_when_the_next_goes_to_
         for i, line in enumerate(nav2)
         if line.startswith("goal naming")
     ]
-    switches = [k for k in range(1, len(sent) - 1) if sent[k][1] != sent[k - 1][1]]
+    switches = [k for k in range(1, len(sent)) if sent[k][1] != sent[k - 1][1]]
     assert {sent[k][1] for k in switches} == {"follow_path", "navigate_to_pose"}, log  # both ways
     for k in switches:  # the other action's goal cancelled before the goal after the switch is sent
-        (before, action), (after, _) = sent[k - 1], sent[k + 1]
+        before, action = sent[k - 1]
+        after = sent[k + 1][0] if k + 1 < len(sent) else len(nav2)
         assert f"{action} goal canceled" in nav2[before:after], (k, log)
 
 
