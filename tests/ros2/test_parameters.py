@@ -115,7 +115,8 @@ def test_parameter_files_before_and_after_ros_args_are_read_in_order(tmp_path: P
         "explore_node:\n  ros__parameters: {planner_frequency: 0.5, progress_timeout: 20.0, potential_scale: 3.0}\n"
     )
     (tmp_path / "ours.yaml").write_text(
-        "frontier_rl_explorer:\n  ros__parameters: {time_cap: 100.0, progress_distance: 0.3, planner_frequency: 0.75}\n"
+        "frontier_rl_explorer:\n  ros__parameters: {time_cap: 100.0, progress_distance: 0.3, planner_frequency: 0.75,"
+        " controller_id: FollowPath}\n"
     )
     arguments = "--min-frontier-size 0.4 --params-file nav2.yaml --ros-args --params-file ours.yaml"
     report, log = _with_client(tmp_path, arguments, "--get")
@@ -123,6 +124,7 @@ def test_parameter_files_before_and_after_ros_args_are_read_in_order(tmp_path: P
     assert read["planner_frequency"] == 0.75  # the later file wins
     assert read["time_cap"] == 100.0 and read["progress_distance"] == 0.3
     assert read["min_frontier_size"] == 0.4 and read["progress_timeout"] == 30.0  # the command line wins
+    assert read["controller_id"] == "FollowPath" and read["behavior_tree"] == ""
     assert "nav2.yaml: not used here: potential_scale" in log and "alpha1" not in log, log
 
 
