@@ -94,6 +94,8 @@ class Nav2Goals:
         self.action = NAVIGATE
         self._sent = 0  # goals sent; a response, feedback or result of an older one is ignored
         self._handle: ClientGoalHandle[Any, Any, Any] | None = None
+        self._awaited: int | None = None  # the goal in flight whose response has not come
+        self._stop: tuple[int, Future[Any]] | None = None  # a goal cancelled at stop before its response
         self._heard_at = math.inf  # when Nav2 last said something of the goal in flight (wall s)
 
     def ready(self, wants_follow: bool, wall_s: float) -> bool:
@@ -128,6 +130,7 @@ class Nav2Goals:
         client = self._follow if action == FOLLOW else self._navigate
         request = goal_request(goal, action, frame, stamp, self.plugins)
         future = client.send_goal_async(request, feedback_callback=partial(self._feedback, number))
+        self._awaited = number
         future.add_done_callback(lambda f: self._on_response(number, f))
         return action
 
@@ -140,15 +143,21 @@ class Nav2Goals:
         """Forget the goal in flight (its server went away): whatever the old server says later is
         ignored."""
         self._sent += 1
-        self._handle, self._heard_at = None, math.inf
+        self._handle, self._awaited, self._heard_at = None, None, math.inf
 
     def cancel(self) -> Future[Any] | None:
-        """Ask Nav2 to cancel the goal under way; one whose response is still awaited is cancelled
-        when it comes (accepted), and whatever Nav2 says of either later is ignored. The cancel
-        request's future, or None when no goal was under way."""
-        handle = self._handle
+        """Ask Nav2 to cancel the goal under way, and ignore whatever Nav2 says of it later. A goal
+        whose response has not come is cancelled when it comes (accepted): stopping, the robot must
+        not drive on to a goal Nav2 accepts after the explorer has gone. The future of Nav2's answer
+        to the cancel (None for a goal it rejected), or None when no goal was under way."""
+        handle, awaited = self._handle, self._awaited
         self.drop()
-        return None if handle is None else handle.cancel_goal_async()
+        if handle is not None:
+            return handle.cancel_goal_async()
+        if awaited is None:
+            return None
+        self._stop = (awaited, Future())
+        return self._stop[1]
 
     def _heard(self) -> None:
         self._heard_at = time.monotonic()
@@ -159,11 +168,14 @@ class Nav2Goals:
 
     def _on_response(self, number: int, future: Future[ClientGoalHandle[Any, Any, Any]]) -> None:
         handle = future.result()
+        if number == self._awaited:
+            self._awaited = None
         if handle is None:
+            self._stopped(number, None)
             return
         if number != self._sent:  # a newer goal went out (or this one was dropped): this one must not drive on
-            if handle.accepted:  # a server a newer goal went to has preempted it already; the other has not
-                handle.cancel_goal_async()
+            # a server a newer goal went to has preempted it already; the other has not
+            self._stopped(number, handle.cancel_goal_async() if handle.accepted else None)
             return
         self._heard()
         if not handle.accepted:
@@ -172,6 +184,17 @@ class Nav2Goals:
             return
         self._handle = handle
         handle.get_result_async().add_done_callback(lambda f: self._on_result(number, f))
+
+    def _stopped(self, number: int, cancel: Future[Any] | None) -> None:
+        """The goal ``number`` answered after its cancel at stop: the stop's future gets Nav2's
+        answer to ``cancel`` (None: no cancel was needed)."""
+        if self._stop is None or self._stop[0] != number:
+            return
+        stop, self._stop = self._stop[1], None
+        if cancel is None:
+            stop.set_result(None)
+        else:
+            cancel.add_done_callback(lambda done: stop.set_result(done.result()))
 
     def _on_result(self, number: int, future: Future[Any]) -> None:
         result = future.result()

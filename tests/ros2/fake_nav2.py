@@ -9,7 +9,8 @@ plugins each goal names. ``--bad-inputs`` first sends a malformed map and a NaN 
 crashed). ``--map-period P`` publishes the map every P s, as slam_toolbox does (else once);
 ``--reveal`` maps the unknown half as free when a goal succeeds (published with the next map, as a
 SLAM map lags the robot); ``--map-stops-at-goal N`` publishes no map once N goals are accepted;
-``--error-code N`` ends each goal it aborts with Nav2's error code N. ``--door`` adds a room north
+``--error-code N`` ends each goal it aborts with Nav2's error code N; ``--response-delay S``
+answers each goal S seconds after it came. ``--door`` adds a room north
 of the corridor behind a door that only the narrow-passage recovery's levels pass (its goals go to
 ``follow_path``). In ``stall`` mode a goal of one action does not preempt the other's (two Nav2
 servers), and a goal cancelled is named by its action.
@@ -66,10 +67,16 @@ _ACTIONS = {NavigateToPose: "navigate_to_pose", FollowPath: "follow_path"}
 
 class FakeNav2(Node):
     def __init__(
-        self, mode: str, die_after: int, goal_time: float = 0.0, reveal: bool = False, error_code: int = 0
+        self,
+        mode: str,
+        die_after: int,
+        goal_time: float = 0.0,
+        reveal: bool = False,
+        error_code: int = 0,
+        response_delay: float = 0.0,
     ) -> None:
         super().__init__("fake_nav2")
-        self.error_code = error_code
+        self.error_code, self.response_delay = error_code, response_delay
         self.mode, self.die_after, self.accepted = mode, die_after, 0
         self.goal_time, self.reveal, self.revealed = goal_time, reveal, False
         self.map_pub = self.create_publisher(OccupancyGrid, "map", MAP_QOS)
@@ -89,6 +96,7 @@ class FakeNav2(Node):
     def _goal(self, request: object) -> GoalResponse:
         names = ("behavior_tree",) if isinstance(request, NavigateToPose.Goal) else _FOLLOW_PLUGINS
         print("goal naming " + ", ".join(f"{name} {getattr(request, name)!r}" for name in names), flush=True)
+        time.sleep(self.response_delay)
         if self.mode == "reject":
             return GoalResponse.REJECT
         self.accepted += 1
@@ -146,9 +154,10 @@ def main() -> None:
     parser.add_argument("--map-stops-at-goal", type=int, default=0)
     parser.add_argument("--door", action="store_true")
     parser.add_argument("--error-code", type=int, default=0)
+    parser.add_argument("--response-delay", type=float, default=0.0)
     args = parser.parse_args()
     rclpy.init()
-    node = FakeNav2(args.mode, args.die_after, args.goal_time, args.reveal, args.error_code)
+    node = FakeNav2(args.mode, args.die_after, args.goal_time, args.reveal, args.error_code, args.response_delay)
     # bad inputs until 2 s after the explorer has subscribed to the pose: its start (imports, numba)
     # took more than the 4 s fixed here before on a busy machine, and it never saw a NaN pose
     bad_until = None if args.bad_inputs else 0.0

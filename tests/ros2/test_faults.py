@@ -148,6 +148,22 @@ def test_ctrl_c_cancels_the_goal_under_way(tmp_path: Path) -> None:
     assert "Traceback" not in log
 
 
+def test_a_stop_before_nav2_answered_the_goal_cancels_it_once_nav2_accepts_it(tmp_path: Path) -> None:
+    """The goal was forgotten: Nav2 accepted it after the explorer had gone, and the robot drove on."""
+    script = (
+        f"setsid sh -c {shlex.quote(_FAKE + ' --mode stall --response-delay 1')} > nav2.log 2>&1 & nav2=$!; "
+        f"{_EXPLORE} --progress-timeout 30 > explore.log 2> explore.err & explore=$!; "
+        "for i in $(seq 600); do grep -q 'goal naming' nav2.log && break; sleep 0.1; done; "
+        "kill -INT $explore; wait $explore; status=$?; sleep 2; "  # the stand-in said what it did meanwhile
+        "kill -9 -$nav2 2>/dev/null; wait; exit $status"
+    )
+    done = run_in_loopback(script, tmp_path, 120)
+    log = "".join((tmp_path / name).read_text() for name in ("explore.log", "explore.err", "nav2.log")) + done.stderr
+    assert done.returncode == 130, log
+    assert "cancelling goal 1: the explorer is stopping" in log and "navigate_to_pose goal canceled" in log, log
+    assert "Traceback" not in log, log
+
+
 def test_a_goal_reached_is_judged_on_a_map_from_after_it(tmp_path: Path) -> None:
     """The map comes every 0.3 s and shows the goal's frontier seen only after Nav2 said "reached":
     judged on the map at hand, the frontier just seen was given up."""
