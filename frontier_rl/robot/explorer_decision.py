@@ -16,11 +16,13 @@ from frontier_rl.core.sim.metrics import EndReason, FrontierLeft
 
 class GoalStatus(Enum):
     """How the navigation stack ended a goal, in the words of ROS 2 actions (the simulated robot
-    rejects none)."""
+    rejects and cancels none)."""
 
     SUCCEEDED = "succeeded"
     ABORTED = "aborted"
     REJECTED = "rejected"
+    CANCELED = "canceled"
+    """Cancelled by another node (an operator's cancel in RViz): the explorer's own cancels end no goal."""
 
 
 @dataclass(frozen=True)

@@ -268,13 +268,18 @@ class ExplorerNode(Node):
             return
         if status is GoalStatus.ABORTED and outcome.error:  # Nav2's own reason (a controller id it wants): on the log
             self._warn(f"{action} error", f"{self._label} aborted by {action}{outcome.error}")
+        if status is GoalStatus.CANCELED:
+            self.get_logger().info(f"{self._label} cancelled by another node on {action}")
         why = {
             GoalStatus.SUCCEEDED: f"{self._label} reached",
             GoalStatus.REJECTED: f"{self._label} rejected by Nav2",
+            GoalStatus.CANCELED: f"{self._label} cancelled by another node",
             GoalStatus.ABORTED: f"{self._label} aborted by Nav2 (status {outcome.code}{outcome.error})",
         }[status]
         failed = status is not GoalStatus.SUCCEEDED
-        if self._returning:  # a rejection is not tried again: Nav2 would reject it again at once
+        # a way home rejected is not sent again (Nav2 would reject it again at once), nor one another
+        # node cancelled; a goal another node cancelled is given up as one Nav2 aborted: not there
+        if self._returning:
             pose = self._poses.pose(self._map_frame)
             tries_left = self._home_tries < HOME_TRIES and not self._stopping
             if status is GoalStatus.ABORTED and tries_left and pose is not None and self._grid is not None:

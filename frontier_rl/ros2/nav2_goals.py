@@ -204,7 +204,9 @@ class Nav2Goals:
         self._handle, self._heard_at = None, math.inf
         if status == ActionStatus.STATUS_SUCCEEDED:
             self._on_end(GoalOutcome(GoalStatus.SUCCEEDED, status))
-        elif status != ActionStatus.STATUS_CANCELED:
+        elif status == ActionStatus.STATUS_CANCELED:  # not by the explorer, whose cancels drop the goal first
+            self._on_end(GoalOutcome(GoalStatus.CANCELED, status))
+        else:
             error_code = int(getattr(result.result, "error_code", 0))
             self._on_end(GoalOutcome(GoalStatus.ABORTED, status, error_text(result.result), error_code))
 

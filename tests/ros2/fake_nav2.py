@@ -3,17 +3,17 @@
 It publishes a fixed map (a corridor whose east half is unknown: frontiers that no goal will ever
 resolve, since nothing moves) and a pose, and serves ``navigate_to_pose`` (and ``follow_path``
 alike) in one ``--mode``: ``reject`` every goal, ``abort`` it, ``stall`` (accept, send feedback,
-never move), or ``succeed`` at once (after ``--goal-time`` s of feedback); it prints the Nav2
-plugins each goal names. ``--bad-inputs`` first sends a malformed map and a NaN pose;
-``--die-after N`` ends the process without a word once it has accepted N goals (a Nav2 that
-crashed). ``--map-period P`` publishes the map every P s, as slam_toolbox does (else once);
-``--reveal`` maps the unknown half as free when a goal succeeds (published with the next map, as a
-SLAM map lags the robot); ``--map-stops-at-goal N`` publishes no map once N goals are accepted;
-``--error-code N`` ends each goal it aborts with Nav2's error code N; ``--response-delay S``
-answers each goal S seconds after it came. ``--door`` adds a room north
-of the corridor behind a door that only the narrow-passage recovery's levels pass (its goals go to
-``follow_path``). In ``stall`` mode a goal of one action does not preempt the other's (two Nav2
-servers), and a goal cancelled is named by its action.
+never move), ``cancel`` it as another node would (through its cancel service), or ``succeed`` at
+once (after ``--goal-time`` s of feedback); it prints the Nav2 plugins each goal names.
+``--bad-inputs`` first sends a malformed map and a NaN pose; ``--die-after N`` ends the process
+without a word once it has accepted N goals (a Nav2 that crashed). ``--map-period P`` publishes
+the map every P s, as slam_toolbox does (else once); ``--reveal`` maps the unknown half as free
+when a goal succeeds (published with the next map, as a SLAM map lags the robot);
+``--map-stops-at-goal N`` publishes no map once N goals are accepted; ``--error-code N`` ends each
+goal it aborts with Nav2's error code N; ``--response-delay S`` answers each goal S seconds after
+it came. ``--door`` adds a room north of the corridor behind a door that only the narrow-passage
+recovery's levels pass (its goals go to ``follow_path``). In ``stall`` mode a goal of one action
+does not preempt the other's (two Nav2 servers), and a goal cancelled is named by its action.
 """
 
 from __future__ import annotations
@@ -27,6 +27,7 @@ import time
 
 import numpy as np
 import rclpy
+from action_msgs.srv import CancelGoal
 from geometry_msgs.msg import PoseWithCovarianceStamped
 from nav2_msgs.action import FollowPath, NavigateToPose
 from nav_msgs.msg import OccupancyGrid
@@ -83,6 +84,10 @@ class FakeNav2(Node):
         self.pose_pub = self.create_publisher(PoseWithCovarianceStamped, "pose", 10)
         self.pose_x = 0.5
         self.current: dict[type, ServerGoalHandle] = {}  # each action's goal under way
+        # the actions' cancel services, as another node (an operator in RViz) calls them
+        self.cancel_all = {
+            action: self.create_client(CancelGoal, f"{name}/_action/cancel_goal") for action, name in _ACTIONS.items()
+        }
         for action, name in _ACTIONS.items():
             ActionServer(
                 self,
@@ -128,6 +133,20 @@ class FakeNav2(Node):
             elif handle.is_active:
                 handle.abort()
             return action.Result()
+        if self.mode == "cancel":
+            client = self.cancel_all[action]
+            if client.wait_for_service(timeout_sec=5.0):
+                client.call_async(CancelGoal.Request())  # no goal id, no stamp: every goal
+            deadline = time.monotonic() + 5.0
+            while time.monotonic() < deadline and not handle.is_cancel_requested:
+                handle.publish_feedback(feedback)
+                time.sleep(0.05)
+            if handle.is_cancel_requested:
+                handle.canceled()
+                print(f"{_ACTIONS[action]} goal canceled by another node", flush=True)
+            else:
+                handle.abort()
+            return action.Result()
         if self.mode == "succeed":
             deadline = time.monotonic() + self.goal_time
             while time.monotonic() < deadline and not handle.is_cancel_requested:
@@ -145,7 +164,7 @@ class FakeNav2(Node):
 
 def main() -> None:
     parser = argparse.ArgumentParser()
-    parser.add_argument("--mode", choices=("reject", "abort", "stall", "succeed"), required=True)
+    parser.add_argument("--mode", choices=("reject", "abort", "stall", "succeed", "cancel"), required=True)
     parser.add_argument("--bad-inputs", action="store_true")
     parser.add_argument("--die-after", type=int, default=0)
     parser.add_argument("--goal-time", type=float, default=0.0)

@@ -42,8 +42,9 @@ def _run(
     return done.returncode, (json.loads(lines[-1]) if lines else None), log
 
 
-@pytest.mark.parametrize("mode", ["reject", "abort", "stall", "succeed"])
+@pytest.mark.parametrize("mode", ["reject", "abort", "stall", "succeed", "cancel"])
 def test_goals_nav2_will_not_reach_are_given_up_and_exploration_ends(mode: str, tmp_path: Path) -> None:
+    """A goal another node cancelled (``cancel``) was held as under way until its progress timeout."""
     code, status, log = _run(tmp_path, f"{_FAKE} --mode {mode}")
     assert code == 0 and status is not None, log
     assert status["state"] == "finished" and status["reason"] == "unreachable", log
@@ -51,6 +52,9 @@ def test_goals_nav2_will_not_reach_are_given_up_and_exploration_ends(mode: str, 
     assert isinstance(status["frontiers_left"], int) and status["frontiers_left"] >= 1
     if mode == "stall":  # the goal still under way at the end is cancelled (the robot drove on to it)
         assert "cancelling goal" in log and "goal canceled" in log, log
+    if mode == "cancel":  # each given up as Nav2's aborts are, at once (the progress timeout is 1 s here)
+        assert "goal 1 cancelled by another node on navigate_to_pose" in log, log
+        assert "navigate_to_pose goal canceled by another node" in log and "cancelling goal" not in log, log
 
 
 def test_the_way_home_nav2_gives_up_is_sent_again_from_where_the_robot_stands_then_the_run_ends(
