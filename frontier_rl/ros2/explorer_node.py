@@ -9,7 +9,8 @@ the path planned there, to ``follow_path``: :mod:`frontier_rl.ros2.nav2_goals`).
 or aborts, or that brings the robot no nearer within ``progress_timeout``, is blacklisted, and so is
 a goal reached whose frontier a map from after it still shows (:mod:`frontier_rl.robot.map_watch`);
 a goal whose frontier the map has since seen is replaced. It stops when the map is explored, with its end reason on
-``explore/status`` and in the log, and optionally drives back to the start.
+``explore/status`` and in the log, and optionally drives back to the start. ``explore/resume``
+(``std_msgs/Bool``, as explore_lite's) pauses the run and resumes it.
 """
 
 from __future__ import annotations
@@ -25,12 +26,13 @@ from rclpy.clock_type import ClockType
 from rclpy.node import Node
 from rclpy.parameter import Parameter
 from rclpy.task import Future
-from std_msgs.msg import Float32, String
+from std_msgs.msg import Bool, Float32, String
 from visualization_msgs.msg import MarkerArray
 
 from frontier_rl.core.world.grid import OccupancyGrid
 from frontier_rl.core.world.robot import Pose
 from frontier_rl.errors import ConfigError, MapError
+from frontier_rl.robot.explored_time import ExploredTime
 from frontier_rl.robot.explorer import FrontierExplorer
 from frontier_rl.robot.explorer_decision import Finished, Goal, GoalStatus
 from frontier_rl.robot.map_watch import MapWait, MapWatch
@@ -96,12 +98,13 @@ class ExplorerNode(Node):
         )
         self._waiting_since = time.monotonic()
         self.create_subscription(Float32, "coverage", self._on_coverage, MAP_QOS)
+        self.create_subscription(Bool, "explore/resume", self._on_resume, 10)
+        self._paused = False  # explore/resume false came, and no true since
         self._status_pub = self.create_publisher(String, "explore/status", MAP_QOS)
         self._marker_pub = self.create_publisher(MarkerArray, "explore/frontiers", 10)
         self._nav = Nav2Goals(self, self._goal_end, self._settings.plugins)
         self._label = "goal 0"  # the goal in flight, as the log and the status name it: the decision's number
-        self._clock_s: float | None = None  # the node's clock at the last poll (s)
-        self._elapsed_s = 0.0  # time explored (s): the node's clock, never running backwards
+        self._explored = ExploredTime()  # on the node's clock (simulated with use_sim_time)
         self._last_tick_s = -math.inf
         self.finished: Finished | None = None
         self.done: Future[Finished | None] = Future()  # set once exploration (and the way home) is over
@@ -157,14 +160,22 @@ class ExplorerNode(Node):
     def _on_coverage(self, message: Float32) -> None:
         self._coverage = float(message.data)
 
-    def _advance_clock(self) -> float:
-        """The time explored so far (s): the node's clock (simulated with ``use_sim_time``) as it
-        moves on, a jump back (a restarted simulator) counted as no time."""
-        now = self._clock_now_s()
-        if self._clock_s is not None and now > self._clock_s:
-            self._elapsed_s += now - self._clock_s
-        self._clock_s = now
-        return self._elapsed_s
+    def _on_resume(self, message: Bool) -> None:
+        """explore_lite's ``explore/resume``: false pauses the run (the goal under way cancelled, not
+        held against its frontier; the time paused not counted as explored), true goes on."""
+        resume = bool(message.data)
+        if resume != self._paused or self._stopping or (self.finished is not None and not self._returning):
+            return  # no change, or the run is over
+        self._paused = not resume
+        if resume:
+            self._goal_ended = True  # a tick at once (the way home: sent again at once)
+            self._publish(ExplorerState.RETURNING if self._returning else ExplorerState.EXPLORING, "resumed")
+        else:
+            self._nav.cancel()
+            if not self._returning:
+                self.explorer.goal_lost()
+            self._publish(ExplorerState.PAUSED, f"paused on {self.resolve_topic_name('explore/resume')}")
+        self.get_logger().info("resumed" if resume else "paused: the goal under way cancelled")
 
     # --------------------------------------------------------------- ticks
     def _poll(self) -> None:
@@ -172,22 +183,25 @@ class ExplorerNode(Node):
         and at once when no goal is under way."""
         if self._stopping or (self.finished is not None and not self._returning):
             return
-        if self._grid is None:
-            self._waiting(f"a map on {self.resolve_topic_name('map')}")
+        if self._paused:  # the robot may be driven by hand meanwhile: its trail still grows
+            self._explored.held(self._clock_now_s())
+            if (pose := self._poses.pose(self._map_frame)) is not None:
+                self.explorer.passed(pose)
             return
-        pose = self._poses.pose(self._map_frame)
-        if pose is None:
-            self._waiting(f"a pose ({self._pose_from})")
-            return
-        if not self._nav.ready(self.explorer.params.recovery_paths, time.monotonic()):
-            self._waiting(f"Nav2's {self.resolve_topic_name(NAVIGATE)} and {self.resolve_topic_name(FOLLOW)} actions")
+        pose = self._inputs()
+        if pose is None or self._grid is None:
             return
         self.explorer.passed(pose)  # the trail: every pose the node reads, one per poll
-        now = self._advance_clock()
+        now = self._explored.advanced(self._clock_now_s())
         if self._nav.silent_for(time.monotonic()) > self.goal_silence_timeout:
             self._lost()
             return
-        if self.finished is not None or not self._map_for_judging(now):
+        if self.finished is not None:  # on the way home: sent again after a pause
+            if self._goal_ended and not self._go_home(self._team.merged(self._grid), pose, counted=False):
+                self._close("exploration over")
+            self._goal_ended = False
+            return
+        if not self._map_for_judging(now):
             return
         period = 1.0 / self.explorer.params.planner_frequency
         if self.explorer.goal is not None and now - self._last_tick_s < period and not self._goal_ended:
@@ -201,6 +215,21 @@ class ExplorerNode(Node):
             self._send(decision)
         elif isinstance(decision, Finished):
             self._finish(decision, explored, pose)
+
+    def _inputs(self) -> Pose | None:
+        """The robot's pose once the map, the pose and Nav2 are there; None (saying on the log,
+        in time, what it waits for) before."""
+        if self._grid is None:
+            self._waiting(f"a map on {self.resolve_topic_name('map')}")
+            return None
+        pose = self._poses.pose(self._map_frame)
+        if pose is None:
+            self._waiting(f"a pose ({self._pose_from})")
+            return None
+        if not self._nav.ready(self.explorer.params.recovery_paths, time.monotonic()):
+            self._waiting(f"Nav2's {self.resolve_topic_name(NAVIGATE)} and {self.resolve_topic_name(FOLLOW)} actions")
+            return None
+        return pose
 
     def _map_for_judging(self, now: float) -> bool:
         """Whether the map at hand may judge the goal just reached (:class:`~frontier_rl.robot.map_watch.MapWatch`):
@@ -317,19 +346,20 @@ class ExplorerNode(Node):
         """The run is over: home from ``pose`` on the map ``explored``, or done (a goal still under
         way is cancelled by the runner, which waits for Nav2's answer before the node goes: a
         request sent as it went was lost, and the robot drove on)."""
-        self.finished, self._finished_s = finished, self._elapsed_s
+        self.finished, self._finished_s = finished, self._explored.elapsed_s
         if not (self.explorer.params.return_to_init and self._go_home(explored, pose)):
             self._close("exploration over")
 
-    def _go_home(self, explored: OccupancyGrid, pose: Pose) -> bool:
-        """Send the way home from ``pose`` on the map ``explored``; False when there is none (no
-        start: the explorer never ticked)."""
+    def _go_home(self, explored: OccupancyGrid, pose: Pose, counted: bool = True) -> bool:
+        """Send the way home from ``pose`` on the map ``explored`` (``counted`` among the tries:
+        not when a pause cancelled the last); False when there is none (no start: the explorer
+        never ticked)."""
         home = self.explorer.home(explored, pose)
         if home is None:
             return False
         self._nav.cancel()
         self._returning = True
-        self._home_tries += 1
+        self._home_tries += counted
         self._send(home)
         return True
 
@@ -346,7 +376,7 @@ class ExplorerNode(Node):
 
     def status(self, state: ExplorerState, detail: str) -> ExplorerStatus:
         """The explorer's state now."""
-        time_s = self._elapsed_s if self._finished_s is None else self._finished_s
+        time_s = self._explored.elapsed_s if self._finished_s is None else self._finished_s
         explorer = self.explorer
         return ExplorerStatus.of(
             state, detail, time_s, explorer.decisions, explorer.goals_given_up, self.finished, self._coverage

@@ -17,6 +17,7 @@ class ExplorerState(StrEnum):
     WAITING = "waiting"  # for a map, a pose or Nav2
     EXPLORING = "exploring"
     RETURNING = "returning"  # to where it started (return_to_init)
+    PAUSED = "paused"  # on explore/resume false, until true
     FINISHED = "finished"
     INTERRUPTED = "interrupted"  # stopped before it finished (Ctrl-C, a shutdown)
 

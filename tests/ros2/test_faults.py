@@ -168,6 +168,30 @@ def test_a_stop_before_nav2_answered_the_goal_cancels_it_once_nav2_accepts_it(tm
     assert "Traceback" not in log, log
 
 
+def test_explore_resume_pauses_the_run_cancelling_its_goal_and_goes_on(tmp_path: Path) -> None:
+    """explore_lite's explore/resume: false stops the robot until true; the time paused is not explored."""
+    client = f"{shlex.quote(sys.executable)} {shlex.quote(str(Path(__file__).with_name('resume_client.py')))}"
+    script = (
+        f"setsid sh -c {shlex.quote(_FAKE + ' --mode stall')} > nav2.log 2>&1 & nav2=$!; "
+        f"timeout --preserve-status -s INT 60 {_EXPLORE} --progress-timeout 1 > explore.log 2> explore.err & "
+        f"explore=$!; {client} > client.log 2> client.err; kill -INT $explore; wait $explore; "
+        "kill -9 -$nav2 2>/dev/null; wait"
+    )
+    done = run_in_loopback(script, tmp_path, 120)
+    names = ("client.log", "client.err", "explore.log", "explore.err", "nav2.log")
+    log = "".join((tmp_path / name).read_text() for name in names) + done.stderr
+    assert (tmp_path / "client.log").read_text(), log
+    report = json.loads((tmp_path / "client.log").read_text())
+    paused, *during, resumed = report["paused"]
+    assert paused["state"] == "paused" and "explore/resume" in paused["detail"], log
+    assert all(s["state"] == "paused" or s["detail"] == "resumed" for s in during), log  # no goal meanwhile
+    assert resumed["state"] == "exploring" and resumed["goals"] == paused["goals"] + 1, log
+    # the time explored stood still while paused, two seconds of wall time (the clock is the wall's here)
+    assert resumed["time_s"] - paused["time_s"] < 1.0, log
+    assert "navigate_to_pose goal canceled" in log and "paused: the goal under way cancelled" in log, log
+    assert "Traceback" not in log, log
+
+
 def test_a_goal_reached_is_judged_on_a_map_from_after_it(tmp_path: Path) -> None:
     """The map comes every 0.3 s and shows the goal's frontier seen only after Nav2 said "reached":
     judged on the map at hand, the frontier just seen was given up."""
