@@ -307,13 +307,17 @@ class FrontierExplorer:
     def _nearer_along_the_way(self, grid: OccupancyGrid, pose: Pose) -> bool:
         """Whether the way to the goal on ``grid`` (planned at its level) is ``progress_distance``
         shorter from ``pose`` than from where the robot stood at its last progress: both planned on
-        the same map, to the same cell (a SLAM map's origin moves as it grows)."""
+        the same map, to the same cell (a SLAM map's origin moves as it grows). A way that ends
+        elsewhere (the reachable cell nearest a goal the map has since walled off, or the edge of
+        an island the robot stands on) is none: nearer to it is not nearer to the goal."""
         goal, before = self.goal, self._progress_pose
         assert goal is not None and before is not None
         costmap, reachable = self._reachable(grid, pose, goal.recovery)
         now_way = path_to_point(grid, costmap, reachable, pose, goal.x, goal.y)
+        if now_way is None or math.dist(now_way[-1], (goal.x, goal.y)) >= grid.resolution:
+            return False
         then_way = path_to_point(grid, costmap, reachable, before, goal.x, goal.y)
-        if now_way is None or then_way is None:
+        if then_way is None:
             return False
         return bool(tail_lengths(now_way)[0] <= tail_lengths(then_way)[0] - self.params.progress_distance)
 

@@ -123,6 +123,33 @@ def test_progress_made_before_the_robot_stuck_is_not_counted_again_along_the_way
     assert isinstance(explorer.tick(grid, stuck, 11.0), Goal) and explorer.goals_given_up == 1
 
 
+def _walled_off(door_open: bool) -> OccupancyGrid:
+    """A 4 m corridor below a wall, open at its east end (``door_open``) onto a room whose north is unknown."""
+    data = np.full((140, 80), CellState.OCCUPIED, np.int8)
+    data[2:18, 2:78] = CellState.FREE
+    data[26:110, 2:78] = CellState.FREE
+    data[110:138, 2:78] = CellState.UNKNOWN
+    if door_open:
+        data[18:26, 68:78] = CellState.FREE
+    return OccupancyGrid(data, 0.05, (0.0, 0.0))
+
+
+def test_nearer_to_where_the_way_ends_is_no_progress_once_the_map_walls_the_goal_off() -> None:
+    # the door drawn shut after the goal was chosen: the way now ends in the corridor below the
+    # goal; driving along the corridor shortens that way but leaves the goal as far in a straight line
+    explorer = FrontierExplorer(make_policy("nearest"), ExplorerParams(progress_timeout=5.0))
+    goal = explorer.tick(_walled_off(door_open=True), Pose(2.5, 0.5, 0.0), 0.0)
+    assert isinstance(goal, Goal) and goal.y > 5.0
+    closed = _walled_off(door_open=False)
+    below = Pose(goal.x, 0.5, 0.0)
+    assert math.hypot(goal.x - 2.5, goal.y - 0.5) - math.hypot(goal.x - below.x, goal.y - below.y) < 0.1
+    assert abs(below.x - 2.5) > 0.4  # the way along the corridor, shorter by more than progress_distance
+    assert explorer.tick(closed, Pose((2.5 + below.x) / 2, 0.5, 0.0), 3.0) is None
+    end = explorer.tick(closed, below, 5.5)
+    assert explorer.goals_given_up == 1
+    assert isinstance(end, Finished) and end.reason is EndReason.UNREACHABLE
+
+
 def test_a_goal_whose_frontier_is_seen_is_replaced() -> None:
     explorer = FrontierExplorer(make_policy("nearest"))
     grid = _corridor()
