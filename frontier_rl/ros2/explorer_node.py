@@ -198,6 +198,7 @@ class ExplorerNode(Node):
             return
         if self.finished is not None:  # on the way home: sent again after a pause
             if self._goal_ended and not self._go_home(self._team.merged(self._grid), pose, counted=False):
+                self._returning = False
                 self._close("exploration over")
             self._goal_ended = False
             return
@@ -333,13 +334,15 @@ class ExplorerNode(Node):
         self._publish(ExplorerState.EXPLORING, why)
 
     # ---------------------------------------------------------------- the end
-    def cancel_goal(self) -> Future[Any] | None:
+    def cancel_goal(self) -> Future[bool] | None:
         """Ask Nav2 to cancel the goal under way (the explorer is being stopped: the robot should
         not drive on to it); the cancel request's future, or None when no goal is under way."""
         self._stopping = True
-        future = self._nav.cancel()  # also one whose response is still awaited, once it comes
-        if future is not None:
-            self.get_logger().info(f"cancelling {self._label}: the explorer is stopping")  # ended or stopped
+        unanswered = self._nav.unanswered
+        future = self._nav.cancel()  # also goals whose response is still awaited, once it comes
+        if future is not None:  # ended or stopped
+            waits = f" (once Nav2 answers it: {unanswered} unanswered)" if unanswered else ""
+            self.get_logger().info(f"cancelling {self._label}: the explorer is stopping{waits}")
         return future
 
     def _finish(self, finished: Finished, explored: OccupancyGrid, pose: Pose) -> None:

@@ -94,8 +94,9 @@ class Nav2Goals:
         self.action = NAVIGATE
         self._sent = 0  # goals sent; a response, feedback or result of an older one is ignored
         self._handle: ClientGoalHandle[Any, Any, Any] | None = None
-        self._awaited: int | None = None  # the goal in flight whose response has not come
-        self._stop: tuple[int, Future[Any]] | None = None  # a goal cancelled at stop before its response
+        self._unanswered: set[int] = set()  # goals sent whose response has not come
+        self._cancels: list[Future[Any]] = []  # cancel requests sent, their answers awaited at stop
+        self._stop: Future[bool] | None = None  # the stop's: set once the two above are settled
         self._heard_at = math.inf  # when Nav2 last said something of the goal in flight (wall s)
 
     def ready(self, wants_follow: bool, wall_s: float) -> bool:
@@ -124,13 +125,13 @@ class Nav2Goals:
             self._heard()
         action = self.action_for(goal)
         if self._handle is not None and action != self.action:  # two servers: the other's goal would drive on
-            self._handle.cancel_goal_async()
+            self._cancel(self._handle)
             self._handle = None
         self.action = action
         client = self._follow if action == FOLLOW else self._navigate
         request = goal_request(goal, action, frame, stamp, self.plugins)
         future = client.send_goal_async(request, feedback_callback=partial(self._feedback, number))
-        self._awaited = number
+        self._unanswered.add(number)
         future.add_done_callback(lambda f: self._on_response(number, f))
         return action
 
@@ -141,23 +142,50 @@ class Nav2Goals:
 
     def drop(self) -> None:
         """Forget the goal in flight (its server went away): whatever the old server says later is
-        ignored."""
-        self._sent += 1
-        self._handle, self._awaited, self._heard_at = None, None, math.inf
+        ignored, and a stop does not wait for its answer."""
+        self._forget()
+        self._unanswered.clear()
 
-    def cancel(self) -> Future[Any] | None:
+    def cancel(self) -> Future[bool] | None:
         """Ask Nav2 to cancel the goal under way, and ignore whatever Nav2 says of it later. A goal
-        whose response has not come is cancelled when it comes (accepted): stopping, the robot must
-        not drive on to a goal Nav2 accepts after the explorer has gone. The future of Nav2's answer
-        to the cancel (None for a goal it rejected), or None when no goal was under way."""
-        handle, awaited = self._handle, self._awaited
-        self.drop()
+        whose response has not come (a path sent again, the goal just sent) is cancelled when it
+        comes, accepted: stopping, the robot must not drive on to a goal Nav2 accepts after the
+        explorer has gone. A future set once every goal sent has been answered and every cancel
+        request too: whether Nav2 said it cancels one; None when there is nothing to wait for."""
+        handle = self._handle
+        self._forget()
         if handle is not None:
-            return handle.cancel_goal_async()
-        if awaited is None:
+            self._cancel(handle)
+        if not self._unanswered and all(request.done() for request in self._cancels):
             return None
-        self._stop = (awaited, Future())
-        return self._stop[1]
+        self._stop = Future()
+        self._settle()
+        return self._stop
+
+    @property
+    def unanswered(self) -> int:
+        """How many goals sent Nav2 has not answered yet."""
+        return len(self._unanswered)
+
+    def _forget(self) -> None:
+        self._sent += 1
+        self._handle, self._heard_at = None, math.inf
+
+    def _cancel(self, handle: ClientGoalHandle[Any, Any, Any]) -> None:
+        """Ask Nav2 to cancel ``handle``'s goal; a stop waits for the answer."""
+        self._cancels = [request for request in self._cancels if not request.done()]
+        request = handle.cancel_goal_async()
+        self._cancels.append(request)
+        request.add_done_callback(lambda _: self._settle())
+
+    def _settle(self) -> None:
+        """Set the stop's future once every goal sent has been answered and every cancel request
+        too: whether Nav2 said it cancels a goal."""
+        if self._stop is None or self._stop.done() or self._unanswered:
+            return
+        if all(request.done() for request in self._cancels):
+            answers = [request.result() for request in self._cancels]
+            self._stop.set_result(any(answer is not None and len(answer.goals_canceling) for answer in answers))
 
     def _heard(self) -> None:
         self._heard_at = time.monotonic()
@@ -168,14 +196,13 @@ class Nav2Goals:
 
     def _on_response(self, number: int, future: Future[ClientGoalHandle[Any, Any, Any]]) -> None:
         handle = future.result()
-        if number == self._awaited:
-            self._awaited = None
-        if handle is None:
-            self._stopped(number, None)
-            return
-        if number != self._sent:  # a newer goal went out (or this one was dropped): this one must not drive on
-            # a server a newer goal went to has preempted it already; the other has not
-            self._stopped(number, handle.cancel_goal_async() if handle.accepted else None)
+        self._unanswered.discard(number)
+        if handle is None or number != self._sent:
+            # a newer goal went out (or this one was dropped or cancelled): this one must not drive
+            # on; a server a newer goal went to has preempted it already, the other has not
+            if handle is not None and handle.accepted:
+                self._cancel(handle)
+            self._settle()
             return
         self._heard()
         if not handle.accepted:
@@ -184,17 +211,6 @@ class Nav2Goals:
             return
         self._handle = handle
         handle.get_result_async().add_done_callback(lambda f: self._on_result(number, f))
-
-    def _stopped(self, number: int, cancel: Future[Any] | None) -> None:
-        """The goal ``number`` answered after its cancel at stop: the stop's future gets Nav2's
-        answer to ``cancel`` (None: no cancel was needed)."""
-        if self._stop is None or self._stop[0] != number:
-            return
-        stop, self._stop = self._stop[1], None
-        if cancel is None:
-            stop.set_result(None)
-        else:
-            cancel.add_done_callback(lambda done: stop.set_result(done.result()))
 
     def _on_result(self, number: int, future: Future[Any]) -> None:
         result = future.result()

@@ -152,8 +152,7 @@ def _cancel_goal(executor: Executor, node: ExplorerNode) -> bool:
     deadline = time.monotonic() + CANCEL_WAIT_S
     while not future.done() and time.monotonic() < deadline and rclpy.ok():
         executor.spin_once(timeout_sec=SPIN_POLL_S)
-    response = future.result() if future.done() else None
-    return response is not None and len(response.goals_canceling) > 0
+    return future.done() and bool(future.result())
 
 
 def run_sim(

@@ -7,13 +7,13 @@ import json
 import sys
 import time
 from collections.abc import Callable
+from pathlib import Path
 from typing import Any
 
 import rclpy
 from rclpy.node import Node
+from rclpy.qos import DurabilityPolicy, QoSProfile
 from std_msgs.msg import Bool, String
-
-from frontier_rl.ros2.messages import MAP_QOS
 
 PAUSE_S = 2.0
 """How long (wall s) the explorer is left paused."""
@@ -23,7 +23,10 @@ def main() -> None:
     rclpy.init()
     node = Node("resume_probe")
     seen: list[dict[str, Any]] = []
-    node.create_subscription(String, "explore/status", lambda message: seen.append(json.loads(message.data)), MAP_QOS)
+    every_status = QoSProfile(depth=1000, durability=DurabilityPolicy.TRANSIENT_LOCAL)  # none missed while busy
+    node.create_subscription(
+        String, "explore/status", lambda message: seen.append(json.loads(message.data)), every_status
+    )
     switch = node.create_publisher(Bool, "explore/resume", 10)
 
     def spin_until(done: Callable[[], bool], timeout_s: float) -> None:
@@ -39,9 +42,11 @@ def main() -> None:
     spin_until(lambda: seen[-1]["state"] == "paused", 10.0)
     paused_at = len(seen) - 1
     spin_until(lambda: False, PAUSE_S)
+    nav2_log = Path("nav2.log")  # the stand-in's, beside: what it did while the explorer was paused
+    cancelled = nav2_log.exists() and "goal canceled" in nav2_log.read_text()
     switch.publish(Bool(data=True))
     spin_until(lambda: seen[-1]["state"] == "exploring" and seen[-1]["goals"] > seen[paused_at]["goals"], 10.0)
-    print(json.dumps({"before": seen[:paused_at], "paused": seen[paused_at:]}))
+    print(json.dumps({"before": seen[:paused_at], "paused": seen[paused_at:], "cancelled_while_paused": cancelled}))
     node.destroy_node()
     rclpy.shutdown()
 

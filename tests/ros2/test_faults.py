@@ -44,15 +44,16 @@ def _run(
 
 @pytest.mark.parametrize("mode", ["reject", "abort", "stall", "succeed", "cancel"])
 def test_goals_nav2_will_not_reach_are_given_up_and_exploration_ends(mode: str, tmp_path: Path) -> None:
-    """A goal another node cancelled (``cancel``) was held as under way until its progress timeout."""
-    code, status, log = _run(tmp_path, f"{_FAKE} --mode {mode}")
+    """A goal another node cancelled (``cancel``) was held as under way until its progress timeout
+    (30 s here: the run would not end in time)."""
+    code, status, log = _run(tmp_path, f"{_FAKE} --mode {mode}", progress_timeout=30.0 if mode == "cancel" else 1.0)
     assert code == 0 and status is not None, log
     assert status["state"] == "finished" and status["reason"] == "unreachable", log
     assert isinstance(status["given_up"], int) and status["given_up"] >= 1
     assert isinstance(status["frontiers_left"], int) and status["frontiers_left"] >= 1
     if mode == "stall":  # the goal still under way at the end is cancelled (the robot drove on to it)
         assert "cancelling goal" in log and "goal canceled" in log, log
-    if mode == "cancel":  # each given up as Nav2's aborts are, at once (the progress timeout is 1 s here)
+    if mode == "cancel":  # each given up at once, as Nav2's aborts are
         assert "goal 1 cancelled by another node on navigate_to_pose" in log, log
         assert "navigate_to_pose goal canceled by another node" in log and "cancelling goal" not in log, log
 
@@ -152,19 +153,32 @@ def test_ctrl_c_cancels_the_goal_under_way(tmp_path: Path) -> None:
     assert "Traceback" not in log
 
 
-def test_a_stop_before_nav2_answered_the_goal_cancels_it_once_nav2_accepts_it(tmp_path: Path) -> None:
+@pytest.mark.parametrize(
+    ("nav2", "sent", "cancelled"),
+    [
+        ("", "goal naming", ["navigate_to_pose goal canceled"]),
+        # a path sent again: the old one is cancelled, and the new one once Nav2 accepts it
+        ("--door", "controller_id", ["follow_path goal canceled"] * 2),
+    ],
+)
+def test_a_stop_before_nav2_answered_the_goal_cancels_it_once_nav2_accepts_it(
+    nav2: str, sent: str, cancelled: list[str], tmp_path: Path
+) -> None:
     """The goal was forgotten: Nav2 accepted it after the explorer had gone, and the robot drove on."""
+    fake = f"{_FAKE} --mode stall --response-delay 0.8 {nav2}"
     script = (
-        f"setsid sh -c {shlex.quote(_FAKE + ' --mode stall --response-delay 1')} > nav2.log 2>&1 & nav2=$!; "
-        f"{_EXPLORE} --progress-timeout 30 > explore.log 2> explore.err & explore=$!; "
-        "for i in $(seq 600); do grep -q 'goal naming' nav2.log && break; sleep 0.1; done; "
-        "kill -INT $explore; wait $explore; status=$?; sleep 2; "  # the stand-in said what it did meanwhile
+        f"setsid sh -c {shlex.quote(fake)} > nav2.log 2>&1 & nav2=$!; "
+        f"{_EXPLORE} --progress-timeout 3 --planner-frequency 2 > explore.log 2> explore.err & explore=$!; "
+        f"for i in $(seq 900); do [ $(grep -c {shlex.quote(sent)} nav2.log) -ge {len(cancelled)} ] && break; "
+        "sleep 0.1; done; kill -INT $explore; wait $explore; status=$?; sleep 2; "  # what the stand-in did meanwhile
         "kill -9 -$nav2 2>/dev/null; wait; exit $status"
     )
-    done = run_in_loopback(script, tmp_path, 120)
+    done = run_in_loopback(script, tmp_path, 150)
     log = "".join((tmp_path / name).read_text() for name in ("explore.log", "explore.err", "nav2.log")) + done.stderr
     assert done.returncode == 130, log
-    assert "cancelling goal 1: the explorer is stopping" in log and "navigate_to_pose goal canceled" in log, log
+    assert "the explorer is stopping (once Nav2 answers it: 1 unanswered)" in log, log
+    canceled = [line for line in (tmp_path / "nav2.log").read_text().splitlines() if "goal canceled" in line]
+    assert canceled[-len(cancelled) :] == cancelled, log
     assert "Traceback" not in log, log
 
 
@@ -182,13 +196,15 @@ def test_explore_resume_pauses_the_run_cancelling_its_goal_and_goes_on(tmp_path:
     log = "".join((tmp_path / name).read_text() for name in names) + done.stderr
     assert (tmp_path / "client.log").read_text(), log
     report = json.loads((tmp_path / "client.log").read_text())
-    paused, *during, resumed = report["paused"]
+    paused, *during = report["paused"]
+    resumed = next(s for s in during if s["goals"] > paused["goals"])  # the first goal after the pause
     assert paused["state"] == "paused" and "explore/resume" in paused["detail"], log
-    assert all(s["state"] == "paused" or s["detail"] == "resumed" for s in during), log  # no goal meanwhile
+    before = during[: during.index(resumed)]
+    assert all(s["state"] == "paused" or s["detail"] == "resumed" for s in before), log  # no goal meanwhile
     assert resumed["state"] == "exploring" and resumed["goals"] == paused["goals"] + 1, log
     # the time explored stood still while paused, two seconds of wall time (the clock is the wall's here)
     assert resumed["time_s"] - paused["time_s"] < 1.0, log
-    assert "navigate_to_pose goal canceled" in log and "paused: the goal under way cancelled" in log, log
+    assert report["cancelled_while_paused"] and "paused: the goal under way cancelled" in log, log
     assert "Traceback" not in log, log
 
 
