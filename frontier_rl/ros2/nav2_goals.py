@@ -48,7 +48,7 @@ class GoalOutcome:
     """How Nav2 ended the goal in flight.
 
     Attributes:
-        status: succeeded, aborted or rejected.
+        status: succeeded, aborted, rejected, or cancelled by another node.
         code: the action's status number (``action_msgs/GoalStatus``), 0 for a rejection.
         error: Nav2's own reason in the result (:func:`error_text`), "" for none.
         error_code: Nav2's error code in the result (``FollowPath.Result.INVALID_CONTROLLER``, ...),
