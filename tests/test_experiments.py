@@ -267,3 +267,18 @@ def test_the_harder_survey_names_maps_by_their_worlds_names(tmp_path: Path, real
     assert named_maps(["office", str(copy)]) == {"office": "office", "lse_arena": str(copy)}
     with pytest.raises(SystemExit, match="are both called 'lse_arena'"):
         named_maps(["lse_arena", str(copy)])
+
+
+EXPLORER_SURVEY = SCRIPT.parent / "explorer_survey.py"
+
+
+def test_explorer_survey_rows_totals_and_a_rerun_that_skips_what_it_has(tmp_path: Path) -> None:
+    out = tmp_path / "explorer.jsonl"
+    args = [sys.executable, str(EXPLORER_SURVEY), "--maps", "aws_small_house", "--seeds", "1", "--out", str(out)]
+    run = subprocess.run(args, capture_output=True, text=True, check=True, timeout=300)
+    (row,) = [json.loads(line) for line in out.read_text().splitlines()]
+    assert row["map"] == "aws_small_house" and row["seed"] == 1 and row["policy"] == "nearest"
+    assert row["coverage"] >= 0.99 and row["decisions"] > 10 and row["end_reason"] in ("explored", "unreachable")
+    assert "1 episodes: 1 at 99 % or more" in run.stdout
+    again = subprocess.run(args, capture_output=True, text=True, check=True, timeout=300)
+    assert len(out.read_text().splitlines()) == 1 and "1 episodes: 1 at 99 % or more" in again.stdout
