@@ -17,7 +17,7 @@ import importlib.util
 import json
 import sys
 import time
-from concurrent.futures import ProcessPoolExecutor
+from concurrent.futures import ProcessPoolExecutor, as_completed
 from dataclasses import asdict, dataclass
 from pathlib import Path
 
@@ -97,6 +97,19 @@ def totals(episodes: list[ExplorerEpisode]) -> str:
     )
 
 
+def _read_rows(path: Path) -> list[ExplorerEpisode]:
+    """The episodes a former run wrote to ``path`` (JSON lines); exits with one line on a damaged one."""
+    rows = []
+    for number, line in enumerate(path.read_text().splitlines(), start=1):
+        if not line.strip():
+            continue
+        try:
+            rows.append(ExplorerEpisode(**json.loads(line)))
+        except (ValueError, TypeError) as error:
+            sys.exit(f"error: {path}:{number} is no episode of this script ({error})")
+    return rows
+
+
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0] if __doc__ else None)
     parser.add_argument("--maps", default=",".join(_survey_maps()), help="comma-separated catalogue maps or map files")
@@ -105,16 +118,18 @@ def main() -> None:
     parser.add_argument("--workers", type=int, default=1, help="episodes run at once (processes)")
     parser.add_argument("--out", type=Path, help="JSON lines, one per episode, appended as they come")
     args = parser.parse_args()
-    jobs = [(world, int(seed)) for seed in args.seeds.split(",") for world in args.maps.split(",")]
-    done: list[ExplorerEpisode] = []
-    if args.out is not None and args.out.exists():
-        done = [ExplorerEpisode(**json.loads(line)) for line in args.out.read_text().splitlines() if line.strip()]
-        had = {(e.map, e.seed) for e in done if e.policy == args.policy}
-        jobs = [job for job in jobs if job not in had]
+    wanted = [(world.strip(), int(seed)) for seed in args.seeds.split(",") for world in args.maps.split(",")]
+    had = _read_rows(args.out) if args.out is not None and args.out.exists() else []
+    done = [e for e in had if e.policy == args.policy and (e.map, e.seed) in wanted]
+    jobs = [job for job in wanted if job not in {(e.map, e.seed) for e in done}]
     with ProcessPoolExecutor(max(args.workers, 1)) as pool:
-        futures = [pool.submit(run_one, world, seed, args.policy) for world, seed in jobs]
-        for future in futures:
-            episode = future.result()
+        futures = {pool.submit(run_one, world, seed, args.policy): (world, seed) for world, seed in jobs}
+        for future in as_completed(futures):
+            try:
+                episode = future.result()
+            except Exception as error:  # one map that fails (a bad file) ends none of the others
+                print(f"{futures[future][0]} seed {futures[future][1]}: failed: {error}", file=sys.stderr)
+                continue
             done.append(episode)
             print(
                 f"{episode.map:<18} {episode.seed:>4} {episode.end_reason:<11} {100 * episode.coverage:7.2f} % "
@@ -125,9 +140,8 @@ def main() -> None:
                 args.out.parent.mkdir(parents=True, exist_ok=True)
                 with args.out.open("a") as out:
                     out.write(json.dumps(asdict(episode)) + "\n")
-    ours = [e for e in done if e.policy == args.policy]
-    if ours:
-        print(totals(ours))
+    if done:
+        print(totals(done))
 
 
 if __name__ == "__main__":

@@ -282,3 +282,6 @@ def test_explorer_survey_rows_totals_and_a_rerun_that_skips_what_it_has(tmp_path
     assert "1 episodes: 1 at 99 % or more" in run.stdout
     again = subprocess.run(args, capture_output=True, text=True, check=True, timeout=300)
     assert len(out.read_text().splitlines()) == 1 and "1 episodes: 1 at 99 % or more" in again.stdout
+    out.write_text(out.read_text() + "{not json\n")
+    damaged = subprocess.run(args, capture_output=True, text=True, timeout=300)
+    assert damaged.returncode == 1 and damaged.stderr.startswith(f"error: {out}:2 is no episode"), damaged.stderr

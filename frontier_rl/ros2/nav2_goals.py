@@ -97,6 +97,7 @@ class Nav2Goals:
         self._unanswered: set[int] = set()  # goals sent whose response has not come
         self._cancels: list[Future[Any]] = []  # cancel requests sent, their answers awaited at stop
         self._stop: Future[bool] | None = None  # the stop's: set once the two above are settled
+        self._cancelling = False  # Nav2 said it cancels a goal, since the last call to cancel()
         self._heard_at = math.inf  # when Nav2 last said something of the goal in flight (wall s)
 
     def ready(self, wants_follow: bool, wall_s: float) -> bool:
@@ -142,9 +143,11 @@ class Nav2Goals:
 
     def drop(self) -> None:
         """Forget the goal in flight (its server went away): whatever the old server says later is
-        ignored, and a stop does not wait for its answer."""
+        ignored, and a stop waits neither for its answer nor for a cancel request sent to it."""
         self._forget()
         self._unanswered.clear()
+        self._cancels.clear()
+        self._settle()
 
     def cancel(self) -> Future[bool] | None:
         """Ask Nav2 to cancel the goal under way, and ignore whatever Nav2 says of it later. A goal
@@ -154,6 +157,7 @@ class Nav2Goals:
         request too: whether Nav2 said it cancels one; None when there is nothing to wait for."""
         handle = self._handle
         self._forget()
+        self._cancelling = False
         if handle is not None:
             self._cancel(handle)
         if not self._unanswered and all(request.done() for request in self._cancels):
@@ -176,7 +180,12 @@ class Nav2Goals:
         self._cancels = [request for request in self._cancels if not request.done()]
         request = handle.cancel_goal_async()
         self._cancels.append(request)
-        request.add_done_callback(lambda _: self._settle())
+        request.add_done_callback(self._cancel_answered)
+
+    def _cancel_answered(self, request: Future[Any]) -> None:
+        answer = request.result()
+        self._cancelling = self._cancelling or (answer is not None and len(answer.goals_canceling) > 0)
+        self._settle()
 
     def _settle(self) -> None:
         """Set the stop's future once every goal sent has been answered and every cancel request
@@ -184,8 +193,7 @@ class Nav2Goals:
         if self._stop is None or self._stop.done() or self._unanswered:
             return
         if all(request.done() for request in self._cancels):
-            answers = [request.result() for request in self._cancels]
-            self._stop.set_result(any(answer is not None and len(answer.goals_canceling) for answer in answers))
+            self._stop.set_result(self._cancelling)
 
     def _heard(self) -> None:
         self._heard_at = time.monotonic()
