@@ -307,14 +307,17 @@ class FrontierExplorer:
     def _nearer_along_the_way(self, grid: OccupancyGrid, pose: Pose) -> bool:
         """Whether the way to the goal on ``grid`` (planned at its level) is ``progress_distance``
         shorter from ``pose`` than from where the robot stood at its last progress: both planned on
-        the same map, to the same cell (a SLAM map's origin moves as it grows). A way that ends
-        elsewhere (the reachable cell nearest a goal the map has since walled off, or the edge of
-        an island the robot stands on) is none: nearer to it is not nearer to the goal."""
+        the same map, to the same cell (a SLAM map's origin moves as it grows). A way to a frontier's
+        goal that ends beyond the robot's reach of it (the reachable cell nearest a goal the map has
+        since walled off, or the edge of an island the robot stands on) is none: nearer to its end
+        is not nearer to the goal. Within that reach it is one (an inflation grown over the goal
+        cell still lets the robot get there); a point goal's way ends where the point is nearest."""
         goal, before = self.goal, self._progress_pose
         assert goal is not None and before is not None
         costmap, reachable = self._reachable(grid, pose, goal.recovery)
         now_way = path_to_point(grid, costmap, reachable, pose, goal.x, goal.y)
-        if now_way is None or math.dist(now_way[-1], (goal.x, goal.y)) >= grid.resolution:
+        reach = self.config.robot.radius + grid.resolution
+        if now_way is None or (len(goal.frontier) and math.dist(now_way[-1], (goal.x, goal.y)) > reach):
             return False
         then_way = path_to_point(grid, costmap, reachable, before, goal.x, goal.y)
         if then_way is None:

@@ -112,6 +112,19 @@ def test_progress_along_the_way_round_a_wall_resets_the_timeout() -> None:
     assert explorer.goals_given_up == 1 and isinstance(decisions[-1], Goal)
 
 
+def test_progress_along_the_way_counts_when_the_goal_cell_itself_is_inflated_over() -> None:
+    # a speck mapped beside the goal after the decision: the way ends a cell or two short of the
+    # goal, within the robot's reach of it, and driving round the wall is still progress
+    explorer = FrontierExplorer(make_policy("nearest"), ExplorerParams(progress_timeout=5.0))
+    goal = _first_goal(explorer, _wall_to_go_round())
+    specked = _wall_to_go_round()
+    row, col = specked.world_to_cell(goal.x, goal.y)
+    specked.data[row - 2, col] = CellState.OCCUPIED
+    for step in range(1, 9):
+        assert explorer.tick(specked, Pose(0.5 + 0.4 * step, 0.5, 0.0), 3.0 * step) is None
+    assert explorer.goals_given_up == 0
+
+
 def test_progress_made_before_the_robot_stuck_is_not_counted_again_along_the_way() -> None:
     explorer = FrontierExplorer(make_policy("nearest"), ExplorerParams(progress_timeout=5.0))
     grid = _corridor()
