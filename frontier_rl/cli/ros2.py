@@ -310,9 +310,7 @@ def _explorer_settings(
     options = _with_parameter_files(ctx, params_files, options)
     visualize, robot_base_frame = bool(options.pop("visualize")), str(options.pop("robot_base_frame"))
     use_sim_time = bool(options.pop("use_sim_time"))
-    plugins = Nav2Plugins(
-        **{plugin.name: options.pop(plugin.name) for plugin in fields(Nav2Plugins) if plugin.name in options}
-    )
+    plugins = Nav2Plugins(**{name: options.pop(name) for name in Nav2Plugins.names() if name in options})
     source = _pose_source(*pose, robot_base_frame)
     return _ChosenSettings(_explorer_params(options), visualize, source, use_sim_time, plugins)
 

@@ -22,7 +22,7 @@ _SETTING_TYPES: dict[str, type] = {
 
 FILE_PARAMETERS: dict[str, type] = {
     **_SETTING_TYPES,
-    **{plugin.name: str for plugin in fields(Nav2Plugins)},
+    **dict.fromkeys(Nav2Plugins.names(), str),
     "visualize": bool,
     "robot_base_frame": str,
     "use_sim_time": bool,
@@ -32,8 +32,6 @@ names where they mean the same, and the node's own ``time_cap``, ``progress_dist
 ``recovery_paths``), the Nav2 plugins its goals name
 (:class:`~frontier_rl.robot.explorer_params.Nav2Plugins`), its markers, with the pose from ``tf``
 the robot's base frame, and ROS's ``use_sim_time`` (as ``--use-sim-time``)."""
-
-_PLUGIN_NAMES = frozenset(plugin.name for plugin in fields(Nav2Plugins))
 
 EXPLORER_NODES = ("explore_node", "frontier_rl_explorer", "/**")
 """The nodes of a ROS 2 parameter file whose parameters are the explorer's: explore_lite's node,
@@ -62,7 +60,7 @@ def explore_lite_parameters(path: str | Path) -> tuple[dict[str, Any], list[str]
         settings["time_cap"] = time_cap_of_parameter(settings["time_cap"])
     try:
         replace(ExplorerParams(), **settings)
-        Nav2Plugins(**{name: value for name, value in known.items() if name in _PLUGIN_NAMES})
+        Nav2Plugins(**{name: value for name, value in known.items() if name in Nav2Plugins.names()})
     except SettingError as error:
         raise ConfigError(f"{path}: {error.setting} {error.problem}") from None
     return known, sorted(str(name) for name in data if name not in FILE_PARAMETERS)

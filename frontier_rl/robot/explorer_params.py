@@ -71,11 +71,16 @@ class Nav2Plugins:
     goal_checker_id: str = _setting("", "follow_path's goal checker plugin ('': the only one).")
     progress_checker_id: str = _setting("", "follow_path's progress checker plugin ('': the only one).")
 
+    @classmethod
+    def names(cls) -> tuple[str, ...]:
+        """The plugins' parameter names (the fields')."""
+        return tuple(setting.name for setting in fields(cls))
+
     def __post_init__(self) -> None:
-        for setting in fields(self):
-            value = getattr(self, setting.name)
+        for name in self.names():
+            value = getattr(self, name)
             if not isinstance(value, str) or not value.isprintable() or value != value.strip():
-                raise SettingError(setting.name, f"must be a plugin's name or '' (Nav2's own), got {short_repr(value)}")
+                raise SettingError(name, f"must be a plugin's name or '' (Nav2's own), got {short_repr(value)}")
 
 
 def setting_help(name: str) -> str:

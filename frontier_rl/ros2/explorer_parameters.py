@@ -27,9 +27,7 @@ from frontier_rl.robot.explorer_params import (
     time_cap_parameter,
 )
 
-_PLUGINS = tuple(plugin.name for plugin in fields(Nav2Plugins))
-
-PARAMETERS = (*(setting.name for setting in fields(ExplorerParams)), *_PLUGINS, "visualize")
+PARAMETERS = (*(setting.name for setting in fields(ExplorerParams)), *Nav2Plugins.names(), "visualize")
 """The node's parameters that set the explorer, the Nav2 plugins its goals name and its markers
 (what each means: :func:`setting_help`)."""
 
@@ -53,7 +51,9 @@ class ExplorerSettings:
             setting.name: getattr(self.params, setting.name) for setting in fields(ExplorerParams)
         }
         values["time_cap"] = time_cap_parameter(self.params.time_cap)
-        return values | {name: getattr(self.plugins, name) for name in _PLUGINS} | {"visualize": self.visualize}
+        return (
+            values | {name: getattr(self.plugins, name) for name in Nav2Plugins.names()} | {"visualize": self.visualize}
+        )
 
     def updated(self, changes: Mapping[str, Any]) -> ExplorerSettings:
         """These settings with ``changes`` (parameter name -> value; others ignored), checked.
@@ -68,7 +68,7 @@ class ExplorerSettings:
             if name in PARAMETERS
         }
         visualize = bool(known.pop("visualize", self.visualize))
-        plugins = {name: known.pop(name) for name in _PLUGINS if name in known}
+        plugins = {name: known.pop(name) for name in Nav2Plugins.names() if name in known}
         if "time_cap" in known:
             known["time_cap"] = time_cap_of_parameter(known["time_cap"])
         try:
