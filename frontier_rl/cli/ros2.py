@@ -89,6 +89,14 @@ def _with_parameter_files(ctx: typer.Context, paths: Sequence[Path], options: di
     return options
 
 
+def _check_ros_args(ros_args: Sequence[str]) -> None:
+    """A one-line error for ROS's arguments that ``rclpy.init`` would refuse, before a model loads or
+    workers start (call after :func:`_need_ros2`)."""
+    from frontier_rl.ros2.ros_args import check_ros_args
+
+    check_ros_args(ros_args)  # a ConfigError: one line, exit status 2
+
+
 def _check_ros_names(namespaces: dict[str, Sequence[str]], pose_source: PoseSource | None = None) -> None:
     """A one-line error naming the option whose namespace (``namespaces`` maps options to them) or
     pose topic ROS 2 does not allow, by rclpy's own rules (call after :func:`_need_ros2`)."""
@@ -143,6 +151,7 @@ def sim(
     if robots > 1 and namespace:
         fail("give --namespace for one robot, or --robots for a team (namespaces tb3_0, tb3_1, ...), not both")
     _need_ros2()
+    _check_ros_args(ros_args)
     _check_ros_names({"--namespace": [namespace]})
     from frontier_rl import api
     from frontier_rl.ros2.run import run_sim, simulated_team
@@ -198,6 +207,7 @@ def rank(
         age = seconds_parameter("max_map_age", max_map_age, zero=True)
         count_parameter("min_cluster_size", min_cluster_size, 0)  # its upper bound is the engine's, checked below
         _need_ros2()
+        _check_ros_args(ros_args)
         _check_ros_names({"--robots": names}, pose_source)
         from frontier_rl.core.sim.config import MAX_FRONTIER_DROP_CELLS  # the engine, once the arguments are checked
         from frontier_rl.robot.ranking_service import ServiceSettings
@@ -277,6 +287,7 @@ def explore(
         ros_args=ros_args,
     )
     _need_ros2()
+    _check_ros_args(ros_args)
     _check_ros_names({"--namespace": [namespace], "--teammates": node.teammates}, chosen.pose_source)
     _explore_with(policy, chosen.params, node, json_out)
 

@@ -190,10 +190,12 @@ class FrontierExplorer:
         self._sent_on = None
 
     def goal_lost(self) -> None:
-        """The navigation stack went away with the goal under way (it restarted): the next tick
-        decides again, and the goal is not held against its frontier."""
-        self.goal = None
-        self._arrived = False
+        """The navigation stack went away with the goal under way (it restarted, or a pause
+        cancelled it): the next tick decides again, and the goal is not held against its frontier.
+        A goal already reached is kept, to be judged by the next tick as any goal reached is (it
+        ended before it could be lost)."""
+        if not self._arrived:
+            self.goal = None
 
     def judged_on(self, grid: OccupancyGrid) -> bool:
         """Whether the goal under way, reached now, would be judged on ``grid``: a last look (what it

@@ -33,6 +33,7 @@ from frontier_rl.ros2.explorer_node import ExplorerNode
 from frontier_rl.ros2.explorer_options import ExplorerNodeOptions
 from frontier_rl.ros2.explorer_status import ExplorerState, ExplorerStatus
 from frontier_rl.ros2.ranking_node import RankingNode
+from frontier_rl.ros2.ros_args import ros_args_error
 from frontier_rl.ros2.sim_node import SimNode
 from frontier_rl.swarm.config import TeamConfig
 from frontier_rl.swarm.starts import team_starts
@@ -54,16 +55,14 @@ def _ros_setup_errors() -> Iterator[None]:
     except ParameterException as error:  # a ROS parameter of the wrong type (-p use_sim_time:=3)
         rclpy.try_shutdown()
         raise ConfigError(f"--ros-args: {error}") from None
-    except (rclpy_implementation.RCLError, ValueError) as error:
+    except (rclpy_implementation.RCLError, rclpy_implementation.UnknownROSArgsError, ValueError) as error:
         rclpy.try_shutdown()
         if _INVALID_CONTEXT in str(error):  # rclpy's own Ctrl-C handler shut the context as the node was made
             raise KeyboardInterrupt from None
-        if isinstance(error, ValueError):
+        problem = ros_args_error(error)
+        if problem is None:
             raise
-        raise ConfigError(f"--ros-args: {str(error).split(', at /')[0]}") from None
-    except rclpy_implementation.UnknownROSArgsError as error:
-        rclpy.try_shutdown()
-        raise ConfigError(f"--ros-args: arguments ROS does not know: {error}") from None
+        raise problem from None
     except BaseException:
         rclpy.try_shutdown()
         raise

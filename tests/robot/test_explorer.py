@@ -183,6 +183,28 @@ def test_a_goal_reached_with_its_frontier_unseen_is_blacklisted() -> None:
     assert explorer.goals_given_up == 1
 
 
+def test_a_goal_reached_just_before_a_pause_is_still_judged() -> None:
+    """A pause (or Nav2 going silent) after the goal was reached and before the tick that judges it
+    forgot the goal, and its unrevealable frontier was chosen again and again."""
+    explorer = FrontierExplorer(make_policy("nearest"))
+    grid = _corridor()
+    goal = _first_goal(explorer, grid)
+    explorer.goal_reached()
+    explorer.goal_lost()
+    explorer.tick(grid, Pose(goal.x, goal.y, 0.0), 1.0)
+    assert explorer.goals_given_up == 1
+
+
+def test_a_goal_lost_on_the_way_is_not_held_against_its_frontier() -> None:
+    explorer = FrontierExplorer(make_policy("nearest"))
+    grid = _corridor()
+    goal = _first_goal(explorer, grid)
+    explorer.goal_lost()
+    again = explorer.tick(grid, Pose(0.5, 0.5, 0.0), 1.0)
+    assert explorer.goals_given_up == 0
+    assert isinstance(again, Goal) and (again.x, again.y) == (goal.x, goal.y)
+
+
 def test_a_map_that_grows_keeps_the_blacklist_in_place() -> None:
     """A SLAM map grows, and its origin moves: the failed goal stays where it was in the world."""
     explorer = FrontierExplorer(make_policy("nearest"))
