@@ -89,22 +89,21 @@ def _with_parameter_files(ctx: typer.Context, paths: Sequence[Path], options: di
     return options
 
 
-def _check_ros_args(ros_args: Sequence[str]) -> None:
-    """A one-line error for ROS's arguments that ``rclpy.init`` would refuse, before a model loads or
-    workers start (call after :func:`_need_ros2`)."""
-    from frontier_rl.ros2.ros_args import check_ros_args
-
-    check_ros_args(ros_args)  # a ConfigError: one line, exit status 2
-
-
-def _check_ros_names(namespaces: dict[str, Sequence[str]], pose_source: PoseSource | None = None) -> None:
-    """A one-line error naming the option whose namespace (``namespaces`` maps options to them) or
-    pose topic ROS 2 does not allow, by rclpy's own rules (call after :func:`_need_ros2`)."""
+def _ros_ready(
+    ros_args: Sequence[str], namespaces: dict[str, Sequence[str]], pose_source: PoseSource | None = None
+) -> None:
+    """A one-line error, before a model loads or workers start, when ROS 2 cannot be imported,
+    ``rclpy.init`` would refuse ROS's arguments ``ros_args``, or rclpy's own rules do not allow a
+    namespace (``namespaces`` maps options to them; the option is named) or the pose topic."""
+    _need_ros2()
     from rclpy.exceptions import NameValidationException
     from rclpy.validate_namespace import validate_namespace
     from rclpy.validate_topic_name import validate_topic_name
 
     from frontier_rl.robot.pose_source import PoseKind
+    from frontier_rl.ros2.ros_args import check_ros_args
+
+    check_ros_args(ros_args)  # a ConfigError: one line, exit status 2
 
     checks: list[tuple[str, str, Callable[[], object]]] = [
         (option, name, partial(validate_namespace, "/" + name.strip("/")))
@@ -150,9 +149,7 @@ def sim(
         fail(f"--robots must be 1 to {MAX_ROBOTS}, got {robots!r}")
     if robots > 1 and namespace:
         fail("give --namespace for one robot, or --robots for a team (namespaces tb3_0, tb3_1, ...), not both")
-    _need_ros2()
-    _check_ros_args(ros_args)
-    _check_ros_names({"--namespace": [namespace]})
+    _ros_ready(ros_args, {"--namespace": [namespace]})
     from frontier_rl import api
     from frontier_rl.ros2.run import run_sim, simulated_team
 
@@ -206,9 +203,7 @@ def rank(
         top, pending = count_parameter("top_k", top_k, 1), count_parameter("max_pending", max_pending, 1)
         age = seconds_parameter("max_map_age", max_map_age, zero=True)
         count_parameter("min_cluster_size", min_cluster_size, 0)  # its upper bound is the engine's, checked below
-        _need_ros2()
-        _check_ros_args(ros_args)
-        _check_ros_names({"--robots": names}, pose_source)
+        _ros_ready(ros_args, {"--robots": names}, pose_source)
         from frontier_rl.core.sim.config import MAX_FRONTIER_DROP_CELLS  # the engine, once the arguments are checked
         from frontier_rl.robot.ranking_service import ServiceSettings
         from frontier_rl.ros2.run import run_ranking
@@ -286,9 +281,7 @@ def explore(
         policy_name=policy,
         ros_args=ros_args,
     )
-    _need_ros2()
-    _check_ros_args(ros_args)
-    _check_ros_names({"--namespace": [namespace], "--teammates": node.teammates}, chosen.pose_source)
+    _ros_ready(ros_args, {"--namespace": [namespace], "--teammates": node.teammates}, chosen.pose_source)
     _explore_with(policy, chosen.params, node, json_out)
 
 

@@ -134,20 +134,25 @@ class FrontierExplorer:
         self._trail.add(pose.x, pose.y)
 
     def _path_renewed(self, grid: OccupancyGrid, pose: Pose) -> Goal | None:
-        """The goal under way with its path planned afresh from ``pose`` on ``grid`` (at its level),
-        as Nav2's behaviour tree replans a ``navigate_to_pose`` goal every second: the map under a
-        path goes on changing while the robot follows it; None for a goal without a path, or when
-        no path to the same end is left (the navigation stack ends the goal)."""
-        goal = self.goal
-        if goal is None or goal.path is None:
+        """The goal under way with its path planned afresh (:meth:`renewed`), kept as the goal."""
+        if self.goal is None or (renewed := self.renewed(self.goal, grid, pose)) is None:
+            return None
+        self.goal = renewed
+        return renewed
+
+    def renewed(self, goal: Goal, grid: OccupancyGrid, pose: Pose) -> Goal | None:
+        """``goal`` with its path planned afresh from ``pose`` on ``grid`` (at its level), as Nav2's
+        behaviour tree replans a ``navigate_to_pose`` goal every second: the map under a path goes
+        on changing while the robot follows it; None for a goal without a path, or when no path to
+        the same end is left (the navigation stack ends the goal)."""
+        if goal.path is None:
             return None
         costmap, reachable = self._reachable(grid, pose, goal.recovery)
         path = path_to_point(grid, costmap, reachable, pose, goal.x, goal.y)
         # a way elsewhere is none (within a cell: a SLAM map's origin moves as it grows)
         if path is None or math.dist(path[-1], goal.path[-1]) >= grid.resolution:
             return None
-        self.goal = replace(goal, path=path)
-        return self.goal
+        return replace(goal, path=path)
 
     def time_up(self, grid: OccupancyGrid, pose: Pose) -> Finished:
         """End exploration at the time cap, with what is left of ``grid``."""

@@ -35,6 +35,7 @@ from frontier_rl.errors import ConfigError, MapError
 from frontier_rl.robot.explored_time import ExploredTime
 from frontier_rl.robot.explorer import FrontierExplorer
 from frontier_rl.robot.explorer_decision import Finished, Goal, GoalStatus
+from frontier_rl.robot.home_trip import HomeTrip
 from frontier_rl.robot.map_watch import MapWait, MapWatch
 from frontier_rl.robot.pose_source import PoseKind, PoseSource
 from frontier_rl.robot.throttled_log import ThrottledLog
@@ -108,8 +109,7 @@ class ExplorerNode(Node):
         self._last_tick_s = -math.inf
         self.finished: Finished | None = None
         self.done: Future[Finished | None] = Future()  # set once exploration (and the way home) is over
-        self._returning = False
-        self._home_tries = 0  # the ways home sent
+        self._home = HomeTrip(explorer)  # the way home, once exploration is over (return_to_init)
         self._stopping = False  # the goal under way is being cancelled: nothing more is sent
         self.plugin_error: str | None = None  # Nav2 has not a plugin the goals name: what to set
         self._finished_s: float | None = None  # the time explored when exploration ended (s)
@@ -164,15 +164,15 @@ class ExplorerNode(Node):
         """explore_lite's ``explore/resume``: false pauses the run (the goal under way cancelled, not
         held against its frontier; the time paused not counted as explored), true goes on."""
         resume = bool(message.data)
-        if resume != self._paused or self._stopping or (self.finished is not None and not self._returning):
+        if resume != self._paused or self._stopping or (self.finished is not None and not self._home.under_way):
             return  # no change, or the run is over
         self._paused = not resume
         if resume:
             self._goal_ended = True  # a tick at once (the way home: sent again at once)
-            self._publish(ExplorerState.RETURNING if self._returning else ExplorerState.EXPLORING, "resumed")
+            self._publish(ExplorerState.RETURNING if self._home.under_way else ExplorerState.EXPLORING, "resumed")
         else:
             self._nav.cancel()
-            if not self._returning:
+            if not self._home.under_way:
                 self.explorer.goal_lost()
             self._publish(ExplorerState.PAUSED, f"paused on {self.resolve_topic_name('explore/resume')}")
         self.get_logger().info("resumed" if resume else "paused: the goal under way cancelled")
@@ -181,7 +181,7 @@ class ExplorerNode(Node):
     def _poll(self) -> None:
         """A planner tick when one is due: every ``1 / planner_frequency`` s of the node's clock,
         and at once when no goal is under way."""
-        if self._stopping or (self.finished is not None and not self._returning):
+        if self._stopping or (self.finished is not None and not self._home.under_way):
             return
         if self._paused:  # the robot may be driven by hand meanwhile: its trail still grows
             self._explored.held(self._clock_now_s())
@@ -196,11 +196,8 @@ class ExplorerNode(Node):
         if self._nav.silent_for(time.monotonic()) > self.goal_silence_timeout:
             self._lost()
             return
-        if self.finished is not None:  # on the way home: sent again after a pause
-            if self._goal_ended and not self._go_home(self._team.merged(self._grid), pose, counted=False):
-                self._returning = False
-                self._close("exploration over")
-            self._goal_ended = False
+        if self.finished is not None:  # on the way home: sent again after a pause, its path kept to the map
+            self._homeward(pose, now)
             return
         if not self._map_for_judging(now):
             return
@@ -259,7 +256,7 @@ class ExplorerNode(Node):
         return self.get_clock().now().nanoseconds * 1e-9
 
     def _send(self, goal: Goal) -> None:
-        self._label = "the way home" if self._returning else f"goal {self.explorer.decisions}"
+        self._label = "the way home" if self._home.under_way else f"goal {self.explorer.decisions}"
         action = self._nav.send(goal, self._map_frame, self.get_clock().now().to_msg())
         if goal.path is not None and action != FOLLOW:
             self._warn(
@@ -272,7 +269,7 @@ class ExplorerNode(Node):
             self._marker_pub.publish(frontier_markers(candidates, (goal.x, goal.y), self.get_clock().now().to_msg()))
         detail = f"{self._label} at ({goal.x:.2f}, {goal.y:.2f})" + (" along a path" if action == FOLLOW else "")
         self.get_logger().debug(f"sent {detail}")  # --ros-args --log-level frontier_rl_explorer:=debug shows it
-        self._publish(ExplorerState.RETURNING if self._returning else ExplorerState.EXPLORING, detail)
+        self._publish(ExplorerState.RETURNING if self._home.under_way else ExplorerState.EXPLORING, detail)
 
     def _lost(self) -> None:
         """Nav2 fell silent on the goal in flight: drop it (its server went away) and decide again
@@ -280,8 +277,8 @@ class ExplorerNode(Node):
         why = f"no word from {self._nav.action} on {self._label} for {self.goal_silence_timeout:g} s: dropped"
         self.get_logger().warn(why)
         self._nav.drop()
-        if self._returning:
-            self._returning = False
+        if self._home.under_way:
+            self._home.end()
             self._close(why)
             return
         self.explorer.goal_lost()
@@ -293,33 +290,29 @@ class ExplorerNode(Node):
         problem = plugin_problem(action, outcome, self._nav.plugins)
         if problem is not None:  # every goal would end so: the run ends, saying what to set
             self.get_logger().error(f"{self._label} aborted by {action}: {problem}")
-            self.plugin_error, self._stopping, self._returning = problem, True, False
+            self.plugin_error, self._stopping = problem, True
+            self._home.end()
             self._close(problem, ExplorerState.INTERRUPTED)
             return
         if status is GoalStatus.ABORTED and outcome.error:  # Nav2's own reason (a controller id it wants): on the log
             self._warn(f"{action} error", f"{self._label} aborted by {action}{outcome.error}")
         if status is GoalStatus.CANCELED:
             self.get_logger().info(f"{self._label} cancelled by another node on {action}")
-        why = {
-            GoalStatus.SUCCEEDED: f"{self._label} reached",
-            GoalStatus.REJECTED: f"{self._label} rejected by Nav2",
-            GoalStatus.CANCELED: f"{self._label} cancelled by another node",
-            GoalStatus.ABORTED: f"{self._label} aborted by Nav2 (status {outcome.code}{outcome.error})",
-        }[status]
+        why = outcome.sentence(self._label)
         failed = status is not GoalStatus.SUCCEEDED
         # a way home rejected is not sent again (Nav2 would reject it again at once), nor one another
         # node cancelled; a goal another node cancelled is given up as one Nav2 aborted: not there
-        if self._returning:
+        if self._home.under_way:
             pose = self._poses.pose(self._map_frame)
-            tries_left = self._home_tries < HOME_TRIES and not self._stopping
+            tries_left = self._home.tries_left and not self._stopping
             if status is GoalStatus.ABORTED and tries_left and pose is not None and self._grid is not None:
                 self.get_logger().warn(
-                    f"{why}: planned again from ({pose.x:.2f}, {pose.y:.2f}), try "
-                    f"{self._home_tries + 1} of {HOME_TRIES}"
+                    f"{why}: planned again from ({pose.x:.2f}, {pose.y:.2f}), "
+                    f"try {self._home.tries + 1} of {HOME_TRIES}"
                 )
                 if self._go_home(self._team.merged(self._grid), pose):
                     return
-            self._returning = False
+            self._home.end()
             self._close(why)
             return
         if failed and self._grid is not None:  # judged on the map the goal was chosen on: teammates' merged
@@ -357,14 +350,26 @@ class ExplorerNode(Node):
         """Send the way home from ``pose`` on the map ``explored`` (``counted`` among the tries:
         not when a pause cancelled the last); False when there is none (no start: the explorer
         never ticked)."""
-        home = self.explorer.home(explored, pose)
+        home = self._home.send(explored, pose, counted=counted)
         if home is None:
             return False
         self._nav.cancel()
-        self._returning = True
-        self._home_tries += counted
         self._send(home)
         return True
+
+    def _homeward(self, pose: Pose, now: float) -> None:
+        """A poll on the way home at ``pose``, ``now`` s explored: the way sent again after a pause,
+        or its path planned afresh at each planner tick (:class:`~frontier_rl.robot.home_trip.HomeTrip`)."""
+        assert self._grid is not None
+        if self._goal_ended:
+            self._goal_ended = False
+            if not self._go_home(self._team.merged(self._grid), pose, counted=False):
+                self._home.end()
+                self._close("exploration over")
+        elif now - self._last_tick_s >= 1.0 / self.explorer.params.planner_frequency:
+            self._last_tick_s = now
+            if (renewed := self._home.renew(self._team.merged(self._grid), pose)) is not None:
+                self._send(renewed)
 
     def _close(self, why: str, state: ExplorerState = ExplorerState.FINISHED) -> None:
         self._publish(state, why)

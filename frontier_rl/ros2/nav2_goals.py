@@ -60,6 +60,15 @@ class GoalOutcome:
     error: str = ""
     error_code: int = 0
 
+    def sentence(self, label: str) -> str:
+        """How the goal named ``label`` ("goal 3", "the way home") ended, for the log and the status."""
+        return {
+            GoalStatus.SUCCEEDED: f"{label} reached",
+            GoalStatus.REJECTED: f"{label} rejected by Nav2",
+            GoalStatus.CANCELED: f"{label} cancelled by another node",
+            GoalStatus.ABORTED: f"{label} aborted by Nav2 (status {self.code}{self.error})",
+        }[self.status]
+
 
 def goal_request(goal: Goal, action: str, frame: str, stamp: Time, plugins: Nav2Plugins) -> Any:
     """The request that sends ``goal`` to ``action`` (:data:`FOLLOW`: its path, else its point) in

@@ -236,7 +236,7 @@ def test_return_to_init_goes_back_to_the_first_pose() -> None:
     assert home is not None and (home.x, home.y) == (0.5, 0.5) and len(home.frontier) == 0 and home.path is None
 
 
-def _rooms_with_a_narrow_door() -> OccupancyGrid:
+def rooms_with_a_narrow_door() -> OccupancyGrid:
     """Two 2.3 m rooms, mapped, through a wall with a door of 0.2 m: closed on the normal costmap,
     open on the narrow-passage recovery's half-cell level."""
     data = np.full((60, 100), CellState.OCCUPIED, np.int8)
@@ -249,7 +249,7 @@ def _rooms_with_a_narrow_door() -> OccupancyGrid:
 @pytest.mark.parametrize("recovery_paths", [True, False])
 def test_the_way_home_through_a_door_too_narrow_for_the_normal_costmap_is_a_path(recovery_paths: bool) -> None:
     explorer = FrontierExplorer(make_policy("nearest"), ExplorerParams(recovery_paths=recovery_paths))
-    grid = _rooms_with_a_narrow_door()
+    grid = rooms_with_a_narrow_door()
     assert explorer.tick(grid, Pose(1.0, 1.5, 0.0), 0.0) is not None
     home = explorer.home(grid, Pose(4.0, 1.5, 0.0))
     assert home is not None and (home.x, home.y) == (1.0, 1.5)
@@ -265,7 +265,7 @@ def test_the_way_home_through_a_door_too_narrow_for_the_normal_costmap_is_a_path
 
 def test_the_way_home_to_a_start_drawn_over_takes_the_wide_door() -> None:
     # a dock drawn on the start: the normal costmap's way ends beside it, not through the narrow door
-    grid = _rooms_with_a_narrow_door()
+    grid = rooms_with_a_narrow_door()
     grid.data[8:50, 49:51] = CellState.FREE  # a wide door as well, north of the narrow one
     explorer = FrontierExplorer(make_policy("nearest"))
     assert explorer.tick(grid, Pose(1.0, 1.5, 0.0), 0.0) is not None

@@ -12,7 +12,8 @@ when a goal succeeds (published with the next map, as a SLAM map lags the robot)
 ``--map-stops-at-goal N`` publishes no map once N goals are accepted; ``--error-code N`` ends each
 goal it aborts with Nav2's error code N; ``--response-delay S`` answers each goal S seconds after
 it came. ``--door`` adds a room north of the corridor behind a door that only the narrow-passage
-recovery's levels pass (its goals go to ``follow_path``). In ``stall`` mode a goal of one action
+recovery's levels pass (its goals go to ``follow_path``); ``--carried-to X,Y`` puts the robot there
+when the first goal is accepted (carried, as nothing here drives). In ``stall`` mode a goal of one action
 does not preempt the other's (two Nav2 servers), and a goal cancelled is named by its action.
 """
 
@@ -54,10 +55,10 @@ def _map(bad: bool, revealed: bool = False, door: bool = False) -> OccupancyGrid
     return message
 
 
-def _pose(x: float) -> PoseWithCovarianceStamped:
+def _pose(x: float, y: float = 0.5) -> PoseWithCovarianceStamped:
     message = PoseWithCovarianceStamped()
     message.header.frame_id = "map"
-    message.pose.pose.position.x, message.pose.pose.position.y = x, 0.5
+    message.pose.pose.position.x, message.pose.pose.position.y = x, y
     message.pose.pose.orientation.w = 1.0
     return message
 
@@ -75,6 +76,7 @@ class FakeNav2(Node):
         reveal: bool = False,
         error_code: int = 0,
         response_delay: float = 0.0,
+        carried_to: tuple[float, float] | None = None,
     ) -> None:
         super().__init__("fake_nav2")
         self.error_code, self.response_delay = error_code, response_delay
@@ -82,7 +84,7 @@ class FakeNav2(Node):
         self.goal_time, self.reveal, self.revealed = goal_time, reveal, False
         self.map_pub = self.create_publisher(OccupancyGrid, "map", MAP_QOS)
         self.pose_pub = self.create_publisher(PoseWithCovarianceStamped, "pose", 10)
-        self.pose_x = 0.5
+        self.pose_x, self.pose_y, self.carried_to = 0.5, 0.5, carried_to
         self.current: dict[type, ServerGoalHandle] = {}  # each action's goal under way
         # the actions' cancel services, as another node (an operator in RViz) calls them
         self.cancel_all = {
@@ -105,6 +107,8 @@ class FakeNav2(Node):
         if self.mode == "reject":
             return GoalResponse.REJECT
         self.accepted += 1
+        if self.carried_to is not None:
+            self.pose_x, self.pose_y = self.carried_to
         if self.die_after and self.accepted >= self.die_after:
             threading.Timer(0.2, os._exit, (1,)).start()  # a crash: no result, no goodbye
         return GoalResponse.ACCEPT
@@ -174,9 +178,12 @@ def main() -> None:
     parser.add_argument("--door", action="store_true")
     parser.add_argument("--error-code", type=int, default=0)
     parser.add_argument("--response-delay", type=float, default=0.0)
+    parser.add_argument("--carried-to", type=lambda text: tuple(float(v) for v in text.split(",")), default=None)
     args = parser.parse_args()
     rclpy.init()
-    node = FakeNav2(args.mode, args.die_after, args.goal_time, args.reveal, args.error_code, args.response_delay)
+    node = FakeNav2(
+        args.mode, args.die_after, args.goal_time, args.reveal, args.error_code, args.response_delay, args.carried_to
+    )
     # bad inputs until 2 s after the explorer has subscribed to the pose: its start (imports, numba)
     # took more than the 4 s fixed here before on a busy machine, and it never saw a NaN pose
     bad_until = None if args.bad_inputs else 0.0
@@ -188,7 +195,7 @@ def main() -> None:
         if bad_until is None and node.pose_pub.get_subscription_count() > 0:
             bad_until = time.monotonic() + 2.0
         bad = bad_until is None or time.monotonic() < bad_until
-        node.pose_pub.publish(_pose(float("nan") if bad else node.pose_x))
+        node.pose_pub.publish(_pose(float("nan") if bad else node.pose_x, node.pose_y))
         if bad:
             node.map_pub.publish(_map(bad=True, door=args.door))
         elif not published_good_map:

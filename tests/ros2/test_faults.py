@@ -69,6 +69,18 @@ def test_the_way_home_nav2_gives_up_is_sent_again_from_where_the_robot_stands_th
     assert f"try {HOME_TRIES} of {HOME_TRIES}" in log and f"try {HOME_TRIES + 1} " not in log, log
 
 
+def test_the_way_home_along_a_path_is_planned_afresh_while_the_robot_follows_it(tmp_path: Path) -> None:
+    """Nav2 replans a navigate_to_pose goal itself, but follow_path's controller follows the path
+    it was given: the way home along a path (from a room behind a door only the narrow-passage
+    recovery's levels pass) was sent once, planned on the map at the end of exploration."""
+    nav2 = f"{_FAKE} --mode stall --door --carried-to 1.0,1.075"
+    debug = "--ros-args --log-level frontier_rl_explorer:=debug"  # each goal sent, on the log
+    code, status, log = _run(tmp_path, nav2, 40, options=f"--return-to-init --goal-silence-timeout 10 {debug}")
+    assert code == 0 and status is not None and status["state"] == "finished", log
+    assert log.count("sent the way home at (0.50, 0.50) along a path") >= 3, log
+    assert "cancelling the way home: the explorer is stopping" in log, log
+
+
 @pytest.mark.parametrize(
     ("nav2", "parameter", "named", "error"),
     [
