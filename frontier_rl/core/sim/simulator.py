@@ -274,6 +274,8 @@ class ExplorationSimulator:
             if cand.looks is not Look.NONE:  # a point goal, the view; a visit of its cluster whatever it shows
                 result = yield from self._drive(Leg(self, path, goal, None, cand.recovery), index, weight)
                 viewed = result.outcome is LegOutcome.REACHED
+                # after an abort the leg has blacklisted the point already: with this visit, two failures
+                # in an entry of its own, so the same viewpoint is offered once more, as a leg is retried
                 self.blacklist.fail(*goal, self.mapper.state, reached=True, frontier=frontier, viewed=viewed)
                 if cand.looks in (Look.SMALL, Look.BLIND):  # whether the looks at small clusters go on
                     self.navigator.looked(result.new_free * self.world.grid.resolution**2, cand.looks is Look.BLIND)
