@@ -355,6 +355,7 @@ class ExplorerNode(Node):
             return False
         self._nav.cancel()
         self._send(home)
+        self._last_tick_s = self._explored.elapsed_s  # its path is first renewed a planner period on
         return True
 
     def _homeward(self, pose: Pose, now: float) -> None:
@@ -368,7 +369,8 @@ class ExplorerNode(Node):
                 self._close("exploration over")
         elif now - self._last_tick_s >= 1.0 / self.explorer.params.planner_frequency:
             self._last_tick_s = now
-            if (renewed := self._home.renew(self._team.merged(self._grid), pose)) is not None:
+            renewed = self._home.renew(self._team.merged(self._grid), pose)
+            if renewed is not None and self._nav.action_for(renewed) == FOLLOW:  # else Nav2 replans it
                 self._send(renewed)
 
     def _close(self, why: str, state: ExplorerState = ExplorerState.FINISHED) -> None:

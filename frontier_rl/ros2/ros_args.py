@@ -14,7 +14,9 @@ from frontier_rl.errors import ConfigError
 
 def ros_args_error(error: Exception) -> ConfigError | None:
     """The one-line error for rclpy's refusal of ROS's arguments (a rule rcl cannot parse, an
-    argument ROS does not know); None for any other error."""
+    argument ROS does not know); any other rcl error while ROS starts is said under
+    ``--ros-args`` too (``rclpy.init`` raises a plain ``RCLError`` for what it cannot parse), and
+    None is for errors not rcl's."""
     if isinstance(error, rclpy_implementation.UnknownROSArgsError):
         return ConfigError(f"--ros-args: arguments ROS does not know: {error}")
     if isinstance(error, rclpy_implementation.RCLError):

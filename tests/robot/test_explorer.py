@@ -176,7 +176,7 @@ def test_a_goal_whose_frontier_is_seen_is_replaced() -> None:
 
 @pytest.mark.parametrize("paused_after", [False, True])
 def test_a_goal_reached_with_its_frontier_unseen_is_blacklisted(paused_after: bool) -> None:
-    """Also when a pause (or Nav2 going silent) comes after the goal was reached and before the tick
+    """Also when a pause comes after the goal was reached and before the tick
     that judges it: that forgot the goal, and its unrevealable frontier was chosen again and again."""
     explorer = FrontierExplorer(make_policy("nearest"))
     grid = _corridor()

@@ -13,7 +13,7 @@ when a goal succeeds (published with the next map, as a SLAM map lags the robot)
 goal it aborts with Nav2's error code N; ``--response-delay S`` answers each goal S seconds after
 it came. ``--door`` adds a room north of the corridor behind a door that only the narrow-passage
 recovery's levels pass (its goals go to ``follow_path``); ``--carried-to X,Y`` puts the robot there
-when the first goal is accepted (carried, as nothing here drives). In ``stall`` mode a goal of one action
+when a goal is accepted (carried, as nothing here drives). In ``stall`` mode a goal of one action
 does not preempt the other's (two Nav2 servers), and a goal cancelled is named by its action.
 """
 
