@@ -169,7 +169,7 @@ class Nav2Goals:
         self._cancelling = False
         if handle is not None:
             self._cancel(handle)
-        if not self._unanswered and all(request.done() for request in self._cancels):
+        if not self._awaiting():
             return None
         self._stop = Future()
         self._settle()
@@ -199,10 +199,12 @@ class Nav2Goals:
     def _settle(self) -> None:
         """Set the stop's future once every goal sent has been answered and every cancel request
         too: whether Nav2 said it cancels a goal."""
-        if self._stop is None or self._stop.done() or self._unanswered:
-            return
-        if all(request.done() for request in self._cancels):
+        if self._stop is not None and not self._stop.done() and not self._awaiting():
             self._stop.set_result(self._cancelling)
+
+    def _awaiting(self) -> bool:
+        """Whether a goal sent or a cancel request has not been answered yet."""
+        return bool(self._unanswered) or not all(request.done() for request in self._cancels)
 
     def _heard(self) -> None:
         self._heard_at = time.monotonic()
