@@ -38,7 +38,7 @@ from frontier_rl.core.sim.metrics import EndReason
 from frontier_rl.core.world.grid import FREE_I8, CellState, OccupancyGrid
 from frontier_rl.core.world.robot import Pose
 from frontier_rl.errors import ConfigError, short_repr
-from frontier_rl.robot.explorer_decision import Finished, Goal
+from frontier_rl.robot.explorer_decision import Finished, Goal, Renewal
 from frontier_rl.robot.explorer_params import ExplorerParams
 from frontier_rl.robot.paths import path_to_point
 from frontier_rl.robot.trail import Trail
@@ -103,12 +103,13 @@ class FrontierExplorer:
 
     # ------------------------------------------------------------ what the node asks
 
-    def tick(self, grid: OccupancyGrid, pose: Pose, now: float) -> Goal | Finished | None:
+    def tick(self, grid: OccupancyGrid, pose: Pose, now: float) -> Goal | Renewal | Finished | None:
         """A planner tick at time ``now`` (s) with the robot's map and pose (map frame): a new goal
         to send (cancelling the one under way), the end of exploration, or None to carry on. The
         goal under way is kept while its frontier is not yet seen and the robot gets nearer to it
-        within ``progress_timeout`` (a goal with a path comes back with its path planned afresh, to
-        be sent again); otherwise it is dropped (seen) or given up (blacklisted)."""
+        within ``progress_timeout`` (a goal with a path comes back with its path planned afresh, a
+        :class:`~frontier_rl.robot.explorer_decision.Renewal`); otherwise it is dropped (seen) or
+        given up (blacklisted)."""
         if self.start is None:
             self.start = (pose.x, pose.y)
         self.passed(pose)
@@ -133,14 +134,14 @@ class FrontierExplorer:
         pose; a node that reads the pose more often than it ticks passes each one it reads."""
         self._trail.add(pose.x, pose.y)
 
-    def _path_renewed(self, grid: OccupancyGrid, pose: Pose) -> Goal | None:
+    def _path_renewed(self, grid: OccupancyGrid, pose: Pose) -> Renewal | None:
         """The goal under way with its path planned afresh (:meth:`renewed`), kept as the goal."""
-        if self.goal is None or (renewed := self.renewed(self.goal, grid, pose)) is None:
+        if self.goal is None or (renewal := self.renewed(self.goal, grid, pose)) is None:
             return None
-        self.goal = renewed
-        return renewed
+        self.goal = renewal.goal
+        return renewal
 
-    def renewed(self, goal: Goal, grid: OccupancyGrid, pose: Pose) -> Goal | None:
+    def renewed(self, goal: Goal, grid: OccupancyGrid, pose: Pose) -> Renewal | None:
         """``goal`` with its path planned afresh from ``pose`` on ``grid`` (at its level), as Nav2's
         behaviour tree replans a ``navigate_to_pose`` goal every second: the map under a path goes
         on changing while the robot follows it; None for a goal without a path, or when no path to
@@ -152,7 +153,7 @@ class FrontierExplorer:
         # a way elsewhere is none (within a cell: a SLAM map's origin moves as it grows)
         if path is None or math.dist(path[-1], goal.path[-1]) >= grid.resolution:
             return None
-        return replace(goal, path=path)
+        return Renewal(replace(goal, path=path))
 
     def time_up(self, grid: OccupancyGrid, pose: Pose) -> Finished:
         """End exploration at the time cap, with what is left of ``grid``."""

@@ -53,6 +53,17 @@ class Goal:
 
 
 @dataclass(frozen=True)
+class Renewal:
+    """The goal under way (a goal with a path) with its path planned afresh from where the robot
+    stands (:meth:`FrontierExplorer.renewed <frontier_rl.robot.explorer.FrontierExplorer.renewed>`):
+    for a navigation stack that follows the path it is given (Nav2's ``follow_path``). One that
+    plans its own way there (``navigate_to_pose``) replans the goal it has by itself and is sent
+    nothing: the goal sent again would restart its behaviour tree, recoveries and all."""
+
+    goal: Goal
+
+
+@dataclass(frozen=True)
 class Finished:
     """Exploration is over.
 

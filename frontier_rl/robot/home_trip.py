@@ -16,7 +16,7 @@ from __future__ import annotations
 from frontier_rl.core.world.grid import OccupancyGrid
 from frontier_rl.core.world.robot import Pose
 from frontier_rl.robot.explorer import FrontierExplorer
-from frontier_rl.robot.explorer_decision import Goal
+from frontier_rl.robot.explorer_decision import Goal, Renewal
 from frontier_rl.robot.way_home import HOME_TRIES
 
 
@@ -49,14 +49,14 @@ class HomeTrip:
         self.tries += counted
         return home
 
-    def renew(self, grid: OccupancyGrid, pose: Pose) -> Goal | None:
-        """The way home's path planned afresh from ``pose`` on ``grid``, to send again; None for a
-        way home without a path (Nav2 replans it), or with no path to the same end left (the
-        controller gives it up, and it is planned again from scratch)."""
-        if self.goal is None or (renewed := self._explorer.renewed(self.goal, grid, pose)) is None:
+    def renew(self, grid: OccupancyGrid, pose: Pose) -> Renewal | None:
+        """The way home's path planned afresh from ``pose`` on ``grid``; None for a way home without
+        a path (Nav2 replans it), or with no path to the same end left (the controller gives it up,
+        and it is planned again from scratch)."""
+        if self.goal is None or (renewal := self._explorer.renewed(self.goal, grid, pose)) is None:
             return None
-        self.goal = renewed
-        return renewed
+        self.goal = renewal.goal
+        return renewal
 
     def end(self) -> None:
         """The robot is no longer on its way home."""

@@ -26,7 +26,7 @@ from frontier_rl.core.world.grid import OccupancyGrid
 from frontier_rl.core.world.robot import Pose
 from frontier_rl.core.world.worlds import World
 from frontier_rl.robot.explorer import FrontierExplorer
-from frontier_rl.robot.explorer_decision import Finished, Goal, GoalStatus
+from frontier_rl.robot.explorer_decision import Finished, Goal, GoalStatus, Renewal
 
 
 @dataclass(frozen=True)
@@ -158,6 +158,8 @@ def explore_in_process(robot: SimulatedRobot, explorer: FrontierExplorer, max_ti
         if isinstance(decision, Finished):
             robot.cancel()
             return decision
+        if isinstance(decision, Renewal):
+            decision = decision.goal  # the robot follows the path it is given: the path planned afresh
         if isinstance(decision, Goal) and decision.path is not None:
             robot.follow_path(decision.path)  # Nav2's controller: follow_path
         elif isinstance(decision, Goal):

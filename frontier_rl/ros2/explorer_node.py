@@ -19,42 +19,33 @@ import math
 import time
 from typing import Any
 
-from nav_msgs.msg import OccupancyGrid as GridMessage
 from rcl_interfaces.msg import SetParametersResult
 from rclpy.clock import Clock
 from rclpy.clock_type import ClockType
 from rclpy.node import Node
 from rclpy.parameter import Parameter
 from rclpy.task import Future
-from std_msgs.msg import Bool, Float32, String
+from std_msgs.msg import Bool, String
 from visualization_msgs.msg import MarkerArray
 
 from frontier_rl.core.world.grid import OccupancyGrid
 from frontier_rl.core.world.robot import Pose
-from frontier_rl.errors import ConfigError, MapError
+from frontier_rl.errors import ConfigError
 from frontier_rl.robot.explored_time import ExploredTime
 from frontier_rl.robot.explorer import FrontierExplorer
-from frontier_rl.robot.explorer_decision import Finished, Goal, GoalStatus
+from frontier_rl.robot.explorer_decision import Finished, Goal, GoalStatus, Renewal
 from frontier_rl.robot.home_trip import HomeTrip
-from frontier_rl.robot.map_watch import MapWait, MapWatch
-from frontier_rl.robot.pose_source import PoseKind, PoseSource
-from frontier_rl.robot.throttled_log import ThrottledLog
+from frontier_rl.robot.pose_source import PoseSource
 from frontier_rl.robot.way_home import HOME_TRIES
+from frontier_rl.ros2.explorer_inputs import ExplorerInputs
 from frontier_rl.ros2.explorer_options import ExplorerNodeOptions
 from frontier_rl.ros2.explorer_parameters import ExplorerSettings, declare_explorer_parameters
 from frontier_rl.ros2.explorer_status import ExplorerState, ExplorerStatus
-from frontier_rl.ros2.messages import MAP_QOS, frontier_markers, grid_of
+from frontier_rl.ros2.messages import MAP_QOS, frontier_markers
 from frontier_rl.ros2.nav2_goals import FOLLOW, NAVIGATE, GoalOutcome, Nav2Goals, plugin_problem
-from frontier_rl.ros2.pose_listener import PoseListener
-from frontier_rl.ros2.team_maps import TeamMaps
 
 _POLL_PERIOD_S = 0.02
 """How often (wall s) the node looks whether a planner tick is due."""
-_WARN_PERIOD_S = 5.0
-"""Bad messages on one topic are logged at most this often (wall s)."""
-
-_WAIT_NOTICE_S = 5.0
-"""A start waits this long (wall s) for its inputs before it says on the log what it waits for."""
 
 
 class ExplorerNode(Node):
@@ -83,22 +74,7 @@ class ExplorerNode(Node):
         explorer.params, self.visualize = self._settings.params, self._settings.visualize
         self.add_on_set_parameters_callback(self._on_parameters)
         self.goal_silence_timeout = options.goal_silence_timeout
-        self._grid: OccupancyGrid | None = None
-        self._maps = MapWatch()  # when the maps came: a goal reached is judged on a map from after it
-        self._coverage: float | None = None  # until a simulator publishes it
-        self._warnings = ThrottledLog(_WARN_PERIOD_S)  # bad messages, per topic
-        self.create_subscription(GridMessage, "map", self._on_map, MAP_QOS)
-        self._map_frame = "map"  # the robot's map's frame, which goals and the merged map are in
-        self._team = TeamMaps(self, options.teammates, self._warn)
-        source = options.pose_source or PoseSource()
-        self._poses = PoseListener(self, source, self._warn)
-        self._pose_from = (
-            f"tf from the map to {source.base_frame}"
-            if source.kind is PoseKind.TF
-            else self.resolve_topic_name(source.topic)
-        )
-        self._waiting_since = time.monotonic()
-        self.create_subscription(Float32, "coverage", self._on_coverage, MAP_QOS)
+        self._in = ExplorerInputs(self, options.pose_source or PoseSource(), options.teammates)
         self.create_subscription(Bool, "explore/resume", self._on_resume, 10)
         self._paused = False  # explore/resume false came, and no true since
         self._status_pub = self.create_publisher(String, "explore/status", MAP_QOS)
@@ -133,33 +109,6 @@ class ExplorerNode(Node):
             self.get_logger().info(f"settings now {settings.values()}")
         return SetParametersResult(successful=True)
 
-    def _on_map(self, message: GridMessage) -> None:
-        try:
-            self._grid = grid_of(message)
-            self._map_frame = message.header.frame_id or self._map_frame
-            stamp_s = message.header.stamp.sec + message.header.stamp.nanosec * 1e-9
-            self._maps.map_came(time.monotonic(), stamp_s, self._clock_now_s())
-        except MapError as error:
-            self._warn("map", f"map ignored: {error}")
-
-    def _warn(self, topic: str, message: str) -> None:
-        """Log ``message`` about ``topic`` at most every ``_WARN_PERIOD_S`` (rclpy's throttle
-        shares one budget between the warnings of a node)."""
-        if self._warnings.due("", topic, time.monotonic()):
-            self.get_logger().warn(message)
-
-    def _waiting(self, what: str) -> None:
-        """Say on the log what the explorer waits for, once it has waited :data:`_WAIT_NOTICE_S`
-        and then at most every ``_WARN_PERIOD_S`` (a namespace given to one and not the other, a
-        pose on another topic, Nav2 not up: the status topic alone said so)."""
-        if time.monotonic() - self._waiting_since >= _WAIT_NOTICE_S and self._warnings.due(
-            "", "waiting", time.monotonic()
-        ):
-            self.get_logger().info(f"waiting for {what}")
-
-    def _on_coverage(self, message: Float32) -> None:
-        self._coverage = float(message.data)
-
     def _on_resume(self, message: Bool) -> None:
         """explore_lite's ``explore/resume``: false pauses the run (the goal under way cancelled, not
         held against its frontier; the time paused not counted as explored), true goes on."""
@@ -184,92 +133,77 @@ class ExplorerNode(Node):
         if self._stopping or (self.finished is not None and not self._home.under_way):
             return
         if self._paused:  # the robot may be driven by hand meanwhile: its trail still grows
-            self._explored.held(self._clock_now_s())
-            if (pose := self._poses.pose(self._map_frame)) is not None:
+            self._explored.held(self._in.clock_now_s())
+            if (pose := self._in.pose()) is not None:
                 self.explorer.passed(pose)
             return
-        pose = self._inputs()
-        if pose is None or self._grid is None:
+        inputs = self._ready()
+        if inputs is None:
             return
+        grid, pose = inputs
         self.explorer.passed(pose)  # the trail: every pose the node reads, one per poll
-        now = self._explored.advanced(self._clock_now_s())
+        now = self._explored.advanced(self._in.clock_now_s())
         if self._nav.silent_for(time.monotonic()) > self.goal_silence_timeout:
             self._lost()
             return
         if self.finished is not None:  # on the way home: sent again after a pause, its path kept to the map
-            self._homeward(pose, now)
+            self._homeward(self._in.team.merged(grid), pose, now)
             return
-        if not self._map_for_judging(now):
+        if now >= self.explorer.params.time_cap:
+            self._in.maps.forget_goal()  # the run ends now: on the map at hand
+        elif not self._in.map_for_judging(self._label):
             return
         period = 1.0 / self.explorer.params.planner_frequency
         if self.explorer.goal is not None and now - self._last_tick_s < period and not self._goal_ended:
             return
+        self._tick(grid, pose, now)
+
+    def _tick(self, grid: OccupancyGrid, pose: Pose, now: float) -> None:
+        """A planner tick at ``pose`` on the robot's map ``grid``, ``now`` s explored."""
         self._last_tick_s = now
         self._goal_ended = False
-        explored = self._team.merged(self._grid)
-        self._team.publish(explored, self.get_clock().now().to_msg(), self._map_frame)
+        explored = self._in.team.merged(grid)
+        self._in.team.publish(explored, self.get_clock().now().to_msg(), self._in.map_frame)
         decision = self.explorer.tick(explored, pose, now)
-        if isinstance(decision, Goal):
+        if isinstance(decision, Renewal):
+            self._renew(decision)
+        elif isinstance(decision, Goal):
             self._send(decision)
         elif isinstance(decision, Finished):
             self._finish(decision, explored, pose)
 
-    def _inputs(self) -> Pose | None:
-        """The robot's pose once the map, the pose and Nav2 are there; None (saying on the log,
-        in time, what it waits for) before."""
-        if self._grid is None:
-            self._waiting(f"a map on {self.resolve_topic_name('map')}")
+    def _ready(self) -> tuple[OccupancyGrid, Pose] | None:
+        """The map and the robot's pose once they and Nav2 are there; None (saying on the log, in
+        time, what it waits for) before."""
+        inputs = self._in.map_and_pose()
+        if inputs is not None and not self._nav.ready(self.explorer.params.recovery_paths, time.monotonic()):
+            navigate, follow = self.resolve_topic_name(NAVIGATE), self.resolve_topic_name(FOLLOW)
+            self._in.waiting(f"Nav2's {navigate} and {follow} actions")
             return None
-        pose = self._poses.pose(self._map_frame)
-        if pose is None:
-            self._waiting(f"a pose ({self._pose_from})")
-            return None
-        if not self._nav.ready(self.explorer.params.recovery_paths, time.monotonic()):
-            self._waiting(f"Nav2's {self.resolve_topic_name(NAVIGATE)} and {self.resolve_topic_name(FOLLOW)} actions")
-            return None
-        return pose
-
-    def _map_for_judging(self, now: float) -> bool:
-        """Whether the map at hand may judge the goal just reached (:class:`~frontier_rl.robot.map_watch.MapWatch`):
-        False while a map from after its end may still come (and the time cap, ``now`` s explored,
-        is not reached); a map that has stopped coming is said so."""
-        if now >= self.explorer.params.time_cap:
-            self._maps.forget_goal()
-            return True
-        wall_s = time.monotonic()  # every poll: the map's topic is named only when something is said
-        wait = self._maps.judgement(wall_s)
-        if wait is MapWait.STOPPED:
-            self._warn(
-                "map_stale",
-                f"no map on {self.resolve_topic_name('map')} for {self._maps.age_s(wall_s):.1f} s (it came every "
-                f"{self._maps.period_s or 0.0:.2f} s): {self._label} is judged on the last one",
-            )
-        elif wait is MapWait.QUIET and not self._maps.waits:
-            self.get_logger().info(
-                f"no map came on {self.resolve_topic_name('map')} while the robot stood after two goals (a mapper "
-                "that maps as the robot moves): goals reached are judged on the map at hand from now on"
-            )
-        return wait is not MapWait.WAIT
-
-    def _clock_now_s(self) -> float:
-        """The node's clock (s; simulated with ``use_sim_time``)."""
-        return self.get_clock().now().nanoseconds * 1e-9
+        return inputs
 
     def _send(self, goal: Goal) -> None:
         self._label = "the way home" if self._home.under_way else f"goal {self.explorer.decisions}"
-        action = self._nav.send(goal, self._map_frame, self.get_clock().now().to_msg())
+        action = self._nav.send(goal, self._in.map_frame, self.get_clock().now().to_msg())
         if goal.path is not None and action != FOLLOW:
-            self._warn(
+            self._in.warn(
                 FOLLOW,
                 f"Nav2's {self.resolve_topic_name(FOLLOW)} action is not up: {self._label}, found with the map's "
                 "walls thinned, goes to navigate_to_pose, whose planner may find no way there",
             )
-        if self.visualize and self._grid is not None:
+        if self.visualize:
             candidates = [(float(x), float(y)) for x, y in self.explorer.candidate_goals]
             self._marker_pub.publish(frontier_markers(candidates, (goal.x, goal.y), self.get_clock().now().to_msg()))
         detail = f"{self._label} at ({goal.x:.2f}, {goal.y:.2f})" + (" along a path" if action == FOLLOW else "")
         self.get_logger().debug(f"sent {detail}")  # --ros-args --log-level frontier_rl_explorer:=debug shows it
         self._publish(ExplorerState.RETURNING if self._home.under_way else ExplorerState.EXPLORING, detail)
+
+    def _renew(self, renewal: Renewal) -> None:
+        """Give ``follow_path`` the goal under way's path planned afresh; a goal on
+        ``navigate_to_pose`` is replanned by Nav2 and not sent again
+        (:class:`~frontier_rl.robot.explorer_decision.Renewal`)."""
+        if self._nav.action_for(renewal.goal) == FOLLOW:
+            self._send(renewal.goal)
 
     def _lost(self) -> None:
         """Nav2 fell silent on the goal in flight: drop it (its server went away) and decide again
@@ -295,7 +229,7 @@ class ExplorerNode(Node):
             self._close(problem, ExplorerState.INTERRUPTED)
             return
         if status is GoalStatus.ABORTED and outcome.error:  # Nav2's own reason (a controller id it wants): on the log
-            self._warn(f"{action} error", f"{self._label} aborted by {action}{outcome.error}")
+            self._in.warn(f"{action} error", f"{self._label} aborted by {action}{outcome.error}")
         if status is GoalStatus.CANCELED:
             self.get_logger().info(f"{self._label} cancelled by another node on {action}")
         why = outcome.sentence(self._label)
@@ -303,24 +237,26 @@ class ExplorerNode(Node):
         # a way home rejected is not sent again (Nav2 would reject it again at once), nor one another
         # node cancelled; a goal another node cancelled is given up as one Nav2 aborted: not there
         if self._home.under_way:
-            pose = self._poses.pose(self._map_frame)
+            pose = self._in.pose()
             tries_left = self._home.tries_left and not self._stopping
-            if status is GoalStatus.ABORTED and tries_left and pose is not None and self._grid is not None:
+            explored = self._in.explored()
+            if status is GoalStatus.ABORTED and tries_left and pose is not None and explored is not None:
                 self.get_logger().warn(
                     f"{why}: planned again from ({pose.x:.2f}, {pose.y:.2f}), "
                     f"try {self._home.tries + 1} of {HOME_TRIES}"
                 )
-                if self._go_home(self._team.merged(self._grid), pose):
+                if self._go_home(explored, pose):
                     return
             self._home.end()
             self._close(why)
             return
-        if failed and self._grid is not None:  # judged on the map the goal was chosen on: teammates' merged
-            self.explorer.goal_failed(self._team.merged(self._grid))
+        explored = self._in.explored()  # judged on the map the goal was chosen on: teammates' merged
+        if failed and explored is not None:
+            self.explorer.goal_failed(explored)
         elif not failed:
-            judged = self._grid is not None and self.explorer.judged_on(self._team.merged(self._grid))
-            if judged and self._maps.goal_ended(time.monotonic(), self._clock_now_s()):
-                why += f": waiting up to {self._maps.wait_bound_s():.1f} s for a newer map"  # on the status topic
+            judged = explored is not None and self.explorer.judged_on(explored)
+            if judged and self._in.maps.goal_ended(time.monotonic(), self._in.clock_now_s()):
+                why += f": waiting up to {self._in.maps.wait_bound_s():.1f} s for a newer map"  # on the status topic
                 self.get_logger().debug(why)
             self.explorer.goal_reached()
         self._goal_ended = True
@@ -358,20 +294,19 @@ class ExplorerNode(Node):
         self._last_tick_s = self._explored.elapsed_s  # its path is first renewed a planner period on
         return True
 
-    def _homeward(self, pose: Pose, now: float) -> None:
-        """A poll on the way home at ``pose``, ``now`` s explored: the way sent again after a pause,
-        or its path planned afresh at each planner tick (:class:`~frontier_rl.robot.home_trip.HomeTrip`)."""
-        assert self._grid is not None
+    def _homeward(self, explored: OccupancyGrid, pose: Pose, now: float) -> None:
+        """A poll on the way home at ``pose`` on the map ``explored``, ``now`` s explored: the way
+        sent again after a pause, or its path planned afresh at each planner tick
+        (:class:`~frontier_rl.robot.home_trip.HomeTrip`)."""
         if self._goal_ended:
             self._goal_ended = False
-            if not self._go_home(self._team.merged(self._grid), pose, counted=False):
+            if not self._go_home(explored, pose, counted=False):
                 self._home.end()
                 self._close("exploration over")
         elif now - self._last_tick_s >= 1.0 / self.explorer.params.planner_frequency:
             self._last_tick_s = now
-            renewed = self._home.renew(self._team.merged(self._grid), pose)
-            if renewed is not None and self._nav.action_for(renewed) == FOLLOW:  # else Nav2 replans it
-                self._send(renewed)
+            if (renewal := self._home.renew(explored, pose)) is not None:
+                self._renew(renewal)
 
     def _close(self, why: str, state: ExplorerState = ExplorerState.FINISHED) -> None:
         self._publish(state, why)
@@ -389,7 +324,7 @@ class ExplorerNode(Node):
         time_s = self._explored.elapsed_s if self._finished_s is None else self._finished_s
         explorer = self.explorer
         return ExplorerStatus.of(
-            state, detail, time_s, explorer.decisions, explorer.goals_given_up, self.finished, self._coverage
+            state, detail, time_s, explorer.decisions, explorer.goals_given_up, self.finished, self._in.coverage
         )
 
     def _publish(self, state: ExplorerState, detail: str) -> None:

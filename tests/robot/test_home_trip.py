@@ -32,8 +32,9 @@ def test_the_path_home_is_planned_afresh_round_what_the_map_now_draws_on_it() ->
     assert np.any(np.hypot(home.path[:, 0] - 3.0, home.path[:, 1] - 1.5) < 0.1)  # straight for the door
     redrawn = OccupancyGrid(grid.data.copy(), grid.resolution, grid.origin)
     redrawn.data[22:38, 58:62] = CellState.OCCUPIED  # a wall drawn across the old path at x = 3 m
-    renewed = trip.renew(redrawn, Pose(3.5, 1.5, 0.0))
-    assert renewed is not None and renewed.path is not None and trip.goal is renewed
+    renewal = trip.renew(redrawn, Pose(3.5, 1.5, 0.0))
+    assert renewal is not None and renewal.goal.path is not None and trip.goal is renewal.goal
+    renewed = renewal.goal
     assert math.dist(renewed.path[0], (3.5, 1.5)) < 0.1 and math.dist(renewed.path[-1], (1.0, 1.5)) < 0.05
     assert not np.any(np.hypot(renewed.path[:, 0] - 3.0, renewed.path[:, 1] - 1.5) < 0.3)  # round it
     assert trip.tries == 1  # planned afresh is no new try

@@ -13,7 +13,8 @@ when a goal succeeds (published with the next map, as a SLAM map lags the robot)
 goal it aborts with Nav2's error code N; ``--response-delay S`` answers each goal S seconds after
 it came. ``--door`` adds a room north of the corridor behind a door that only the narrow-passage
 recovery's levels pass (its goals go to ``follow_path``); ``--carried-to X,Y`` puts the robot there
-when a goal is accepted (carried, as nothing here drives). In ``stall`` mode a goal of one action
+when a goal is accepted (carried, as nothing here drives); ``--no-follow`` serves no
+``follow_path`` (a Nav2 whose controller server is elsewhere). In ``stall`` mode a goal of one action
 does not preempt the other's (two Nav2 servers), and a goal cancelled is named by its action.
 """
 
@@ -77,6 +78,7 @@ class FakeNav2(Node):
         error_code: int = 0,
         response_delay: float = 0.0,
         carried_to: tuple[float, float] | None = None,
+        follow: bool = True,
     ) -> None:
         super().__init__("fake_nav2")
         self.error_code, self.response_delay = error_code, response_delay
@@ -86,11 +88,12 @@ class FakeNav2(Node):
         self.pose_pub = self.create_publisher(PoseWithCovarianceStamped, "pose", 10)
         self.pose_x, self.pose_y, self.carried_to = 0.5, 0.5, carried_to
         self.current: dict[type, ServerGoalHandle] = {}  # each action's goal under way
+        served = {action: name for action, name in _ACTIONS.items() if follow or action is not FollowPath}
         # the actions' cancel services, as another node (an operator in RViz) calls them
         self.cancel_all = {
-            action: self.create_client(CancelGoal, f"{name}/_action/cancel_goal") for action, name in _ACTIONS.items()
+            action: self.create_client(CancelGoal, f"{name}/_action/cancel_goal") for action, name in served.items()
         }
-        for action, name in _ACTIONS.items():
+        for action, name in served.items():
             ActionServer(
                 self,
                 action,
@@ -179,10 +182,18 @@ def main() -> None:
     parser.add_argument("--error-code", type=int, default=0)
     parser.add_argument("--response-delay", type=float, default=0.0)
     parser.add_argument("--carried-to", type=lambda text: tuple(float(v) for v in text.split(",")), default=None)
+    parser.add_argument("--no-follow", action="store_true")
     args = parser.parse_args()
     rclpy.init()
     node = FakeNav2(
-        args.mode, args.die_after, args.goal_time, args.reveal, args.error_code, args.response_delay, args.carried_to
+        args.mode,
+        args.die_after,
+        args.goal_time,
+        args.reveal,
+        args.error_code,
+        args.response_delay,
+        args.carried_to,
+        follow=not args.no_follow,
     )
     # bad inputs until 2 s after the explorer has subscribed to the pose: its start (imports, numba)
     # took more than the 4 s fixed here before on a busy machine, and it never saw a NaN pose

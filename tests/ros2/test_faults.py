@@ -4,6 +4,7 @@ loopback-only network namespace: it gives up what it must, says why, never hangs
 from __future__ import annotations
 
 import json
+import re
 import shlex
 import sys
 from pathlib import Path
@@ -79,6 +80,20 @@ def test_the_way_home_along_a_path_is_planned_afresh_while_the_robot_follows_it(
     assert code == 0 and status is not None and status["state"] == "finished", log
     assert log.count("sent the way home at (0.50, 0.50) along a path") >= 3, log
     assert "cancelling the way home: the explorer is stopping" in log, log
+
+
+def test_a_path_goal_that_goes_to_navigate_to_pose_is_not_sent_again_at_each_tick(tmp_path: Path) -> None:
+    """Without ``follow_path``, a goal found with the map's walls thinned goes to navigate_to_pose,
+    which replans it itself: sent again at each planner tick with its path planned afresh, it
+    restarted Nav2's behaviour tree every second, recoveries and all."""
+    nav2 = f"{_FAKE} --mode stall --door --no-follow"
+    debug = "--ros-args --log-level frontier_rl_explorer:=debug"  # each goal sent, on the log
+    code, status, log = _run(tmp_path, nav2, progress_timeout=3.0, options=f"--goal-silence-timeout 10 {debug}")
+    assert code == 0 and status is not None and status["state"] == "finished", log
+    assert "action is not up: goal" in log, log  # a path goal went to navigate_to_pose
+    sent = re.findall(r"sent (goal \d+) at", log)
+    assert sent and len(sent) == len(set(sent)), log  # each goal once
+    assert (tmp_path / "nav2.log").read_text().count("goal naming behavior_tree") == len(sent), log
 
 
 @pytest.mark.parametrize(
