@@ -314,7 +314,7 @@ def _explorer_settings(
     options = _with_parameter_files(ctx, params_files, options)
     visualize, robot_base_frame = bool(options.pop("visualize")), str(options.pop("robot_base_frame"))
     use_sim_time = bool(options.pop("use_sim_time"))
-    plugins = Nav2Plugins(**{name: options.pop(name) for name in Nav2Plugins.names() if name in options})
+    plugins = Nav2Plugins.of(options)
     source = _pose_source(*pose, robot_base_frame)
     return _ChosenSettings(_explorer_params(options), visualize, source, use_sim_time, plugins)
 

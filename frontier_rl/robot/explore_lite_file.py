@@ -60,7 +60,7 @@ def explore_lite_parameters(path: str | Path) -> tuple[dict[str, Any], list[str]
         settings["time_cap"] = time_cap_of_parameter(settings["time_cap"])
     try:
         replace(ExplorerParams(), **settings)
-        Nav2Plugins(**{name: value for name, value in known.items() if name in Nav2Plugins.names()})
+        Nav2Plugins.of(known)
     except SettingError as error:
         raise ConfigError(f"{path}: {error.setting} {error.problem}") from None
     return known, sorted(str(name) for name in data if name not in FILE_PARAMETERS)

@@ -6,7 +6,8 @@ without loading the engine (or YAML: explore_lite's parameter file is read in
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass, field, fields
+from collections.abc import Mapping
+from dataclasses import asdict, dataclass, field, fields, replace
 from typing import Any
 
 from frontier_rl.errors import SettingError, short_repr
@@ -75,6 +76,20 @@ class Nav2Plugins:
     def names(cls) -> tuple[str, ...]:
         """The plugins' parameter names (the fields')."""
         return tuple(setting.name for setting in fields(cls))
+
+    @classmethod
+    def of(cls, values: Mapping[str, Any], base: Nav2Plugins | None = None) -> Nav2Plugins:
+        """The plugins named among ``values`` (parameter name -> value; other names ignored), the
+        others ``base``'s (by default Nav2's own choice).
+
+        Raises:
+            SettingError: a value that is no plugin's name, named.
+        """
+        return replace(base or cls(), **{name: values[name] for name in cls.names() if name in values})
+
+    def values(self) -> dict[str, str]:
+        """Each plugin's parameter name and value."""
+        return asdict(self)
 
     def __post_init__(self) -> None:
         for name in self.names():

@@ -51,9 +51,7 @@ class ExplorerSettings:
             setting.name: getattr(self.params, setting.name) for setting in fields(ExplorerParams)
         }
         values["time_cap"] = time_cap_parameter(self.params.time_cap)
-        return (
-            values | {name: getattr(self.plugins, name) for name in Nav2Plugins.names()} | {"visualize": self.visualize}
-        )
+        return values | self.plugins.values() | {"visualize": self.visualize}
 
     def updated(self, changes: Mapping[str, Any]) -> ExplorerSettings:
         """These settings with ``changes`` (parameter name -> value; others ignored), checked.
@@ -68,11 +66,11 @@ class ExplorerSettings:
             if name in PARAMETERS
         }
         visualize = bool(known.pop("visualize", self.visualize))
-        plugins = {name: known.pop(name) for name in Nav2Plugins.names() if name in known}
-        if "time_cap" in known:
-            known["time_cap"] = time_cap_of_parameter(known["time_cap"])
+        settings = {setting.name: known[setting.name] for setting in fields(ExplorerParams) if setting.name in known}
+        if "time_cap" in settings:
+            settings["time_cap"] = time_cap_of_parameter(settings["time_cap"])
         try:
-            return ExplorerSettings(replace(self.params, **known), visualize, replace(self.plugins, **plugins))
+            return ExplorerSettings(replace(self.params, **settings), visualize, Nav2Plugins.of(known, self.plugins))
         except SettingError as error:
             raise ConfigError(f"parameter {error}") from None
 

@@ -152,3 +152,13 @@ def test_the_nav2_plugins_goals_name_are_read_from_a_file_and_checked(tmp_path: 
     with pytest.raises(SettingError, match=r"controller_id must be a plugin's name or '' .*' FollowPath'"):
         Nav2Plugins(controller_id=" FollowPath")  # Nav2 has none of that name
     assert "follow_path's controller" in setting_help("controller_id")
+
+
+def test_the_plugins_are_picked_by_name_out_of_a_mapping_of_settings_the_rest_kept() -> None:
+    base = Nav2Plugins(behavior_tree="/opt/bt/explore.xml", controller_id="FollowPath")
+    picked = Nav2Plugins.of({"controller_id": "Precise", "planner_frequency": 0.5, "visualize": True}, base)
+    assert picked == Nav2Plugins("/opt/bt/explore.xml", "Precise", "", "")
+    assert Nav2Plugins.of({}) == Nav2Plugins() and picked.values()["controller_id"] == "Precise"
+    assert set(picked.values()) == set(Nav2Plugins.names())
+    with pytest.raises(SettingError, match="goal_checker_id"):
+        Nav2Plugins.of({"goal_checker_id": 7})

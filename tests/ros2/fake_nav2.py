@@ -64,6 +64,16 @@ def _pose(x: float, y: float = 0.5) -> PoseWithCovarianceStamped:
     return message
 
 
+_SAID = threading.Lock()
+
+
+def _say(line: str) -> None:
+    """Print ``line`` whole: the executor's threads print at once, and print() writes the line and
+    its end apart (two lines came out as one, and a test missed the cancel it looked for)."""
+    with _SAID:
+        print(line, flush=True)
+
+
 _FOLLOW_PLUGINS = ("controller_id", "goal_checker_id", "progress_checker_id")
 _ACTIONS = {NavigateToPose: "navigate_to_pose", FollowPath: "follow_path"}
 
@@ -105,7 +115,7 @@ class FakeNav2(Node):
 
     def _goal(self, request: object) -> GoalResponse:
         names = ("behavior_tree",) if isinstance(request, NavigateToPose.Goal) else _FOLLOW_PLUGINS
-        print("goal naming " + ", ".join(f"{name} {getattr(request, name)!r}" for name in names), flush=True)
+        _say("goal naming " + ", ".join(f"{name} {getattr(request, name)!r}" for name in names))
         time.sleep(self.response_delay)
         if self.mode == "reject":
             return GoalResponse.REJECT
@@ -136,7 +146,7 @@ class FakeNav2(Node):
                 time.sleep(0.1)
             if handle.is_cancel_requested:
                 handle.canceled()
-                print(f"{_ACTIONS[action]} goal canceled", flush=True)
+                _say(f"{_ACTIONS[action]} goal canceled")
             elif handle.is_active:
                 handle.abort()
             return action.Result()
@@ -150,7 +160,7 @@ class FakeNav2(Node):
                 time.sleep(0.05)
             if handle.is_cancel_requested:
                 handle.canceled()
-                print(f"{_ACTIONS[action]} goal canceled by another node", flush=True)
+                _say(f"{_ACTIONS[action]} goal canceled by another node")
             else:
                 handle.abort()
             return action.Result()
