@@ -1,5 +1,6 @@
 """What the explorer decides at a planner tick (:class:`~frontier_rl.robot.explorer.FrontierExplorer`):
-a goal for the navigation stack, or the end of exploration with what was left."""
+a goal for the navigation stack, the goal under way with its path planned afresh, or the end of
+exploration with what was left."""
 
 from __future__ import annotations
 
@@ -58,7 +59,8 @@ class Renewal:
     stands (:meth:`FrontierExplorer.renewed <frontier_rl.robot.explorer.FrontierExplorer.renewed>`):
     for a navigation stack that follows the path it is given (Nav2's ``follow_path``). One that
     plans its own way there (``navigate_to_pose``) replans the goal it has by itself and is sent
-    nothing: the goal sent again would restart its behaviour tree, recoveries and all."""
+    nothing: the goal sent again would restart its behaviour tree, recoveries and all (a goal on
+    ``follow_path`` whose server went away goes to ``navigate_to_pose`` once)."""
 
     goal: Goal
 

@@ -147,7 +147,7 @@ class ExplorerNode(Node):
             self._lost()
             return
         if self.finished is not None:  # on the way home: sent again after a pause, its path kept to the map
-            self._homeward(self._in.team.merged(grid), pose, now)
+            self._homeward(grid, pose, now)
             return
         if now >= self.explorer.params.time_cap:
             self._in.maps.forget_goal()  # the run ends now: on the map at hand
@@ -201,8 +201,9 @@ class ExplorerNode(Node):
     def _renew(self, renewal: Renewal) -> None:
         """Give ``follow_path`` the goal under way's path planned afresh; a goal on
         ``navigate_to_pose`` is replanned by Nav2 and not sent again
-        (:class:`~frontier_rl.robot.explorer_decision.Renewal`)."""
-        if self._nav.action_for(renewal.goal) == FOLLOW:
+        (:class:`~frontier_rl.robot.explorer_decision.Renewal`). A goal on ``follow_path`` whose
+        server went away goes to ``navigate_to_pose``, once."""
+        if self._nav.action_for(renewal.goal) == FOLLOW or self._nav.action == FOLLOW:
             self._send(renewal.goal)
 
     def _lost(self) -> None:
@@ -239,8 +240,8 @@ class ExplorerNode(Node):
         if self._home.under_way:
             pose = self._in.pose()
             tries_left = self._home.tries_left and not self._stopping
-            explored = self._in.explored()
-            if status is GoalStatus.ABORTED and tries_left and pose is not None and explored is not None:
+            retried = status is GoalStatus.ABORTED and tries_left
+            if retried and pose is not None and (explored := self._in.explored()) is not None:
                 self.get_logger().warn(
                     f"{why}: planned again from ({pose.x:.2f}, {pose.y:.2f}), "
                     f"try {self._home.tries + 1} of {HOME_TRIES}"
@@ -294,18 +295,18 @@ class ExplorerNode(Node):
         self._last_tick_s = self._explored.elapsed_s  # its path is first renewed a planner period on
         return True
 
-    def _homeward(self, explored: OccupancyGrid, pose: Pose, now: float) -> None:
-        """A poll on the way home at ``pose`` on the map ``explored``, ``now`` s explored: the way
+    def _homeward(self, grid: OccupancyGrid, pose: Pose, now: float) -> None:
+        """A poll on the way home at ``pose``, the robot's map ``grid``, ``now`` s explored: the way
         sent again after a pause, or its path planned afresh at each planner tick
-        (:class:`~frontier_rl.robot.home_trip.HomeTrip`)."""
+        (:class:`~frontier_rl.robot.home_trip.HomeTrip`); on the map merged with the teammates'."""
         if self._goal_ended:
             self._goal_ended = False
-            if not self._go_home(explored, pose, counted=False):
+            if not self._go_home(self._in.team.merged(grid), pose, counted=False):
                 self._home.end()
                 self._close("exploration over")
         elif now - self._last_tick_s >= 1.0 / self.explorer.params.planner_frequency:
             self._last_tick_s = now
-            if (renewal := self._home.renew(explored, pose)) is not None:
+            if (renewal := self._home.renew(self._in.team.merged(grid), pose)) is not None:
                 self._renew(renewal)
 
     def _close(self, why: str, state: ExplorerState = ExplorerState.FINISHED) -> None:

@@ -11,7 +11,7 @@ behaviour tree for ``navigate_to_pose``, a controller, goal checker and progress
 ``follow_path``; none ("") lets Nav2 choose, which it does when it has one of each (its default
 parameters).
 
-Goals are numbered as they are sent (a path goal again at every planner tick): the response,
+Goals are numbered as they are sent (a path goal on ``follow_path`` again at every planner tick): the response,
 feedback or result of an older one (or of one dropped or cancelled) is ignored, and such a goal a
 server accepted is cancelled, so that it does not drive on."""
 

@@ -14,7 +14,8 @@ goal it aborts with Nav2's error code N; ``--response-delay S`` answers each goa
 it came. ``--door`` adds a room north of the corridor behind a door that only the narrow-passage
 recovery's levels pass (its goals go to ``follow_path``); ``--carried-to X,Y`` puts the robot there
 when a goal is accepted (carried, as nothing here drives); ``--no-follow`` serves no
-``follow_path`` (a Nav2 whose controller server is elsewhere). In ``stall`` mode a goal of one action
+``follow_path`` (a Nav2 whose controller server is elsewhere), ``--follow-gone-after N`` ends it
+a second after it accepted its Nth goal (a controller server that crashed). In ``stall`` mode a goal of one action
 does not preempt the other's (two Nav2 servers), and a goal cancelled is named by its action.
 """
 
@@ -89,6 +90,7 @@ class FakeNav2(Node):
         response_delay: float = 0.0,
         carried_to: tuple[float, float] | None = None,
         follow: bool = True,
+        follow_gone_after: int = 0,
     ) -> None:
         super().__init__("fake_nav2")
         self.error_code, self.response_delay = error_code, response_delay
@@ -99,12 +101,14 @@ class FakeNav2(Node):
         self.pose_x, self.pose_y, self.carried_to = 0.5, 0.5, carried_to
         self.current: dict[type, ServerGoalHandle] = {}  # each action's goal under way
         served = {action: name for action, name in _ACTIONS.items() if follow or action is not FollowPath}
+        self.follow_gone_after, self.follows, self.follow_gone = follow_gone_after, 0, False
+        self.servers: dict[type, ActionServer] = {}
         # the actions' cancel services, as another node (an operator in RViz) calls them
         self.cancel_all = {
             action: self.create_client(CancelGoal, f"{name}/_action/cancel_goal") for action, name in served.items()
         }
         for action, name in served.items():
-            ActionServer(
+            self.servers[action] = ActionServer(
                 self,
                 action,
                 name,
@@ -120,11 +124,23 @@ class FakeNav2(Node):
         if self.mode == "reject":
             return GoalResponse.REJECT
         self.accepted += 1
+        if isinstance(request, FollowPath.Goal):
+            self.follows += 1
+            if self.follows == self.follow_gone_after:
+                self.gone_timer = self.create_timer(1.0, self._follow_ends)
         if self.carried_to is not None:
             self.pose_x, self.pose_y = self.carried_to
         if self.die_after and self.accepted >= self.die_after:
             threading.Timer(0.2, os._exit, (1,)).start()  # a crash: no result, no goodbye
         return GoalResponse.ACCEPT
+
+    def _follow_ends(self) -> None:
+        """follow_path's server goes away, its goal under way with it: no result, no word."""
+        self.gone_timer.cancel()
+        self.follow_gone = True
+        time.sleep(0.3)  # its goal's loop has stopped
+        self.servers.pop(FollowPath).destroy()
+        _say("follow_path server gone")
 
     def _execute(self, handle: ServerGoalHandle, action: type) -> object:
         feedback = (
@@ -142,6 +158,8 @@ class FakeNav2(Node):
                 and handle.is_active
                 and self.current.get(action) is handle
             ):
+                while action is FollowPath and self.follow_gone and rclpy.ok():
+                    time.sleep(0.5)  # never answered: the server is gone (returning would abort the goal)
                 handle.publish_feedback(feedback)
                 time.sleep(0.1)
             if handle.is_cancel_requested:
@@ -193,6 +211,7 @@ def main() -> None:
     parser.add_argument("--response-delay", type=float, default=0.0)
     parser.add_argument("--carried-to", type=lambda text: tuple(float(v) for v in text.split(",")), default=None)
     parser.add_argument("--no-follow", action="store_true")
+    parser.add_argument("--follow-gone-after", type=int, default=0)
     args = parser.parse_args()
     rclpy.init()
     node = FakeNav2(
@@ -204,6 +223,7 @@ def main() -> None:
         args.response_delay,
         args.carried_to,
         follow=not args.no_follow,
+        follow_gone_after=args.follow_gone_after,
     )
     # bad inputs until 2 s after the explorer has subscribed to the pose: its start (imports, numba)
     # took more than the 4 s fixed here before on a busy machine, and it never saw a NaN pose

@@ -96,6 +96,24 @@ def test_a_path_goal_that_goes_to_navigate_to_pose_is_not_sent_again_at_each_tic
     assert (tmp_path / "nav2.log").read_text().count("goal naming behavior_tree") == len(sent), log
 
 
+def test_a_path_goal_whose_follow_path_server_went_away_goes_to_navigate_to_pose_at_the_next_tick(
+    tmp_path: Path,
+) -> None:
+    """The controller server crashes with a path goal under way: the goal is sent to
+    navigate_to_pose at the next planner tick (once), not held until Nav2's silence drops it."""
+    nav2 = f"{_FAKE} --mode stall --door --follow-gone-after 1"
+    debug = "--ros-args --log-level frontier_rl_explorer:=debug"  # each goal sent, on the log
+    options = f"--goal-silence-timeout 10 {debug}"
+    code, status, log = _run(tmp_path, nav2, 90, progress_timeout=3.0, options=options)
+    assert code == 0 and status is not None and status["state"] == "finished", log
+    assert "follow_path server gone" in log and "no word from follow_path" not in log, log
+    along = re.findall(r"sent (goal \d+) at \(([-\d.]+, [-\d.]+)\) along a path", log)
+    assert along, log
+    label, _ = along[0]
+    moved = re.findall(rf"sent {label} at \([-\d.]+, [-\d.]+\)$", log, re.MULTILINE)
+    assert len(moved) == 1, log  # to navigate_to_pose, once
+
+
 @pytest.mark.parametrize(
     ("nav2", "parameter", "named", "error"),
     [
