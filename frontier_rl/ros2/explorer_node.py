@@ -42,7 +42,7 @@ from frontier_rl.ros2.explorer_options import ExplorerNodeOptions
 from frontier_rl.ros2.explorer_parameters import ExplorerSettings, declare_explorer_parameters
 from frontier_rl.ros2.explorer_status import ExplorerState, ExplorerStatus
 from frontier_rl.ros2.messages import MAP_QOS, frontier_markers
-from frontier_rl.ros2.nav2_goals import FOLLOW, NAVIGATE, GoalOutcome, Nav2Goals, plugin_problem
+from frontier_rl.ros2.nav2_goals import GoalOutcome, Nav2Action, Nav2Goals, plugin_problem
 
 _POLL_PERIOD_S = 0.02
 """How often (wall s) the node looks whether a planner tick is due."""
@@ -177,7 +177,7 @@ class ExplorerNode(Node):
         time, what it waits for) before."""
         inputs = self._in.map_and_pose()
         if inputs is not None and not self._nav.ready(self.explorer.params.recovery_paths, time.monotonic()):
-            navigate, follow = self.resolve_topic_name(NAVIGATE), self.resolve_topic_name(FOLLOW)
+            navigate, follow = (self.resolve_topic_name(action) for action in Nav2Action)
             self._in.waiting(f"Nav2's {navigate} and {follow} actions")
             return None
         return inputs
@@ -185,16 +185,17 @@ class ExplorerNode(Node):
     def _send(self, goal: Goal) -> None:
         self._label = "the way home" if self._home.under_way else f"goal {self.explorer.decisions}"
         action = self._nav.send(goal, self._in.map_frame, self.get_clock().now().to_msg())
-        if goal.path is not None and action != FOLLOW:
+        along = action is Nav2Action.FOLLOW
+        if goal.path is not None and not along:
             self._in.warn(
-                FOLLOW,
-                f"Nav2's {self.resolve_topic_name(FOLLOW)} action is not up: {self._label}, found with the map's "
-                "walls thinned, goes to navigate_to_pose, whose planner may find no way there",
+                Nav2Action.FOLLOW,
+                f"Nav2's {self.resolve_topic_name(Nav2Action.FOLLOW)} action is not up: {self._label}, found with "
+                "the map's walls thinned, goes to navigate_to_pose, whose planner may find no way there",
             )
         if self.visualize:
             candidates = [(float(x), float(y)) for x, y in self.explorer.candidate_goals]
             self._marker_pub.publish(frontier_markers(candidates, (goal.x, goal.y), self.get_clock().now().to_msg()))
-        detail = f"{self._label} at ({goal.x:.2f}, {goal.y:.2f})" + (" along a path" if action == FOLLOW else "")
+        detail = f"{self._label} at ({goal.x:.2f}, {goal.y:.2f})" + (" along a path" if along else "")
         self.get_logger().debug(f"sent {detail}")  # --ros-args --log-level frontier_rl_explorer:=debug shows it
         self._publish(ExplorerState.RETURNING if self._home.under_way else ExplorerState.EXPLORING, detail)
 
@@ -203,7 +204,7 @@ class ExplorerNode(Node):
         ``navigate_to_pose`` is replanned by Nav2 and not sent again
         (:class:`~frontier_rl.robot.explorer_decision.Renewal`). A goal on ``follow_path`` whose
         server went away goes to ``navigate_to_pose``, once."""
-        if self._nav.action_for(renewal.goal) == FOLLOW or self._nav.action == FOLLOW:
+        if self._nav.action_for(renewal.goal) is Nav2Action.FOLLOW or self._nav.action is Nav2Action.FOLLOW:
             self._send(renewal.goal)
 
     def _lost(self) -> None:

@@ -21,6 +21,7 @@ import math
 import time
 from collections.abc import Callable
 from dataclasses import dataclass
+from enum import StrEnum
 from functools import partial
 from typing import Any
 
@@ -36,8 +37,16 @@ from frontier_rl.robot.explorer_decision import Goal, GoalStatus
 from frontier_rl.robot.explorer_params import Nav2Plugins
 from frontier_rl.ros2.messages import path_message, pose_stamped
 
-NAVIGATE = "navigate_to_pose"
-FOLLOW = "follow_path"
+
+class Nav2Action(StrEnum):
+    """Nav2's actions the explorer sends goals to, by their names (the action clients' and servers')."""
+
+    NAVIGATE = "navigate_to_pose"
+    """bt_navigator's: a pose, which Nav2 plans its own way to and replans."""
+    FOLLOW = "follow_path"
+    """controller_server's: a path, which its controller follows as given."""
+
+
 FOLLOW_WAIT_S = 5.0
 """How long (wall s) after ``navigate_to_pose`` is up the explorer waits for ``follow_path`` before
 it starts without it (a stand-in for Nav2 that serves only the first)."""
@@ -70,10 +79,10 @@ class GoalOutcome:
         }[self.status]
 
 
-def goal_request(goal: Goal, action: str, frame: str, stamp: Time, plugins: Nav2Plugins) -> Any:
-    """The request that sends ``goal`` to ``action`` (:data:`FOLLOW`: its path, else its point) in
+def goal_request(goal: Goal, action: Nav2Action, frame: str, stamp: Time, plugins: Nav2Plugins) -> Any:
+    """The request that sends ``goal`` to ``action`` (:attr:`Nav2Action.FOLLOW`: its path, else its point) in
     the map ``frame``, stamped ``stamp``, naming ``plugins``."""
-    if action == FOLLOW:
+    if action is Nav2Action.FOLLOW:
         assert goal.path is not None
         return FollowPath.Goal(
             path=path_message(goal.path, stamp, frame),
@@ -96,11 +105,11 @@ class Nav2Goals:
 
     def __init__(self, node: Node, on_end: Callable[[GoalOutcome], None], plugins: Nav2Plugins | None = None) -> None:
         self.plugins = plugins or Nav2Plugins()
-        self._navigate: ActionClient[Any, Any, Any] = ActionClient(node, NavigateToPose, NAVIGATE)
-        self._follow: ActionClient[Any, Any, Any] = ActionClient(node, FollowPath, FOLLOW)
+        self._navigate: ActionClient[Any, Any, Any] = ActionClient(node, NavigateToPose, Nav2Action.NAVIGATE)
+        self._follow: ActionClient[Any, Any, Any] = ActionClient(node, FollowPath, Nav2Action.FOLLOW)
         self._navigate_up_at: float | None = None  # wall s
         self._on_end = on_end
-        self.action = NAVIGATE
+        self.action = Nav2Action.NAVIGATE
         self._sent = 0  # goals sent; a response, feedback or result of an older one is ignored
         self._handle: ClientGoalHandle[Any, Any, Any] | None = None
         self._unanswered: set[int] = set()  # goals sent whose response has not come
@@ -121,12 +130,12 @@ class Nav2Goals:
         waited = wall_s - self._navigate_up_at >= FOLLOW_WAIT_S
         return not wants_follow or waited or self._follow.server_is_ready()
 
-    def action_for(self, goal: Goal) -> str:
+    def action_for(self, goal: Goal) -> Nav2Action:
         """The action ``goal`` goes to: ``follow_path`` for a goal with a path, while Nav2's
         controller serves it, else ``navigate_to_pose``."""
-        return FOLLOW if goal.path is not None and self._follow.server_is_ready() else NAVIGATE
+        return Nav2Action.FOLLOW if goal.path is not None and self._follow.server_is_ready() else Nav2Action.NAVIGATE
 
-    def send(self, goal: Goal, frame: str, stamp: Time) -> str:
+    def send(self, goal: Goal, frame: str, stamp: Time) -> Nav2Action:
         """Send ``goal`` (in the map ``frame``, stamped ``stamp``) to the action :meth:`action_for`
         gives, which it returns; a goal under way on the other action is cancelled first."""
         self._sent += 1
@@ -134,11 +143,11 @@ class Nav2Goals:
         if self._heard_at == math.inf:  # a goal sent again (its path renewed) does not reset Nav2's silence
             self._heard()
         action = self.action_for(goal)
-        if self._handle is not None and action != self.action:  # two servers: the other's goal would drive on
+        if self._handle is not None and action is not self.action:  # two servers: the other's goal would drive on
             self._cancel(self._handle)
             self._handle = None
         self.action = action
-        client = self._follow if action == FOLLOW else self._navigate
+        client = self._follow if action is Nav2Action.FOLLOW else self._navigate
         request = goal_request(goal, action, frame, stamp, self.plugins)
         future = client.send_goal_async(request, feedback_callback=partial(self._feedback, number))
         self._unanswered.add(number)
@@ -255,20 +264,20 @@ def error_text(result: Any) -> str:
     return f", error {code}" + (f": {message}" if message else "")
 
 
-def plugin_problem(action: str, outcome: GoalOutcome, plugins: Nav2Plugins) -> str | None:
-    """What to set when Nav2 ended a goal of ``action`` (:data:`FOLLOW` or :data:`NAVIGATE`) for a
+def plugin_problem(action: Nav2Action, outcome: GoalOutcome, plugins: Nav2Plugins) -> str | None:
+    """What to set when Nav2 ended a goal of ``action`` (:attr:`Nav2Action.FOLLOW` or :attr:`Nav2Action.NAVIGATE`) for a
     plugin ``plugins`` name that it has not: ``follow_path``'s ``INVALID_CONTROLLER`` (a controller,
     or in a path sent again a goal or progress checker, it has not; or none named where it has
     several), ``navigate_to_pose``'s ``FAILED_TO_LOAD_BEHAVIOR_TREE``. Every goal would end so; None
     for any other end."""
-    if action == FOLLOW and outcome.error_code == FollowPath.Result.INVALID_CONTROLLER:
+    if action is Nav2Action.FOLLOW and outcome.error_code == FollowPath.Result.INVALID_CONTROLLER:
         return (
             f"Nav2's controller_server has no controller {plugins.controller_id!r} (or goal checker "
             f"{plugins.goal_checker_id!r}, progress checker {plugins.progress_checker_id!r}){outcome.error}: set the "
             "explorer's controller_id, goal_checker_id and progress_checker_id to plugins of its controller_plugins, "
             "goal_checker_plugins and progress_checker_plugins"
         )
-    if action == NAVIGATE and outcome.error_code == NavigateToPose.Result.FAILED_TO_LOAD_BEHAVIOR_TREE:
+    if action is Nav2Action.NAVIGATE and outcome.error_code == NavigateToPose.Result.FAILED_TO_LOAD_BEHAVIOR_TREE:
         return (
             f"Nav2's bt_navigator cannot load the behaviour tree {plugins.behavior_tree!r}{outcome.error}: set the "
             "explorer's behavior_tree to one it can load ('' for its default)"

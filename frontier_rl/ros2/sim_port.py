@@ -35,6 +35,7 @@ from frontier_rl.ros2.messages import (
     robot_pose,
     transform_stamped,
 )
+from frontier_rl.ros2.nav2_goals import Nav2Action
 from frontier_rl.ros2.pose_listener import TF_QOS, TF_STATIC_QOS
 
 _MAP_PERIOD_S = 0.1
@@ -97,8 +98,8 @@ class RobotPort:
                 cancel_callback=lambda _: CancelResponse.ACCEPT,
             )
             for action, name, execute, check in (
-                (NavigateToPose, "navigate_to_pose", self._navigate, self._check_goal),
-                (FollowPath, "follow_path", self._follow, self._check_path),
+                (NavigateToPose, Nav2Action.NAVIGATE, self._navigate, self._check_goal),
+                (FollowPath, Nav2Action.FOLLOW, self._follow, self._check_path),
             )
         ]
         self._active: _ActiveGoal | None = None

@@ -29,7 +29,7 @@ from frontier_rl.ros2.messages import (
     quaternion_of,
     robot_pose,
 )
-from frontier_rl.ros2.nav2_goals import FOLLOW, NAVIGATE, goal_request
+from frontier_rl.ros2.nav2_goals import Nav2Action, goal_request
 
 
 def _grid() -> OccupancyGrid:
@@ -106,16 +106,16 @@ def test_goals_name_the_nav2_plugins_given_and_none_by_default() -> None:
     path = np.array([(0.0, 0.0), (1.0, 0.5)])
     goal = Goal(1.0, 0.5, np.zeros((0, 2)), path=path)
     plugins = Nav2Plugins("/opt/explore_bt.xml", "FollowPath", "precise_goal_checker", "simple_progress_checker")
-    follow = goal_request(goal, FOLLOW, "map", Time(sec=2), plugins)
+    follow = goal_request(goal, Nav2Action.FOLLOW, "map", Time(sec=2), plugins)
     assert (follow.controller_id, follow.goal_checker_id, follow.progress_checker_id) == (
         "FollowPath",
         "precise_goal_checker",
         "simple_progress_checker",
     )
     np.testing.assert_array_equal(path_points(follow.path), path)
-    navigate = goal_request(goal, NAVIGATE, "map", Time(sec=2), plugins)
+    navigate = goal_request(goal, Nav2Action.NAVIGATE, "map", Time(sec=2), plugins)
     assert navigate.behavior_tree == "/opt/explore_bt.xml"
     assert (navigate.pose.pose.position.x, navigate.pose.pose.position.y) == (1.0, 0.5)
-    plain = goal_request(goal, FOLLOW, "map", Time(), Nav2Plugins())
+    plain = goal_request(goal, Nav2Action.FOLLOW, "map", Time(), Nav2Plugins())
     assert (plain.controller_id, plain.goal_checker_id, plain.progress_checker_id) == ("", "", "")
-    assert goal_request(goal, NAVIGATE, "map", Time(), Nav2Plugins()).behavior_tree == ""
+    assert goal_request(goal, Nav2Action.NAVIGATE, "map", Time(), Nav2Plugins()).behavior_tree == ""
