@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import math
 import re
+from collections.abc import Iterable
 from dataclasses import dataclass
 from enum import StrEnum
 
@@ -204,3 +205,9 @@ class TeamMethod:
     def label(self, policy_label: str) -> str:
         """A display name from the policy's: ``fixed:0.75 ×4 coordinated``."""
         return policy_label if self.robots is None else f"{policy_label} ×{self.robots} {self.strategy.value}"
+
+
+def one_robot_methods(methods: Iterable[str]) -> dict[str, str]:
+    """The one-robot methods among ``methods``, by their policy's canonical text: the method a team
+    of that policy is compared with (``fixed:0.5`` for ``fixed:0.50@2``)."""
+    return {team.policy.canonical: method for method in methods if (team := TeamMethod.parse(method)).robots is None}

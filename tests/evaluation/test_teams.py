@@ -16,7 +16,9 @@ from frontier_rl.evaluation.running.evaluate import evaluate
 from frontier_rl.evaluation.running.experiment import ExperimentConfig
 from frontier_rl.evaluation.running.fingerprints import identity
 from frontier_rl.evaluation.running.methods import team_methods
+from frontier_rl.evaluation.statistics.analysis import team_scaling
 from frontier_rl.swarm import Failure, Strategy, TeamMethod
+from frontier_rl.swarm.config import one_robot_methods
 
 pytestmark = pytest.mark.slow  # team experiments
 
@@ -79,6 +81,20 @@ def test_team_methods_expand_every_size_and_strategy() -> None:
 def test_bad_team_experiments_are_refused(methods: tuple[str, ...], kw: dict[str, object], needle: str) -> None:
     with pytest.raises(ConfigError, match=needle):
         _config(methods, **kw)
+
+
+def test_a_team_is_compared_with_its_policy_alone_however_the_policy_is_written() -> None:
+    """``fixed:0.50@2`` and ``fixed:0.5@4`` are teams of ``fixed:0.5``: one line, which the one
+    robot starts (the line had no one-robot point when the texts differed)."""
+    methods = ("fixed:0.5", "fixed:0.50@2", "fixed:0.5@4")
+    times = {"fixed:0.5": [100.0, 120.0], "fixed:0.50@2": [60.0, 70.0], "fixed:0.5@4": [40.0, 50.0]}
+    points = team_scaling(times, methods)
+    assert [(p.policy, p.robots, p.method, p.mean_time_s) for p in points] == [
+        ("fixed:0.5", 1, "fixed:0.5", 110.0),
+        ("fixed:0.5", 2, "fixed:0.50@2", 65.0),
+        ("fixed:0.5", 4, "fixed:0.5@4", 45.0),
+    ]
+    assert one_robot_methods(("nearest@2", "fixed:0.750", "tour")) == {"fixed:0.75": "fixed:0.750", "tour:10": "tour"}
 
 
 def test_team_settings_are_part_of_the_identity() -> None:

@@ -26,7 +26,7 @@ from frontier_rl.evaluation.results.summary import ExperimentSummary, MethodSumm
 from frontier_rl.evaluation.running.experiment import ExperimentConfig
 from frontier_rl.evaluation.running.methods import ORACLE
 from frontier_rl.evaluation.statistics.paired import THESIS_OUTLIERS_S
-from frontier_rl.swarm.config import TeamMethod
+from frontier_rl.swarm.config import TeamMethod, one_robot_methods
 
 TeamTraces = Mapping[str, Sequence[EpisodeTrace]]
 """The traces of each team method's episodes (their per-robot coverage and failures)."""
@@ -186,11 +186,12 @@ def _team_table(summary: ExperimentSummary, labels: dict[str, str], traces: Team
         "over robots, averaged over episodes).",
     )
     methods = summary.methods
+    alone_of = one_robot_methods(methods)
     for method, entry in methods.items():
         team = TeamMethod.parse(method)
         if team.robots is None:
             continue
-        alone = methods.get(str(team.policy))
+        alone = methods[alone_of[team.policy.canonical]] if team.policy.canonical in alone_of else None
         speedup = None
         if alone and alone.mean_time_s is not None and entry.mean_time_s:  # a time of 0 s: no speed-up
             speedup = alone.mean_time_s / entry.mean_time_s

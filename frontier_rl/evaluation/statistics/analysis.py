@@ -25,7 +25,7 @@ from frontier_rl.evaluation.results.summary import (
 from frontier_rl.evaluation.running.experiment import ExperimentConfig
 from frontier_rl.evaluation.running.methods import ORACLE
 from frontier_rl.evaluation.statistics.paired import compare_methods, holm_adjust
-from frontier_rl.swarm.config import Strategy, TeamMethod
+from frontier_rl.swarm.config import Strategy, TeamMethod, one_robot_methods
 
 Rows = Mapping[Key, EpisodeRow]
 
@@ -79,16 +79,19 @@ def team_scaling(times: dict[str, list[float]], methods: tuple[str, ...]) -> tup
     """Mean exploration time (s) against team size, per policy and strategy, with the 95 % CI
     half-width (Student's t) of each mean; a policy's one-robot method, if run, starts every line.
     The points come by policy, then strategy (each in the order of the methods), then team size."""
-    parsed = {m: TeamMethod.parse(m) for m in methods}
-    policies: dict[str, dict[Strategy, dict[int, TeamPoint | None]]] = {}
-    for method, team in parsed.items():
+    alone_of = one_robot_methods(methods)
+    policies: dict[str, dict[Strategy, dict[int, TeamPoint | None]]] = {}  # by the policy's canonical text
+    labels: dict[str, str] = {}  # the policy as the methods write it
+    for method in methods:
+        team = TeamMethod.parse(method)
         if team.robots is None:
             continue
-        alone, strategy = str(team.policy), team.strategy
-        line = policies.setdefault(alone, {}).setdefault(strategy, {})
-        line[team.robots] = _team_point(alone, strategy, team.robots, method, times[method])
-        if alone in parsed and 1 not in line:
-            line[1] = _team_point(alone, strategy, 1, alone, times[alone])
+        alone = alone_of.get(team.policy.canonical)
+        policy = labels.setdefault(team.policy.canonical, alone or str(team.policy))  # one per line
+        line = policies.setdefault(team.policy.canonical, {}).setdefault(team.strategy, {})
+        line[team.robots] = _team_point(policy, team.strategy, team.robots, method, times[method])
+        if alone is not None and 1 not in line:
+            line[1] = _team_point(policy, team.strategy, 1, alone, times[alone])
     return tuple(
         point
         for lines in policies.values()
