@@ -6,7 +6,6 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 from enum import StrEnum
-from typing import Any
 
 from frontier_rl.errors import ConfigError, short_repr
 
@@ -24,14 +23,27 @@ class ModelKind(StrEnum):
 
 @dataclass(frozen=True)
 class ModelSpec:
-    """A thesis model: which env it runs in and with which channels, and what it chooses."""
+    """A thesis model: which env it runs in and with which channels, and what it chooses.
+
+    Attributes:
+        with_frontiers_and_pose: for a model of a map image (1-4), whether the frontiers and the
+            robot's pose are channels beside the map; None for the env that takes no such choice.
+        tour: for a model of the frontier table, whether the table has the tour column (model 7).
+    """
 
     number: int
     name: str
     entry_point: str
-    kwargs: dict[str, Any]
     description: str
     kind: ModelKind
+    with_frontiers_and_pose: bool | None = None
+    tour: bool = False
+
+    def env_kwargs(self) -> dict[str, bool]:
+        """The keyword arguments its env is registered with (Gymnasium's ``gym.register``)."""
+        channels = self.with_frontiers_and_pose
+        kwargs = {} if channels is None else {"with_frontiers_and_pose": channels}
+        return kwargs | ({"tour": True} if self.tour else {})
 
 
 MODELS: dict[int, ModelSpec] = {
@@ -39,39 +51,38 @@ MODELS: dict[int, ModelSpec] = {
         1,
         "PointMapFrontiersPose",
         "frontier_rl.envs.point_env:PointEnv",
-        {"with_frontiers_and_pose": True},
         "map + frontiers + pose in, a map cell out",
         ModelKind.POINT,
+        with_frontiers_and_pose=True,
     ),
     2: ModelSpec(
         2,
         "PointMap",
         "frontier_rl.envs.point_env:PointEnv",
-        {"with_frontiers_and_pose": False},
         "map in, a map cell out",
         ModelKind.POINT,
+        with_frontiers_and_pose=False,
     ),
     3: ModelSpec(
         3,
         "WeightMapFrontiersPose",
         "frontier_rl.envs.weight_env:WeightEnv",
-        {"with_frontiers_and_pose": True},
         "map + frontiers + pose in, ranking weight out",
         ModelKind.WEIGHT,
+        with_frontiers_and_pose=True,
     ),
     4: ModelSpec(
         4,
         "WeightMap",
         "frontier_rl.envs.weight_env:WeightEnv",
-        {"with_frontiers_and_pose": False},
         "map in, ranking weight out",
         ModelKind.WEIGHT,
+        with_frontiers_and_pose=False,
     ),
     5: ModelSpec(
         5,
         "FrontierChoice",
         "frontier_rl.envs.frontier_env:FrontierChoiceEnv",
-        {},
         "map + per-frontier features in, one of the top-K frontiers out",
         ModelKind.FRONTIER,
     ),
@@ -79,7 +90,6 @@ MODELS: dict[int, ModelSpec] = {
         6,
         "WeightFrontierTable",
         "frontier_rl.envs.weight_env:WeightTableEnv",
-        {},
         "map + per-frontier features in, ranking weight out",
         ModelKind.WEIGHT_TABLE,
     ),
@@ -87,9 +97,9 @@ MODELS: dict[int, ModelSpec] = {
         7,
         "FrontierChoiceTour",
         "frontier_rl.envs.frontier_env:FrontierChoiceEnv",
-        {"tour": True},
         "map + per-frontier features and tour costs in, one of the top-K frontiers out",
         ModelKind.FRONTIER,
+        tour=True,
     ),
 }
 """Models 1-4 are the thesis's, 5 its future work (a frontier chosen directly), 6 model 3 with

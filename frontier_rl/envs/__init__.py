@@ -43,7 +43,7 @@ def register_envs() -> None:
                 gym.register(
                     id=name,
                     entry_point=spec.entry_point,
-                    kwargs={**spec.kwargs, "observation_size": size},
+                    kwargs={**spec.env_kwargs(), "observation_size": size},
                     disable_env_checker=True,
                 )
 

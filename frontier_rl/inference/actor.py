@@ -34,10 +34,10 @@ def model_shape(model: int, size: int) -> ObservationShape:
     """The observation and actions of model ``model`` at map images of ``size`` pixels, as its
     registered env (:data:`~frontier_rl.registration.MODELS`) has them."""
     if model in TABLE_MODELS:
-        columns = len(FRONTIER_FEATURES) + bool(MODELS[model].kwargs.get("tour", False))
+        columns = len(FRONTIER_FEATURES) + MODELS[model].tour
         actions = TOP_K if model in FRONTIER_CHOICE_MODELS else WEIGHT_BINS
         return ObservationShape((3, size, size), actions, TOP_K, TOP_K * columns)
-    channels = 3 if MODELS[model].kwargs["with_frontiers_and_pose"] else 1
+    channels = 3 if MODELS[model].with_frontiers_and_pose else 1
     return ObservationShape((channels, size, size), size * size if model in POINT_MODELS else WEIGHT_BINS)
 
 
