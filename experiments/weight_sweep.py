@@ -21,7 +21,7 @@ import numpy as np
 
 from frontier_rl.atomic_write import write_text_atomic
 from frontier_rl.core.sim.config import SimConfig
-from frontier_rl.evaluation.results.episode_record import EpisodeRow, Key
+from frontier_rl.evaluation.results.episode_record import EpisodeKey, EpisodeRow
 from frontier_rl.evaluation.results.store import ResultStore
 from frontier_rl.evaluation.running.evaluate import evaluate
 from frontier_rl.evaluation.running.experiment import ExperimentConfig, expand_worlds
@@ -31,10 +31,10 @@ from frontier_rl.evaluation.running.methods import ORACLE
 SWEEP = tuple(f"fixed:{0.05 * i:.2f}" for i in range(21))
 
 
-def sweep_analysis(rows: Mapping[Key, EpisodeRow], worlds: tuple[str, ...], episodes: int) -> dict[str, Any]:
+def sweep_analysis(rows: Mapping[EpisodeKey, EpisodeRow], worlds: tuple[str, ...], episodes: int) -> dict[str, Any]:
     """The best weight of the sweep on average, the per-world best weights and their mean time."""
     keys = [(w, e) for e in range(episodes) for w in worlds]
-    times = np.array([[rows[(m, w, e)].sim_time_s for m in SWEEP] for w, e in keys])
+    times = np.array([[rows[EpisodeKey(m, w, e)].sim_time_s for m in SWEEP] for w, e in keys])
     weights = np.array([float(m.split(":")[1]) for m in SWEEP])
     best = int(times.mean(axis=0).argmin())
     per_world = weights[times.argmin(axis=1)]

@@ -20,7 +20,7 @@ from frontier_rl.evaluation.report.plots import box_plot, coverage_plot, paired_
 from frontier_rl.evaluation.report.run_pictures import RunPicture
 from frontier_rl.evaluation.report.table import Table, short_labels
 from frontier_rl.evaluation.report.tables import methods_table, outcome_tables, outlier_note, time_tables
-from frontier_rl.evaluation.results.episode_record import EpisodeTrace
+from frontier_rl.evaluation.results.episode_record import EpisodeKey, EpisodeTrace
 from frontier_rl.evaluation.results.store import ResultStore
 from frontier_rl.evaluation.results.summary import SUMMARY_FILE, ExperimentSummary
 from frontier_rl.evaluation.running.experiment import ExperimentConfig
@@ -92,7 +92,9 @@ def _run_traces(store: ResultStore, config: ExperimentConfig) -> dict[str, list[
     """Each method's traces of this run's episodes: a folder run before with more episodes or
     other worlds keeps theirs too, and they are not this run's."""
     keys = [(w, e) for e in range(config.episodes) for w in config.worlds]
-    return {m: [store.traces[(m, w, e)] for w, e in keys if (m, w, e) in store.traces] for m in config.methods}
+    return {
+        m: [store.traces[key] for w, e in keys if (key := EpisodeKey(m, w, e)) in store.traces] for m in config.methods
+    }
 
 
 def _figures(store: ResultStore, config: ExperimentConfig, summary: ExperimentSummary) -> list[Figure]:

@@ -16,15 +16,21 @@ import types
 from collections.abc import Mapping
 from dataclasses import dataclass, field, fields
 from enum import Enum
-from typing import Any, get_args, get_type_hints
+from typing import Any, NamedTuple, get_args, get_type_hints
 
 from frontier_rl.checked_values import enum_member
 from frontier_rl.core.sim.leg_result import AbortCause
 from frontier_rl.core.sim.metrics import EndReason
 from frontier_rl.errors import ConfigError, short_repr
 
-Key = tuple[str, str, int]
-"""An episode's identity in an experiment: (method, world, episode)."""
+
+class EpisodeKey(NamedTuple):
+    """An episode's identity in an experiment."""
+
+    method: str
+    world: str
+    episode: int
+
 
 MAX_MAGNITUDE = 1e12
 """Largest magnitude of a number in a row or a trace (s, m, ...): 30,000 years of sim time. Anyone
@@ -82,9 +88,9 @@ class EpisodeRow:
     wall_time_s: float
 
     @property
-    def key(self) -> Key:
+    def key(self) -> EpisodeKey:
         """(method, world, episode)."""
-        return self.method, self.world, self.episode
+        return EpisodeKey(self.method, self.world, self.episode)
 
     def csv_line(self) -> str:
         """The row as one CSV line (no newline); None is an empty field."""

@@ -15,7 +15,7 @@ from frontier_rl import atomic_write
 from frontier_rl.atomic_write import OutputWriteError, describe_os_error
 from frontier_rl.bounded_read import UnreadableFileError, read_bounded
 from frontier_rl.errors import ConfigError, short_repr
-from frontier_rl.evaluation.results.episode_record import Key
+from frontier_rl.evaluation.results.episode_record import EpisodeKey
 
 _Entry = TypeVar("_Entry")
 
@@ -61,8 +61,8 @@ class KeyedLine(NamedTuple, Generic[_Entry]):
 
 
 def keyed_lines(
-    path: Path, what: str, parse: Callable[[Key, Mapping[str, object]], _Entry]
-) -> dict[Key, KeyedLine[_Entry]]:
+    path: Path, what: str, parse: Callable[[EpisodeKey, Mapping[str, object]], _Entry]
+) -> dict[EpisodeKey, KeyedLine[_Entry]]:
     """The JSON lines of ``path`` by episode key, each object read by ``parse`` (which raises
     TypeError or ValueError for one it refuses). A later line of the same episode (rerun after a
     kill) wins.
@@ -70,11 +70,11 @@ def keyed_lines(
     Raises:
         ConfigError: a line that is not such an object, named by file and line.
     """
-    entries: dict[Key, KeyedLine[_Entry]] = {}
+    entries: dict[EpisodeKey, KeyedLine[_Entry]] = {}
     for number, line in complete_lines(path):
         try:
             entry = json.loads(line)
-            key = (entry["method"], entry["world"], entry["episode"])
+            key = EpisodeKey(entry["method"], entry["world"], entry["episode"])
             hash(key)
             entries[key] = KeyedLine(number, line, parse(key, entry))
         except (ValueError, TypeError, KeyError, AttributeError, RecursionError):

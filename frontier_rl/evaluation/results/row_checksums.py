@@ -8,7 +8,7 @@ import json
 from collections.abc import Mapping
 from dataclasses import dataclass
 
-from frontier_rl.evaluation.results.episode_record import Key
+from frontier_rl.evaluation.results.episode_record import EpisodeKey
 
 CHECKSUM_SCHEME = "frontier_rl episode row v1"
 """Hashed first into every row checksum: a later scheme changes it."""
@@ -19,19 +19,21 @@ class RowChecksum:
     """A line of ``checksums.jsonl``: an episode's key, the SHA-256 (hex) of its trace's line in
     ``traces.jsonl`` and its row checksum (:func:`row_checksum`)."""
 
-    key: Key
+    key: EpisodeKey
     trace_sha256: str
     row_sha256: str
 
     @classmethod
-    def of(cls, experiment: str, method_fingerprint: str, key: Key, row_line: str, trace_line: str) -> RowChecksum:
+    def of(
+        cls, experiment: str, method_fingerprint: str, key: EpisodeKey, row_line: str, trace_line: str
+    ) -> RowChecksum:
         """The checksum of the row ``row_line`` of episode ``key`` with the trace ``trace_line``
         (both without their line ends), in experiment ``experiment`` (its id)."""
         trace_sha256 = sha256_hex(trace_line)
         return cls(key, trace_sha256, row_checksum(experiment, method_fingerprint, row_line, trace_sha256))
 
     @classmethod
-    def from_json(cls, key: Key, entry: Mapping[str, object]) -> RowChecksum:
+    def from_json(cls, key: EpisodeKey, entry: Mapping[str, object]) -> RowChecksum:
         """The checksum of episode ``key`` that a line's object holds.
 
         Raises:

@@ -46,7 +46,13 @@ except ImportError:  # pragma: no cover - not POSIX
 
 from frontier_rl.atomic_write import write_text_atomic
 from frontier_rl.errors import ConfigError, short_repr, short_text
-from frontier_rl.evaluation.results.episode_record import ROW_COLUMNS, EpisodeOutcome, EpisodeRow, EpisodeTrace, Key
+from frontier_rl.evaluation.results.episode_record import (
+    ROW_COLUMNS,
+    EpisodeKey,
+    EpisodeOutcome,
+    EpisodeRow,
+    EpisodeTrace,
+)
 from frontier_rl.evaluation.results.files import (
     KeyedLine,
     append_synced,
@@ -94,11 +100,11 @@ class ResultStore:
         self.checksum_path = self.out / "checksums.jsonl"
         self.identity_path = self.out / "experiment.json"
         self._lock = self._acquire_lock()
-        self.rows: dict[Key, EpisodeRow] = {}
-        self._row_lines: dict[Key, str] = {}
-        self.traces: dict[Key, EpisodeTrace] = {}
-        self._trace_lines: dict[Key, str] = {}
-        self._checksum_lines: dict[Key, str] = {}
+        self.rows: dict[EpisodeKey, EpisodeRow] = {}
+        self._row_lines: dict[EpisodeKey, str] = {}
+        self.traces: dict[EpisodeKey, EpisodeTrace] = {}
+        self._trace_lines: dict[EpisodeKey, str] = {}
+        self._checksum_lines: dict[EpisodeKey, str] = {}
         self.identity = identity
         self.experiment_id = identity.experiment_id
         try:
@@ -164,7 +170,7 @@ class ResultStore:
             raise ConfigError(
                 f"{self.csv_path} has the columns of another version of frontier_rl; choose another --out"
             )
-        row_numbers: dict[Key, int] = {}
+        row_numbers: dict[EpisodeKey, int] = {}
         for number, line in lines[1:]:  # the first is the header
             try:
                 row = EpisodeRow.from_csv_line(line)
@@ -204,13 +210,13 @@ class ResultStore:
             self._checksum_lines[key] = checksums[key].line
 
     def _adopt(
-        self, row_numbers: dict[Key, int], traces: dict[Key, KeyedLine[Mapping[str, object]]]
-    ) -> dict[Key, KeyedLine[RowChecksum]]:
+        self, row_numbers: dict[EpisodeKey, int], traces: dict[EpisodeKey, KeyedLine[Mapping[str, object]]]
+    ) -> dict[EpisodeKey, KeyedLine[RowChecksum]]:
         """Write ``checksums.jsonl`` for the rows as they are (each needs a method of this
         experiment and a trace); returns the entries as :meth:`_load` reads them."""
-        entries: dict[Key, KeyedLine[RowChecksum]] = {}
+        entries: dict[EpisodeKey, KeyedLine[RowChecksum]] = {}
         for number, key in enumerate(self.rows, start=1):
-            fingerprint = self.identity.methods.get(key[0])
+            fingerprint = self.identity.methods.get(key.method)
             if fingerprint is None or key not in traces:
                 what = "is not a method of this experiment" if fingerprint is None else "has no trace"
                 raise ConfigError(f"{self.csv_path} line {row_numbers[key]} ({_describe(key)}) {what}; {_FIX_ROW}")
@@ -221,17 +227,17 @@ class ResultStore:
 
     def _verify(
         self,
-        key: Key,
+        key: EpisodeKey,
         number: int,
         trace: KeyedLine[Mapping[str, object]] | None,
         checksum: KeyedLine[RowChecksum] | None,
     ) -> None:
         """Refuse the row at line ``number`` unless its checksum and its trace's match."""
         where = f"{self.csv_path} line {number} ({_describe(key)})"
-        fingerprint = self.identity.methods.get(key[0])
+        fingerprint = self.identity.methods.get(key.method)
         if fingerprint is None:
             raise ConfigError(
-                f"{where}: {short_repr(key[0])} is not a method of this experiment ({self.identity_path.name}); "
+                f"{where}: {short_repr(key.method)} is not a method of this experiment ({self.identity_path.name}); "
                 f"the row was edited or copied from another experiment; {_FIX_ROW}"
             )
         if checksum is None:
@@ -328,8 +334,8 @@ _FIX_ROW = "delete that line to run the episode again, or choose another --out"
 _MAX_IDENTITY_BYTES = 16 * 1024 * 1024  # experiment.json: the settings and one fingerprint per method
 
 
-def _describe(key: Key) -> str:
-    return f"{_clip(str(key[0]))} on {_clip(str(key[1]))}, episode {_clip(str(key[2]))}"
+def _describe(key: EpisodeKey) -> str:
+    return f"{_clip(str(key.method))} on {_clip(str(key.world))}, episode {_clip(str(key.episode))}"
 
 
 def _clip(text: str) -> str:
@@ -347,7 +353,7 @@ def _depth(value: object) -> int:
     return deepest
 
 
-def _as_read(key: Key, entry: Mapping[str, object]) -> Mapping[str, object]:
+def _as_read(key: EpisodeKey, entry: Mapping[str, object]) -> Mapping[str, object]:
     """A trace's line as read (checked against its checksum before it is parsed)."""
     return entry
 

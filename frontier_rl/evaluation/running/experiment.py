@@ -22,7 +22,7 @@ from frontier_rl.core.sim.metrics import EpisodeSummary, sample_step
 from frontier_rl.core.world.catalog import WORLD_GENERATORS
 from frontier_rl.core.world.worlds import World
 from frontier_rl.errors import ConfigError
-from frontier_rl.evaluation.results.episode_record import EpisodeOutcome, EpisodeRow, EpisodeTrace
+from frontier_rl.evaluation.results.episode_record import EpisodeKey, EpisodeOutcome, EpisodeRow, EpisodeTrace
 from frontier_rl.evaluation.running.methods import ORACLE, episode_policy, team_config
 from frontier_rl.policies import make_policy
 from frontier_rl.swarm import Failure, TeamConfig, TeamMethod, TeamSummary, run_team_episode
@@ -159,9 +159,9 @@ class EpisodeJob:
     team_method: TeamMethod
 
     @property
-    def key(self) -> tuple[str, str, int]:
-        """(method, world, episode): a row's identity in the results."""
-        return (self.method, self.world, self.episode)
+    def key(self) -> EpisodeKey:
+        """A row's identity in the results."""
+        return EpisodeKey(self.method, self.world, self.episode)
 
 
 @dataclass(frozen=True)

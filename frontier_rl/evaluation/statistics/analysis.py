@@ -13,7 +13,7 @@ from numpy.typing import NDArray
 from scipy import stats as scipy_stats
 
 from frontier_rl.core.sim.metrics import EndReason
-from frontier_rl.evaluation.results.episode_record import EpisodeRow, Key
+from frontier_rl.evaluation.results.episode_record import EpisodeKey, EpisodeRow
 from frontier_rl.evaluation.results.summary import (
     ExperimentSummary,
     MethodSummary,
@@ -27,7 +27,7 @@ from frontier_rl.evaluation.running.methods import ORACLE
 from frontier_rl.evaluation.statistics.paired import compare_methods, holm_adjust
 from frontier_rl.swarm.config import Strategy, TeamMethod, one_robot_methods
 
-Rows = Mapping[Key, EpisodeRow]
+Rows = Mapping[EpisodeKey, EpisodeRow]
 
 
 def paired_times(
@@ -36,7 +36,7 @@ def paired_times(
     """Each method's exploration times (s), aligned by (world, episode): NaN for a team whose robots all
     failed, which has no time to explore (its time is when the last one stopped); such episodes are
     left out of the method's comparisons, as their pairs (:func:`compare_methods`)."""
-    return {m: [_exploration_time(rows[(m, w, e)]) for e in range(episodes) for w in worlds] for m in methods}
+    return {m: [_exploration_time(rows[EpisodeKey(m, w, e)]) for e in range(episodes) for w in worlds] for m in methods}
 
 
 def _exploration_time(row: EpisodeRow) -> float:
@@ -119,7 +119,7 @@ def _method_table(rows: Rows, config: ExperimentConfig, worlds: tuple[str, ...])
     holm = holm_adjust(tested, family_size=sum(stats[m].n >= 2 for m in tested))
     table: dict[str, MethodSummary] = {}
     for method in config.methods:
-        own = [rows[(method, w, e)] for e in range(config.episodes) for w in worlds]
+        own = [rows[EpisodeKey(method, w, e)] for e in range(config.episodes) for w in worlds]
         variance = defined(stats[method].var_time_s)
         table[method] = MethodSummary(
             **MethodSummary.values_of(stats[method]),
