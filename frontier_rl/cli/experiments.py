@@ -76,6 +76,7 @@ def demo(
 
     checked_run_arguments(seed, out)
     from frontier_rl.config_files import dump_config
+    from frontier_rl.evaluation.report.run_pictures import AnimatedRun
     from frontier_rl.evaluation.results.summary import ExperimentSummary
     from frontier_rl.evaluation.running.evaluate import DEFAULT_OUTLIERS_S, checked_run
     from frontier_rl.evaluation.running.evaluate import evaluate as run_evaluation
@@ -104,7 +105,7 @@ def demo(
         progress,
         command,
         pictures=len(DEMO_WORLDS),
-        animate=("office", THESIS_BASELINE),
+        animate=AnimatedRun("office", THESIS_BASELINE),
     )
     dump_config(experiment.sim, out / "config.yaml")  # once the folder is the demo's (its experiment/)
     title = f"{episodes} episode(s) per world on {', '.join(DEMO_WORLDS)}"

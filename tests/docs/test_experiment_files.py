@@ -13,6 +13,7 @@ from pathlib import Path
 import pytest
 
 from frontier_rl.core.sim.config import SimConfig
+from frontier_rl.evaluation.report.run_pictures import AnimatedRun
 from frontier_rl.evaluation.running.evaluate import evaluate
 from frontier_rl.evaluation.running.experiment import ExperimentConfig
 from tests.docs.markdown_pages import DOCS, ROOT, tokens
@@ -77,7 +78,7 @@ def test_the_files_of_an_experiment_are_those_the_page_lists(tmp_path: Path) -> 
     out = tmp_path / "experiment"
     methods = ("fixed:0.75", f"learned:{ROOT / 'models' / 'model4.zip'}", "nearest@2")
     config = ExperimentConfig(methods=methods, worlds=("office",), episodes=1, sim=SimConfig(max_sim_time=120.0))
-    evaluate(config, out, backend="serial", progress=False, pictures=1, animate=("office", "fixed:0.75"))
+    evaluate(config, out, backend="serial", progress=False, pictures=1, animate=AnimatedRun("office", "fixed:0.75"))
     check(listed_files("`frontier-rl evaluate`"), written_files(out))
     with (out / "episodes.csv").open() as rows:
         columns = next(csv.reader(rows))

@@ -44,12 +44,19 @@ class RunPicture:
     caption: str
 
 
-def draw_runs(
-    config: ExperimentConfig, out: Path, worlds: int, animate: tuple[str, str] | None = None
-) -> list[RunPicture]:
+@dataclass(frozen=True)
+class AnimatedRun:
+    """The episode a report animates: the first of ``method`` on ``world``, as the experiment
+    names them."""
+
+    world: str
+    method: str
+
+
+def draw_runs(config: ExperimentConfig, out: Path, worlds: int, animate: AnimatedRun | None = None) -> list[RunPicture]:
     """Draw the first episode of every method on each of the first ``worlds`` worlds of
-    ``config`` into ``out/pictures/``; ``animate`` = (world, method) also writes a GIF with a frame
-    per decision of that episode. Returns the pictures, world by world, in method order."""
+    ``config`` into ``out/pictures/``; ``animate`` also writes a GIF with a frame per decision of
+    that episode. Returns the pictures, world by world, in method order."""
     if worlds <= 0 and animate is None:
         return []
     folder = out / PICTURES_FOLDER
@@ -58,11 +65,11 @@ def draw_runs(
     method_labels, world_labels = short_labels(config.methods), short_labels(config.worlds)
     pictures = []
     chosen = list(config.worlds[:worlds])
-    if animate is not None and animate[0] not in chosen:
-        chosen.append(animate[0])
+    if animate is not None and animate.world not in chosen:
+        chosen.append(animate.world)
     for world_name in chosen:
         for method in config.methods:
-            gif = animate == (world_name, method)
+            gif = animate == AnimatedRun(world_name, method)
             if world_name not in config.worlds[:worlds] and not gif:
                 continue
             stem = _file_stem(f"{world_labels[world_name]}_{method_labels[method]}")

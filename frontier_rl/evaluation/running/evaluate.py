@@ -15,7 +15,7 @@ from rich.progress import BarColumn, MofNCompleteColumn, Progress, TextColumn, T
 
 from frontier_rl.atomic_write import OutputWriteError
 from frontier_rl.errors import ConfigError, short_repr
-from frontier_rl.evaluation.report.run_pictures import draw_runs
+from frontier_rl.evaluation.report.run_pictures import AnimatedRun, draw_runs
 from frontier_rl.evaluation.report.writer import write_report
 from frontier_rl.evaluation.results.episode_record import EpisodeOutcome
 from frontier_rl.evaluation.results.store import ResultStore
@@ -72,13 +72,13 @@ def evaluate(
     progress: bool = True,
     command: str = "",
     pictures: int = DEFAULT_PICTURE_WORLDS,
-    animate: tuple[str, str] | None = None,
+    animate: AnimatedRun | None = None,
 ) -> Path:
     """Run the episodes of ``config`` not yet in ``out``, then write ``out``'s summary, figures and
     reports; returns the Markdown report's path. Each finished episode is on disk before the next
     is recorded, so an interrupted run resumes where it stopped when called again. The report
     shows the first episode of every method on the first ``pictures`` worlds, drawn again, and
-    ``animate`` = (world, method) adds a GIF of that one.
+    ``animate`` adds a GIF of that episode.
 
     Raises:
         ConfigError: bad settings, or ``out`` holds another experiment or edited or damaged rows.
