@@ -2,11 +2,9 @@
 
 from __future__ import annotations
 
-import csv
 from dataclasses import replace
 from pathlib import Path
 
-import numpy as np
 from matplotlib.figure import Figure
 from results_data import Experiment, Study, label, labels
 from results_format import markdown_table, p_text, percent, ratio, relative, reproduce_section, save, seconds
@@ -14,6 +12,7 @@ from results_thesis import COMPARISON_HEADER, comparison_rows, tested_p
 
 from frontier_rl.evaluation.report.plots import box_plot
 from frontier_rl.evaluation.statistics.paired import paired_stats
+from frontier_rl.rl.validation_log import VALIDATION_FILE, read_validations
 
 SWEEP_PREFIX = "fixed:"
 
@@ -226,13 +225,11 @@ training (an episode cut at the time cap counts its full time).
 def _curves_figure(study: Study) -> Figure:
     fig = Figure(figsize=(7.0, 4.0), layout="constrained")
     ax = fig.subplots()
-    for path in sorted(study.folder.glob("model*/validation.csv")):
-        with path.open(newline="") as handle:
-            rows = list(csv.DictReader(handle))
-        steps = np.array([float(r["timesteps"]) for r in rows])
+    for path in sorted(study.folder.glob(f"model*/{VALIDATION_FILE}")):
+        validations = read_validations(path)
         ax.plot(
-            steps,
-            [float(r["mean_time_s"]) for r in rows],
+            [v.timesteps for v in validations],
+            [v.mean_time_s for v in validations],
             marker="o",
             ms=3,
             label=f"model {path.parent.name.removeprefix('model')}",

@@ -2,7 +2,6 @@
 
 from __future__ import annotations
 
-import csv
 from dataclasses import replace
 from pathlib import Path
 from typing import Any
@@ -14,6 +13,7 @@ from stable_baselines3.common.callbacks import BaseCallback
 from frontier_rl.envs.world_source import VALIDATION_SEED_LOW
 from frontier_rl.inference.model_file import ModelInfo, checkpoint_name
 from frontier_rl.rl.model_file import save_model
+from frontier_rl.rl.validation_log import Validation, append_validation, read_validations
 
 
 def run_validation(env: gym.Env[Any, Any], predict: Any, episodes: int) -> list[float]:
@@ -60,12 +60,9 @@ class ValidationCallback(BaseCallback):
     def _on_training_start(self) -> None:
         self._trained = self.num_timesteps  # a resumed run's checkpoint
         last = 0  # the decisions of the last validation written
-        if self.csv_path.exists():  # a resumed run: keep the best so far
-            with self.csv_path.open() as source:
-                rows = list(csv.DictReader(source))
-            if rows:
-                self.best = min(float(r["mean_time_s"]) for r in rows)
-                last = max(int(r["timesteps"]) for r in rows)
+        if validations := read_validations(self.csv_path):  # a resumed run: keep the best so far
+            self.best = min(v.mean_time_s for v in validations)
+            last = max(v.timesteps for v in validations)
         # The next validation due; a resumed run's first step makes up for one that an interrupt cut
         # short after the checkpoint it resumes from was written.
         self._next = min(self.num_timesteps // self.every + 1, last // self.every + 1) * self.every
@@ -77,12 +74,7 @@ class ValidationCallback(BaseCallback):
         times = run_validation(self.env, lambda obs: self.model.predict(obs, deterministic=True)[0], self.episodes)
         mean = float(np.mean(times))
         self.logger.record("eval/mean_time_s", mean)
-        new = not self.csv_path.exists()
-        with self.csv_path.open("a", newline="") as sink:
-            writer = csv.writer(sink)
-            if new:
-                writer.writerow(["timesteps", "mean_time_s", "times"])
-            writer.writerow([self.num_timesteps, f"{mean:.3f}", " ".join(f"{t:.1f}" for t in times)])
+        append_validation(self.csv_path, Validation(self.num_timesteps, mean, tuple(times)))
         if mean < self.best:
             self.best = mean
             save_model(self.model, self.best_path, replace(self.info, timesteps=self._trained_decisions()))

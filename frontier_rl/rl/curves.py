@@ -13,6 +13,7 @@ import matplotlib.pyplot as plt
 import numpy as np
 
 from frontier_rl.atomic_write import save_figure_atomic
+from frontier_rl.rl.validation_log import VALIDATION_FILE, read_validations
 
 _MONITOR = re.compile(r"monitor_(\d+)\.monitor\.csv$")
 
@@ -51,18 +52,14 @@ def plot_learning_curve(run: Path, title: str = "") -> Path:
         window = max(1, min(50, len(times) // 5))
         smooth = np.convolve(times, np.ones(window) / window, mode="valid")
         ax.plot(steps[window - 1 :], smooth, color="tab:blue", label=f"running mean of {window}")
-    validation = run / "validation.csv"
-    if validation.exists():
-        with validation.open() as source:
-            rows = list(csv.DictReader(source))
-        if rows:
-            ax.plot(
-                [int(r["timesteps"]) for r in rows],
-                [float(r["mean_time_s"]) for r in rows],
-                "o-",
-                color="tab:red",
-                label="validation worlds (deterministic)",
-            )
+    if validations := read_validations(run / VALIDATION_FILE):
+        ax.plot(
+            [v.timesteps for v in validations],
+            [v.mean_time_s for v in validations],
+            "o-",
+            color="tab:red",
+            label="validation worlds (deterministic)",
+        )
     ax.set_xlabel("training decisions (env steps)")
     ax.set_ylabel("exploration time (s, simulated)")
     ax.set_title(title)

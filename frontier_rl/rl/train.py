@@ -50,6 +50,7 @@ from frontier_rl.rl.run_folder import (
     record_timesteps,
 )
 from frontier_rl.rl.teacher import TeacherLabels
+from frontier_rl.rl.validation_log import VALIDATION_FILE
 from frontier_rl.worker_signals import ignore_interrupts, spawning_workers
 from frontier_rl.world_spec import world_entries
 
@@ -254,7 +255,7 @@ def _callbacks(
     if not config.eval_every:
         return callbacks, None
     eval_env = gym.make(config.env_id, **env_kwargs, world_split="validation")
-    csv_path, best_path = out / "validation.csv", out / "best_model.zip"
+    csv_path, best_path = out / VALIDATION_FILE, out / "best_model.zip"
     callbacks.append(ValidationCallback(eval_env, config.eval_every, config.eval_episodes, csv_path, best_path, info))
     return callbacks, eval_env
 
