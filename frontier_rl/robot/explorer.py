@@ -81,6 +81,7 @@ class FrontierExplorer:
         self.goal: Goal | None = None
         self.candidate_goals: NDArray[np.float64] = np.zeros((0, 2))  # of the last decision (m, map frame)
         self._arrived = False  # the navigation stack reached the goal under way
+        self._aborted = False  # the navigation stack ended the goal under way short of it
         self.finished: Finished | None = None
         self.start: tuple[float, float] | None = None
         self.decisions = 0
@@ -118,7 +119,9 @@ class FrontierExplorer:
         if now >= self.params.time_cap:
             return self.time_up(grid, pose)
         if self.goal is not None:
-            if not self._frontier_open(grid):
+            if self._aborted:
+                self.goal_failed(grid)  # as the engine gives up a leg that aborted, on this map
+            elif not self._frontier_open(grid):
                 self.goal = None  # seen: the next one
             elif self._arrived:
                 self.goal_failed(grid, reached=True)  # there, and still not seen: it cannot be seen from there
@@ -177,7 +180,7 @@ class FrontierExplorer:
             blacklist.fail(goal.x, goal.y, grid.data, reached=reached, frontier=goal.frontier)
             self.goals_given_up += 1
         self.goal = None
-        self._arrived = False
+        self._arrived = self._aborted = False
 
     def _looked(self, grid: OccupancyGrid, goal: Goal, *, viewed: bool) -> None:
         """The last look ``goal`` ended (``viewed``: the robot got there): a visit of its cluster,
@@ -198,15 +201,15 @@ class FrontierExplorer:
     def goal_lost(self) -> None:
         """The navigation stack went away with the goal under way (it restarted, or a pause
         cancelled it): the next tick decides again, and the goal is not held against its frontier.
-        A goal already reached is kept, to be judged by the next tick as any goal reached is (it
+        A goal already ended is kept, to be judged by the next tick as any goal ended is (it
         ended before it could be lost)."""
-        if not self._arrived:
+        if not (self._arrived or self._aborted):
             self.goal = None
 
     def judged_on(self, grid: OccupancyGrid) -> bool:
-        """Whether the goal under way, reached now, would be judged on ``grid``: a last look (what it
+        """Whether the goal under way, ended now, would be judged on ``grid``: a last look (what it
         mapped is counted on the map), or a frontier that ``grid`` still shows (more than its drop
-        size: on that map it would be given up as unrevealable from there)."""
+        size: on that map it would be given up, reached or not)."""
         goal = self.goal
         if goal is None or len(goal.frontier) == 0 or goal.look is Look.GIVEN_UP:  # the last: a visit, whatever it maps
             return False
@@ -217,6 +220,13 @@ class FrontierExplorer:
         blacklists the goal if its frontier is still not seen on that tick's map (seen edge-on, or
         through a slit: otherwise it would be chosen again and again)."""
         self._arrived = True
+
+    def goal_aborted(self) -> None:
+        """The navigation stack rejected or aborted the goal under way (or another node cancelled
+        it): the next tick gives it up as :meth:`goal_failed` does, on that tick's map, which a node
+        whose maps lag the robot takes from after the goal's end (a last look counts the floor it
+        mapped before the abort, and the blacklist remembers the map round it as it is then)."""
+        self._aborted = True
 
     # ------------------------------------------------------------------- inside
     def _decide(self, grid: OccupancyGrid, pose: Pose, now: float) -> Goal | Finished:
@@ -245,7 +255,7 @@ class FrontierExplorer:
             goal = Goal(x, y, cells, ranking.weight, cand.recovery, cand.looks)
         if cand.recovery is not Recovery.NONE and self.params.recovery_paths:
             goal = replace(goal, path=path_to_point(cand.grid, cand.costmap, cand.reachable, pose, goal.x, goal.y))
-        self.goal, self._arrived = goal, False
+        self.goal, self._arrived, self._aborted = goal, False, False
         self._sent_on = grid if goal.look is not Look.NONE else None
         self.decisions += 1
         self._best_distance, self._progress_at = math.hypot(goal.x - pose.x, goal.y - pose.y), now

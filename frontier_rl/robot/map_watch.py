@@ -1,11 +1,12 @@
 """Whether the robot's map is new enough to judge a goal on, and whether it has stopped coming.
 
-A goal reached whose frontier is still open on the map is given up: it cannot be seen from there.
+A goal reached whose frontier is still open on the map is given up: it cannot be seen from there;
+a goal aborted is given up unless the map shows its frontier seen.
 But a SLAM map comes in its own time (slam_toolbox every 5 s by default, the simulator's every
 0.1 s), so the map at hand when Nav2 says "reached" may predate the robot's arrival: judged on it,
 the goal's frontier is still open, and a frontier the robot has just seen is given up (twice, and
 it is never tried again), and a last look's mapped floor is not yet on it. A :class:`MapWatch` holds
-the judgement of such a goal (reached, its frontier open on the map at hand, or a look) back until a
+the judgement of such a goal (ended, its frontier open on the map at hand, or a look) back until a
 map from after the goal's end has come, for at most two of the map's periods (0.5-15 s); a map that
 has stopped coming (SLAM crashed, a topic remapped) is then said so, and the goal is judged on the
 last map, as before. A mapper that maps only as the robot moves sends no map while it stands: after
@@ -86,7 +87,7 @@ class MapWatch:
         return wall_s - self._arrivals[-1] if self._arrivals else float("inf")
 
     def goal_ended(self, wall_s: float, clock_s: float) -> bool:
-        """A goal was reached at ``wall_s`` (``clock_s`` on the ROS clock): whether its judgement
+        """A goal ended at ``wall_s`` (``clock_s`` on the ROS clock): whether its judgement
         waits for a newer map (not for a map that has come once, a fixed map, nor once waits stopped)."""
         self._pending = (wall_s, clock_s) if self.waits and self.period_s is not None else None
         return self._pending is not None

@@ -7,10 +7,11 @@ map frame; or ``tf``: :mod:`frontier_rl.ros2.pose_listener`), decides with a
 ``navigate_to_pose`` action, as explore_lite does (a goal found with the map's walls thinned, with
 the path planned there, to ``follow_path``: :mod:`frontier_rl.ros2.nav2_goals`). A goal Nav2 rejects
 or aborts, or that brings the robot no nearer within ``progress_timeout``, is blacklisted, and so is
-a goal reached whose frontier a map from after it still shows (:mod:`frontier_rl.robot.map_watch`);
-a goal whose frontier the map has since seen is replaced. It stops when the map is explored, with its end reason on
-``explore/status`` and in the log, and optionally drives back to the start. ``explore/resume``
-(``std_msgs/Bool``, as explore_lite's) pauses the run and resumes it.
+a goal reached whose frontier a map from after it still shows (:mod:`frontier_rl.robot.map_watch`:
+an aborted goal too is judged on such a map); a goal whose frontier the map has since seen is
+replaced. It stops when the map is explored, with its end reason on ``explore/status`` and in the
+log, and optionally drives back to the start. ``explore/resume`` (``std_msgs/Bool``, as
+explore_lite's) pauses the run and resumes it.
 """
 
 from __future__ import annotations
@@ -252,14 +253,15 @@ class ExplorerNode(Node):
             self._home.end()
             self._close(why)
             return
-        explored = self._in.explored()  # judged on the map the goal was chosen on: teammates' merged
-        if failed and explored is not None:
-            self.explorer.goal_failed(explored)
-        elif not failed:
-            judged = explored is not None and self.explorer.judged_on(explored)
-            if judged and self._in.maps.goal_ended(time.monotonic(), self._in.clock_now_s()):
-                why += f": waiting up to {self._in.maps.wait_bound_s():.1f} s for a newer map"  # on the status topic
-                self.get_logger().debug(why)
+        # judged at the next tick, on a map from after its end (on the map merged with teammates')
+        explored = self._in.explored()
+        judged = explored is not None and self.explorer.judged_on(explored)
+        if judged and self._in.maps.goal_ended(time.monotonic(), self._in.clock_now_s()):
+            why += f": waiting up to {self._in.maps.wait_bound_s():.1f} s for a newer map"  # on the status topic
+            self.get_logger().debug(why)
+        if failed:
+            self.explorer.goal_aborted()
+        else:
             self.explorer.goal_reached()
         self._goal_ended = True
         self._publish(ExplorerState.EXPLORING, why)

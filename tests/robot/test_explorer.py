@@ -462,6 +462,27 @@ def test_a_look_the_navigation_stack_gave_up_ends_no_look() -> None:
     assert math.hypot(second.x - first.x, second.y - first.y) > 0.2 and explorer.goals_given_up == 1
 
 
+@pytest.mark.parametrize("paused_after", [False, True])
+def test_a_look_the_navigation_stack_aborted_is_judged_on_the_next_ticks_map(paused_after: bool) -> None:
+    """A node's map lags the robot (slam_toolbox's comes every 5 s): a look Nav2 aborted near its
+    viewpoint, judged on the map at hand, had mapped nothing yet, and the looks could end. Judged at
+    the next tick (after a pause too), on the map that came after the abort, it paid."""
+    explorer = FrontierExplorer(make_policy("nearest"))
+    grid, pose = window_map(), Pose(0.5, 0.5, 0.0)
+    look = explorer.tick(grid, pose, 0.0)
+    assert isinstance(look, Goal) and look.look is Look.SMALL
+    explorer.goal_aborted()
+    if paused_after:
+        explorer.goal_lost()
+    assert explorer.goal is look and explorer.goals_given_up == 0  # not judged yet
+    seen = window_map()
+    seen.data[30:50, 62:100] = CellState.FREE  # 1.9 m² of the room behind the gap, on the next map
+    after = explorer.tick(seen, Pose(look.x - 0.3, look.y, 0.0), 2.0)
+    assert explorer.goals_given_up == 1  # aborted: given up, as the engine gives up such a leg
+    assert explorer._looks.confirmed  # a look that paid: on the map at hand it had mapped nothing
+    assert isinstance(after, Goal) and after.look is Look.NONE  # the room's frontiers
+
+
 class _PointPolicy:
     """Drives to a point of its own, as the point models 1 and 2 do."""
 
