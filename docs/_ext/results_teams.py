@@ -54,12 +54,15 @@ def _policies_table(study: Study) -> str:
     run = study.experiment("policies")
     methods = list(run.summary.methods)
     parsed = {m: TeamMethod.parse(m) for m in methods}
-    policies = list(dict.fromkeys(str(t.policy) for t in parsed.values()))
+    written: dict[str, str] = {}  # a policy's canonical text -> as the methods first write it
+    for team in parsed.values():
+        written.setdefault(team.policy.canonical, str(team.policy))
+    policies = list(written)
     sizes = sorted({t.robots or 1 for t in parsed.values()})
     base_policy = policies[0]
     rows = []
     for n in sizes:
-        at_size = {str(t.policy): m for m, t in parsed.items() if (t.robots or 1) == n}
+        at_size = {t.policy.canonical: m for m, t in parsed.items() if (t.robots or 1) == n}
         base = run.times(at_size[base_policy])
         cells = [str(n), seconds(sum(base) / len(base))]
         for policy in policies[1:]:
@@ -72,8 +75,8 @@ def _policies_table(study: Study) -> str:
         rows.append(cells)
     header = (
         "robots",
-        f"`{label(base_policy)}` (s)",
-        *(f"{label(p)}: s, against `{label(base_policy)}`" for p in policies[1:]),
+        f"`{label(written[base_policy])}` (s)",
+        *(f"{label(written[p])}: s, against `{label(written[base_policy])}`" for p in policies[1:]),
     )
     return markdown_table(
         header, rows, note="Time against the first policy's with the same team size; paired, two-sided t-test."

@@ -119,13 +119,11 @@ class FrontierExplorer:
         if now >= self.params.time_cap:
             return self.time_up(grid, pose)
         if self.goal is not None:
-            if self._aborted:
-                self.goal_failed(grid)  # as the engine gives up a leg that aborted, on this map
-            elif not self._frontier_open(grid):
-                self.goal = None  # seen: the next one
+            if not self._frontier_open(grid):
+                self.goal = None  # seen (on the way to a goal that then aborted too): the next one
             elif self._arrived:
                 self.goal_failed(grid, reached=True)  # there, and still not seen: it cannot be seen from there
-            elif self._stalled(grid, pose, now):
+            elif self._aborted or self._stalled(grid, pose, now):
                 self.goal_failed(grid)
             else:
                 return self._path_renewed(grid, pose)
@@ -159,7 +157,9 @@ class FrontierExplorer:
         return Renewal(replace(goal, path=path))
 
     def time_up(self, grid: OccupancyGrid, pose: Pose) -> Finished:
-        """End exploration at the time cap, with what is left of ``grid``."""
+        """End exploration at the time cap, with what is left of ``grid`` (a goal aborted and not
+        judged yet given up on it first)."""
+        self.judge_abort(grid)
         cand = self._levels(grid, pose)[0]
         none = replace(cand, frontiers=cand.frontiers.subset(np.zeros(0, np.int64)))  # every frontier is left
         return self._finish(EndReason.TIME_CAP, grid, pose, none)
@@ -220,6 +220,17 @@ class FrontierExplorer:
         blacklists the goal if its frontier is still not seen on that tick's map (seen edge-on, or
         through a slit: otherwise it would be chosen again and again)."""
         self._arrived = True
+
+    def judge_abort(self, grid: OccupancyGrid) -> None:
+        """Give up on ``grid`` now a goal the navigation stack aborted that no tick has judged yet
+        (the run ends before the next tick would: the time cap, a stop), as that tick would: a
+        frontier ``grid`` shows seen is dropped."""
+        if self.goal is None or not self._aborted:
+            return
+        if self._frontier_open(grid):
+            self.goal_failed(grid)
+        else:
+            self.goal = None
 
     def goal_aborted(self) -> None:
         """The navigation stack rejected or aborted the goal under way (or another node cancelled
@@ -355,7 +366,7 @@ class FrontierExplorer:
         real = tuple(f for f in left if f.cells > speck)  # a speck is a speck, whatever unknown lies behind it
         if reason is EndReason.EXPLORED:
             reason = completion_reason(real)
-        self.goal = None
+        self.goal, self._arrived, self._aborted = None, False, False
         self.finished = Finished(reason, real, len(left) - len(real))
         return self.finished
 

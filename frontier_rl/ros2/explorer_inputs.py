@@ -36,7 +36,7 @@ class ExplorerInputs:
         self._node = node
         self.grid: OccupancyGrid | None = None
         self.map_frame = "map"  # the robot's map's frame, which goals and the merged map are in
-        self.maps = MapWatch()  # when the maps came: a goal reached is judged on a map from after it
+        self.maps = MapWatch()  # when the maps came: a goal ended is judged on a map from after it
         self.coverage: float | None = None  # until a simulator publishes it
         self._warnings = ThrottledLog(WARN_PERIOD_S)  # bad messages, per topic
         node.create_subscription(GridMessage, "map", self._on_map, MAP_QOS)
@@ -102,7 +102,7 @@ class ExplorerInputs:
         return None if self.grid is None else self.team.merged(self.grid)
 
     def map_for_judging(self, label: str) -> bool:
-        """Whether the map at hand may judge the goal just reached, ``label`` as the log names it
+        """Whether the map at hand may judge the goal just ended, ``label`` as the log names it
         (:class:`~frontier_rl.robot.map_watch.MapWatch`): False while a map from after its end may
         still come; a map that has stopped coming is said so."""
         wall_s = time.monotonic()  # every poll: the map's topic is named only when something is said
@@ -116,6 +116,6 @@ class ExplorerInputs:
         elif wait is MapWait.QUIET and not self.maps.waits:
             self._node.get_logger().info(
                 f"no map came on {self._node.resolve_topic_name('map')} while the robot stood after two goals (a "
-                "mapper that maps as the robot moves): goals reached are judged on the map at hand from now on"
+                "mapper that maps as the robot moves): goals ended are judged on the map at hand from now on"
             )
         return wait is not MapWait.WAIT

@@ -253,8 +253,20 @@ class ExplorerNode(Node):
             self._home.end()
             self._close(why)
             return
-        # judged at the next tick, on a map from after its end (on the map merged with teammates')
-        explored = self._in.explored()
+        explored = self._in.explored()  # merged with the teammates' maps
+        if status is GoalStatus.REJECTED:  # the robot never drove for it: given up on the map at hand
+            if explored is not None:
+                self.explorer.goal_failed(explored)
+        else:
+            why = self._judged_later(explored, failed, why)
+        self._goal_ended = True
+        self._publish(ExplorerState.EXPLORING, why)
+
+    def _judged_later(self, explored: OccupancyGrid | None, failed: bool, why: str) -> str:
+        """The goal under way ended (``failed``: aborted, or cancelled by another node) with the
+        map ``explored`` at hand: it is judged at the next tick, on a map from after its end where
+        ``explored`` would judge it (:class:`~frontier_rl.robot.map_watch.MapWatch`); ``why``, with
+        the wait if there is one."""
         judged = explored is not None and self.explorer.judged_on(explored)
         if judged and self._in.maps.goal_ended(time.monotonic(), self._in.clock_now_s()):
             why += f": waiting up to {self._in.maps.wait_bound_s():.1f} s for a newer map"  # on the status topic
@@ -263,14 +275,15 @@ class ExplorerNode(Node):
             self.explorer.goal_aborted()
         else:
             self.explorer.goal_reached()
-        self._goal_ended = True
-        self._publish(ExplorerState.EXPLORING, why)
+        return why
 
     # ---------------------------------------------------------------- the end
     def cancel_goal(self) -> Future[bool] | None:
         """Ask Nav2 to cancel the goal under way (the explorer is being stopped: the robot should
         not drive on to it); the cancel request's future, or None when no goal is under way."""
         self._stopping = True
+        if (explored := self._in.explored()) is not None:  # no tick will judge an abort now
+            self.explorer.judge_abort(explored)
         unanswered = self._nav.unanswered
         future = self._nav.cancel()  # also goals whose response is still awaited, once it comes
         if future is not None:  # ended or stopped

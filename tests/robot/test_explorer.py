@@ -188,6 +188,29 @@ def test_a_goal_reached_with_its_frontier_unseen_is_blacklisted(paused_after: bo
     assert explorer.goals_given_up == 1
 
 
+@pytest.mark.parametrize("then", ["tick", "time cap", "stop"])
+def test_a_goal_aborted_is_judged_on_the_map_after_it_or_at_the_end(then: str) -> None:
+    """A node's map lags the robot: an aborted goal is judged on a map from after its end, at the
+    next tick, or as the run ends before one (the time cap, a stop): a frontier that map shows seen
+    is dropped, one it still shows given up (the time cap ended the run with it not counted)."""
+    grid = _corridor()
+    seen = OccupancyGrid(grid.data.copy(), grid.resolution, grid.origin)
+    seen.data[4:16, 40:79] = CellState.FREE  # the east half mapped on the way
+    seen.data[4:16, 78] = CellState.OCCUPIED
+    for later, given_up in ((seen, 0), (grid, 1)):
+        explorer = FrontierExplorer(make_policy("nearest"), ExplorerParams(time_cap=10.0))
+        _first_goal(explorer, grid)
+        explorer.goal_aborted()
+        assert explorer.goal is not None and explorer.goals_given_up == 0  # not judged yet
+        if then == "tick":
+            explorer.tick(later, Pose(1.0, 0.5, 0.0), 1.0)
+        elif then == "time cap":
+            assert isinstance(explorer.tick(later, Pose(1.0, 0.5, 0.0), 10.0), Finished)
+        else:
+            explorer.judge_abort(later)
+        assert explorer.goals_given_up == given_up, (then, given_up)
+
+
 def test_a_goal_lost_on_the_way_is_not_held_against_its_frontier() -> None:
     explorer = FrontierExplorer(make_policy("nearest"))
     grid = _corridor()

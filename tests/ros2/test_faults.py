@@ -262,6 +262,18 @@ def test_a_goal_reached_is_judged_on_a_map_from_after_it(tmp_path: Path) -> None
     assert status["reason"] == "explored" and status["given_up"] == 0 and status["goals"] == 1, log
 
 
+@pytest.mark.parametrize("mode", ["abort", "reject"])
+def test_a_goal_aborted_is_judged_on_a_map_from_after_it_and_one_rejected_at_once(mode: str, tmp_path: Path) -> None:
+    """The map comes every 0.3 s: a goal Nav2 aborted waits for a map from after its end before it
+    is given up, as a goal reached does; one it rejected (the robot never drove) does not wait."""
+    debug = "--ros-args --log-level frontier_rl_explorer:=debug"  # the waits, on the log
+    code, status, log = _run(tmp_path, f"{_FAKE} --mode {mode} --map-period 0.3", options=debug)
+    assert code == 0 and status is not None and status["reason"] == "unreachable", log
+    assert status["given_up"] == status["goals"], log  # each given up, once
+    assert ("aborted by Nav2 (status 6): waiting up to" in log) == (mode == "abort"), log
+    assert mode == "abort" or "waiting up to" not in log, log
+
+
 def test_a_map_that_stops_coming_is_said_so(tmp_path: Path) -> None:
     """The map comes every 0.3 s until the second goal: that goal is judged on the last map, and the log says why."""
     nav2 = f"{_FAKE} --mode succeed --goal-time 1.5 --map-period 0.3 --map-stops-at-goal 2"
