@@ -16,6 +16,17 @@ from frontier_rl.atomic_write import save_figure_atomic
 from frontier_rl.rl.validation_log import VALIDATION_FILE, read_validations
 
 _MONITOR = re.compile(r"monitor_(\d+)\.monitor\.csv$")
+"""A monitor file's name (:func:`monitor_prefix` and SB3's suffix), with the segment's start."""
+
+MONITOR_KEYWORDS = ("sim_time_s", "coverage")
+"""The entries of the env's step ``info`` the monitor writes for each training episode: the curve
+reads the exploration time."""
+
+
+def monitor_prefix(start: int) -> str:
+    """The name SB3's monitor writes the episodes of a run's segment started at ``start`` decisions
+    under (it appends ``.monitor.csv``; :func:`training_episodes` reads them)."""
+    return f"monitor_{start}"
 
 
 def training_episodes(run: Path) -> tuple[np.ndarray, np.ndarray]:
@@ -38,7 +49,7 @@ def training_episodes(run: Path) -> tuple[np.ndarray, np.ndarray]:
             if done > limit:
                 break
             steps.append(done)
-            times.append(float(row["sim_time_s"]))
+            times.append(float(row[MONITOR_KEYWORDS[0]]))
     return np.asarray(steps), np.asarray(times)
 
 

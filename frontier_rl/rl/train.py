@@ -31,7 +31,7 @@ from frontier_rl.inference.model_file import ModelInfo, read_metadata
 from frontier_rl.registration import Algorithm
 from frontier_rl.rl.callbacks import AtomicCheckpoint, ValidationCallback
 from frontier_rl.rl.config import TrainConfig
-from frontier_rl.rl.curves import plot_learning_curve
+from frontier_rl.rl.curves import MONITOR_KEYWORDS, monitor_prefix, plot_learning_curve
 from frontier_rl.rl.imitation import dagger
 from frontier_rl.rl.model_file import (
     SB3_ALGORITHMS,
@@ -129,7 +129,7 @@ def _training_envs(config: TrainConfig, out: Path, start: int, env_kwargs: dict[
                 [partial(_worker_env, factory, config.env_id, **env_kwargs) for _ in range(config.n_envs)],
                 start_method="spawn",
             )
-    return VecMonitor(envs, str(out / f"monitor_{start}"), info_keywords=("sim_time_s", "coverage"))
+    return VecMonitor(envs, str(out / monitor_prefix(start)), info_keywords=MONITOR_KEYWORDS)
 
 
 def _restore_checkpoint(model: BaseAlgorithm, config: TrainConfig, out: Path, start: int) -> None:
