@@ -178,8 +178,8 @@ class ExplorerNode(Node):
         time, what it waits for) before."""
         inputs = self._in.map_and_pose()
         if inputs is not None and not self._nav.ready(self.explorer.params.recovery_paths, time.monotonic()):
-            navigate, follow = (self.resolve_topic_name(action) for action in Nav2Action)
-            self._in.waiting(f"Nav2's {navigate} and {follow} actions")
+            navigate = self.resolve_topic_name(Nav2Action.NAVIGATE)
+            self._in.waiting(f"Nav2's {navigate} and {self.resolve_topic_name(Nav2Action.FOLLOW)} actions")
             return None
         return inputs
 
