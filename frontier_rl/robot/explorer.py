@@ -233,8 +233,9 @@ class FrontierExplorer:
             self.goal = None
 
     def goal_aborted(self) -> None:
-        """The navigation stack rejected or aborted the goal under way (or another node cancelled
-        it): the next tick gives it up as :meth:`goal_failed` does, on that tick's map, which a node
+        """The navigation stack aborted the goal under way (or another node cancelled it; one it
+        rejected, never driven, :meth:`goal_failed` gives up at once): the next tick gives it up as
+        :meth:`goal_failed` does (or drops it, its frontier seen), on that tick's map, which a node
         whose maps lag the robot takes from after the goal's end (a last look counts the floor it
         mapped before the abort, and the blacklist remembers the map round it as it is then)."""
         self._aborted = True
