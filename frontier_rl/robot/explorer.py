@@ -31,7 +31,6 @@ from frontier_rl.core.sim.config import DROP_CELL_M, SimConfig
 from frontier_rl.core.sim.episode import DecisionContext, EpisodeAwarePolicy, ExplorationPolicy, checked_ranking
 from frontier_rl.core.sim.episode_log import completion_reason
 from frontier_rl.core.sim.frontiers_left import frontiers_left
-from frontier_rl.core.sim.leg import tail_lengths
 from frontier_rl.core.sim.look_state import LookState
 from frontier_rl.core.sim.looks import LOOK_PAYOFF_M2
 from frontier_rl.core.sim.metrics import EndReason
@@ -40,6 +39,7 @@ from frontier_rl.core.world.robot import Pose
 from frontier_rl.errors import ConfigError, short_repr
 from frontier_rl.robot.explorer_decision import Finished, Goal, Renewal
 from frontier_rl.robot.explorer_params import ExplorerParams
+from frontier_rl.robot.goal_progress import GoalProgress
 from frontier_rl.robot.paths import path_to_point
 from frontier_rl.robot.trail import Trail
 from frontier_rl.robot.way_home import way_home
@@ -86,9 +86,7 @@ class FrontierExplorer:
         self.start: tuple[float, float] | None = None
         self.decisions = 0
         self.goals_given_up = 0
-        self._best_distance = math.inf  # the goal's straight-line distance (m), at its least
-        self._progress_at = 0.0
-        self._progress_pose: Pose | None = None  # where the robot stood at the goal's last progress
+        self._progress: GoalProgress | None = None  # towards the goal under way
         self._trail = Trail()
 
     @property
@@ -123,7 +121,7 @@ class FrontierExplorer:
                 self.goal = None  # seen (on the way to a goal that then aborted too): the next one
             elif self._arrived:
                 self.goal_failed(grid, reached=True)  # there, and still not seen: it cannot be seen from there
-            elif self._aborted or self._stalled(grid, pose, now):
+            elif self._aborted or self._stalled(self.goal, grid, pose, now):
                 self.goal_failed(grid)
             else:
                 return self._path_renewed(grid, pose)
@@ -270,8 +268,7 @@ class FrontierExplorer:
         self.goal, self._arrived, self._aborted = goal, False, False
         self._sent_on = grid if goal.look is not Look.NONE else None
         self.decisions += 1
-        self._best_distance, self._progress_at = math.hypot(goal.x - pose.x, goal.y - pose.y), now
-        self._progress_pose = pose
+        self._progress = GoalProgress.start(goal, pose, now)
         return goal
 
     def _candidates(self, grid: OccupancyGrid, pose: Pose) -> Candidates:
@@ -319,40 +316,11 @@ class FrontierExplorer:
         cells = cells[inside]
         return count_fringe(grid.data, cells[:, 0], cells[:, 1]) > self.config.drop_cells(grid.resolution)
 
-    def _stalled(self, grid: OccupancyGrid, pose: Pose, now: float) -> bool:
-        """Whether the robot has got no nearer to the goal for ``progress_timeout``, neither in a
-        straight line nor along the way its costmap on ``grid`` plans there (at the goal's level):
-        a way round a long wall first leads away from the goal (on ``ipa_plant`` a corridor beyond
-        a long wall was given up six times, by distance alone). The way is asked for only when the
-        straight line has made no progress for that long (:meth:`_nearer_along_the_way`)."""
-        goal = self.goal
-        assert goal is not None
-        distance = math.hypot(goal.x - pose.x, goal.y - pose.y)
-        if distance <= self._best_distance - self.params.progress_distance:
-            self._best_distance, self._progress_at, self._progress_pose = distance, now, pose
-        elif now - self._progress_at > self.params.progress_timeout and self._nearer_along_the_way(grid, pose):
-            self._progress_at, self._progress_pose = now, pose
-        return now - self._progress_at > self.params.progress_timeout
-
-    def _nearer_along_the_way(self, grid: OccupancyGrid, pose: Pose) -> bool:
-        """Whether the way to the goal on ``grid`` (planned at its level) is ``progress_distance``
-        shorter from ``pose`` than from where the robot stood at its last progress: both planned on
-        the same map, to the same cell (a SLAM map's origin moves as it grows). A way to a frontier's
-        goal that ends beyond the robot's reach of it (the reachable cell nearest a goal the map has
-        since walled off, or the edge of an island the robot stands on) is none: nearer to its end
-        is not nearer to the goal. Within that reach it is one (an inflation grown over the goal
-        cell still lets the robot get there); a point goal's way ends where the point is nearest."""
-        goal, before = self.goal, self._progress_pose
-        assert goal is not None and before is not None
-        costmap, reachable = self._reachable(grid, pose, goal.recovery)
-        now_way = path_to_point(grid, costmap, reachable, pose, goal.x, goal.y)
-        reach = self.config.robot.radius + grid.resolution
-        if now_way is None or (len(goal.frontier) and math.dist(now_way[-1], (goal.x, goal.y)) > reach):
-            return False
-        then_way = path_to_point(grid, costmap, reachable, before, goal.x, goal.y)
-        if then_way is None:
-            return False
-        return bool(tail_lengths(now_way)[0] <= tail_lengths(then_way)[0] - self.params.progress_distance)
+    def _stalled(self, goal: Goal, grid: OccupancyGrid, pose: Pose, now: float) -> bool:
+        """Whether the robot has got no nearer to ``goal`` for ``progress_timeout``
+        (:class:`~frontier_rl.robot.goal_progress.GoalProgress`)."""
+        assert self._progress is not None
+        return self._progress.stalled(goal, grid, pose, now, self.params, self.config.robot.radius, self._reachable)
 
     def _finish(self, reason: EndReason, grid: OccupancyGrid, pose: Pose, cand: Candidates) -> Finished:
         """The end: what is left of ``grid`` beside ``cand``'s frontiers, every unknown cell taken
