@@ -26,6 +26,7 @@ from frontier_rl.errors import ConfigError, MapError, UnknownNameError, short_re
 from frontier_rl.io import LoadedMap, load_map
 from frontier_rl.io.catalogue import CatalogueEntry, CatalogueMap, MapCollection, catalogue
 from frontier_rl.io.ros_map import ros_map_image
+from frontier_rl.map_fingerprint import MapFingerprint
 
 
 def _unknown_world(spec: str) -> UnknownNameError:
@@ -181,7 +182,7 @@ def world_fingerprint(world: str, resolution: float | None) -> str:
     it loads as (the same for a catalogue map wherever the package is installed)."""
     if world in WORLD_GENERATORS:
         return world
-    return f"{world}#sha256:{map_digest(read_map(world, resolution))}"
+    return str(MapFingerprint(world, map_digest(read_map(world, resolution))))
 
 
 def map_digest(loaded: LoadedMap) -> str:

@@ -16,6 +16,7 @@ from frontier_rl.core.world.scale import checked_resolution
 from frontier_rl.core.world.worlds import World
 from frontier_rl.errors import ConfigError
 from frontier_rl.io import load_map
+from frontier_rl.map_fingerprint import MapFingerprint
 from frontier_rl.world_spec import (
     WorldFamily,
     map_digest,
@@ -169,4 +170,4 @@ def check_world_files(worlds: tuple[str, ...], resolution: float | None = None) 
     training draws its own), in the list's order."""
     files = [m for entry in worlds for m in world_family(entry).members if m not in WORLD_GENERATORS]
     loaded = (replace(load_map(map_file(spec), resolution=resolution), start=None) for spec in files)
-    return tuple(f"{spec}#sha256:{map_digest(grid)}" for spec, grid in zip(files, loaded, strict=True))
+    return tuple(str(MapFingerprint(spec, map_digest(grid))) for spec, grid in zip(files, loaded, strict=True))

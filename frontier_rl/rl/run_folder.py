@@ -13,6 +13,7 @@ from frontier_rl.bounded_read import UnreadableFileError, read_bounded
 from frontier_rl.config_diff import ABSENT, describe_differences, differences_between
 from frontier_rl.errors import ConfigError, short_path
 from frontier_rl.inference.model_file import CHECKPOINT_NAME, checkpoint_name, read_metadata
+from frontier_rl.map_fingerprint import MapFingerprint
 from frontier_rl.registration import Algorithm
 from frontier_rl.rl.config import TrainConfig
 from frontier_rl.rl.model_file import save_model
@@ -138,8 +139,8 @@ def _check_map_files(out: Path, maps: tuple[str, ...]) -> None:
 
 def _map_changes(there: list[str], now: tuple[str, ...]) -> str:
     """The map files that differ between two lists of ``spec#sha256:HASH``: changed, added, removed."""
-    before = dict(line.rpartition("#sha256:")[::2] for line in there)
-    after = dict(line.rpartition("#sha256:")[::2] for line in now)
+    before = {(f := MapFingerprint.parse(line)).spec: f.digest for line in there}
+    after = {(f := MapFingerprint.parse(line)).spec: f.digest for line in now}
     changes = [f"{short_path(m)} changed" for m in after if m in before and before[m] != after[m]]
     changes += [f"{short_path(m)} added" for m in after if m not in before]
     changes += [f"{short_path(m)} removed" for m in before if m not in after]

@@ -17,6 +17,7 @@ from typing import TypeVar
 
 from frontier_rl.config_diff import ABSENT, contrast, describe_differences, differences_between
 from frontier_rl.errors import ConfigError, FrontierRLError, short_path, short_repr
+from frontier_rl.map_fingerprint import MapFingerprint
 from frontier_rl.swarm import TeamMethod
 
 _T = TypeVar("_T")
@@ -134,9 +135,6 @@ def merged_identity(
     return replace(identity, methods={**old_methods, **identity.methods})
 
 
-_HASH_MARK = "#sha256:"
-
-
 def _refuse_renamed_worlds(out: Path, stored: Mapping[str, object], worlds: tuple[str, ...]) -> None:
     """Refuse a run that names a map of the folder's another way (``./maps/a.yaml``, an absolute
     path): the same map, by its hash, where the folder has its rows under the name it was given."""
@@ -145,12 +143,11 @@ def _refuse_renamed_worlds(out: Path, stored: Mapping[str, object], worlds: tupl
     except ValueError:
         return  # said by the comparison of the parts that follows
     for old, new in zip(there, worlds, strict=False):
-        old_name, _, old_hash = old.partition(_HASH_MARK)
-        new_name, _, new_hash = new.partition(_HASH_MARK)
-        if old_hash and old_hash == new_hash and old_name != new_name:
+        was, now = MapFingerprint.parse(old), MapFingerprint.parse(new)
+        if was.digest and was.digest == now.digest and was.spec != now.spec:
             raise ConfigError(
-                f"--out {str(out)!r} has its rows of the map {short_path(new_name)} under the name "
-                f"{short_path(old_name)}: name the map as there (or choose another --out)"
+                f"--out {str(out)!r} has its rows of the map {short_path(now.spec)} under the name "
+                f"{short_path(was.spec)}: name the map as there (or choose another --out)"
             )
 
 
