@@ -15,8 +15,9 @@ it came. ``--door`` adds a room north of the corridor behind a door that only th
 recovery's levels pass (its goals go to ``follow_path``); ``--carried-to X,Y`` puts the robot there
 when a goal is accepted (carried, as nothing here drives); ``--no-follow`` serves no
 ``follow_path`` (a Nav2 whose controller server is elsewhere), ``--follow-gone-after N`` ends it
-a second after it accepted its Nth goal (a controller server that crashed). In ``stall`` mode a goal of one action
-does not preempt the other's (two Nav2 servers), and a goal cancelled is named by its action.
+just after it accepted its Nth goal (a controller server that crashed). In ``stall`` mode a goal
+of one action does not preempt the other's (two Nav2 servers), and a goal cancelled is named by
+its action.
 """
 
 from __future__ import annotations
@@ -127,7 +128,7 @@ class FakeNav2(Node):
         if isinstance(request, FollowPath.Goal):
             self.follows += 1
             if self.follows == self.follow_gone_after:
-                self.gone_timer = self.create_timer(1.0, self._follow_ends)
+                self.gone_timer = self.create_timer(0.2, self._follow_ends)
         if self.carried_to is not None:
             self.pose_x, self.pose_y = self.carried_to
         if self.die_after and self.accepted >= self.die_after:

@@ -104,7 +104,7 @@ def test_a_path_goal_whose_follow_path_server_went_away_goes_to_navigate_to_pose
     nav2 = f"{_FAKE} --mode stall --door --follow-gone-after 1"
     debug = "--ros-args --log-level frontier_rl_explorer:=debug"  # each goal sent, on the log
     options = f"--goal-silence-timeout 10 {debug}"
-    code, status, log = _run(tmp_path, nav2, 90, progress_timeout=3.0, options=options)
+    code, status, log = _run(tmp_path, nav2, 90, progress_timeout=4.0, options=options)
     assert code == 0 and status is not None and status["state"] == "finished", log
     assert "follow_path server gone" in log and "no word from follow_path" not in log, log
     along = re.findall(r"sent (goal \d+) at \(([-\d.]+, [-\d.]+)\) along a path", log)
