@@ -22,6 +22,8 @@ if _PROBLEM is not None:
 
 _FAKE = f"{shlex.quote(sys.executable)} {shlex.quote(str(Path(__file__).with_name('fake_nav2.py')))}"
 _EXPLORE = f"{shlex.quote(cli())} ros2 explore --json --goal-silence-timeout 2"
+_DEBUG = "--ros-args --log-level frontier_rl_explorer:=debug"
+"""The explorer's debug lines on its log: each goal sent, each wait for a newer map."""
 
 
 def _run(
@@ -75,8 +77,7 @@ def test_the_way_home_along_a_path_is_planned_afresh_while_the_robot_follows_it(
     it was given: the way home along a path (from a room behind a door only the narrow-passage
     recovery's levels pass) was sent once, planned on the map at the end of exploration."""
     nav2 = f"{_FAKE} --mode stall --door --carried-to 1.0,1.075"
-    debug = "--ros-args --log-level frontier_rl_explorer:=debug"  # each goal sent, on the log
-    code, status, log = _run(tmp_path, nav2, 40, options=f"--return-to-init --goal-silence-timeout 10 {debug}")
+    code, status, log = _run(tmp_path, nav2, 40, options=f"--return-to-init --goal-silence-timeout 10 {_DEBUG}")
     assert code == 0 and status is not None and status["state"] == "finished", log
     assert log.count("sent the way home at (0.50, 0.50) along a path") >= 3, log
     assert "cancelling the way home: the explorer is stopping" in log, log
@@ -87,8 +88,7 @@ def test_a_path_goal_that_goes_to_navigate_to_pose_is_not_sent_again_at_each_tic
     which replans it itself: sent again at each planner tick with its path planned afresh, it
     restarted Nav2's behaviour tree every second, recoveries and all."""
     nav2 = f"{_FAKE} --mode stall --door --no-follow"
-    debug = "--ros-args --log-level frontier_rl_explorer:=debug"  # each goal sent, on the log
-    code, status, log = _run(tmp_path, nav2, progress_timeout=3.0, options=f"--goal-silence-timeout 10 {debug}")
+    code, status, log = _run(tmp_path, nav2, progress_timeout=3.0, options=f"--goal-silence-timeout 10 {_DEBUG}")
     assert code == 0 and status is not None and status["state"] == "finished", log
     assert "action is not up: goal" in log, log  # a path goal went to navigate_to_pose
     sent = re.findall(r"sent (goal \d+) at", log)
@@ -102,8 +102,7 @@ def test_a_path_goal_whose_follow_path_server_went_away_goes_to_navigate_to_pose
     """The controller server crashes with a path goal under way: the goal is sent to
     navigate_to_pose at the next planner tick (once), not held until Nav2's silence drops it."""
     nav2 = f"{_FAKE} --mode stall --door --follow-gone-after 1"
-    debug = "--ros-args --log-level frontier_rl_explorer:=debug"  # each goal sent, on the log
-    options = f"--goal-silence-timeout 10 {debug}"
+    options = f"--goal-silence-timeout 10 {_DEBUG}"
     code, status, log = _run(tmp_path, nav2, 90, progress_timeout=4.0, options=options)
     assert code == 0 and status is not None and status["state"] == "finished", log
     assert "follow_path server gone" in log and "no word from follow_path" not in log, log
@@ -266,8 +265,7 @@ def test_a_goal_reached_is_judged_on_a_map_from_after_it(tmp_path: Path) -> None
 def test_a_goal_aborted_is_judged_on_a_map_from_after_it_and_one_rejected_at_once(mode: str, tmp_path: Path) -> None:
     """The map comes every 0.3 s: a goal Nav2 aborted waits for a map from after its end before it
     is given up, as a goal reached does; one it rejected (the robot never drove) does not wait."""
-    debug = "--ros-args --log-level frontier_rl_explorer:=debug"  # the waits, on the log
-    code, status, log = _run(tmp_path, f"{_FAKE} --mode {mode} --map-period 0.3", options=debug)
+    code, status, log = _run(tmp_path, f"{_FAKE} --mode {mode} --map-period 0.3", options=_DEBUG)
     assert code == 0 and status is not None and status["reason"] == "unreachable", log
     assert status["given_up"] == status["goals"], log  # each given up, once
     assert ("aborted by Nav2 (status 6): waiting up to" in log) == (mode == "abort"), log
