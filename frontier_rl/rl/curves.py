@@ -18,9 +18,11 @@ from frontier_rl.rl.validation_log import VALIDATION_FILE, read_validations
 _MONITOR = re.compile(r"monitor_(\d+)\.monitor\.csv$")
 """A monitor file's name (:func:`monitor_prefix` and SB3's suffix), with the segment's start."""
 
-MONITOR_KEYWORDS = ("sim_time_s", "coverage")
-"""The entries of the env's step ``info`` the monitor writes for each training episode: the curve
-reads the exploration time."""
+_TIME_KEY = "sim_time_s"
+"""The entry of the env's step ``info`` with the episode's exploration time (s), which the curve reads."""
+
+MONITOR_KEYWORDS = (_TIME_KEY, "coverage")
+"""The entries of the env's step ``info`` the monitor writes for each training episode."""
 
 
 def monitor_prefix(start: int) -> str:
@@ -49,7 +51,7 @@ def training_episodes(run: Path) -> tuple[np.ndarray, np.ndarray]:
             if done > limit:
                 break
             steps.append(done)
-            times.append(float(row[MONITOR_KEYWORDS[0]]))
+            times.append(float(row[_TIME_KEY]))
     return np.asarray(steps), np.asarray(times)
 
 
