@@ -45,6 +45,10 @@ class Look(Enum):
     BLIND = "blind"
     """A last look at clusters the size filter drops where no floor was seen beyond any (until one
     pays, :func:`~frontier_rl.core.sim.looks.blind_looks`)."""
+    UNKNOWN_LEFT = "unknown_left"
+    """Last looks at clusters the size filter drops that open onto the unknown a frontier left
+    opens onto, before the robot gives it up (:func:`~frontier_rl.core.sim.looks.looks_into_unknown_left`):
+    each a visit, whatever it maps."""
     GIVEN_UP = "given_up"
     """Last looks at frontiers given up after their tries, from another place."""
 

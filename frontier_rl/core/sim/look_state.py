@@ -15,7 +15,14 @@ import numpy as np
 from frontier_rl.core.frontiers.blacklist import Blacklist
 from frontier_rl.core.sim.candidates import Candidates, Look
 from frontier_rl.core.sim.config import SimConfig
-from frontier_rl.core.sim.looks import LOOK_PAYOFF_M2, blind_looks, last_looks, may_look, spent_looks
+from frontier_rl.core.sim.looks import (
+    LOOK_PAYOFF_M2,
+    blind_looks,
+    last_looks,
+    looks_into_unknown_left,
+    may_look,
+    spent_looks,
+)
 from frontier_rl.core.world.robot import Pose
 
 
@@ -37,8 +44,9 @@ class LookState:
     def looks(self, levels: list[Candidates], pose: Pose, config: SimConfig, blacklist: Blacklist) -> Candidates:
         """The last looks of ``levels`` (the candidates of the normal costmap and of the narrow-passage
         recovery's levels, none with a frontier left) from the first level that has one: at the
-        small clusters while :attr:`looking`, else at the frontiers given up after their tries
-        (each at most twice, as a visit); ``levels[0]`` when there is none."""
+        small clusters while :attr:`looking`, else at those opening onto the unknown a frontier left
+        opens onto, else at the frontiers given up after their tries (each at most twice, as a
+        visit); ``levels[0]`` when there is none."""
         home = standing_on(levels)
         worth = self.looking and (self.confirmed or may_look(home.grid, home.reachable))
         for cand in levels if worth else ():
@@ -49,6 +57,10 @@ class LookState:
             looks = blind_looks(home.grid, pose, home.reachable, config, blacklist)
             if len(looks):
                 return dataclasses.replace(home, frontiers=looks, looks=Look.BLIND)
+        for cand in levels:  # the unknown a frontier left opens onto, before the robot gives it up
+            looks = looks_into_unknown_left(cand.grid, pose, cand.reachable, config, blacklist)
+            if len(looks):
+                return dataclasses.replace(cand, frontiers=looks, looks=Look.UNKNOWN_LEFT)
         for cand in levels if blacklist.gave_up() else ():  # a frontier given up to look at
             looks = spent_looks(cand.grid, pose, cand.reachable, config, blacklist)
             if len(looks):

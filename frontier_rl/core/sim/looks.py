@@ -30,6 +30,16 @@ the clusters whose best viewpoint would see a fortieth of the free space mapped
 cluttered world's and the cave's episodes. Once one is taken they go on, whatever they show, until
 one pays; that one counts as a paid look.
 
+Where the robot's map still has frontiers when no candidate is left (each failed its tries, or no
+costmap has a way there), the episode is about to give up on the unknown they open onto. Before it
+does, each small cluster opening onto that same unknown gets a look if it promises
+:data:`LOOK_MIN_GAIN_M2` of it, floor seen through it or not, and no miss ends them
+(:func:`looks_into_unknown_left`): on ``uom_floor3`` a corridor 0.30 m wide, which the robot fits
+into, has a mouth its map draws four cells wide, a cluster the size filter drops with no floor seen
+through it, opening onto the unknown around the building that the fans of rays out of its rooms
+(frontiers with no way there) open onto too. The office's episodes end with no frontier left, so
+its specks (the wall-surface holes whose looks cost it 5 % of its time when taken freely) get none.
+
 Then the frontiers given up after the audit's tries (:func:`spent_looks`) get looks too, from a
 reachable cell away from every goal tried for them: on the harder survey's Willow Garage maps a
 frontier given up after four failed legs through a gap narrower than the robot had 2.9 m² of
@@ -50,6 +60,7 @@ from scipy import ndimage
 
 from frontier_rl.core.frontiers.blacklist import Blacklist
 from frontier_rl.core.frontiers.detection import Frontiers, detect_frontiers
+from frontier_rl.core.frontiers.fringe import labels_beside
 from frontier_rl.core.sim.config import SimConfig
 from frontier_rl.core.sim.look_views import (
     VIEWPOINT_STRIDE,
@@ -151,6 +162,28 @@ def blind_looks(
     if len(small) == 0:
         return small
     return _small_cluster_looks(small, pose, reachable, config, blacklist, regions, None, least_m2, BLIND_SCREEN_STRIDE)
+
+
+def looks_into_unknown_left(
+    grid: OccupancyGrid, pose: Pose, reachable: NDArray[np.bool_], config: SimConfig, blacklist: Blacklist
+) -> Frontiers:
+    """The looks of :func:`last_looks` at the small clusters that open onto an unknown region a
+    frontier of ``grid`` (one larger than a speck, ``config.speck_cells``) opens onto, promising
+    :data:`LOOK_MIN_GAIN_M2` of such regions, whether or not floor was seen through them. Asked when
+    no candidate is left: each such frontier is one the robot is about to give up on, and these are
+    the last views into what lies behind it."""
+    labels, areas = unknown_regions(grid)
+    left = detect_frontiers(grid, pose, None, config.speck_cells(grid.resolution), config.frontier_segment_length)
+    if len(left) == 0:
+        return left
+    cells = np.vstack([left.cells_of(i) for i in range(len(left))])
+    kept = np.zeros(len(areas), np.bool_)
+    kept[labels_beside(labels, cells[:, 0], cells[:, 1])] = True
+    regions = (labels, np.where(kept, areas, 0.0))  # a look counts only those regions
+    small = _small_clusters(grid, pose, reachable, config, regions, LOOK_MIN_GAIN_M2)
+    if len(small) == 0:
+        return small
+    return _small_cluster_looks(small, pose, reachable, config, blacklist, regions, None, LOOK_MIN_GAIN_M2)
 
 
 def _small_clusters(

@@ -3,6 +3,8 @@ that a reachable viewpoint would see a room's worth of unknown through (a gap in
 narrower than the robot) gets one look; specks do not, and no cluster gets two. A frontier given
 up after its tries gets looks from elsewhere too, at most two. Where the robot saw no floor beyond
 anything at all, blind looks go to the clusters that promise a fortieth of its map, until one pays;
+before the robot gives up on the unknown a frontier left opens onto, each cluster opening onto it
+that promises a person's room gets a look;
 the search for a look's viewpoint finds what casting every ray on the whole map would."""
 
 from __future__ import annotations
@@ -16,8 +18,9 @@ import pytest
 from frontier_rl import load_world, make_policy, run_episode
 from frontier_rl.core.frontiers.blacklist import AUDIT_BUDGET, Blacklist
 from frontier_rl.core.frontiers.detection import Frontiers, detect_frontiers, visible_unknown
-from frontier_rl.core.sim.candidates import Look, reachable_frontiers
+from frontier_rl.core.sim.candidates import Look, find_candidates, reachable_frontiers
 from frontier_rl.core.sim.config import SimConfig
+from frontier_rl.core.sim.look_state import LookState
 from frontier_rl.core.sim.look_views import look_promise_cells, unknown_regions
 from frontier_rl.core.sim.looks import (
     BLIND_LOOK_SHARE,
@@ -25,6 +28,7 @@ from frontier_rl.core.sim.looks import (
     LOOK_PAYOFF_M2,
     blind_looks,
     last_looks,
+    looks_into_unknown_left,
     spent_look_min_gain_m2,
     spent_looks,
 )
@@ -84,6 +88,47 @@ def test_specks_and_the_unknown_in_a_walls_mass_get_no_look() -> None:
     unseen = window_map()
     unseen.data[:, 62:] = UNKNOWN  # nothing seen through the gap: a hole in a wall, to the robot
     assert len(_looks(unseen)[1]) == 0
+
+
+def _into_unknown_left(grid: OccupancyGrid) -> Frontiers:
+    config, pose = SimConfig(), Pose(0.5, 0.5, 0.0)
+    _, reachable, frontiers = reachable_frontiers(grid, pose, config)
+    assert len(frontiers) == 0
+    return looks_into_unknown_left(grid, pose, reachable, config, _blacklist())
+
+
+def test_a_hole_opening_onto_the_unknown_a_frontier_left_opens_onto_gets_a_look() -> None:
+    """``uom_floor3``'s corridor mouth: a cluster the size filter drops, nothing seen through it,
+    opening onto the unknown that frontiers with no way there (rays out of a room) open onto too.
+    Where no frontier is left (the office's episodes end so), a hole in a wall gets none."""
+    hole = window_map()
+    hole.data[:, 62:] = UNKNOWN  # nothing seen through the gap: a hole in a wall, to the robot
+    assert len(_into_unknown_left(hole)) == 0
+    rays = OccupancyGrid(hole.data.copy(), RES)
+    rays.data[20, 62:80] = FREE  # a ray's streak through the wall: a frontier of 18 cells, no way there
+    looks = _into_unknown_left(rays)
+    assert len(looks) == 1 and set(looks.cells_of(0)[:, 1]) == {61}  # the gap's cells
+    assert len(_looks(rays)[1]) == 0  # the looks at small clusters need floor seen through them
+    apart = OccupancyGrid(rays.data.copy(), RES)
+    apart.data[30, 62:] = OCC  # a wall beyond: the streak's unknown and the gap's are two regions
+    assert len(_into_unknown_left(apart)) == 0
+
+
+def test_the_looks_into_the_unknown_left_come_when_the_other_looks_are_over_and_no_miss_ends_them() -> None:
+    hole = window_map()
+    hole.data[:, 62:] = UNKNOWN
+    hole.data[20, 62:80] = FREE  # a frontier with no way there, into the gap's unknown
+    config, pose, blacklist = SimConfig(), Pose(0.5, 0.5, 0.0), _blacklist()
+    levels = [find_candidates(hole, pose, config, blacklist, hole.data)]
+    state = LookState()
+    state.looked(0.0)  # a look through floor seen beyond missed: the looks at small clusters are over
+    assert not state.looking
+    for _ in range(2):  # each a visit: the gap is looked at twice at most
+        cand = state.looks(levels, pose, config, blacklist)
+        assert cand.looks is Look.UNKNOWN_LEFT and len(cand.frontiers) == 1
+        gap = hole.cells_to_world(cand.frontiers.cells_of(0))
+        blacklist.fail(*cand.frontiers.goals[0], hole.data, reached=True, frontier=gap)
+    assert state.looks(levels, pose, config, blacklist).looks is Look.NONE
 
 
 def test_floor_seen_beyond_the_mapping_range_takes_a_look_that_paid_first() -> None:
