@@ -6,11 +6,11 @@ oscillate or never progress, a blacklist that leaves parts unexplored) is answer
 own pieces: the candidates of :func:`~frontier_rl.core.sim.candidates.find_candidates` (a blacklist
 that forgets, retries and the audit before giving up, goals on cells that see their frontier),
 the narrow-passage recovery's levels when the normal costmap leaves none (open along the robot's
-trail, :mod:`~frontier_rl.robot.trail`), then the last looks the
-simulated robot takes (:mod:`frontier_rl.core.sim.looks`: through windows and gaps too small to be
-frontiers, and at frontiers given up, from elsewhere), any policy's ranking, and an end reason that
-says what was left. The robot's navigation stack plans and drives; the node that
-owns a :class:`FrontierExplorer` tells it what happened to each goal.
+trail, :mod:`~frontier_rl.robot.trail`), then the last looks the simulated robot takes
+(:mod:`frontier_rl.core.sim.looks`: through windows and gaps too small to be frontiers, into the
+unknown a frontier left opens onto, and at frontiers given up, from elsewhere), any policy's
+ranking, and an end reason that says what was left. The robot's navigation stack plans and drives;
+the node that owns a :class:`FrontierExplorer` tells it what happened to each goal.
 """
 
 from __future__ import annotations

@@ -81,22 +81,27 @@ def _sim_on_two_rooms() -> ExplorationSimulator:
     return ExplorationSimulator(make_world(grid, "two rooms", start=start), SimConfig(), np.random.default_rng(0))
 
 
-@pytest.fixture
-def no_blind_look(monkeypatch: pytest.MonkeyPatch) -> None:
-    """No blind look (:func:`~frontier_rl.core.sim.looks.blind_looks`): as where no small cluster
-    promises a fortieth of the map. Here one at the door's jamb would look into the far room,
-    which the robot has not seen, before the looks at the frontiers given up."""
-    offered = look_state.blind_looks
-    monkeypatch.setattr(look_state, "blind_looks", lambda *args: offered(*args).subset(np.zeros(0, np.int64)))
+def _offer_none(monkeypatch: pytest.MonkeyPatch, looks: str) -> None:
+    offered = getattr(look_state, looks)
+    monkeypatch.setattr(look_state, looks, lambda *args: offered(*args).subset(np.zeros(0, np.int64)))
 
 
 @pytest.fixture
-def no_look_from_elsewhere(monkeypatch: pytest.MonkeyPatch, no_blind_look: None) -> None:
+def no_small_cluster_look(monkeypatch: pytest.MonkeyPatch) -> None:
+    """No blind look (:func:`~frontier_rl.core.sim.looks.blind_looks`) and no look into the unknown
+    a frontier left opens onto (:func:`~frontier_rl.core.sim.looks.looks_into_unknown_left`): as
+    where no small cluster promises enough. Here one at the door's jamb would look into the far
+    room, which the robot has not seen, before the looks at the frontiers given up."""
+    _offer_none(monkeypatch, "blind_looks")
+    _offer_none(monkeypatch, "looks_into_unknown_left")
+
+
+@pytest.fixture
+def no_look_from_elsewhere(monkeypatch: pytest.MonkeyPatch, no_small_cluster_look: None) -> None:
     """Frontiers given up after their tries get no look from elsewhere: as where no viewpoint away
     from the goals tried sees enough of their unknown (:func:`~frontier_rl.core.sim.looks.spent_looks`),
-    and no blind look."""
-    offered = look_state.spent_looks
-    monkeypatch.setattr(look_state, "spent_looks", lambda *args: offered(*args).subset(np.zeros(0, np.int64)))
+    and no look at a small cluster."""
+    _offer_none(monkeypatch, "spent_looks")
 
 
 def _fail_every_candidate(sim: ExplorationSimulator, times: int) -> None:
@@ -107,8 +112,20 @@ def _fail_every_candidate(sim: ExplorationSimulator, times: int) -> None:
     sim.refresh()
 
 
+def test_before_the_frontiers_given_up_the_jambs_small_cluster_gets_a_look_into_the_far_room(
+    monkeypatch: pytest.MonkeyPatch,
+) -> None:
+    """The frontiers given up after their tries open onto the far room; a small cluster at the
+    door's jamb that opens onto it too gets a look first, floor seen through it or not."""
+    _offer_none(monkeypatch, "blind_looks")
+    sim = _sim_on_two_rooms()
+    _fail_every_candidate(sim, AUDIT_BUDGET * MAX_FAILURES)
+    cand = sim.candidates()
+    assert cand.looks is Look.UNKNOWN_LEFT and len(cand.frontiers) and not sim.finished
+
+
 def test_a_frontier_given_up_after_its_tries_gets_a_look_from_elsewhere_and_is_unrevealable_after_two(
-    no_blind_look: None,
+    no_small_cluster_look: None,
 ) -> None:
     sim = _sim_on_two_rooms()
     before = len(sim.frontiers())
