@@ -191,6 +191,10 @@ class FakeNav2(Node):
             self.revealed = self.revealed or self.reveal
             handle.succeed()
         else:
+            deadline = time.monotonic() + self.goal_time  # driven a while before it aborts
+            while time.monotonic() < deadline and not handle.is_cancel_requested:
+                handle.publish_feedback(feedback)
+                time.sleep(0.05)
             handle.abort()
             return action.Result(
                 error_code=self.error_code, error_msg="the stand-in's error" if self.error_code else ""

@@ -265,7 +265,8 @@ def test_a_goal_reached_is_judged_on_a_map_from_after_it(tmp_path: Path) -> None
 def test_a_goal_aborted_is_judged_on_a_map_from_after_it_and_one_rejected_at_once(mode: str, tmp_path: Path) -> None:
     """The map comes every 0.3 s: a goal Nav2 aborted waits for a map from after its end before it
     is given up, as a goal reached does; one it rejected (the robot never drove) does not wait."""
-    code, status, log = _run(tmp_path, f"{_FAKE} --mode {mode} --map-period 0.3", options=_DEBUG)
+    # the goal held 0.5 s: the first abort comes after the second map, which gives the node the maps' period to wait by
+    code, status, log = _run(tmp_path, f"{_FAKE} --mode {mode} --map-period 0.3 --goal-time 0.5", options=_DEBUG)
     assert code == 0 and status is not None and status["reason"] == "unreachable", log
     assert status["given_up"] == status["goals"], log  # each given up, once
     assert ("aborted by Nav2 (status 6): waiting up to" in log) == (mode == "abort"), log
