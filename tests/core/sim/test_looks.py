@@ -24,6 +24,7 @@ from frontier_rl.core.sim.look_state import LookState
 from frontier_rl.core.sim.look_views import look_promise_cells, unknown_regions
 from frontier_rl.core.sim.looks import (
     BLIND_LOOK_SHARE,
+    LEFT_FRONTIER_MIN_CELLS,
     LOOK_MIN_GAIN_M2,
     LOOK_PAYOFF_M2,
     blind_looks,
@@ -112,6 +113,19 @@ def test_a_hole_opening_onto_the_unknown_a_frontier_left_opens_onto_gets_a_look(
     apart = OccupancyGrid(rays.data.copy(), RES)
     apart.data[30, 62:] = OCC  # a wall beyond: the streak's unknown and the gap's are two regions
     assert len(_into_unknown_left(apart)) == 0
+
+
+def test_a_frontier_left_a_few_cells_more_than_a_speck_opens_no_look() -> None:
+    """On the dungeon maps a frontier left of 5-8 cells opened ten looks into unknown the robot
+    could not map: a frontier left counts when longer than :data:`LEFT_FRONTIER_MIN_CELLS`."""
+    config = SimConfig()
+    for length, looked in ((LEFT_FRONTIER_MIN_CELLS - 2, False), (LEFT_FRONTIER_MIN_CELLS + 2, True)):
+        rays = window_map()
+        rays.data[:, 62:] = UNKNOWN
+        rays.data[20, 62 : 62 + length] = FREE  # a ray's streak through the wall, no way there
+        streak = detect_frontiers(rays, Pose(0.5, 0.5, 0.0), None, config.speck_cells(RES))
+        assert len(streak) == 1 and config.speck_cells(RES) < streak.sizes[0] <= length + 2
+        assert (len(_into_unknown_left(rays)) == 1) is looked, length
 
 
 def test_the_looks_into_the_unknown_left_come_when_the_other_looks_are_over_and_no_miss_ends_them() -> None:
