@@ -179,13 +179,12 @@ def looks_into_unknown_left(
     grid: OccupancyGrid, pose: Pose, reachable: NDArray[np.bool_], config: SimConfig, blacklist: Blacklist
 ) -> Frontiers:
     """The looks of :func:`last_looks` at the small clusters that open onto an unknown region a
-    frontier of ``grid`` opens onto (one larger than a speck, ``config.speck_cells``, and than
-    :data:`LEFT_FRONTIER_MIN_CELLS`), promising
+    frontier of ``grid`` opens onto (one of more than :data:`LEFT_FRONTIER_MIN_CELLS`), promising
     :data:`LOOK_MIN_GAIN_M2` of such regions, whether or not floor was seen through them. Asked when
     no candidate is left: each such frontier is one the robot is about to give up on, and these are
     the last views into what lies behind it."""
     labels, areas = unknown_regions(grid)
-    least_cells = max(config.speck_cells(grid.resolution), drop_cells_at(LEFT_FRONTIER_MIN_CELLS, grid.resolution))
+    least_cells = drop_cells_at(LEFT_FRONTIER_MIN_CELLS, grid.resolution)  # above any speck size
     left = detect_frontiers(grid, pose, None, least_cells, config.frontier_segment_length)
     if len(left) == 0:
         return left
